@@ -1,0 +1,48 @@
+#pragma once
+// Progress reporting and cancellation for long core loops.
+//
+// Core never prints. A long loop takes a Progress& and calls step() at safe
+// points; the caller decides what to show (the CLI prints to stderr unless
+// --quiet) and whether to cancel (time limit, memory limit).
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace bliskrun {
+
+class Progress {
+ public:
+  // Called with (task, done, total); may be empty.
+  using Reporter = std::function<void(const std::string&, long, long)>;
+
+  Progress() = default;
+  explicit Progress(Reporter reporter) : reporter_(std::move(reporter)) {}
+
+  // Starts a named task of `total` units.
+  void begin(const std::string& task, long total);
+  // Marks `done` units of the current task finished. Throws Cancelled if
+  // cancel() was called (from any thread).
+  void step(long done);
+  void end();
+
+  void cancel(std::string reason) {
+    reason_ = std::move(reason);
+    cancelled_.store(true);
+  }
+  bool cancelled() const { return cancelled_.load(); }
+  // Throws Cancelled if a cancel was requested.
+  void check() const;
+
+  // A shared do-nothing instance for callers that do not care.
+  static Progress& none();
+
+ private:
+  Reporter reporter_;
+  std::string task_;
+  long total_ = 0;
+  long last_reported_ = -1;
+  std::atomic<bool> cancelled_{false};
+  std::string reason_;
+};
+
+}  // namespace bliskrun

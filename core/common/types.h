@@ -1,0 +1,20 @@
+#pragma once
+// Basic value types shared by every subsystem.
+//
+// Units inside core: lengths in millimetres, angles in radians. The Lua
+// boundary converts degrees to radians (see lua_api/).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace bliskrun {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+constexpr double kPi = 3.14159265358979323846;
+inline double deg_to_rad(double deg) { return deg * kPi / 180.0; }
+inline double rad_to_deg(double rad) { return rad * 180.0 / kPi; }
+
+}  // namespace bliskrun

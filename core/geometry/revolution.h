@@ -1,0 +1,42 @@
+#pragma once
+// Surfaces of revolution about the Z axis (hub, casing) from a meridian
+// profile given as (z, r) points, and intersection of a flank with them.
+#include <vector>
+
+#include "core/geometry/curve.h"
+#include "core/geometry/surface.h"
+
+namespace bliskrun {
+
+// r(z) swept about Z. u runs along the meridian (profile parameter), v is the
+// angle theta / (2 pi) in [0, 1].
+class SurfaceOfRevolution : public Surface {
+ public:
+  // `meridian` holds (z, r) pairs ordered along the profile (at least 2).
+  explicit SurfaceOfRevolution(const std::vector<Vec2>& meridian);
+  SurfaceDerivs eval(double u, double v) const override;
+  // Signed radial offset of q from the surface in its meridian plane:
+  // > 0 when q is farther from the axis than the profile at q's position.
+  double radial_offset(const Vec3& q) const;
+  // r of the profile at axial position z (profile must be single-valued in z
+  // there); throws Error if z is outside the profile.
+  double radius_at(double z) const;
+
+ private:
+  BSplineCurve meridian_;  // points (z, r, 0)
+  std::vector<Vec2> samples_;
+};
+
+// Curve where a surface meets a surface of revolution, as (u, v) parameter
+// points of `s` ordered along v, found by bracketing along each iso-v line
+// and refining with Newton/bisection. Throws Error if some iso-v line does
+// not cross the revolution surface.
+struct SurfaceCurveOnSurface {
+  std::vector<double> u, v;  // parameters on s
+  std::vector<Vec3> points;
+};
+SurfaceCurveOnSurface intersect_with_revolution(const Surface& s,
+                                                const SurfaceOfRevolution& rev,
+                                                int samples_v = 200);
+
+}  // namespace bliskrun

@@ -1,0 +1,20 @@
+#pragma once
+// Each lua_api/wrap_<subsystem>.cpp defines one open function that adds its
+// functions and types to the `bliskrun` table at the top of the stack.
+// modules.cpp calls them all, in this order; adding a subsystem = one line
+// here and one in modules.cpp.
+#include <lua.hpp>
+
+namespace bliskrun::lua_api {
+
+void open_units(lua_State* L);      // wrap_units.cpp: mm, um, deg globals
+void open_files(lua_State* L);      // wrap_files.cpp: write_json, write_text, read paths
+void open_geometry(lua_State* L);   // wrap_geometry.cpp
+void open_io(lua_State* L);         // wrap_io.cpp: point-grid reader
+void open_parts(lua_State* L);      // wrap_parts.cpp: built-in blisk
+void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel design
+
+// Registers everything into a new global table `bliskrun`.
+void open_all(lua_State* L);
+
+}  // namespace bliskrun::lua_api

@@ -1,0 +1,49 @@
+#pragma once
+// Running a recipe: one sandboxed Lua state per run, with the paths and
+// limits the command line gave.
+#include <lua.hpp>
+
+#include <iosfwd>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/common/progress.h"
+
+namespace bliskrun::lua_api {
+
+struct RunOptions {
+  std::string recipe_path;
+  std::string out_dir = "out";
+  std::vector<std::string> data_dirs;  // --data DIR (repeatable), read-only
+  std::vector<std::pair<std::string, std::string>> sets;  // --set key=value
+  bool quiet = false;
+};
+
+// What a running recipe may touch, and where progress goes. One per Lua
+// state, reachable from any wrapper through context(L).
+struct RunContext {
+  RunOptions options;
+  std::string recipe_dir;  // absolute folder of the recipe
+  std::string out_dir;     // absolute, created on first write
+  std::vector<std::string> data_dirs;  // absolute
+  Progress progress;
+
+  // Resolves a path a recipe wants to read: relative paths are tried against
+  // the recipe folder then each data folder; the result must lie inside the
+  // recipe, data or out folder. Raises a Lua error otherwise.
+  std::string resolve_read(lua_State* L, const std::string& path) const;
+  // Resolves a path a recipe wants to write: relative to the out folder, and
+  // must stay inside it. Raises a Lua error otherwise.
+  std::string resolve_write(lua_State* L, const std::string& path) const;
+};
+
+RunContext& context(lua_State* L);
+
+// Exit codes of the bliskrun command.
+enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };
+
+// Runs the recipe; writes errors (and, unless quiet, progress) to `err`.
+int run_recipe(const RunOptions& options, std::ostream& err);
+
+}  // namespace bliskrun::lua_api
