@@ -3,14 +3,27 @@
 //
 // A CollisionWorld holds the check surfaces (neighbouring blades, hub,
 // casing, any tessellated surface) as named FCL BVH meshes (OBBRSS), built
-// once. A ToolBody holds a tool's FCL geometry (tool_fcl.h), built once. Per
+// once. A ToolBody holds a tool's FCL meshes (tool_fcl.h), built once. Per
 // pose the world answers the clearance of each tool part (cutter, shank,
 // holder) to the nearest check surface; between two poses it proves or
 // refutes that the motion keeps every part clear (check_motion).
 //
-// Distances are those of the FCL bodies: exact for meshes, and for the tool
-// at most ToolBody::overestimate_mm() below the true distance (the body
-// contains the tool), so "clear" is never optimistic.
+// Distances are those of the FCL bodies: exact for the check meshes, and
+// for the tool at most ToolBody::overestimate_mm() below the true distance
+// (the body encloses the tool), so "clear" is never optimistic.
+//
+// Mesh-to-mesh distance sees surfaces only; a piece of check surface lying
+// wholly inside a tool part, crossing none of its faces, is caught by
+// testing one vertex of every connected piece of each check mesh against
+// the tool's exact solid (a piece that crosses no face is wholly inside or
+// wholly outside). A vertex within overestimate_mm of the true solid counts
+// as touching — conservative by at most that much.
+//
+// Queries take a horizon: distances beyond clearance + horizon are not
+// resolved (FCL's traversal is seeded with that bound and prunes every
+// bounding volume farther away), which is what makes a clear/not-clear
+// answer cost microseconds against a 100k-triangle blade.
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -49,11 +62,13 @@ class ToolBody {
 struct PartClearance {
   ToolPartId part = ToolPartId::Cutter;
   // FCL distance from the part's body to the nearest check surface; 0 when
-  // they touch or overlap; +inf in an empty world.
+  // they touch or overlap. When not `resolved`, the distance exceeds the
+  // query's bound and distance_mm holds that bound (a lower bound).
   double distance_mm = 0;
+  bool resolved = true;
   bool collides = false;
-  int object = -1;  // index of the nearest check surface, -1 if none
-  Vec3 on_tool = Vec3::Zero(), on_object = Vec3::Zero();  // nearest points, part frame (distance > 0)
+  int object = -1;  // index of the nearest check surface; -1 if none within the bound
+  Vec3 on_tool = Vec3::Zero(), on_object = Vec3::Zero();  // nearest points, part frame (when object >= 0)
 };
 
 struct PoseCheck {
@@ -72,7 +87,9 @@ struct MotionCheck {
   PoseCheck at;
   bool undecided = false;  // gave up after max_samples; treated as not clear
   int samples = 0;
-  double min_margin_mm = 0;  // smallest sampled margin
+  // Smallest sampled margin; distances beyond what the proof needed are
+  // not resolved, so this is the smallest margin the proof used.
+  double min_margin_mm = 0;
 };
 
 class CollisionWorld {
@@ -81,17 +98,18 @@ class CollisionWorld {
 
   // Adds a check surface. Throws ParameterError for an empty or duplicate
   // name, a mesh with no triangles, indices out of range, or non-finite
-  // vertices.
+  // vertices. Cost ~ n log n in the triangle count (BVH build).
   void add(const std::string& name, const TriangleMesh& mesh);
 
   int size() const { return static_cast<int>(objects_.size()); }
   const std::string& name(int index) const { return objects_.at(index).name; }
   int triangle_count(int index) const { return objects_.at(index).triangles; }
 
-  // Clearance of every tool part at one pose.
-  PoseCheck check(const ToolBody& body, const ToolPose& pose, const Clearances& clearances) const;
-  PoseCheck check(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,
-                  const Clearances& clearances) const;
+  // Clearance of every tool part at one pose. Distances up to the part's
+  // clearance + horizon_mm are exact; beyond, reported as that bound with
+  // resolved = false. horizon_mm = 0 answers clear / not clear fastest.
+  PoseCheck check(const ToolBody& body, const ToolPose& pose, const Clearances& clearances,
+                  double horizon_mm = std::numeric_limits<double>::infinity()) const;
 
   // The motion from `from` to `to` (PoseMotion: straight tip, axis turning
   // in one plane), checked by conservative advancement: at a sample t the
@@ -113,7 +131,11 @@ class CollisionWorld {
     std::string name;
     std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
     int triangles = 0;
+    std::vector<Vec3> piece_vertices;  // one vertex of every connected piece
   };
+  // bound_mm[i]: resolve part i's distance up to this.
+  PoseCheck check_bounded(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,
+                          const Clearances& clearances, const std::vector<double>& bound_mm) const;
   std::vector<Object> objects_;
 };
 

@@ -115,7 +115,8 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
         }
       }
       const ToolPose pose = place_tool(body.tool(), contact, axis);
-      const PoseCheck check = world.check(body, pose, s.clearances);
+      // Horizon 0: only clear / not clear matters here (fastest query).
+      const PoseCheck check = world.check(body, pose, s.clearances, 0);
       if (!check.clear) {
         ++interfering;
         const PartClearance& w = check.parts[check.worst];

@@ -78,8 +78,8 @@ struct TiltAccepted {
   int index = 0;  // of the contact in the path
   ToolPose pose;
   double lead_rad = 0, tilt_rad = 0;
-  PoseCheck check;
-  int tries = 0;  // axes tried
+  PoseCheck check;  // distances resolved up to each part's clearance only
+  int tries = 0;    // axes tried
 };
 
 struct TiltRefusal {

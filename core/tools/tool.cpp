@@ -63,11 +63,10 @@ const char* to_string(ToolPartId part) {
   return "part";
 }
 
-void Tool::set_part(ToolPartId part, Profile profile, bool cylinder) {
+void Tool::set_part(ToolPartId part, Profile profile) {
   const int i = static_cast<int>(part);
   profiles_[i] = std::move(profile);
   present_[i] = true;
-  cylinder_[i] = cylinder;
 }
 
 void Tool::stack_shank_and_holder(const CylinderSpec& shank, const CylinderSpec& holder) {
@@ -82,7 +81,7 @@ void Tool::stack_shank_and_holder(const CylinderSpec& shank, const CylinderSpec&
                            "must be positive when the " + std::string(name) + " has a length");
     }
     const ToolPartId id = name == std::string("shank") ? ToolPartId::Shank : ToolPartId::Holder;
-    set_part(id, cylinder_profile(spec->diameter_mm / 2, z, z + spec->length_mm), true);
+    set_part(id, cylinder_profile(spec->diameter_mm / 2, z, z + spec->length_mm));
     z += spec->length_mm;
   }
   description_ += cylinder_text("shank", shank) + cylinder_text("holder", holder);
@@ -147,8 +146,7 @@ Tool Tool::drum_wheel(const DrumWheelSpec& s) {
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::segment({0, 0}, {r_end, 0}),
                       ProfileElement::arc(centre, rc, {r_end, 0}, {r_end, s.head_length_mm}),
-                      ProfileElement::segment({r_end, s.head_length_mm}, {0, s.head_length_mm})}),
-             false);
+                      ProfileElement::segment({r_end, s.head_length_mm}, {0, s.head_length_mm})}));
   t.flank_contact_height_mm_ = half;
   t.stack_shank_and_holder(s.shank, s.holder);
   return t;
@@ -178,8 +176,7 @@ Tool Tool::conical_drum_wheel(const ConicalDrumWheelSpec& s) {
                    " R_c=" + fmt(rc) + " L_c=" + fmt(s.head_length_mm);
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::segment({0, 0}, p0), ProfileElement::arc(centre, rc, p0, p1),
-                      ProfileElement::segment(p1, {0, s.head_length_mm})}),
-             false);
+                      ProfileElement::segment(p1, {0, s.head_length_mm})}));
   // Widest where the arc is vertical (the centre's height), else at an end;
   // kept a little inside the open range so side_point() accepts it.
   const double margin = 1e-6 * s.head_length_mm;
@@ -218,8 +215,7 @@ Tool Tool::flat_end_mill(const FlatEndMillSpec& s) {
   t.kind_ = ToolKind::FlatEndMill;
   t.description_ = "flat-end mill R=" + fmt(s.radius_mm) + " r=" + fmt(s.corner_radius_mm) +
                    " L=" + fmt(s.flute_length_mm);
-  t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.corner_radius_mm, s.flute_length_mm),
-             s.corner_radius_mm == 0);
+  t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.corner_radius_mm, s.flute_length_mm));
   t.flank_contact_height_mm_ = (s.corner_radius_mm + s.flute_length_mm) / 2;
   t.stack_shank_and_holder(s.shank, s.holder);
   return t;
@@ -234,7 +230,7 @@ Tool Tool::ball_end_mill(const BallEndMillSpec& s) {
   Tool t;
   t.kind_ = ToolKind::BallEndMill;
   t.description_ = "ball-end mill R=" + fmt(s.radius_mm) + " L=" + fmt(s.flute_length_mm);
-  t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.radius_mm, s.flute_length_mm), false);
+  t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.radius_mm, s.flute_length_mm));
   t.flank_contact_height_mm_ = (s.radius_mm + s.flute_length_mm) / 2;
   t.stack_shank_and_holder(s.shank, s.holder);
   return t;
@@ -262,8 +258,7 @@ Tool Tool::tapered_ball_end_mill(const TaperedBallEndMillSpec& s) {
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::arc({0, rb}, rb, {0, 0}, tangent),
                       ProfileElement::segment(tangent, {r_top, s.flute_length_mm}),
-                      ProfileElement::segment({r_top, s.flute_length_mm}, {0, s.flute_length_mm})}),
-             false);
+                      ProfileElement::segment({r_top, s.flute_length_mm}, {0, s.flute_length_mm})}));
   t.flank_contact_height_mm_ = (tangent.y() + s.flute_length_mm) / 2;
   t.stack_shank_and_holder(s.shank, s.holder);
   return t;
@@ -275,7 +270,7 @@ Tool Tool::contact_wheel(const ContactWheelSpec& s) {
   Tool t;
   t.kind_ = ToolKind::ContactWheel;
   t.description_ = "contact wheel R=" + fmt(s.radius_mm) + " W=" + fmt(s.width_mm);
-  t.set_part(ToolPartId::Cutter, cylinder_profile(s.radius_mm, -s.width_mm / 2, s.width_mm / 2), true);
+  t.set_part(ToolPartId::Cutter, cylinder_profile(s.radius_mm, -s.width_mm / 2, s.width_mm / 2));
   t.flank_contact_height_mm_ = 0;
   t.stack_shank_and_holder(s.shank, s.holder);
   return t;

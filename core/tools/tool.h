@@ -104,8 +104,6 @@ class Tool {
   // Meridian profile of a part; throws ParameterError if it is absent.
   const Profile& profile(ToolPartId part) const;
   const Profile& cutter() const { return profile(ToolPartId::Cutter); }
-  // Whether the part is a plain cylinder (shank, holder, contact wheel).
-  bool is_cylinder(ToolPartId part) const { return cylinder_[static_cast<int>(part)]; }
 
   // R(z) of the whole tool: the widest part at height z; 0 off the tool.
   double radius_at(double z) const;
@@ -132,7 +130,7 @@ class Tool {
 
  private:
   Tool() = default;
-  void set_part(ToolPartId part, Profile profile, bool cylinder);
+  void set_part(ToolPartId part, Profile profile);
   // Adds shank and holder above the cutter; validates them.
   void stack_shank_and_holder(const CylinderSpec& shank, const CylinderSpec& holder);
 
@@ -140,7 +138,6 @@ class Tool {
   std::string description_;
   std::array<Profile, kToolPartCount> profiles_;
   std::array<bool, kToolPartCount> present_{};
-  std::array<bool, kToolPartCount> cylinder_{};
   double flank_contact_height_mm_ = 0;
 };
 

@@ -56,33 +56,24 @@ RevolvedPolytope circumscribed_polytope(const Profile& profile, double tol_mm) {
 }
 
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
-  if (!(tol_mm > 0) || !std::isfinite(tol_mm)) {
-    throw ParameterError("tol_mm", "tessellation tolerance must be a positive length");
-  }
   std::vector<FclToolPart> parts;
   for (int i = 0; i < kToolPartCount; ++i) {
     const auto id = static_cast<ToolPartId>(i);
     if (!tool.has(id)) continue;
-    const Profile& profile = tool.profile(id);
+    const RevolvedPolytope poly = circumscribed_polytope(tool.profile(id), tol_mm);
     FclToolPart part;
     part.id = id;
-    part.reach_mm = profile.reach();
-    if (tool.is_cylinder(id)) {
-      const double length = profile.z_max() - profile.z_min();
-      part.geometry = std::make_shared<fcl::Cylinderd>(profile.max_radius(), length);
-      part.in_tool.translation() = Vec3(0, 0, (profile.z_min() + profile.z_max()) / 2);
-    } else {
-      const RevolvedPolytope poly = circumscribed_polytope(profile, tol_mm);
-      auto vertices = std::make_shared<std::vector<fcl::Vector3d>>(poly.vertices.begin(), poly.vertices.end());
-      auto faces = std::make_shared<std::vector<int>>();
-      for (const auto& f : poly.faces) {
-        faces->push_back(static_cast<int>(f.size()));
-        faces->insert(faces->end(), f.begin(), f.end());
+    part.overestimate_mm = poly.overestimate_mm;
+    part.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    part.geometry->beginModel();
+    for (const auto& f : poly.faces) {
+      for (size_t k = 1; k + 1 < f.size(); ++k) {
+        part.geometry->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
       }
-      part.geometry = std::make_shared<fcl::Convexd>(vertices, static_cast<int>(poly.faces.size()), faces);
-      part.overestimate_mm = poly.overestimate_mm;
-      for (const Vec3& v : poly.vertices) part.reach_mm = std::max(part.reach_mm, v.norm());
     }
+    part.geometry->endModel();
+    part.geometry->computeLocalAABB();
+    for (const Vec3& v : poly.vertices) part.reach_mm = std::max(part.reach_mm, v.norm());
     parts.push_back(std::move(part));
   }
   return parts;

@@ -121,10 +121,15 @@ TEST(Tilt, ClearsAWallAtTheClosedFormLead) {
     }
     const TiltOutcome o = tilt_until_clear(world, body, kFlat, 0, s);
     ASSERT_TRUE(o.accepted) << o.refusal.reason;
+    // FCL's shank encloses the true one within its overestimate (< 2 µm),
+    // which can only delay clearance by far less than a step.
     EXPECT_GE(o.pose.lead_rad, hi - 1e-7) << "top " << top;
     EXPECT_LT(o.pose.lead_rad, hi + s.lead_step_rad) << "top " << top;
     EXPECT_NEAR((o.pose.pose.tip - closed_form_pose(o.pose.lead_rad).tip).norm(), 0, 1e-9);
-    EXPECT_NEAR(o.pose.check.parts[1].distance_mm, shank_to_edge(o.pose.lead_rad, top), 2e-6);
+    // The loop resolves distances only up to the clearance; ask again fully.
+    const PoseCheck full = world.check(body, o.pose.pose, s.clearances);
+    EXPECT_LE(full.parts[1].distance_mm, shank_to_edge(o.pose.lead_rad, top) + 1e-9);
+    EXPECT_GE(full.parts[1].distance_mm, shank_to_edge(o.pose.lead_rad, top) - body.overestimate_mm() - 1e-9);
     EXPECT_EQ(o.pose.tries, static_cast<int>(std::round(o.pose.lead_rad / s.lead_step_rad)) + 1);
   }
 }
