@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "core/collision/collision_world.h"
+#include "core/collision/fast_check.h"
 
 namespace bliskrun {
 namespace {
@@ -115,6 +116,24 @@ void BM_SweptCheck(benchmark::State& state) {
   state.counters["samples/motion"] = static_cast<double>(samples) / motions;
 }
 BENCHMARK(BM_SweptCheck)->Args({100, 0, 2500, 1})->Args({100, 0, 1000, 1})->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The paper's point check (eq. 20) over every vertex of the passage: linear
+// in the point count, against the FCL query's logarithmic cost.
+void BM_FastCheck(benchmark::State& state) {
+  const long triangles = state.range(0) * 1000;
+  std::vector<Vec3> points = flank_mesh(triangles).vertices;
+  for (const Vec3& v : flank_mesh(triangles).vertices) points.push_back(v - Vec3(0, 14, 0));
+  const std::vector<ToolPose> poses = row_poses(640, 2.5);
+  const Tool tool = Tool::drum_wheel({8, 50, 4, {6, 96}, {}});
+  const Clearances clearances{0.5, 0.5, 0};
+  size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(fast_check(tool, poses[k++ % poses.size()], points, clearances));
+  }
+  state.counters["poses/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["points"] = static_cast<double>(points.size());
+}
+BENCHMARK(BM_FastCheck)->Arg(10)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 void BM_BuildWorld(benchmark::State& state) {
   const TriangleMesh mesh = flank_mesh(state.range(0) * 1000);

@@ -15,8 +15,13 @@
 //    beyond the holder is never in conflict, though closer than the
 //    clearance;
 //  - it checks poses, not the motion between them (paper Fig. 9).
-// So a "clear" from it is not a proof; a conflict from it is real (up to
-// the clearance).
+// So a "clear" from it is not a proof; a conflict from it is real: a point
+// with ρ < R(Z) + c lies within c of the tool's surface point (R(Z), Z).
+//
+// Cost is linear in the points: measured 1.1 ms per pose for the 100k
+// vertices of two blade flanks, about 30 times a horizon-bounded FCL query
+// on the same passage (bench/collision_bench.cpp). It pays only as a
+// pre-filter on a small point set already near the tool.
 #include <vector>
 
 #include "core/tools/pose.h"
