@@ -98,7 +98,10 @@ class CollisionWorld {
 
   // Adds a check surface. Throws ParameterError for an empty or duplicate
   // name, a mesh with no triangles, indices out of range, or non-finite
-  // vertices. Cost ~ n log n in the triangle count (BVH build).
+  // vertices. Cost ~ n log n in the triangle count (BVH build). Triangles
+  // should share vertex indices (tessellate() does): the containment test
+  // checks one vertex per connected piece, so a triangle soup makes it
+  // linear in the triangle count per query.
   void add(const std::string& name, const TriangleMesh& mesh);
 
   int size() const { return static_cast<int>(objects_.size()); }

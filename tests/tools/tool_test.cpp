@@ -114,6 +114,47 @@ TEST(Tools, ProfilesMatchClosedForms) {
   EXPECT_NEAR(ball.signed_distance(Vec3(0.5, 0, 2.5), ToolPartId::Cutter), Vec3(0.5, 0, -0.5).norm() - 3, 1e-12);
 }
 
+TEST(ConicalDrumWheel, BarrelArcRunsFromBottomToTopDiameter) {
+  const Tool t = Tool::conical_drum_wheel({6, 9, 30, 5, {5, 40}, {}});
+  EXPECT_NEAR(t.cutter().radius_at(0), 3, 1e-12);
+  EXPECT_NEAR(t.cutter().radius_at(5), 4.5, 1e-12);
+  // Every side point lies on one circle of radius R_c, bulging outwards.
+  const ProfileElement& arc = t.cutter().elements()[1];
+  ASSERT_EQ(arc.kind, ProfileElement::Kind::Arc);
+  for (int i = 0; i <= 50; ++i) {
+    const double z = 5.0 * i / 50;
+    EXPECT_NEAR((Vec2(t.cutter().radius_at(z), z) - arc.centre).norm(), 30, 1e-9);
+    EXPECT_GE(t.cutter().radius_at(z), 3 + 1.5 * z / 5 - 1e-12);  // outside the chord
+  }
+  EXPECT_NEAR(t.cutter().meridian_curvature(2.5), 1.0 / 30, 1e-15);
+}
+
+TEST(Profile, RejectsChainsThatAreNotConvexProfiles) {
+  using E = ProfileElement;
+  auto name_of = [](std::vector<ProfileElement> e) -> std::string {
+    try {
+      Profile p(std::move(e));
+    } catch (const ParameterError& err) {
+      return err.name() + ": " + err.what();
+    }
+    return "<no error>";
+  };
+  // Off the axis at the start.
+  EXPECT_NE(name_of({E::segment({1, 0}, {2, 0}), E::segment({2, 0}, {2, 1}), E::segment({2, 1}, {0, 1})})
+                .find("must start on the axis"),
+            std::string::npos);
+  // A notch (clockwise turn).
+  EXPECT_NE(name_of({E::segment({0, 0}, {2, 0}), E::segment({2, 0}, {1, 1}), E::segment({1, 1}, {2, 2}),
+                     E::segment({2, 2}, {0, 2})})
+                .find("convex"),
+            std::string::npos);
+  // Running downwards.
+  EXPECT_NE(name_of({E::segment({0, 1}, {2, 0}), E::segment({2, 0}, {0, 2})}).find("downwards"), std::string::npos);
+  // Gap between elements.
+  EXPECT_NE(name_of({E::segment({0, 0}, {2, 0}), E::segment({2, 0.1}, {0, 1})}).find("does not start where"),
+            std::string::npos);
+}
+
 TEST(Tools, SignedDistanceMatchesBruteForceOnSampledSurface) {
   std::mt19937 rng(7);
   for (const Tool& tool : every_tool()) {
