@@ -127,7 +127,8 @@ Tool Tool::drum_wheel(const DrumWheelSpec& s) {
   const double rt = s.max_diameter_mm / 2, rc = s.barrel_radius_mm, half = s.head_length_mm / 2;
   if (rc < rt) {
     throw ParameterError("barrel_radius", "R_c = " + fmt(rc) + " mm is below D_t/2 = " + fmt(rt) +
-                                              " mm: a drum wheel's barrel arc is flatter than its own radius");
+                                              " mm: a barrel rounder than the wheel's own radius is not a drum "
+                                              "wheel (use a ball or bull-nose tool)");
   }
   if (rc <= half) {
     throw ParameterError("barrel_radius", "R_c = " + fmt(rc) + " mm must exceed L_c/2 = " + fmt(half) +
