@@ -68,7 +68,8 @@ struct PartClearance {
   bool resolved = true;
   bool collides = false;
   int object = -1;  // index of the nearest check surface; -1 if none within the bound
-  Vec3 on_tool = Vec3::Zero(), on_object = Vec3::Zero();  // nearest points, part frame (when object >= 0)
+  // Nearest points in the workpiece frame (when object >= 0).
+  Vec3 on_tool = Vec3::Zero(), on_object = Vec3::Zero();
 };
 
 struct PoseCheck {
