@@ -84,8 +84,8 @@ class Planner {
     if (depth >= options_.max_depth)
       throw Error(describe(index, planned) + ": the tip departs " + std::to_string(dev.bound_mm) +
                   " mm from the planned segment and splitting does not bring it within " +
-                  std::to_string(tol) + " mm (a move through the singularity of the primary "
-                  "rotary axis?)");
+                  std::to_string(tol) + " mm (a branch change forced by travel, or a move "
+                  "close to the singularity of the primary rotary axis?)");
     // The departure of a rotary move shrinks with the square of its length.
     const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(dev.bound_mm / tol))), 2, 256);
     PartPose from = pose_a;

@@ -168,3 +168,36 @@ TEST(MachineMotion, InterpolatedPoseFollowsTheGreatCircle) {
 
 }  // namespace
 }  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// Past A = +30 deg the A/C trunnion must change branch (A -> -A, C + 180):
+// in the middle of a feed move that would drag the tip across the part, so
+// it is refused, naming the move, rather than written.
+TEST(MachineMotion, BranchChangeInsideAFeedMoveIsRefused) {
+  const Kinematics kin(test::table_table_ac(), 80.0);
+  std::vector<PlannedMove> path;
+  for (int i = 0; i < 4; ++i) {
+    PlannedMove m;
+    m.kind = i == 0 ? MoveKind::Rapid : MoveKind::Feed;
+    m.feed_mm_per_min = 500;
+    const double tilt = (28 + i) * kDeg;
+    m.pose = {Vec3(20, 0, 0), Vec3(0, -std::sin(tilt), std::cos(tilt))};  // needs A = +tilt or -tilt
+    path.push_back(m);
+  }
+  MotionOptions options;
+  options.start.rotary_rad = {25 * kDeg, kPi};  // on the A > 0 branch
+  try {
+    plan_machine_motion(kin, path, options);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("move 3"), std::string::npos) << e.what();
+  }
+  options.start.rotary_rad = {-25 * kDeg, 0};  // on the A < 0 branch: fine
+  const MachineProgram program = plan_machine_motion(kin, path, options);
+  EXPECT_NEAR(program.moves.back().axes.rotary_rad[0], -31 * kDeg, 1e-9);
+}
+
+}  // namespace
+}  // namespace bliskrun
