@@ -1,0 +1,74 @@
+#include "core/machine/machine_definition.h"
+
+#include <cmath>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+
+void check_unit(const Vec3& v, const std::string& field) {
+  if (!finite(v) || std::abs(v.norm() - 1.0) > 1e-9)
+    throw ParameterError(field, "expected a unit vector, got norm " + std::to_string(v.norm()));
+}
+
+}  // namespace
+
+void validate(const MachineDefinition& m) {
+  static const char* kLinear[] = {"X", "Y", "Z"};
+  if (m.linear.size() != 3)
+    throw ParameterError("linear", "expected the three axes X, Y, Z, got " +
+                                       std::to_string(m.linear.size()));
+  for (int i = 0; i < 3; ++i) {
+    const LinearAxis& a = m.linear[i];
+    const std::string field = "linear[" + std::to_string(i + 1) + "]";
+    if (a.name != kLinear[i])
+      throw ParameterError(field + ".name", "expected '" + std::string(kLinear[i]) + "', got '" +
+                                                a.name + "'");
+    if (std::isnan(a.min_mm) || std::isnan(a.max_mm) || !(a.min_mm < a.max_mm))
+      throw ParameterError(field, "expected min < max");
+  }
+  if (m.rotary.size() != 2)
+    throw ParameterError("rotary", "expected two rotary axes (5-axis machine), got " +
+                                       std::to_string(m.rotary.size()));
+  for (int i = 0; i < 2; ++i) {
+    const RotaryAxis& a = m.rotary[i];
+    const std::string field = "rotary[" + std::to_string(i + 1) + "]";
+    if (a.name != "A" && a.name != "B" && a.name != "C")
+      throw ParameterError(field + ".name", "expected A, B or C, got '" + a.name + "'");
+    check_unit(a.direction, field + ".direction");
+    if (!finite(a.pivot_mm)) throw ParameterError(field + ".pivot", "expected finite numbers");
+    if (std::isnan(a.min_rad) || std::isnan(a.max_rad) || !(a.min_rad < a.max_rad))
+      throw ParameterError(field, "expected min < max");
+  }
+  if (m.rotary[0].name == m.rotary[1].name)
+    throw ParameterError("rotary[2].name", "both rotary axes are named " + m.rotary[0].name);
+  if (m.rotary[0].direction.cross(m.rotary[1].direction).norm() < 1e-6)
+    throw ParameterError("rotary[2].direction",
+                         "parallel to rotary[1]: the two rotary axes cannot orient the tool");
+  check_unit(m.spindle, "spindle");
+  // The axis whose rotation acts on the spindle first is the innermost tool
+  // axis if there is one, else the outermost table axis (the chain as seen
+  // from the tool). Parallel to the spindle, it would only spin the tool.
+  int first = -1;
+  for (int i = 1; i >= 0; --i)
+    if (m.rotary[i].carrier == AxisCarrier::Tool) { first = i; break; }
+  if (first < 0) first = 0;
+  if (m.rotary[first].direction.cross(m.spindle).norm() < 1e-6)
+    throw ParameterError("rotary[" + std::to_string(first + 1) + "].direction",
+                         "parallel to the spindle: this axis cannot tilt the tool");
+  if (!finite(m.part_origin_mm)) throw ParameterError("part_origin", "expected finite numbers");
+  if (!(m.linear_resolution_mm > 0) || !(m.rotary_resolution_rad > 0))
+    throw ParameterError("resolution", "expected positive resolutions");
+}
+
+std::string configuration_name(const MachineDefinition& m) {
+  int tool = 0;
+  for (const RotaryAxis& a : m.rotary) tool += a.carrier == AxisCarrier::Tool;
+  return tool == 0 ? "table-table" : tool == 1 ? "head-table" : "head-head";
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,82 @@
+#pragma once
+// A 5-axis machine as a value: three linear axes, two rotary axes, where each
+// rotary axis sits in the kinematic chain, and the conventions a program for
+// it follows.
+//
+// Frames. The machine frame has its origin at the program zero (the work
+// offset the program runs in, G54) and its axes along the linear axes X, Y, Z.
+// Everything below is given with all axes at zero ("home"): rotary directions,
+// pivots, the spindle direction.
+//
+// Chain. A rotary axis is carried either by the part side (a table: it turns
+// the part) or by the tool side (a head: it turns the spindle). The list
+// `rotary` is in chain order from the machine base outwards on each side: on
+// an A/C trunnion the A cradle carries the C table, so A comes first; on a
+// head-head gantry the C fork carries the B head, so C comes first. The linear
+// axes always express the motion of the tool relative to the machine frame
+// (ISO convention: a positive X move takes the tool towards +X of the part,
+// whichever slide moves).
+//
+// Tool length. XYZ with all rotaries at zero denote either the tool tip (the
+// controller applies the length along the spindle, G43 H / TOOL CALL) or the
+// spindle gauge point (the program carries the length itself). Head pivots are
+// given relative to the gauge point, because that is where the head is
+// measured; the tool length then decides how far the tip swings.
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/common/types.h"
+
+namespace bliskrun {
+
+enum class AxisCarrier { Part, Tool };
+enum class ToolLengthMode { Tip, Gauge };
+enum class FeedMode { PerMinute, InverseTime };  // G94 / G93
+
+struct LinearAxis {
+  std::string name;  // "X", "Y", "Z" (machine direction +x, +y, +z)
+  double min_mm = -std::numeric_limits<double>::infinity();
+  double max_mm = std::numeric_limits<double>::infinity();
+};
+
+struct RotaryAxis {
+  std::string name;                  // "A", "B" or "C"
+  AxisCarrier carrier = AxisCarrier::Part;
+  Vec3 direction = Vec3::UnitZ();    // unit, machine frame at home; positive = right-handed
+  // A point on the axis line at home. Part-side axes: machine frame. Tool-side
+  // axes: relative to the spindle gauge point at home.
+  Vec3 pivot_mm = Vec3::Zero();
+  // Travel. An infinite range is a continuous axis (any number of turns).
+  double min_rad = -std::numeric_limits<double>::infinity();
+  double max_rad = std::numeric_limits<double>::infinity();
+  bool continuous() const { return std::isinf(max_rad - min_rad); }
+};
+
+struct MachineDefinition {
+  std::string name;
+  std::vector<LinearAxis> linear;    // X, Y, Z in this order
+  std::vector<RotaryAxis> rotary;    // exactly two, chain order (see above)
+  Vec3 spindle = Vec3::UnitZ();      // tool axis at home, from tip towards shank
+  // Where the part frame's origin sits in the machine frame at home; the part
+  // frame's axes are parallel to the machine's at home.
+  Vec3 part_origin_mm = Vec3::Zero();
+  ToolLengthMode tool_length = ToolLengthMode::Tip;
+  FeedMode feed = FeedMode::PerMinute;
+  // What the controller can represent; read-back adds it to the tolerance.
+  double linear_resolution_mm = 0.001;
+  double rotary_resolution_rad = deg_to_rad(0.001);
+};
+
+// Checks the definition: three linear axes named X, Y, Z; two rotary axes with
+// distinct names from A/B/C, unit directions, min < max; rotary axes not
+// parallel to each other; the spindle not parallel to the axis that turns it
+// first (else that axis cannot change the tool orientation). Throws
+// ParameterError naming the offending field ("rotary[2].direction", ...).
+void validate(const MachineDefinition& machine);
+
+// "table-table", "head-table" or "head-head", from the carriers.
+std::string configuration_name(const MachineDefinition& machine);
+
+}  // namespace bliskrun

@@ -1,0 +1,238 @@
+#include "core/machine/motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+constexpr int kMaxSamples = 4096;
+
+double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+MachineAxes lerp(const MachineAxes& a, const MachineAxes& b, double t) {
+  MachineAxes q;
+  q.linear_mm = a.linear_mm + t * (b.linear_mm - a.linear_mm);
+  for (int i = 0; i < 2; ++i) q.rotary_rad[i] = a.rotary_rad[i] + t * (b.rotary_rad[i] - a.rotary_rad[i]);
+  return q;
+}
+
+bool same_axes(const MachineAxes& a, const MachineAxes& b) {
+  return (a.linear_mm - b.linear_mm).cwiseAbs().maxCoeff() < 1e-12 &&
+         std::abs(a.rotary_rad[0] - b.rotary_rad[0]) < 1e-12 &&
+         std::abs(a.rotary_rad[1] - b.rotary_rad[1]) < 1e-12;
+}
+
+std::string describe(long index, const PlannedMove& m) {
+  std::ostringstream out;
+  out.precision(6);
+  out << "move " << index;
+  if (m.row >= 0) out << " (row " << m.row << ")";
+  out << " tip (" << m.pose.tip.x() << ", " << m.pose.tip.y() << ", " << m.pose.tip.z()
+      << ") axis (" << m.pose.axis.x() << ", " << m.pose.axis.y() << ", " << m.pose.axis.z()
+      << ")";
+  return out.str();
+}
+
+// Feed word for a move of the tip over `tip_mm` (machine axes from a to b).
+double feed_word(FeedMode mode, double feed_mm_per_min, double tip_mm, const MachineAxes& a,
+                 const MachineAxes& b) {
+  if (mode == FeedMode::PerMinute) return feed_mm_per_min;
+  // Inverse time: 1 / duration in minutes. A move that only turns the tool
+  // has no tip length; it is timed as the controller times per-minute feed,
+  // over the combined axis distance (mm and degrees).
+  double length = tip_mm;
+  if (length < 1e-6) {
+    double d2 = (b.linear_mm - a.linear_mm).squaredNorm();
+    for (int i = 0; i < 2; ++i) d2 += std::pow(rad_to_deg(b.rotary_rad[i] - a.rotary_rad[i]), 2);
+    length = std::sqrt(d2);
+  }
+  return feed_mm_per_min / length;
+}
+
+class Planner {
+ public:
+  Planner(const Kinematics& kin, const MotionOptions& options, MachineProgram& program)
+      : kin_(kin), options_(options), program_(program) {}
+
+  // Appends the feed move from (pose_a, axes_a) to (pose_b, axes_b), split
+  // until each piece stays within the chord tolerance.
+  void feed(const PartPose& pose_a, const MachineAxes& axes_a, const PartPose& pose_b,
+            const MachineAxes& axes_b, const PlannedMove& planned, long index, int depth,
+            bool last_piece) {
+    if (options_.tcp) {
+      emit(pose_b, axes_a, axes_b, planned, index, !last_piece);
+      return;
+    }
+    const double tol = options_.chord_tol_mm;
+    const MoveDeviation dev =
+        move_deviation(kin_, axes_a, axes_b, pose_a.tip, pose_b.tip, 0.25 * tol);
+    if (dev.bound_mm <= tol) {
+      program_.max_deviation_mm = std::max(program_.max_deviation_mm, dev.bound_mm);
+      emit(pose_b, axes_a, axes_b, planned, index, !last_piece);
+      return;
+    }
+    if (depth >= options_.max_depth)
+      throw Error(describe(index, planned) + ": the tip departs " + std::to_string(dev.bound_mm) +
+                  " mm from the planned segment and splitting does not bring it within " +
+                  std::to_string(tol) + " mm (a branch change forced by travel, or a move "
+                  "close to the singularity of the primary rotary axis?)");
+    // The departure of a rotary move shrinks with the square of its length.
+    const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(dev.bound_mm / tol))), 2, 256);
+    PartPose from = pose_a;
+    MachineAxes from_axes = axes_a;
+    for (int i = 1; i <= pieces; ++i) {
+      const PartPose to = i == pieces ? pose_b : interpolate_pose(pose_a, pose_b, double(i) / pieces);
+      // Every piece is solved from the one before, the end of the move too, so
+      // the rotaries stay continuous along the pieces.
+      const MachineAxes to_axes = inverse(to, from_axes, planned, index);
+      feed(from, from_axes, to, to_axes, planned, index, depth + 1, last_piece && i == pieces);
+      from = to;
+      from_axes = to_axes;
+    }
+  }
+
+  void emit(const PartPose& pose, const MachineAxes& from, const MachineAxes& to,
+            const PlannedMove& planned, long index, bool inserted) {
+    MachineMove m;
+    m.kind = planned.kind;
+    m.axes = to;
+    m.pose = pose;
+    m.source = index;
+    m.row = planned.row;
+    m.inserted = inserted;
+    if (planned.kind == MoveKind::Feed)
+      m.feed = feed_word(program_.feed_mode, planned.feed_mm_per_min,
+                         (pose.tip - last_tip_).norm(), from, to);
+    last_tip_ = pose.tip;
+    program_.inserted_moves += inserted;
+    program_.moves.push_back(m);
+  }
+
+  MachineAxes inverse(const PartPose& pose, const MachineAxes& previous, const PlannedMove& planned,
+                      long index) {
+    try {
+      return kin_.inverse(pose, previous);
+    } catch (const ParameterError& e) {
+      const std::string what = e.what();
+      throw ParameterError(e.name(), describe(index, planned) + ": " +
+                                         what.substr(std::min(what.size(), e.name().size() + 2)));
+    }
+  }
+
+  void set_last_tip(const Vec3& tip) { last_tip_ = tip; }
+
+ private:
+  const Kinematics& kin_;
+  const MotionOptions& options_;
+  MachineProgram& program_;
+  Vec3 last_tip_ = Vec3::Zero();
+};
+
+}  // namespace
+
+PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t) {
+  PartPose p;
+  p.tip = a.tip + t * (b.tip - a.tip);
+  const Vec3 ka = a.axis.normalized(), kb = b.axis.normalized();
+  const Vec3 n = ka.cross(kb);
+  const double angle = std::atan2(n.norm(), ka.dot(kb));
+  if (n.norm() < 1e-12) {
+    if (ka.dot(kb) < 0) throw ParameterError("axis", "opposite tool axes: no unique motion between them");
+    p.axis = ka;
+    return p;
+  }
+  p.axis = Eigen::AngleAxisd(t * angle, n.normalized()) * ka;
+  return p;
+}
+
+MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
+                             const Vec3& tip_from, const Vec3& tip_to, double margin_mm) {
+  const double v = (to.linear_mm - from.linear_mm).norm();
+  const double w = std::abs(to.rotary_rad[0] - from.rotary_rad[0]) +
+                   std::abs(to.rotary_rad[1] - from.rotary_rad[1]);
+  MoveDeviation dev;
+  if (w == 0) {
+    // Fixed rotaries: the tip moves on a straight line in the part frame.
+    dev.samples = 1;
+    for (const MachineAxes* q : {&from, &to}) {
+      const double d = distance_to_segment(kin.forward(*q).tip, tip_from, tip_to);
+      dev.sampled_mm = std::max(dev.sampled_mm, d);
+    }
+    dev.bound_mm = dev.sampled_mm;
+    return dev;
+  }
+  // First guess of the samples from the endpoints' reach; refined below.
+  const double reach0 = std::max(kin.pivot_reach_mm(from), kin.pivot_reach_mm(to)) + v;
+  const double margin = std::max(margin_mm, 1e-9);
+  int n = std::clamp(static_cast<int>(std::ceil(w * std::sqrt((w * w * reach0 + w * v) / (4 * margin)))) + 2, 4, kMaxSamples);
+  for (;;) {
+    double sampled = 0, reach = 0;
+    for (int i = 0; i <= n; ++i) {
+      const MachineAxes q = lerp(from, to, double(i) / n);
+      sampled = std::max(sampled, distance_to_segment(kin.forward(q).tip, tip_from, tip_to));
+      reach = std::max(reach, kin.pivot_reach_mm(q));
+    }
+    const double h = 1.0 / n;
+    // Between samples the reach grows at most by the tip speed times h/2.
+    reach += 0.5 * h * (v + w * reach);
+    const double accel = 2 * w * w * reach + 2 * w * v;
+    const double between = accel * h * h / 8;
+    dev.sampled_mm = sampled;
+    dev.bound_mm = sampled + between;
+    dev.samples = n;
+    if (between <= margin || n >= kMaxSamples) return dev;
+    n = std::min(kMaxSamples, static_cast<int>(std::ceil(n * std::sqrt(between / margin) * 1.05)));
+  }
+}
+
+MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
+                                   const MotionOptions& options, Progress& progress) {
+  if (!(options.chord_tol_mm > 0)) throw ParameterError("chord_tol", "expected a tolerance > 0 mm");
+  MachineProgram program;
+  program.feed_mode = kin.machine().feed;
+  program.tcp = options.tcp;
+  Planner planner(kin, options, program);
+  progress.begin("machine motion", static_cast<long>(path.size()));
+  MachineAxes axes = options.start;
+  PartPose pose = kin.forward(axes);
+  planner.set_last_tip(pose.tip);
+  for (size_t i = 0; i < path.size(); ++i) {
+    const PlannedMove& m = path[i];
+    const long index = static_cast<long>(i);
+    if (m.kind == MoveKind::Feed && !(m.feed_mm_per_min > 0))
+      throw ParameterError("feed", describe(index, m) + ": expected a feed > 0 mm/min");
+    const MachineAxes next = planner.inverse(m.pose, axes, m, index);
+    if (same_axes(next, axes) && i > 0) {
+      ++program.skipped_moves;
+    } else if (m.kind == MoveKind::Rapid || i == 0) {
+      // The first move starts from wherever the machine is, not from a
+      // planned pose: there is no segment to stay on.
+      planner.emit(m.pose, axes, next, m, index, false);
+    } else {
+      planner.feed(pose, axes, m.pose, next, m, index, 0, true);
+      // Splitting re-solves the pieces from the start; continue from where
+      // the last piece ended.
+      axes = program.moves.back().axes;
+      pose = m.pose;
+      if ((i & 255) == 0) progress.step(index + 1);
+      continue;
+    }
+    axes = next;
+    pose = m.pose;
+    if ((i & 255) == 0) progress.step(index + 1);
+  }
+  progress.end();
+  return program;
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,85 @@
+#pragma once
+// From planned tool poses to machine-axis moves.
+//
+// Between two blocks a controller without tool-centre-point control moves all
+// axes linearly; with a rotary axis in the move the tip then leaves the
+// planned straight segment (blisk paper §3.4 assumes it does not). Each feed
+// move is measured and, where the departure exceeds the chord tolerance,
+// split by inserting poses on the planned segment (tip linear, axis along the
+// great circle) until every piece is within tolerance. With TCP control
+// (G43.4, TRAORI, M128) the controller keeps the tip on the segment and no
+// move is split. Rapid moves are never split: they do not cut, and retracts
+// are the planner's business.
+#include <string>
+#include <vector>
+
+#include "core/common/progress.h"
+#include "core/machine/kinematics.h"
+
+namespace bliskrun {
+
+enum class MoveKind { Rapid, Feed };
+
+struct PlannedMove {
+  MoveKind kind = MoveKind::Feed;
+  PartPose pose;
+  double feed_mm_per_min = 0;  // feed moves: tip speed along the path
+  long row = -1;               // provenance for messages; -1 when not in a row
+};
+
+struct MotionOptions {
+  double chord_tol_mm = 0.005;  // allowed departure of the tip from the planned segment
+  bool tcp = false;             // the controller interpolates the tip (no splitting)
+  int max_depth = 10;           // split rounds per move before giving up
+  MachineAxes start;            // axes before the first move: continuity reference
+};
+
+struct MachineMove {
+  MoveKind kind = MoveKind::Feed;
+  MachineAxes axes;
+  PartPose pose;       // planned pose at the end of this move (part frame)
+  double feed = 0;     // F word: mm/min (per minute) or 1/min (inverse time); 0 for rapids
+  long source = 0;     // index of the planned move this one ends or belongs to
+  long row = -1;
+  bool inserted = false;  // added by splitting; ends inside the planned move
+};
+
+struct MachineProgram {
+  std::vector<MachineMove> moves;
+  FeedMode feed_mode = FeedMode::PerMinute;
+  bool tcp = false;
+  double max_deviation_mm = 0;  // bound on the tip departure over all feed moves, after splitting
+  long inserted_moves = 0;
+  long skipped_moves = 0;       // planned moves that did not move any axis
+};
+
+// The departure of the tip from the straight segment tip_from -> tip_to (part
+// frame) while the machine moves its axes linearly from `from` to `to`.
+// `sampled_mm` is the largest distance seen at evenly spaced samples;
+// `bound_mm` adds the most the tip can stray between two samples, from a bound
+// on its acceleration (rotations at constant rates summing to W about pivots
+// within rho of the tip, linear axes at speed v: |tip''| <= 2 W^2 rho + 2 W v),
+// so the true maximum never exceeds `bound_mm`. Samples are added until that
+// margin is at most `margin_mm` (or 4096 samples).
+struct MoveDeviation {
+  double sampled_mm = 0;
+  double bound_mm = 0;
+  int samples = 0;
+};
+MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
+                             const Vec3& tip_from, const Vec3& tip_to, double margin_mm);
+
+// Inverse kinematics along the path (continuity from move to move), splitting
+// of feed moves to the chord tolerance, feed words per the machine's feed
+// mode. A pose out of reach throws ParameterError naming the machine axis,
+// with the move index, its row and pose in the message.
+MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
+                                   const MotionOptions& options,
+                                   Progress& progress = Progress::none());
+
+// The pose at t in [0, 1] of the planned motion from a to b: tip linear, axis
+// along the great circle. Throws ParameterError("axis") when the axes are
+// opposite (no unique great circle).
+PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t);
+
+}  // namespace bliskrun

@@ -1,0 +1,242 @@
+#include "core/machine/program_reader.h"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+struct Token {
+  enum Kind { Word, Keyword, Number } kind;
+  char letter = 0;       // Word
+  std::string text;      // Keyword (upper case) / the raw text
+  double value = 0;      // Word, Number
+  int column = 0;        // 1-based
+};
+
+class LineReader {
+ public:
+  LineReader(const std::string& file, int line) : file_(file), line_(line) {}
+
+  [[noreturn]] void fail(int column, const std::string& message) const {
+    throw DataError(file_, line_, "column " + std::to_string(column) + ": " + message);
+  }
+
+  std::vector<Token> tokenize(const std::string& s) const {
+    std::vector<Token> out;
+    size_t i = 0;
+    while (i < s.size()) {
+      const char c = s[i];
+      const int col = static_cast<int>(i) + 1;
+      if (std::isspace(static_cast<unsigned char>(c))) { ++i; continue; }
+      if (c == ';') break;
+      if (c == '(') {
+        const size_t end = s.find(')', i);
+        if (end == std::string::npos) fail(col, "comment '(' is not closed");
+        i = end + 1;
+        continue;
+      }
+      if (std::isalpha(static_cast<unsigned char>(c))) {
+        size_t j = i;
+        while (j < s.size() && (std::isalpha(static_cast<unsigned char>(s[j])) || s[j] == '_')) ++j;
+        std::string run = s.substr(i, j - i);
+        for (char& ch : run) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+        const bool number_follows = j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) ||
+                                                     s[j] == '+' || s[j] == '-' || s[j] == '.' ||
+                                                     s[j] == '=');
+        if (run.size() == 1 && number_follows) {
+          size_t k = j + (s[j] == '=' ? 1 : 0);
+          Token t{Token::Word, run[0], run, 0, col};
+          t.value = number(s, k, col + static_cast<int>(k - i));
+          out.push_back(t);
+          i = k;
+        } else {
+          out.push_back(Token{Token::Keyword, 0, run, 0, col});
+          i = j;
+        }
+        continue;
+      }
+      if (std::isdigit(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.') {
+        Token t{Token::Number, 0, "", 0, col};
+        t.value = number(s, i, col);
+        out.push_back(t);
+        continue;
+      }
+      fail(col, std::string("unexpected character '") + c + "'");
+    }
+    return out;
+  }
+
+ private:
+  // Reads a decimal number at s[i]; advances i.
+  double number(const std::string& s, size_t& i, int col) const {
+    const size_t start = i;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+    bool digits = false;
+    while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) { ++i; digits = true; }
+    if (i < s.size() && s[i] == '.') {
+      ++i;
+      while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) { ++i; digits = true; }
+    }
+    if (!digits) fail(col, "expected a number");
+    return std::strtod(s.substr(start, i - start).c_str(), nullptr);
+  }
+
+  const std::string& file_;
+  int line_;
+};
+
+bool is_integer(double v) { return std::abs(v - std::round(v)) < 1e-9; }
+
+}  // namespace
+
+std::vector<ProgramMove> read_program(const std::string& text, const MachineDefinition& machine,
+                                      const ProgramReadOptions& options) {
+  std::vector<ProgramMove> moves;
+  // Modal state.
+  MachineAxes axes = options.start;
+  bool tcp = options.tcp;
+  FeedMode feed_mode = FeedMode::PerMinute;
+  double feed = 0;
+  int tool = 0;
+  int motion = -1;  // 0 rapid, 1 feed, -1 not yet set
+
+  size_t pos = 0;
+  int line_no = 0;
+  while (pos <= text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    std::string line = text.substr(pos, end - pos);
+    pos = end + 1;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line[first] == '%') continue;  // tape start/end
+    const LineReader reader(options.file_name, line_no);
+    const std::vector<Token> tokens = reader.tokenize(line);
+    if (tokens.empty()) continue;
+
+    bool axis_word = false, heidenhain_linear = false, fmax = false;
+    int block_motion = -1;
+    bool end_of_program = false;
+    for (size_t t = 0; t < tokens.size(); ++t) {
+      const Token& tok = tokens[t];
+      if (tok.kind == Token::Number) {
+        if (t == 0 && is_integer(tok.value) && tok.value >= 0) continue;  // Heidenhain block number
+        reader.fail(tok.column, "a number without an address letter");
+      }
+      if (tok.kind == Token::Keyword) {
+        const std::string& k = tok.text;
+        if (k == "BEGIN" || k == "END") {
+          if (t + 1 >= tokens.size() || tokens[t + 1].text != "PGM")
+            reader.fail(tok.column, "expected PGM after " + k);
+          end_of_program = k == "END";
+          break;  // the program name and unit follow
+        }
+        if (k == "TOOL") {
+          if (t + 2 >= tokens.size() || tokens[t + 1].text != "CALL" ||
+              tokens[t + 2].kind != Token::Number || !is_integer(tokens[t + 2].value))
+            reader.fail(tok.column, "expected TOOL CALL <number>");
+          tool = static_cast<int>(tokens[t + 2].value);
+          t += 2;
+          // Spindle axis and speed follow: "Z S12000".
+          if (t + 1 < tokens.size() && tokens[t + 1].kind == Token::Keyword &&
+              (tokens[t + 1].text == "X" || tokens[t + 1].text == "Y" || tokens[t + 1].text == "Z"))
+            ++t;
+          continue;
+        }
+        if (k == "FUNCTION") {
+          if (t + 1 < tokens.size() && tokens[t + 1].text == "TCPM") tcp = true;
+          else if (t + 2 < tokens.size() && tokens[t + 1].text == "RESET" && tokens[t + 2].text == "TCPM") tcp = false;
+          else reader.fail(tok.column, "expected FUNCTION TCPM or FUNCTION RESET TCPM");
+          break;  // TCPM options follow
+        }
+        if (k == "L") { heidenhain_linear = true; continue; }
+        if (k == "FMAX") { fmax = true; continue; }
+        if (k == "TRAORI") { tcp = true; continue; }
+        if (k == "TRAFOOF") { tcp = false; continue; }
+        reader.fail(tok.column, "unknown word '" + k + "'");
+      }
+      // Address words.
+      const double v = tok.value;
+      switch (tok.letter) {
+        case 'N': case 'O': case 'S': case 'D': case 'H': break;
+        case 'T': tool = static_cast<int>(v); break;
+        case 'F':
+          if (!(v > 0)) reader.fail(tok.column, "expected a feed > 0");
+          feed = v;
+          break;
+        case 'R':
+          if (!heidenhain_linear || v != 0) reader.fail(tok.column, "radius compensation is not supported (expected R0 in an L block)");
+          break;
+        case 'M': {
+          if (!is_integer(v)) reader.fail(tok.column, "expected an integer M code");
+          if (v == 128) tcp = true;
+          if (v == 129) tcp = false;
+          break;
+        }
+        case 'G': {
+          const double g = v;
+          auto is = [&](double x) { return std::abs(g - x) < 1e-9; };
+          if (is(0) || is(1)) block_motion = static_cast<int>(g);
+          else if (is(93)) feed_mode = FeedMode::InverseTime;
+          else if (is(94)) feed_mode = FeedMode::PerMinute;
+          else if (is(43.4) || is(43.5)) tcp = true;
+          else if (is(49)) tcp = false;
+          else if (is(91)) reader.fail(tok.column, "incremental coordinates (G91) are not supported");
+          else if (is(20)) reader.fail(tok.column, "inch units (G20) are not supported");
+          else if (is(2) || is(3)) reader.fail(tok.column, "arcs (G2/G3) are not supported");
+          else if (!(is(90) || is(17) || is(21) || is(40) || is(43) || is(61) || is(64) || is(80) ||
+                     (g >= 54 && g <= 59 && is_integer(g))))
+            {
+            std::ostringstream code;
+            code << "unsupported G code G" << g;
+            reader.fail(tok.column, code.str());
+          }
+          break;
+        }
+        case 'X': case 'Y': case 'Z':
+          axes.linear_mm[tok.letter - 'X'] = v;
+          axis_word = true;
+          break;
+        case 'A': case 'B': case 'C': {
+          int index = -1;
+          for (int i = 0; i < 2; ++i)
+            if (machine.rotary[i].name.size() == 1 && machine.rotary[i].name[0] == tok.letter) index = i;
+          if (index < 0)
+            reader.fail(tok.column, std::string("machine '") + machine.name + "' has no axis " + tok.letter);
+          axes.rotary_rad[index] = deg_to_rad(v);
+          axis_word = true;
+          break;
+        }
+        default:
+          reader.fail(tok.column, std::string("unsupported word '") + tok.letter + "'");
+      }
+    }
+    if (heidenhain_linear) block_motion = fmax ? 0 : 1;
+    else if (fmax) reader.fail(1, "FMAX outside an L block");
+    if (block_motion >= 0) motion = block_motion;
+    if (axis_word || heidenhain_linear) {
+      if (motion < 0) reader.fail(1, "axis words before any G0/G1");
+      ProgramMove m;
+      m.line = line_no;
+      m.kind = motion == 0 ? MoveKind::Rapid : MoveKind::Feed;
+      m.axes = axes;
+      m.tcp = tcp;
+      m.feed_mode = feed_mode;
+      m.feed = feed;
+      m.tool = tool;
+      if (m.kind == MoveKind::Feed && !(feed > 0)) reader.fail(1, "feed move without a feed (F)");
+      moves.push_back(m);
+    }
+    if (end_of_program) break;
+  }
+  return moves;
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,44 @@
+#pragma once
+// Proving a program: read it back, replay every move through the machine's
+// kinematics and compare with the plan it was written from.
+//
+// Move i of the program must be move i of the plan (posts add no motion of
+// their own) and of the same kind. For each the replayed tip and axis (full
+// forward kinematics, or with TCP control the programmed tip and the axis of
+// the programmed rotaries) are compared with the planned pose. A move may
+// deviate by the tolerance plus what the output resolution explains: half a
+// linear step per axis, and half a rotary step per rotary axis times the lever
+// arm from that axis to the tip (zero with TCP control, where the controller
+// places the tip itself).
+#include <string>
+
+#include "core/machine/kinematics.h"
+#include "core/machine/motion.h"
+#include "core/machine/program_reader.h"
+
+namespace bliskrun {
+
+struct VerifyOptions {
+  double tol_mm = 0.001;                       // beyond output resolution
+  double angle_tol_rad = deg_to_rad(0.001);    // beyond output resolution
+  ProgramReadOptions read;                     // file name for messages, TCP from the start
+};
+
+struct VerifyReport {
+  long moves = 0;
+  double max_position_mm = 0;   // largest tip deviation from the plan
+  double max_angle_rad = 0;     // largest tool-axis deviation from the plan
+  int worst_position_line = 0;  // program line of the largest tip deviation
+  int worst_angle_line = 0;
+};
+
+// Throws DataError at the program line of the first move beyond tolerance or
+// not matching the plan (count, kind). Feed words are not compared: they do
+// not place the tool. Returns the report when every move is within.
+VerifyReport verify_program(const std::string& text, const Kinematics& kin,
+                            const MachineProgram& plan, const VerifyOptions& options);
+
+// Replays one read-back move: the tool pose it puts in the part frame.
+PartPose replay(const Kinematics& kin, const ProgramMove& move);
+
+}  // namespace bliskrun

@@ -1,0 +1,203 @@
+#include "core/machine/motion.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/common/error.h"
+#include "machine/test_machines.h"
+
+namespace bliskrun {
+namespace {
+
+constexpr double kDeg = kPi / 180;
+
+double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// The departure of the tip from the planned segment, by brute force: the
+// machine's linear axis interpolation sampled densely.
+double dense_deviation(const Kinematics& kin, const MachineAxes& a, const MachineAxes& b,
+                       const Vec3& tip_a, const Vec3& tip_b, int samples = 4000) {
+  double worst = 0;
+  for (int i = 0; i <= samples; ++i) {
+    const double t = double(i) / samples;
+    MachineAxes q;
+    q.linear_mm = a.linear_mm + t * (b.linear_mm - a.linear_mm);
+    for (int r = 0; r < 2; ++r) q.rotary_rad[r] = a.rotary_rad[r] + t * (b.rotary_rad[r] - a.rotary_rad[r]);
+    worst = std::max(worst, distance_to_segment(kin.forward(q).tip, tip_a, tip_b));
+  }
+  return worst;
+}
+
+PartPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
+  return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
+                    std::cos(tilt_rad))};
+}
+
+// The bound move_deviation reports is never below the true departure, and
+// the sampled value never above it.
+TEST(MachineMotion, DeviationBoundHoldsForRandomMoves) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coord(-60, 60);
+  for (const MachineDefinition& m : test::all_machines()) {
+    const Kinematics kin(m, 80.0);
+    for (int i = 0; i < 40; ++i) {
+      MachineAxes a, b;
+      a.rotary_rad = test::random_rotary(m, rng);
+      b.rotary_rad = a.rotary_rad;
+      b.rotary_rad[0] += std::uniform_real_distribution<double>(-0.3, 0.3)(rng);
+      b.rotary_rad[1] += std::uniform_real_distribution<double>(-0.3, 0.3)(rng);
+      a.linear_mm = Vec3(coord(rng), coord(rng), coord(rng));
+      b.linear_mm = a.linear_mm + Vec3(coord(rng), coord(rng), coord(rng)) * 0.2;
+      const Vec3 tip_a = kin.forward(a).tip, tip_b = kin.forward(b).tip;
+      const MoveDeviation dev = move_deviation(kin, a, b, tip_a, tip_b, 0.001);
+      const double truth = dense_deviation(kin, a, b, tip_a, tip_b);
+      EXPECT_LE(truth, dev.bound_mm + 1e-12) << m.name << " move " << i;
+      EXPECT_LE(dev.sampled_mm, truth + 1e-6) << m.name << " move " << i;  // both sampled
+      EXPECT_LE(dev.bound_mm - dev.sampled_mm, 0.001 + 1e-12);
+    }
+  }
+}
+
+// A feed move that swings C by 90 deg at a 30 deg tilt with the tip 40 mm
+// off the C axis: linear axis interpolation leaves the segment by
+// millimetres; after splitting every piece stays within the chord tolerance,
+// measured densely.
+TEST(MachineMotion, SplittingKeepsANinetyDegreeSwingWithinTolerance) {
+  const Kinematics kin(test::table_table_ac(), 80.0);
+  const double tol = 0.002;
+  std::vector<PlannedMove> path(2);
+  path[0].kind = MoveKind::Rapid;
+  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[1].kind = MoveKind::Feed;
+  path[1].feed_mm_per_min = 1000;
+  path[1].pose = tilted(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
+
+  MachineAxes start;
+  const MachineAxes a = kin.inverse(path[0].pose, start), b = kin.inverse(path[1].pose, a);
+  ASSERT_NEAR(std::abs(b.rotary_rad[1] - a.rotary_rad[1]), 90 * kDeg, 1e-9);
+  const double unsplit = dense_deviation(kin, a, b, path[0].pose.tip, path[1].pose.tip);
+  EXPECT_GT(unsplit, 1.0);  // the test means something
+
+  MotionOptions options;
+  options.chord_tol_mm = tol;
+  const MachineProgram program = plan_machine_motion(kin, path, options);
+  EXPECT_GT(program.inserted_moves, 10);
+  EXPECT_LE(program.max_deviation_mm, tol);
+  ASSERT_EQ(program.moves.front().kind, MoveKind::Rapid);
+  for (size_t i = 1; i < program.moves.size(); ++i) {
+    const MachineMove& from = program.moves[i - 1];
+    const MachineMove& to = program.moves[i];
+    // Each piece ends on the planned segment, its pose reached by the axes.
+    EXPECT_LT(distance_to_segment(to.pose.tip, path[0].pose.tip, path[1].pose.tip), 1e-9);
+    EXPECT_LT((kin.forward(to.axes).tip - to.pose.tip).norm(), 1e-9);
+    EXPECT_LE(dense_deviation(kin, from.axes, to.axes, from.pose.tip, to.pose.tip, 400), tol) << i;
+    EXPECT_EQ(to.source, 1);
+  }
+  EXPECT_FALSE(program.moves.back().inserted);
+  EXPECT_LT((program.moves.back().pose.tip - path[1].pose.tip).norm(), 1e-12);
+}
+
+// With TCP control the controller keeps the tip on the segment: no splitting.
+TEST(MachineMotion, TcpOutputIsNotSplit) {
+  const Kinematics kin(test::table_table_ac(), 80.0);
+  std::vector<PlannedMove> path(2);
+  path[0].kind = MoveKind::Rapid;
+  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[1].feed_mm_per_min = 1000;
+  path[1].pose = tilted(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
+  MotionOptions options;
+  options.tcp = true;
+  EXPECT_EQ(plan_machine_motion(kin, path, options).moves.size(), 2u);
+}
+
+// Inverse time: F = feed / tip length of each move (1/min).
+TEST(MachineMotion, InverseTimeFeedIsTheReciprocalOfTheDuration) {
+  MachineDefinition m = test::table_table_ac();
+  m.feed = FeedMode::InverseTime;
+  const Kinematics kin(m, 80.0);
+  std::vector<PlannedMove> path(3);
+  path[0].kind = MoveKind::Rapid;
+  path[0].pose = {Vec3(0, 0, 10), Vec3::UnitZ()};
+  path[1].feed_mm_per_min = 600;
+  path[1].pose = {Vec3(30, 0, 10), Vec3::UnitZ()};
+  path[2].feed_mm_per_min = 600;
+  path[2].pose = {Vec3(30, 40, 10), Vec3::UnitZ()};
+  const MachineProgram program = plan_machine_motion(kin, path, MotionOptions{});
+  ASSERT_EQ(program.moves.size(), 3u);
+  EXPECT_EQ(program.feed_mode, FeedMode::InverseTime);
+  EXPECT_EQ(program.moves[0].feed, 0);
+  EXPECT_NEAR(program.moves[1].feed, 600.0 / 30, 1e-12);
+  EXPECT_NEAR(program.moves[2].feed, 600.0 / 40, 1e-12);
+}
+
+// An unreachable pose names the move, its row and the axis.
+TEST(MachineMotion, UnreachablePoseNamesTheMoveAndAxis) {
+  MachineDefinition m = test::head_table_bc();
+  m.rotary[0] = test::rotary("C", AxisCarrier::Part, Vec3::UnitZ(), Vec3::Zero(), -30, 30);
+  const Kinematics kin(m, 50.0);
+  std::vector<PlannedMove> path(3);
+  const double c_deg[] = {10, 20, 45};
+  for (int i = 0; i < 3; ++i) {
+    path[i].feed_mm_per_min = 500;
+    path[i].row = 7;
+    path[i].pose = {Vec3(i, 0, 0), kin.tool_axis({c_deg[i] * kDeg, 40 * kDeg})};
+  }
+  try {
+    plan_machine_motion(kin, path, MotionOptions{});
+    FAIL() << "expected an error";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(e.name(), "C");
+    const std::string what = e.what();
+    EXPECT_NE(what.find("move 2 (row 7)"), std::string::npos) << what;
+    EXPECT_NE(what.find("outside travel"), std::string::npos) << what;
+  }
+}
+
+TEST(MachineMotion, InterpolatedPoseFollowsTheGreatCircle) {
+  const PartPose a{Vec3(0, 0, 0), Vec3::UnitZ()}, b{Vec3(10, 0, 0), Vec3::UnitX()};
+  const PartPose mid = interpolate_pose(a, b, 0.5);
+  EXPECT_LT((mid.tip - Vec3(5, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((mid.axis - Vec3(1, 0, 1).normalized()).norm(), 1e-12);
+  EXPECT_THROW(interpolate_pose(a, {Vec3::Zero(), -Vec3::UnitZ()}, 0.5), ParameterError);
+}
+
+}  // namespace
+}  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// Past A = +30 deg the A/C trunnion must change branch (A -> -A, C + 180):
+// in the middle of a feed move that would drag the tip across the part, so
+// it is refused, naming the move, rather than written.
+TEST(MachineMotion, BranchChangeInsideAFeedMoveIsRefused) {
+  const Kinematics kin(test::table_table_ac(), 80.0);
+  std::vector<PlannedMove> path;
+  for (int i = 0; i < 4; ++i) {
+    PlannedMove m;
+    m.kind = i == 0 ? MoveKind::Rapid : MoveKind::Feed;
+    m.feed_mm_per_min = 500;
+    const double tilt = (28 + i) * kDeg;
+    m.pose = {Vec3(20, 0, 0), Vec3(0, -std::sin(tilt), std::cos(tilt))};  // needs A = +tilt or -tilt
+    path.push_back(m);
+  }
+  MotionOptions options;
+  options.start.rotary_rad = {25 * kDeg, kPi};  // on the A > 0 branch
+  try {
+    plan_machine_motion(kin, path, options);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("move 3"), std::string::npos) << e.what();
+  }
+  options.start.rotary_rad = {-25 * kDeg, 0};  // on the A < 0 branch: fine
+  const MachineProgram program = plan_machine_motion(kin, path, options);
+  EXPECT_NEAR(program.moves.back().axes.rotary_rad[0], -31 * kDeg, 1e-9);
+}
+
+}  // namespace
+}  // namespace bliskrun

@@ -1,0 +1,126 @@
+#include "core/machine/program_reader.h"
+
+#include <gtest/gtest.h>
+
+#include "core/common/error.h"
+#include "machine/test_machines.h"
+
+namespace bliskrun {
+namespace {
+
+constexpr double kDeg = kPi / 180;
+
+ProgramReadOptions named(const std::string& file) {
+  ProgramReadOptions o;
+  o.file_name = file;
+  return o;
+}
+
+std::string error_of(const std::string& text, const MachineDefinition& m) {
+  try {
+    read_program(text, m, named("prog.nc"));
+  } catch (const DataError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(MachineProgramReader, ReadsAnIsoProgram) {
+  const std::string text =
+      "%\n"
+      "O1000 (hand written)\n"
+      "N10 G90 G94 G17 G21\n"
+      "N20 T3 M6\n"
+      "N30 G0 X10. Y-5.5 Z100. A0. C90.\n"
+      "N40 G1 Z2.5 F800.\n"
+      "\n"
+      "N50 G93 G1 X12.345 A-30. C-45.5 F12.5\n"
+      "N60 G43.4 H3\n"
+      "N70 X1Y2Z3 ; packed words\n"
+      "N80 G49 M30\n"
+      "%\n";
+  const auto moves = read_program(text, test::table_table_ac(), named("a.nc"));
+  ASSERT_EQ(moves.size(), 4u);
+  EXPECT_EQ(moves[0].line, 5);
+  EXPECT_EQ(moves[0].kind, MoveKind::Rapid);
+  EXPECT_EQ(moves[0].tool, 3);
+  EXPECT_EQ(moves[0].axes.linear_mm, Vec3(10, -5.5, 100));
+  EXPECT_NEAR(moves[0].axes.rotary_rad[1], 90 * kDeg, 1e-15);
+  EXPECT_EQ(moves[1].line, 6);
+  EXPECT_EQ(moves[1].kind, MoveKind::Feed);
+  EXPECT_EQ(moves[1].axes.linear_mm, Vec3(10, -5.5, 2.5));  // modal X Y
+  EXPECT_EQ(moves[1].feed, 800);
+  EXPECT_EQ(moves[1].feed_mode, FeedMode::PerMinute);
+  EXPECT_EQ(moves[2].line, 8);
+  EXPECT_EQ(moves[2].feed_mode, FeedMode::InverseTime);
+  EXPECT_EQ(moves[2].feed, 12.5);
+  EXPECT_NEAR(moves[2].axes.rotary_rad[0], -30 * kDeg, 1e-15);
+  EXPECT_NEAR(moves[2].axes.rotary_rad[1], -45.5 * kDeg, 1e-15);
+  EXPECT_FALSE(moves[2].tcp);
+  EXPECT_EQ(moves[3].line, 10);
+  EXPECT_TRUE(moves[3].tcp);
+  EXPECT_EQ(moves[3].axes.linear_mm, Vec3(1, 2, 3));
+  EXPECT_EQ(moves[3].kind, MoveKind::Feed);
+}
+
+TEST(MachineProgramReader, ReadsHeidenhainAndSiemensBlocks) {
+  const std::string heidenhain =
+      "0 BEGIN PGM BLISK MM\n"
+      "1 TOOL CALL 3 Z S12000\n"
+      "2 L X+10.000 Y-5.500 Z+100.000 B+0.000 C+90.000 R0 FMAX M3\n"
+      "3 M128\n"
+      "4 L Z+2.500 F800\n"
+      "5 L X+12.345 B-30.000 C-45.500 R0 F500 ; comment\n"
+      "6 FUNCTION RESET TCPM\n"
+      "7 L Z+50 FMAX\n"
+      "8 END PGM BLISK MM\n";
+  const auto h = read_program(heidenhain, test::head_table_bc(), named("h.h"));
+  ASSERT_EQ(h.size(), 4u);
+  EXPECT_EQ(h[0].kind, MoveKind::Rapid);
+  EXPECT_EQ(h[0].tool, 3);
+  EXPECT_FALSE(h[0].tcp);
+  EXPECT_EQ(h[1].kind, MoveKind::Feed);
+  EXPECT_TRUE(h[1].tcp);
+  EXPECT_EQ(h[2].axes.linear_mm, Vec3(12.345, -5.5, 2.5));
+  EXPECT_NEAR(h[2].axes.rotary_rad[1], -30 * kDeg, 1e-15);  // B is rotary[1] here
+  EXPECT_EQ(h[2].feed, 500);
+  EXPECT_EQ(h[3].kind, MoveKind::Rapid);
+  EXPECT_FALSE(h[3].tcp);
+  EXPECT_EQ(h[3].line, 8);
+
+  const std::string siemens =
+      "; 840D\n"
+      "N10 T=\"\" \n";
+  EXPECT_NE(error_of(siemens, test::table_table_ac()).find("prog.nc:2:"), std::string::npos);
+  const std::string siemens_ok =
+      "N10 T3 D1 M6\n"
+      "N20 TRAORI\n"
+      "N30 G1 X1 Y2 Z3 A4 C5 F100\n"
+      "N40 TRAFOOF\n"
+      "N50 G0 Z100\n"
+      "N60 M30\n";
+  const auto s = read_program(siemens_ok, test::table_table_ac(), named("s.mpf"));
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_TRUE(s[0].tcp);
+  EXPECT_FALSE(s[1].tcp);
+  EXPECT_NEAR(s[0].axes.rotary_rad[0], 4 * kDeg, 1e-15);
+}
+
+TEST(MachineProgramReader, ErrorsNameLineAndColumn) {
+  const MachineDefinition ac = test::table_table_ac();
+  EXPECT_EQ(error_of("G0 X0 Y0 Z0\nN10 G1 X10 Q5 F100\n", ac),
+            "prog.nc:2: column 12: unsupported word 'Q'");
+  EXPECT_EQ(error_of("G1 X1 B5 F10\n", ac), "prog.nc:1: column 7: machine 'test A/C trunnion' has no axis B");
+  EXPECT_EQ(error_of("G2 X1 F10\n", ac), "prog.nc:1: column 1: arcs (G2/G3) are not supported");
+  EXPECT_EQ(error_of("G91\n", ac), "prog.nc:1: column 1: incremental coordinates (G91) are not supported");
+  EXPECT_EQ(error_of("G1 X1 (open\n", ac), "prog.nc:1: column 7: comment '(' is not closed");
+  EXPECT_EQ(error_of("G1 X1\n", ac), "prog.nc:1: column 1: feed move without a feed (F)");
+  EXPECT_EQ(error_of("X1\n", ac), "prog.nc:1: column 1: axis words before any G0/G1");
+  EXPECT_EQ(error_of("G0 X1 RAPID\n", ac), "prog.nc:1: column 7: unknown word 'RAPID'");
+  EXPECT_EQ(error_of("G0 X\n", ac), "prog.nc:1: column 4: unknown word 'X'");
+  EXPECT_EQ(error_of("G0 X-\n", ac), "prog.nc:1: column 5: expected a number");
+  EXPECT_EQ(error_of("G0 X1 G12.5\n", ac), "prog.nc:1: column 7: unsupported G code G12.5");
+}
+
+}  // namespace
+}  // namespace bliskrun
