@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "core/common/error.h"
+
 namespace bliskrun {
 namespace {
 

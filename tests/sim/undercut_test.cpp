@@ -116,11 +116,18 @@ TEST(Undercut, SameResultForAnyThreadCount) {
     ASSERT_EQ(std::memcmp(&a.residual_mm[i], &b.residual_mm[i], sizeof(double)), 0) << i;
 }
 
-TEST(Undercut, PrunesFarSamples) {
-  // One short pass at one end: far fewer line evaluations than samples x positions.
+TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
+  // Doubling the sampled area away from a short pass (same density) must not
+  // double the work: far tiles are pruned by the Lipschitz bound.
   const std::vector<ToolPass> passes = {{at(-9, 0, 0), at(-8, 0, 0)}};
-  const UndercutResult res = simulate_undercut(Plane(), ball(2), passes, plane_options());
-  EXPECT_LT(res.line_evaluations, res.tool_positions * 41L * 101L / 10);
+  UndercutOptions near = plane_options(), wide = plane_options();
+  wide.samples_u = 81;
+  wide.u1 = 2;  // x up to +30 mm
+  const UndercutResult a = simulate_undercut(Plane(), ball(2), passes, near);
+  const UndercutResult b = simulate_undercut(Plane(), ball(2), passes, wide);
+  EXPECT_EQ(a.tool_positions, b.tool_positions);
+  EXPECT_LT(b.line_evaluations, a.line_evaluations * 11 / 10);
+  EXPECT_LT(a.line_evaluations, a.tool_positions * 41L * 101L / 4);
 }
 
 TEST(Undercut, RejectsBadOptions) {
