@@ -1,44 +1,11 @@
-// Lua bindings of tools and collision: every example in docs/lua_api.md's
-// Tools and Collision sections runs, and errors land on the recipe line
-// with the parameter's name.
+// Lua bindings of tools and collision: errors land on the recipe line with
+// the parameter's name. (The documented examples run in docs_examples_test.)
 #include <gtest/gtest.h>
-
-#include <fstream>
-#include <regex>
-#include <sstream>
 
 #include "test_support.h"
 
 namespace bliskrun::test {
 namespace {
-
-// The ```lua blocks from "## Tools" up to the next level-2 heading after
-// "## Collision", in order (the collision examples continue one another).
-std::string doc_examples() {
-  std::ifstream in(std::string(BLISKRUN_SOURCE_DIR) + "/docs/lua_api.md");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string doc = ss.str();
-  const size_t begin = doc.find("\n## Tools");
-  const size_t collision = doc.find("\n## Collision", begin);
-  const size_t end = doc.find("\n## ", collision + 1);
-  if (begin == std::string::npos || collision == std::string::npos) return "";
-  const std::string part = doc.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
-  std::string lua;
-  const std::regex block("```lua\\n([\\s\\S]*?)```");
-  for (std::sregex_iterator it(part.begin(), part.end(), block), stop; it != stop; ++it) {
-    lua += (*it)[1].str() + "\n";
-  }
-  return lua;
-}
-
-TEST(LuaToolsCollision, DocumentedExamplesRun) {
-  const std::string lua = doc_examples();
-  ASSERT_GT(lua.size(), 1000u) << "no examples found in docs/lua_api.md";
-  TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, lua);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-}
 
 struct ErrorCase {
   const char* name;
