@@ -7,6 +7,7 @@
 #include "collision/test_meshes.h"
 #include "core/collision/collision_world.h"
 #include "core/common/error.h"
+#include "core/geometry/mesh.h"
 
 namespace bliskrun {
 namespace {
@@ -150,6 +151,37 @@ TEST(CollisionWorld, CheckSurfaceWhollyInsideAPartCollides) {
   const PoseCheck off = world.check(body, ToolPose{Vec3(-10, 0, 0), Vec3::UnitZ()}, Clearances{});
   EXPECT_TRUE(off.clear);
   expect_enclosing_distance(off.parts[1].distance_mm, 6, body, "shank");
+}
+
+// A hub-like cylinder of radius 50 about z, as a Surface on [0,1]^2.
+class HubCylinder : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double a = kPi / 2 * (v - 0.5), z = 40 * u;
+    SurfaceDerivs d;
+    d.p = Vec3(50 * std::cos(a), 50 * std::sin(a), z);
+    d.pu = Vec3(0, 0, 40);
+    d.pv = kPi / 2 * Vec3(-50 * std::sin(a), 50 * std::cos(a), 0);
+    d.pvv = kPi * kPi / 4 * Vec3(-50 * std::cos(a), -50 * std::sin(a), 0);
+    return d;
+  }
+};
+
+TEST(CollisionWorld, TessellatedSurfaceAtChordTolerance) {
+  const double chord_tol = 1e-3;
+  CollisionWorld world;
+  world.add("hub", tessellate(HubCylinder(), chord_tol));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {}, {}}));
+  for (double gap : {0.05, 0.5, 2.0}) {
+    for (double angle_deg : {-20.0, 0.0, 33.0}) {
+      // Ball end pointing away from the axis, its tip `gap` outside the cylinder.
+      const Vec3 radial(std::cos(deg_to_rad(angle_deg)), std::sin(deg_to_rad(angle_deg)), 0);
+      const PoseCheck c = world.check(body, ToolPose{(50 + gap) * radial + Vec3(0, 0, 20), radial}, Clearances{});
+      // The chords lie inside the true cylinder by at most chord_tol.
+      EXPECT_LE(c.parts[0].distance_mm, gap + chord_tol + kFclTolMm) << gap << " " << angle_deg;
+      EXPECT_GE(c.parts[0].distance_mm, gap - body.overestimate_mm() - kFclTolMm) << gap << " " << angle_deg;
+    }
+  }
 }
 
 // Blisk paper Fig. 9: two poses that are clear, and the motion between them
