@@ -7,6 +7,9 @@ void open_all(lua_State* L) {
   open_units(L);
   open_files(L);
   open_geometry(L);
+  open_io(L);
+  open_parts(L);
+  open_analysis(L);
   open_tools(L);
   open_collision(L);
   lua_setglobal(L, "bliskrun");
