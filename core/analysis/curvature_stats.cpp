@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "core/common/error.h"
 #include "core/geometry/differential.h"
@@ -56,7 +57,13 @@ CurvatureStats curvature_stats(const Surface& s, const CurvatureStatsOptions& op
     for (int j = 0; j < nv; ++j) {
       const double v = static_cast<double>(j) / (nv - 1);
       const SurfaceDerivs d = s.eval(u, v);
-      const SurfaceCurvature c = curvature(d);
+      SurfaceCurvature c;
+      try {
+        c = curvature(d);
+      } catch (const Error& e) {
+        throw Error(std::string(e.what()) + " at sample (u, v) = (" + std::to_string(u) + ", " +
+                    std::to_string(v) + ")");
+      }
       CurvatureSample sample{c.K, c.H, c.k1, c.k2, 0.0};
       // Angle of dir1 from pu, positive towards n x pu.
       const Vec3 e1 = d.pu.normalized();

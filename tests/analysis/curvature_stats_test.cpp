@@ -155,6 +155,32 @@ TEST(CurvatureStats, RejectsBadOptions) {
   EXPECT_THROW(curvature_stats(sphere, o), ParameterError);
 }
 
+// A cone apex is singular (pu = 0 at u = 0): the error says where.
+class Cone : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double a = 2 * kPi * v, c = std::cos(a), s = std::sin(a);
+    SurfaceDerivs d;
+    d.p = Vec3(u * c, u * s, u);
+    d.pu = Vec3(c, s, 1);
+    d.pv = 2 * kPi * Vec3(-u * s, u * c, 0);
+    d.puv = 2 * kPi * Vec3(-s, c, 0);
+    d.pvv = -4 * kPi * kPi * Vec3(u * c, u * s, 0);
+    return d;
+  }
+};
+
+TEST(CurvatureStats, SingularSampleIsNamed) {
+  try {
+    curvature_stats(Cone{});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("at sample (u, v) = (0.000000, 0.000000)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(CurvatureStats, ProgressCancels) {
   const test::Sphere sphere(1.0);
   Progress progress;
