@@ -199,7 +199,8 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
                                    const MotionOptions& options, Progress& progress) {
   if (!(options.chord_tol_mm > 0)) throw ParameterError("chord_tol", "expected a tolerance > 0 mm");
   MachineProgram program;
-  program.feed_mode = kin.machine().feed;
+  // Under TCP control F is the tip's speed, which is what the plan gives.
+  program.feed_mode = options.tcp ? FeedMode::PerMinute : kin.machine().feed;
   program.tcp = options.tcp;
   Planner planner(kin, options, program);
   progress.begin("machine motion", static_cast<long>(path.size()));

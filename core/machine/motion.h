@@ -71,7 +71,7 @@ MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, con
 
 // Inverse kinematics along the path (continuity from move to move), splitting
 // of feed moves to the chord tolerance, feed words per the machine's feed
-// mode. A pose out of reach throws ParameterError naming the machine axis,
+// mode (per minute under TCP control, where F is the tip's speed). A pose out of reach throws ParameterError naming the machine axis,
 // with the move index, its row and pose in the message.
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
                                    const MotionOptions& options,
