@@ -13,6 +13,8 @@ void open_geometry(lua_State* L);   // wrap_geometry.cpp
 void open_io(lua_State* L);         // wrap_io.cpp: point-grid reader
 void open_parts(lua_State* L);      // wrap_parts.cpp: built-in blisk
 void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel design
+void open_tools(lua_State* L);      // wrap_tools.cpp: drum wheels, mills, contact wheel
+void open_collision(lua_State* L);  // wrap_collision.cpp: collision world, pose/motion checks, tilt
 
 // Registers everything into a new global table `bliskrun`.
 void open_all(lua_State* L);

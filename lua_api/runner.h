@@ -18,6 +18,8 @@ struct RunOptions {
   std::vector<std::string> data_dirs;  // --data DIR (repeatable), read-only
   std::vector<std::pair<std::string, std::string>> sets;  // --set key=value
   bool quiet = false;
+  double time_limit_s = 3600;      // wall time of the whole run; 0 = none
+  double memory_limit_mb = 8192;   // Lua heap of the recipe; 0 = none
 };
 
 // What a running recipe may touch, and where progress goes. One per Lua

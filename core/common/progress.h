@@ -17,6 +17,7 @@ class Progress {
 
   Progress() = default;
   explicit Progress(Reporter reporter) : reporter_(std::move(reporter)) {}
+  void set_reporter(Reporter reporter) { reporter_ = std::move(reporter); }
 
   // Starts a named task of `total` units.
   void begin(const std::string& task, long total);

@@ -44,5 +44,7 @@ GridParameters averaged_grid_parameters(const PointGrid& grid);
 // Cost is linear in rows * cols. Throws ParameterError on a degenerate grid
 // (fewer than 2 rows/cols, repeated points making a zero-length chord).
 BSplineSurface interpolate_grid(const PointGrid& grid);
+// Same, at given parameters (each vector from 0 to 1, strictly increasing).
+BSplineSurface interpolate_grid(const PointGrid& grid, const GridParameters& params);
 
 }  // namespace bliskrun

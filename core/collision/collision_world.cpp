@@ -1,0 +1,205 @@
+#include "core/collision/collision_world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+double Clearances::of(ToolPartId part) const {
+  switch (part) {
+    case ToolPartId::Cutter: return cutter_mm;
+    case ToolPartId::Shank: return shank_mm;
+    case ToolPartId::Holder: return holder_mm;
+  }
+  return 0;
+}
+
+namespace {
+
+void validate(const Clearances& c) {
+  for (const auto& [name, v] : {std::pair<const char*, double>{"clearance.cutter", c.cutter_mm},
+                                {"clearance.shank", c.shank_mm},
+                                {"clearance.holder", c.holder_mm}}) {
+    if (!std::isfinite(v) || v < 0) throw ParameterError(name, "must be a non-negative length in mm");
+  }
+}
+
+}  // namespace
+
+ToolBody::ToolBody(Tool tool, double tol_mm) : tool_(std::move(tool)), parts_(fcl_parts(tool_, tol_mm)) {}
+
+double ToolBody::overestimate_mm() const {
+  double e = 0;
+  for (const FclToolPart& p : parts_) e = std::max(e, p.overestimate_mm);
+  return e;
+}
+
+namespace {
+
+// One vertex of every connected piece of the mesh (triangles sharing a
+// vertex index are connected).
+std::vector<Vec3> piece_vertices(const TriangleMesh& mesh) {
+  std::vector<int> parent(mesh.vertices.size());
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 1; k < 3; ++k) parent[find(t[k])] = find(t[0]);
+  }
+  std::vector<Vec3> out;
+  std::vector<bool> seen(parent.size(), false);
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const int root = find(t[0]);
+    if (!seen[root]) {
+      seen[root] = true;
+      out.push_back(mesh.vertices[t[0]]);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh) {
+  if (name.empty()) throw ParameterError("name", "a check surface needs a name");
+  for (const Object& o : objects_) {
+    if (o.name == name) throw ParameterError("name", "check surface '" + name + "' is already in the world");
+  }
+  if (mesh.triangles.empty()) throw ParameterError(name, "check surface mesh has no triangles");
+  const int n = static_cast<int>(mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices) {
+    if (!v.allFinite()) throw ParameterError(name, "check surface mesh has a non-finite vertex");
+  }
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  model->beginModel(static_cast<int>(mesh.triangles.size()), n);
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Eigen::Vector3i& t = mesh.triangles[i];
+    if (t.minCoeff() < 0 || t.maxCoeff() >= n) {
+      std::ostringstream os;
+      os << "triangle " << i << " refers to a vertex outside 0.." << n - 1;
+      throw ParameterError(name, os.str());
+    }
+    model->addTriangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+  }
+  model->endModel();
+  model->computeLocalAABB();
+  objects_.push_back(Object{name, std::move(model), static_cast<int>(mesh.triangles.size()), piece_vertices(mesh)});
+}
+
+PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, const Clearances& clearances,
+                                double horizon_mm) const {
+  validate(clearances);
+  if (std::isnan(horizon_mm) || horizon_mm < 0) throw ParameterError("horizon", "must be a non-negative length");
+  std::vector<double> bound;
+  for (const FclToolPart& part : body.parts()) bound.push_back(clearances.of(part.id) + horizon_mm);
+  return check_bounded(body, tool_to_part(pose), clearances, bound);
+}
+
+PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isometry3d& frame,
+                                        const Clearances& clearances, const std::vector<double>& bound) const {
+  PoseCheck out;
+  out.min_margin_mm = std::numeric_limits<double>::infinity();
+  fcl::DistanceRequestd request;
+  request.enable_nearest_points = true;
+  const fcl::Transform3d identity = fcl::Transform3d::Identity();
+  const Eigen::Isometry3d to_tool = frame.inverse();
+  for (size_t p = 0; p < body.parts().size(); ++p) {
+    const FclToolPart& part = body.parts()[p];
+    PartClearance pc;
+    pc.part = part.id;
+    pc.distance_mm = bound[p];
+    pc.resolved = false;
+    // A piece wholly inside the part crosses no face: test one vertex each.
+    for (int i = 0; i < size() && !pc.collides; ++i) {
+      for (const Vec3& v : objects_[i].piece_vertices) {
+        if (body.tool().signed_distance(to_tool * v, part.id) < part.overestimate_mm) {
+          pc.collides = pc.resolved = true;
+          pc.distance_mm = 0;
+          pc.object = i;
+          pc.on_tool = pc.on_object = v;
+          break;
+        }
+      }
+    }
+    for (int i = 0; i < size() && !pc.collides; ++i) {
+      fcl::DistanceResultd result;
+      // Seeded with the best bound so far: FCL prunes every bounding volume
+      // farther than that.
+      result.min_distance = pc.distance_mm;
+      // Mesh first, tool second: nearest_points follow the argument order.
+      fcl::distance(objects_[i].model.get(), identity, part.geometry.get(), frame, request, result);
+      if (result.min_distance < pc.distance_mm) {
+        pc.resolved = true;
+        pc.object = i;
+        pc.on_object = result.nearest_points[0];
+        pc.on_tool = result.nearest_points[1];
+        pc.distance_mm = result.min_distance;
+        if (pc.distance_mm <= 0) {
+          pc.collides = true;
+          pc.distance_mm = 0;
+        }
+      }
+    }
+    const double margin = pc.distance_mm - clearances.of(part.id);
+    // A touching part is never clear, even with clearance 0.
+    if (margin < 0 || pc.collides) out.clear = false;
+    if (margin < out.min_margin_mm || out.worst < 0) {
+      out.min_margin_mm = margin;
+      out.worst = static_cast<int>(out.parts.size());
+    }
+    out.parts.push_back(pc);
+  }
+  return out;
+}
+
+MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& from, const ToolPose& to,
+                                         const Clearances& clearances, double tol_mm, int max_samples) const {
+  validate(clearances);
+  if (!(tol_mm > 0) || !std::isfinite(tol_mm)) throw ParameterError("tol_mm", "must be a positive length");
+  if (max_samples < 1) throw ParameterError("max_samples", "must be at least 1");
+  const PoseMotion motion(from, to);
+  std::vector<double> speed, bound(body.parts().size());
+  for (const FclToolPart& part : body.parts()) speed.push_back(motion.max_point_speed(part.reach_mm));
+  MotionCheck out;
+  out.min_margin_mm = std::numeric_limits<double>::infinity();
+  double t = 0;
+  while (true) {
+    // Resolve each distance only as far as it could matter: up to what
+    // would carry the proof to t = 1 in one step.
+    for (size_t p = 0; p < bound.size(); ++p) {
+      bound[p] = clearances.of(body.parts()[p].id) + std::max(0.0, speed[p] * (1 - t) - tol_mm);
+    }
+    const PoseCheck here = check_bounded(body, motion.frame_at(t), clearances, bound);
+    ++out.samples;
+    out.min_margin_mm = std::min(out.min_margin_mm, here.min_margin_mm);
+    if (!here.clear) {
+      out.clear = false;
+      out.t = t;
+      out.at = here;
+      return out;
+    }
+    double step = std::numeric_limits<double>::infinity();
+    for (size_t p = 0; p < here.parts.size(); ++p) {
+      if (speed[p] <= 0) continue;
+      const PartClearance& pc = here.parts[p];
+      step = std::min(step, (pc.distance_mm - clearances.of(pc.part) + tol_mm) / speed[p]);
+    }
+    if (t + step >= 1 - 1e-12) return out;
+    if (out.samples >= max_samples) {
+      out.clear = false;
+      out.undecided = true;
+      out.t = t;
+      out.at = here;
+      return out;
+    }
+    t += step;
+  }
+}
+
+}  // namespace bliskrun

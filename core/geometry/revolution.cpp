@@ -1,0 +1,131 @@
+#include "core/geometry/revolution.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/geometry/interpolation.h"
+#include "core/geometry/projection.h"
+
+namespace bliskrun {
+
+namespace {
+
+BSplineCurve fit_meridian(const std::vector<Vec2>& meridian) {
+  if (meridian.size() < 2)
+    throw ParameterError("meridian", "needs at least 2 (z, r) points, got " +
+                                         std::to_string(meridian.size()));
+  std::vector<Vec3> pts;
+  for (size_t i = 0; i < meridian.size(); ++i) {
+    if (!std::isfinite(meridian[i].x()) || !std::isfinite(meridian[i].y()) || meridian[i].y() < 0)
+      throw ParameterError("meridian", "point " + std::to_string(i) +
+                                           " must be finite with r >= 0");
+    pts.emplace_back(meridian[i].x(), meridian[i].y(), 0.0);
+  }
+  return interpolate_cubic(pts);
+}
+
+}  // namespace
+
+SurfaceOfRevolution::SurfaceOfRevolution(const std::vector<Vec2>& meridian)
+    : meridian_(fit_meridian(meridian)), samples_(meridian) {}
+
+SurfaceDerivs SurfaceOfRevolution::eval(double u, double v) const {
+  const CurveDerivs m = meridian_.eval(u);  // (z, r, 0)
+  const double w = 2 * kPi;
+  const double c = std::cos(w * v), s = std::sin(w * v);
+  const double z = m.p.x(), r = m.p.y();
+  SurfaceDerivs d;
+  d.p = Vec3(r * c, r * s, z);
+  d.pu = Vec3(m.dt.y() * c, m.dt.y() * s, m.dt.x());
+  d.pv = Vec3(-r * s, r * c, 0) * w;
+  d.puu = Vec3(m.dtt.y() * c, m.dtt.y() * s, m.dtt.x());
+  d.puv = Vec3(-m.dt.y() * s, m.dt.y() * c, 0) * w;
+  d.pvv = Vec3(-r * c, -r * s, 0) * (w * w);
+  return d;
+}
+
+double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
+  // Work in q's meridian plane: (z, r) of q against the profile curve.
+  const Vec3 qzr(q.z(), std::hypot(q.x(), q.y()), 0.0);
+  ProjectionOptions opt;
+  opt.seed_samples_u = std::max<int>(16, static_cast<int>(samples_.size()));
+  const CurveProjection foot = project_to_curve(meridian_, qzr, opt);
+  if (!foot.ok)
+    throw Error("radial_offset: no foot on the meridian for (z, r) = (" + std::to_string(qzr.x()) +
+                ", " + std::to_string(qzr.y()) + "): " + foot.failure);
+  const CurveDerivs d = meridian_.eval(foot.t);
+  // Left normal of the profile direction (z', r'): (-r', z'). For a profile
+  // running towards +z this points away from the axis.
+  Vec3 normal(-d.dt.y(), d.dt.x(), 0.0);
+  normal.normalize();
+  const Vec3 e = qzr - foot.point;
+  // Beyond an end of the profile the foot is the end point; the offset is
+  // still signed by the side of the profile's normal.
+  return e.dot(normal) >= 0 ? e.norm() : -e.norm();
+}
+
+double SurfaceOfRevolution::radius_at(double z) const {
+  const double z0 = meridian_.point(0).x(), z1 = meridian_.point(1).x();
+  if (z < std::min(z0, z1) - 1e-12 || z > std::max(z0, z1) + 1e-12)
+    throw Error("radius_at: z = " + std::to_string(z) + " mm is outside the profile [" +
+                std::to_string(std::min(z0, z1)) + ", " + std::to_string(std::max(z0, z1)) + "]");
+  // Bisection on z(u): the profile is single-valued in z where this is used.
+  double lo = 0, hi = 1;
+  const bool rising = z1 > z0;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const double zm = meridian_.point(mid).x();
+    if ((zm < z) == rising) lo = mid; else hi = mid;
+  }
+  return meridian_.point(0.5 * (lo + hi)).y();
+}
+
+SurfaceCurveOnSurface intersect_with_revolution(const Surface& s, const SurfaceOfRevolution& rev,
+                                                int samples_v) {
+  if (samples_v < 2) throw ParameterError("samples_v", "must be at least 2");
+  constexpr int kBracket = 64;
+  SurfaceCurveOnSurface out;
+  for (int j = 0; j < samples_v; ++j) {
+    const double v = static_cast<double>(j) / (samples_v - 1);
+    auto g = [&](double u) { return rev.radial_offset(s.point(u, v)); };
+    double prev_u = 0, prev_g = g(0);
+    bool found = false;
+    for (int i = 1; i <= kBracket && !found; ++i) {
+      const double u = static_cast<double>(i) / kBracket;
+      const double gu = g(u);
+      if ((prev_g <= 0) != (gu <= 0)) {
+        // Refine: Illinois-modified regula falsi, then bisection safety.
+        double a = prev_u, b = u, ga = prev_g, gb = gu;
+        for (int it = 0; it < 100 && b - a > 1e-13; ++it) {
+          double m = (a * gb - b * ga) / (gb - ga);
+          if (!(m > a && m < b)) m = 0.5 * (a + b);
+          const double gm = g(m);
+          if ((gm <= 0) == (ga <= 0)) {
+            a = m;
+            ga = gm;
+            gb *= 0.5;
+          } else {
+            b = m;
+            gb = gm;
+            ga *= 0.5;
+          }
+        }
+        const double root = 0.5 * (a + b);
+        out.u.push_back(root);
+        out.v.push_back(v);
+        out.points.push_back(s.point(root, v));
+        found = true;
+      }
+      prev_u = u;
+      prev_g = gu;
+    }
+    if (!found)
+      throw Error("intersect_with_revolution: the iso-v line v = " + std::to_string(v) +
+                  " does not cross the surface of revolution");
+  }
+  return out;
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,82 @@
+#include "core/planning/trimmed_surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/geometry/interpolation.h"
+
+namespace bliskrun {
+
+namespace {
+
+BSplineCurve fit_boundary(const std::vector<double>& v, const std::vector<double>& u) {
+  if (v.size() != u.size() || v.size() < 4)
+    throw ParameterError("boundary", "needs at least 4 (v, u) samples of equal count");
+  for (size_t i = 1; i < v.size(); ++i)
+    if (!(v[i] > v[i - 1]))
+      throw ParameterError("boundary", "v samples must increase strictly (sample " +
+                                           std::to_string(i) + ")");
+  if (v.front() > 1e-9 || v.back() < 1 - 1e-9)
+    throw ParameterError("boundary", "v samples must cover [0, 1]");
+  std::vector<Vec3> points(u.size());
+  for (size_t i = 0; i < u.size(); ++i) points[i] = Vec3(u[i], 0, 0);
+  // The parameter of the fit is v itself, so derivatives are du/dv directly.
+  std::vector<double> params(v);
+  params.front() = 0;
+  params.back() = 1;
+  return interpolate_cubic(points, params);
+}
+
+}  // namespace
+
+ParameterBoundary::ParameterBoundary(const std::vector<double>& v,
+                                     const std::vector<double>& u)
+    : fit_(fit_boundary(v, u)) {}
+
+ParameterBoundary::Value ParameterBoundary::at(double v) const {
+  const CurveDerivs d = fit_.eval(std::clamp(v, 0.0, 1.0));
+  return {d.p.x(), d.dt.x(), d.dtt.x()};
+}
+
+TrimmedSurface::TrimmedSurface(std::shared_ptr<const Surface> base,
+                               ParameterBoundary lower, ParameterBoundary upper)
+    : base_(std::move(base)), lower_(std::move(lower)), upper_(std::move(upper)) {
+  if (!base_) throw ParameterError("base", "a trimmed surface needs a base surface");
+  // Dense check: a crossing of the boundaries would fold the reparametrisation.
+  constexpr int kChecks = 1000;
+  for (int i = 0; i <= kChecks; ++i) {
+    const double v = static_cast<double>(i) / kChecks;
+    if (!(upper_.at(v).u > lower_.at(v).u))
+      throw ParameterError("boundary", "upper boundary is not above the lower one at v = " +
+                                           std::to_string(v));
+  }
+}
+
+Vec2 TrimmedSurface::base_parameters(double u, double v) const {
+  const double u1 = lower_.at(v).u, u2 = upper_.at(v).u;
+  return Vec2(u1 + u * (u2 - u1), v);
+}
+
+SurfaceDerivs TrimmedSurface::eval(double u, double v) const {
+  const auto lo = lower_.at(v), hi = upper_.at(v);
+  const double w = hi.u - lo.u;       // dU/du'
+  const double dw = hi.du - lo.du;    // d(w)/dv
+  const double ddw = hi.ddu - lo.ddu;
+  const double U = lo.u + u * w;
+  const double Uv = lo.du + u * dw;   // dU/dv
+  const double Uvv = lo.ddu + u * ddw;
+  const SurfaceDerivs b = base_->eval(U, v);
+  // Chain rule for p(U(u', v), v).
+  SurfaceDerivs d;
+  d.p = b.p;
+  d.pu = b.pu * w;
+  d.pv = b.pu * Uv + b.pv;
+  d.puu = b.puu * (w * w);
+  d.puv = (b.puu * Uv + b.puv) * w + b.pu * dw;
+  d.pvv = b.puu * (Uv * Uv) + 2.0 * b.puv * Uv + b.pvv + b.pu * Uvv;
+  return d;
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,219 @@
+#include "core/sim/undercut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kTile = 8;  // samples per tile side; tiles per super-tile side
+
+struct Sample {
+  Vec3 p, n;
+};
+
+// A group of samples (or of groups) with a bounding sphere.
+struct Group {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+  std::vector<int> members;  // sample indices (tiles) or tile indices (super-tiles)
+};
+
+template <class PointOf>
+void bound(Group& g, PointOf point_and_radius) {
+  Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+  for (int m : g.members) {
+    const auto [c, r] = point_and_radius(m);
+    lo = lo.cwiseMin(c - Vec3::Constant(r));
+    hi = hi.cwiseMax(c + Vec3::Constant(r));
+  }
+  g.centre = 0.5 * (lo + hi);
+  g.radius = 0;
+  for (int m : g.members) {
+    const auto [c, r] = point_and_radius(m);
+    g.radius = std::max(g.radius, (c - g.centre).norm() + r);
+  }
+}
+
+struct SampleIndex {
+  std::vector<Sample> samples;
+  std::vector<Group> tiles, supers;
+};
+
+SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
+  SampleIndex idx;
+  const int nu = o.samples_u, nv = o.samples_v;
+  idx.samples.resize(static_cast<size_t>(nu) * nv);
+  for (int i = 0; i < nu; ++i) {
+    const double u = o.u0 + (o.u1 - o.u0) * i / (nu - 1);
+    for (int j = 0; j < nv; ++j) {
+      const double v = o.v0 + (o.v1 - o.v0) * j / (nv - 1);
+      const SurfaceDerivs d = s.eval(u, v);
+      const Vec3 n = d.pu.cross(d.pv);
+      if (n.norm() < 1e-14)
+        throw Error("simulate_undercut: design surface is singular at (u, v) = (" +
+                    std::to_string(u) + ", " + std::to_string(v) + ")");
+      idx.samples[static_cast<size_t>(i) * nv + j] = {d.p, n.normalized()};
+    }
+  }
+  const int tu = (nu + kTile - 1) / kTile, tv = (nv + kTile - 1) / kTile;
+  idx.tiles.resize(static_cast<size_t>(tu) * tv);
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j)
+      idx.tiles[static_cast<size_t>(i / kTile) * tv + j / kTile].members.push_back(i * nv + j);
+  for (Group& t : idx.tiles)
+    bound(t, [&](int m) { return std::pair<Vec3, double>(idx.samples[m].p, 0.0); });
+  const int su = (tu + kTile - 1) / kTile, sv = (tv + kTile - 1) / kTile;
+  idx.supers.resize(static_cast<size_t>(su) * sv);
+  for (int i = 0; i < tu; ++i)
+    for (int j = 0; j < tv; ++j)
+      idx.supers[static_cast<size_t>(i / kTile) * sv + j / kTile].members.push_back(i * tv + j);
+  for (Group& g : idx.supers)
+    bound(g, [&](int m) { return std::pair<Vec3, double>(idx.tiles[m].centre, idx.tiles[m].radius); });
+  return idx;
+}
+
+// Every tool position the simulation evaluates, passes swept.
+std::vector<Eigen::Isometry3d> tool_positions(const std::vector<ToolPass>& passes,
+                                              double reach_mm, double step_mm) {
+  std::vector<Eigen::Isometry3d> out;
+  for (const ToolPass& pass : passes) {
+    for (size_t k = 0; k + 1 < pass.size(); ++k) {
+      const PoseMotion motion(pass[k], pass[k + 1]);
+      const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(reach_mm) / step_mm)));
+      for (int s = 0; s < n; ++s) out.push_back(motion.frame_at(static_cast<double>(s) / n));
+    }
+    if (!pass.empty()) out.push_back(tool_to_part(pass.back()));
+  }
+  return out;
+}
+
+// Lowest s in [-below, above] where p + s n is inside the cutter, or +inf.
+double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool,
+                   const UndercutOptions& o) {
+  double s = -o.search_below_mm;
+  for (int iter = 0; iter < 400; ++iter) {
+    const double f = cutter.signed_distance(Vec3(p_tool + s * n_tool));
+    if (f <= o.tol_mm) return s;
+    s += f;
+    if (s > o.search_above_mm) return kInf;
+  }
+  return kInf;  // grazing line that never entered within the iteration budget
+}
+
+void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
+              const UndercutOptions& o, std::vector<double>& residual, long& evaluations) {
+  const Eigen::Isometry3d to_tool = to_part.inverse();
+  const double range = std::max(o.search_above_mm, o.search_below_mm);
+  auto far = [&](const Group& g) {
+    return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range;
+  };
+  for (const Group& sup : idx.supers) {
+    if (far(sup)) continue;
+    for (int t : sup.members) {
+      const Group& tile = idx.tiles[t];
+      if (far(tile)) continue;
+      for (int m : tile.members) {
+        const Sample& smp = idx.samples[m];
+        ++evaluations;
+        const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o);
+        if (s < residual[m]) residual[m] = s;
+      }
+    }
+  }
+}
+
+}  // namespace
+
+UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
+                                 const std::vector<ToolPass>& passes,
+                                 const UndercutOptions& o, Progress& progress) {
+  if (o.samples_u < 2 || o.samples_v < 2)
+    throw ParameterError("samples", "need at least 2 x 2 samples");
+  if (!(o.search_above_mm > 0) || !(o.search_below_mm > 0))
+    throw ParameterError("search", "search_above_mm and search_below_mm must be > 0");
+  if (!(o.sweep_step_mm > 0)) throw ParameterError("sweep_step", "must be > 0");
+  if (o.threads < 1) throw ParameterError("threads", "must be >= 1");
+
+  const SampleIndex idx = build_index(design, o);
+  const Profile& cutter = tool.cutter();
+  const std::vector<Eigen::Isometry3d> positions =
+      tool_positions(passes, cutter.reach(), o.sweep_step_mm);
+
+  // Each worker takes every threads-th position into its own residual array;
+  // the minimum over workers does not depend on how positions were split, so
+  // the result is the same for any thread count.
+  const int workers = std::min<int>(o.threads, std::max<size_t>(1, positions.size()));
+  std::vector<std::vector<double>> partial(workers, std::vector<double>(idx.samples.size(), kInf));
+  std::vector<long> evaluations(workers, 0);
+  progress.begin("undercut simulation", static_cast<long>(positions.size()));
+  auto work = [&](int w) {
+    for (size_t k = w; k < positions.size(); k += workers) {
+      if (w == 0 && k % 64 == 0) progress.step(static_cast<long>(k));
+      else if (k % 64 == 0) progress.check();
+      cut_with(cutter, positions[k], idx, o, partial[w], evaluations[w]);
+    }
+  };
+  if (workers == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> threads;
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    for (int w = 0; w < workers; ++w)
+      threads.emplace_back([&, w] {
+        try {
+          work(w);
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(failure_mutex);
+          if (!failure) failure = std::current_exception();
+        }
+      });
+    for (auto& t : threads) t.join();
+    if (failure) std::rethrow_exception(failure);
+  }
+  progress.end();
+
+  UndercutResult r;
+  r.samples_u = o.samples_u;
+  r.samples_v = o.samples_v;
+  r.tool_positions = static_cast<long>(positions.size());
+  r.residual_mm.assign(idx.samples.size(), kInf);
+  for (int w = 0; w < workers; ++w) {
+    r.line_evaluations += evaluations[w];
+    for (size_t i = 0; i < idx.samples.size(); ++i)
+      r.residual_mm[i] = std::min(r.residual_mm[i], partial[w][i]);
+  }
+  std::vector<double> under;
+  under.reserve(r.residual_mm.size());
+  for (double res : r.residual_mm) {
+    if (!std::isfinite(res)) {
+      ++r.untouched;
+      continue;
+    }
+    r.overcut_mm = std::min(r.overcut_mm, res);
+    under.push_back(std::max(res, 0.0));
+  }
+  if (!under.empty()) {
+    double sum = 0;
+    for (double x : under) sum += x;
+    r.undercut_mean_mm = sum / under.size();
+    double var = 0;
+    for (double x : under) var += (x - r.undercut_mean_mm) * (x - r.undercut_mean_mm);
+    r.undercut_std_mm = std::sqrt(var / under.size());
+    std::sort(under.begin(), under.end());
+    r.undercut_max_mm = under.back();
+    const size_t n = under.size();
+    r.undercut_median_mm = n % 2 ? under[n / 2] : 0.5 * (under[n / 2 - 1] + under[n / 2]);
+  }
+  return r;
+}
+
+}  // namespace bliskrun

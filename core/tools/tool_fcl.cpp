@@ -1,0 +1,82 @@
+#include "core/tools/tool_fcl.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+RevolvedPolytope circumscribed_polytope(const Profile& profile, double tol_mm) {
+  if (!(tol_mm > 0) || !std::isfinite(tol_mm)) {
+    throw ParameterError("tol_mm", "tessellation tolerance must be a positive length");
+  }
+  const std::vector<Vec2> meridian = profile.circumscribed_polyline(tol_mm);
+  double r_max = 0;
+  for (const Vec2& p : meridian) r_max = std::max(r_max, p.x());
+  // N-gon whose inscribed circle is the ring: corners at r / cos(pi/N).
+  const double half_step = std::acos(1.0 / (1.0 + tol_mm / r_max));
+  const int n = std::max(8, static_cast<int>(std::ceil(kPi / half_step)));
+  const double scale = 1.0 / std::cos(kPi / n);
+
+  RevolvedPolytope poly;
+  poly.overestimate_mm = tol_mm + (r_max * scale - r_max);
+  std::vector<int> ring_start;  // first vertex of each ring; an apex is one vertex
+  std::vector<bool> apex;
+  for (const Vec2& p : meridian) {
+    ring_start.push_back(static_cast<int>(poly.vertices.size()));
+    const bool on_axis = p.x() < 1e-12;
+    apex.push_back(on_axis);
+    if (on_axis) {
+      poly.vertices.emplace_back(0, 0, p.y());
+      continue;
+    }
+    for (int j = 0; j < n; ++j) {
+      const double a = 2 * kPi * j / n;
+      poly.vertices.emplace_back(p.x() * scale * std::cos(a), p.x() * scale * std::sin(a), p.y());
+    }
+  }
+  auto vid = [&](size_t ring, int j) { return apex[ring] ? ring_start[ring] : ring_start[ring] + (j % n); };
+  for (size_t i = 0; i + 1 < meridian.size(); ++i) {
+    for (int j = 0; j < n; ++j) {
+      // The chain runs up the outside and j runs counter-clockwise about z,
+      // so (i,j) (i,j+1) (i+1,j+1) (i+1,j) is counter-clockwise from outside.
+      const int a = vid(i, j), b = vid(i, j + 1), c = vid(i + 1, j + 1), d = vid(i + 1, j);
+      if (apex[i] && apex[i + 1]) continue;
+      if (apex[i]) {
+        poly.faces.push_back({a, c, d});
+      } else if (apex[i + 1]) {
+        poly.faces.push_back({a, b, c});
+      } else {
+        poly.faces.push_back({a, b, c, d});
+      }
+    }
+  }
+  return poly;
+}
+
+std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
+  std::vector<FclToolPart> parts;
+  for (int i = 0; i < kToolPartCount; ++i) {
+    const auto id = static_cast<ToolPartId>(i);
+    if (!tool.has(id)) continue;
+    const RevolvedPolytope poly = circumscribed_polytope(tool.profile(id), tol_mm);
+    FclToolPart part;
+    part.id = id;
+    part.overestimate_mm = poly.overestimate_mm;
+    part.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+    part.geometry->beginModel();
+    for (const auto& f : poly.faces) {
+      for (size_t k = 1; k + 1 < f.size(); ++k) {
+        part.geometry->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
+      }
+    }
+    part.geometry->endModel();
+    part.geometry->computeLocalAABB();
+    for (const Vec3& v : poly.vertices) part.reach_mm = std::max(part.reach_mm, v.norm());
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,90 @@
+// bliskrun RECIPE.lua [options]: runs a recipe. See README.md and
+// docs/lua_api.md.
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "lua_api/runner.h"
+
+namespace {
+
+const char* const kUsage =
+    "usage: bliskrun RECIPE.lua [--out DIR] [--data DIR]... [--set KEY=VALUE]...\n"
+    "                [--quiet] [--time-limit SECONDS] [--memory-limit MB]\n"
+    "\n"
+    "  --out DIR            folder the recipe writes to (default: out)\n"
+    "  --data DIR           folder of part data the recipe may read (repeatable;\n"
+    "                       default: $BLISKRUN_DATA if set)\n"
+    "  --set KEY=VALUE      value for the recipe as args.KEY (numbers and\n"
+    "                       true/false are converted)\n"
+    "  --quiet              no progress on stderr\n"
+    "  --time-limit S       stop the run after S seconds of wall time (default 3600, 0 = none)\n"
+    "  --memory-limit MB    limit the recipe's Lua memory (default 8192, 0 = none)\n"
+    "  --help, --version\n"
+    "\n"
+    "exit codes: 0 ok, 1 recipe or data error, 2 usage error\n";
+
+int usage_error(const std::string& message) {
+  std::cerr << "bliskrun: " << message << "\n" << kUsage;
+  return bliskrun::lua_api::kExitUsage;
+}
+
+bool parse_number(const std::string& text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text.c_str(), &end);
+  return !text.empty() && end && *end == '\0' && out >= 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bliskrun::lua_api::RunOptions options;
+  if (const char* data = std::getenv("BLISKRUN_DATA")) options.data_dirs.push_back(data);
+  bool explicit_data = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](const char* flag) -> const char* {
+      if (i + 1 >= argc) return nullptr;
+      (void)flag;
+      return argv[++i];
+    };
+    if (arg == "--help" || arg == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (arg == "--version") {
+      std::cout << "bliskrun 0.1.0\n";
+      return 0;
+    } else if (arg == "--quiet" || arg == "-q") {
+      options.quiet = true;
+    } else if (arg == "--out") {
+      const char* v = value("--out");
+      if (!v) return usage_error("--out needs a folder");
+      options.out_dir = v;
+    } else if (arg == "--data") {
+      const char* v = value("--data");
+      if (!v) return usage_error("--data needs a folder");
+      if (!explicit_data) options.data_dirs.clear();  // the command line wins over $BLISKRUN_DATA
+      explicit_data = true;
+      options.data_dirs.push_back(v);
+    } else if (arg == "--set") {
+      const char* v = value("--set");
+      const std::string kv = v ? v : "";
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) return usage_error("--set needs KEY=VALUE, got '" + kv + "'");
+      options.sets.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+    } else if (arg == "--time-limit" || arg == "--memory-limit") {
+      const char* v = value(arg.c_str());
+      double x = 0;
+      if (!v || !parse_number(v, x)) return usage_error(arg + " needs a non-negative number");
+      (arg == "--time-limit" ? options.time_limit_s : options.memory_limit_mb) = x;
+    } else if (!arg.empty() && arg[0] == '-') {
+      return usage_error("unknown option '" + arg + "'");
+    } else if (options.recipe_path.empty()) {
+      options.recipe_path = arg;
+    } else {
+      return usage_error("more than one recipe given ('" + options.recipe_path + "' and '" + arg + "')");
+    }
+  }
+  if (options.recipe_path.empty()) return usage_error("no recipe given");
+  return bliskrun::lua_api::run_recipe(options, std::cerr);
+}

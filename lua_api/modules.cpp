@@ -1,0 +1,13 @@
+#include "lua_api/modules.h"
+
+namespace bliskrun::lua_api {
+
+void open_all(lua_State* L) {
+  lua_newtable(L);  // the `bliskrun` table
+  open_units(L);
+  open_files(L);
+  open_geometry(L);
+  lua_setglobal(L, "bliskrun");
+}
+
+}  // namespace bliskrun::lua_api

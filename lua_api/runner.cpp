@@ -1,0 +1,415 @@
+#include "lua_api/runner.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <condition_variable>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "lua_api/luax.h"
+#include "lua_api/modules.h"
+
+namespace bliskrun::lua_api {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kContextKey = "bliskrun.context";
+const char* const kModulesKey = "bliskrun.modules";  // require's cache
+
+// ---- paths ---------------------------------------------------------------------
+
+std::string canonical(const std::string& path) { return fs::weakly_canonical(fs::absolute(path)).string(); }
+
+bool inside(const std::string& path, const std::string& root) {
+  const fs::path p(path), r(root);
+  auto pi = p.begin();
+  for (auto ri = r.begin(); ri != r.end(); ++ri, ++pi) {
+    if (ri->empty()) continue;  // trailing separator
+    if (pi == p.end() || *pi != *ri) return false;
+  }
+  return true;
+}
+
+std::string scripts_dir() {
+  if (const char* env = std::getenv("BLISKRUN_SCRIPTS")) return canonical(env);
+  return canonical(BLISKRUN_SCRIPTS_DIR);
+}
+
+// ---- memory limit: a counting allocator ------------------------------------------
+
+struct Allocator {
+  size_t used = 0;
+  size_t limit = 0;  // 0: none
+  bool exceeded = false;
+};
+
+void* limited_alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
+  auto* a = static_cast<Allocator*>(ud);
+  if (ptr == nullptr) old_size = 0;  // old_size then encodes the object type
+  if (new_size == 0) {
+    std::free(ptr);
+    a->used -= old_size;
+    return nullptr;
+  }
+  if (a->limit && new_size > old_size && a->used + (new_size - old_size) > a->limit) {
+    a->exceeded = true;
+    return nullptr;  // Lua raises "not enough memory"
+  }
+  void* p = std::realloc(ptr, new_size);
+  if (p) a->used = a->used - old_size + new_size;
+  return p;
+}
+
+// ---- time limit ----------------------------------------------------------------------
+
+// Watches the wall clock from its own thread so that long core loops (which
+// run no Lua) are cancelled too; the Lua hook turns the same deadline into a
+// Lua error at the recipe line.
+class Watchdog {
+ public:
+  Watchdog(Progress& progress, double seconds) : progress_(progress) {
+    if (seconds <= 0) return;
+    deadline_ = std::chrono::steady_clock::now() +
+                std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+    seconds_ = seconds;
+    thread_ = std::thread([this] {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!cv_.wait_until(lock, deadline_, [this] { return done_; })) {
+        expired_ = true;
+        progress_.cancel(message());
+      }
+    });
+  }
+  ~Watchdog() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      done_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+  bool expired() const { return expired_.load(); }
+  std::string message() const {
+    std::ostringstream s;
+    s << "time limit of " << seconds_ << " s exceeded (--time-limit)";
+    return s.str();
+  }
+
+ private:
+  Progress& progress_;
+  std::chrono::steady_clock::time_point deadline_;
+  double seconds_ = 0;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool done_ = false;
+  std::atomic<bool> expired_{false};
+};
+
+struct RunState {
+  RunContext* context;
+  Allocator* allocator;
+  Watchdog* watchdog;
+  std::string last_position;  // "recipe.lua:12", refreshed by the count hook
+};
+
+RunState& state(lua_State* L) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kContextKey);
+  auto* s = static_cast<RunState*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  return *s;
+}
+
+// Every few thousand instructions: remember where the recipe is (a memory
+// error unwinds the stack before it can be reported) and stop at the deadline.
+void count_hook(lua_State* L, lua_Debug*) {
+  RunState& s = state(L);
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+    lua_getinfo(L, "Sl", &ar);
+    if (ar.currentline > 0) {
+      s.last_position = std::string(ar.short_src) + ":" + std::to_string(ar.currentline);
+      break;
+    }
+  }
+  if (s.watchdog->expired()) luaL_error(L, "%s", s.watchdog->message().c_str());
+}
+
+// ---- the sandbox ---------------------------------------------------------------------
+
+// load(chunk [, name [, mode [, env]]]) restricted to text chunks.
+int sandboxed_load(lua_State* L) {
+  const int top = lua_gettop(L);
+  if (top >= 3 && !lua_isnil(L, 3)) {
+    const char* mode = luaL_checkstring(L, 3);
+    if (std::string(mode) != "t") return luaL_error(L, "load: only text chunks (mode 't') are allowed in a recipe");
+  }
+  size_t len = 0;
+  const char* chunk = lua_tolstring(L, 1, &len);
+  if (!chunk) return luaL_error(L, "load: expected a string chunk (functions and binary chunks are not allowed)");
+  const char* name = luaL_optstring(L, 2, "=(load)");
+  if (luaL_loadbufferx(L, chunk, len, name, "t") != LUA_OK) {
+    lua_pushnil(L);
+    lua_insert(L, -2);
+    return 2;  // nil, message
+  }
+  if (top >= 4) {
+    lua_pushvalue(L, 4);
+    if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);
+  }
+  return 1;
+}
+
+int sandboxed_collectgarbage(lua_State* L) {
+  const std::string opt = luaL_optstring(L, 1, "collect");
+  if (opt == "count") {
+    const int kb = lua_gc(L, LUA_GCCOUNT, 0), b = lua_gc(L, LUA_GCCOUNTB, 0);
+    lua_pushnumber(L, kb + b / 1024.0);
+    return 1;
+  }
+  if (opt == "collect") {
+    lua_gc(L, LUA_GCCOLLECT, 0);
+    lua_pushinteger(L, 0);
+    return 1;
+  }
+  if (opt == "step") {
+    lua_pushboolean(L, lua_gc(L, LUA_GCSTEP, 0));
+    return 1;
+  }
+  return luaL_error(L, "collectgarbage: option '%s' is not allowed in a recipe (allowed: collect, count, step)",
+                    opt.c_str());
+}
+
+// require(name): Lua modules only, from the recipe's folder or scripts/lib.
+int sandboxed_require(lua_State* L) {
+  const std::string name = luaL_checkstring(L, 1);
+  static const std::regex valid("[A-Za-z_][A-Za-z0-9_]*(\\.[A-Za-z_][A-Za-z0-9_]*)*");
+  if (!std::regex_match(name, valid))
+    return luaL_error(L, "require: '%s' is not a module name (letters, digits, _ and dots)", name.c_str());
+  lua_getfield(L, LUA_REGISTRYINDEX, kModulesKey);
+  lua_getfield(L, -1, name.c_str());
+  if (!lua_isnil(L, -1)) return 1;
+  lua_pop(L, 1);
+  std::string rel = name;
+  std::replace(rel.begin(), rel.end(), '.', '/');
+  rel += ".lua";
+  const RunContext& ctx = context(L);
+  std::string found;
+  std::string tried;
+  for (const std::string& dir : {ctx.recipe_dir, scripts_dir() + "/lib"}) {
+    const std::string candidate = dir + "/" + rel;
+    tried += "\n\t" + candidate;
+    if (fs::is_regular_file(candidate)) {
+      found = candidate;
+      break;
+    }
+  }
+  if (found.empty())
+    return luaL_error(L, "require: module '%s' not found (only Lua modules in the recipe's folder and scripts/lib); tried:%s",
+                      name.c_str(), tried.c_str());
+  if (luaL_loadfilex(L, found.c_str(), "t") != LUA_OK) return lua_error(L);
+  lua_pushstring(L, name.c_str());
+  lua_call(L, 1, 1);
+  if (lua_isnil(L, -1)) {
+    lua_pop(L, 1);
+    lua_pushboolean(L, 1);
+  }
+  lua_pushvalue(L, -1);
+  lua_setfield(L, -3, name.c_str());
+  return 1;
+}
+
+void open_sandbox(lua_State* L) {
+  static const luaL_Reg libs[] = {{LUA_GNAME, luaopen_base},          {LUA_TABLIBNAME, luaopen_table},
+                                  {LUA_STRLIBNAME, luaopen_string},   {LUA_MATHLIBNAME, luaopen_math},
+                                  {LUA_UTF8LIBNAME, luaopen_utf8},    {LUA_COLIBNAME, luaopen_coroutine},
+                                  {LUA_OSLIBNAME, luaopen_os},        {nullptr, nullptr}};
+  for (const luaL_Reg* lib = libs; lib->func; ++lib) {
+    luaL_requiref(L, lib->name, lib->func, 1);
+    lua_pop(L, 1);
+  }
+  // Base library: no file loading, text-only load, limited collectgarbage.
+  for (const char* name : {"dofile", "loadfile"}) {
+    lua_pushnil(L);
+    lua_setglobal(L, name);
+  }
+  lua_pushcfunction(L, sandboxed_load);
+  lua_setglobal(L, "load");
+  lua_pushcfunction(L, sandboxed_collectgarbage);
+  lua_setglobal(L, "collectgarbage");
+  lua_pushcfunction(L, sandboxed_require);
+  lua_setglobal(L, "require");
+  // string.dump would hand out bytecode, which load refuses anyway.
+  lua_getglobal(L, LUA_STRLIBNAME);
+  lua_pushnil(L);
+  lua_setfield(L, -2, "dump");
+  lua_pop(L, 1);
+  // os: only the clock and calendar.
+  lua_getglobal(L, LUA_OSLIBNAME);
+  lua_newtable(L);
+  for (const char* keep : {"clock", "time", "date", "difftime"}) {
+    lua_getfield(L, -2, keep);
+    lua_setfield(L, -2, keep);
+  }
+  lua_setglobal(L, LUA_OSLIBNAME);
+  lua_pop(L, 1);
+  // Remembered modules live in the registry, out of the recipe's reach.
+  lua_newtable(L);
+  lua_setfield(L, LUA_REGISTRYINDEX, kModulesKey);
+}
+
+void push_args(lua_State* L, const std::vector<std::pair<std::string, std::string>>& sets) {
+  lua_newtable(L);
+  for (const auto& [key, value] : sets) {
+    if (value == "true" || value == "false") {
+      lua_pushboolean(L, value == "true");
+    } else {
+      char* end = nullptr;
+      const double x = std::strtod(value.c_str(), &end);
+      if (!value.empty() && end && *end == '\0' && std::isfinite(x)) {
+        if (x == std::floor(x) && std::abs(x) < 9e15) lua_pushinteger(L, static_cast<lua_Integer>(x));
+        else lua_pushnumber(L, x);
+      } else {
+        lua_pushlstring(L, value.data(), value.size());
+      }
+    }
+    lua_setfield(L, -2, key.c_str());
+  }
+  lua_setglobal(L, "args");
+}
+
+// Error handler: the message plus the recipe frames of the traceback.
+int traceback(lua_State* L) {
+  const char* msg = lua_tostring(L, 1);
+  if (!msg) msg = luaL_typename(L, 1);
+  luaL_traceback(L, L, nullptr, 1);
+  std::istringstream lines(lua_tostring(L, -1));
+  std::string out = msg, line;
+  bool any = false;
+  while (std::getline(lines, line)) {
+    if (line.find(".lua:") == std::string::npos) continue;
+    out += (any ? "\n" : "\nrecipe traceback:\n") + line;
+    any = true;
+  }
+  lua_pushstring(L, out.c_str());
+  return 1;
+}
+
+}  // namespace
+
+// ---- RunContext --------------------------------------------------------------------------
+
+RunContext& context(lua_State* L) { return *state(L).context; }
+
+std::string RunContext::resolve_read(lua_State* L, const std::string& path) const {
+  std::vector<std::string> candidates;
+  if (fs::path(path).is_absolute()) {
+    candidates.push_back(path);
+  } else {
+    candidates.push_back(recipe_dir + "/" + path);
+    for (const auto& d : data_dirs) candidates.push_back(d + "/" + path);
+    candidates.push_back(out_dir + "/" + path);
+  }
+  std::vector<std::string> roots = {recipe_dir, out_dir};
+  roots.insert(roots.end(), data_dirs.begin(), data_dirs.end());
+  std::string first_allowed;
+  for (const auto& c : candidates) {
+    const std::string abs = canonical(c);
+    bool allowed = false;
+    for (const auto& r : roots) allowed = allowed || inside(abs, r);
+    if (!allowed) continue;
+    if (first_allowed.empty()) first_allowed = abs;
+    if (fs::exists(abs)) return abs;
+  }
+  std::string where;
+  for (const auto& r : roots) where += "\n\t" + r;
+  if (first_allowed.empty())
+    luax::error(L, "'" + path + "' is outside the folders a recipe may read:" + where);
+  luax::error(L, "cannot find '" + path + "' in the folders a recipe may read:" + where);
+}
+
+std::string RunContext::resolve_write(lua_State* L, const std::string& path) const {
+  const std::string abs = canonical(fs::path(path).is_absolute() ? path : out_dir + "/" + path);
+  if (!inside(abs, out_dir) || abs == out_dir)
+    luax::error(L, "'" + path + "' is outside the out folder " + out_dir + " (recipes write only there)");
+  return abs;
+}
+
+// ---- running -------------------------------------------------------------------------------
+
+int run_recipe(const RunOptions& options, std::ostream& err) {
+  RunContext ctx;
+  ctx.options = options;
+  std::error_code ec;
+  if (!fs::is_regular_file(options.recipe_path, ec)) {
+    err << "bliskrun: cannot read recipe '" << options.recipe_path << "'\n";
+    return kExitUsage;
+  }
+  ctx.recipe_dir = canonical(fs::path(options.recipe_path).parent_path().empty()
+                                 ? "."
+                                 : fs::path(options.recipe_path).parent_path().string());
+  ctx.out_dir = canonical(options.out_dir.empty() ? "out" : options.out_dir);
+  for (const auto& d : options.data_dirs) {
+    if (!fs::is_directory(d, ec)) {
+      err << "bliskrun: data folder '" << d << "' does not exist\n";
+      return kExitUsage;
+    }
+    ctx.data_dirs.push_back(canonical(d));
+  }
+  const bool quiet = options.quiet;
+  ctx.progress.set_reporter([&err, quiet](const std::string& task, long done, long total) {
+    if (quiet || total <= 0) return;
+    const long pct = done * 100 / total;
+    if (pct % 10 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
+  });
+
+  Allocator allocator;
+  allocator.limit = static_cast<size_t>(options.memory_limit_mb * 1024.0 * 1024.0);
+  Watchdog watchdog(ctx.progress, options.time_limit_s);
+  RunState run_state{&ctx, &allocator, &watchdog};
+
+  lua_State* L = lua_newstate(limited_alloc, &allocator);
+  if (!L) {
+    err << "bliskrun: cannot create a Lua state\n";
+    return kExitRecipeError;
+  }
+  int status = LUA_OK;
+  std::string message;
+  try {
+    lua_pushlightuserdata(L, &run_state);
+    lua_setfield(L, LUA_REGISTRYINDEX, kContextKey);
+    open_sandbox(L);
+    open_all(L);
+    push_args(L, options.sets);
+    lua_sethook(L, count_hook, LUA_MASKCOUNT, 10000);
+
+    lua_pushcfunction(L, traceback);
+    status = luaL_loadfilex(L, options.recipe_path.c_str(), "t");
+    if (status == LUA_OK) status = lua_pcall(L, 0, 0, -2);
+    if (status != LUA_OK) message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error object is not a string";
+  } catch (const std::exception& e) {
+    status = LUA_ERRRUN;
+    message = e.what();
+  }
+  lua_close(L);
+  if (status == LUA_OK) return kExitOk;
+  if (allocator.exceeded && status == LUA_ERRMEM) {
+    std::ostringstream s;
+    s << (run_state.last_position.empty() ? "" : run_state.last_position + ": ") << "memory limit of "
+      << options.memory_limit_mb << " MB exceeded (--memory-limit)";
+    message = s.str();
+  }
+  err << "bliskrun: " << message << "\n";
+  return kExitRecipeError;
+}
+
+}  // namespace bliskrun::lua_api

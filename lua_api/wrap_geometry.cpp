@@ -1,0 +1,339 @@
+// Geometry in Lua: point grids, interpolation, surface evaluation and
+// curvature, projection, surfaces of revolution, intersection, meshes.
+// Parameters u, v, t are on [0, 1]; lengths in mm; curvature in 1/mm.
+#include "lua_api/wrap_geometry.h"
+
+#include "core/geometry/differential.h"
+#include "core/geometry/interpolation.h"
+#include "core/geometry/projection.h"
+#include "core/geometry/revolution.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+
+namespace bliskrun::lua_api {
+
+void push_surface(lua_State* L, std::shared_ptr<const Surface> s) { luax::push_new(L, SurfaceHandle{std::move(s)}); }
+void push_grid(lua_State* L, std::shared_ptr<const PointGrid> g) { luax::push_new(L, GridHandle{std::move(g)}); }
+void push_mesh(lua_State* L, std::shared_ptr<const TriangleMesh> m) { luax::push_new(L, MeshHandle{std::move(m)}); }
+
+namespace {
+
+double check_param(lua_State* L, int idx, const char* name) {
+  const double x = luax::check_number(L, idx, name);
+  if (x < 0 || x > 1) luax::error(L, std::string("argument '") + name + "': " + std::to_string(x) + " is outside [0, 1]");
+  return x;
+}
+
+void set(lua_State* L, const char* key, double x) {
+  lua_pushnumber(L, x);
+  lua_setfield(L, -2, key);
+}
+void set(lua_State* L, const char* key, const Vec3& v) {
+  luax::push(L, v);
+  lua_setfield(L, -2, key);
+}
+
+std::vector<Vec3> check_points(lua_State* L, int idx, const char* name) {
+  luaL_checktype(L, idx, LUA_TTABLE);
+  std::vector<Vec3> pts;
+  const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, i);
+    pts.push_back(luax::check_vec3(L, lua_gettop(L), name));
+    lua_pop(L, 1);
+  }
+  return pts;
+}
+
+// ---- point grids ------------------------------------------------------------
+
+// bliskrun.point_grid{rows=, cols=, points={{x,y,z}, ...}} (row-major: all
+// points of u-row 1 along v first).
+int w_point_grid(lua_State* L) {
+  const luax::Options o(L, 1, "bliskrun.point_grid",
+                        {{"rows", luax::Kind::Integer, true, 2, 1e6, "points along u (span)", {}},
+                         {"cols", luax::Kind::Integer, true, 2, 1e6, "points along v (chord)", {}},
+                         {"points", luax::Kind::Table, true, {}, {}, "rows*cols points {x, y, z}, mm, row-major", {}}});
+  auto g = std::make_shared<PointGrid>(static_cast<int>(o.integer("rows", 0)), static_cast<int>(o.integer("cols", 0)));
+  o.push_raw("points");
+  const std::vector<Vec3> pts = check_points(L, lua_gettop(L), "points");
+  lua_pop(L, 1);
+  if (pts.size() != g->points.size())
+    luax::error(L, "bliskrun.point_grid: 'points' holds " + std::to_string(pts.size()) +
+                       " points, expected rows * cols = " + std::to_string(g->points.size()));
+  g->points = pts;
+  push_grid(L, std::move(g));
+  return 1;
+}
+
+int w_grid_size(lua_State* L) {
+  const PointGrid& g = *luax::check<GridHandle>(L, 1).grid;
+  lua_pushinteger(L, g.rows);
+  lua_pushinteger(L, g.cols);
+  return 2;
+}
+
+int w_grid_point(lua_State* L) {
+  const PointGrid& g = *luax::check<GridHandle>(L, 1).grid;
+  const long long i = luax::check_integer(L, 2, "i"), j = luax::check_integer(L, 3, "j");
+  if (i < 1 || i > g.rows || j < 1 || j > g.cols)
+    luax::error(L, "grid:point(" + std::to_string(i) + ", " + std::to_string(j) + "): indices run 1.." +
+                       std::to_string(g.rows) + ", 1.." + std::to_string(g.cols));
+  luax::push(L, g.at(static_cast<int>(i - 1), static_cast<int>(j - 1)));
+  return 1;
+}
+
+// ---- interpolation ----------------------------------------------------------
+
+int w_interpolate_grid(lua_State* L) {
+  const auto grid = luax::check<GridHandle>(L, 1).grid;
+  return luax::guarded(L, [&] {
+    push_surface(L, std::make_shared<BSplineSurface>(interpolate_grid(*grid)));
+    return 1;
+  });
+}
+
+int w_interpolate_curve(lua_State* L) {
+  const std::vector<Vec3> pts = check_points(L, 1, "points");
+  const luax::Options o(L, 2, "bliskrun.interpolate_curve",
+                        {{"start_tangent", luax::Kind::Vec3, false, {}, {}, "dC/dt at t = 0", {}},
+                         {"end_tangent", luax::Kind::Vec3, false, {}, {}, "dC/dt at t = 1", {}}});
+  EndTangents ends;
+  if (o.has("start_tangent")) ends.start = o.vec3("start_tangent", Vec3::Zero());
+  if (o.has("end_tangent")) ends.end = o.vec3("end_tangent", Vec3::Zero());
+  return luax::guarded(L, [&] {
+    luax::push_new(L, CurveHandle{std::make_shared<BSplineCurve>(interpolate_cubic(pts, {}, ends))});
+    return 1;
+  });
+}
+
+// ---- surfaces ------------------------------------------------------------------
+
+int w_surface_eval(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const double u = check_param(L, 2, "u"), v = check_param(L, 3, "v");
+  return luax::guarded(L, [&] {
+    const SurfaceDerivs d = s.eval(u, v);
+    lua_createtable(L, 0, 7);
+    set(L, "point", d.p);
+    set(L, "pu", d.pu);
+    set(L, "pv", d.pv);
+    set(L, "puu", d.puu);
+    set(L, "puv", d.puv);
+    set(L, "pvv", d.pvv);
+    const Vec3 n = d.pu.cross(d.pv);
+    set(L, "normal", n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero());
+    return 1;
+  });
+}
+
+int w_surface_point(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const double u = check_param(L, 2, "u"), v = check_param(L, 3, "v");
+  return luax::guarded(L, [&] {
+    luax::push(L, s.point(u, v));
+    return 1;
+  });
+}
+
+int w_surface_curvature(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const double u = check_param(L, 2, "u"), v = check_param(L, 3, "v");
+  return luax::guarded(L, [&] {
+    const SurfaceCurvature c = curvature(s.eval(u, v));
+    lua_createtable(L, 0, 14);
+    set(L, "K", c.K);
+    set(L, "H", c.H);
+    set(L, "k1", c.k1);
+    set(L, "k2", c.k2);
+    set(L, "dir1", c.dir1);
+    set(L, "dir2", c.dir2);
+    set(L, "normal", c.normal);
+    set(L, "E", c.E);
+    set(L, "F", c.F);
+    set(L, "G", c.G);
+    set(L, "L", c.L);
+    set(L, "M", c.M);
+    set(L, "N", c.N);
+    return 1;
+  });
+}
+
+int w_surface_normal_curvature(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const double u = check_param(L, 2, "u"), v = check_param(L, 3, "v");
+  const Vec3 dir = luax::check_vec3(L, 4, "direction");
+  return luax::guarded(L, [&] {
+    lua_pushnumber(L, normal_curvature(s.eval(u, v), dir));
+    return 1;
+  });
+}
+
+// surface:project(p) -> {u, v, point, distance, on_boundary} or nil, reason
+int w_surface_project(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const Vec3 q = luax::check_vec3(L, 2, "point");
+  return luax::guarded(L, [&] {
+    const SurfaceProjection p = project_to_surface(s, q);
+    if (!p.ok) {
+      lua_pushnil(L);
+      lua_pushstring(L, p.failure.c_str());
+      return 2;
+    }
+    lua_createtable(L, 0, 5);
+    set(L, "u", p.u);
+    set(L, "v", p.v);
+    set(L, "point", p.point);
+    set(L, "distance", p.distance);
+    lua_pushboolean(L, p.on_boundary);
+    lua_setfield(L, -2, "on_boundary");
+    return 1;
+  });
+}
+
+int w_surface_tessellate(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const double tol = luax::check_number(L, 2, "chord_tol");
+  if (!(tol > 0)) luax::error(L, "argument 'chord_tol': must be > 0 mm");
+  return luax::guarded(L, [&] {
+    push_mesh(L, std::make_shared<TriangleMesh>(tessellate(s, tol)));
+    return 1;
+  });
+}
+
+// ---- curves ---------------------------------------------------------------------
+
+int w_curve_eval(lua_State* L) {
+  const Curve& c = *luax::check<CurveHandle>(L, 1).curve;
+  const double t = check_param(L, 2, "t");
+  return luax::guarded(L, [&] {
+    const CurveDerivs d = c.eval(t);
+    lua_createtable(L, 0, 3);
+    set(L, "point", d.p);
+    set(L, "dt", d.dt);
+    set(L, "dtt", d.dtt);
+    return 1;
+  });
+}
+
+int w_curve_project(lua_State* L) {
+  const Curve& c = *luax::check<CurveHandle>(L, 1).curve;
+  const Vec3 q = luax::check_vec3(L, 2, "point");
+  return luax::guarded(L, [&] {
+    const CurveProjection p = project_to_curve(c, q);
+    if (!p.ok) {
+      lua_pushnil(L);
+      lua_pushstring(L, p.failure.c_str());
+      return 2;
+    }
+    lua_createtable(L, 0, 3);
+    set(L, "t", p.t);
+    set(L, "point", p.point);
+    set(L, "distance", p.distance);
+    return 1;
+  });
+}
+
+// ---- revolution and intersection ---------------------------------------------------
+
+int w_surface_of_revolution(lua_State* L) {
+  const luax::Options o(L, 1, "bliskrun.surface_of_revolution",
+                        {{"meridian", luax::Kind::Table, true, {}, {}, "{{z, r}, ...} along the profile, mm", {}}});
+  o.push_raw("meridian");
+  const int idx = lua_gettop(L);
+  std::vector<Vec2> m;
+  const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, i);
+    lua_rawgeti(L, -1, 1);
+    lua_rawgeti(L, -2, 2);
+    if (lua_type(L, -1) != LUA_TNUMBER || lua_type(L, -2) != LUA_TNUMBER)
+      luax::error(L, "bliskrun.surface_of_revolution: meridian[" + std::to_string(i) + "] must be {z, r}");
+    m.emplace_back(lua_tonumber(L, -2), lua_tonumber(L, -1));
+    lua_pop(L, 3);
+  }
+  lua_pop(L, 1);
+  return luax::guarded(L, [&] {
+    push_surface(L, std::make_shared<SurfaceOfRevolution>(m));
+    return 1;
+  });
+}
+
+// bliskrun.intersect_revolution(flank, revolution [, {samples=200}])
+int w_intersect_revolution(lua_State* L) {
+  const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
+  const auto* rev = dynamic_cast<const SurfaceOfRevolution*>(luax::check<SurfaceHandle>(L, 2).surface.get());
+  if (!rev) luax::error(L, "argument 2: expected a surface of revolution");
+  const luax::Options o(L, 3, "bliskrun.intersect_revolution",
+                        {{"samples", luax::Kind::Integer, false, 2, 100000, "iso-v lines searched (default 200)", {}}});
+  const int samples = static_cast<int>(o.integer("samples", 200));
+  return luax::guarded(L, [&] {
+    const SurfaceCurveOnSurface c = intersect_with_revolution(s, *rev, samples);
+    lua_createtable(L, 0, 3);
+    for (const char* key : {"u", "v"}) {
+      const auto& values = std::string(key) == "u" ? c.u : c.v;
+      lua_createtable(L, static_cast<int>(values.size()), 0);
+      for (size_t i = 0; i < values.size(); ++i) {
+        lua_pushnumber(L, values[i]);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+      lua_setfield(L, -2, key);
+    }
+    lua_createtable(L, static_cast<int>(c.points.size()), 0);
+    for (size_t i = 0; i < c.points.size(); ++i) {
+      luax::push(L, c.points[i]);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+    lua_setfield(L, -2, "points");
+    return 1;
+  });
+}
+
+// ---- meshes ----------------------------------------------------------------------
+
+int w_mesh_write_stl(lua_State* L) {
+  const TriangleMesh& m = *luax::check<MeshHandle>(L, 1).mesh;
+  const std::string target = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  return luax::guarded(L, [&] {
+    write_stl(m, target);
+    lua_pushstring(L, target.c_str());
+    return 1;
+  });
+}
+
+int w_mesh_size(lua_State* L) {
+  const TriangleMesh& m = *luax::check<MeshHandle>(L, 1).mesh;
+  lua_pushinteger(L, static_cast<lua_Integer>(m.vertices.size()));
+  lua_pushinteger(L, static_cast<lua_Integer>(m.triangles.size()));
+  return 2;
+}
+
+}  // namespace
+
+void open_geometry(lua_State* L) {
+  static const luaL_Reg grid_methods[] = {{"size", w_grid_size}, {"point", w_grid_point},
+                                          {"surface", w_interpolate_grid}, {nullptr, nullptr}};
+  luax::register_type<GridHandle>(L, grid_methods);
+  static const luaL_Reg surface_methods[] = {{"eval", w_surface_eval},
+                                             {"point", w_surface_point},
+                                             {"curvature", w_surface_curvature},
+                                             {"normal_curvature", w_surface_normal_curvature},
+                                             {"project", w_surface_project},
+                                             {"tessellate", w_surface_tessellate},
+                                             {nullptr, nullptr}};
+  luax::register_type<SurfaceHandle>(L, surface_methods);
+  static const luaL_Reg curve_methods[] = {{"eval", w_curve_eval}, {"project", w_curve_project}, {nullptr, nullptr}};
+  luax::register_type<CurveHandle>(L, curve_methods);
+  static const luaL_Reg mesh_methods[] = {{"write_stl", w_mesh_write_stl}, {"size", w_mesh_size}, {nullptr, nullptr}};
+  luax::register_type<MeshHandle>(L, mesh_methods);
+
+  static const luaL_Reg functions[] = {{"point_grid", w_point_grid},
+                                       {"interpolate_grid", w_interpolate_grid},
+                                       {"interpolate_curve", w_interpolate_curve},
+                                       {"surface_of_revolution", w_surface_of_revolution},
+                                       {"intersect_revolution", w_intersect_revolution},
+                                       {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api

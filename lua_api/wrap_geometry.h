@@ -1,0 +1,39 @@
+#pragma once
+// Lua handles of geometry values, shared by the wrappers of other subsystems
+// (parts, analysis, planning) that take or return surfaces and grids.
+#include <memory>
+
+#include "core/geometry/curve.h"
+#include "core/geometry/mesh.h"
+#include "core/geometry/point_grid.h"
+#include "core/geometry/surface.h"
+#include "lua_api/luax.h"
+
+namespace bliskrun::lua_api {
+
+struct SurfaceHandle {
+  std::shared_ptr<const Surface> surface;
+};
+struct CurveHandle {
+  std::shared_ptr<const Curve> curve;
+};
+struct GridHandle {
+  std::shared_ptr<const PointGrid> grid;
+};
+struct MeshHandle {
+  std::shared_ptr<const TriangleMesh> mesh;
+};
+
+// Push a new handle of each kind.
+void push_surface(lua_State* L, std::shared_ptr<const Surface> s);
+void push_grid(lua_State* L, std::shared_ptr<const PointGrid> g);
+void push_mesh(lua_State* L, std::shared_ptr<const TriangleMesh> m);
+
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <> struct TypeName<lua_api::SurfaceHandle> { static constexpr const char* name = "bliskrun.Surface"; };
+template <> struct TypeName<lua_api::CurveHandle> { static constexpr const char* name = "bliskrun.Curve"; };
+template <> struct TypeName<lua_api::GridHandle> { static constexpr const char* name = "bliskrun.PointGrid"; };
+template <> struct TypeName<lua_api::MeshHandle> { static constexpr const char* name = "bliskrun.Mesh"; };
+}  // namespace bliskrun::luax

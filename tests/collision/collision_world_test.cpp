@@ -1,0 +1,256 @@
+// CollisionWorld: per-part clearances against analytic distances, and the
+// swept check between poses (blisk paper Fig. 9).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "collision/test_meshes.h"
+#include "core/collision/collision_world.h"
+#include "core/common/error.h"
+#include "core/geometry/mesh.h"
+
+namespace bliskrun {
+namespace {
+
+using test::box_mesh;
+using test::grid_mesh;
+
+// FCL's triangle distances are exact to rounding.
+constexpr double kFclTolMm = 1e-9;
+
+// The FCL body encloses the tool within its overestimate: a distance it
+// reports lies in [true - overestimate, true].
+void expect_enclosing_distance(double fcl_mm, double true_mm, const ToolBody& body, const std::string& what) {
+  EXPECT_LE(fcl_mm, true_mm + kFclTolMm) << what;
+  EXPECT_GE(fcl_mm, true_mm - body.overestimate_mm() - kFclTolMm) << what;
+}
+
+Tool paper_wheel() {  // blisk paper Table 3, wheel 2
+  return Tool::drum_wheel({8, 50, 4, {6, 96}, {}});
+}
+
+TEST(CollisionWorld, BallEndAbovePlaneMatchesAnalyticDistance) {
+  CollisionWorld world;
+  world.add("floor", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  const double R = 3;
+  for (double alpha_deg : {0.0, 10.0, 35.0, 60.0}) {
+    for (double d0 : {0.5, 2.0, 7.3}) {
+      const double a = deg_to_rad(alpha_deg);
+      // Tip raised so the ball's lowest point (centre.z - R) stays d0 above the floor.
+      const double tip_z = d0 + R * (1 - std::cos(a));
+      const ToolPose pose{Vec3(1.7, -2.2, tip_z), Vec3(std::sin(a), 0, std::cos(a))};
+      const PoseCheck c = world.check(body, pose, Clearances{});
+      ASSERT_EQ(c.parts.size(), 2u);
+      const std::string at = "alpha " + std::to_string(alpha_deg) + " d0 " + std::to_string(d0);
+      expect_enclosing_distance(c.parts[0].distance_mm, d0, body, "cutter " + at);
+      // Shank: lowest point of its bottom rim.
+      const double shank = tip_z + 15 * std::cos(a) - 3 * std::sin(a);
+      expect_enclosing_distance(c.parts[1].distance_mm, shank, body, "shank " + at);
+      EXPECT_TRUE(c.parts[0].resolved);
+      EXPECT_EQ(c.parts[0].object, 0);
+      EXPECT_TRUE(c.clear);
+      EXPECT_NEAR(c.parts[1].on_object.z(), 0, 1e-9);
+      EXPECT_NEAR(c.parts[1].on_tool.z(), c.parts[1].distance_mm, 1e-9);
+    }
+  }
+  // Below the plane: collision, never clear even with clearance 0.
+  const PoseCheck dipped = world.check(body, ToolPose{Vec3(0, 0, -0.1), Vec3::UnitZ()}, Clearances{});
+  EXPECT_TRUE(dipped.parts[0].collides);
+  EXPECT_EQ(dipped.parts[0].distance_mm, 0);
+  EXPECT_FALSE(dipped.clear);
+}
+
+TEST(CollisionWorld, SeparateClearancesForCutterShankAndHolder) {
+  // Flat-end mill R 5 (corner r 1, flutes 20), shank d 8 up to z 50, holder d 30 up to z 70.
+  const ToolBody body(Tool::flat_end_mill({5, 1, 20, {8, 30}, {30, 20}}), 1e-3);
+  CollisionWorld world;
+  world.add("wall", box_mesh(Vec3(10, -20, 25), Vec3(20, 20, 45)));
+  const ToolPose pose{Vec3::Zero(), Vec3::UnitZ()};
+  const PoseCheck c = world.check(body, pose, Clearances{});
+  ASSERT_EQ(c.parts.size(), 3u);
+  EXPECT_EQ(c.parts[0].part, ToolPartId::Cutter);
+  EXPECT_EQ(c.parts[1].part, ToolPartId::Shank);
+  EXPECT_EQ(c.parts[2].part, ToolPartId::Holder);
+  // Cutter's top rim (5, 20) to the wall's lower edge (10, 25).
+  expect_enclosing_distance(c.parts[0].distance_mm, std::hypot(5.0, 5.0), body, "cutter");
+  expect_enclosing_distance(c.parts[1].distance_mm, 6, body, "shank");   // radius 4, wall at x 10
+  expect_enclosing_distance(c.parts[2].distance_mm, 5, body, "holder");  // from z 50, wall top 45
+  EXPECT_TRUE(c.clear);
+
+  // Each part against its own clearance.
+  EXPECT_TRUE(world.check(body, pose, Clearances{7.0, 5.9, 4.9}).clear);
+  const PoseCheck shank_close = world.check(body, pose, Clearances{1.0, 6.5, 1.0});
+  EXPECT_FALSE(shank_close.clear);
+  EXPECT_EQ(shank_close.parts[shank_close.worst].part, ToolPartId::Shank);
+  EXPECT_NEAR(shank_close.min_margin_mm, -0.5, body.overestimate_mm() + kFclTolMm);
+  const PoseCheck holder_close = world.check(body, pose, Clearances{1.0, 1.0, 5.5});
+  EXPECT_FALSE(holder_close.clear);
+  EXPECT_EQ(holder_close.parts[holder_close.worst].part, ToolPartId::Holder);
+
+  // Lower the tool 10 mm: the holder overlaps the wall.
+  const PoseCheck low = world.check(body, ToolPose{Vec3(0, 0, -10), Vec3::UnitZ()}, Clearances{});
+  EXPECT_TRUE(low.parts[2].collides);
+  EXPECT_FALSE(low.parts[1].collides);
+  EXPECT_FALSE(low.clear);
+}
+
+TEST(CollisionWorld, NamesObjectsAndRejectsBadMeshes) {
+  CollisionWorld world;
+  world.add("blade k-1", box_mesh(Vec3(-30, -1, 0), Vec3(-20, 1, 30)));
+  world.add("blade k+1", box_mesh(Vec3(20, -1, 0), Vec3(30, 1, 30)));
+  EXPECT_EQ(world.size(), 2);
+  EXPECT_EQ(world.name(1), "blade k+1");
+  const ToolBody body(Tool::ball_end_mill({3, 15, {}, {}}));
+  const PoseCheck c = world.check(body, ToolPose{Vec3(10, 0, 5), Vec3::UnitZ()}, Clearances{});
+  EXPECT_EQ(c.parts[0].object, 1);  // nearer the +x blade
+  EXPECT_NEAR(c.parts[0].distance_mm, 7, body.overestimate_mm() + kFclTolMm);
+  EXPECT_THROW(world.add("blade k+1", box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1))), ParameterError);
+  EXPECT_THROW(world.add("empty", TriangleMesh{}), ParameterError);
+  TriangleMesh bad = box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1));
+  bad.triangles[3] = Eigen::Vector3i(0, 1, 8);
+  EXPECT_THROW(world.add("bad", bad), ParameterError);
+}
+
+TEST(CollisionWorld, HorizonBoundsWhatIsResolved) {
+  CollisionWorld world;
+  world.add("floor", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}));
+  const ToolPose pose{Vec3(0, 0, 2), Vec3::UnitZ()};
+  const Clearances c{0.5, 0.5, 0};
+  // Horizon 0: only "at least the clearance" is established.
+  const PoseCheck quick = world.check(body, pose, c, 0);
+  EXPECT_TRUE(quick.clear);
+  EXPECT_FALSE(quick.parts[0].resolved);
+  EXPECT_EQ(quick.parts[0].distance_mm, 0.5);
+  EXPECT_EQ(quick.parts[0].object, -1);
+  // Horizon 2: the cutter's 2 mm is within 0.5 + 2, the shank's 17 is not.
+  const PoseCheck mid = world.check(body, pose, c, 2);
+  EXPECT_TRUE(mid.parts[0].resolved);
+  expect_enclosing_distance(mid.parts[0].distance_mm, 2, body, "cutter");
+  EXPECT_FALSE(mid.parts[1].resolved);
+  EXPECT_EQ(mid.parts[1].distance_mm, 2.5);
+  // Too close: resolved whatever the horizon, so the refusal can say how close.
+  const PoseCheck near = world.check(body, ToolPose{Vec3(0, 0, 0.2), Vec3::UnitZ()}, c, 0);
+  EXPECT_FALSE(near.clear);
+  EXPECT_TRUE(near.parts[0].resolved);
+  expect_enclosing_distance(near.parts[0].distance_mm, 0.2, body, "cutter");
+}
+
+TEST(CollisionWorld, CheckSurfaceWhollyInsideAPartCollides) {
+  // A small closed box inside the shank crosses none of its faces.
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}));
+  CollisionWorld world;
+  world.add("chip", box_mesh(Vec3(-1, -1, 20), Vec3(1, 1, 22)));
+  const PoseCheck c = world.check(body, ToolPose{Vec3::Zero(), Vec3::UnitZ()}, Clearances{});
+  EXPECT_FALSE(c.clear);
+  EXPECT_FALSE(c.parts[0].collides);
+  EXPECT_TRUE(c.parts[1].collides);
+  EXPECT_EQ(c.parts[1].distance_mm, 0);
+  // Moved off the axis by 10 mm it is 6 mm clear of the shank's side.
+  const PoseCheck off = world.check(body, ToolPose{Vec3(-10, 0, 0), Vec3::UnitZ()}, Clearances{});
+  EXPECT_TRUE(off.clear);
+  expect_enclosing_distance(off.parts[1].distance_mm, 6, body, "shank");
+}
+
+// A hub-like cylinder of radius 50 about z, as a Surface on [0,1]^2.
+class HubCylinder : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double a = kPi / 2 * (v - 0.5), z = 40 * u;
+    SurfaceDerivs d;
+    d.p = Vec3(50 * std::cos(a), 50 * std::sin(a), z);
+    d.pu = Vec3(0, 0, 40);
+    d.pv = kPi / 2 * Vec3(-50 * std::sin(a), 50 * std::cos(a), 0);
+    d.pvv = kPi * kPi / 4 * Vec3(-50 * std::cos(a), -50 * std::sin(a), 0);
+    return d;
+  }
+};
+
+TEST(CollisionWorld, TessellatedSurfaceAtChordTolerance) {
+  const double chord_tol = 1e-3;
+  CollisionWorld world;
+  world.add("hub", tessellate(HubCylinder(), chord_tol));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {}, {}}));
+  for (double gap : {0.05, 0.5, 2.0}) {
+    for (double angle_deg : {-20.0, 0.0, 33.0}) {
+      // Ball end pointing away from the axis, its tip `gap` outside the cylinder.
+      const Vec3 radial(std::cos(deg_to_rad(angle_deg)), std::sin(deg_to_rad(angle_deg)), 0);
+      const PoseCheck c = world.check(body, ToolPose{(50 + gap) * radial + Vec3(0, 0, 20), radial}, Clearances{});
+      // The chords lie inside the true cylinder by at most chord_tol.
+      EXPECT_LE(c.parts[0].distance_mm, gap + chord_tol + kFclTolMm) << gap << " " << angle_deg;
+      EXPECT_GE(c.parts[0].distance_mm, gap - body.overestimate_mm() - kFclTolMm) << gap << " " << angle_deg;
+    }
+  }
+}
+
+// Blisk paper Fig. 9: two poses that are clear, and the motion between them
+// cuts through the blade. The "blade" is a thin fin between the poses.
+TEST(CollisionWorld, MotionBetweenTwoClearPosesThroughAFinIsCaught) {
+  CollisionWorld world;
+  world.add("blade", grid_mesh(Vec3(0, -20, -10), Vec3(0, 40, 0), Vec3(0, 0, 13), 4, 4));  // x = 0, z up to 3
+  const ToolBody body(paper_wheel(), 1e-3);
+  const Clearances clearances{0.5, 0.5, 0};
+  const ToolPose from{Vec3(-6, 0, 1), Vec3::UnitZ()}, to{Vec3(6, 0, 1), Vec3::UnitZ()};
+  // Each pose alone: the head (radius 4) is 2 mm from the fin.
+  const PoseCheck a = world.check(body, from, clearances), b = world.check(body, to, clearances);
+  EXPECT_TRUE(a.clear);
+  EXPECT_TRUE(b.clear);
+  EXPECT_NEAR(a.parts[0].distance_mm, 2, body.overestimate_mm() + kFclTolMm);
+  // The motion: the widest ring (z 3, at the fin's top) comes within 0.5 mm
+  // of the fin when the tip is at x = -4.5, i.e. t = 1.5 / 12.
+  const MotionCheck m = world.check_motion(body, from, to, clearances, 1e-3);
+  EXPECT_FALSE(m.clear);
+  EXPECT_FALSE(m.undecided);
+  EXPECT_NEAR(m.t, 0.125, 1e-4);
+  EXPECT_EQ(m.at.parts[m.at.worst].part, ToolPartId::Cutter);
+  EXPECT_EQ(world.name(m.at.parts[m.at.worst].object), "blade");
+
+  // Lift the tool 2.6 mm: the motion passes over the fin (tip at 3.6 > 3 + 0.5).
+  const ToolPose from_high{Vec3(-6, 0, 3.6), Vec3::UnitZ()}, to_high{Vec3(6, 0, 3.6), Vec3::UnitZ()};
+  const MotionCheck clear = world.check_motion(body, from_high, to_high, clearances, 1e-3);
+  EXPECT_TRUE(clear.clear);
+  EXPECT_GE(clear.min_margin_mm, 0);
+  // Every step advances at least (margin + tol) / V = (0.1 - overestimate + 0.001) / 12.
+  EXPECT_LE(clear.samples, static_cast<int>(12 / (0.1 - body.overestimate_mm())) + 1);
+}
+
+TEST(CollisionWorld, MotionThatOnlyTurnsTheAxisIsChecked) {
+  // Tip fixed, axis swings from -30 to +30 degrees about Y: the shank's top
+  // end (z 100 when upright) sweeps an arc through a block at the top.
+  const ToolBody body(paper_wheel(), 1e-3);
+  const Clearances clearances{0.5, 0.5, 0};
+  const auto axis = [](double deg) { return Vec3(std::sin(deg_to_rad(deg)), 0, std::cos(deg_to_rad(deg))); };
+  const ToolPose from{Vec3::Zero(), axis(-30)}, to{Vec3::Zero(), axis(30)};
+  CollisionWorld blocked;
+  blocked.add("casing", box_mesh(Vec3(-2, -2, 99), Vec3(2, 2, 103)));
+  EXPECT_TRUE(blocked.check(body, from, clearances).clear);
+  EXPECT_TRUE(blocked.check(body, to, clearances).clear);
+  const MotionCheck m = blocked.check_motion(body, from, to, clearances);
+  EXPECT_FALSE(m.clear);
+  EXPECT_GT(m.t, 0.40);
+  EXPECT_LT(m.t, 0.50);
+  EXPECT_EQ(m.at.parts[m.at.worst].part, ToolPartId::Shank);
+
+  // Block 2 mm above the shank: the rim rises at most to sqrt(100² + 3²) < 100.05.
+  CollisionWorld above;
+  above.add("casing", box_mesh(Vec3(-2, -2, 102), Vec3(2, 2, 106)));
+  const MotionCheck ok = above.check_motion(body, from, to, clearances);
+  EXPECT_TRUE(ok.clear);
+  EXPECT_GE(ok.min_margin_mm, 0);
+}
+
+TEST(CollisionWorld, MotionRejectsBadSettings) {
+  CollisionWorld world;
+  world.add("floor", grid_mesh(Vec3(-10, -10, 0), Vec3(20, 0, 0), Vec3(0, 20, 0)));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {}, {}}));
+  const ToolPose p{Vec3(0, 0, 5), Vec3::UnitZ()};
+  EXPECT_THROW(world.check_motion(body, p, p, Clearances{}, 0.0), ParameterError);
+  EXPECT_THROW(world.check(body, p, Clearances{-1, 0, 0}), ParameterError);
+  EXPECT_THROW(world.check(body, ToolPose{Vec3::Zero(), Vec3::Zero()}, Clearances{}), ParameterError);
+  // No motion at all: one sample.
+  EXPECT_EQ(world.check_motion(body, p, p, Clearances{}).samples, 1);
+}
+
+}  // namespace
+}  // namespace bliskrun

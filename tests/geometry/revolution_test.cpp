@@ -1,0 +1,80 @@
+#include "core/geometry/revolution.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/common/error.h"
+#include "core/geometry/differential.h"
+
+namespace bliskrun {
+namespace {
+
+// A cone: r = 100 + 0.25 z over z in [0, 40] (a conical hub).
+SurfaceOfRevolution cone() {
+  std::vector<Vec2> m;
+  for (int i = 0; i <= 8; ++i) m.emplace_back(5.0 * i, 100 + 0.25 * 5.0 * i);
+  return SurfaceOfRevolution(m);
+}
+
+TEST(SurfaceOfRevolution, ConeRadiusNormalAndCurvature) {
+  const SurfaceOfRevolution s = cone();
+  for (double z : {0.0, 7.3, 20.0, 40.0}) EXPECT_NEAR(s.radius_at(z), 100 + 0.25 * z, 1e-12);
+  const SurfaceDerivs d = s.eval(0.5, 0.1);
+  const double r = std::hypot(d.p.x(), d.p.y());
+  EXPECT_NEAR(r, 100 + 0.25 * d.p.z(), 1e-12);
+  // Cone curvature: 0 along the generator, cos(alpha)/r around, alpha the
+  // half-angle's complement: slope dr/dz = 0.25.
+  const SurfaceCurvature c = curvature(d);
+  const double around = 1.0 / (r * std::sqrt(1 + 0.25 * 0.25));
+  EXPECT_NEAR(std::max(std::abs(c.k1), std::abs(c.k2)), around, 1e-9);
+  EXPECT_NEAR(std::min(std::abs(c.k1), std::abs(c.k2)), 0, 1e-9);
+}
+
+TEST(SurfaceOfRevolution, RadialOffsetIsSignedMeridianDistance) {
+  const SurfaceOfRevolution s = cone();
+  // Point at z = 20 radius 110 + 2: the cone's radius there is 105; the
+  // distance to the line r = 100 + z/4 in the meridian plane is (r - 100 -
+  // z/4) / sqrt(1 + 1/16).
+  const double theta = 0.7;
+  const Vec3 q(112 * std::cos(theta), 112 * std::sin(theta), 20);
+  EXPECT_NEAR(s.radial_offset(q), (112 - 105) / std::sqrt(1 + 1.0 / 16), 1e-9);
+  const Vec3 inside(98 * std::cos(theta), 98 * std::sin(theta), 20);
+  EXPECT_NEAR(s.radial_offset(inside), (98 - 105) / std::sqrt(1 + 1.0 / 16), 1e-9);
+  EXPECT_THROW(s.radius_at(50), Error);
+}
+
+// A radial plane sheet: points (r cos t0, r sin t0, z) for r in [90, 130],
+// z in [0, 40]; u -> r, v -> z. Its intersection with the cone is the line
+// r = 100 + z/4.
+class RadialSheet : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double t0 = 0.3, r = 90 + 40 * u, z = 40 * v;
+    SurfaceDerivs d;
+    d.p = Vec3(r * std::cos(t0), r * std::sin(t0), z);
+    d.pu = Vec3(40 * std::cos(t0), 40 * std::sin(t0), 0);
+    d.pv = Vec3(0, 0, 40);
+    return d;
+  }
+};
+
+TEST(IntersectWithRevolution, SheetMeetsConeOnTheAnalyticLine) {
+  const SurfaceCurveOnSurface curve = intersect_with_revolution(RadialSheet(), cone(), 50);
+  ASSERT_EQ(curve.u.size(), 50u);
+  for (size_t k = 0; k < curve.u.size(); ++k) {
+    const double z = 40 * curve.v[k];
+    const double r_expected = 100 + 0.25 * z;
+    EXPECT_NEAR(90 + 40 * curve.u[k], r_expected, 1e-8) << k;
+    EXPECT_NEAR(std::hypot(curve.points[k].x(), curve.points[k].y()), r_expected, 1e-8);
+  }
+}
+
+TEST(IntersectWithRevolution, MissingCrossingIsAnError) {
+  std::vector<Vec2> far;
+  for (int i = 0; i <= 4; ++i) far.emplace_back(10.0 * i, 300.0);
+  EXPECT_THROW(intersect_with_revolution(RadialSheet(), SurfaceOfRevolution(far), 10), Error);
+}
+
+}  // namespace
+}  // namespace bliskrun

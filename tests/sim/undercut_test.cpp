@@ -1,0 +1,140 @@
+#include "core/sim/undercut.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+namespace {
+
+// The plane z = 0 over [-10, 10] x [-5, 5], normal +Z (material below).
+class Plane : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = Vec3(20 * u - 10, 10 * v - 5, 0);
+    d.pu = Vec3(20, 0, 0);
+    d.pv = Vec3(0, 10, 0);
+    return d;
+  }
+};
+
+Tool ball(double radius) {
+  BallEndMillSpec spec;
+  spec.radius_mm = radius;
+  spec.flute_length_mm = 2 * radius;
+  spec.shank = {2 * radius, 30};
+  return Tool::ball_end_mill(spec);
+}
+
+ToolPose at(double x, double y, double z) { return {Vec3(x, y, z), Vec3::UnitZ()}; }
+
+UndercutOptions plane_options() {
+  UndercutOptions o;
+  o.samples_u = 41;   // x every 0.5 mm
+  o.samples_v = 101;  // y every 0.1 mm
+  o.search_above_mm = 1.0;
+  return o;
+}
+
+TEST(Undercut, TwoBallPassesLeaveTheAnalyticScallop) {
+  const double r = 5, w = 2;
+  const std::vector<ToolPass> passes = {{at(-12, -w / 2, 0), at(12, -w / 2, 0)},
+                                        {at(-12, w / 2, 0), at(12, w / 2, 0)}};
+  const UndercutOptions o = plane_options();
+  const UndercutResult res = simulate_undercut(Plane(), ball(r), passes, o);
+  ASSERT_EQ(res.residual_mm.size(), static_cast<size_t>(41 * 101));
+  for (int i = 0; i < o.samples_u; ++i) {
+    for (int j = 0; j < o.samples_v; ++j) {
+      const double y = -5 + 10.0 * j / (o.samples_v - 1);
+      // The lowest point of either ball over (x, y): r - sqrt(r^2 - dy^2),
+      // untouched where both are farther than the search range.
+      double expected = std::numeric_limits<double>::infinity();
+      for (double yk : {-w / 2, w / 2}) {
+        const double dy = std::abs(y - yk);
+        if (dy < r) {
+          const double h = r - std::sqrt(r * r - dy * dy);
+          if (h <= o.search_above_mm) expected = std::min(expected, h);
+        }
+      }
+      const double got = res.residual_mm[static_cast<size_t>(i) * o.samples_v + j];
+      if (std::isinf(expected)) {
+        EXPECT_TRUE(std::isinf(got) || got > o.search_above_mm - 1e-3) << "y=" << y;
+      } else {
+        EXPECT_NEAR(got, expected, 2e-5) << "x index " << i << " y=" << y;
+      }
+    }
+  }
+  // The scallop between the passes: r - sqrt(r^2 - (w/2)^2).
+  EXPECT_NEAR(res.residual_mm[20 * 101 + 50], r - std::sqrt(r * r - 1), 2e-5);
+  EXPECT_EQ(res.overcut_mm, 0.0);
+}
+
+TEST(Undercut, MotionBetweenPosesIsSwept) {
+  // Two poses 20 mm apart: every sample on the line between them is cut to
+  // zero, which a pose-only check would miss (the ball touches only two spots).
+  const std::vector<ToolPass> passes = {{at(-10, 0, 0), at(10, 0, 0)}};
+  const UndercutResult res = simulate_undercut(Plane(), ball(3), passes, plane_options());
+  for (int i = 0; i < 41; ++i) EXPECT_NEAR(res.residual_mm[i * 101 + 50], 0.0, 2e-5) << i;
+}
+
+TEST(Undercut, GougeIsNegative) {
+  const std::vector<ToolPass> passes = {{at(-12, 0, -0.03), at(12, 0, -0.03)}};
+  const UndercutResult res = simulate_undercut(Plane(), ball(4), passes, plane_options());
+  EXPECT_NEAR(res.overcut_mm, -0.03, 2e-5);
+  EXPECT_NEAR(res.residual_mm[20 * 101 + 50], -0.03, 2e-5);
+}
+
+TEST(Undercut, StatisticsMatchTheResidualMap) {
+  const std::vector<ToolPass> passes = {{at(-12, -1, 0), at(12, -1, 0)}, {at(-12, 1, 0), at(12, 1, 0)}};
+  const UndercutResult res = simulate_undercut(Plane(), ball(5), passes, plane_options());
+  std::vector<double> u;
+  for (double x : res.residual_mm)
+    if (std::isfinite(x)) u.push_back(std::max(0.0, x));
+  ASSERT_FALSE(u.empty());
+  double mean = 0;
+  for (double x : u) mean += x;
+  mean /= u.size();
+  EXPECT_NEAR(res.undercut_mean_mm, mean, 1e-12);
+  EXPECT_DOUBLE_EQ(res.undercut_max_mm, *std::max_element(u.begin(), u.end()));
+  EXPECT_EQ(res.untouched + static_cast<int>(u.size()), 41 * 101);
+}
+
+TEST(Undercut, SameResultForAnyThreadCount) {
+  const std::vector<ToolPass> passes = {{at(-12, -1, 0), at(0, -1.2, 0.01), at(12, -1, 0)},
+                                        {at(-12, 1, 0), at(12, 1.3, 0)}};
+  UndercutOptions one = plane_options(), two = plane_options();
+  one.threads = 1;
+  two.threads = 2;
+  const UndercutResult a = simulate_undercut(Plane(), ball(5), passes, one);
+  const UndercutResult b = simulate_undercut(Plane(), ball(5), passes, two);
+  ASSERT_EQ(a.residual_mm.size(), b.residual_mm.size());
+  for (size_t i = 0; i < a.residual_mm.size(); ++i)
+    ASSERT_EQ(std::memcmp(&a.residual_mm[i], &b.residual_mm[i], sizeof(double)), 0) << i;
+}
+
+TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
+  // Doubling the sampled area away from a short pass (same density) must not
+  // double the work: far tiles are pruned by the Lipschitz bound.
+  const std::vector<ToolPass> passes = {{at(-9, 0, 0), at(-8, 0, 0)}};
+  UndercutOptions near = plane_options(), wide = plane_options();
+  wide.samples_u = 81;
+  wide.u1 = 2;  // x up to +30 mm
+  const UndercutResult a = simulate_undercut(Plane(), ball(2), passes, near);
+  const UndercutResult b = simulate_undercut(Plane(), ball(2), passes, wide);
+  EXPECT_EQ(a.tool_positions, b.tool_positions);
+  EXPECT_LT(b.line_evaluations, a.line_evaluations * 11 / 10);
+  EXPECT_LT(a.line_evaluations, a.tool_positions * 41L * 101L / 4);
+}
+
+TEST(Undercut, RejectsBadOptions) {
+  UndercutOptions o = plane_options();
+  o.samples_u = 1;
+  EXPECT_THROW(simulate_undercut(Plane(), ball(2), {}, o), ParameterError);
+}
+
+}  // namespace
+}  // namespace bliskrun

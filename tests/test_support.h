@@ -1,0 +1,42 @@
+#pragma once
+// Helpers shared by tests: running recipes in-process and through the
+// bliskrun executable, temporary folders, and where real part data lives.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bliskrun::test {
+
+// A fresh empty folder under the system temp folder, removed at destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  // Writes `contents` to path()/name and returns the full path.
+  std::string write(const std::string& name, const std::string& contents) const;
+
+ private:
+  std::string path_;
+};
+
+struct RecipeResult {
+  int exit_code = -1;
+  std::string output;  // stderr of the run (and stdout for the executable)
+};
+
+// Writes `lua` as <dir>/recipe.lua and runs it in-process with out folder
+// <dir>/out and the given extra arguments (--set, --data, ... as for the CLI
+// are not parsed here: use run_bliskrun for that).
+RecipeResult run_recipe_text(const TempDir& dir, const std::string& lua, bool quiet = true,
+                             double time_limit_s = 60, double memory_limit_mb = 1024);
+
+// Runs the built executable with `args`; captures stdout+stderr.
+RecipeResult run_bliskrun(const std::vector<std::string>& args);
+
+// Folder of real part data (../shared/data beside the clone), or "" when absent.
+std::string shared_data_dir();
+
+}  // namespace bliskrun::test
