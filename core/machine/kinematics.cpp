@@ -103,12 +103,12 @@ Eigen::Isometry3d Kinematics::head_map(const std::array<double, 2>& r) const {
   return m;
 }
 
-PartPose Kinematics::forward(const MachineAxes& q) const {
+ToolPose Kinematics::forward(const MachineAxes& q) const {
   const Eigen::Isometry3d head = head_map(q.rotary_rad);
   const Vec3 tip_machine = q.linear_mm + head * tip_local_;
   const Vec3 axis_machine = head.linear() * machine_.spindle;
   const Eigen::Isometry3d part = part_to_machine(q.rotary_rad);
-  PartPose pose;
+  ToolPose pose;
   pose.tip = part.inverse() * tip_machine;
   pose.axis = part.linear().transpose() * axis_machine;
   return pose;
@@ -182,7 +182,7 @@ std::vector<RotarySolution> Kinematics::rotary_solutions(
   return out;
 }
 
-MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previous) const {
+MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previous) const {
   if (!pose.tip.allFinite()) throw ParameterError("tip", "expected finite coordinates");
   const std::vector<RotarySolution> solutions = rotary_solutions(pose.axis, previous.rotary_rad);
   if (solutions.empty())

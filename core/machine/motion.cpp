@@ -66,7 +66,7 @@ class Planner {
 
   // Appends the feed move from (pose_a, axes_a) to (pose_b, axes_b), split
   // until each piece stays within the chord tolerance.
-  void feed(const PartPose& pose_a, const MachineAxes& axes_a, const PartPose& pose_b,
+  void feed(const ToolPose& pose_a, const MachineAxes& axes_a, const ToolPose& pose_b,
             const MachineAxes& axes_b, const PlannedMove& planned, long index, int depth,
             bool last_piece) {
     if (options_.tcp) {
@@ -88,10 +88,10 @@ class Planner {
                   "close to the singularity of the primary rotary axis?)");
     // The departure of a rotary move shrinks with the square of its length.
     const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(dev.bound_mm / tol))), 2, 256);
-    PartPose from = pose_a;
+    ToolPose from = pose_a;
     MachineAxes from_axes = axes_a;
     for (int i = 1; i <= pieces; ++i) {
-      const PartPose to = i == pieces ? pose_b : interpolate_pose(pose_a, pose_b, double(i) / pieces);
+      const ToolPose to = i == pieces ? pose_b : interpolate_pose(pose_a, pose_b, double(i) / pieces);
       // Every piece is solved from the one before, the end of the move too, so
       // the rotaries stay continuous along the pieces.
       const MachineAxes to_axes = inverse(to, from_axes, planned, index);
@@ -101,7 +101,7 @@ class Planner {
     }
   }
 
-  void emit(const PartPose& pose, const MachineAxes& from, const MachineAxes& to,
+  void emit(const ToolPose& pose, const MachineAxes& from, const MachineAxes& to,
             const PlannedMove& planned, long index, bool inserted) {
     MachineMove m;
     m.kind = planned.kind;
@@ -118,7 +118,7 @@ class Planner {
     program_.moves.push_back(m);
   }
 
-  MachineAxes inverse(const PartPose& pose, const MachineAxes& previous, const PlannedMove& planned,
+  MachineAxes inverse(const ToolPose& pose, const MachineAxes& previous, const PlannedMove& planned,
                       long index) {
     try {
       return kin_.inverse(pose, previous);
@@ -140,8 +140,8 @@ class Planner {
 
 }  // namespace
 
-PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t) {
-  PartPose p;
+ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t) {
+  ToolPose p;
   p.tip = a.tip + t * (b.tip - a.tip);
   const Vec3 ka = a.axis.normalized(), kb = b.axis.normalized();
   const Vec3 n = ka.cross(kb);
@@ -205,7 +205,7 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
   Planner planner(kin, options, program);
   progress.begin("machine motion", static_cast<long>(path.size()));
   MachineAxes axes = options.start;
-  PartPose pose = kin.forward(axes);
+  ToolPose pose = kin.forward(axes);
   planner.set_last_tip(pose.tip);
   for (size_t i = 0; i < path.size(); ++i) {
     const PlannedMove& m = path[i];

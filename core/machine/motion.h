@@ -22,7 +22,7 @@ enum class MoveKind { Rapid, Feed };
 
 struct PlannedMove {
   MoveKind kind = MoveKind::Feed;
-  PartPose pose;
+  ToolPose pose;
   double feed_mm_per_min = 0;  // feed moves: tip speed along the path
   long row = -1;               // provenance for messages; -1 when not in a row
 };
@@ -37,7 +37,7 @@ struct MotionOptions {
 struct MachineMove {
   MoveKind kind = MoveKind::Feed;
   MachineAxes axes;
-  PartPose pose;       // planned pose at the end of this move (part frame)
+  ToolPose pose;       // planned pose at the end of this move (part frame)
   double feed = 0;     // F word: mm/min (per minute) or 1/min (inverse time); 0 for rapids
   long source = 0;     // index of the planned move this one ends or belongs to
   long row = -1;
@@ -80,6 +80,6 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
 // The pose at t in [0, 1] of the planned motion from a to b: tip linear, axis
 // along the great circle. Throws ParameterError("axis") when the axes are
 // opposite (no unique great circle).
-PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t);
+ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t);
 
 }  // namespace bliskrun

@@ -7,9 +7,9 @@
 
 namespace bliskrun {
 
-PartPose replay(const Kinematics& kin, const ProgramMove& move) {
+ToolPose replay(const Kinematics& kin, const ProgramMove& move) {
   if (!move.tcp) return kin.forward(move.axes);
-  PartPose pose;
+  ToolPose pose;
   pose.tip = move.axes.linear_mm;
   pose.axis = kin.tool_axis(move.axes.rotary_rad);
   return pose;
@@ -36,7 +36,7 @@ VerifyReport verify_program(const std::string& text, const Kinematics& kin,
       throw DataError(file, got.line,
                       std::string("expected a ") + (want.kind == MoveKind::Rapid ? "rapid" : "feed") +
                           " move (plan move " + std::to_string(want.source) + ")");
-    const PartPose pose = replay(kin, got);
+    const ToolPose pose = replay(kin, got);
     const double position = (pose.tip - want.pose.tip).norm();
     const double angle = std::atan2(pose.axis.cross(want.pose.axis).norm(), pose.axis.dot(want.pose.axis));
     const double allowed_position = options.tol_mm + linear_slack +

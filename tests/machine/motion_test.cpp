@@ -33,7 +33,7 @@ double dense_deviation(const Kinematics& kin, const MachineAxes& a, const Machin
   return worst;
 }
 
-PartPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
+ToolPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
   return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
                     std::cos(tilt_rad))};
 }
@@ -159,8 +159,8 @@ TEST(MachineMotion, UnreachablePoseNamesTheMoveAndAxis) {
 }
 
 TEST(MachineMotion, InterpolatedPoseFollowsTheGreatCircle) {
-  const PartPose a{Vec3(0, 0, 0), Vec3::UnitZ()}, b{Vec3(10, 0, 0), Vec3::UnitX()};
-  const PartPose mid = interpolate_pose(a, b, 0.5);
+  const ToolPose a{Vec3(0, 0, 0), Vec3::UnitZ()}, b{Vec3(10, 0, 0), Vec3::UnitX()};
+  const ToolPose mid = interpolate_pose(a, b, 0.5);
   EXPECT_LT((mid.tip - Vec3(5, 0, 0)).norm(), 1e-12);
   EXPECT_LT((mid.axis - Vec3(1, 0, 1).normalized()).norm(), 1e-12);
   EXPECT_THROW(interpolate_pose(a, {Vec3::Zero(), -Vec3::UnitZ()}, 0.5), ParameterError);
