@@ -138,6 +138,52 @@ class Planner {
   Vec3 last_tip_ = Vec3::Zero();
 };
 
+// A rapid move (or the first) is where the rotary branch may change freely.
+// Continuity alone would pick the solution nearest the previous row's end,
+// which can run into travel mid-row and force a branch change inside a feed
+// move. So each solution within travel is followed along the feed moves that
+// come next, and the one that carries furthest without a jump wins; among
+// equals, the least rotary motion.
+MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>& path, size_t i,
+                          const MachineAxes& previous, Planner& planner, const MotionOptions& options) {
+  const MachineAxes nearest = planner.inverse(path[i].pose, previous, path[i], static_cast<long>(i));
+  const std::vector<RotarySolution> solutions = kin.rotary_solutions(path[i].pose.axis, previous.rotary_rad);
+  if (solutions.size() < 2) return nearest;
+  constexpr double kJumpRad = 0.5;  // a step no smooth feed row makes
+  auto reach = [&](MachineAxes q) {
+    size_t j = i + 1, end = std::min(path.size(), i + 1 + options.branch_lookahead);
+    for (; j < end && path[j].kind == MoveKind::Feed; ++j) {
+      MachineAxes next;
+      try {
+        next = kin.inverse(path[j].pose, q);
+      } catch (const ParameterError&) {
+        break;
+      }
+      if (std::abs(next.rotary_rad[0] - q.rotary_rad[0]) + std::abs(next.rotary_rad[1] - q.rotary_rad[1]) > kJumpRad) break;
+      q = next;
+    }
+    return j;
+  };
+  MachineAxes best = nearest;
+  size_t best_reach = reach(nearest);
+  for (const RotarySolution& s : solutions) {
+    if (!s.within_limits) continue;
+    MachineAxes q;
+    q.rotary_rad = s.rotary_rad;
+    try {
+      q = kin.inverse(path[i].pose, q);  // the same branch, with its linear axes checked
+    } catch (const ParameterError&) {
+      continue;
+    }
+    const size_t r = reach(q);
+    if (r > best_reach) {
+      best = q;
+      best_reach = r;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t) {
@@ -212,7 +258,9 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
     const long index = static_cast<long>(i);
     if (m.kind == MoveKind::Feed && !(m.feed_mm_per_min > 0))
       throw ParameterError("feed", describe(index, m) + ": expected a feed > 0 mm/min");
-    const MachineAxes next = planner.inverse(m.pose, axes, m, index);
+    const MachineAxes next = (m.kind == MoveKind::Rapid || i == 0)
+                                 ? choose_branch(kin, path, i, axes, planner, options)
+                                 : planner.inverse(m.pose, axes, m, index);
     if (same_axes(next, axes) && i > 0) {
       ++program.skipped_moves;
     } else if (m.kind == MoveKind::Rapid || i == 0) {

@@ -32,6 +32,9 @@ struct MotionOptions {
   bool tcp = false;             // the controller interpolates the tip (no splitting)
   int max_depth = 10;           // split rounds per move before giving up
   MachineAxes start;            // axes before the first move: continuity reference
+  // At each rapid move the rotary branch is chosen by following the next feed
+  // moves (up to this many) on each branch: see plan_machine_motion.
+  size_t branch_lookahead = 20000;
 };
 
 struct MachineMove {
@@ -69,7 +72,9 @@ struct MoveDeviation {
 MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
                              const Vec3& tip_from, const Vec3& tip_to, double margin_mm);
 
-// Inverse kinematics along the path (continuity from move to move), splitting
+// Inverse kinematics along the path (continuity from move to move; at a rapid
+// move, or the first, the branch that carries furthest through the following
+// feed moves without a jump or a travel limit), splitting
 // of feed moves to the chord tolerance, feed words per the machine's feed
 // mode (per minute under TCP control, where F is the tip's speed). A pose out of reach throws ParameterError naming the machine axis,
 // with the move index, its row and pose in the message.
