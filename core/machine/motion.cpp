@@ -35,7 +35,7 @@ bool same_axes(const MachineAxes& a, const MachineAxes& b) {
 std::string describe(long index, const PlannedMove& m) {
   std::ostringstream out;
   out.precision(6);
-  out << "move " << index;
+  out << "move " << index + 1;  // counted from 1, as a person (and Lua) counts
   if (m.row >= 0) out << " (row " << m.row << ")";
   out << " tip (" << m.pose.tip.x() << ", " << m.pose.tip.y() << ", " << m.pose.tip.z()
       << ") axis (" << m.pose.axis.x() << ", " << m.pose.axis.y() << ", " << m.pose.axis.z()

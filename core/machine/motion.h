@@ -74,10 +74,11 @@ MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, con
 
 // Inverse kinematics along the path (continuity from move to move; at a rapid
 // move, or the first, the branch that carries furthest through the following
-// feed moves without a jump or a travel limit), splitting
-// of feed moves to the chord tolerance, feed words per the machine's feed
-// mode (per minute under TCP control, where F is the tip's speed). A pose out of reach throws ParameterError naming the machine axis,
-// with the move index, its row and pose in the message.
+// feed moves without a jump or a travel limit), splitting of feed moves to the
+// chord tolerance, feed words per the machine's feed mode (per minute under
+// TCP control, where F is the tip's speed). A pose out of reach throws
+// ParameterError naming the machine axis, with the move (counted from 1), its
+// row and pose in the message.
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
                                    const MotionOptions& options,
                                    Progress& progress = Progress::none());

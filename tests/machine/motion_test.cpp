@@ -153,7 +153,7 @@ TEST(MachineMotion, UnreachablePoseNamesTheMoveAndAxis) {
   } catch (const ParameterError& e) {
     EXPECT_EQ(e.name(), "C");
     const std::string what = e.what();
-    EXPECT_NE(what.find("move 2 (row 7)"), std::string::npos) << what;
+    EXPECT_NE(what.find("move 3 (row 7)"), std::string::npos) << what;
     EXPECT_NE(what.find("outside travel"), std::string::npos) << what;
   }
 }
