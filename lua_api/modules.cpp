@@ -7,6 +7,8 @@ void open_all(lua_State* L) {
   open_units(L);
   open_files(L);
   open_geometry(L);
+  open_tools(L);
+  open_collision(L);
   open_machine(L);
   lua_setglobal(L, "bliskrun");
 }
