@@ -197,14 +197,18 @@ MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previou
   std::stable_sort(order.begin(), order.end(), [&](const RotarySolution* a, const RotarySolution* b) {
     return motion(*a) < motion(*b);
   });
-  std::string first_problem;
+  // Why each solution fails, nearest first; the error names the nearest
+  // solution's axis and lists every reason.
+  std::string axis_name, reasons;
+  auto refuse = [&](const std::string& axis, const std::string& reason) {
+    if (axis_name.empty()) axis_name = axis;
+    reasons += (reasons.empty() ? "" : "; the other solution: ") + reason;
+  };
   for (const RotarySolution* s : order) {
     if (!s->within_limits) {
       const RotaryAxis& a = machine_.rotary[s->violated_axis];
-      if (first_problem.empty())
-        first_problem = a.name + ": needs " + deg_text(s->violated_value_rad) +
-                        " deg, outside travel [" + deg_text(a.min_rad) + ", " +
-                        deg_text(a.max_rad) + "] deg";
+      refuse(a.name, a.name + " = " + deg_text(s->violated_value_rad) + " deg, outside travel [" +
+                         deg_text(a.min_rad) + ", " + deg_text(a.max_rad) + "] deg");
       continue;
     }
     MachineAxes q;
@@ -213,24 +217,24 @@ MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previou
     bool ok = true;
     for (int i = 0; i < 3 && ok; ++i) {
       const LinearAxis& a = machine_.linear[i];
-      const double v = q.linear_mm[i];
-      if (v < a.min_mm - 1e-9 || v > a.max_mm + 1e-9) {
+      // Travel is the slides': the spindle gauge point, whatever the length
+      // convention of the program words.
+      const double slide = q.linear_mm[i] + gauge_local_[i];
+      if (slide < a.min_mm - 1e-9 || slide > a.max_mm + 1e-9) {
         ok = false;
-        if (first_problem.empty()) {
-          std::ostringstream msg;
-          msg.setf(std::ios::fixed);
-          msg.precision(3);
-          msg << a.name << ": needs " << v << " mm, outside travel [" << a.min_mm
-              << ", " << a.max_mm << "] mm";
-          first_problem = msg.str();
-        }
+        std::ostringstream msg;
+        msg.setf(std::ios::fixed);
+        msg.precision(3);
+        msg << a.name << " = " << q.linear_mm[i] << " mm (gauge point at " << slide
+            << "), outside travel [" << a.min_mm << ", " << a.max_mm << "] mm";
+        refuse(a.name, msg.str() + " with " + machine_.rotary[0].name + " = " +
+                           deg_text(q.rotary_rad[0]) + ", " + machine_.rotary[1].name + " = " +
+                           deg_text(q.rotary_rad[1]) + " deg");
       }
     }
     if (ok) return q;
   }
-  // ParameterError puts the axis name in front again: keep it once.
-  const std::string axis_name = first_problem.substr(0, first_problem.find(':'));
-  throw ParameterError(axis_name, first_problem.substr(axis_name.size() + 2));
+  throw ParameterError(axis_name, "needs " + reasons);
 }
 
 bool Kinematics::reachable(const Vec3& axis) const {
