@@ -103,12 +103,12 @@ Eigen::Isometry3d Kinematics::head_map(const std::array<double, 2>& r) const {
   return m;
 }
 
-PartPose Kinematics::forward(const MachineAxes& q) const {
+ToolPose Kinematics::forward(const MachineAxes& q) const {
   const Eigen::Isometry3d head = head_map(q.rotary_rad);
   const Vec3 tip_machine = q.linear_mm + head * tip_local_;
   const Vec3 axis_machine = head.linear() * machine_.spindle;
   const Eigen::Isometry3d part = part_to_machine(q.rotary_rad);
-  PartPose pose;
+  ToolPose pose;
   pose.tip = part.inverse() * tip_machine;
   pose.axis = part.linear().transpose() * axis_machine;
   return pose;
@@ -182,7 +182,7 @@ std::vector<RotarySolution> Kinematics::rotary_solutions(
   return out;
 }
 
-MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previous) const {
+MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previous) const {
   if (!pose.tip.allFinite()) throw ParameterError("tip", "expected finite coordinates");
   const std::vector<RotarySolution> solutions = rotary_solutions(pose.axis, previous.rotary_rad);
   if (solutions.empty())
@@ -202,8 +202,8 @@ MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previou
     if (!s->within_limits) {
       const RotaryAxis& a = machine_.rotary[s->violated_axis];
       if (first_problem.empty())
-        first_problem = a.name + ": " + a.name + " = " + deg_text(s->violated_value_rad) +
-                        " deg is outside travel [" + deg_text(a.min_rad) + ", " +
+        first_problem = a.name + ": needs " + deg_text(s->violated_value_rad) +
+                        " deg, outside travel [" + deg_text(a.min_rad) + ", " +
                         deg_text(a.max_rad) + "] deg";
       continue;
     }
@@ -220,7 +220,7 @@ MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previou
           std::ostringstream msg;
           msg.setf(std::ios::fixed);
           msg.precision(3);
-          msg << a.name << ": " << a.name << " = " << v << " mm is outside travel [" << a.min_mm
+          msg << a.name << ": needs " << v << " mm, outside travel [" << a.min_mm
               << ", " << a.max_mm << "] mm";
           first_problem = msg.str();
         }
@@ -228,8 +228,7 @@ MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previou
     }
     if (ok) return q;
   }
-  // The message starts with the axis name; ParameterError prefixes it too, so
-  // strip it from the text.
+  // ParameterError puts the axis name in front again: keep it once.
   const std::string axis_name = first_problem.substr(0, first_problem.find(':'));
   throw ParameterError(axis_name, first_problem.substr(axis_name.size() + 2));
 }
