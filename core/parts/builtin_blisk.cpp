@@ -1,0 +1,330 @@
+#include "core/parts/builtin_blisk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+void require(bool ok, const char* name, const std::string& expected) {
+  if (!ok) throw ParameterError(name, "expected " + expected);
+}
+
+std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+double lerp(double a, double b, double w) { return a + (b - a) * w; }
+
+// Central-difference derivatives of a point function on (u, v). The step is
+// small enough for the truncation error and large enough for round-off at
+// coordinates of ~100 mm (relative accuracy ~1e-7 for second derivatives).
+template <class F>
+SurfaceDerivs finite_difference_derivs(const F& f, double u, double v) {
+  constexpr double h = 1e-4;
+  SurfaceDerivs d;
+  d.p = f(u, v);
+  const Vec3 pu_p = f(u + h, v), pu_m = f(u - h, v);
+  const Vec3 pv_p = f(u, v + h), pv_m = f(u, v - h);
+  d.pu = (pu_p - pu_m) / (2 * h);
+  d.pv = (pv_p - pv_m) / (2 * h);
+  d.puu = (pu_p - 2 * d.p + pu_m) / (h * h);
+  d.pvv = (pv_p - 2 * d.p + pv_m) / (h * h);
+  d.puv = (f(u + h, v + h) - f(u + h, v - h) - f(u - h, v + h) + f(u - h, v - h)) / (4 * h * h);
+  return d;
+}
+
+Vec3 rotate_z(const Vec3& p, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  return Vec3(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z());
+}
+
+}  // namespace
+
+void validate(const BliskParams& p) {
+  require(p.blade_count >= 2 && p.blade_count <= 400, "blade_count", "an integer in [2, 400]");
+  require(std::isfinite(p.z_inlet_mm) && std::isfinite(p.z_outlet_mm) &&
+              p.z_outlet_mm > p.z_inlet_mm,
+          "z_outlet", "an axial position above z_inlet");
+  require(p.hub_radius_inlet_mm > 0, "hub_radius_inlet", "a positive radius");
+  require(p.hub_radius_outlet_mm > 0, "hub_radius_outlet", "a positive radius");
+  require(p.casing_radius_inlet_mm > p.hub_radius_inlet_mm, "casing_radius_inlet",
+          "a radius above hub_radius_inlet (" + num(p.hub_radius_inlet_mm) + ")");
+  require(p.casing_radius_outlet_mm > p.hub_radius_outlet_mm, "casing_radius_outlet",
+          "a radius above hub_radius_outlet (" + num(p.hub_radius_outlet_mm) + ")");
+  require(p.chord_mm > 0, "chord", "a positive length");
+  const double half_axial = 0.5 * p.chord_mm + p.le_radius_mm + p.te_radius_mm;
+  require(-half_axial > p.z_inlet_mm && half_axial < p.z_outlet_mm, "chord",
+          "a blade (centred at z = 0) inside [z_inlet, z_outlet]");
+  for (auto [name, a] : {std::pair{"stagger_hub", p.stagger_hub_rad},
+                         std::pair{"stagger_tip", p.stagger_tip_rad}})
+    require(std::abs(a) < deg_to_rad(80), name, "an angle within (-80, 80) degrees");
+  for (auto [name, a] : {std::pair{"camber_hub", p.camber_hub_rad},
+                         std::pair{"camber_tip", p.camber_tip_rad}})
+    require(a > deg_to_rad(0.5) && a < deg_to_rad(120), name,
+            "a camber angle in (0.5, 120) degrees");
+  require(p.le_radius_mm > 0, "le_radius", "a positive radius");
+  require(p.te_radius_mm > 0, "te_radius", "a positive radius");
+  for (auto [name, t] : {std::pair{"max_thickness_hub", p.max_thickness_hub_mm},
+                         std::pair{"max_thickness_tip", p.max_thickness_tip_mm}}) {
+    require(t > 2 * std::max(p.le_radius_mm, p.te_radius_mm), name,
+            "a thickness above the edge diameters (2 * max(le_radius, te_radius))");
+    require(t < 0.3 * p.chord_mm, name, "a thickness below 30% of the chord");
+  }
+  require(p.le_radius_mm + p.te_radius_mm < 0.25 * p.chord_mm, "le_radius",
+          "edge radii summing to less than a quarter of the chord");
+  require(p.grid_rows >= 4, "grid_rows", "at least 4 rows");
+  require(p.grid_cols >= 4, "grid_cols", "at least 4 columns");
+  require(p.span_extension_mm >= 0 && std::isfinite(p.span_extension_mm), "span_extension",
+          "a length >= 0");
+  require(std::min(p.hub_radius_inlet_mm, p.hub_radius_outlet_mm) - p.span_extension_mm >
+              0.5 * p.chord_mm,
+          "span_extension", "the grid's lowest radius to stay above half the chord");
+}
+
+BuiltinBlisk::BuiltinBlisk(const BliskParams& params) : params_(params) {
+  validate(params_);
+  r_lo_ = std::min(params_.hub_radius_inlet_mm, params_.hub_radius_outlet_mm) -
+          params_.span_extension_mm;
+  r_hi_ = std::max(params_.casing_radius_inlet_mm, params_.casing_radius_outlet_mm) +
+          params_.span_extension_mm;
+}
+
+double BuiltinBlisk::hub_radius_at(double z) const {
+  const BliskParams& p = params_;
+  return lerp(p.hub_radius_inlet_mm, p.hub_radius_outlet_mm,
+              (z - p.z_inlet_mm) / (p.z_outlet_mm - p.z_inlet_mm));
+}
+
+double BuiltinBlisk::casing_radius_at(double z) const {
+  const BliskParams& p = params_;
+  return lerp(p.casing_radius_inlet_mm, p.casing_radius_outlet_mm,
+              (z - p.z_inlet_mm) / (p.z_outlet_mm - p.z_inlet_mm));
+}
+
+std::vector<Vec2> BuiltinBlisk::hub_meridian() const {
+  const BliskParams& p = params_;
+  return {Vec2(p.z_inlet_mm, p.hub_radius_inlet_mm), Vec2(p.z_outlet_mm, p.hub_radius_outlet_mm)};
+}
+
+std::vector<Vec2> BuiltinBlisk::casing_meridian() const {
+  const BliskParams& p = params_;
+  return {Vec2(p.z_inlet_mm, p.casing_radius_inlet_mm),
+          Vec2(p.z_outlet_mm, p.casing_radius_outlet_mm)};
+}
+
+// Blade 0's flank point at radius r and chord fraction t (0 at the LE circle's
+// tangent point, 1 at the TE circle's), see the header for the construction.
+Vec3 BuiltinBlisk::flank_point(FlankSide side, double r, double t) const {
+  const BliskParams& p = params_;
+  const double r_hub = 0.5 * (p.hub_radius_inlet_mm + p.hub_radius_outlet_mm);
+  const double r_tip = 0.5 * (p.casing_radius_inlet_mm + p.casing_radius_outlet_mm);
+  const double w = (r - r_hub) / (r_tip - r_hub);
+  const double stagger = lerp(p.stagger_hub_rad, p.stagger_tip_rad, w);
+  const double camber = lerp(p.camber_hub_rad, p.camber_tip_rad, w);
+  const double t_max = lerp(p.max_thickness_hub_mm, p.max_thickness_tip_mm, w);
+
+  // Camber arc: radius R, angle phi from -camber/2 (LE) to +camber/2 (TE),
+  // chord along local x centred at 0, bulging towards +y.
+  const double R = p.chord_mm / (2 * std::sin(0.5 * camber));
+  const double arc = R * camber;
+  const double a = p.le_radius_mm + t * (arc - p.le_radius_mm - p.te_radius_mm);
+  const double phi = -0.5 * camber + a / R;
+  const double nx = std::sin(phi), ny = std::cos(phi);
+  const double cx = R * nx, cy = R * ny - R * std::cos(0.5 * camber);
+
+  const double smooth = t * t * (3 - 2 * t);
+  const double bump = std::sin(kPi * t);
+  const double h = p.le_radius_mm * (1 - smooth) + p.te_radius_mm * smooth +
+                   (0.5 * t_max - 0.5 * (p.le_radius_mm + p.te_radius_mm)) * bump * bump;
+  const double sign = side == FlankSide::kSuction ? 1.0 : -1.0;
+  const double x = cx + sign * h * nx, y = cy + sign * h * ny;
+
+  // Stagger in the unrolled (z, s = r theta) plane, then wrap on the cylinder.
+  const double cg = std::cos(stagger), sg = std::sin(stagger);
+  const double z = x * cg - y * sg;
+  const double s = x * sg + y * cg;
+  const double theta = s / r;
+  return Vec3(r * std::cos(theta), r * std::sin(theta), z);
+}
+
+class FlankSurface : public Surface {
+ public:
+  FlankSurface(const BuiltinBlisk& blisk, int blade, FlankSide side)
+      : blisk_(blisk.params()), side_(side),
+        angle_(2 * kPi * blade / blisk.blade_count()) {}
+
+  Vec3 at(double u, double v) const {
+    const double r = blisk_.grid_radius_min_mm() +
+                     u * (blisk_.grid_radius_max_mm() - blisk_.grid_radius_min_mm());
+    const double t = side_ == FlankSide::kSuction ? 1 - v : v;
+    return rotate_z(blisk_.flank_point(side_, r, t), angle_);
+  }
+
+  SurfaceDerivs eval(double u, double v) const override {
+    return finite_difference_derivs([this](double a, double b) { return at(a, b); }, u, v);
+  }
+
+ private:
+  BuiltinBlisk blisk_;  // a copy: the surface may outlive the caller's blisk
+  FlankSide side_;
+  double angle_;
+};
+
+std::shared_ptr<const Surface> BuiltinBlisk::flank_surface(int blade, FlankSide side) const {
+  if (blade < 0 || blade >= blade_count())
+    throw ParameterError("blade", "expected an index in [0, " + std::to_string(blade_count() - 1) +
+                                      "], got " + std::to_string(blade));
+  return std::make_shared<FlankSurface>(*this, blade, side);
+}
+
+PointGrid BuiltinBlisk::flank_grid(int blade, FlankSide side) const {
+  const auto surface = flank_surface(blade, side);
+  const auto& flank = static_cast<const FlankSurface&>(*surface);
+  PointGrid grid(params_.grid_rows, params_.grid_cols);
+  for (int i = 0; i < grid.rows; ++i)
+    for (int j = 0; j < grid.cols; ++j)
+      grid.at(i, j) = flank.at(static_cast<double>(i) / (grid.rows - 1),
+                               static_cast<double>(j) / (grid.cols - 1));
+  return grid;
+}
+
+namespace {
+
+// A flank restricted to the span: (w, v) in [0, 1]^2 with w = 0 on the hub
+// cone and w = 1 on the casing cone along each iso-v line. The box makes the
+// in-span constraint simple bounds, so a minimum on the hub line is found as
+// exactly as one inside.
+class SpanFlank {
+ public:
+  SpanFlank(const FlankSurface& flank, const BuiltinBlisk& blisk) : flank_(flank), blisk_(blisk) {}
+
+  Vec3 at(double w, double v) const {
+    const double uh = crossing(v, true), uc = crossing(v, false);
+    return flank_.at(uh + w * (uc - uh), v);
+  }
+
+  // Closest point to q over the box, from a seed: Gauss-Newton with
+  // central-difference Jacobian; a coordinate on a bound whose step points
+  // out of the box is held there (active set).
+  Vec2 project(const Vec3& q, Vec2 wv) const {
+    constexpr double h = 1e-6;
+    for (int it = 0; it < 60; ++it) {
+      const Vec3 p = at(wv.x(), wv.y());
+      Eigen::Matrix<double, 3, 2> J;
+      J.col(0) = (at(wv.x() + h, wv.y()) - at(wv.x() - h, wv.y())) / (2 * h);
+      J.col(1) = (at(wv.x(), wv.y() + h) - at(wv.x(), wv.y() - h)) / (2 * h);
+      const Vec3 r = q - p;
+      Vec2 step = (J.transpose() * J).ldlt().solve(J.transpose() * r);
+      for (int k = 0; k < 2; ++k) {
+        const bool held = (wv[k] <= 0 && step[k] < 0) || (wv[k] >= 1 && step[k] > 0);
+        if (held) {
+          const int f = 1 - k;
+          step[k] = 0;
+          step[f] = J.col(f).dot(r) / J.col(f).squaredNorm();
+        }
+      }
+      const Vec2 next = (wv + step).cwiseMax(0.0).cwiseMin(1.0);
+      const double moved = (next - wv).norm();
+      wv = next;
+      if (moved < 1e-12) break;
+    }
+    return wv;
+  }
+
+ private:
+  // u where the iso-v line meets the hub (or casing) cone: the radial
+  // offset is monotonic in u along a flank row, so secant + bisection.
+  double crossing(double v, bool hub) const {
+    auto f = [&](double u) {
+      const Vec3 q = flank_.at(u, v);
+      const double r = std::hypot(q.x(), q.y());
+      return r - (hub ? blisk_.hub_radius_at(q.z()) : blisk_.casing_radius_at(q.z()));
+    };
+    double a = 0, b = 1, fa = f(a), fb = f(b);
+    for (int it = 0; it < 100 && b - a > 1e-15; ++it) {
+      double m = a - fa * (b - a) / (fb - fa);
+      if (!(m > a && m < b)) m = 0.5 * (a + b);
+      const double fm = f(m);
+      if (fm == 0) return m;
+      if ((fm < 0) == (fa < 0)) {
+        a = m;
+        fa = fm;
+      } else {
+        b = m;
+        fb = fm;
+      }
+      if (std::abs(fm) < 1e-13) return m;
+    }
+    return 0.5 * (a + b);
+  }
+
+  const FlankSurface& flank_;
+  const BuiltinBlisk& blisk_;
+};
+
+}  // namespace
+
+double BuiltinBlisk::narrowest_passage_mm() const {
+  const FlankSurface suction_flank(*this, 0, FlankSide::kSuction);
+  const FlankSurface pressure_flank(*this, 1 % blade_count(), FlankSide::kPressure);
+  const SpanFlank suction(suction_flank, *this), pressure(pressure_flank, *this);
+
+  // Dense samples of both flanks between hub and casing.
+  constexpr int kRows = 40, kCols = 160;
+  struct Sample { Vec2 wv; Vec3 p; };
+  auto sample = [&](const SpanFlank& s) {
+    std::vector<Sample> out;
+    for (int i = 0; i < kRows; ++i)
+      for (int j = 0; j < kCols; ++j) {
+        const Vec2 wv(double(i) / (kRows - 1), double(j) / (kCols - 1));
+        out.push_back({wv, s.at(wv.x(), wv.y())});
+      }
+    return out;
+  };
+  const std::vector<Sample> ss = sample(suction), ps = sample(pressure);
+
+  struct Candidate { double d2; size_t s, p; };
+  std::vector<Candidate> best;
+  for (size_t a = 0; a < ss.size(); ++a) {
+    Candidate c{std::numeric_limits<double>::infinity(), a, 0};
+    for (size_t b = 0; b < ps.size(); ++b) {
+      const double d2 = (ss[a].p - ps[b].p).squaredNorm();
+      if (d2 < c.d2) c = {d2, a, b};
+    }
+    best.push_back(c);
+  }
+  constexpr size_t kRefine = 6;
+  const size_t n_refine = std::min(kRefine, best.size());
+  std::partial_sort(best.begin(), best.begin() + n_refine, best.end(),
+                    [](const Candidate& x, const Candidate& y) { return x.d2 < y.d2; });
+
+  // Refine each candidate pair by alternating constrained point inversion:
+  // the distance never increases, and a fixed point is a pair where each
+  // point is the closest to the other within the span (a common normal, or a
+  // boundary point).
+  double result = std::sqrt(best.front().d2);
+  for (size_t k = 0; k < n_refine; ++k) {
+    Vec2 a = ss[best[k].s].wv, b = ps[best[k].p].wv;
+    double d = std::sqrt(best[k].d2);
+    for (int it = 0; it < 500; ++it) {
+      b = pressure.project(suction.at(a.x(), a.y()), b);
+      a = suction.project(pressure.at(b.x(), b.y()), a);
+      const double next = (suction.at(a.x(), a.y()) - pressure.at(b.x(), b.y())).norm();
+      const bool converged = d - next < 1e-12;
+      d = std::min(d, next);
+      if (converged) break;
+    }
+    result = std::min(result, d);
+  }
+  return result;
+}
+
+}  // namespace bliskrun
