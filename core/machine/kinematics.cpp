@@ -103,12 +103,12 @@ Eigen::Isometry3d Kinematics::head_map(const std::array<double, 2>& r) const {
   return m;
 }
 
-PartPose Kinematics::forward(const MachineAxes& q) const {
+ToolPose Kinematics::forward(const MachineAxes& q) const {
   const Eigen::Isometry3d head = head_map(q.rotary_rad);
   const Vec3 tip_machine = q.linear_mm + head * tip_local_;
   const Vec3 axis_machine = head.linear() * machine_.spindle;
   const Eigen::Isometry3d part = part_to_machine(q.rotary_rad);
-  PartPose pose;
+  ToolPose pose;
   pose.tip = part.inverse() * tip_machine;
   pose.axis = part.linear().transpose() * axis_machine;
   return pose;
@@ -182,7 +182,7 @@ std::vector<RotarySolution> Kinematics::rotary_solutions(
   return out;
 }
 
-MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previous) const {
+MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previous) const {
   if (!pose.tip.allFinite()) throw ParameterError("tip", "expected finite coordinates");
   const std::vector<RotarySolution> solutions = rotary_solutions(pose.axis, previous.rotary_rad);
   if (solutions.empty())
@@ -197,14 +197,18 @@ MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previou
   std::stable_sort(order.begin(), order.end(), [&](const RotarySolution* a, const RotarySolution* b) {
     return motion(*a) < motion(*b);
   });
-  std::string first_problem;
+  // Why each solution fails, nearest first; the error names the nearest
+  // solution's axis and lists every reason.
+  std::string axis_name, reasons;
+  auto refuse = [&](const std::string& axis, const std::string& reason) {
+    if (axis_name.empty()) axis_name = axis;
+    reasons += (reasons.empty() ? "" : "; the other solution: ") + reason;
+  };
   for (const RotarySolution* s : order) {
     if (!s->within_limits) {
       const RotaryAxis& a = machine_.rotary[s->violated_axis];
-      if (first_problem.empty())
-        first_problem = a.name + ": " + a.name + " = " + deg_text(s->violated_value_rad) +
-                        " deg is outside travel [" + deg_text(a.min_rad) + ", " +
-                        deg_text(a.max_rad) + "] deg";
+      refuse(a.name, a.name + " = " + deg_text(s->violated_value_rad) + " deg, outside travel [" +
+                         deg_text(a.min_rad) + ", " + deg_text(a.max_rad) + "] deg");
       continue;
     }
     MachineAxes q;
@@ -213,25 +217,24 @@ MachineAxes Kinematics::inverse(const PartPose& pose, const MachineAxes& previou
     bool ok = true;
     for (int i = 0; i < 3 && ok; ++i) {
       const LinearAxis& a = machine_.linear[i];
-      const double v = q.linear_mm[i];
-      if (v < a.min_mm - 1e-9 || v > a.max_mm + 1e-9) {
+      // Travel is the slides': the spindle gauge point, whatever the length
+      // convention of the program words.
+      const double slide = q.linear_mm[i] + gauge_local_[i];
+      if (slide < a.min_mm - 1e-9 || slide > a.max_mm + 1e-9) {
         ok = false;
-        if (first_problem.empty()) {
-          std::ostringstream msg;
-          msg.setf(std::ios::fixed);
-          msg.precision(3);
-          msg << a.name << ": " << a.name << " = " << v << " mm is outside travel [" << a.min_mm
-              << ", " << a.max_mm << "] mm";
-          first_problem = msg.str();
-        }
+        std::ostringstream msg;
+        msg.setf(std::ios::fixed);
+        msg.precision(3);
+        msg << a.name << " = " << q.linear_mm[i] << " mm (gauge point at " << slide
+            << "), outside travel [" << a.min_mm << ", " << a.max_mm << "] mm";
+        refuse(a.name, msg.str() + " with " + machine_.rotary[0].name + " = " +
+                           deg_text(q.rotary_rad[0]) + ", " + machine_.rotary[1].name + " = " +
+                           deg_text(q.rotary_rad[1]) + " deg");
       }
     }
     if (ok) return q;
   }
-  // The message starts with the axis name; ParameterError prefixes it too, so
-  // strip it from the text.
-  const std::string axis_name = first_problem.substr(0, first_problem.find(':'));
-  throw ParameterError(axis_name, first_problem.substr(axis_name.size() + 2));
+  throw ParameterError(axis_name, "needs " + reasons);
 }
 
 bool Kinematics::reachable(const Vec3& axis) const {

@@ -25,15 +25,9 @@
 
 #include "core/common/types.h"
 #include "core/machine/machine_definition.h"
+#include "core/tools/pose.h"  // ToolPose: tip + unit axis, part frame
 
 namespace bliskrun {
-
-// A tool pose in the part frame: tool tip and the unit axis from the tip
-// towards the shank. (Same meaning as ToolPose of core/tools.)
-struct PartPose {
-  Vec3 tip = Vec3::Zero();
-  Vec3 axis = Vec3::UnitZ();
-};
 
 // Machine axis positions, in the order of MachineDefinition::linear / rotary.
 struct MachineAxes {
@@ -63,7 +57,7 @@ class Kinematics {
   int secondary_axis() const { return secondary_; }
 
   // Tool tip and axis in the part frame for the given machine axes.
-  PartPose forward(const MachineAxes& axes) const;
+  ToolPose forward(const MachineAxes& axes) const;
   // Tool axis in the part frame for the given rotary angles.
   Vec3 tool_axis(const std::array<double, 2>& rotary_rad) const;
   // Linear axes that bring the tip to `tip` (part frame) at these rotaries.
@@ -80,7 +74,7 @@ class Kinematics {
   // Full inverse kinematics with branch choice by travel and continuity.
   // Throws ParameterError naming the machine axis ("A", "X", ...) and the
   // value it would need when the pose is out of reach.
-  MachineAxes inverse(const PartPose& pose, const MachineAxes& previous) const;
+  MachineAxes inverse(const ToolPose& pose, const MachineAxes& previous) const;
 
   // Whether some rotary position within travel gives this tool axis — the
   // question the interference loop asks before accepting a tilt (blisk paper

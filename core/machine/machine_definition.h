@@ -35,6 +35,8 @@ enum class AxisCarrier { Part, Tool };
 enum class ToolLengthMode { Tip, Gauge };
 enum class FeedMode { PerMinute, InverseTime };  // G94 / G93
 
+// Travel of a linear axis is that of the slide: the spindle gauge point at
+// home orientation, machine frame — the same for any tool length.
 struct LinearAxis {
   std::string name;  // "X", "Y", "Z" (machine direction +x, +y, +z)
   double min_mm = -std::numeric_limits<double>::infinity();

@@ -35,7 +35,7 @@ bool same_axes(const MachineAxes& a, const MachineAxes& b) {
 std::string describe(long index, const PlannedMove& m) {
   std::ostringstream out;
   out.precision(6);
-  out << "move " << index;
+  out << "move " << index + 1;  // counted from 1, as a person (and Lua) counts
   if (m.row >= 0) out << " (row " << m.row << ")";
   out << " tip (" << m.pose.tip.x() << ", " << m.pose.tip.y() << ", " << m.pose.tip.z()
       << ") axis (" << m.pose.axis.x() << ", " << m.pose.axis.y() << ", " << m.pose.axis.z()
@@ -66,7 +66,7 @@ class Planner {
 
   // Appends the feed move from (pose_a, axes_a) to (pose_b, axes_b), split
   // until each piece stays within the chord tolerance.
-  void feed(const PartPose& pose_a, const MachineAxes& axes_a, const PartPose& pose_b,
+  void feed(const ToolPose& pose_a, const MachineAxes& axes_a, const ToolPose& pose_b,
             const MachineAxes& axes_b, const PlannedMove& planned, long index, int depth,
             bool last_piece) {
     if (options_.tcp) {
@@ -88,10 +88,10 @@ class Planner {
                   "close to the singularity of the primary rotary axis?)");
     // The departure of a rotary move shrinks with the square of its length.
     const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(dev.bound_mm / tol))), 2, 256);
-    PartPose from = pose_a;
+    ToolPose from = pose_a;
     MachineAxes from_axes = axes_a;
     for (int i = 1; i <= pieces; ++i) {
-      const PartPose to = i == pieces ? pose_b : interpolate_pose(pose_a, pose_b, double(i) / pieces);
+      const ToolPose to = i == pieces ? pose_b : interpolate_pose(pose_a, pose_b, double(i) / pieces);
       // Every piece is solved from the one before, the end of the move too, so
       // the rotaries stay continuous along the pieces.
       const MachineAxes to_axes = inverse(to, from_axes, planned, index);
@@ -101,7 +101,7 @@ class Planner {
     }
   }
 
-  void emit(const PartPose& pose, const MachineAxes& from, const MachineAxes& to,
+  void emit(const ToolPose& pose, const MachineAxes& from, const MachineAxes& to,
             const PlannedMove& planned, long index, bool inserted) {
     MachineMove m;
     m.kind = planned.kind;
@@ -118,7 +118,7 @@ class Planner {
     program_.moves.push_back(m);
   }
 
-  MachineAxes inverse(const PartPose& pose, const MachineAxes& previous, const PlannedMove& planned,
+  MachineAxes inverse(const ToolPose& pose, const MachineAxes& previous, const PlannedMove& planned,
                       long index) {
     try {
       return kin_.inverse(pose, previous);
@@ -138,10 +138,56 @@ class Planner {
   Vec3 last_tip_ = Vec3::Zero();
 };
 
+// A rapid move (or the first) is where the rotary branch may change freely.
+// Continuity alone would pick the solution nearest the previous row's end,
+// which can run into travel mid-row and force a branch change inside a feed
+// move. So each solution within travel is followed along the feed moves that
+// come next, and the one that carries furthest without a jump wins; among
+// equals, the least rotary motion.
+MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>& path, size_t i,
+                          const MachineAxes& previous, Planner& planner, const MotionOptions& options) {
+  const MachineAxes nearest = planner.inverse(path[i].pose, previous, path[i], static_cast<long>(i));
+  const std::vector<RotarySolution> solutions = kin.rotary_solutions(path[i].pose.axis, previous.rotary_rad);
+  if (solutions.size() < 2) return nearest;
+  constexpr double kJumpRad = 0.5;  // a step no smooth feed row makes
+  auto reach = [&](MachineAxes q) {
+    size_t j = i + 1, end = std::min(path.size(), i + 1 + options.branch_lookahead);
+    for (; j < end && path[j].kind == MoveKind::Feed; ++j) {
+      MachineAxes next;
+      try {
+        next = kin.inverse(path[j].pose, q);
+      } catch (const ParameterError&) {
+        break;
+      }
+      if (std::abs(next.rotary_rad[0] - q.rotary_rad[0]) + std::abs(next.rotary_rad[1] - q.rotary_rad[1]) > kJumpRad) break;
+      q = next;
+    }
+    return j;
+  };
+  MachineAxes best = nearest;
+  size_t best_reach = reach(nearest);
+  for (const RotarySolution& s : solutions) {
+    if (!s.within_limits) continue;
+    MachineAxes q;
+    q.rotary_rad = s.rotary_rad;
+    try {
+      q = kin.inverse(path[i].pose, q);  // the same branch, with its linear axes checked
+    } catch (const ParameterError&) {
+      continue;
+    }
+    const size_t r = reach(q);
+    if (r > best_reach) {
+      best = q;
+      best_reach = r;
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
-PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t) {
-  PartPose p;
+ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t) {
+  ToolPose p;
   p.tip = a.tip + t * (b.tip - a.tip);
   const Vec3 ka = a.axis.normalized(), kb = b.axis.normalized();
   const Vec3 n = ka.cross(kb);
@@ -199,19 +245,22 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
                                    const MotionOptions& options, Progress& progress) {
   if (!(options.chord_tol_mm > 0)) throw ParameterError("chord_tol", "expected a tolerance > 0 mm");
   MachineProgram program;
-  program.feed_mode = kin.machine().feed;
+  // Under TCP control F is the tip's speed, which is what the plan gives.
+  program.feed_mode = options.tcp ? FeedMode::PerMinute : kin.machine().feed;
   program.tcp = options.tcp;
   Planner planner(kin, options, program);
   progress.begin("machine motion", static_cast<long>(path.size()));
   MachineAxes axes = options.start;
-  PartPose pose = kin.forward(axes);
+  ToolPose pose = kin.forward(axes);
   planner.set_last_tip(pose.tip);
   for (size_t i = 0; i < path.size(); ++i) {
     const PlannedMove& m = path[i];
     const long index = static_cast<long>(i);
     if (m.kind == MoveKind::Feed && !(m.feed_mm_per_min > 0))
       throw ParameterError("feed", describe(index, m) + ": expected a feed > 0 mm/min");
-    const MachineAxes next = planner.inverse(m.pose, axes, m, index);
+    const MachineAxes next = (m.kind == MoveKind::Rapid || i == 0)
+                                 ? choose_branch(kin, path, i, axes, planner, options)
+                                 : planner.inverse(m.pose, axes, m, index);
     if (same_axes(next, axes) && i > 0) {
       ++program.skipped_moves;
     } else if (m.kind == MoveKind::Rapid || i == 0) {

@@ -22,7 +22,7 @@ enum class MoveKind { Rapid, Feed };
 
 struct PlannedMove {
   MoveKind kind = MoveKind::Feed;
-  PartPose pose;
+  ToolPose pose;
   double feed_mm_per_min = 0;  // feed moves: tip speed along the path
   long row = -1;               // provenance for messages; -1 when not in a row
 };
@@ -32,12 +32,15 @@ struct MotionOptions {
   bool tcp = false;             // the controller interpolates the tip (no splitting)
   int max_depth = 10;           // split rounds per move before giving up
   MachineAxes start;            // axes before the first move: continuity reference
+  // At each rapid move the rotary branch is chosen by following the next feed
+  // moves (up to this many) on each branch: see plan_machine_motion.
+  size_t branch_lookahead = 20000;
 };
 
 struct MachineMove {
   MoveKind kind = MoveKind::Feed;
   MachineAxes axes;
-  PartPose pose;       // planned pose at the end of this move (part frame)
+  ToolPose pose;       // planned pose at the end of this move (part frame)
   double feed = 0;     // F word: mm/min (per minute) or 1/min (inverse time); 0 for rapids
   long source = 0;     // index of the planned move this one ends or belongs to
   long row = -1;
@@ -69,10 +72,13 @@ struct MoveDeviation {
 MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
                              const Vec3& tip_from, const Vec3& tip_to, double margin_mm);
 
-// Inverse kinematics along the path (continuity from move to move), splitting
-// of feed moves to the chord tolerance, feed words per the machine's feed
-// mode. A pose out of reach throws ParameterError naming the machine axis,
-// with the move index, its row and pose in the message.
+// Inverse kinematics along the path (continuity from move to move; at a rapid
+// move, or the first, the branch that carries furthest through the following
+// feed moves without a jump or a travel limit), splitting of feed moves to the
+// chord tolerance, feed words per the machine's feed mode (per minute under
+// TCP control, where F is the tip's speed). A pose out of reach throws
+// ParameterError naming the machine axis, with the move (counted from 1), its
+// row and pose in the message.
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
                                    const MotionOptions& options,
                                    Progress& progress = Progress::none());
@@ -80,6 +86,6 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
 // The pose at t in [0, 1] of the planned motion from a to b: tip linear, axis
 // along the great circle. Throws ParameterError("axis") when the axes are
 // opposite (no unique great circle).
-PartPose interpolate_pose(const PartPose& a, const PartPose& b, double t);
+ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t);
 
 }  // namespace bliskrun

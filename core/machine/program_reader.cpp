@@ -189,9 +189,9 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           else if (is(43.4) || is(43.5)) tcp = true;
           else if (is(49)) tcp = false;
           else if (is(91)) reader.fail(tok.column, "incremental coordinates (G91) are not supported");
-          else if (is(20)) reader.fail(tok.column, "inch units (G20) are not supported");
+          else if (is(20) || is(70)) reader.fail(tok.column, "inch units are not supported");
           else if (is(2) || is(3)) reader.fail(tok.column, "arcs (G2/G3) are not supported");
-          else if (!(is(90) || is(17) || is(21) || is(40) || is(43) || is(61) || is(64) || is(80) ||
+          else if (!(is(90) || is(17) || is(21) || is(71) || is(40) || is(43) || is(61) || is(64) || is(80) ||
                      (g >= 54 && g <= 59 && is_integer(g))))
             {
             std::ostringstream code;
@@ -218,6 +218,9 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           reader.fail(tok.column, std::string("unsupported word '") + tok.letter + "'");
       }
     }
+    // Kinematics that are always TCP (LinuxCNC trt) have no switch: G49 there
+    // only cancels length compensation.
+    if (options.tcp) tcp = true;
     if (heidenhain_linear) block_motion = fmax ? 0 : 1;
     else if (fmax) reader.fail(1, "FMAX outside an L block");
     if (block_motion >= 0) motion = block_motion;

@@ -6,7 +6,8 @@
 //   - comments "( ... )" and "; ..." ; "%" lines; block numbers "N10" or a
 //     leading Heidenhain block number; program numbers "O1000";
 //     "BEGIN PGM ... / END PGM ..." lines;
-//   - G0 G1 (modal), G90 (G91 is refused), G93 G94 (feed mode), G17 G21 G40
+//   - G0 G1 (modal), G90 (G91 is refused), G93 G94 (feed mode), G17, G21/G71
+//     (mm; inch is refused), G40
 //     G43 G49 G54-G59 G61 G64 G80, G43.4 / G43.5 (TCP on), G49 (TCP off);
 //   - TRAORI / TRAFOOF (Siemens), M128 / M129 and FUNCTION TCPM / FUNCTION
 //     RESET TCPM (Heidenhain) switch TCP control on / off;

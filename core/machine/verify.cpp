@@ -7,9 +7,9 @@
 
 namespace bliskrun {
 
-PartPose replay(const Kinematics& kin, const ProgramMove& move) {
+ToolPose replay(const Kinematics& kin, const ProgramMove& move) {
   if (!move.tcp) return kin.forward(move.axes);
-  PartPose pose;
+  ToolPose pose;
   pose.tip = move.axes.linear_mm;
   pose.axis = kin.tool_axis(move.axes.rotary_rad);
   return pose;
@@ -35,8 +35,8 @@ VerifyReport verify_program(const std::string& text, const Kinematics& kin,
     if (got.kind != want.kind)
       throw DataError(file, got.line,
                       std::string("expected a ") + (want.kind == MoveKind::Rapid ? "rapid" : "feed") +
-                          " move (plan move " + std::to_string(want.source) + ")");
-    const PartPose pose = replay(kin, got);
+                          " move (plan move " + std::to_string(want.source + 1) + ")");
+    const ToolPose pose = replay(kin, got);
     const double position = (pose.tip - want.pose.tip).norm();
     const double angle = std::atan2(pose.axis.cross(want.pose.axis).norm(), pose.axis.dot(want.pose.axis));
     const double allowed_position = options.tol_mm + linear_slack +
@@ -55,7 +55,7 @@ VerifyReport verify_program(const std::string& text, const Kinematics& kin,
       msg.precision(6);
       msg << "the replayed tool is " << position << " mm and " << rad_to_deg(angle)
           << " deg from the plan (allowed " << allowed_position << " mm, " << rad_to_deg(allowed_angle)
-          << " deg) at plan move " << want.source;
+          << " deg) at plan move " << want.source + 1;
       if (want.row >= 0) msg << " (row " << want.row << ")";
       throw DataError(file, got.line, msg.str());
     }

@@ -39,6 +39,6 @@ VerifyReport verify_program(const std::string& text, const Kinematics& kin,
                             const MachineProgram& plan, const VerifyOptions& options);
 
 // Replays one read-back move: the tool pose it puts in the part frame.
-PartPose replay(const Kinematics& kin, const ProgramMove& move);
+ToolPose replay(const Kinematics& kin, const ProgramMove& move);
 
 }  // namespace bliskrun

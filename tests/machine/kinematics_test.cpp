@@ -29,11 +29,11 @@ TEST_P(EveryConfiguration, InverseThenForwardReturnsThePose) {
     MachineAxes q;
     q.rotary_rad = test::random_rotary(kin.machine(), rng);
     q.linear_mm = Vec3(coord(rng), coord(rng), coord(rng));
-    const PartPose pose = kin.forward(q);
+    const ToolPose pose = kin.forward(q);
     MachineAxes previous;
     previous.rotary_rad = test::random_rotary(kin.machine(), rng);
     const MachineAxes solved = kin.inverse(pose, previous);
-    const PartPose back = kin.forward(solved);
+    const ToolPose back = kin.forward(solved);
     ASSERT_LT((back.tip - pose.tip).norm(), 1e-9) << "pose " << i;
     ASSERT_LT(angle_between(back.axis, pose.axis), 1e-9) << "pose " << i;
     for (int r = 0; r < 2; ++r) {

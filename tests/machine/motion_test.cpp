@@ -33,7 +33,7 @@ double dense_deviation(const Kinematics& kin, const MachineAxes& a, const Machin
   return worst;
 }
 
-PartPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
+ToolPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
   return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
                     std::cos(tilt_rad))};
 }
@@ -153,14 +153,14 @@ TEST(MachineMotion, UnreachablePoseNamesTheMoveAndAxis) {
   } catch (const ParameterError& e) {
     EXPECT_EQ(e.name(), "C");
     const std::string what = e.what();
-    EXPECT_NE(what.find("move 2 (row 7)"), std::string::npos) << what;
+    EXPECT_NE(what.find("move 3 (row 7)"), std::string::npos) << what;
     EXPECT_NE(what.find("outside travel"), std::string::npos) << what;
   }
 }
 
 TEST(MachineMotion, InterpolatedPoseFollowsTheGreatCircle) {
-  const PartPose a{Vec3(0, 0, 0), Vec3::UnitZ()}, b{Vec3(10, 0, 0), Vec3::UnitX()};
-  const PartPose mid = interpolate_pose(a, b, 0.5);
+  const ToolPose a{Vec3(0, 0, 0), Vec3::UnitZ()}, b{Vec3(10, 0, 0), Vec3::UnitX()};
+  const ToolPose mid = interpolate_pose(a, b, 0.5);
   EXPECT_LT((mid.tip - Vec3(5, 0, 0)).norm(), 1e-12);
   EXPECT_LT((mid.axis - Vec3(1, 0, 1).normalized()).norm(), 1e-12);
   EXPECT_THROW(interpolate_pose(a, {Vec3::Zero(), -Vec3::UnitZ()}, 0.5), ParameterError);
@@ -172,10 +172,10 @@ TEST(MachineMotion, InterpolatedPoseFollowsTheGreatCircle) {
 namespace bliskrun {
 namespace {
 
-// Past A = +30 deg the A/C trunnion must change branch (A -> -A, C + 180):
-// in the middle of a feed move that would drag the tip across the part, so
-// it is refused, naming the move, rather than written.
-TEST(MachineMotion, BranchChangeInsideAFeedMoveIsRefused) {
+// Past A = +30 deg the A/C trunnion must change branch (A -> -A, C + 180).
+// At a rapid move the branch is free: the planner takes the one that lasts
+// the row, even when continuity with the previous row points the other way.
+TEST(MachineMotion, BranchIsChosenAtTheRapidToLastTheRow) {
   const Kinematics kin(test::table_table_ac(), 80.0);
   std::vector<PlannedMove> path;
   for (int i = 0; i < 4; ++i) {
@@ -183,20 +183,37 @@ TEST(MachineMotion, BranchChangeInsideAFeedMoveIsRefused) {
     m.kind = i == 0 ? MoveKind::Rapid : MoveKind::Feed;
     m.feed_mm_per_min = 500;
     const double tilt = (28 + i) * kDeg;
-    m.pose = {Vec3(20, 0, 0), Vec3(0, -std::sin(tilt), std::cos(tilt))};  // needs A = +tilt or -tilt
+    m.pose = {Vec3(20, 0, 0), Vec3(0, -std::sin(tilt), std::cos(tilt))};  // A = -tilt, or +tilt with C = 180
     path.push_back(m);
   }
   MotionOptions options;
-  options.start.rotary_rad = {25 * kDeg, kPi};  // on the A > 0 branch
+  options.start.rotary_rad = {25 * kDeg, kPi};  // continuity alone would take A = +28
+  const MachineProgram program = plan_machine_motion(kin, path, options);
+  EXPECT_NEAR(program.moves.front().axes.rotary_rad[0], -28 * kDeg, 1e-9);
+  EXPECT_NEAR(program.moves.back().axes.rotary_rad[0], -31 * kDeg, 1e-9);
+}
+
+// A feed row through the pole from a 40 deg tilt on one side to 40 deg on the
+// other needs A from -40 to +40 (or +40 to -40) on either branch: no branch
+// lasts, and the move where the change would happen is refused, by name.
+TEST(MachineMotion, BranchChangeInsideAFeedRowIsRefused) {
+  const Kinematics kin(test::table_table_ac(), 80.0);
+  std::vector<PlannedMove> path;
+  for (int i = 0; i <= 16; ++i) {
+    PlannedMove m;
+    m.kind = i == 0 ? MoveKind::Rapid : MoveKind::Feed;
+    m.feed_mm_per_min = 500;
+    m.row = 4;
+    const double t = (-40 + 5 * i) * kDeg;
+    m.pose = {Vec3(0, 0, 0), Vec3(0, -std::sin(t), std::cos(t))};
+    path.push_back(m);
+  }
   try {
-    plan_machine_motion(kin, path, options);
+    plan_machine_motion(kin, path, MotionOptions{});
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("move 3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(row 4)"), std::string::npos) << e.what();
   }
-  options.start.rotary_rad = {-25 * kDeg, 0};  // on the A < 0 branch: fine
-  const MachineProgram program = plan_machine_motion(kin, path, options);
-  EXPECT_NEAR(program.moves.back().axes.rotary_rad[0], -31 * kDeg, 1e-9);
 }
 
 }  // namespace

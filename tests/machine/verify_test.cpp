@@ -128,7 +128,7 @@ TEST(MachineVerify, ReplayUsesTheProgrammedTipUnderTcp) {
   move.tcp = true;
   move.axes.linear_mm = Vec3(1, 2, 3);
   move.axes.rotary_rad = {30 * kDeg, 20 * kDeg};
-  const PartPose p = replay(kin, move);
+  const ToolPose p = replay(kin, move);
   EXPECT_EQ(p.tip, Vec3(1, 2, 3));
   EXPECT_LT(test::angle_between(p.axis, kin.forward(move.axes).axis), 1e-15);
 }

@@ -1,0 +1,95 @@
+// Machine kinematics, posting and read-back. Issue 5's target: IK + post +
+// verify of 100,000 moves in <= 2 s, the Lua post included.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/machine/verify.h"
+#include "lua_api/machine_host.h"
+
+namespace bliskrun {
+namespace {
+
+const std::string kScripts = std::string(BLISKRUN_SOURCE_DIR) + "/scripts";
+
+MachineDefinition dmg_like_trunnion(lua_State* L) {
+  lua_api::load_machine_file(L, kScripts + "/machines/dmg_like_ac_trunnion.lua", 0, kScripts + "/machines");
+  MachineDefinition m = lua_api::test_machine(L, -1)->definition;
+  lua_pop(L, 1);
+  return m;
+}
+
+// A finishing-like path: rows along a 40 mm radius arc, 0.2 mm steps, the
+// tool leaning 20-35 deg and turning with the row.
+std::vector<PlannedMove> finishing_path(long moves) {
+  std::vector<PlannedMove> path;
+  path.reserve(static_cast<size_t>(moves));
+  const long per_row = 500;
+  for (long i = 0; i < moves; ++i) {
+    const long row = i / per_row, k = i % per_row;
+    const double phi = 0.2 * k / 40.0 + 0.01 * row;
+    const double tilt = (20 + 15 * double(k) / per_row) * kPi / 180;
+    PlannedMove m;
+    m.kind = k == 0 ? MoveKind::Rapid : MoveKind::Feed;
+    m.feed_mm_per_min = 1200;
+    m.row = row;
+    m.pose.tip = Vec3(40 * std::cos(phi), 40 * std::sin(phi), 5 + 0.1 * row);
+    m.pose.axis = Vec3(std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi), std::cos(tilt));
+    path.push_back(m);
+  }
+  return path;
+}
+
+void BM_InverseKinematics(benchmark::State& state) {
+  lua_State* L = luaL_newstate();
+  luaL_openlibs(L);
+  const Kinematics kin(dmg_like_trunnion(L), 80.0);
+  lua_close(L);
+  const std::vector<PlannedMove> path = finishing_path(1000);
+  MachineAxes q;
+  size_t i = 0;
+  for (auto _ : state) {
+    q = kin.inverse(path[i].pose, q);
+    benchmark::DoNotOptimize(q);
+    if (++i == path.size()) i = 0;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_InverseKinematics);
+
+// IK with splitting, the Lua post, read-back and replay: the whole of
+// post.write but the file write. Arg 0: moves; arg 1: 1 = TCP (G43.4).
+void BM_PostAndVerify(benchmark::State& state) {
+  lua_State* L = luaL_newstate();
+  luaL_openlibs(L);
+  const Kinematics kin(dmg_like_trunnion(L), 80.0);
+  const std::vector<PlannedMove> path = finishing_path(state.range(0));
+  lua_api::load_post_file(L, kScripts + "/posts/fanuc.lua", kScripts + "/posts");
+  lua_pushboolean(L, state.range(1) != 0);
+  lua_setfield(L, -2, "tcp");
+  lua_api::PostJob job;
+  job.name = "bench";
+  job.tool_number = 1;
+  job.tool_length_mm = 80;
+  MotionOptions motion;
+  motion.tcp = state.range(1) != 0;
+  motion.chord_tol_mm = 0.005;
+  motion.start.rotary_rad = {-0.3, 0};
+  long blocks = 0;
+  for (auto _ : state) {
+    const MachineProgram plan = plan_machine_motion(kin, path, motion);
+    const std::string text = lua_api::run_post(L, -1, kin, plan, job);
+    const VerifyReport report = verify_program(text, kin, plan, VerifyOptions{});
+    blocks = report.moves;
+    benchmark::DoNotOptimize(report);
+  }
+  lua_close(L);
+  state.counters["blocks"] = static_cast<double>(blocks);
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_PostAndVerify)->Args({10000, 0})->Args({10000, 1})->Args({100000, 0})->Args({100000, 1})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace bliskrun

@@ -1,0 +1,622 @@
+#include "lua_api/machine_host.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "core/common/error.h"
+
+namespace bliskrun::lua_api {
+
+namespace {
+
+constexpr const char* kParametricName = "bliskrun.ParametricMachine";
+
+// parametric { parameters = { name = { default = v, doc = "..." }, ... },
+//              build = function(p) return machine { ... } end }
+// returns a callable table: def { name = value, ... } builds the machine from
+// the defaults and the given values. The call itself is l_parametric_call, a
+// C function, so that `return generic "x" { ... }` (a tail call) still has
+// the machine file's frame to put the line of an unknown parameter on.
+constexpr const char* kParametricSource = R"lua(
+local call = ...
+return function(spec)
+  if type(spec) ~= "table" or type(spec.parameters) ~= "table" or type(spec.build) ~= "function" then
+    error("parametric: expected { parameters = { ... }, build = function(p) ... end }", 2)
+  end
+  for k in pairs(spec) do
+    if k ~= "parameters" and k ~= "build" and k ~= "doc" then
+      error("parametric: unknown key '" .. tostring(k) .. "', expected one of: build, doc, parameters", 2)
+    end
+  end
+  local names = {}
+  for k, v in pairs(spec.parameters) do
+    if type(k) ~= "string" or type(v) ~= "table" or v.default == nil then
+      error("parametric: parameter '" .. tostring(k) .. "' must be { default = ..., doc = \"...\" }", 2)
+    end
+    names[#names + 1] = k
+  end
+  table.sort(names)
+  local mt = { __name = "bliskrun.ParametricMachine", __call = call }
+  return setmetatable({ parameters = spec.parameters, names = table.concat(names, ", "),
+                        build = spec.build, doc = spec.doc }, mt)
+end
+)lua";
+
+// def { ... }: upvalue-free; argument 1 the parametric table, 2 the values.
+int l_parametric_call(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);
+  if (lua_isnoneornil(L, 2)) {
+    lua_settop(L, 1);
+    lua_newtable(L);
+  }
+  if (!lua_istable(L, 2)) return luaL_error(L, "expected a table of machine parameters");
+  lua_settop(L, 2);
+  lua_getfield(L, 1, "parameters");  // 3
+  lua_newtable(L);                   // 4: the parameters build sees
+  lua_pushnil(L);
+  while (lua_next(L, 2)) {
+    // key -2, value -1
+    lua_pushvalue(L, -2);
+    const bool is_name = lua_type(L, -1) == LUA_TSTRING;
+    lua_gettable(L, 3);  // declaration or nil
+    if (!is_name || lua_isnil(L, -1)) {
+      lua_getfield(L, 1, "names");
+      return luaL_error(L, "unknown machine parameter '%s', expected one of: %s",
+                        is_name ? lua_tostring(L, -4) : luaL_typename(L, -4), lua_tostring(L, -1));
+    }
+    lua_getfield(L, -1, "default");
+    const int default_type = lua_type(L, -1);
+    const bool default_false = default_type == LUA_TBOOLEAN && !lua_toboolean(L, -1);
+    const bool value_false = lua_isboolean(L, -3) && !lua_toboolean(L, -3);
+    if (!default_false && !value_false && lua_type(L, -3) != default_type)
+      return luaL_error(L, "machine parameter '%s': expected a %s, got %s", lua_tostring(L, -4),
+                        lua_typename(L, default_type), luaL_typename(L, -3));
+    lua_pop(L, 2);
+    lua_pushvalue(L, -2);
+    lua_insert(L, -2);
+    lua_settable(L, 4);
+  }
+  lua_pushnil(L);
+  while (lua_next(L, 3)) {
+    lua_pushvalue(L, -2);
+    lua_gettable(L, 4);
+    const bool given = !lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (!given) {
+      lua_getfield(L, -1, "default");
+      lua_pushvalue(L, -3);
+      lua_insert(L, -2);
+      lua_settable(L, 4);
+    }
+    lua_pop(L, 1);
+  }
+  lua_getfield(L, 1, "build");
+  lua_pushvalue(L, 4);
+  lua_call(L, 1, 1);
+  return 1;
+}
+
+// A problem in a definition table; raised as a Lua error once out of C++
+// scopes that own resources.
+struct TableError {
+  std::string message;
+};
+
+[[noreturn]] void table_error(const std::string& message) { throw TableError{message}; }
+
+const char* type_of(lua_State* L, int idx) { return luaL_typename(L, idx); }
+
+double read_number(lua_State* L, int idx, const std::string& what) {
+  if (!lua_isnumber(L, idx)) table_error(what + ": expected a number, got " + type_of(L, idx));
+  const double v = lua_tonumber(L, idx);
+  if (!std::isfinite(v)) table_error(what + ": expected a finite number");
+  return v;
+}
+
+Vec3 read_vec3(lua_State* L, int idx, const std::string& what) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error(what + ": expected {x, y, z}, got " + type_of(L, idx));
+  if (lua_rawlen(L, idx) != 3) table_error(what + ": expected {x, y, z} (three numbers)");
+  Vec3 v;
+  for (int i = 0; i < 3; ++i) {
+    lua_rawgeti(L, idx, i + 1);
+    v[i] = read_number(L, -1, what + "[" + std::to_string(i + 1) + "]");
+    lua_pop(L, 1);
+  }
+  return v;
+}
+
+// {min, max}
+std::pair<double, double> read_range(lua_State* L, int idx, const std::string& what) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx) || lua_rawlen(L, idx) != 2)
+    table_error(what + ": expected {min, max}, got " + type_of(L, idx));
+  lua_rawgeti(L, idx, 1);
+  const double lo = read_number(L, -1, what + "[1]");
+  lua_rawgeti(L, idx, 2);
+  const double hi = read_number(L, -1, what + "[2]");
+  lua_pop(L, 2);
+  if (!(lo < hi)) table_error(what + ": expected min < max");
+  return {lo, hi};
+}
+
+std::string read_string(lua_State* L, int idx, const std::string& what) {
+  if (lua_type(L, idx) != LUA_TSTRING) table_error(what + ": expected a string, got " + type_of(L, idx));
+  return lua_tostring(L, idx);
+}
+
+std::string read_choice(lua_State* L, int idx, const std::string& what,
+                        const std::vector<std::string>& choices) {
+  const std::string s = read_string(L, idx, what);
+  if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
+    std::string list;
+    for (const std::string& c : choices) list += (list.empty() ? "'" : ", '") + c + "'";
+    table_error(what + ": expected one of " + list + ", got '" + s + "'");
+  }
+  return s;
+}
+
+// Rejects keys not in `allowed`, listing them.
+void check_keys(lua_State* L, int idx, const std::string& what, const std::set<std::string>& allowed) {
+  idx = lua_absindex(L, idx);
+  lua_pushnil(L);
+  while (lua_next(L, idx)) {
+    lua_pop(L, 1);
+    const std::string key = lua_type(L, -1) == LUA_TSTRING ? lua_tostring(L, -1) : "";
+    if (!allowed.count(key)) {
+      std::string list;
+      for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+      std::string shown = key;
+      if (key.empty()) shown = lua_type(L, -1) == LUA_TNUMBER ? "[" + std::to_string(lua_tointeger(L, -1)) + "]" : "?";
+      lua_pop(L, 1);
+      table_error(what + "unknown key '" + shown + "', expected one of: " + list);
+    }
+  }
+}
+
+RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error(what + ": expected a table, got " + type_of(L, idx));
+  check_keys(L, idx, what + ": ", {"name", "carrier", "direction", "pivot", "travel"});
+  RotaryAxis a;
+  lua_getfield(L, idx, "name");
+  if (lua_isnil(L, -1)) table_error(what + ": missing name (A, B or C)");
+  a.name = read_choice(L, -1, what + ".name", {"A", "B", "C"});
+  lua_getfield(L, idx, "carrier");
+  if (lua_isnil(L, -1)) table_error(what + ": missing carrier ('part' for a table, 'tool' for a head)");
+  a.carrier = read_choice(L, -1, what + ".carrier", {"part", "tool"}) == "part" ? AxisCarrier::Part
+                                                                            : AxisCarrier::Tool;
+  lua_getfield(L, idx, "direction");
+  if (lua_isnil(L, -1)) table_error(what + ": missing direction {x, y, z}");
+  const Vec3 d = read_vec3(L, -1, what + ".direction");
+  if (d.norm() < 1e-12) table_error(what + ".direction: expected a non-zero vector");
+  a.direction = d.normalized();
+  lua_getfield(L, idx, "pivot");
+  if (!lua_isnil(L, -1)) a.pivot_mm = read_vec3(L, -1, what + ".pivot");
+  lua_getfield(L, idx, "travel");
+  if (!lua_isnil(L, -1) && !(lua_isboolean(L, -1) && !lua_toboolean(L, -1))) {
+    const auto [lo, hi] = read_range(L, -1, what + ".travel");
+    a.min_rad = deg_to_rad(lo);
+    a.max_rad = deg_to_rad(hi);
+  }
+  lua_pop(L, 5);
+  return a;
+}
+
+MachineDefinition read_definition(lua_State* L, int idx) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error(std::string("expected a table, got ") + type_of(L, idx));
+  check_keys(L, idx, "", {"name", "linear", "rotary", "spindle", "part_origin", "tool_length", "feed",
+                          "resolution"});
+  MachineDefinition m;
+  lua_getfield(L, idx, "name");
+  if (lua_isnil(L, -1)) table_error("missing name");
+  m.name = read_string(L, -1, "name");
+  lua_pop(L, 1);
+
+  lua_getfield(L, idx, "linear");
+  if (!lua_istable(L, -1)) table_error("linear: expected { X = {min, max}, Y = ..., Z = ... }");
+  check_keys(L, -1, "linear: ", {"X", "Y", "Z"});
+  for (const char* name : {"X", "Y", "Z"}) {
+    lua_getfield(L, -1, name);
+    if (lua_isnil(L, -1)) table_error(std::string("linear: missing axis ") + name);
+    const auto [lo, hi] = read_range(L, -1, std::string("linear.") + name);
+    m.linear.push_back({name, lo, hi});
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+
+  lua_getfield(L, idx, "rotary");
+  if (!lua_istable(L, -1)) table_error("rotary: expected a list of two rotary axes in chain order");
+  const lua_Unsigned n = lua_rawlen(L, -1);
+  if (n != 2)
+    table_error("rotary: expected two rotary axes (a 5-axis machine), got " + std::to_string(n));
+  for (int i = 1; i <= 2; ++i) {
+    lua_rawgeti(L, -1, i);
+    m.rotary.push_back(read_rotary(L, -1, "rotary[" + std::to_string(i) + "]"));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+
+  lua_getfield(L, idx, "spindle");
+  if (!lua_isnil(L, -1)) {
+    const Vec3 s = read_vec3(L, -1, "spindle");
+    if (s.norm() < 1e-12) table_error("spindle: expected a non-zero vector");
+    m.spindle = s.normalized();
+  }
+  lua_getfield(L, idx, "part_origin");
+  if (!lua_isnil(L, -1)) m.part_origin_mm = read_vec3(L, -1, "part_origin");
+  lua_getfield(L, idx, "tool_length");
+  if (!lua_isnil(L, -1))
+    m.tool_length = read_choice(L, -1, "tool_length", {"tip", "gauge"}) == "tip" ? ToolLengthMode::Tip
+                                                                                : ToolLengthMode::Gauge;
+  lua_getfield(L, idx, "feed");
+  if (!lua_isnil(L, -1))
+    m.feed = read_choice(L, -1, "feed", {"per_minute", "inverse_time"}) == "per_minute"
+                 ? FeedMode::PerMinute
+                 : FeedMode::InverseTime;
+  lua_getfield(L, idx, "resolution");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_istable(L, -1)) table_error("resolution: expected { linear = mm, rotary = deg }");
+    check_keys(L, -1, "resolution: ", {"linear", "rotary"});
+    lua_getfield(L, -1, "linear");
+    if (!lua_isnil(L, -1)) m.linear_resolution_mm = read_number(L, -1, "resolution.linear");
+    lua_getfield(L, -2, "rotary");
+    if (!lua_isnil(L, -1)) m.rotary_resolution_rad = deg_to_rad(read_number(L, -1, "resolution.rotary"));
+    lua_pop(L, 2);
+  }
+  lua_pop(L, 5);
+  try {
+    validate(m);
+  } catch (const ParameterError& e) {
+    table_error(e.what());
+  }
+  return m;
+}
+
+bool is_parametric(lua_State* L, int idx) {
+  if (!lua_istable(L, idx) || !lua_getmetatable(L, idx)) return false;
+  lua_getfield(L, -1, "__name");
+  const bool yes = lua_type(L, -1) == LUA_TSTRING && std::string(lua_tostring(L, -1)) == kParametricName;
+  lua_pop(L, 2);
+  return yes;
+}
+
+// Names of shipped files: letters, digits and '_' only, so no path escapes.
+void check_file_name(lua_State* L, const std::string& name, const char* what) {
+  const bool ok = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+  if (!ok) luaL_error(L, "%s: '%s' is not a name (letters, digits, '_')", what, name.c_str());
+}
+
+// Loads `path` as a text chunk with `env` (at env_idx) as its _ENV and calls
+// it; leaves its first result.
+void run_file(lua_State* L, const std::string& path, int env_idx) {
+  env_idx = lua_absindex(L, env_idx);
+  if (luaL_loadfilex(L, path.c_str(), "t") != LUA_OK) lua_error(L);
+  lua_pushvalue(L, env_idx);
+  lua_setupvalue(L, -2, 1);
+  lua_call(L, 0, 1);
+}
+
+int l_machine(lua_State* L) {
+  std::string problem;
+  try {
+    MachineValue value{read_definition(L, 1), ""};
+    push_machine(L, std::move(value));
+    return 1;
+  } catch (const TableError& e) {
+    problem = e.message;
+  }
+  return luaL_error(L, "machine: %s", problem.c_str());
+}
+
+// generic "name": upvalue 1 = machines folder, 2 = the environment.
+int l_generic(lua_State* L) {
+  const std::string name = luaL_checkstring(L, 1);
+  check_file_name(L, name, "generic");
+  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
+  run_file(L, path, lua_upvalueindex(2));
+  if (!is_parametric(L, -1))
+    return luaL_error(L, "generic: %s does not return parametric { ... }", path.c_str());
+  return 1;
+}
+
+void push_machine_env(lua_State* L, const std::string& machines_dir) {
+  lua_newtable(L);  // env
+  lua_newtable(L);  // its metatable: read the sandbox's globals
+  lua_pushglobaltable(L);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, -2);
+  lua_pushcfunction(L, l_machine);
+  lua_setfield(L, -2, "machine");
+  lua_pushstring(L, machines_dir.c_str());
+  lua_pushvalue(L, -2);
+  lua_pushcclosure(L, l_generic, 2);
+  lua_setfield(L, -2, "generic");
+  if (luaL_loadbufferx(L, kParametricSource, std::char_traits<char>::length(kParametricSource),
+                       "=parametric", "t") != LUA_OK)
+    lua_error(L);
+  lua_pushcfunction(L, l_parametric_call);
+  lua_call(L, 1, 1);
+  lua_setfield(L, -2, "parametric");
+}
+
+int l_extend(lua_State* L) {
+  const std::string name = luaL_checkstring(L, 1);
+  check_file_name(L, name, "extend");
+  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
+  run_file(L, path, lua_upvalueindex(2));
+  if (!lua_istable(L, -1)) return luaL_error(L, "extend: %s does not return a post table", path.c_str());
+  // A copy, so the extending post never changes the one it extends.
+  lua_newtable(L);
+  lua_pushnil(L);
+  while (lua_next(L, -3)) {
+    lua_pushvalue(L, -2);
+    lua_insert(L, -2);
+    lua_settable(L, -4);
+  }
+  return 1;
+}
+
+// ---- running a post ------------------------------------------------------
+
+struct PostContext {
+  const Kinematics* kin = nullptr;
+  const MachineProgram* program = nullptr;
+  std::string* text = nullptr;
+  bool valid = false;
+};
+constexpr const char* kPostContextType = "bliskrun.PostContext";
+
+PostContext& context_at(lua_State* L, int idx) {
+  auto* c = static_cast<PostContext*>(luaL_checkudata(L, idx, kPostContextType));
+  if (!c->valid) luaL_error(L, "post: the program this refers to has been written already");
+  return *c;
+}
+
+int l_out_line(lua_State* L) {
+  PostContext& c = context_at(L, lua_upvalueindex(1));
+  size_t len = 0;
+  const char* s = luaL_checklstring(L, 2, &len);
+  c.text->append(s, len);
+  c.text->push_back('\n');
+  return 0;
+}
+
+void set_vec3(lua_State* L, const Vec3& v, const char* field) {
+  lua_createtable(L, 3, 0);
+  for (int i = 0; i < 3; ++i) {
+    lua_pushnumber(L, v[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_setfield(L, -2, field);
+}
+
+// Iterator: upvalue 1 = context, 2 = next index.
+int l_moves_next(lua_State* L) {
+  PostContext& c = context_at(L, lua_upvalueindex(1));
+  const lua_Integer i = lua_tointeger(L, lua_upvalueindex(2));
+  const auto& moves = c.program->moves;
+  if (i >= static_cast<lua_Integer>(moves.size())) return 0;
+  lua_pushinteger(L, i + 1);
+  lua_replace(L, lua_upvalueindex(2));
+  const MachineMove& m = moves[static_cast<size_t>(i)];
+  const MachineDefinition& def = c.kin->machine();
+  lua_createtable(L, 0, 12);
+  lua_pushstring(L, m.kind == MoveKind::Rapid ? "rapid" : "feed");
+  lua_setfield(L, -2, "kind");
+  const Vec3 xyz = c.program->tcp ? m.pose.tip : m.axes.linear_mm;
+  for (int a = 0; a < 3; ++a) {
+    lua_pushnumber(L, xyz[a]);
+    lua_setfield(L, -2, def.linear[a].name.c_str());
+  }
+  for (int a = 0; a < 2; ++a) {
+    lua_pushnumber(L, rad_to_deg(m.axes.rotary_rad[a]));
+    lua_setfield(L, -2, def.rotary[a].name.c_str());
+  }
+  if (m.kind == MoveKind::Feed) {
+    lua_pushnumber(L, m.feed);
+    lua_setfield(L, -2, "F");
+  }
+  lua_pushinteger(L, i + 1);
+  lua_setfield(L, -2, "index");
+  lua_pushinteger(L, m.source + 1);
+  lua_setfield(L, -2, "source");
+  if (m.row >= 0) {
+    lua_pushinteger(L, m.row);
+    lua_setfield(L, -2, "row");
+  }
+  lua_pushboolean(L, m.inserted);
+  lua_setfield(L, -2, "inserted");
+  set_vec3(L, m.pose.tip, "tip");
+  set_vec3(L, m.pose.axis, "axis");
+  return 1;
+}
+
+// job:moves(): upvalue 1 = context.
+int l_job_moves(lua_State* L) {
+  context_at(L, lua_upvalueindex(1));
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushinteger(L, 0);
+  lua_pushcclosure(L, l_moves_next, 2);
+  return 1;
+}
+
+bool post_flag(lua_State* L, int post_idx, const char* field) {
+  lua_getfield(L, post_idx, field);
+  const bool v = lua_toboolean(L, -1);
+  lua_pop(L, 1);
+  return v;
+}
+
+}  // namespace
+
+void ensure_machine_type(lua_State* L) {
+  if (luaL_newmetatable(L, kMachineType)) {
+    lua_pushcfunction(L, [](lua_State* S) {
+      static_cast<MachineValue*>(lua_touserdata(S, 1))->~MachineValue();
+      return 0;
+    });
+    lua_setfield(L, -2, "__gc");
+  }
+  lua_pop(L, 1);
+}
+
+MachineValue& push_machine(lua_State* L, MachineValue value) {
+  ensure_machine_type(L);
+  void* mem = lua_newuserdatauv(L, sizeof(MachineValue), 0);
+  auto* obj = new (mem) MachineValue(std::move(value));
+  luaL_setmetatable(L, kMachineType);
+  return *obj;
+}
+
+MachineValue* test_machine(lua_State* L, int idx) {
+  return static_cast<MachineValue*>(luaL_testudata(L, idx, kMachineType));
+}
+
+MachineDefinition check_machine_table(lua_State* L, int idx) {
+  std::string problem;
+  try {
+    return read_definition(L, idx);
+  } catch (const TableError& e) {
+    problem = e.message;
+  }
+  luaL_error(L, "machine: %s", problem.c_str());
+  return {};
+}
+
+void load_machine_file(lua_State* L, const std::string& path, int params_idx,
+                       const std::string& machines_dir) {
+  if (params_idx != 0) params_idx = lua_absindex(L, params_idx);
+  push_machine_env(L, machines_dir);
+  run_file(L, path, -1);
+  lua_remove(L, -2);  // env
+  if (is_parametric(L, -1)) {
+    if (params_idx != 0) lua_pushvalue(L, params_idx); else lua_newtable(L);
+    lua_call(L, 1, 1);
+  } else if (params_idx != 0 && !lua_isnil(L, params_idx)) {
+    luaL_error(L, "%s: parameters given, but the file is not a parametric definition", path.c_str());
+  }
+  MachineValue* m = test_machine(L, -1);
+  if (!m) luaL_error(L, "%s: expected the file to return machine { ... } or parametric { ... }", path.c_str());
+  m->source = path;
+}
+
+void load_post_file(lua_State* L, const std::string& path, const std::string& posts_dir) {
+  lua_newtable(L);  // env
+  lua_newtable(L);
+  lua_pushglobaltable(L);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, -2);
+  lua_pushstring(L, posts_dir.c_str());
+  lua_pushvalue(L, -2);
+  lua_pushcclosure(L, l_extend, 2);
+  lua_setfield(L, -2, "extend");
+  run_file(L, path, -1);
+  lua_remove(L, -2);
+  if (!lua_istable(L, -1)) luaL_error(L, "%s: expected the post file to return its table", path.c_str());
+  lua_getfield(L, -1, "write");
+  if (!lua_isfunction(L, -1)) luaL_error(L, "%s: the post has no write function (extend \"base\")", path.c_str());
+  lua_pop(L, 1);
+}
+
+bool post_wants_tcp(lua_State* L, int post_idx) {
+  post_idx = lua_absindex(L, post_idx);
+  return post_flag(L, post_idx, "tcp") || post_flag(L, post_idx, "tcp_always");
+}
+
+bool post_tcp_always(lua_State* L, int post_idx) {
+  return post_flag(L, lua_absindex(L, post_idx), "tcp_always");
+}
+
+int decimals_for(double resolution) {
+  return std::clamp(static_cast<int>(std::lround(-std::log10(resolution))), 0, 9);
+}
+
+std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
+                     const MachineProgram& program, const PostJob& job) {
+  post_idx = lua_absindex(L, post_idx);
+  const MachineDefinition& def = kin.machine();
+  std::string text;
+  auto* ctx = static_cast<PostContext*>(lua_newuserdatauv(L, sizeof(PostContext), 0));
+  new (ctx) PostContext{&kin, &program, &text, true};
+  luaL_newmetatable(L, kPostContextType);
+  lua_setmetatable(L, -2);
+  const int ctx_idx = lua_gettop(L);
+
+  lua_getfield(L, post_idx, "write");
+  lua_pushvalue(L, post_idx);
+
+  // job
+  lua_createtable(L, 0, 8);
+  lua_pushstring(L, job.name.c_str());
+  lua_setfield(L, -2, "name");
+  lua_createtable(L, 0, 5);
+  lua_pushstring(L, def.name.c_str());
+  lua_setfield(L, -2, "name");
+  lua_pushstring(L, configuration_name(def).c_str());
+  lua_setfield(L, -2, "configuration");
+  lua_pushstring(L, def.tool_length == ToolLengthMode::Tip ? "tip" : "gauge");
+  lua_setfield(L, -2, "tool_length");
+  lua_createtable(L, 3, 0);
+  for (int i = 0; i < 3; ++i) {
+    lua_pushstring(L, def.linear[i].name.c_str());
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_setfield(L, -2, "linear");
+  lua_createtable(L, 2, 0);
+  for (int i = 0; i < 2; ++i) {
+    lua_pushstring(L, def.rotary[i].name.c_str());
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_setfield(L, -2, "rotary");
+  lua_setfield(L, -2, "machine");
+  lua_createtable(L, 0, 3);
+  lua_pushinteger(L, job.tool_number);
+  lua_setfield(L, -2, "number");
+  lua_pushnumber(L, job.tool_length_mm);
+  lua_setfield(L, -2, "length");
+  if (job.spindle_rpm > 0) {
+    lua_pushinteger(L, job.spindle_rpm);
+    lua_setfield(L, -2, "spindle_rpm");
+  }
+  lua_setfield(L, -2, "tool");
+  lua_pushboolean(L, program.tcp);
+  lua_setfield(L, -2, "tcp");
+  lua_pushstring(L, program.feed_mode == FeedMode::InverseTime ? "inverse_time" : "per_minute");
+  lua_setfield(L, -2, "feed_mode");
+  lua_createtable(L, 0, 3);
+  lua_pushinteger(L, decimals_for(def.linear_resolution_mm));
+  lua_setfield(L, -2, "linear");
+  lua_pushinteger(L, decimals_for(rad_to_deg(def.rotary_resolution_rad)));
+  lua_setfield(L, -2, "rotary");
+  lua_pushinteger(L, program.feed_mode == FeedMode::InverseTime ? 3 : 1);
+  lua_setfield(L, -2, "feed");
+  lua_setfield(L, -2, "decimals");
+  lua_pushvalue(L, ctx_idx);
+  lua_pushcclosure(L, l_job_moves, 1);
+  lua_setfield(L, -2, "moves");
+
+  // out
+  lua_createtable(L, 0, 1);
+  lua_pushvalue(L, ctx_idx);
+  lua_pushcclosure(L, l_out_line, 1);
+  lua_setfield(L, -2, "line");
+
+  // post.write(post, job, out); the context dies with this call whatever
+  // happens, so a post that kept the iterator cannot read freed memory.
+  struct Invalidate {
+    PostContext* c;
+    ~Invalidate() { c->valid = false; }
+  } invalidate{ctx};
+  lua_call(L, 3, 0);
+  lua_settop(L, ctx_idx - 1);
+  return text;
+}
+
+}  // namespace bliskrun::lua_api

@@ -1,0 +1,71 @@
+#pragma once
+// Machine definition files and post-processors: the Lua side of
+// core/machine, on the plain Lua API (wrap_machine.cpp binds it to the
+// `bliskrun.machine` / `bliskrun.post` tables).
+//
+// Machine files (scripts/machines/*.lua, or a recipe's own) run with three
+// extra globals:
+//   machine { ... }        validates a definition (degrees, mm) and returns it;
+//   parametric { parameters = {name = {default=, doc=}, ...}, build = f }
+//                          a generic definition: call it with a table of
+//                          parameters (unknown names are errors) to build;
+//   generic "name"         the parametric definition in scripts/machines/name.lua.
+// Every error names the machine file and line.
+//
+// Post files (scripts/posts/*.lua) run with `extend "name"`, which returns a
+// copy of another post's table to override steps in (see scripts/posts/base.lua).
+#include <lua.hpp>
+
+#include <string>
+
+#include "core/machine/kinematics.h"
+#include "core/machine/motion.h"
+
+namespace bliskrun::lua_api {
+
+// The userdata every machine value is: a validated definition.
+struct MachineValue {
+  MachineDefinition definition;
+  std::string source;  // file it was loaded from
+};
+inline constexpr const char* kMachineType = "bliskrun.Machine";
+
+// Creates (once) the metatable of MachineValue with __gc; wrap_machine adds
+// the methods.
+void ensure_machine_type(lua_State* L);
+MachineValue& push_machine(lua_State* L, MachineValue value);
+MachineValue* test_machine(lua_State* L, int idx);
+
+// Runs a machine file; if it returns a parametric definition, builds it with
+// the parameter table at `params_idx` (0: none, defaults). Pushes the
+// MachineValue. Raises a Lua error at file:line on any problem.
+void load_machine_file(lua_State* L, const std::string& path, int params_idx,
+                       const std::string& machines_dir);
+
+// Reads the definition table at `idx` (the argument of machine{}): raises a
+// Lua error at the caller's line naming the key and what was expected.
+MachineDefinition check_machine_table(lua_State* L, int idx);
+
+// Loads a post file and pushes its module table.
+void load_post_file(lua_State* L, const std::string& path, const std::string& posts_dir);
+
+struct PostJob {
+  std::string name;         // program name
+  int tool_number = 1;
+  double tool_length_mm = 0;
+  long spindle_rpm = 0;     // 0: no spindle word
+};
+
+// Runs post:write(job, out) for the post table at `post_idx` over `program`
+// and returns the program text. Lua errors propagate.
+std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
+                     const MachineProgram& program, const PostJob& job);
+
+// The output mode a post asks for: its `tcp` field, overridden by `tcp_always`.
+bool post_wants_tcp(lua_State* L, int post_idx);
+bool post_tcp_always(lua_State* L, int post_idx);
+
+// "X","Y","Z" then the rotary names; decimals from the resolution.
+int decimals_for(double resolution);
+
+}  // namespace bliskrun::lua_api

@@ -1,0 +1,436 @@
+// bliskrun.machine and bliskrun.post: machine definitions, kinematics,
+// posting a toolpath with a Lua post and proving the program by read-back.
+// Degrees and mm at this boundary; core works in radians.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+
+#include "core/common/atomic_file.h"
+#include "core/common/error.h"
+#include "core/machine/verify.h"
+#include "lua_api/luax.h"
+#include "lua_api/machine_host.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+
+namespace bliskrun {
+
+// A posted program, kept for post.verify: the plan and how to read it.
+struct PostedProgram {
+  MachineDefinition machine;
+  double tool_length_mm = 0;
+  MachineProgram plan;
+  bool tcp_always = false;
+  std::string file;  // absolute path of the written program
+};
+
+namespace luax {
+template <>
+struct TypeName<PostedProgram> {
+  static constexpr const char* name = "bliskrun.PostedProgram";
+};
+}  // namespace luax
+
+namespace lua_api {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scripts_folder() {
+  if (const char* env = std::getenv("BLISKRUN_SCRIPTS")) return env;
+  return BLISKRUN_SCRIPTS_DIR;
+}
+
+// "name" -> scripts/<kind>/name.lua; anything with a '/' or ".lua" is a
+// recipe path (resolved and confined by the runner).
+std::string resolve_script(lua_State* L, const std::string& what, const std::string& kind) {
+  const bool is_name = what.find('/') == std::string::npos &&
+                       (what.size() < 4 || what.substr(what.size() - 4) != ".lua");
+  if (is_name) {
+    const std::string path = scripts_folder() + "/" + kind + "/" + what + ".lua";
+    if (!fs::exists(path)) luax::error(L, "no " + kind.substr(0, kind.size() - 1) + " named '" + what + "' in scripts/" + kind);
+    return path;
+  }
+  return context(L).resolve_read(L, what);
+}
+
+MachineValue& check_machine(lua_State* L, int idx) {
+  return *static_cast<MachineValue*>(luaL_checkudata(L, idx, kMachineType));
+}
+
+MachineAxes check_axes(lua_State* L, int idx, const MachineDefinition& m, const char* name) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, std::string(name) + ": expected a table of axis values {X=, Y=, Z=, " + m.rotary[0].name + "=, " + m.rotary[1].name + "=}");
+  MachineAxes q;
+  auto get = [&](const std::string& axis) {
+    lua_getfield(L, idx, axis.c_str());
+    if (!lua_isnumber(L, -1)) luax::error(L, std::string(name) + "." + axis + ": expected a number");
+    const double v = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+    return v;
+  };
+  for (int i = 0; i < 3; ++i) q.linear_mm[i] = get(m.linear[i].name);
+  for (int i = 0; i < 2; ++i) q.rotary_rad[i] = deg_to_rad(get(m.rotary[i].name));
+  return q;
+}
+
+void push_axes(lua_State* L, const MachineAxes& q, const MachineDefinition& m) {
+  lua_createtable(L, 0, 5);
+  for (int i = 0; i < 3; ++i) {
+    lua_pushnumber(L, q.linear_mm[i]);
+    lua_setfield(L, -2, m.linear[i].name.c_str());
+  }
+  for (int i = 0; i < 2; ++i) {
+    lua_pushnumber(L, rad_to_deg(q.rotary_rad[i]));
+    lua_setfield(L, -2, m.rotary[i].name.c_str());
+  }
+}
+
+ToolPose check_pose(lua_State* L, int idx, const char* name) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, std::string(name) + ": expected {tip = {x, y, z}, axis = {x, y, z}}");
+  ToolPose p;
+  lua_getfield(L, idx, "tip");
+  p.tip = luax::check_vec3(L, -1, "tip");
+  lua_getfield(L, idx, "axis");
+  p.axis = luax::check_vec3(L, -1, "axis");
+  lua_pop(L, 2);
+  return p;
+}
+
+void push_pose(lua_State* L, const ToolPose& p) {
+  lua_createtable(L, 0, 2);
+  luax::push(L, p.tip);
+  lua_setfield(L, -2, "tip");
+  luax::push(L, p.axis);
+  lua_setfield(L, -2, "axis");
+}
+
+// ---- bliskrun.machine ------------------------------------------------------
+
+int w_machine_load(lua_State* L) {
+  const std::string what = luax::check_string(L, 1, "machine");
+  if (!lua_isnoneornil(L, 2)) luaL_checktype(L, 2, LUA_TTABLE);
+  const std::string path = resolve_script(L, what, "machines");
+  load_machine_file(L, path, lua_isnoneornil(L, 2) ? 0 : 2, scripts_folder() + "/machines");
+  return 1;
+}
+
+int w_machine_define(lua_State* L) {
+  MachineValue value{check_machine_table(L, 1), ""};
+  push_machine(L, std::move(value));
+  return 1;
+}
+
+int w_machine_name(lua_State* L) {
+  luax::push(L, check_machine(L, 1).definition.name);
+  return 1;
+}
+
+int w_machine_configuration(lua_State* L) {
+  luax::push(L, configuration_name(check_machine(L, 1).definition));
+  return 1;
+}
+
+int w_machine_axes(lua_State* L) {
+  const MachineDefinition& m = check_machine(L, 1).definition;
+  lua_createtable(L, 5, 0);
+  int i = 0;
+  for (const LinearAxis& a : m.linear) { luax::push(L, a.name); lua_rawseti(L, -2, ++i); }
+  for (const RotaryAxis& a : m.rotary) { luax::push(L, a.name); lua_rawseti(L, -2, ++i); }
+  return 1;
+}
+
+// m:travel() -> {X = {min, max}, ..., A = {min, max}, C = false (continuous)}
+int w_machine_travel(lua_State* L) {
+  const MachineDefinition& m = check_machine(L, 1).definition;
+  lua_createtable(L, 0, 5);
+  auto range = [&](double lo, double hi) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, lo);
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, hi);
+    lua_rawseti(L, -2, 2);
+  };
+  for (const LinearAxis& a : m.linear) { range(a.min_mm, a.max_mm); lua_setfield(L, -2, a.name.c_str()); }
+  for (const RotaryAxis& a : m.rotary) {
+    if (a.continuous()) lua_pushboolean(L, 0); else range(rad_to_deg(a.min_rad), rad_to_deg(a.max_rad));
+    lua_setfield(L, -2, a.name.c_str());
+  }
+  return 1;
+}
+
+const std::vector<luax::Field>& kinematics_fields() {
+  static const std::vector<luax::Field> fields = {
+      {"tool_length", luax::Kind::Number, true, 0.0, std::nullopt, "tool tip to spindle gauge point, mm", {}},
+      {"previous", luax::Kind::Table, false, std::nullopt, std::nullopt, "axes of the previous move (continuity), {X=, ..., C=}", {}},
+  };
+  return fields;
+}
+
+// m:solve(pose, {tool_length =, previous =}) -> axes
+int w_machine_solve(lua_State* L) {
+  const MachineValue& m = check_machine(L, 1);
+  const ToolPose pose = check_pose(L, 2, "pose");
+  const luax::Options o(L, 3, "machine:solve", kinematics_fields());
+  MachineAxes previous;
+  if (o.has("previous")) {
+    o.push_raw("previous");
+    previous = check_axes(L, -1, m.definition, "previous");
+    lua_pop(L, 1);
+  }
+  return luax::guarded(L, [&] {
+    const Kinematics kin(m.definition, o.number("tool_length", 0));
+    push_axes(L, kin.inverse(pose, previous), m.definition);
+    return 1;
+  });
+}
+
+// m:forward(axes, {tool_length =}) -> pose
+int w_machine_forward(lua_State* L) {
+  const MachineValue& m = check_machine(L, 1);
+  const MachineAxes q = check_axes(L, 2, m.definition, "axes");
+  const luax::Options o(L, 3, "machine:forward", kinematics_fields());
+  return luax::guarded(L, [&] {
+    const Kinematics kin(m.definition, o.number("tool_length", 0));
+    push_pose(L, kin.forward(q));
+    return 1;
+  });
+}
+
+// m:reachable(axis) -> boolean: some rotary position within travel gives it.
+int w_machine_reachable(lua_State* L) {
+  const MachineValue& m = check_machine(L, 1);
+  const Vec3 axis = luax::check_vec3(L, 2, "axis");
+  return luax::guarded(L, [&] {
+    const Kinematics kin(m.definition, 0.0);
+    lua_pushboolean(L, kin.reachable(axis));
+    return 1;
+  });
+}
+
+int w_machine_tostring(lua_State* L) {
+  const MachineDefinition& m = check_machine(L, 1).definition;
+  lua_pushfstring(L, "Machine(%s, %s %s/%s)", m.name.c_str(), configuration_name(m).c_str(),
+                  m.rotary[0].name.c_str(), m.rotary[1].name.c_str());
+  return 1;
+}
+
+// ---- bliskrun.post -------------------------------------------------------
+
+int w_post_load(lua_State* L) {
+  const std::string what = luax::check_string(L, 1, "post");
+  load_post_file(L, resolve_script(L, what, "posts"), scripts_folder() + "/posts");
+  return 1;
+}
+
+// The toolpath: a list of {kind = "rapid"|"feed", tip =, axis =, feed =, row =}.
+std::vector<PlannedMove> check_path(lua_State* L, int idx) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, "path: expected a list of moves {kind=, tip=, axis=, feed=}");
+  const lua_Unsigned n = lua_rawlen(L, idx);
+  std::vector<PlannedMove> path;
+  path.reserve(n);
+  for (lua_Unsigned i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, static_cast<lua_Integer>(i));
+    const std::string where = "path[" + std::to_string(i) + "]";
+    if (!lua_istable(L, -1)) luax::error(L, where + ": expected a move table");
+    PlannedMove m;
+    lua_getfield(L, -1, "kind");
+    const std::string kind = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
+    if (kind != "rapid" && kind != "feed") luax::error(L, where + ".kind: expected 'rapid' or 'feed'");
+    m.kind = kind == "rapid" ? MoveKind::Rapid : MoveKind::Feed;
+    lua_getfield(L, -2, "tip");
+    m.pose.tip = luax::check_vec3(L, -1, (where + ".tip").c_str());
+    lua_getfield(L, -3, "axis");
+    m.pose.axis = luax::check_vec3(L, -1, (where + ".axis").c_str());
+    lua_getfield(L, -4, "feed");
+    if (m.kind == MoveKind::Feed) {
+      if (!lua_isnumber(L, -1) || !(lua_tonumber(L, -1) > 0)) luax::error(L, where + ".feed: expected a feed > 0 mm/min");
+      m.feed_mm_per_min = lua_tonumber(L, -1);
+    }
+    lua_getfield(L, -5, "row");
+    if (lua_isinteger(L, -1)) m.row = static_cast<long>(lua_tointeger(L, -1));
+    lua_pop(L, 6);
+    path.push_back(m);
+  }
+  return path;
+}
+
+void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
+  lua_createtable(L, 0, 8);
+  lua_pushinteger(L, r.moves);
+  lua_setfield(L, -2, "moves");
+  lua_pushnumber(L, r.max_position_mm);
+  lua_setfield(L, -2, "max_position");
+  lua_pushnumber(L, rad_to_deg(r.max_angle_rad));
+  lua_setfield(L, -2, "max_angle");
+  lua_pushinteger(L, r.worst_position_line);
+  lua_setfield(L, -2, "worst_line");
+  lua_pushinteger(L, p.plan.inserted_moves);
+  lua_setfield(L, -2, "inserted");
+  lua_pushnumber(L, p.plan.max_deviation_mm);
+  lua_setfield(L, -2, "max_deviation");
+  luax::push(L, p.file);
+  lua_setfield(L, -2, "file");
+}
+
+VerifyReport verify_posted(lua_State* L, const PostedProgram& p, const std::string& text, double tol_mm,
+                           double angle_tol_deg) {
+  VerifyOptions options;
+  options.tol_mm = tol_mm;
+  options.angle_tol_rad = deg_to_rad(angle_tol_deg);
+  options.read.file_name = p.file;
+  options.read.tcp = p.tcp_always;
+  VerifyReport report;
+  luax::guarded(L, [&] {
+    const Kinematics kin(p.machine, p.tool_length_mm);
+    report = verify_program(text, kin, p.plan, options);
+    return 0;
+  });
+  return report;
+}
+
+// post.write{machine=, post=, path=, file=, tool=, chord_tol=, tcp=, name=, verify=}
+int w_post_write(lua_State* L) {
+  const luax::Options o(L, 1, "bliskrun.post.write", {
+      {"machine", luax::Kind::Any, true, {}, {}, "Machine (bliskrun.machine.load)", {}},
+      {"post", luax::Kind::Any, true, {}, {}, "post name ('fanuc'), file, or a loaded post table", {}},
+      {"path", luax::Kind::Table, true, {}, {}, "moves {kind=, tip=, axis=, feed=, row=}", {}},
+      {"file", luax::Kind::String, true, {}, {}, "program file, relative to the out folder", {}},
+      {"tool", luax::Kind::Table, true, {}, {}, "{number=, length= mm, spindle_rpm=}", {}},
+      {"name", luax::Kind::String, false, {}, {}, "program name (default: the file name)", {}},
+      {"chord_tol", luax::Kind::Number, false, 1e-6, 10.0, "tip departure allowed between blocks, mm", {}},
+      {"tcp", luax::Kind::Boolean, false, {}, {}, "write under TCP control (default: the post's choice)", {}},
+      {"verify_tol", luax::Kind::Number, false, 0.0, 10.0, "read-back tolerance beyond resolution, mm", {}},
+      {"start", luax::Kind::Table, false, {}, {}, "axes before the first move {X=, ..., C=}", {}},
+  });
+  o.push_raw("machine");
+  const MachineValue& machine = check_machine(L, -1);
+  lua_pop(L, 1);
+
+  o.push_raw("post");
+  if (lua_type(L, -1) == LUA_TSTRING) {
+    const std::string name = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    load_post_file(L, resolve_script(L, name, "posts"), scripts_folder() + "/posts");
+  } else if (!lua_istable(L, -1)) {
+    luax::error(L, "post: expected a post name or a post table (bliskrun.post.load)");
+  }
+  const int post_idx = lua_gettop(L);
+  if (o.has("tcp")) {
+    lua_pushboolean(L, o.boolean("tcp", false));
+    lua_setfield(L, post_idx, "tcp");
+  }
+
+  o.push_raw("tool");
+  const luax::Options tool(L, -1, "bliskrun.post.write tool", {
+      {"number", luax::Kind::Integer, true, 0.0, 99999.0, "tool number (T, H, TOOL CALL)", {}},
+      {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
+      {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
+  });
+  PostJob job;
+  job.tool_number = static_cast<int>(tool.integer("number", 1));
+  job.tool_length_mm = tool.number("length", 0);
+  job.spindle_rpm = static_cast<long>(tool.integer("spindle_rpm", 0));
+  lua_pop(L, 1);
+
+  o.push_raw("path");
+  const std::vector<PlannedMove> path = check_path(L, -1);
+  lua_pop(L, 1);
+
+  const std::string file = o.string("file", "");
+  const std::string target = context(L).resolve_write(L, file);
+  job.name = o.string("name", fs::path(file).stem().string());
+
+  PostedProgram posted;
+  posted.machine = machine.definition;
+  posted.tool_length_mm = job.tool_length_mm;
+  posted.tcp_always = post_tcp_always(L, post_idx);
+  posted.file = target;
+  MotionOptions motion;
+  motion.chord_tol_mm = o.number("chord_tol", 0.005);
+  motion.tcp = post_wants_tcp(L, post_idx);
+  if (o.has("start")) {
+    o.push_raw("start");
+    motion.start = check_axes(L, -1, machine.definition, "start");
+    lua_pop(L, 1);
+  }
+  std::unique_ptr<Kinematics> kin;
+  luax::guarded(L, [&] {
+    kin = std::make_unique<Kinematics>(machine.definition, job.tool_length_mm);
+    posted.plan = plan_machine_motion(*kin, path, motion, context(L).progress);
+    return 0;
+  });
+  const std::string text = run_post(L, post_idx, *kin, posted.plan, job);
+  // Prove the program before it replaces anything on disk.
+  const VerifyReport report = verify_posted(L, posted, text, o.number("verify_tol", 0.001), 0.001);
+  luax::guarded(L, [&] {
+    write_file_atomic(target, text);
+    return 0;
+  });
+  push_report(L, report, posted);
+  luax::push_new(L, std::move(posted));
+  lua_setfield(L, -2, "program");
+  return 1;
+}
+
+// post.verify{program = result.program, file = (default: where it was written), tol =}
+int w_post_verify(lua_State* L) {
+  const luax::Options o(L, 1, "bliskrun.post.verify", {
+      {"program", luax::Kind::Any, true, {}, {}, "the .program of a post.write result", {}},
+      {"file", luax::Kind::String, false, {}, {}, "program to read (default: the one written)", {}},
+      {"tol", luax::Kind::Number, false, 0.0, 10.0, "tolerance beyond output resolution, mm", {}},
+      {"angle_tol", luax::Kind::Number, false, 0.0, 10.0, "tool axis tolerance beyond resolution, deg", {}},
+  });
+  o.push_raw("program");
+  PostedProgram posted = luax::check<PostedProgram>(L, -1);
+  lua_pop(L, 1);
+  if (o.has("file")) posted.file = context(L).resolve_read(L, o.string("file", ""));
+  std::string text;
+  luax::guarded(L, [&] {
+    std::ifstream in(posted.file, std::ios::binary);
+    if (!in) throw Error("cannot read '" + posted.file + "'");
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    return 0;
+  });
+  const VerifyReport report = verify_posted(L, posted, text, o.number("tol", 0.001), o.number("angle_tol", 0.001));
+  push_report(L, report, posted);
+  return 1;
+}
+
+}  // namespace
+
+void open_machine(lua_State* L) {
+  ensure_machine_type(L);
+  luaL_getmetatable(L, kMachineType);
+  static const luaL_Reg methods[] = {
+      {"name", w_machine_name},       {"configuration", w_machine_configuration},
+      {"axes", w_machine_axes},       {"travel", w_machine_travel},
+      {"solve", w_machine_solve},     {"forward", w_machine_forward},
+      {"reachable", w_machine_reachable}, {nullptr, nullptr}};
+  lua_newtable(L);
+  luaL_setfuncs(L, methods, 0);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, w_machine_tostring);
+  lua_setfield(L, -2, "__tostring");
+  lua_pop(L, 1);
+  static const luaL_Reg no_methods[] = {{nullptr, nullptr}};
+  luax::register_type<PostedProgram>(L, no_methods);
+
+  static const luaL_Reg machine_functions[] = {
+      {"load", w_machine_load}, {"define", w_machine_define}, {nullptr, nullptr}};
+  lua_newtable(L);
+  luaL_setfuncs(L, machine_functions, 0);
+  lua_setfield(L, -2, "machine");
+  static const luaL_Reg post_functions[] = {
+      {"load", w_post_load}, {"write", w_post_write}, {"verify", w_post_verify}, {nullptr, nullptr}};
+  lua_newtable(L);
+  luaL_setfuncs(L, post_functions, 0);
+  lua_setfield(L, -2, "post");
+}
+
+}  // namespace lua_api
+}  // namespace bliskrun

@@ -1,0 +1,21 @@
+-- A 650-class trunnion machining centre in the manner of DMG MORI's A/C
+-- models: X 650 / Y 520 / Z 475 mm of travel, A cradle -120..+30 deg with
+-- its axis 50 mm below the table face, C table continuous. Program zero
+-- (G54) on the C axis at the table face; the blisk fixture puts the part
+-- frame origin (rotor axis = part Z) 120 mm above it. The cradle and table
+-- axes are off by the few hundredths a calibration measures.
+-- Feed in inverse time (G93) when written in machine axes.
+return generic "table_table_ac" {
+  name = "DMG-like A/C trunnion 650",
+  x = { -325, 325 },
+  y = { -260, 260 },
+  z = { -130, 345 },
+  a = { -120, 30 },
+  c = false,
+  a_pivot = { 0, 0.012, -50.03 },
+  c_pivot = { -0.008, 0.015, 0 },
+  part_origin = { 0, 0, 120 },
+  tool_length = "tip",
+  feed = "inverse_time",
+  resolution = { linear = 0.001, rotary = 0.001 },
+}

@@ -1,0 +1,36 @@
+-- Generic head-head 5-axis machine (gantry with a fork head): the C axis
+-- (about machine Z) carries the A fork (about X at C = 0), which turns the
+-- spindle; the part stays put. C is the primary axis, singular when the tool
+-- is vertical (A = 0). The fork pivot is given from the spindle gauge point.
+-- Lengths mm, angles deg.
+return parametric {
+  parameters = {
+    name        = { default = "head-head C/A fork", doc = "machine name" },
+    x           = { default = { -1500, 1500 }, doc = "X travel {min, max}, mm" },
+    y           = { default = { -1000, 1000 }, doc = "Y travel {min, max}, mm" },
+    z           = { default = { -600, 400 }, doc = "Z travel {min, max}, mm" },
+    a           = { default = { -110, 110 }, doc = "A travel {min, max}, deg" },
+    c           = { default = { -360, 360 }, doc = "C travel {min, max}, deg; false = continuous" },
+    pivot_length = { default = 300, doc = "A axis above the spindle gauge point, mm" },
+    c_offset    = { default = { 0, 0, 0 }, doc = "C axis line from the spindle axis at home (x, y, 0), mm" },
+    part_origin = { default = { 0, 0, 0 }, doc = "part frame origin at home, mm" },
+    tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
+    feed        = { default = "per_minute", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
+    resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+  },
+  build = function(p)
+    return machine {
+      name = p.name,
+      linear = { X = p.x, Y = p.y, Z = p.z },
+      rotary = {  -- chain order: C carries the A fork
+        { name = "C", carrier = "tool", direction = { 0, 0, 1 }, pivot = p.c_offset, travel = p.c },
+        { name = "A", carrier = "tool", direction = { 1, 0, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.a },
+      },
+      spindle = { 0, 0, 1 },
+      part_origin = p.part_origin,
+      tool_length = p.tool_length,
+      feed = p.feed,
+      resolution = p.resolution,
+    }
+  end,
+}

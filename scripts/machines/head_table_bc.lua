@@ -1,0 +1,36 @@
+-- Generic head-table 5-axis machine: a B swivel head (about machine Y) turns
+-- the spindle, a C rotary table turns the part. C is the primary axis,
+-- singular at B = 0. The head pivot is given from the spindle gauge point
+-- (the length the head manufacturer states as "pivot length").
+-- Lengths mm, angles deg.
+return parametric {
+  parameters = {
+    name        = { default = "head-table B head / C table", doc = "machine name" },
+    x           = { default = { -350, 350 }, doc = "X travel {min, max}, mm" },
+    y           = { default = { -300, 300 }, doc = "Y travel {min, max}, mm" },
+    z           = { default = { -400, 200 }, doc = "Z travel {min, max}, mm" },
+    b           = { default = { -120, 30 }, doc = "B travel {min, max}, deg" },
+    c           = { default = false, doc = "C travel {min, max}, deg; false = continuous" },
+    pivot_length = { default = 200, doc = "B axis above the spindle gauge point, mm" },
+    c_pivot     = { default = { 0, 0, 0 }, doc = "a point on the C axis line, mm" },
+    part_origin = { default = { 0, 0, 0 }, doc = "part frame origin at home, mm" },
+    tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
+    feed        = { default = "per_minute", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
+    resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+  },
+  build = function(p)
+    return machine {
+      name = p.name,
+      linear = { X = p.x, Y = p.y, Z = p.z },
+      rotary = {  -- one axis on each side: the order only says which is which
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c },
+        { name = "B", carrier = "tool", direction = { 0, 1, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.b },
+      },
+      spindle = { 0, 0, 1 },
+      part_origin = p.part_origin,
+      tool_length = p.tool_length,
+      feed = p.feed,
+      resolution = p.resolution,
+    }
+  end,
+}

@@ -1,0 +1,22 @@
+-- A large head-table machining centre in the manner of a monoBLOCK 125
+-- layout with a Heidenhain TNC: B swivel head -120..+30 deg, its axis 210 mm
+-- above the spindle gauge point; C rotary table continuous. Gauge-point
+-- travel X 1250 / Y 1000 / Z 1000 mm: the slide reaches low and far enough
+-- for the swivelled head to work a blisk flank with the tool along the span
+-- (tool tip at r = 130 mm, head pivot a further 300 mm out).
+-- Program zero on the C axis at the table face; part origin 100 mm above it.
+-- The TNC runs it with TCPM, feed per minute.
+return generic "head_table_bc" {
+  name = "monoBLOCK-like B head / C table",
+  x = { -625, 625 },
+  y = { -500, 500 },
+  z = { -400, 600 },
+  b = { -120, 30 },
+  c = false,
+  pivot_length = 210,
+  c_pivot = { 0.004, -0.009, 0 },
+  part_origin = { 0, 0, 100 },
+  tool_length = "tip",
+  feed = "per_minute",
+  resolution = { linear = 0.001, rotary = 0.001 },
+}

@@ -1,0 +1,39 @@
+-- Generic table-table 5-axis machine with an A/C trunnion: the A cradle
+-- (about machine X) carries the C rotary table (about Z); the spindle stays
+-- vertical. Inverse kinematics: C is the primary axis, singular when the tool
+-- axis is along the table's C axis (A = 0).
+--
+-- Frames (see core/machine/machine_definition.h): the machine frame has its
+-- origin at the program zero (G54) and its axes along X, Y, Z; pivots and
+-- the part origin are given with all axes at zero. Lengths mm, angles deg.
+return parametric {
+  parameters = {
+    name        = { default = "table-table A/C trunnion", doc = "machine name" },
+    x           = { default = { -300, 300 }, doc = "X travel {min, max}, mm" },
+    y           = { default = { -250, 250 }, doc = "Y travel {min, max}, mm" },
+    z           = { default = { -300, 300 }, doc = "Z travel {min, max}, mm" },
+    a           = { default = { -120, 30 }, doc = "A travel {min, max}, deg" },
+    c           = { default = false, doc = "C travel {min, max}, deg; false = continuous" },
+    a_pivot     = { default = { 0, 0, -50 }, doc = "a point on the A axis line, mm" },
+    c_pivot     = { default = { 0, 0, 0 }, doc = "a point on the C axis line at A = 0, mm" },
+    part_origin = { default = { 0, 0, 0 }, doc = "part frame origin at home, mm" },
+    tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
+    feed        = { default = "inverse_time", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
+    resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+  },
+  build = function(p)
+    return machine {
+      name = p.name,
+      linear = { X = p.x, Y = p.y, Z = p.z },
+      rotary = {  -- chain order: the cradle carries the table
+        { name = "A", carrier = "part", direction = { 1, 0, 0 }, pivot = p.a_pivot, travel = p.a },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c },
+      },
+      spindle = { 0, 0, 1 },
+      part_origin = p.part_origin,
+      tool_length = p.tool_length,
+      feed = p.feed,
+      resolution = p.resolution,
+    }
+  end,
+}

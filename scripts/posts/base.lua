@@ -1,0 +1,134 @@
+-- The shape every post shares. A post is a table of small steps; a program
+-- is written by running the steps `elements` lists, in order. A post file
+-- starts from this one (`local P = extend "base"`) or from another post
+-- (`extend "fanuc"`) and replaces only the steps it words differently; a
+-- recipe can do the same to a loaded post before writing with it.
+--
+-- Each step is function(self, job, out). `job` carries what the program is
+-- about (see docs/lua_api.md, post.write): job.name, job.machine (name,
+-- linear = {"X","Y","Z"}, rotary = {"A","C"}, configuration, tool_length),
+-- job.tool (number, length, spindle_rpm), job.tcp, job.feed_mode
+-- ("per_minute" | "inverse_time"), job.decimals (linear, rotary, feed) and
+-- job:moves(), an iterator over the machine moves. A move has kind ("rapid" |
+-- "feed"), one field per machine axis (X, Y, Z in mm; the rotary names in
+-- degrees; under TCP control X, Y, Z are the tool tip in the part frame), F
+-- (the feed word, feed moves only), index, row, inserted, tip and axis.
+-- `out:line(text)` appends one line. `self` is a fresh instance per program:
+-- modal state lives in it, never in the post table.
+local P = {}
+
+P.name = "base"
+P.tcp = false             -- write with tool-centre-point control
+P.tcp_always = false      -- the controller's kinematics are always TCP (LinuxCNC trt)
+P.block_numbers = false
+P.block_start = 10
+P.block_step = 10
+P.comment_open = "("
+P.comment_close = ")"
+
+function P.elements(self, job)
+  return { self.header, self.tool_change, self.tcp_on, self.motion, self.tcp_off, self.footer }
+end
+
+-- Runs the post: one instance per program, then every element in order.
+function P.write(post, job, out)
+  local self = setmetatable({ last = {}, block = post.block_start - post.block_step }, { __index = post })
+  self:check(job)
+  for _, step in ipairs(self:elements(job)) do
+    step(self, job, out)
+  end
+end
+
+-- Refuses jobs the controller cannot run; posts add their own checks.
+function P.check(self, job) end
+
+-- ---- formatting --------------------------------------------------------
+
+-- Fixed decimals, never "-0.000".
+function P.number(self, value, decimals)
+  local text = string.format("%." .. decimals .. "f", value)
+  if text:match("^%-0%.?0*$") then text = text:sub(2) end
+  return text
+end
+
+function P.word(self, address, value, decimals)
+  return address .. self:number(value, decimals)
+end
+
+function P.comment(self, text)
+  return self.comment_open .. text .. self.comment_close
+end
+
+-- A block, numbered when the post numbers blocks.
+function P.emit(self, out, text)
+  if self.block_numbers then
+    self.block = self.block + self.block_step
+    text = "N" .. self.block .. " " .. text
+  end
+  out:line(text)
+end
+
+-- The axis words of a move that differ from the last ones written (modal
+-- output). A move below the output resolution still gets a block: the
+-- program has one block per planned move, which read-back relies on.
+function P.axis_words(self, job, move)
+  local words, all = {}, {}
+  local function add(name, decimals)
+    local text = self:word(name, move[name], decimals)
+    all[#all + 1] = text
+    if self.last[name] ~= text then
+      words[#words + 1] = text
+      self.last[name] = text
+    end
+  end
+  for _, name in ipairs(job.machine.linear) do add(name, job.decimals.linear) end
+  for _, name in ipairs(job.machine.rotary) do add(name, job.decimals.rotary) end
+  if #words == 0 then words = all end
+  return words
+end
+
+-- The motion word when it changes (G0/G1 are modal).
+function P.motion_word(self, code)
+  if self.last.motion == code then return nil end
+  self.last.motion = code
+  return code
+end
+
+-- Per-minute F is modal; inverse-time F belongs to each block.
+function P.feed_word(self, job, move)
+  local text = "F" .. self:number(move.F, job.decimals.feed)
+  if job.feed_mode == "inverse_time" or self.last.F ~= text then
+    self.last.F = text
+    return text
+  end
+  return nil
+end
+
+-- ---- steps -------------------------------------------------------------
+
+function P.header(self, job, out) end
+function P.tool_change(self, job, out) end
+function P.tcp_on(self, job, out) end
+function P.tcp_off(self, job, out) end
+function P.footer(self, job, out) end
+
+function P.motion(self, job, out)
+  for move in job:moves() do
+    if move.kind == "rapid" then self:rapid(job, move, out) else self:feed_move(job, move, out) end
+  end
+end
+
+function P.rapid(self, job, move, out)
+  local parts = { self:motion_word("G0") }
+  for _, w in ipairs(self:axis_words(job, move)) do parts[#parts + 1] = w end
+  self:emit(out, table.concat(parts, " "))
+end
+
+function P.feed_move(self, job, move, out)
+  local parts = { self:motion_word("G1") }
+  for _, w in ipairs(self:axis_words(job, move)) do parts[#parts + 1] = w end
+  parts[#parts + 1] = self:feed_word(job, move)
+  self:emit(out, table.concat(parts, " "))
+end
+
+return P

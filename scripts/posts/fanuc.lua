@@ -1,0 +1,52 @@
+-- ISO / Fanuc (30i-class) 5-axis post. Two modes:
+--   machine axes (default): XYZ are machine positions computed by bliskrun's
+--     kinematics, length compensation G43 (when the machine's XYZ denote the
+--     tip), feed per the machine (G93 inverse time or G94);
+--   TCP (tcp = true): G43.4 tool centre point control, XYZ are the tool tip
+--     in the part frame, rotary words are machine positions, feed G94.
+-- Block numbers N10, N20, ...; comments in parentheses, upper case.
+local P = extend "base"
+
+P.name = "fanuc"
+P.block_numbers = true
+P.program_number = 1000
+
+-- Fanuc comments cannot hold parentheses and are read upper case.
+function P.comment(self, text)
+  return "(" .. text:upper():gsub("[()]", "") .. ")"
+end
+
+function P.header(self, job, out)
+  out:line("%")
+  out:line(string.format("O%04d %s", self.program_number, self:comment(job.name)))
+  out:line(self:comment("MACHINE " .. job.machine.name))
+  out:line(self:comment(string.format("TOOL %d LENGTH %s", job.tool.number,
+                                      self:number(job.tool.length, job.decimals.linear))))
+  self:emit(out, "G90 G17 G21 G40 G49 G80 " .. (job.feed_mode == "inverse_time" and "G93" or "G94"))
+  self:emit(out, "G54")
+end
+
+function P.tool_change(self, job, out)
+  self:emit(out, string.format("T%d M6", job.tool.number))
+  if job.tool.spindle_rpm then self:emit(out, string.format("S%d M3", job.tool.spindle_rpm)) end
+end
+
+function P.tcp_on(self, job, out)
+  if job.tcp then
+    self:emit(out, string.format("G43.4 H%d", job.tool.number))
+  elseif job.machine.tool_length == "tip" then
+    self:emit(out, string.format("G43 H%d", job.tool.number))
+  end
+end
+
+function P.tcp_off(self, job, out)
+  if job.tcp or job.machine.tool_length == "tip" then self:emit(out, "G49") end
+end
+
+function P.footer(self, job, out)
+  self:emit(out, "M5")
+  self:emit(out, "M30")
+  out:line("%")
+end
+
+return P

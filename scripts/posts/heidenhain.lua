@@ -1,0 +1,73 @@
+-- Heidenhain TNC (conversational) post: FUNCTION TCPM, so XYZ are the tool
+-- tip in the part frame and the rotary words machine axis positions; linear
+-- L blocks, FMAX for rapids, feed in mm/min. Numbers carry their sign
+-- (X+10.000). Block numbers from 0 in steps of 1, as the TNC numbers them.
+-- Older controls use M128 instead of FUNCTION TCPM: override tcp_on/tcp_off.
+local P = extend "base"
+
+P.name = "heidenhain"
+P.tcp = true
+P.block_numbers = true
+P.block_start = 0
+P.block_step = 1
+P.comment_open = "; "
+P.comment_close = ""
+P.tcp_function = "FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS"
+
+-- The TNC has no inverse-time feed; without TCPM a per-minute feed on a
+-- rotary move is not the tip's speed. So TCPM only.
+function P.check(self, job)
+  if not job.tcp then error("heidenhain: this post writes TCPM programs only (tcp = true)", 0) end
+end
+
+function P.emit(self, out, text)
+  self.block = self.block + self.block_step
+  out:line(self.block .. " " .. text)
+end
+
+function P.word(self, address, value, decimals)
+  local text = self:number(value, decimals)
+  if text:sub(1, 1) ~= "-" then text = "+" .. text end
+  return address .. text
+end
+
+local function pgm_name(job)
+  return (job.name:upper():gsub("[^%w_]", "_"))
+end
+
+function P.header(self, job, out)
+  self:emit(out, "BEGIN PGM " .. pgm_name(job) .. " MM")
+  self:emit(out, self:comment("machine " .. job.machine.name))
+  self:emit(out, self:comment(string.format("tool %d length %s", job.tool.number,
+                                            self:number(job.tool.length, job.decimals.linear))))
+end
+
+function P.tool_change(self, job, out)
+  local call = string.format("TOOL CALL %d Z", job.tool.number)
+  if job.tool.spindle_rpm then call = call .. string.format(" S%d", job.tool.spindle_rpm) end
+  self:emit(out, call)
+  self:emit(out, "M3")
+end
+
+function P.tcp_on(self, job, out) self:emit(out, self.tcp_function) end
+function P.tcp_off(self, job, out) self:emit(out, "FUNCTION RESET TCPM") end
+
+function P.rapid(self, job, move, out)
+  local words = self:axis_words(job, move)
+  self.last.F = nil  -- FMAX holds for its block only: repeat F on the next feed block
+  self:emit(out, "L " .. table.concat(words, " ") .. " R0 FMAX")
+end
+
+function P.feed_move(self, job, move, out)
+  local parts = self:axis_words(job, move)
+  parts[#parts + 1] = self:feed_word(job, move)
+  self:emit(out, "L " .. table.concat(parts, " "))
+end
+
+function P.footer(self, job, out)
+  self:emit(out, "M5")
+  self:emit(out, "M30")
+  self:emit(out, "END PGM " .. pgm_name(job) .. " MM")
+end
+
+return P

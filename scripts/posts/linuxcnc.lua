@@ -1,0 +1,43 @@
+-- LinuxCNC post for an A/C trunnion run with the xyzac-trt kinematics
+-- module. Those kinematics make XYZ the tool tip in the part (table) frame
+-- at all times, so the program is written under TCP control without a
+-- switch word, rotary words are joint positions, feed per minute (G94).
+-- No block numbers; comments in parentheses.
+local P = extend "base"
+
+P.name = "linuxcnc"
+P.tcp = true
+P.tcp_always = true
+
+function P.check(self, job)
+  local r = job.machine.rotary
+  if job.machine.configuration ~= "table-table" or r[1] ~= "A" or r[2] ~= "C" then
+    error("linuxcnc: xyzac-trt kinematics need an A/C table-table machine, got " ..
+          job.machine.configuration .. " " .. table.concat(r, "/"), 0)
+  end
+end
+
+function P.header(self, job, out)
+  out:line("%")
+  out:line(self:comment(job.name))
+  out:line(self:comment("machine " .. job.machine.name .. ", kinematics xyzac-trt"))
+  out:line(self:comment(string.format("tool %d length %s", job.tool.number,
+                                      self:number(job.tool.length, job.decimals.linear))))
+  out:line("G21 G90 G17 G40 G49 G94")
+  out:line("G54")
+end
+
+function P.tool_change(self, job, out)
+  out:line(string.format("T%d M6", job.tool.number))
+  out:line(string.format("G43 H%d", job.tool.number))
+  if job.tool.spindle_rpm then out:line(string.format("S%d M3", job.tool.spindle_rpm)) end
+end
+
+function P.footer(self, job, out)
+  out:line("G49")
+  out:line("M5")
+  out:line("M30")
+  out:line("%")
+end
+
+return P

@@ -1,0 +1,302 @@
+// The shipped machine files and posts (scripts/machines, scripts/posts) run
+// through the Lua host on a plain Lua state: literal expected programs for a
+// short path, and the read-back of every post's output.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+
+#include "core/common/error.h"
+#include "core/machine/verify.h"
+#include "lua_api/machine_host.h"
+
+namespace bliskrun {
+namespace {
+
+constexpr double kDeg = kPi / 180;
+
+std::string scripts() { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts"; }
+
+struct LuaState {
+  LuaState() : L(luaL_newstate()) { luaL_openlibs(L); }
+  ~LuaState() { lua_close(L); }
+  lua_State* L;
+};
+
+// Runs `body` in protected mode; returns the Lua error message or "".
+template <class F>
+std::string protect(lua_State* L, F body) {
+  struct Call {
+    F* body;
+    static int run(lua_State* S) {
+      auto* call = static_cast<Call*>(lua_touserdata(S, 1));
+      (*call->body)(S);
+      return 0;
+    }
+  } call{&body};
+  lua_pushcfunction(L, &Call::run);
+  lua_pushlightuserdata(L, &call);
+  if (lua_pcall(L, 1, 0, 0) == LUA_OK) return "";
+  std::string message = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return message;
+}
+
+MachineDefinition load_machine(lua_State* L, const std::string& file) {
+  MachineDefinition def;
+  const std::string error = protect(L, [&](lua_State* S) {
+    lua_api::load_machine_file(S, scripts() + "/machines/" + file, 0, scripts() + "/machines");
+    def = lua_api::test_machine(S, -1)->definition;
+  });
+  if (!error.empty()) throw Error(error);
+  return def;
+}
+
+// A short path: rapid approach, three feed moves that tilt and turn the tool.
+std::vector<PlannedMove> short_path() {
+  std::vector<PlannedMove> path;
+  auto add = [&](MoveKind kind, Vec3 tip, double tilt_deg, double azimuth_deg) {
+    PlannedMove m;
+    m.kind = kind;
+    m.feed_mm_per_min = 800;
+    m.row = 0;
+    m.pose.tip = tip;
+    m.pose.axis = Vec3(std::sin(tilt_deg * kDeg) * std::cos(azimuth_deg * kDeg),
+                       std::sin(tilt_deg * kDeg) * std::sin(azimuth_deg * kDeg), std::cos(tilt_deg * kDeg));
+    path.push_back(m);
+  };
+  add(MoveKind::Rapid, Vec3(40, 0, 30), 20, 90);
+  add(MoveKind::Feed, Vec3(40, 0, 5), 20, 90);
+  add(MoveKind::Feed, Vec3(40, 2, 5), 21, 92);
+  add(MoveKind::Feed, Vec3(40, 4, 5.5), 22, 94);
+  return path;
+}
+
+struct Written {
+  std::string text;
+  MachineProgram plan;
+  std::unique_ptr<Kinematics> kin;
+  bool tcp_always = false;
+};
+
+Written write(lua_State* L, const std::string& machine_file, const std::string& post, bool tcp) {
+  Written w;
+  w.kin = std::make_unique<Kinematics>(load_machine(L, machine_file), 80.0);
+  const std::string error = protect(L, [&](lua_State* S) {
+    lua_api::load_post_file(S, scripts() + "/posts/" + post + ".lua", scripts() + "/posts");
+    lua_pushboolean(S, tcp);
+    lua_setfield(S, -2, "tcp");
+    MotionOptions options;
+    options.tcp = lua_api::post_wants_tcp(S, -1);
+    options.start.rotary_rad = {0, 0};
+    w.tcp_always = lua_api::post_tcp_always(S, -1);
+    w.plan = plan_machine_motion(*w.kin, short_path(), options);
+    lua_api::PostJob job;
+    job.name = "blade 1";
+    job.tool_number = 3;
+    job.tool_length_mm = 80;
+    job.spindle_rpm = 12000;
+    w.text = lua_api::run_post(S, -1, *w.kin, w.plan, job);
+  });
+  if (!error.empty()) throw Error(error);
+  return w;
+}
+
+// Literal programs: any change to a post's wording shows up here.
+TEST(MachinePosts, FanucMachineAxesProgramIsLiteral) {
+  LuaState lua;
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", false);
+  EXPECT_EQ(w.text,
+            "%\n"
+            "O1000 (BLADE 1)\n"
+            "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
+            "(TOOL 3 LENGTH 80.000)\n"
+            "N10 G90 G17 G21 G40 G49 G80 G93\n"
+            "N20 G54\n"
+            "N30 T3 M6\n"
+            "N40 S12000 M3\n"
+            "N50 G43 H3\n"
+            "N60 G0 X40.000 Y-68.414 Z137.933 A20.000 C0.000\n"
+            "N70 G1 Y-59.863 Z114.440 F32.000\n"
+            "N80 X40.011 Y-61.021 Z114.014 A20.497 C-1.023 F800.000\n"
+            "N90 X40.045 Y-62.162 Z113.586 A21.000 C-2.000 F800.000\n"
+            "N100 X40.102 Y-63.406 Z113.377 A21.497 C-3.022 F776.114\n"
+            "N110 X40.181 Y-64.642 Z113.163 A22.000 C-4.000 F776.114\n"
+            "N120 G49\n"
+            "N130 M5\n"
+            "N140 M30\n"
+            "%\n");
+  // The two 1-degree swings were split in two to hold the 5 um chord.
+  EXPECT_EQ(w.plan.inserted_moves, 2);
+}
+
+TEST(MachinePosts, FanucTcpProgramIsLiteral) {
+  LuaState lua;
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true);
+  EXPECT_EQ(w.text,
+            "%\n"
+            "O1000 (BLADE 1)\n"
+            "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
+            "(TOOL 3 LENGTH 80.000)\n"
+            "N10 G90 G17 G21 G40 G49 G80 G94\n"
+            "N20 G54\n"
+            "N30 T3 M6\n"
+            "N40 S12000 M3\n"
+            "N50 G43.4 H3\n"
+            "N60 G0 X40.000 Y0.000 Z30.000 A20.000 C0.000\n"
+            "N70 G1 Z5.000 F800.0\n"
+            "N80 Y2.000 A21.000 C-2.000\n"
+            "N90 Y4.000 Z5.500 A22.000 C-4.000\n"
+            "N100 G49\n"
+            "N110 M5\n"
+            "N120 M30\n"
+            "%\n");
+}
+
+TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
+  LuaState lua;
+  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true);
+  EXPECT_EQ(w.text,
+            "; blade 1\n"
+            "; machine gantry C/A fork head\n"
+            "; tool 3 length 80.000\n"
+            "N10 G90 G17 G71 G40 G94\n"
+            "N20 G54\n"
+            "N30 T3 D1\n"
+            "N40 M6\n"
+            "N50 S12000 M3\n"
+            "N60 TRAORI\n"
+            "N70 G0 X40.000 Y0.000 Z30.000 C0.000 A-20.000\n"
+            "N80 G1 Z5.000 F800.0\n"
+            "N90 Y2.000 C2.000 A-21.000\n"
+            "N100 Y4.000 Z5.500 C4.000 A-22.000\n"
+            "N110 TRAFOOF\n"
+            "N120 M5\n"
+            "N130 M30\n");
+}
+
+TEST(MachinePosts, HeidenhainTcpmProgramIsLiteral) {
+  LuaState lua;
+  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true);
+  EXPECT_EQ(w.text,
+            "0 BEGIN PGM BLADE_1 MM\n"
+            "1 ; machine monoBLOCK-like B head / C table\n"
+            "2 ; tool 3 length 80.000\n"
+            "3 TOOL CALL 3 Z S12000\n"
+            "4 M3\n"
+            "5 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n"
+            "6 L X+40.000 Y+0.000 Z+30.000 C-90.000 B+20.000 R0 FMAX\n"
+            "7 L Z+5.000 F800.0\n"
+            "8 L Y+2.000 C-92.000 B+21.000\n"
+            "9 L Y+4.000 Z+5.500 C-94.000 B+22.000\n"
+            "10 FUNCTION RESET TCPM\n"
+            "11 M5\n"
+            "12 M30\n"
+            "13 END PGM BLADE_1 MM\n");
+  LuaState again;
+  EXPECT_THROW(write(again.L, "monoblock_like_head_table.lua", "heidenhain", false), Error);
+}
+
+TEST(MachinePosts, LinuxcncTrtProgramIsLiteral) {
+  LuaState lua;
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "linuxcnc", false);  // trt: TCP anyway
+  EXPECT_TRUE(w.tcp_always);
+  EXPECT_EQ(w.text,
+            "%\n"
+            "(blade 1)\n"
+            "(machine DMG-like A/C trunnion 650, kinematics xyzac-trt)\n"
+            "(tool 3 length 80.000)\n"
+            "G21 G90 G17 G40 G49 G94\n"
+            "G54\n"
+            "T3 M6\n"
+            "G43 H3\n"
+            "S12000 M3\n"
+            "G0 X40.000 Y0.000 Z30.000 A20.000 C0.000\n"
+            "G1 Z5.000 F800.0\n"
+            "Y2.000 A21.000 C-2.000\n"
+            "Y4.000 Z5.500 A22.000 C-4.000\n"
+            "G49\n"
+            "M5\n"
+            "M30\n"
+            "%\n");
+  LuaState other;
+  EXPECT_THROW(write(other.L, "monoblock_like_head_table.lua", "linuxcnc", true), Error);
+}
+
+// Every post's program reads back and replays onto the plan, on every
+// shipped machine it can drive; output twice is byte-identical.
+TEST(MachinePosts, EveryPostReadsBackWithinTolerance) {
+  struct Case { const char* machine; const char* post; bool tcp; };
+  const Case cases[] = {
+      {"dmg_like_ac_trunnion.lua", "fanuc", false}, {"dmg_like_ac_trunnion.lua", "fanuc", true},
+      {"bc_trunnion_hermle_like.lua", "fanuc", false}, {"monoblock_like_head_table.lua", "fanuc", false},
+      {"gantry_head_head.lua", "fanuc", false}, {"gantry_head_head.lua", "siemens840d", true},
+      {"bc_trunnion_hermle_like.lua", "siemens840d", false}, {"monoblock_like_head_table.lua", "heidenhain", true},
+      {"dmg_like_ac_trunnion.lua", "linuxcnc", true}};
+  for (const Case& c : cases) {
+    LuaState lua;
+    const Written w = write(lua.L, c.machine, c.post, c.tcp);
+    VerifyOptions options;
+    options.read.file_name = std::string(c.post) + ".nc";
+    options.read.tcp = w.tcp_always;
+    const VerifyReport report = verify_program(w.text, *w.kin, w.plan, options);
+    EXPECT_EQ(report.moves, static_cast<long>(w.plan.moves.size())) << c.machine << " " << c.post;
+    EXPECT_LT(report.max_position_mm, 0.005) << c.machine << " " << c.post;
+    LuaState lua2;
+    EXPECT_EQ(write(lua2.L, c.machine, c.post, c.tcp).text, w.text);
+  }
+}
+
+// Machine files: errors name the file and line and what was expected.
+TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
+  const std::string dir = ::testing::TempDir() + "/bliskrun_machine_files";
+  std::system(("mkdir -p '" + dir + "'").c_str());
+  auto error_of = [&](const std::string& body) {
+    const std::string path = dir + "/m.lua";
+    std::ofstream(path) << body;
+    LuaState lua;
+    return protect(lua.L, [&](lua_State* S) {
+      lua_api::load_machine_file(S, path, 0, scripts() + "/machines");
+    });
+  };
+  const std::string path = dir + "/m.lua";
+  const std::string good_rotary =
+      "  rotary = { { name = 'A', carrier = 'part', direction = {1, 0, 0}, travel = {-120, 30} },\n"
+      "             { name = 'C', carrier = 'part', direction = {0, 0, 1} } },\n";
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
+                     good_rotary + "}\n"), "");
+  EXPECT_EQ(error_of("-- comment\nreturn machine {\n  name = 'm', speed = 3,\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
+                     good_rotary + "}\n"),
+            path + ":2: machine: unknown key 'speed', expected one of: feed, linear, name, part_origin, "
+                   "resolution, rotary, spindle, tool_length");
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Z = {-1, 1} },\n" + good_rotary + "}\n"),
+            path + ":1: machine: linear: missing axis Y");
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n"
+                     "  rotary = { { name = 'A', carrier = 'part', direction = {1, 0, 0} },\n"
+                     "             { name = 'C', carrier = 'part', direction = {1, 0, 0} } },\n}\n"),
+            path + ":1: machine: rotary[2].direction: parallel to rotary[1]: the two rotary axes cannot orient the tool");
+  EXPECT_EQ(error_of("return generic 'table_table_ac' {\n  name = 'x', a_travel = {0, 1} }\n"),
+            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, feed, name, "
+                   "part_origin, resolution, tool_length, x, y, z");
+  EXPECT_NE(error_of("return 42\n").find("expected the file to return machine"), std::string::npos);
+}
+
+// Every shipped concrete machine loads and is the configuration it says.
+TEST(MachinePosts, ShippedMachinesLoad) {
+  LuaState lua;
+  EXPECT_EQ(configuration_name(load_machine(lua.L, "dmg_like_ac_trunnion.lua")), "table-table");
+  EXPECT_EQ(configuration_name(load_machine(lua.L, "bc_trunnion_hermle_like.lua")), "table-table");
+  EXPECT_EQ(configuration_name(load_machine(lua.L, "monoblock_like_head_table.lua")), "head-table");
+  EXPECT_EQ(configuration_name(load_machine(lua.L, "gantry_head_head.lua")), "head-head");
+  const MachineDefinition ac = load_machine(lua.L, "dmg_like_ac_trunnion.lua");
+  EXPECT_NEAR(ac.rotary[0].min_rad, -120 * kDeg, 1e-15);
+  EXPECT_TRUE(ac.rotary[1].continuous());
+  EXPECT_EQ(ac.feed, FeedMode::InverseTime);
+  // Generic definitions build with their defaults.
+  for (const char* generic : {"table_table_ac.lua", "table_table_bc.lua", "head_table_bc.lua", "head_head.lua"})
+    EXPECT_NO_THROW(load_machine(lua.L, generic)) << generic;
+}
+
+}  // namespace
+}  // namespace bliskrun
