@@ -369,7 +369,7 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   ctx.progress.set_reporter([&err, quiet](const std::string& task, long done, long total) {
     if (quiet || total <= 0) return;
     const long pct = done * 100 / total;
-    if (pct % 10 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
+    if (pct % 25 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
   });
 
   Allocator allocator;
