@@ -1,0 +1,34 @@
+-- Collision worlds of the built-in blisk, for the interference loop
+-- (blisk paper §3.4): the check surfaces around one blade are the flanks of
+-- its two neighbours and the hub. The blade being machined is not a check
+-- surface: the tool is meant to touch it.
+--
+--   local blisk_world = require("blisk_world")
+--   local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.01})
+
+local M = {}
+
+-- blisk: a bliskrun.blisk{...}; k: blade number (1..N).
+-- opts.chord_tol: tessellation tolerance of the check surfaces, mm (0.01).
+-- opts.hub: include the hub (true).
+function M.around_blade(blisk, k, opts)
+  opts = opts or {}
+  local n = blisk:blade_count()
+  assert(math.type(k) == "integer" and k >= 1 and k <= n,
+         string.format("blade %s does not exist; blades are 1..%d", tostring(k), n))
+  local tol = opts.chord_tol or 0.01
+  local before, after = (k - 2) % n + 1, k % n + 1
+  local surfaces = {}
+  for _, b in ipairs{before, after} do
+    for _, side in ipairs{"pressure", "suction"} do
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side),
+                                 surface = blisk:flank(b, side), chord_tol = tol}
+    end
+  end
+  if opts.hub ~= false then
+    surfaces[#surfaces + 1] = {name = "hub", surface = blisk:hub(), chord_tol = tol}
+  end
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+return M

@@ -1,0 +1,56 @@
+// The tilt-until-clear loop on the built-in blisk: a drum wheel on the
+// pressure flank of blade 1, checked against the neighbouring blades and the
+// hub, with the paper's C-axis limit.
+#include <gtest/gtest.h>
+
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+TEST(BliskInterference, TiltLoopClearsTheNeighbouringBladesOrRefuses) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"(
+local blisk_world = require("blisk_world")
+local blisk = bliskrun.blisk{grid_rows = 40, grid_cols = 120}
+local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.02})
+assert(#world:names() == 5)
+local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,
+                                  shank = {diameter = 6, length = 96}}
+-- Contacts on blade 1's pressure flank: five at mid-span, four at u = 0.06,
+-- which is below the hub (the flank reaches past it as a CAD grid does), so
+-- the wheel sits in the hub there. The wheel axis at lambda = 0 lies in the
+-- tangent plane across the feed, towards the tip.
+local flank = blisk:flank(1, "pressure")
+local contacts = {}
+for j = 1, 9 do
+  local e = flank:eval(j <= 5 and 0.5 or 0.06, 0.1 * j)
+  local t = e.pv
+  -- Y = Z x X must point to the tip (+pu): choose the travel direction so.
+  local n = e.normal
+  local y = {n[2]*t[3] - n[3]*t[2], n[3]*t[1] - n[1]*t[3], n[1]*t[2] - n[2]*t[1]}
+  if y[1]*e.pu[1] + y[2]*e.pu[2] + y[3]*e.pu[3] < 0 then t = {-t[1], -t[2], -t[3]} end
+  contacts[#contacts + 1] = {point = e.point, tangent = t, normal = n}
+end
+local c = {cutter = 0.2, shank = 0.5}
+local run = world:tilt(wheel, contacts, {clearance = c, lead_step = 0.5, lead_max = 60,
+  -- Blade 1 stands at theta = 0: its radial direction +X is the C reference.
+  axis_limit = {name = "C", rotary_axis = {0, 0, 1}, reference = {1, 0, 0}, min = -30, max = 30}})
+assert(#run.poses + #run.refusals == 9, "every contact is either emitted or refused")
+assert(#run.poses == 5, "the mid-span contacts clear, got " .. #run.poses)
+for _, f in ipairs(run.refusals) do assert(f.index >= 6, "refused a mid-span contact " .. f.index) end
+for _, p in ipairs(run.poses) do
+  -- Independent check of every emitted pose.
+  local chk = world:check(wheel, {tip = p.tip, axis = p.axis}, {clearance = c})
+  assert(chk.clear, "emitted pose " .. p.index .. " is not clear")
+end
+for _, f in ipairs(run.refusals) do assert(#f.reason > 0) end
+-- A contact below the hub cannot be cleared within the C limit: the reason
+-- says what was tried and what stopped it.
+assert(run.refusals[1].reason:find("no axis clears"), run.refusals[1].reason)
+)");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+}  // namespace
+}  // namespace bliskrun::test
