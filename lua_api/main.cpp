@@ -10,7 +10,7 @@ namespace {
 
 const char* const kUsage =
     "usage: bliskrun RECIPE.lua [--out DIR] [--data DIR]... [--set KEY=VALUE]...\n"
-    "                [--quiet] [--time-limit SECONDS] [--memory-limit MB]\n"
+    "                [--quiet] [--verify] [--time-limit SECONDS] [--memory-limit MB]\n"
     "\n"
     "  --out DIR            folder the recipe writes to (default: out)\n"
     "  --data DIR           folder of part data the recipe may read (repeatable;\n"
@@ -20,6 +20,9 @@ const char* const kUsage =
     "  --quiet              no progress on stderr\n"
     "  --time-limit S       stop the run after S seconds of wall time (default 3600, 0 = none)\n"
     "  --memory-limit MB    limit the recipe's Lua memory (default 8192, 0 = none)\n"
+    "  --verify             after the run, print the read-back verification of every\n"
+    "                       NC program the recipe posted (each is replayed through the\n"
+    "                       machine's kinematics before it is written)\n"
     "  --help, --version\n"
     "\n"
     "exit codes: 0 ok, 1 recipe or data error, 2 usage error\n";
@@ -54,6 +57,8 @@ int main(int argc, char** argv) {
     } else if (arg == "--version") {
       std::cout << "bliskrun 0.1.0\n";
       return 0;
+    } else if (arg == "--verify") {
+      options.verify_report = true;
     } else if (arg == "--quiet" || arg == "-q") {
       options.quiet = true;
     } else if (arg == "--out") {

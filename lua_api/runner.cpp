@@ -401,6 +401,11 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     message = e.what();
   }
   lua_close(L);
+  if (options.verify_report) {
+    std::ostream& out = std::cout;
+    out << "read-back verification: " << ctx.verified_programs.size() << " program(s)\n";
+    for (const auto& line : ctx.verified_programs) out << "  " << line << "\n";
+  }
   if (status == LUA_OK) return kExitOk;
   if (allocator.exceeded && status == LUA_ERRMEM) {
     std::ostringstream s;

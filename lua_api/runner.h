@@ -20,6 +20,7 @@ struct RunOptions {
   bool quiet = false;
   double time_limit_s = 3600;      // wall time of the whole run; 0 = none
   double memory_limit_mb = 8192;   // Lua heap of the recipe; 0 = none
+  bool verify_report = false;      // --verify: print every posted program's read-back
 };
 
 // What a running recipe may touch, and where progress goes. One per Lua
@@ -30,6 +31,9 @@ struct RunContext {
   std::string out_dir;     // absolute, created on first write
   std::vector<std::string> data_dirs;  // absolute
   Progress progress;
+  // One line per NC program posted during the run: its read-back verification
+  // (post.write proves every program before writing it). Printed by --verify.
+  std::vector<std::string> verified_programs;
 
   // Resolves a path a recipe wants to read: relative paths are tried against
   // the recipe folder then each data folder; the result must lie inside the

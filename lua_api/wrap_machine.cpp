@@ -10,6 +10,7 @@
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
 #include "core/machine/verify.h"
+#include <sstream>
 #include "lua_api/luax.h"
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
@@ -371,6 +372,13 @@ int w_post_write(lua_State* L) {
     write_file_atomic(target, text);
     return 0;
   });
+  {
+    std::ostringstream line;
+    line << target << ": " << report.moves << " moves, max tip deviation " << report.max_position_mm
+         << " mm (line " << report.worst_position_line << "), max axis deviation "
+         << rad_to_deg(report.max_angle_rad) << " deg (line " << report.worst_angle_line << ")";
+    context(L).verified_programs.push_back(line.str());
+  }
   push_report(L, report, posted);
   luax::push_new(L, std::move(posted));
   lua_setfield(L, -2, "program");

@@ -208,3 +208,18 @@ TEST(Cli, RecipeErrorExitsOneWithLocation) {
 
 }  // namespace
 }  // namespace bliskrun::test
+
+namespace bliskrun::test {
+namespace {
+
+TEST(Cli, VerifyPrintsTheReadBackOfEveryPostedProgram) {
+  TempDir dir;
+  const std::string recipe = std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_post.lua";
+  const RecipeResult r = run_bliskrun({recipe, "--out", dir.path(), "--quiet", "--verify"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("read-back verification: 2 program(s)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("max tip deviation"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace bliskrun::test
