@@ -115,6 +115,26 @@ void push(lua_State* L, const Vec3& v) {
   }
 }
 
+void set_number(lua_State* L, const char* key, double value) {
+  lua_pushnumber(L, value);
+  lua_setfield(L, -2, key);
+}
+
+void set_bool(lua_State* L, const char* key, bool value) {
+  lua_pushboolean(L, value);
+  lua_setfield(L, -2, key);
+}
+
+void set_string(lua_State* L, const char* key, const std::string& value) {
+  push(L, value);
+  lua_setfield(L, -2, key);
+}
+
+void set_vec3(lua_State* L, const char* key, const Vec3& value) {
+  push(L, value);
+  lua_setfield(L, -2, key);
+}
+
 // ---- option tables -----------------------------------------------------------
 
 namespace {

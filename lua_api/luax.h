@@ -55,6 +55,12 @@ void push(lua_State* L, double value);
 void push(lua_State* L, const std::string& value);
 void push(lua_State* L, const Vec3& value);  // {x, y, z} with .x .y .z too
 
+// t[key] = value for the table on top of the stack.
+void set_number(lua_State* L, const char* key, double value);
+void set_bool(lua_State* L, const char* key, bool value);
+void set_string(lua_State* L, const char* key, const std::string& value);
+void set_vec3(lua_State* L, const char* key, const Vec3& value);
+
 // ---- option tables -------------------------------------------------------
 // Declared fields, validated in one place. Unknown keys are rejected with the
 // list of valid ones; wrong types, out-of-range values and missing required

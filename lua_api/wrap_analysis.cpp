@@ -29,17 +29,14 @@ namespace {
 using luax::Field;
 using luax::Kind;
 
-void set(lua_State* L, const char* key, double x) {
-  lua_pushnumber(L, x);
-  lua_setfield(L, -2, key);
-}
+using luax::set_number;
 
 void push_extreme(lua_State* L, const CurvatureExtreme& e) {
   lua_createtable(L, 0, 5);
-  set(L, "value", e.value);
-  set(L, "u", e.u);
-  set(L, "v", e.v);
-  set(L, "angle", rad_to_deg(e.angle_rad));
+  set_number(L, "value", e.value);
+  set_number(L, "u", e.u);
+  set_number(L, "v", e.v);
+  set_number(L, "angle", rad_to_deg(e.angle_rad));
   lua_pushboolean(L, e.found);
   lua_setfield(L, -2, "found");
 }
@@ -68,10 +65,10 @@ int w_curvature_stats(lua_State* L) {
     lua_setfield(L, -2, "samples_v");
     lua_pushinteger(L, st->negative_K_count);
     lua_setfield(L, -2, "negative_K_count");
-    set(L, "negative_K_fraction", st->negative_K_fraction);
-    set(L, "K_min", st->K_min);
-    set(L, "K_max", st->K_max);
-    set(L, "c_range", c_range_deg);
+    set_number(L, "negative_K_fraction", st->negative_K_fraction);
+    set_number(L, "K_min", st->K_min);
+    set_number(L, "K_max", st->K_max);
+    set_number(L, "c_range", c_range_deg);
     push_extreme(L, st->k1_max);
     lua_setfield(L, -2, "k1_max");
     push_extreme(L, st->k2_max);
@@ -102,11 +99,11 @@ int w_map_at(lua_State* L) {
                        std::to_string(st.samples_u) + ", 1.." + std::to_string(st.samples_v));
   const CurvatureSample& s = st.at(static_cast<int>(i - 1), static_cast<int>(j - 1));
   lua_createtable(L, 0, 5);
-  set(L, "K", s.K);
-  set(L, "H", s.H);
-  set(L, "k1", s.k1);
-  set(L, "k2", s.k2);
-  set(L, "ke", s.ke);
+  set_number(L, "K", s.K);
+  set_number(L, "H", s.H);
+  set_number(L, "k1", s.k1);
+  set_number(L, "k2", s.k2);
+  set_number(L, "ke", s.ke);
   return 1;
 }
 
@@ -134,10 +131,10 @@ int w_map_write_svg(lua_State* L) {
 
 void push_choice(lua_State* L, const WheelChoice& c) {
   lua_createtable(L, 0, 4);
-  set(L, "radius_limit", c.radius_limit_mm);
-  set(L, "barrel_radius", c.drum_radius_mm);
-  set(L, "diameter_limit", c.diameter_limit_mm);
-  set(L, "max_diameter", c.diameter_mm);
+  set_number(L, "radius_limit", c.radius_limit_mm);
+  set_number(L, "barrel_radius", c.drum_radius_mm);
+  set_number(L, "diameter_limit", c.diameter_limit_mm);
+  set_number(L, "max_diameter", c.diameter_mm);
 }
 
 // bliskrun.design_drum_wheel{k1_max=, ke_max=, d_min=, clearance=, diameter_step=, radius_step=}

@@ -102,25 +102,10 @@ Clearances check_clearances(lua_State* L, const luax::Options& o, const std::str
 
 // ---- pushing ---------------------------------------------------------------
 
-void set_number(lua_State* L, const char* key, double v) {
-  lua_pushnumber(L, v);
-  lua_setfield(L, -2, key);
-}
-
-void set_bool(lua_State* L, const char* key, bool v) {
-  lua_pushboolean(L, v);
-  lua_setfield(L, -2, key);
-}
-
-void set_string(lua_State* L, const char* key, const std::string& v) {
-  luax::push(L, v);
-  lua_setfield(L, -2, key);
-}
-
-void set_vec3(lua_State* L, const char* key, const Vec3& v) {
-  luax::push(L, v);
-  lua_setfield(L, -2, key);
-}
+using luax::set_bool;
+using luax::set_number;
+using luax::set_string;
+using luax::set_vec3;
 
 void push_pose_check(lua_State* L, const CollisionWorld& world, const PoseCheck& c) {
   lua_createtable(L, 0, 4);

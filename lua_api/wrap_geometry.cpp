@@ -24,14 +24,8 @@ double check_param(lua_State* L, int idx, const char* name) {
   return x;
 }
 
-void set(lua_State* L, const char* key, double x) {
-  lua_pushnumber(L, x);
-  lua_setfield(L, -2, key);
-}
-void set(lua_State* L, const char* key, const Vec3& v) {
-  luax::push(L, v);
-  lua_setfield(L, -2, key);
-}
+using luax::set_number;
+using luax::set_vec3;
 
 std::vector<Vec3> check_points(lua_State* L, int idx, const char* name) {
   luaL_checktype(L, idx, LUA_TTABLE);
@@ -115,14 +109,14 @@ int w_surface_eval(lua_State* L) {
   return luax::guarded(L, [&] {
     const SurfaceDerivs d = s.eval(u, v);
     lua_createtable(L, 0, 7);
-    set(L, "point", d.p);
-    set(L, "pu", d.pu);
-    set(L, "pv", d.pv);
-    set(L, "puu", d.puu);
-    set(L, "puv", d.puv);
-    set(L, "pvv", d.pvv);
+    set_vec3(L, "point", d.p);
+    set_vec3(L, "pu", d.pu);
+    set_vec3(L, "pv", d.pv);
+    set_vec3(L, "puu", d.puu);
+    set_vec3(L, "puv", d.puv);
+    set_vec3(L, "pvv", d.pvv);
     const Vec3 n = d.pu.cross(d.pv);
-    set(L, "normal", n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero());
+    set_vec3(L, "normal", n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero());
     return 1;
   });
 }
@@ -142,19 +136,19 @@ int w_surface_curvature(lua_State* L) {
   return luax::guarded(L, [&] {
     const SurfaceCurvature c = curvature(s.eval(u, v));
     lua_createtable(L, 0, 14);
-    set(L, "K", c.K);
-    set(L, "H", c.H);
-    set(L, "k1", c.k1);
-    set(L, "k2", c.k2);
-    set(L, "dir1", c.dir1);
-    set(L, "dir2", c.dir2);
-    set(L, "normal", c.normal);
-    set(L, "E", c.E);
-    set(L, "F", c.F);
-    set(L, "G", c.G);
-    set(L, "L", c.L);
-    set(L, "M", c.M);
-    set(L, "N", c.N);
+    set_number(L, "K", c.K);
+    set_number(L, "H", c.H);
+    set_number(L, "k1", c.k1);
+    set_number(L, "k2", c.k2);
+    set_vec3(L, "dir1", c.dir1);
+    set_vec3(L, "dir2", c.dir2);
+    set_vec3(L, "normal", c.normal);
+    set_number(L, "E", c.E);
+    set_number(L, "F", c.F);
+    set_number(L, "G", c.G);
+    set_number(L, "L", c.L);
+    set_number(L, "M", c.M);
+    set_number(L, "N", c.N);
     return 1;
   });
 }
@@ -181,12 +175,11 @@ int w_surface_project(lua_State* L) {
       return 2;
     }
     lua_createtable(L, 0, 5);
-    set(L, "u", p.u);
-    set(L, "v", p.v);
-    set(L, "point", p.point);
-    set(L, "distance", p.distance);
-    lua_pushboolean(L, p.on_boundary);
-    lua_setfield(L, -2, "on_boundary");
+    set_number(L, "u", p.u);
+    set_number(L, "v", p.v);
+    set_vec3(L, "point", p.point);
+    set_number(L, "distance", p.distance);
+    luax::set_bool(L, "on_boundary", p.on_boundary);
     return 1;
   });
 }
@@ -209,9 +202,9 @@ int w_curve_eval(lua_State* L) {
   return luax::guarded(L, [&] {
     const CurveDerivs d = c.eval(t);
     lua_createtable(L, 0, 3);
-    set(L, "point", d.p);
-    set(L, "dt", d.dt);
-    set(L, "dtt", d.dtt);
+    set_vec3(L, "point", d.p);
+    set_vec3(L, "dt", d.dt);
+    set_vec3(L, "dtt", d.dtt);
     return 1;
   });
 }
@@ -227,9 +220,9 @@ int w_curve_project(lua_State* L) {
       return 2;
     }
     lua_createtable(L, 0, 3);
-    set(L, "t", p.t);
-    set(L, "point", p.point);
-    set(L, "distance", p.distance);
+    set_number(L, "t", p.t);
+    set_vec3(L, "point", p.point);
+    set_number(L, "distance", p.distance);
     return 1;
   });
 }
