@@ -52,6 +52,17 @@ RecipeResult run_recipe_text(const TempDir& dir, const std::string& lua, bool qu
   return r;
 }
 
+::testing::AssertionResult fails_at_line_2(const TempDir& dir, const RecipeErrorCase& c) {
+  const RecipeResult r = run_recipe_text(dir, std::string("-- line 1\n") + c.call + "\n");
+  if (r.exit_code != 1)
+    return ::testing::AssertionFailure() << "exit code " << r.exit_code << ", expected 1:\n" << r.output;
+  if (r.output.find("recipe.lua:2:") == std::string::npos)
+    return ::testing::AssertionFailure() << "message does not name recipe.lua:2:\n" << r.output;
+  if (r.output.find(c.expected) == std::string::npos)
+    return ::testing::AssertionFailure() << "message lacks '" << c.expected << "':\n" << r.output;
+  return ::testing::AssertionSuccess();
+}
+
 RecipeResult run_bliskrun(const std::vector<std::string>& args) {
   std::string cmd = BLISKRUN_EXE;
   for (const auto& a : args) {

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by tests: running recipes in-process and through the
 // bliskrun executable, temporary folders, and where real part data lives.
+#include <gtest/gtest.h>
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +34,22 @@ struct RecipeResult {
 // are not parsed here: use run_bliskrun for that).
 RecipeResult run_recipe_text(const TempDir& dir, const std::string& lua, bool quiet = true,
                              double time_limit_s = 60, double memory_limit_mb = 1024);
+
+// One bad recipe line and a substring its error message must hold.
+struct RecipeErrorCase {
+  const char* name;      // test name suffix
+  const char* call;      // the Lua line
+  const char* expected;  // substring of the message
+};
+
+// Runs `c.call` as line 2 of a recipe in `dir`: success means exit code 1 and
+// a message with "recipe.lua:2:" and `c.expected` in it.
+::testing::AssertionResult fails_at_line_2(const TempDir& dir, const RecipeErrorCase& c);
+
+// Names parameterised error tests after RecipeErrorCase::name.
+inline std::string error_case_name(const ::testing::TestParamInfo<RecipeErrorCase>& info) {
+  return info.param.name;
+}
 
 // Runs the built executable with `args`; captures stdout+stderr.
 RecipeResult run_bliskrun(const std::vector<std::string>& args);

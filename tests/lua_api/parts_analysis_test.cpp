@@ -11,46 +11,37 @@
 namespace bliskrun::test {
 namespace {
 
-struct ErrorCase {
-  const char* name;
-  const char* call;
-  const char* expected;
-};
-
-class LuaPartsAnalysisErrors : public ::testing::TestWithParam<ErrorCase> {};
+class LuaPartsAnalysisErrors : public ::testing::TestWithParam<RecipeErrorCase> {};
 
 TEST_P(LuaPartsAnalysisErrors, NameTheProblemAtTheRecipeLine) {
   TempDir dir;
   dir.write("bad_grid.txt", "# grid 2 2\n0 0 0\n1 0 0\n0 1 0\n");
-  const RecipeResult r = run_recipe_text(dir, std::string("-- line 1\n") + GetParam().call + "\n");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("recipe.lua:2:"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(GetParam().expected), std::string::npos) << r.output;
+  EXPECT_TRUE(fails_at_line_2(dir, GetParam()));
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Cases, LuaPartsAnalysisErrors,
     ::testing::Values(
-        ErrorCase{"unknown_blisk_key", "bliskrun.blisk{blade_cont = 20}", "unknown option 'blade_cont'"},
-        ErrorCase{"blisk_range", "bliskrun.blisk{grid_rows = 2}", "option 'grid_rows'"},
-        ErrorCase{"blisk_core_check", "bliskrun.blisk{casing_radius_inlet = 50}",
+        RecipeErrorCase{"unknown_blisk_key", "bliskrun.blisk{blade_cont = 20}", "unknown option 'blade_cont'"},
+        RecipeErrorCase{"blisk_range", "bliskrun.blisk{grid_rows = 2}", "option 'grid_rows'"},
+        RecipeErrorCase{"blisk_core_check", "bliskrun.blisk{casing_radius_inlet = 50}",
                   "casing_radius_inlet: expected a radius above hub_radius_inlet (60)"},
-        ErrorCase{"blade_index", "bliskrun.blisk{}:flank_grid(23, 'pressure')",
+        RecipeErrorCase{"blade_index", "bliskrun.blisk{}:flank_grid(23, 'pressure')",
                   "argument 'blade': 23 is outside 1..22"},
-        ErrorCase{"side", "bliskrun.blisk{}:flank(1, 'concave')",
+        RecipeErrorCase{"side", "bliskrun.blisk{}:flank(1, 'concave')",
                   "argument 'side': expected \"pressure\" or \"suction\""},
-        ErrorCase{"grid_count", "bliskrun.read_point_grid('bad_grid.txt')",
+        RecipeErrorCase{"grid_count", "bliskrun.read_point_grid('bad_grid.txt')",
                   "bad_grid.txt:4: expected 2 x 2 = 4 points, got 3"},
-        ErrorCase{"grid_order", "bliskrun.read_point_grid('bad_grid.txt', {order = 'diagonal'})",
+        RecipeErrorCase{"grid_order", "bliskrun.read_point_grid('bad_grid.txt', {order = 'diagonal'})",
                   "option 'order'"},
-        ErrorCase{"grid_outside", "bliskrun.read_point_grid('/etc/passwd')", "/etc/passwd"},
-        ErrorCase{"stats_samples", "bliskrun.curvature_stats(bliskrun.blisk{}:flank(1, 'pressure'), {samples_u = 1})",
+        RecipeErrorCase{"grid_outside", "bliskrun.read_point_grid('/etc/passwd')", "/etc/passwd"},
+        RecipeErrorCase{"stats_samples", "bliskrun.curvature_stats(bliskrun.blisk{}:flank(1, 'pressure'), {samples_u = 1})",
                   "option 'samples_u'"},
-        ErrorCase{"wheel_missing", "bliskrun.design_drum_wheel{k1_max = 0.04, d_min = 10}",
+        RecipeErrorCase{"wheel_missing", "bliskrun.design_drum_wheel{k1_max = 0.04, d_min = 10}",
                   "missing required option 'ke_max'"},
-        ErrorCase{"wheel_core", "bliskrun.design_drum_wheel{k1_max = 0.04, ke_max = 0.05, d_min = 10}",
+        RecipeErrorCase{"wheel_core", "bliskrun.design_drum_wheel{k1_max = 0.04, ke_max = 0.05, d_min = 10}",
                   "ke_max: k_e is a normal curvature and cannot exceed k1 max"}),
-    [](const auto& info) { return std::string(info.param.name); });
+    error_case_name);
 
 // The recipe's numbers are core's numbers: passage, Table-1 statistics with
 // positions, Table 2, and the grid round trip through a file. (Angles pass

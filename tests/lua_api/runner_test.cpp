@@ -43,54 +43,39 @@ TEST(Runner, CoreErrorReachesRecipeAsLuaErrorAtItsLine) {
   EXPECT_NE(r.output.find("zero-length chord"), std::string::npos) << r.output;
 }
 
-struct OptionCase {
-  const char* name;
-  const char* call;
-  const char* expected;  // substring of the message
-};
-
-class OptionValidation : public ::testing::TestWithParam<OptionCase> {};
+class OptionValidation : public ::testing::TestWithParam<RecipeErrorCase> {};
 
 TEST_P(OptionValidation, ErrorNamesFileLineAndKey) {
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, std::string("-- line 1\n") + GetParam().call + "\n");
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("recipe.lua:2:"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(GetParam().expected), std::string::npos) << r.output;
+  EXPECT_TRUE(fails_at_line_2(dir, GetParam()));
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Kinds, OptionValidation,
     ::testing::Values(
-        OptionCase{"unknown_key", "bliskrun.point_grid{rows=2, cols=2, points={}, colz=3}",
+        RecipeErrorCase{"unknown_key", "bliskrun.point_grid{rows=2, cols=2, points={}, colz=3}",
                    "unknown option 'colz'; valid options: cols, points, rows"},
-        OptionCase{"wrong_type", "bliskrun.point_grid{rows='two', cols=2, points={}}",
+        RecipeErrorCase{"wrong_type", "bliskrun.point_grid{rows='two', cols=2, points={}}",
                    "option 'rows': expected integer, got string"},
-        OptionCase{"not_integer", "bliskrun.point_grid{rows=2.5, cols=2, points={}}",
+        RecipeErrorCase{"not_integer", "bliskrun.point_grid{rows=2.5, cols=2, points={}}",
                    "option 'rows': expected integer, got number"},
-        OptionCase{"out_of_range", "bliskrun.point_grid{rows=1, cols=2, points={}}",
+        RecipeErrorCase{"out_of_range", "bliskrun.point_grid{rows=1, cols=2, points={}}",
                    "option 'rows': 1 is out of range [2, 1e+06]"},
-        OptionCase{"missing_required", "bliskrun.point_grid{rows=2, cols=2}",
+        RecipeErrorCase{"missing_required", "bliskrun.point_grid{rows=2, cols=2}",
                    "missing required option 'points'"},
-        OptionCase{"not_a_table", "bliskrun.point_grid(5)", "expected an option table, got number"},
-        OptionCase{"positional_key", "bliskrun.point_grid{2, rows=2, cols=2, points={}}",
+        RecipeErrorCase{"not_a_table", "bliskrun.point_grid(5)", "expected an option table, got number"},
+        RecipeErrorCase{"positional_key", "bliskrun.point_grid{2, rows=2, cols=2, points={}}",
                    "option keys must be names, got [1]"},
-        OptionCase{"nan", "bliskrun.point_grid{rows=0/0, cols=2, points={}}",
+        RecipeErrorCase{"nan", "bliskrun.point_grid{rows=0/0, cols=2, points={}}",
                    "option 'rows': expected a finite number"}),
-    [](const auto& info) { return std::string(info.param.name); });
+    error_case_name);
 
-struct SandboxCase {
-  const char* name;
-  const char* code;
-  const char* expected;
-};
-
-class Sandbox : public ::testing::TestWithParam<SandboxCase> {};
+class Sandbox : public ::testing::TestWithParam<RecipeErrorCase> {};
 
 TEST_P(Sandbox, Refuses) {
   TempDir dir;
   dir.write("secret.txt", "x");
-  const RecipeResult r = run_recipe_text(dir, GetParam().code);
+  const RecipeResult r = run_recipe_text(dir, GetParam().call);
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find(GetParam().expected), std::string::npos) << r.output;
 }
@@ -98,26 +83,26 @@ TEST_P(Sandbox, Refuses) {
 INSTANTIATE_TEST_SUITE_P(
     Refusals, Sandbox,
     ::testing::Values(
-        SandboxCase{"os_execute", "os.execute('true')", "attempt to call a nil value (field 'execute')"},
-        SandboxCase{"os_remove", "os.remove('x')", "(field 'remove')"},
-        SandboxCase{"os_exit", "os.exit(0)", "(field 'exit')"},
-        SandboxCase{"io", "io.open('/etc/passwd')", "attempt to index a nil value (global 'io')"},
-        SandboxCase{"io_popen", "io.popen('ls')", "(global 'io')"},
-        SandboxCase{"package_loadlib", "package.loadlib('libc.so.6', 'system')", "(global 'package')"},
-        SandboxCase{"debug", "debug.getregistry()", "(global 'debug')"},
-        SandboxCase{"dofile", "dofile('/etc/passwd')", "(global 'dofile')"},
-        SandboxCase{"loadfile", "loadfile('/etc/passwd')", "(global 'loadfile')"},
-        SandboxCase{"string_dump", "string.dump(print)", "(field 'dump')"},
-        SandboxCase{"binary_chunk", "assert(load('\\27Lua', 'x', 'b'))", "only text chunks"},
-        SandboxCase{"binary_chunk_default_mode", "assert(load('\\27LuaT\\0'))", "attempt to load a binary chunk"},
-        SandboxCase{"require_c_module", "require('socket.core')", "module 'socket.core' not found"},
-        SandboxCase{"require_path", "require('../../etc/passwd')", "is not a module name"},
-        SandboxCase{"collectgarbage_stop", "collectgarbage('stop')", "option 'stop' is not allowed"},
-        SandboxCase{"read_outside", "bliskrun.read_text('/etc/passwd')", "outside the folders a recipe may read"},
-        SandboxCase{"read_dotdot", "bliskrun.read_text('../../../../etc/passwd')", "outside the folders"},
-        SandboxCase{"write_dotdot", "bliskrun.write_text('../escape.txt', 'x')", "outside the out folder"},
-        SandboxCase{"write_absolute", "bliskrun.write_text('/tmp/escape.txt', 'x')", "outside the out folder"}),
-    [](const auto& info) { return std::string(info.param.name); });
+        RecipeErrorCase{"os_execute", "os.execute('true')", "attempt to call a nil value (field 'execute')"},
+        RecipeErrorCase{"os_remove", "os.remove('x')", "(field 'remove')"},
+        RecipeErrorCase{"os_exit", "os.exit(0)", "(field 'exit')"},
+        RecipeErrorCase{"io", "io.open('/etc/passwd')", "attempt to index a nil value (global 'io')"},
+        RecipeErrorCase{"io_popen", "io.popen('ls')", "(global 'io')"},
+        RecipeErrorCase{"package_loadlib", "package.loadlib('libc.so.6', 'system')", "(global 'package')"},
+        RecipeErrorCase{"debug", "debug.getregistry()", "(global 'debug')"},
+        RecipeErrorCase{"dofile", "dofile('/etc/passwd')", "(global 'dofile')"},
+        RecipeErrorCase{"loadfile", "loadfile('/etc/passwd')", "(global 'loadfile')"},
+        RecipeErrorCase{"string_dump", "string.dump(print)", "(field 'dump')"},
+        RecipeErrorCase{"binary_chunk", "assert(load('\\27Lua', 'x', 'b'))", "only text chunks"},
+        RecipeErrorCase{"binary_chunk_default_mode", "assert(load('\\27LuaT\\0'))", "attempt to load a binary chunk"},
+        RecipeErrorCase{"require_c_module", "require('socket.core')", "module 'socket.core' not found"},
+        RecipeErrorCase{"require_path", "require('../../etc/passwd')", "is not a module name"},
+        RecipeErrorCase{"collectgarbage_stop", "collectgarbage('stop')", "option 'stop' is not allowed"},
+        RecipeErrorCase{"read_outside", "bliskrun.read_text('/etc/passwd')", "outside the folders a recipe may read"},
+        RecipeErrorCase{"read_dotdot", "bliskrun.read_text('../../../../etc/passwd')", "outside the folders"},
+        RecipeErrorCase{"write_dotdot", "bliskrun.write_text('../escape.txt', 'x')", "outside the out folder"},
+        RecipeErrorCase{"write_absolute", "bliskrun.write_text('/tmp/escape.txt', 'x')", "outside the out folder"}),
+    error_case_name);
 
 TEST(Runner, RecipeMayReadItsFolderAndRequireItsModules) {
   TempDir dir;
