@@ -7,6 +7,7 @@
 
 #include "core/collision/tilt.h"
 #include "lua_api/lua_tool.h"
+#include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
@@ -267,7 +268,9 @@ int w_world_tilt(lua_State* L) {
          Field{"tilt_range", Kind::Number, false, 0.0, 180.0, "|w - w0| at most, degrees (default 10)", {}},
          Field{"motion_tol", Kind::Number, false, 1e-6, std::nullopt, "swept check tolerance, mm (default 0.001)", {}},
          Field{"axis_limit", Kind::Table, false, std::nullopt, std::nullopt,
-               "{name=, rotary_axis=, reference=, min=, max=} degrees; default none", {}}});
+               "{name=, rotary_axis=, reference=, min=, max=} degrees; default none", {}},
+         Field{"machine", Kind::Any, false, std::nullopt, std::nullopt,
+               "a bliskrun.machine: refuse axes no rotary position within its travel gives", {}}});
     TiltSettings s;
     s.clearances = check_clearances(L, o, what);
     s.lead0_rad = deg_to_rad(o.number("lead", 0));
@@ -295,6 +298,26 @@ int w_world_tilt(lua_State* L) {
       limit.min_rad = deg_to_rad(a.number("min", -30));
       limit.max_rad = deg_to_rad(a.number("max", 30));
       s.axis_limit = make_axis_limit(limit);
+      lua_pop(L, 1);
+    }
+    if (o.has("machine")) {
+      // The machine's own rotary travel limits the axis (SPEC §5: the limits
+      // a machine defines are what the interference loop uses), on top of
+      // any explicit axis_limit.
+      o.push_raw("machine");
+      const MachineValue* m = test_machine(L, lua_gettop(L));
+      if (!m) luax::error(L, std::string(what) + ": option 'machine': expected a bliskrun.machine");
+      auto kin = std::make_shared<const Kinematics>(m->definition, 0.0);
+      const std::string name = m->definition.name;
+      AxisLimit explicit_limit = s.axis_limit;
+      s.axis_limit = [kin, name, explicit_limit](const Vec3& axis) -> std::string {
+        if (explicit_limit) {
+          std::string why = explicit_limit(axis);
+          if (!why.empty()) return why;
+        }
+        return kin->reachable(axis) ? std::string()
+                                    : "machine '" + name + "': no rotary position within travel gives this axis";
+      };
       lua_pop(L, 1);
     }
     const TiltRun run = tilt_path(w, tool.body(), contacts, s, context(L).progress);

@@ -54,3 +54,38 @@ assert(run.refusals[1].reason:find("no axis clears"), run.refusals[1].reason)
 
 }  // namespace
 }  // namespace bliskrun::test
+
+namespace bliskrun::test {
+namespace {
+
+TEST(BliskInterference, MachineTravelLimitsTheTiltLoop) {
+  // The blisk paper's machine (C table within +-30 deg, B head): a wheel
+  // axis across the feed at azimuth 90 deg is out of its reach, so the loop
+  // refuses the contact and says the machine is why.
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"(
+local paper = bliskrun.machine.define{
+  name = "blisk paper machine",
+  linear = {X = {-500, 500}, Y = {-500, 500}, Z = {-500, 500}},
+  rotary = {{name = "C", carrier = "part", direction = {0, 0, 1}, travel = {-30, 30}},
+            {name = "B", carrier = "tool", direction = {0, 1, 0}, pivot = {0, 0, 200}, travel = {-90, 90}}},
+}
+local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,
+                                  shank = {diameter = 6, length = 96}}
+local world = bliskrun.collision_world{surfaces = {
+  {name = "far plate", mesh = {vertices = {{-50, 500, -5}, {50, 500, -5}, {50, 500, 5}},
+                               triangles = {{1, 2, 3}}}}}}
+local contact = {point = {0, 0, 0}, tangent = {1, 0, 0}, normal = {0, 0, 1}}
+local free = world:tilt(wheel, {contact}, {})
+assert(#free.poses == 1, "without a machine the pose is clear")
+local run = world:tilt(wheel, {contact}, {machine = paper, lead_max = 45})
+assert(#run.poses == 0 and #run.refusals == 1)
+assert(run.refusals[1].reason:find("machine 'blisk paper machine'"), run.refusals[1].reason)
+local ok, msg = pcall(function() return world:tilt(wheel, {contact}, {machine = 5}) end)
+assert(not ok and msg:find("expected a bliskrun.machine"), msg)
+)");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+}  // namespace
+}  // namespace bliskrun::test
