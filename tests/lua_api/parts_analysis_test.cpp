@@ -3,6 +3,8 @@
 // documented examples run in docs_examples_test.)
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "core/analysis/curvature_stats.h"
 #include "core/geometry/interpolation.h"
 #include "core/parts/builtin_blisk.h"
@@ -16,6 +18,9 @@ class LuaPartsAnalysisErrors : public ::testing::TestWithParam<RecipeErrorCase> 
 TEST_P(LuaPartsAnalysisErrors, NameTheProblemAtTheRecipeLine) {
   TempDir dir;
   dir.write("bad_grid.txt", "# grid 2 2\n0 0 0\n1 0 0\n0 1 0\n");
+  dir.write("nan_grid.txt", "# grid 2 2\n0 0 0\n1 0 0\n0 nan 0\n1 1 0\n");
+  dir.write("repeated_grid.txt", "# grid 2 2\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n");
+  std::filesystem::create_directories(dir.path() + "/folder.txt");
   EXPECT_TRUE(fails_at_line_2(dir, GetParam()));
 }
 
@@ -32,6 +37,9 @@ INSTANTIATE_TEST_SUITE_P(
                   "argument 'side': expected \"pressure\" or \"suction\""},
         RecipeErrorCase{"grid_count", "bliskrun.read_point_grid('bad_grid.txt')",
                   "bad_grid.txt:4: expected 2 x 2 = 4 points, got 3"},
+        RecipeErrorCase{"grid_nan", "bliskrun.read_point_grid('nan_grid.txt')", "nan_grid.txt:4:"},
+        RecipeErrorCase{"grid_degenerate", "bliskrun.read_point_grid('repeated_grid.txt')", "repeated_grid.txt:3:"},
+        RecipeErrorCase{"grid_unreadable", "bliskrun.read_point_grid('folder.txt')", "folder.txt"},
         RecipeErrorCase{"grid_order", "bliskrun.read_point_grid('bad_grid.txt', {order = 'diagonal'})",
                   "option 'order'"},
         RecipeErrorCase{"grid_outside", "bliskrun.read_point_grid('/etc/passwd')", "/etc/passwd"},
