@@ -5,6 +5,7 @@
 
 #include "core/analysis/curvature_map.h"
 #include "core/analysis/curvature_stats.h"
+#include "core/analysis/passage.h"
 #include "core/analysis/wheel_design.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -164,6 +165,22 @@ int w_design_drum_wheel(lua_State* L) {
   });
 }
 
+// bliskrun.narrowest_passage(flank_a, flank_b) -> {distance, ua, va, ub, vb}
+int w_narrowest_passage(lua_State* L) {
+  const Surface& a = *luax::check<SurfaceHandle>(L, 1).surface;
+  const Surface& b = *luax::check<SurfaceHandle>(L, 2).surface;
+  return luax::guarded(L, [&] {
+    const PassageDistance d = narrowest_passage(a, b);
+    lua_createtable(L, 0, 5);
+    luax::set_number(L, "distance", d.distance_mm);
+    luax::set_number(L, "ua", d.ua);
+    luax::set_number(L, "va", d.va);
+    luax::set_number(L, "ub", d.ub);
+    luax::set_number(L, "vb", d.vb);
+    return 1;
+  });
+}
+
 }  // namespace
 
 void open_analysis(lua_State* L) {
@@ -174,6 +191,7 @@ void open_analysis(lua_State* L) {
   luax::register_type<CurvatureMapHandle>(L, map_methods);
   static const luaL_Reg functions[] = {{"curvature_stats", w_curvature_stats},
                                        {"design_drum_wheel", w_design_drum_wheel},
+                                       {"narrowest_passage", w_narrowest_passage},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

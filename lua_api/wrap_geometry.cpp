@@ -77,6 +77,18 @@ int w_grid_point(lua_State* L) {
   return 1;
 }
 
+// grid:rotated(angle_deg) -> the grid turned about the Z (rotor) axis: the
+// same flank on another blade.
+int w_grid_rotated(lua_State* L) {
+  const PointGrid& g = *luax::check<GridHandle>(L, 1).grid;
+  const double a = deg_to_rad(luax::check_number(L, 2, "angle"));
+  auto out = std::make_shared<PointGrid>(g);
+  const Eigen::AngleAxisd turn(a, Vec3::UnitZ());
+  for (Vec3& p : out->points) p = turn * p;
+  push_grid(L, std::move(out));
+  return 1;
+}
+
 // ---- interpolation ----------------------------------------------------------
 
 int w_interpolate_grid(lua_State* L) {
@@ -305,7 +317,8 @@ int w_mesh_size(lua_State* L) {
 
 void open_geometry(lua_State* L) {
   static const luaL_Reg grid_methods[] = {{"size", w_grid_size}, {"point", w_grid_point},
-                                          {"surface", w_interpolate_grid}, {nullptr, nullptr}};
+                                          {"surface", w_interpolate_grid}, {"rotated", w_grid_rotated},
+                                          {nullptr, nullptr}};
   luax::register_type<GridHandle>(L, grid_methods);
   static const luaL_Reg surface_methods[] = {{"eval", w_surface_eval},
                                              {"point", w_surface_point},

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "core/io/point_grid_reader.h"
+#include "core/io/rotor67_reader.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
@@ -47,11 +48,57 @@ int w_write_point_grid(lua_State* L) {
   });
 }
 
+
+int push_meridian(lua_State* L, const std::vector<Vec2>& m) {
+  lua_createtable(L, static_cast<int>(m.size()), 0);
+  for (size_t i = 0; i < m.size(); ++i) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, m[i].x());
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, m[i].y());
+    lua_rawseti(L, -2, 2);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  return 1;
+}
+
+// bliskrun.read_rotor67(path [, {cols=200, edge_margin=0.03}]) -> {blades,
+// sections, pressure, suction, hub_meridian, casing_meridian}
+int w_read_rotor67(lua_State* L) {
+  const std::string path = luax::check_string(L, 1, "path");
+  const luax::Options o(L, 2, "bliskrun.read_rotor67",
+                        {{"cols", luax::Kind::Integer, false, 4, 5000, "grid columns along the chord (200)", {}},
+                         {"edge_margin", luax::Kind::Number, false, 0, 0.49,
+                          "chord fraction left out at each edge circle (0.03)", {}}});
+  const std::string file = context(L).resolve_read(L, path);
+  const int cols = static_cast<int>(o.integer("cols", 200));
+  const double margin = o.number("edge_margin", 0.03);
+  return luax::guarded(L, [&] {
+    const StreamSurfaceRotor rotor = read_rotor67(file);
+    const RotorFlanks flanks = rotor_flank_grids(rotor, cols, margin);
+    lua_createtable(L, 0, 6);
+    lua_pushinteger(L, rotor.blade_count);
+    lua_setfield(L, -2, "blades");
+    lua_pushinteger(L, static_cast<lua_Integer>(rotor.surfaces.size()));
+    lua_setfield(L, -2, "sections");
+    push_grid(L, std::make_shared<PointGrid>(flanks.pressure));
+    lua_setfield(L, -2, "pressure");
+    push_grid(L, std::make_shared<PointGrid>(flanks.suction));
+    lua_setfield(L, -2, "suction");
+    push_meridian(L, rotor.hub_meridian);
+    lua_setfield(L, -2, "hub_meridian");
+    push_meridian(L, rotor.casing_meridian);
+    lua_setfield(L, -2, "casing_meridian");
+    return 1;
+  });
+}
+
 }  // namespace
 
 void open_io(lua_State* L) {
   static const luaL_Reg functions[] = {{"read_point_grid", w_read_point_grid},
                                        {"write_point_grid", w_write_point_grid},
+                                       {"read_rotor67", w_read_rotor67},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

@@ -1,0 +1,47 @@
+#pragma once
+// NASA Rotor 67 stream-surface export (rotor67geometry.dat; see
+// ../shared/data/nasa_rotor67/PROVENANCE.md): 14 stream surfaces from hub to
+// casing, each with 110 points of axial distance x, upper-surface R·θ,
+// tangential thickness Δ(R·θ) and radius R, in FEET. Points JLE..JTE are on
+// the blade; the upper (+θ) side is the suction side.
+//
+// Converted once, here, to the part frame in millimetres with Z on the rotor
+// axis: p = (R cos θ, R sin θ, x), θ = (R·θ)/R.
+#include <string>
+#include <vector>
+
+#include "core/common/types.h"
+#include "core/geometry/point_grid.h"
+
+namespace bliskrun {
+
+struct StreamSurfaceRotor {
+  std::string source;
+  int blade_count = 0;
+  int leading_edge = 0, trailing_edge = 0;  // 0-based point indices of the blade's ends
+  // Per stream surface (hub -> casing), every point, mm and rad.
+  struct Surface {
+    std::vector<double> x_mm, r_mm, theta_upper_rad, theta_lower_rad;
+  };
+  std::vector<Surface> surfaces;
+  std::vector<Vec2> hub_meridian, casing_meridian;  // (z, r), mm: surfaces 1 and NS
+};
+
+// Throws DataError(file, line, what was expected) on any malformed input.
+StreamSurfaceRotor read_rotor67(const std::string& path);
+StreamSurfaceRotor parse_rotor67(const std::string& text, const std::string& file_label);
+
+// Flank grids of blade 0 (rows = stream surfaces hub -> casing, cols along
+// the chord), resampled at `cols` common chord fractions in
+// [edge_margin, 1 - edge_margin] of each section's axial extent so that the
+// columns correspond across sections and the edge circles are left out (they
+// are machined by the edge strategy). Each side is interpolated with a cubic
+// through its points before resampling. Orientation as the built-in blisk:
+// u hub -> tip; v LE -> TE on the pressure side, TE -> LE on the suction
+// side, so that pu x pv points out of the material on both.
+struct RotorFlanks {
+  PointGrid pressure, suction;
+};
+RotorFlanks rotor_flank_grids(const StreamSurfaceRotor& rotor, int cols = 200, double edge_margin = 0.03);
+
+}  // namespace bliskrun
