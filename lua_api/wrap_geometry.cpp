@@ -16,6 +16,18 @@ void push_surface(lua_State* L, std::shared_ptr<const Surface> s) { luax::push_n
 void push_grid(lua_State* L, std::shared_ptr<const PointGrid> g) { luax::push_new(L, GridHandle{std::move(g)}); }
 void push_mesh(lua_State* L, std::shared_ptr<const TriangleMesh> m) { luax::push_new(L, MeshHandle{std::move(m)}); }
 
+void push_meridian(lua_State* L, const std::vector<Vec2>& meridian) {
+  lua_createtable(L, static_cast<int>(meridian.size()), 0);
+  for (size_t i = 0; i < meridian.size(); ++i) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, meridian[i].x());
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, meridian[i].y());
+    lua_rawseti(L, -2, 2);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+}
+
 namespace {
 
 double check_param(lua_State* L, int idx, const char* name) {

@@ -28,6 +28,8 @@ struct MeshHandle {
 void push_surface(lua_State* L, std::shared_ptr<const Surface> s);
 void push_grid(lua_State* L, std::shared_ptr<const PointGrid> g);
 void push_mesh(lua_State* L, std::shared_ptr<const TriangleMesh> m);
+// A meridian line as {{z, r}, ...}.
+void push_meridian(lua_State* L, const std::vector<Vec2>& meridian);
 
 }  // namespace bliskrun::lua_api
 

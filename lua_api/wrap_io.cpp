@@ -49,19 +49,6 @@ int w_write_point_grid(lua_State* L) {
 }
 
 
-int push_meridian(lua_State* L, const std::vector<Vec2>& m) {
-  lua_createtable(L, static_cast<int>(m.size()), 0);
-  for (size_t i = 0; i < m.size(); ++i) {
-    lua_createtable(L, 2, 0);
-    lua_pushnumber(L, m[i].x());
-    lua_rawseti(L, -2, 1);
-    lua_pushnumber(L, m[i].y());
-    lua_rawseti(L, -2, 2);
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-  return 1;
-}
-
 // bliskrun.read_rotor67(path [, {cols=200, edge_margin=0.03}]) -> {blades,
 // sections, pressure, suction, hub_meridian, casing_meridian}
 int w_read_rotor67(lua_State* L) {

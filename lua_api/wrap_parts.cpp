@@ -130,18 +130,6 @@ int w_flank(lua_State* L) {
   });
 }
 
-void push_meridian(lua_State* L, const std::vector<Vec2>& m) {
-  lua_createtable(L, static_cast<int>(m.size()), 0);
-  for (size_t i = 0; i < m.size(); ++i) {
-    lua_createtable(L, 2, 0);
-    lua_pushnumber(L, m[i].x());
-    lua_rawseti(L, -2, 1);
-    lua_pushnumber(L, m[i].y());
-    lua_rawseti(L, -2, 2);
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-}
-
 int w_hub_meridian(lua_State* L) {
   push_meridian(L, check_blisk(L).hub_meridian());
   return 1;
