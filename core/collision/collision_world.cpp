@@ -113,7 +113,9 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
     const FclToolPart& part = body.parts()[p];
     PartClearance pc;
     pc.part = part.id;
-    pc.distance_mm = bound[p];
+    // Never seed FCL with 0: an overlap reports distance 0, which would not
+    // beat a zero seed and would pass as "clear" (clearance 0, horizon 0).
+    pc.distance_mm = std::max(bound[p], 1e-6);
     pc.resolved = false;
     // A piece wholly inside the part crosses no face: test one vertex each.
     for (int i = 0; i < size() && !pc.collides; ++i) {

@@ -254,3 +254,23 @@ TEST(CollisionWorld, MotionRejectsBadSettings) {
 
 }  // namespace
 }  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+TEST(CollisionWorld, OverlapIsNotClearWithZeroClearanceAndHorizon) {
+  // The tilt loop asks with horizon 0; with clearance 0 too, an overlap must
+  // still come out as a collision (distance 0 is not "beyond the bound").
+  CollisionWorld world;
+  world.add("floor", test::grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10));
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  const ToolPose sunk{Vec3(0.3, 0.2, -1.0), Vec3::UnitZ()};  // the ball 1 mm into the floor
+  const PoseCheck c = world.check(body, sunk, Clearances{}, 0.0);
+  EXPECT_FALSE(c.clear);
+  EXPECT_TRUE(c.parts.front().collides);
+  const ToolPose above{Vec3(0.3, 0.2, 0.5), Vec3::UnitZ()};
+  EXPECT_TRUE(world.check(body, above, Clearances{}, 0.0).clear);
+}
+
+}  // namespace
+}  // namespace bliskrun
