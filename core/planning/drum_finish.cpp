@@ -29,7 +29,8 @@ Vec3 outward_normal(const SurfaceDerivs& d, bool flip) {
 
 }  // namespace
 
-RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples) {
+RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
+                   bool flip_normal) {
   if (samples < 2) throw ParameterError("width_samples", "at least 2 contact points per row");
   RowWidth out;
   out.width_mm = std::numeric_limits<double>::infinity();
@@ -40,7 +41,10 @@ RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double re
     // The wheel axis lies in the tangent plane across the feed, i.e. along
     // the span: the cut width depends on the normal curvature along it.
     const Vec3 across = d.pu - d.pu.dot(d.pv.normalized()) * d.pv.normalized();
-    const double k = normal_curvature(d, across.normalized());
+    // normal_curvature is signed by pu × pv; cut_width wants it signed by
+    // the normal out of the material (> 0 concave).
+    const double k_along = normal_curvature(d, across.normalized());
+    const double k = flip_normal ? -k_along : k_along;
     const CutWidth w = tool.cut_width(tool.flank_contact_height(), k, residual_height_mm);
     out.width_mm = std::min(out.width_mm, w.width_mm);
     max_pu = std::max(max_pu, d.pu.norm());
@@ -76,7 +80,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   for (;;) {
     DrumFinishRow row;
     row.u = u;
-    const RowWidth w = row_width(ts, tool, u, rq.residual_height_mm, rq.width_samples);
+    const RowWidth w = row_width(ts, tool, u, rq.residual_height_mm, rq.width_samples, rq.flip_normal);
     row.width_mm = w.width_mm;
     const bool last = u >= 1.0;
     row.spacing_du = last ? 0 : std::min(w.du, 1.0 - u);

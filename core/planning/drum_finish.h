@@ -85,7 +85,9 @@ struct RowWidth {
   double width_mm = 0;
   double du = 0;
 };
-RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples);
+// flip_normal as in DrumFinishRequest.
+RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
+                   bool flip_normal = false);
 
 // APT/CL text: header naming tool and tolerances, GOTO/x,y,z,i,j,k per
 // pose (tool tip and axis), RAPID before each link move; fixed 6-digit
