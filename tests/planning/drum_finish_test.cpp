@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/common/error.h"
 #include "core/geometry/mesh.h"
 #include "tests/collision/test_meshes.h"
 
@@ -113,7 +114,12 @@ TEST(DrumFinish, AWallInThePathGivesRefusalsNotPoses) {
   EXPECT_GT(res.total_refusals, 0);
   ToolBody body(f.tool);
   for (const DrumFinishRow& row : res.rows)
-    for (const DrumFinishPose& p : row.poses) EXPECT_TRUE(f.world.check(body, p.pose, {}).clear);
+    for (const DrumFinishPose& p : row.poses) {
+      const PoseCheck c = f.world.check(body, p.pose, {});
+      EXPECT_TRUE(c.clear) << "row u " << row.u << " v " << p.v << " tip " << p.pose.tip.transpose() << " axis "
+                           << p.pose.axis.transpose() << " lead " << p.lead_rad << " margin " << c.min_margin_mm
+                           << " poses " << res.total_poses << " refusals " << res.total_refusals;
+    }
 }
 
 TEST(DrumFinish, MissingInputsAreNamed) {
