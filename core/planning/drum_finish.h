@@ -1,0 +1,99 @@
+#pragma once
+// Blisk flank finishing with a drum wheel (SPEC §6.1, blisk paper §3):
+// trim the flank between hub and casing (§3.1 Fig. 5), space rows by the
+// drum wheel's cut width against the normal curvature across the feed
+// (§3.1 Fig. 6), step along each row to the chord tolerance, orient the
+// axis by the paper's λ/w rule with tilt-until-clear (§3.3), and link the
+// rows with collision-checked retract/traverse/approach moves.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/collision/tilt.h"
+#include "core/common/progress.h"
+#include "core/geometry/revolution.h"
+#include "core/geometry/surface.h"
+#include "core/planning/row_steps.h"
+#include "core/planning/trimmed_surface.h"
+#include "core/tools/tool.h"
+
+namespace bliskrun {
+
+struct DrumFinishRequest {
+  std::shared_ptr<const Surface> flank;       // u hub→tip, v along the chord
+  const SurfaceOfRevolution* hub = nullptr;    // lower trim (u' = 0)
+  const SurfaceOfRevolution* casing = nullptr; // upper trim (u' = 1)
+  const Tool* tool = nullptr;
+  bool flip_normal = false;    // material lies on the +pu×pv side
+  const CollisionWorld* world = nullptr;       // neighbouring blades, hub
+  double residual_height_mm = 0.014;
+  StepOptions steps;
+  TiltSettings tilt;
+  bool zigzag = true;
+  int width_samples = 40;      // contact points per row sampled for the width
+  int trim_samples_v = 200;    // iso-v lines intersected with hub and casing
+  double retract_mm = 5.0;
+  double tool_tol_mm = 1e-3;   // ToolBody meshing tolerance
+};
+
+struct DrumFinishPose {
+  ToolPose pose;
+  Vec3 contact = Vec3::Zero();
+  double u = 0, v = 0;  // trimmed-surface parameters of the contact
+  double lead_rad = 0, tilt_rad = 0;
+};
+
+struct DrumFinishRow {
+  double u = 0;                // u' of the row
+  double width_mm = 0;         // smallest cut width along the row
+  double spacing_du = 0;       // u' step to the next row (0 on the last)
+  int contacts = 0;            // contact points planned along the row
+  double max_deviation_mm = 0; // measured chord deviation
+  bool reversed = false;       // zigzag: row run from v = 1 to v = 0
+  std::vector<DrumFinishPose> poses;  // emitted, in cutting order
+  std::vector<TiltRefusal> refusals;  // contacts with no clear axis
+};
+
+// Move from the end of one row to the start of the next: retract along
+// the tool axis, traverse, approach. Emitted only when every segment is
+// clear (check_motion); otherwise the link is a refusal.
+struct DrumFinishLink {
+  int from_row = 0, to_row = 0;
+  std::vector<ToolPose> moves;  // retract point, approach point (rapid)
+  bool clear = false;
+  std::string reason;           // why it was refused, when not clear
+};
+
+struct DrumFinishResult {
+  std::shared_ptr<const TrimmedSurface> trimmed;
+  std::vector<DrumFinishRow> rows;
+  std::vector<DrumFinishLink> links;
+  int total_poses = 0, total_refusals = 0, refused_links = 0;
+  double max_deviation_mm = 0;
+  double trim_seconds = 0, rows_seconds = 0, tilt_seconds = 0, link_seconds = 0;
+};
+
+// Throws ParameterError for a missing flank/hub/casing/tool/world or
+// non-positive residual height, width_samples < 2 or retract_mm < 0.
+DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& progress = Progress::none());
+
+// Cut width row spacing at u' (exposed for tests): smallest cut width over
+// `samples` points of the row, and the u' step that keeps the 3-D gap
+// within it everywhere.
+struct RowWidth {
+  double width_mm = 0;
+  double du = 0;
+};
+// flip_normal as in DrumFinishRequest.
+RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
+                   bool flip_normal = false);
+
+// APT/CL text: header naming tool and tolerances, GOTO/x,y,z,i,j,k per
+// pose (tool tip and axis), RAPID before each link move; fixed 6-digit
+// formatting so output is deterministic.
+std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequest& request);
+void write_drum_finish_apt(const std::string& path, const DrumFinishResult& result,
+                           const DrumFinishRequest& request);
+
+}  // namespace bliskrun
