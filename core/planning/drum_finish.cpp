@@ -132,16 +132,6 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     const TiltRun run = tilt_path(*rq.world, body, frames, settings, progress);
     row.refusals = run.refusals;
     for (const TiltAccepted& a : run.poses) {
-      // tilt_until_clear checks at horizon 0, where an overlap with zero
-      // clearance can go unseen (FCL seeded at distance 0); re-check with a
-      // positive horizon so no uncleared pose is ever emitted.
-      const PoseCheck recheck = rq.world->check(body, a.pose, rq.tilt.clearances, 1.0);
-      if (!recheck.clear) {
-        row.refusals.push_back(TiltRefusal{a.index, frames[a.index].point,
-                                           "pose accepted by tilt_until_clear fails the full check (margin " +
-                                               std::to_string(recheck.min_margin_mm) + " mm)"});
-        continue;
-      }
       DrumFinishPose p;
       p.pose = a.pose;
       p.contact = frames[a.index].point;
@@ -151,8 +141,6 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       p.tilt_rad = a.tilt_rad;
       row.poses.push_back(p);
     }
-    std::sort(row.refusals.begin(), row.refusals.end(),
-              [](const TiltRefusal& a, const TiltRefusal& b) { return a.index < b.index; });
     res.total_poses += static_cast<int>(row.poses.size());
     res.total_refusals += static_cast<int>(row.refusals.size());
     tilt_s += seconds_since(t0);
