@@ -1,14 +1,8 @@
 #pragma once
 // A Gaussian-curvature picture like the blisk paper's Fig. 11: K over the
-// flank's (u, v) parameter square as an SVG heat map, v (chord) across,
-// u (span, hub at the bottom) up, with a colour bar and labels.
-//
-// The colour scale is diverging and centred on K = 0 (blue K < 0, white 0,
-// red K > 0) over [-m, m], m = max |K|, so the saddle region the wheel
-// design looks at (§2.2) reads at a glance. Values are quantised to `levels`
-// colours and equal neighbours along a row merged into one rectangle, which
-// keeps a 100 x 500 map around a few hundred kB. Output bytes depend only on
-// the input (fixed number formatting), so pictures can be compared in tests.
+// flank's (u, v) parameter square, drawn by heat_map.h (diverging scale
+// centred on K = 0, blue K < 0, so the saddle region the wheel design looks
+// at, §2.2, reads at a glance). Output bytes depend only on the input.
 #include <string>
 
 #include "core/analysis/curvature_stats.h"

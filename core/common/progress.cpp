@@ -30,6 +30,7 @@ void Progress::end() {
 
 void Progress::check() const {
   if (cancelled_.load()) throw Cancelled("cancelled: " + reason_);
+  if (parent_) parent_->check();
 }
 
 Progress& Progress::none() {

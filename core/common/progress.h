@@ -17,6 +17,9 @@ class Progress {
 
   Progress() = default;
   explicit Progress(Reporter reporter) : reporter_(std::move(reporter)) {}
+  // A worker's own Progress inside a parallel job: it reports nothing and is
+  // cancelled whenever `parent` is (the watchdog cancels the parent).
+  explicit Progress(const Progress* parent) : parent_(parent) {}
   void set_reporter(Reporter reporter) { reporter_ = std::move(reporter); }
 
   // Starts a named task of `total` units.
@@ -30,7 +33,7 @@ class Progress {
     reason_ = std::move(reason);
     cancelled_.store(true);
   }
-  bool cancelled() const { return cancelled_.load(); }
+  bool cancelled() const { return cancelled_.load() || (parent_ && parent_->cancelled()); }
   // Throws Cancelled if a cancel was requested.
   void check() const;
 
@@ -43,6 +46,7 @@ class Progress {
   long total_ = 0;
   long last_reported_ = -1;
   std::atomic<bool> cancelled_{false};
+  const Progress* parent_ = nullptr;
   std::string reason_;
 };
 

@@ -4,7 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <atomic>
+#include <exception>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
@@ -25,6 +29,90 @@ ParameterBoundary boundary_from(const SurfaceCurveOnSurface& c) {
 Vec3 outward_normal(const SurfaceDerivs& d, bool flip) {
   Vec3 n = d.pu.cross(d.pv).normalized();
   return flip ? Vec3(-n) : n;
+}
+
+// §3.3 contact frames of a row, in cutting order: X = travel direction,
+// Z = outward normal, Y = Z × X; the axis at λ = w = 0 is +Y. The initial
+// tilt w0 ∈ {0, π} (added to the settings' w0) is chosen per row so the axis
+// leans towards the tip (+∂p/∂u'), out of the passage on the spindle side;
+// with it the axis does not depend on the travel direction.
+struct RowFrames {
+  std::vector<ContactFrame> frames;
+  double tilt0_rad = 0;
+};
+RowFrames row_frames(const TrimmedSurface& ts, double u, const std::vector<double>& vs, bool reversed,
+                     bool flip_normal, double tilt0_rad) {
+  RowFrames out;
+  out.frames.reserve(vs.size());
+  double tip_side = 0;
+  for (double v : vs) {
+    const SurfaceDerivs d = ts.eval(u, v);
+    ContactFrame f;
+    f.point = d.p;
+    f.normal = outward_normal(d, flip_normal);
+    Vec3 x = reversed ? Vec3(-d.pv) : d.pv;
+    f.tangent = (x - x.dot(f.normal) * f.normal).normalized();
+    tip_side += f.normal.cross(f.tangent).dot(d.pu);
+    out.frames.push_back(f);
+  }
+  out.tilt0_rad = tilt0_rad + (tip_side >= 0 ? 0.0 : kPi);
+  return out;
+}
+
+// Points on the cutter's surface below its flank contact height (the part
+// that can reach into the hub), in the tool frame: rings of the profile and
+// the bottom face.
+std::vector<Vec3> cutter_lower_samples(const Tool& tool) {
+  const Profile& c = tool.cutter();
+  const double z0 = c.z_min(), z1 = std::max(z0, std::min(c.z_max(), tool.flank_contact_height()));
+  constexpr int kRings = 3, kAround = 24;
+  std::vector<Vec3> out;
+  for (int i = 0; i <= kRings; ++i) {
+    const double z = z0 + (z1 - z0) * i / kRings;
+    const double r = c.radius_at(z);
+    for (int k = 0; k < kAround; ++k) {
+      const double a = 2 * kPi * k / kAround;
+      out.emplace_back(r * std::cos(a), r * std::sin(a), z);
+      if (i == 0) out.emplace_back(0.5 * r * std::cos(a), 0.5 * r * std::sin(a), z);
+    }
+  }
+  out.emplace_back(0, 0, z0);
+  return out;
+}
+
+// Smallest radial offset from the hub, minus the clearance, of the cutter's
+// lower samples at `samples` contacts of the row at u' (initial axes).
+double hub_margin(const TrimmedSurface& ts, const DrumFinishRequest& rq, const std::vector<Vec3>& lower,
+                  double u) {
+  std::vector<double> vs(rq.width_samples);
+  for (int i = 0; i < rq.width_samples; ++i) vs[i] = static_cast<double>(i) / (rq.width_samples - 1);
+  const RowFrames rf = row_frames(ts, u, vs, false, rq.flip_normal, rq.tilt.tilt0_rad);
+  double margin = std::numeric_limits<double>::infinity();
+  for (const ContactFrame& f : rf.frames) {
+    const ToolPose pose = place_tool(*rq.tool, f, axis_from_lead_tilt(f, rq.tilt.lead0_rad, rf.tilt0_rad));
+    const Eigen::Isometry3d T = tool_to_part(pose);
+    for (const Vec3& q : lower) {
+      margin = std::min(margin, rq.hub->radial_offset(T * q) - rq.hub_clearance_mm);
+      if (margin < 0) return margin;  // bisection only needs the sign
+    }
+  }
+  return margin;
+}
+
+// The hub clearance rule (DrumFinishRequest::hub_clearance_mm): the lowest
+// u' whose row clears the hub, by bisection to 1e-4 in u' (a few um of span).
+double first_clear_row(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
+  const std::vector<Vec3> lower = cutter_lower_samples(*rq.tool);
+  if (hub_margin(ts, rq, lower, 0.0) >= 0) return 0.0;
+  if (hub_margin(ts, rq, lower, 1.0) < 0)
+    throw Error("plan_drum_finish: the wheel cannot clear the hub by " + std::to_string(rq.hub_clearance_mm) +
+                " mm on any row of this flank (even at the tip); check the wheel's head length");
+  double lo = 0, hi = 1;
+  while (hi - lo > 1e-4) {
+    const double mid = 0.5 * (lo + hi);
+    (hub_margin(ts, rq, lower, mid) >= 0 ? hi : lo) = mid;
+  }
+  return hi;
 }
 
 }  // namespace
@@ -63,6 +151,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   if (!(rq.residual_height_mm > 0)) throw ParameterError("residual_height_mm", "must be > 0");
   if (rq.width_samples < 2) throw ParameterError("width_samples", "at least 2");
   if (!(rq.retract_mm >= 0)) throw ParameterError("retract_mm", "must be >= 0");
+  if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance_mm", "must be >= 0");
 
   DrumFinishResult res;
   auto t0 = Clock::now();
@@ -71,12 +160,19 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   const SurfaceCurveOnSurface upper = intersect_with_revolution(*rq.flank, *rq.casing, rq.trim_samples_v);
   res.trimmed = std::make_shared<TrimmedSurface>(rq.flank, boundary_from(lower), boundary_from(upper));
   const TrimmedSurface& ts = *res.trimmed;
+
+  // The first row: as low as the hub lets the wheel go.
+  res.first_row_u = first_clear_row(ts, rq);
+  for (int i = 0; i <= rq.width_samples; ++i) {
+    const double v = static_cast<double>(i) / rq.width_samples;
+    res.hub_strip_mm = std::max(res.hub_strip_mm, (ts.point(res.first_row_u, v) - ts.point(0, v)).norm());
+  }
   res.trim_seconds = seconds_since(t0);
 
-  // §3.1 Fig. 6: rows from the hub (u' = 0) to the tip (u' = 1).
+  // §3.1 Fig. 6: rows from the first row up to the tip (u' = 1).
   t0 = Clock::now();
   const Tool& tool = *rq.tool;
-  double u = 0;
+  double u = res.first_row_u;
   for (;;) {
     DrumFinishRow row;
     row.u = u;
@@ -94,6 +190,10 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
 
   ToolBody body(tool, rq.tool_tol_mm);
   double tilt_s = 0;
+  // Rows are the progress unit; the tilt loop's own per-contact progress
+  // would restart for every row.
+  Progress per_row(&progress);
+  progress.begin("drum finish rows", static_cast<long>(res.rows.size()));
   for (size_t r = 0; r < res.rows.size(); ++r) {
     DrumFinishRow& row = res.rows[r];
     row.reversed = rq.zigzag && (r % 2 == 1);
@@ -106,30 +206,13 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     res.max_deviation_mm = std::max(res.max_deviation_mm, steps.max_deviation_mm);
 
     t0 = Clock::now();
-    std::vector<ContactFrame> frames;
-    std::vector<double> vs;
-    frames.reserve(steps.t.size());
-    // §3.3: X = travel direction, Z = outward normal, Y = Z × X; the axis
-    // at λ = w = 0 is +Y. Pick w0 ∈ {0, π} per row so it leans towards the
-    // tip (+∂p/∂u'), out of the passage on the spindle side.
-    double tip_side = 0;
-    for (size_t i = 0; i < steps.t.size(); ++i) {
-      const size_t k = row.reversed ? steps.t.size() - 1 - i : i;
-      const double v = steps.t[k];
-      const SurfaceDerivs d = ts.eval(row.u, v);
-      ContactFrame f;
-      f.point = d.p;
-      f.normal = outward_normal(d, rq.flip_normal);
-      Vec3 x = row.reversed ? Vec3(-d.pv) : d.pv;
-      x = (x - x.dot(f.normal) * f.normal).normalized();
-      f.tangent = x;
-      tip_side += f.normal.cross(x).dot(d.pu);
-      frames.push_back(f);
-      vs.push_back(v);
-    }
+    std::vector<double> vs(steps.t.size());
+    for (size_t i = 0; i < vs.size(); ++i) vs[i] = steps.t[row.reversed ? vs.size() - 1 - i : i];
+    const RowFrames rf = row_frames(ts, row.u, vs, row.reversed, rq.flip_normal, rq.tilt.tilt0_rad);
+    const std::vector<ContactFrame>& frames = rf.frames;
     TiltSettings settings = rq.tilt;
-    settings.tilt0_rad = rq.tilt.tilt0_rad + (tip_side >= 0 ? 0.0 : kPi);
-    const TiltRun run = tilt_path(*rq.world, body, frames, settings, progress);
+    settings.tilt0_rad = rf.tilt0_rad;
+    const TiltRun run = tilt_path(*rq.world, body, frames, settings, per_row);
     row.refusals = run.refusals;
     for (const TiltAccepted& a : run.poses) {
       DrumFinishPose p;
@@ -146,6 +229,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     tilt_s += seconds_since(t0);
     progress.step(static_cast<long>(r + 1));
   }
+  progress.end();
   res.tilt_seconds = tilt_s;
 
   // Links: retract along the axis, traverse, approach; each segment checked.
@@ -187,6 +271,57 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   }
   res.link_seconds = seconds_since(t0);
   return res;
+}
+
+std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
+                                                   Progress& progress) {
+  if (threads < 1) throw ParameterError("threads", "must be >= 1");
+  std::vector<DrumFinishResult> results(requests.size());
+  const int workers = std::max(1, std::min<int>(threads, static_cast<int>(requests.size())));
+  std::atomic<size_t> next{0};
+  std::atomic<long> done{0};
+  std::mutex report_mutex;  // the reporter is not thread-safe
+  std::exception_ptr failure;
+  progress.begin("drum finish, flanks", static_cast<long>(requests.size()));
+  auto work = [&] {
+    Progress own(&progress);  // cancelled with the caller's
+    for (;;) {
+      const size_t k = next.fetch_add(1);
+      if (k >= requests.size()) return;
+      try {
+        results[k] = plan_drum_finish(requests[k], own);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(report_mutex);
+        if (!failure) failure = std::current_exception();
+        next.store(requests.size());  // stop handing out work
+        return;
+      }
+      std::lock_guard<std::mutex> lock(report_mutex);
+      progress.step(++done);
+    }
+  };
+  if (workers == 1) {
+    work();
+  } else {
+    std::vector<std::thread> pool;
+    for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+    for (auto& t : pool) t.join();
+  }
+  if (failure) std::rethrow_exception(failure);
+  progress.end();
+  return results;
+}
+
+std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result) {
+  std::vector<std::vector<ToolPose>> passes;
+  for (const DrumFinishRow& row : result.rows) {
+    if (row.poses.empty()) continue;
+    std::vector<ToolPose> pass;
+    pass.reserve(row.poses.size());
+    for (const DrumFinishPose& p : row.poses) pass.push_back(p.pose);
+    passes.push_back(std::move(pass));
+  }
+  return passes;
 }
 
 namespace {

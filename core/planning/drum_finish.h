@@ -35,6 +35,14 @@ struct DrumFinishRequest {
   int trim_samples_v = 200;    // iso-v lines intersected with hub and casing
   double retract_mm = 5.0;
   double tool_tol_mm = 1e-3;   // ToolBody meshing tolerance
+  // Hub clearance rule: at u' = 0 the contact is on the hub curve and the
+  // half of the wheel below its widest point would sit in the hub. The first
+  // row is raised to the lowest u' at which the wheel, at every sampled
+  // contact of the row with its initial axis, stays this far outside the hub
+  // surface of revolution (sampled on the cutter's surface). The strip below
+  // is left for the hub-fillet operation and reported. The interference loop
+  // still proves every pose against the world, which should hold the hub.
+  double hub_clearance_mm = 0.02;
 };
 
 struct DrumFinishPose {
@@ -67,6 +75,8 @@ struct DrumFinishLink {
 
 struct DrumFinishResult {
   std::shared_ptr<const TrimmedSurface> trimmed;
+  double first_row_u = 0;      // u' of the first row (hub clearance rule)
+  double hub_strip_mm = 0;     // largest 3-D gap from the hub curve to the first row
   std::vector<DrumFinishRow> rows;
   std::vector<DrumFinishLink> links;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
@@ -77,6 +87,18 @@ struct DrumFinishResult {
 // Throws ParameterError for a missing flank/hub/casing/tool/world or
 // non-positive residual height, width_samples < 2 or retract_mm < 0.
 DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& progress = Progress::none());
+
+// Plans several flanks (e.g. every blade of a blisk) on `threads` worker
+// threads. Results are in request order and do not depend on the thread
+// count. Each request's world and surfaces must stay alive and must not be
+// shared mutably; const sharing is fine. Reports one step per finished flank;
+// cancelling `progress` stops every worker at its next safe point.
+std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
+                                                   Progress& progress = Progress::none());
+
+// The cutting passes of a plan, one per row with poses, in cutting order, for
+// the undercut simulation (core/sim). Links do not cut.
+std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result);
 
 // Cut width row spacing at u' (exposed for tests): smallest cut width over
 // `samples` points of the row, and the u' step that keeps the 3-D gap

@@ -95,15 +95,24 @@ std::vector<Eigen::Isometry3d> tool_positions(const std::vector<ToolPass>& passe
   return out;
 }
 
-// Lowest s in [-below, above] where p + s n is inside the cutter, or +inf.
+// Lowest s in [-below, limit] where p + s n is inside the cutter, or +inf.
+// `limit` is the lower of search_above_mm and the material already left at
+// the sample: an entry above it would change nothing, so the trace stops
+// there (most positions of a sweep only graze what the one before cut).
 double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool,
-                   const UndercutOptions& o) {
+                   const UndercutOptions& o, double limit) {
+  // The distance to the cutter's bounding cylinder is a cheaper lower bound
+  // of the exact one; stepping by it is as safe, and far from the cutter it
+  // is nearly as long a step.
+  const double r_max = cutter.max_radius(), z_lo = cutter.z_min(), z_hi = cutter.z_max();
   double s = -o.search_below_mm;
   for (int iter = 0; iter < 400; ++iter) {
-    const double f = cutter.signed_distance(Vec3(p_tool + s * n_tool));
+    const Vec3 q = p_tool + s * n_tool;
+    const double bound = std::max(std::hypot(q.x(), q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
+    const double f = bound > 0.02 ? bound : cutter.signed_distance(q);
     if (f <= o.tol_mm) return s;
     s += f;
-    if (s > o.search_above_mm) return kInf;
+    if (s > limit) return kInf;
   }
   return kInf;  // grazing line that never entered within the iteration budget
 }
@@ -123,7 +132,8 @@ void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const Sam
       for (int m : tile.members) {
         const Sample& smp = idx.samples[m];
         ++evaluations;
-        const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o);
+        const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
+                                     std::min(o.search_above_mm, residual[m]));
         if (s < residual[m]) residual[m] = s;
       }
     }

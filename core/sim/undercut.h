@@ -36,8 +36,8 @@ struct UndercutOptions {
   int samples_u = 200;           // along u (span)
   int samples_v = 1000;          // along v (chord)
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;  // sampled parameter window
-  double search_above_mm = 0.5;  // how far above the surface material is tracked
-  double search_below_mm = 0.5;  // how deep a gouge is measured
+  double search_above_mm = 0.1;  // how far above the surface material is tracked (finishing)
+  double search_below_mm = 0.1;  // how deep a gouge is measured (deeper reads as this)
   double sweep_step_mm = 0.05;   // largest cutter-point motion between evaluated positions
   int threads = 2;               // results do not depend on it
   double tol_mm = 1e-5;          // sphere-tracing stop

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/common/error.h"
 #include "core/geometry/mesh.h"
@@ -55,14 +57,14 @@ struct Fixture {
   }
 };
 
-TEST(DrumFinish, RowsStartOnTheHubAndAreSpacedByTheClosedFormCutWidth) {
+TEST(DrumFinish, TrimmedBetweenHubAndCasingRowsSpacedByTheClosedFormCutWidth) {
   Fixture f;
   // A neighbouring "blade" wall far above the passage.
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   const DrumFinishRequest rq = f.request();
   const DrumFinishResult res = plan_drum_finish(rq);
   ASSERT_GE(res.rows.size(), 3u);
-  EXPECT_EQ(res.rows.front().u, 0.0);
+  EXPECT_EQ(res.rows.front().u, res.first_row_u);
   EXPECT_EQ(res.rows.back().u, 1.0);
   for (double v : {0.0, 0.5, 1.0}) EXPECT_NEAR(f.hub.radial_offset(res.trimmed->point(0, v)), 0, 1e-6);
   for (double v : {0.0, 0.5, 1.0}) EXPECT_NEAR(f.casing.radial_offset(res.trimmed->point(1, v)), 0, 1e-6);
@@ -103,6 +105,68 @@ TEST(DrumFinish, RowsStartOnTheHubAndAreSpacedByTheClosedFormCutWidth) {
   size_t gotos = 0;
   for (size_t at = apt.find("GOTO/"); at != std::string::npos; at = apt.find("GOTO/", at + 1)) ++gotos;
   EXPECT_EQ(gotos, static_cast<size_t>(res.total_poses) + 2 * res.links.size());
+}
+
+// Smallest radial offset from the hub over a dense sampling of the whole
+// cutter surface (60 rings x 90 around plus the end faces) at `pose`.
+double min_hub_offset(const Tool& tool, const SurfaceOfRevolution& hub, const ToolPose& pose) {
+  const Profile& c = tool.cutter();
+  const Eigen::Isometry3d T = tool_to_part(pose);
+  double m = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= 60; ++i) {
+    const double z = c.z_min() + (c.z_max() - c.z_min()) * i / 60;
+    const double r = c.radius_at(std::clamp(z, c.z_min() + 1e-9, c.z_max() - 1e-9));
+    for (double f : {1.0, 0.75, 0.5, 0.25})
+      for (int k = 0; k < 90; ++k) {
+        const double a = 2 * kPi * k / 90;
+        m = std::min(m, hub.radial_offset(T * Vec3(f * r * std::cos(a), f * r * std::sin(a), z)));
+        if (i > 0 && i < 60) break;  // inner points only on the end faces
+      }
+  }
+  return m;
+}
+
+TEST(DrumFinish, FirstRowIsTheLowestWhereTheWheelClearsTheHub) {
+  Fixture f;
+  f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
+  DrumFinishRequest rq = f.request();
+  rq.hub_clearance_mm = 0.05;
+  const DrumFinishResult res = plan_drum_finish(rq);
+  // At u' = 0 the wheel's lower half would be in the hub: the first row is raised.
+  ASSERT_GT(res.first_row_u, 0.01);
+  ASSERT_FALSE(res.rows.front().poses.empty());
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const DrumFinishPose& p : res.rows.front().poses) lowest = std::min(lowest, min_hub_offset(f.tool, f.hub, p.pose));
+  // Clear by the clearance (to the rule's sampling, a few um), and not much
+  // more: the rule took the lowest row that clears.
+  EXPECT_GE(lowest, rq.hub_clearance_mm - 5e-3);
+  EXPECT_LE(lowest, rq.hub_clearance_mm + 0.02);
+  // The 3-D strip left above the hub curve is what the report says.
+  EXPECT_NEAR(res.hub_strip_mm, (res.trimmed->point(res.first_row_u, 0.5) - res.trimmed->point(0, 0.5)).norm(), 0.05);
+  // A row 0.3 mm lower would put the wheel into the hub.
+  const double du = 0.3 / res.trimmed->eval(res.first_row_u, 0.5).pu.norm();
+  ContactFrame frame;
+  const SurfaceDerivs d = res.trimmed->eval(res.first_row_u - du, 0.5);
+  frame.point = d.p;
+  frame.normal = -d.pu.cross(d.pv).normalized();  // flip_normal
+  frame.tangent = d.pv.normalized();
+  Vec3 axis = axis_from_lead_tilt(frame, 0, 0);
+  if (axis.dot(d.pu) < 0) axis = axis_from_lead_tilt(frame, 0, kPi);
+  EXPECT_LT(min_hub_offset(f.tool, f.hub, place_tool(f.tool, frame, axis)), rq.hub_clearance_mm - 0.05);
+}
+
+TEST(DrumFinish, AllFlanksOnTwoThreadsMatchOneByOne) {
+  Fixture f;
+  f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
+  std::vector<DrumFinishRequest> rqs(3, f.request());
+  rqs[1].residual_height_mm = 0.008;
+  rqs[2].zigzag = false;
+  const std::vector<DrumFinishResult> two = plan_drum_finish_all(rqs, 2);
+  ASSERT_EQ(two.size(), 3u);
+  for (size_t k = 0; k < rqs.size(); ++k)
+    EXPECT_EQ(drum_finish_apt(two[k], rqs[k]), drum_finish_apt(plan_drum_finish(rqs[k]), rqs[k])) << k;
+  EXPECT_GT(two[1].rows.size(), two[0].rows.size());  // smaller residual, more rows
+  EXPECT_THROW(plan_drum_finish_all(rqs, 0), ParameterError);
 }
 
 TEST(DrumFinish, AWallInThePathGivesRefusalsNotPoses) {

@@ -1,0 +1,40 @@
+#pragma once
+// A value over a surface's (u, v) parameter square as an SVG heat map:
+// v (chord) across, u (span, hub at the bottom) up, with a colour bar and
+// labels. Serves the Gaussian-curvature picture (the blisk paper's Fig. 11)
+// and the undercut map (Fig. 15).
+//
+// The colour scale is diverging and centred on 0 (blue < 0, white 0, red > 0)
+// over [-m, m], m = max |value| over the finite values (or `scale_max` when
+// set), so the sign reads at a glance. Non-finite values (e.g. samples a
+// simulation never reached) are grey. Values are quantised to `levels`
+// colours and equal neighbours along a row merged into one rectangle, which
+// keeps a 200 x 1000 map at a few hundred kB. Output bytes depend only on
+// the input (fixed number formatting), so pictures can be compared in tests.
+#include <string>
+#include <vector>
+
+namespace bliskrun {
+
+struct HeatMap {
+  int rows = 0, cols = 0;      // rows along u, cols along v
+  std::vector<double> values;  // row-major, rows x cols
+  double at(int i, int j) const { return values[static_cast<size_t>(i) * cols + j]; }
+};
+
+struct HeatMapOptions {
+  std::string title;
+  std::string value_label;  // over the colour bar, e.g. "K (mm^-2)"
+  std::string footer;       // one line under the plot
+  double scale_max = 0;     // > 0: fixed scale [-scale_max, scale_max]; values beyond are clamped
+  int plot_width_px = 800;
+  int plot_height_px = 320;
+  int levels = 64;          // colours in the scale, >= 2
+};
+
+// Throws ParameterError for an empty or mis-sized map or an option out of range.
+std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& opts);
+// Writes heat_map_svg(...) with write_file_atomic.
+void write_heat_map_svg(const HeatMap& map, const std::string& path, const HeatMapOptions& opts);
+
+}  // namespace bliskrun
