@@ -11,6 +11,7 @@ namespace {
 const char* const kUsage =
     "usage: bliskrun RECIPE.lua [--out DIR] [--data DIR]... [--set KEY=VALUE]...\n"
     "                [--quiet] [--verify] [--time-limit SECONDS] [--memory-limit MB]\n"
+    "                [--threads N]\n"
     "\n"
     "  --out DIR            folder the recipe writes to (default: out)\n"
     "  --data DIR           folder of part data the recipe may read (repeatable;\n"
@@ -20,6 +21,8 @@ const char* const kUsage =
     "  --quiet              no progress on stderr\n"
     "  --time-limit S       stop the run after S seconds of wall time (default 3600, 0 = none)\n"
     "  --memory-limit MB    limit the recipe's Lua memory (default 8192, 0 = none)\n"
+    "  --threads N          worker threads for planning and simulation (default 2;\n"
+    "                       outputs do not depend on it)\n"
     "  --verify             after the run, print the read-back verification of every\n"
     "                       NC program the recipe posted (each is replayed through the\n"
     "                       machine's kinematics before it is written)\n"
@@ -82,6 +85,12 @@ int main(int argc, char** argv) {
       double x = 0;
       if (!v || !parse_number(v, x)) return usage_error(arg + " needs a non-negative number");
       (arg == "--time-limit" ? options.time_limit_s : options.memory_limit_mb) = x;
+    } else if (arg == "--threads") {
+      const char* v = value("--threads");
+      double x = 0;
+      if (!v || !parse_number(v, x) || x < 1 || x > 256 || x != static_cast<int>(x))
+        return usage_error("--threads needs a whole number from 1 to 256");
+      options.threads = static_cast<int>(x);
     } else if (!arg.empty() && arg[0] == '-') {
       return usage_error("unknown option '" + arg + "'");
     } else if (options.recipe_path.empty()) {

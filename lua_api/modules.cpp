@@ -12,6 +12,7 @@ void open_all(lua_State* L) {
   open_analysis(L);
   open_tools(L);
   open_collision(L);
+  open_planning(L);
   open_machine(L);
   lua_setglobal(L, "bliskrun");
 }

@@ -15,6 +15,7 @@ void open_parts(lua_State* L);      // wrap_parts.cpp: built-in blisk
 void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel design
 void open_tools(lua_State* L);      // wrap_tools.cpp: drum wheels, mills, contact wheel
 void open_collision(lua_State* L);  // wrap_collision.cpp: collision world, pose/motion checks, tilt
+void open_planning(lua_State* L);   // wrap_planning.cpp: drum_finish, drum_finish_all, plan report/APT/simulation
 void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics, posts, read-back
 
 // Registers everything into a new global table `bliskrun`.

@@ -21,6 +21,7 @@ struct RunOptions {
   double time_limit_s = 3600;      // wall time of the whole run; 0 = none
   double memory_limit_mb = 8192;   // Lua heap of the recipe; 0 = none
   bool verify_report = false;      // --verify: print every posted program's read-back
+  int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
 };
 
 // What a running recipe may touch, and where progress goes. One per Lua

@@ -10,22 +10,8 @@
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
+#include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
-
-namespace bliskrun::lua_api {
-
-struct LuaWorld {
-  std::shared_ptr<const CollisionWorld> world;
-};
-
-}  // namespace bliskrun::lua_api
-
-namespace bliskrun::luax {
-template <>
-struct TypeName<lua_api::LuaWorld> {
-  static constexpr const char* name = "bliskrun.CollisionWorld";
-};
-}  // namespace bliskrun::luax
 
 namespace bliskrun::lua_api {
 namespace {
@@ -100,6 +86,85 @@ Clearances check_clearances(lua_State* L, const luax::Options& o, const std::str
   lua_pop(L, 1);
   return out;
 }
+
+
+}  // namespace
+
+std::vector<Field> tilt_option_fields() {
+  return {clearance_field(),
+          Field{"lead", Kind::Number, false, -90.0, 90.0, "initial lead/pitch λ, degrees (default 0)", {}},
+          Field{"tilt", Kind::Number, false, -180.0, 180.0, "initial tilt w, degrees (default 0)", {}},
+          Field{"lead_step", Kind::Number, false, 1e-6, 90.0, "λ step, degrees (default 0.5)", {}},
+          Field{"lead_max", Kind::Number, false, -90.0, 90.0, "largest λ tried, degrees (default 45)", {}},
+          Field{"allow_tilt", Kind::Boolean, false, std::nullopt, std::nullopt, "also vary w (default false)", {}},
+          Field{"tilt_step", Kind::Number, false, 1e-6, 90.0, "w step, degrees (default 1)", {}},
+          Field{"tilt_range", Kind::Number, false, 0.0, 180.0, "|w - w0| at most, degrees (default 10)", {}},
+          Field{"motion_tol", Kind::Number, false, 1e-6, std::nullopt, "swept check tolerance, mm (default 0.001)", {}},
+          Field{"axis_limit", Kind::Table, false, std::nullopt, std::nullopt,
+                "{name=, rotary_axis=, reference=, min=, max=} degrees; default none", {}},
+          Field{"machine", Kind::Any, false, std::nullopt, std::nullopt,
+                "a bliskrun.machine: refuse axes no rotary position within its travel gives", {}}};
+}
+
+AxisLimit read_axis_limit(lua_State* L, int idx, const std::string& what) {
+  const luax::Options a(L, idx, what,
+                        {Field{"name", Kind::String, false, std::nullopt, std::nullopt, "e.g. \"C\"", {}},
+                         Field{"rotary_axis", Kind::Vec3, false, std::nullopt, std::nullopt,
+                               "direction of the rotary axis (default {0,0,1})", {}},
+                         Field{"reference", Kind::Vec3, false, std::nullopt, std::nullopt,
+                               "zero direction, perpendicular to it (default {0,1,0})", {}},
+                         Field{"min", Kind::Number, true, -180.0, 180.0, "degrees", {}},
+                         Field{"max", Kind::Number, true, -180.0, 180.0, "degrees", {}}});
+  RotaryAxisLimit limit;
+  limit.name = a.string("name", "C");
+  limit.rotary_axis = a.vec3("rotary_axis", Vec3::UnitZ());
+  limit.reference = a.vec3("reference", Vec3::UnitY());
+  limit.min_rad = deg_to_rad(a.number("min", -30));
+  limit.max_rad = deg_to_rad(a.number("max", 30));
+  return make_axis_limit(limit);
+}
+
+TiltSettings read_tilt_settings(lua_State* L, const luax::Options& o, const std::string& what_name) {
+  const char* what = what_name.c_str();
+  TiltSettings s;
+  s.clearances = check_clearances(L, o, what);
+  s.lead0_rad = deg_to_rad(o.number("lead", 0));
+  s.tilt0_rad = deg_to_rad(o.number("tilt", 0));
+  s.lead_step_rad = deg_to_rad(o.number("lead_step", 0.5));
+  s.lead_max_rad = deg_to_rad(o.number("lead_max", 45));
+  s.allow_tilt = o.boolean("allow_tilt", false);
+  s.tilt_step_rad = deg_to_rad(o.number("tilt_step", 1));
+  s.tilt_range_rad = deg_to_rad(o.number("tilt_range", 10));
+  s.motion_tol_mm = o.number("motion_tol", 1e-3);
+  if (o.has("axis_limit")) {
+    o.push_raw("axis_limit");
+    s.axis_limit = read_axis_limit(L, lua_gettop(L), std::string(what) + ".axis_limit");
+    lua_pop(L, 1);
+  }
+  if (o.has("machine")) {
+    // The machine's own rotary travel limits the axis (SPEC §5: the limits
+    // a machine defines are what the interference loop uses), on top of
+    // any explicit axis_limit.
+    o.push_raw("machine");
+    const MachineValue* m = test_machine(L, lua_gettop(L));
+    if (!m) luax::error(L, std::string(what) + ": option 'machine': expected a bliskrun.machine");
+    auto kin = std::make_shared<const Kinematics>(m->definition, 0.0);
+    const std::string name = m->definition.name;
+    AxisLimit explicit_limit = s.axis_limit;
+    s.axis_limit = [kin, name, explicit_limit](const Vec3& axis) -> std::string {
+      if (explicit_limit) {
+        std::string why = explicit_limit(axis);
+        if (!why.empty()) return why;
+      }
+      return kin->reachable(axis) ? std::string()
+                                  : "machine '" + name + "': no rotary position within travel gives this axis";
+    };
+    lua_pop(L, 1);
+  }
+  return s;
+}
+
+namespace {
 
 // ---- pushing ---------------------------------------------------------------
 
@@ -256,70 +321,8 @@ int w_world_tilt(lua_State* L) {
       lua_pop(L, 1);
     }
     const char* what = "CollisionWorld:tilt";
-    const luax::Options o(
-        L, 4, what,
-        {clearance_field(),
-         Field{"lead", Kind::Number, false, -90.0, 90.0, "initial lead/pitch λ, degrees (default 0)", {}},
-         Field{"tilt", Kind::Number, false, -180.0, 180.0, "initial tilt w, degrees (default 0)", {}},
-         Field{"lead_step", Kind::Number, false, 1e-6, 90.0, "λ step, degrees (default 0.5)", {}},
-         Field{"lead_max", Kind::Number, false, -90.0, 90.0, "largest λ tried, degrees (default 45)", {}},
-         Field{"allow_tilt", Kind::Boolean, false, std::nullopt, std::nullopt, "also vary w (default false)", {}},
-         Field{"tilt_step", Kind::Number, false, 1e-6, 90.0, "w step, degrees (default 1)", {}},
-         Field{"tilt_range", Kind::Number, false, 0.0, 180.0, "|w - w0| at most, degrees (default 10)", {}},
-         Field{"motion_tol", Kind::Number, false, 1e-6, std::nullopt, "swept check tolerance, mm (default 0.001)", {}},
-         Field{"axis_limit", Kind::Table, false, std::nullopt, std::nullopt,
-               "{name=, rotary_axis=, reference=, min=, max=} degrees; default none", {}},
-         Field{"machine", Kind::Any, false, std::nullopt, std::nullopt,
-               "a bliskrun.machine: refuse axes no rotary position within its travel gives", {}}});
-    TiltSettings s;
-    s.clearances = check_clearances(L, o, what);
-    s.lead0_rad = deg_to_rad(o.number("lead", 0));
-    s.tilt0_rad = deg_to_rad(o.number("tilt", 0));
-    s.lead_step_rad = deg_to_rad(o.number("lead_step", 0.5));
-    s.lead_max_rad = deg_to_rad(o.number("lead_max", 45));
-    s.allow_tilt = o.boolean("allow_tilt", false);
-    s.tilt_step_rad = deg_to_rad(o.number("tilt_step", 1));
-    s.tilt_range_rad = deg_to_rad(o.number("tilt_range", 10));
-    s.motion_tol_mm = o.number("motion_tol", 1e-3);
-    if (o.has("axis_limit")) {
-      o.push_raw("axis_limit");
-      const luax::Options a(L, lua_gettop(L), std::string(what) + ".axis_limit",
-                            {Field{"name", Kind::String, false, std::nullopt, std::nullopt, "e.g. \"C\"", {}},
-                             Field{"rotary_axis", Kind::Vec3, false, std::nullopt, std::nullopt,
-                                   "direction of the rotary axis (default {0,0,1})", {}},
-                             Field{"reference", Kind::Vec3, false, std::nullopt, std::nullopt,
-                                   "zero direction, perpendicular to it (default {0,1,0})", {}},
-                             Field{"min", Kind::Number, true, -180.0, 180.0, "degrees", {}},
-                             Field{"max", Kind::Number, true, -180.0, 180.0, "degrees", {}}});
-      RotaryAxisLimit limit;
-      limit.name = a.string("name", "C");
-      limit.rotary_axis = a.vec3("rotary_axis", Vec3::UnitZ());
-      limit.reference = a.vec3("reference", Vec3::UnitY());
-      limit.min_rad = deg_to_rad(a.number("min", -30));
-      limit.max_rad = deg_to_rad(a.number("max", 30));
-      s.axis_limit = make_axis_limit(limit);
-      lua_pop(L, 1);
-    }
-    if (o.has("machine")) {
-      // The machine's own rotary travel limits the axis (SPEC §5: the limits
-      // a machine defines are what the interference loop uses), on top of
-      // any explicit axis_limit.
-      o.push_raw("machine");
-      const MachineValue* m = test_machine(L, lua_gettop(L));
-      if (!m) luax::error(L, std::string(what) + ": option 'machine': expected a bliskrun.machine");
-      auto kin = std::make_shared<const Kinematics>(m->definition, 0.0);
-      const std::string name = m->definition.name;
-      AxisLimit explicit_limit = s.axis_limit;
-      s.axis_limit = [kin, name, explicit_limit](const Vec3& axis) -> std::string {
-        if (explicit_limit) {
-          std::string why = explicit_limit(axis);
-          if (!why.empty()) return why;
-        }
-        return kin->reachable(axis) ? std::string()
-                                    : "machine '" + name + "': no rotary position within travel gives this axis";
-      };
-      lua_pop(L, 1);
-    }
+    const luax::Options o(L, 4, what, tilt_option_fields());
+    const TiltSettings s = read_tilt_settings(L, o, what);
     const TiltRun run = tilt_path(w, tool.body(), contacts, s, context(L).progress);
     lua_createtable(L, 0, 2);
     lua_createtable(L, static_cast<int>(run.poses.size()), 0);

@@ -104,6 +104,11 @@ int w_read_text(lua_State* L) {
   return 1;
 }
 
+int w_threads(lua_State* L) {
+  lua_pushinteger(L, context(L).options.threads);
+  return 1;
+}
+
 int w_out_dir(lua_State* L) {
   lua_pushstring(L, context(L).out_dir.c_str());
   return 1;
@@ -139,7 +144,7 @@ int w_progress(lua_State* L) {
 
 void open_files(lua_State* L) {
   static const luaL_Reg functions[] = {{"write_json", w_write_json}, {"write_text", w_write_text},
-                                       {"read_text", w_read_text},   {"out_dir", w_out_dir},
+                                       {"read_text", w_read_text},   {"out_dir", w_out_dir}, {"threads", w_threads},
                                        {"log", w_log},               {"progress", w_progress},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);

@@ -131,6 +131,11 @@ void push_rz(lua_State* L, const Vec2& p) {
   lua_rawseti(L, -2, 2);
 }
 
+int w_tool_description(lua_State* L) {
+  luax::push(L, luax::check<LuaTool>(L, 1).tool.description());
+  return 1;
+}
+
 int w_tool_kind(lua_State* L) {
   return luax::guarded(L, [&] {
     luax::push(L, std::string(to_string(luax::check<LuaTool>(L, 1).tool.kind())));
@@ -236,6 +241,7 @@ int w_tool_profile(lua_State* L) {
 }
 
 const luaL_Reg kToolMethods[] = {{"kind", w_tool_kind},
+                                 {"description", w_tool_description},
                                  {"radius_at", w_tool_radius_at},
                                  {"signed_distance", w_tool_signed_distance},
                                  {"effective_radius", w_tool_effective_radius},

@@ -203,6 +203,8 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     res.rows_seconds += seconds_since(t0);
     row.contacts = static_cast<int>(steps.t.size());
     row.max_deviation_mm = steps.max_deviation_mm;
+    row.v = steps.t;
+    row.deviation_mm = steps.deviation_mm;
     res.max_deviation_mm = std::max(res.max_deviation_mm, steps.max_deviation_mm);
 
     t0 = Clock::now();
@@ -322,6 +324,43 @@ std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& re
     passes.push_back(std::move(pass));
   }
   return passes;
+}
+
+namespace {
+// A surface with u reversed (u -> 1 - u): same points, opposite pu x pv.
+class ReversedU : public Surface {
+ public:
+  explicit ReversedU(const Surface& s) : s_(s) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d = s_.eval(1 - u, v);
+    d.pu = -d.pu;
+    d.puv = -d.puv;
+    return d;
+  }
+
+ private:
+  const Surface& s_;
+};
+}  // namespace
+
+UndercutResult simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
+                                    UndercutOptions o, Progress& progress) {
+  if (!result.trimmed) throw ParameterError("result", "a drum-finish plan with its trimmed flank");
+  if (!request.tool) throw ParameterError("tool", "the plan's drum wheel");
+  const std::vector<ToolPass> passes = drum_finish_passes(result);
+  if (!request.flip_normal) {
+    o.u0 = result.first_row_u;
+    o.u1 = 1;
+    return simulate_undercut(*result.trimmed, *request.tool, passes, o, progress);
+  }
+  o.u0 = 0;
+  o.u1 = 1 - result.first_row_u;
+  UndercutResult r = simulate_undercut(ReversedU(*result.trimmed), *request.tool, passes, o, progress);
+  for (int i = 0; i < r.samples_u / 2; ++i)
+    std::swap_ranges(r.residual_mm.begin() + static_cast<long>(i) * r.samples_v,
+                     r.residual_mm.begin() + static_cast<long>(i + 1) * r.samples_v,
+                     r.residual_mm.begin() + static_cast<long>(r.samples_u - 1 - i) * r.samples_v);
+  return r;
 }
 
 namespace {

@@ -16,6 +16,7 @@
 #include "core/geometry/surface.h"
 #include "core/planning/row_steps.h"
 #include "core/planning/trimmed_surface.h"
+#include "core/sim/undercut.h"
 #include "core/tools/tool.h"
 
 namespace bliskrun {
@@ -59,6 +60,10 @@ struct DrumFinishRow {
   int contacts = 0;            // contact points planned along the row
   double max_deviation_mm = 0; // measured chord deviation
   bool reversed = false;       // zigzag: row run from v = 1 to v = 0
+  // The row's contact parameters v (increasing, whatever the cutting
+  // direction) and the measured chord deviation of each segment between
+  // them (the paper's Fig. 13).
+  std::vector<double> v, deviation_mm;
   std::vector<DrumFinishPose> poses;  // emitted, in cutting order
   std::vector<TiltRefusal> refusals;  // contacts with no clear axis
 };
@@ -99,6 +104,15 @@ std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishR
 // The cutting passes of a plan, one per row with poses, in cutting order, for
 // the undercut simulation (core/sim). Links do not cut.
 std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result);
+
+// The undercut simulation (core/sim) of a plan against its design flank:
+// the trimmed flank over the machined window u' in [first_row_u, 1] (the
+// strip under the first row is the hub operation's), the rows' poses as
+// passes. The options' u0/u1 are set here; with flip_normal the flank is
+// mirrored in u for the simulation so its normal points out of the material,
+// and the result's rows are put back in hub -> tip order.
+UndercutResult simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
+                                    UndercutOptions options, Progress& progress = Progress::none());
 
 // Cut width row spacing at u' (exposed for tests): smallest cut width over
 // `samples` points of the row, and the u' step that keeps the 3-D gap

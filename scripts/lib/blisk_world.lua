@@ -5,6 +5,7 @@
 --
 --   local blisk_world = require("blisk_world")
 --   local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.01})
+--   local worlds = blisk_world.all_blades(blisk)   -- worlds[k] around blade k
 
 local M = {}
 
@@ -29,6 +30,32 @@ function M.around_blade(blisk, k, opts)
     surfaces[#surfaces + 1] = {name = "hub", surface = blisk:hub(), chord_tol = tol}
   end
   return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- The worlds around every blade (k = 1..N), each flank and the hub
+-- tessellated once and shared. opts as for around_blade.
+function M.all_blades(blisk, opts)
+  opts = opts or {}
+  local n = blisk:blade_count()
+  local tol = opts.chord_tol or 0.01
+  local meshes = {}
+  for b = 1, n do
+    meshes[b] = {}
+    for _, side in ipairs{"pressure", "suction"} do meshes[b][side] = blisk:flank(b, side):tessellate(tol) end
+  end
+  local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
+  local worlds = {}
+  for k = 1, n do
+    local surfaces = {}
+    for _, b in ipairs{(k - 2) % n + 1, k % n + 1} do
+      for _, side in ipairs{"pressure", "suction"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = meshes[b][side]}
+      end
+    end
+    if hub then surfaces[#surfaces + 1] = {name = "hub", mesh = hub} end
+    worlds[k] = bliskrun.collision_world{surfaces = surfaces}
+  end
+  return worlds
 end
 
 return M

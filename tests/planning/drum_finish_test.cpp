@@ -155,6 +155,36 @@ TEST(DrumFinish, FirstRowIsTheLowestWhereTheWheelClearsTheHub) {
   EXPECT_LT(min_hub_offset(f.tool, f.hub, place_tool(f.tool, frame, axis)), rq.hub_clearance_mm - 0.05);
 }
 
+// The emitted path on the concave cylinder, simulated: the rows are straight
+// (chord error 0) and spaced by the cut width for the residual height, so
+// the scallop between two full-width rows is the residual height itself,
+// and nothing is cut below the design.
+TEST(DrumFinish, SimulatedPathLeavesTheResidualHeightAndNoGouge) {
+  Fixture f;
+  f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
+  const DrumFinishRequest rq = f.request();
+  const DrumFinishResult plan = plan_drum_finish(rq);
+  UndercutOptions o;
+  o.samples_u = 300;
+  o.samples_v = 60;
+  o.v0 = 0.2;  // away from the row ends, where the wheel runs out
+  o.v1 = 0.8;
+  const UndercutResult sim = simulate_drum_finish(plan, rq, o);
+  EXPECT_EQ(sim.untouched, 0);
+  EXPECT_LE(sim.undercut_max_mm, rq.residual_height_mm * 1.005);
+  EXPECT_GE(sim.undercut_max_mm, rq.residual_height_mm * 0.95);
+  EXPECT_GE(sim.overcut_mm, -2 * o.tol_mm);  // the tracing stops within tol_mm of the tool
+  // Rows are hub -> tip: the first sample row lies on the first row's
+  // contact line (material 0), whatever the flip.
+  for (int j = 0; j < sim.samples_v; ++j) EXPECT_NEAR(sim.residual_mm[j], 0, 1e-4) << j;
+  // A wheel twice as far apart (every other row) leaves about 4x the scallop
+  // (h ~ w^2 / 8R_eff): the simulation sees the spacing.
+  DrumFinishResult sparse = plan;
+  for (size_t r = 1; r < sparse.rows.size(); r += 2) sparse.rows[r].poses.clear();
+  const UndercutResult coarse = simulate_drum_finish(sparse, rq, o);
+  EXPECT_GT(coarse.undercut_max_mm, 3.5 * rq.residual_height_mm);
+}
+
 TEST(DrumFinish, AllFlanksOnTwoThreadsMatchOneByOne) {
   Fixture f;
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));

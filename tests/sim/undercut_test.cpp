@@ -73,6 +73,38 @@ TEST(Undercut, TwoBallPassesLeaveTheAnalyticScallop) {
   EXPECT_EQ(res.overcut_mm, 0.0);
 }
 
+// A drum wheel (barrel radius R_c, max diameter D_t, head L_c) rolled along
+// x over the plane with its axis along y, one straight pass (two poses, so
+// everything between them is the sweep): the material left at lateral
+// offset y from the wheel's mid-plane is the barrel's drop there,
+// R_c - sqrt(R_c^2 - y^2), within the head, and untouched beyond.
+TEST(Undercut, DrumWheelStraightPassLeavesTheBarrelProfile) {
+  const double dt = 8, rc = 20, lc = 4;
+  const Tool wheel = Tool::drum_wheel({dt, rc, lc, {6, 30}, {}});
+  // Tool frame: tip at the bottom centre, axis +z. Axis along +y in the part
+  // frame, the wheel's widest circle touching z = 0 at y = 0.
+  auto pose = [&](double x) { return ToolPose{Vec3(x, -lc / 2, dt / 2), Vec3::UnitY()}; };
+  UndercutOptions o = plane_options();
+  o.samples_v = 201;  // y every 0.05 mm
+  const UndercutResult res = simulate_undercut(Plane(), wheel, {{pose(-14), pose(14)}}, o);
+  int checked = 0;
+  for (int i = 0; i < o.samples_u; ++i)
+    for (int j = 0; j < o.samples_v; ++j) {
+      const double y = -5 + 10.0 * j / (o.samples_v - 1);
+      const double got = res.residual_mm[static_cast<size_t>(i) * o.samples_v + j];
+      if (std::abs(y) < lc / 2 - 1e-9) {
+        EXPECT_NEAR(got, rc - std::sqrt(rc * rc - y * y), 2e-5) << "y=" << y;
+        ++checked;
+      } else if (std::abs(y) > lc / 2 + 1e-9) {
+        EXPECT_TRUE(std::isinf(got)) << "y=" << y << " got " << got;
+      }
+    }
+  EXPECT_EQ(checked, o.samples_u * 79);
+  EXPECT_GE(res.overcut_mm, -1e-9);
+  // The largest drop is at the head's edges, y = ±L_c/2.
+  EXPECT_NEAR(res.undercut_max_mm, rc - std::sqrt(rc * rc - lc * lc / 4), 2e-5);
+}
+
 TEST(Undercut, MotionBetweenPosesIsSwept) {
   // Two poses 20 mm apart: every sample on the line between them is cut to
   // zero, which a pose-only check would miss (the ball touches only two spots).

@@ -1,0 +1,444 @@
+// bliskrun.drum_finish{...} and bliskrun.drum_finish_all{...}: blisk flank
+// finishing with a drum wheel (core/planning/drum_finish.h), the plan's
+// report, APT/CL output and its undercut simulation (core/sim). Lengths in
+// mm, angles in degrees. See docs/lua_api.md.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "core/analysis/heat_map.h"
+#include "core/planning/drum_finish.h"
+#include "core/sim/undercut.h"
+#include "lua_api/lua_tool.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+#include "lua_api/wrap_collision.h"
+#include "lua_api/wrap_geometry.h"
+
+namespace bliskrun::lua_api {
+
+// A plan and everything its request points to, kept alive together.
+struct LuaDrumPlan {
+  std::string name;
+  std::shared_ptr<const Surface> flank, hub, casing;
+  std::shared_ptr<const Tool> tool;
+  std::shared_ptr<const CollisionWorld> world;
+  DrumFinishRequest request;  // points into the members above
+  std::shared_ptr<const DrumFinishResult> result;
+};
+
+// The undercut over the simulated window, for its picture.
+struct LuaUndercutMap {
+  HeatMap map;
+  std::string footer;
+};
+
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <>
+struct TypeName<lua_api::LuaDrumPlan> {
+  static constexpr const char* name = "bliskrun.DrumFinishPlan";
+};
+template <>
+struct TypeName<lua_api::LuaUndercutMap> {
+  static constexpr const char* name = "bliskrun.UndercutMap";
+};
+}  // namespace bliskrun::luax
+
+namespace bliskrun::lua_api {
+namespace {
+
+using luax::Field;
+using luax::Kind;
+using luax::set_bool;
+using luax::set_number;
+using luax::set_string;
+
+// ---- reading ---------------------------------------------------------------
+
+// Keys every drum-finish call takes besides the per-flank ones.
+std::vector<Field> common_fields() {
+  std::vector<Field> f = tilt_option_fields();
+  const std::vector<Field> own = {
+      Field{"hub", Kind::Any, true, std::nullopt, std::nullopt, "hub as a surface of revolution (blisk:hub())", {}},
+      Field{"casing", Kind::Any, true, std::nullopt, std::nullopt, "casing as a surface of revolution", {}},
+      Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "a drum wheel (bliskrun.tool.drum_wheel)", {}},
+      Field{"residual", Kind::Number, false, 1e-6, 10.0, "allowed residual (scallop) height, mm (default 0.014)", {}},
+      Field{"chord_tol", Kind::Number, false, 1e-6, 10.0, "chord height tolerance along a row, mm (default 0.002)", {}},
+      Field{"steps", Kind::String, false, std::nullopt, std::nullopt,
+            "step along a row: \"variable\" (eq. 18-19, default) or \"constant\" (eq. 17)", {"variable", "constant"}},
+      Field{"guarantee", Kind::Boolean, false, std::nullopt, std::nullopt,
+            "measure every segment and shorten it to chord_tol (default true; false reproduces eq. 17 as written)", {}},
+      Field{"max_step", Kind::Number, false, 1e-3, 1000.0, "longest step along a row, mm (default 5)", {}},
+      Field{"zigzag", Kind::Boolean, false, std::nullopt, std::nullopt, "alternate row direction (default true)", {}},
+      Field{"flip_normal", Kind::Boolean, false, std::nullopt, std::nullopt,
+            "the flank's pu x pv points into the material (default false)", {}},
+      Field{"width_samples", Kind::Integer, false, 2, 10000, "contacts per row sampled for the width (default 40)", {}},
+      Field{"trim_samples", Kind::Integer, false, 4, 100000, "iso-v lines intersected with hub and casing (default 200)", {}},
+      Field{"retract", Kind::Number, false, 0.0, 1000.0, "retract along the axis between rows, mm (default 5)", {}},
+      Field{"hub_clearance", Kind::Number, false, 0.0, 100.0,
+            "the first row is the lowest whose wheel clears the hub by this, mm (default 0.02)", {}},
+      Field{"tool_tol", Kind::Number, false, 1e-5, 1.0, "tessellation tolerance of the tool's collision body, mm", {}},
+  };
+  f.insert(f.end(), own.begin(), own.end());
+  return f;
+}
+
+std::shared_ptr<const Surface> revolution_option(lua_State* L, const luax::Options& o, const std::string& key,
+                                                 const std::string& what) {
+  o.push_raw(key);
+  const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+  if (!h || !dynamic_cast<const SurfaceOfRevolution*>(h->surface.get()))
+    luax::error(L, what + ": option '" + key +
+                       "': expected a surface of revolution (blisk:hub(), blisk:casing() or "
+                       "bliskrun.surface_of_revolution)");
+  std::shared_ptr<const Surface> s = h->surface;
+  lua_pop(L, 1);
+  return s;
+}
+
+// A plan with everything but the flank and the world.
+LuaDrumPlan read_common(lua_State* L, const luax::Options& o, const std::string& what) {
+  LuaDrumPlan p;
+  p.hub = revolution_option(L, o, "hub", what);
+  p.casing = revolution_option(L, o, "casing", what);
+  o.push_raw("tool");
+  const LuaTool* tool = luax::test<LuaTool>(L, -1);
+  if (!tool) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (a drum wheel)");
+  p.tool = std::make_shared<const Tool>(tool->tool);
+  lua_pop(L, 1);
+  if (p.tool->kind() != ToolKind::DrumWheel && p.tool->kind() != ToolKind::ConicalDrumWheel)
+    luax::error(L, what + ": option 'tool': expected a drum wheel, got a " + to_string(p.tool->kind()));
+
+  DrumFinishRequest& rq = p.request;
+  rq.hub = static_cast<const SurfaceOfRevolution*>(p.hub.get());
+  rq.casing = static_cast<const SurfaceOfRevolution*>(p.casing.get());
+  rq.tool = p.tool.get();
+  rq.residual_height_mm = o.number("residual", 0.014);
+  rq.steps.chord_tol_mm = o.number("chord_tol", 0.002);
+  rq.steps.method = o.string("steps", "variable") == "constant" ? ChordMethod::Constant : ChordMethod::Variable;
+  rq.steps.guarantee_tolerance = o.boolean("guarantee", true);
+  rq.steps.max_step_mm = o.number("max_step", 5.0);
+  rq.zigzag = o.boolean("zigzag", true);
+  rq.flip_normal = o.boolean("flip_normal", false);
+  rq.width_samples = static_cast<int>(o.integer("width_samples", 40));
+  rq.trim_samples_v = static_cast<int>(o.integer("trim_samples", 200));
+  rq.retract_mm = o.number("retract", 5.0);
+  rq.hub_clearance_mm = o.number("hub_clearance", 0.02);
+  rq.tool_tol_mm = o.number("tool_tol", 1e-3);
+  rq.tilt = read_tilt_settings(L, o, what);
+  return p;
+}
+
+void set_flank_and_world(lua_State* L, const luax::Options& o, const std::string& what, LuaDrumPlan& p) {
+  o.push_raw("flank");
+  const SurfaceHandle* s = luax::test<SurfaceHandle>(L, -1);
+  if (!s) luax::error(L, what + ": option 'flank': expected a bliskrun.Surface");
+  p.flank = s->surface;
+  lua_pop(L, 1);
+  o.push_raw("world");
+  const LuaWorld* w = luax::test<LuaWorld>(L, -1);
+  if (!w) luax::error(L, what + ": option 'world': expected a bliskrun.CollisionWorld (neighbouring blades, hub)");
+  p.world = w->world;
+  lua_pop(L, 1);
+  p.request.flank = p.flank;
+  p.request.world = p.world.get();
+  p.name = o.string("name", "");
+}
+
+const std::vector<Field> kFlankFields = {
+    Field{"flank", Kind::Any, true, std::nullopt, std::nullopt, "the flank to finish (u hub->tip, v along the chord)", {}},
+    Field{"world", Kind::Any, true, std::nullopt, std::nullopt, "check surfaces: neighbouring blades and hub", {}},
+    Field{"name", Kind::String, false, std::nullopt, std::nullopt, "name used in reports (default \"\")", {}},
+};
+
+int threads_option(const luax::Options& o, lua_State* L) {
+  return static_cast<int>(o.integer("threads", context(L).options.threads));
+}
+
+// ---- functions -------------------------------------------------------------
+
+int w_drum_finish(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const std::string what = "bliskrun.drum_finish";
+    std::vector<Field> fields = common_fields();
+    fields.insert(fields.end(), kFlankFields.begin(), kFlankFields.end());
+    const luax::Options o(L, 1, what, fields);
+    LuaDrumPlan p = read_common(L, o, what);
+    set_flank_and_world(L, o, what, p);
+    p.result = std::make_shared<const DrumFinishResult>(plan_drum_finish(p.request, context(L).progress));
+    luax::push_new(L, std::move(p));
+    return 1;
+  });
+}
+
+int w_drum_finish_all(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const std::string what = "bliskrun.drum_finish_all";
+    std::vector<Field> fields = common_fields();
+    fields.push_back(Field{"jobs", Kind::Table, true, std::nullopt, std::nullopt,
+                           "list of {flank=, world=, name=, flip_normal=}", {}});
+    fields.push_back(Field{"threads", Kind::Integer, false, 1, 256,
+                           "worker threads (default: the run's --threads); outputs do not depend on it", {}});
+    const luax::Options o(L, 1, what, fields);
+    const LuaDrumPlan common = read_common(L, o, what);
+    std::vector<LuaDrumPlan> plans;
+    o.push_raw("jobs");
+    const int jobs = lua_gettop(L);
+    const lua_Integer n = luaL_len(L, jobs);
+    if (n < 1) luax::error(L, what + ": option 'jobs': expected at least one {flank=, world=}");
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, jobs, i);
+      const std::string jwhat = what + " jobs[" + std::to_string(i) + "]";
+      std::vector<Field> jf = kFlankFields;
+      jf.push_back(Field{"flip_normal", Kind::Boolean, false, std::nullopt, std::nullopt,
+                         "overrides the common flip_normal", {}});
+      jf.push_back(Field{"axis_limit", Kind::Table, false, std::nullopt, std::nullopt,
+                         "this flank's rotary-axis limit, on top of the common ones", {}});
+      const luax::Options j(L, lua_gettop(L), jwhat, jf);
+      LuaDrumPlan p = common;
+      set_flank_and_world(L, j, jwhat, p);
+      p.request.flip_normal = j.boolean("flip_normal", common.request.flip_normal);
+      if (j.has("axis_limit")) {
+        j.push_raw("axis_limit");
+        const AxisLimit own = read_axis_limit(L, lua_gettop(L), jwhat + ".axis_limit");
+        lua_pop(L, 1);
+        const AxisLimit shared = common.request.tilt.axis_limit;
+        p.request.tilt.axis_limit = [own, shared](const Vec3& axis) {
+          std::string why = shared ? shared(axis) : std::string();
+          return why.empty() ? own(axis) : why;
+        };
+      }
+      plans.push_back(std::move(p));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    std::vector<DrumFinishRequest> requests;
+    for (const LuaDrumPlan& p : plans) requests.push_back(p.request);
+    std::vector<DrumFinishResult> results = plan_drum_finish_all(requests, threads_option(o, L), context(L).progress);
+    lua_createtable(L, static_cast<int>(plans.size()), 0);
+    for (size_t k = 0; k < plans.size(); ++k) {
+      plans[k].result = std::make_shared<const DrumFinishResult>(std::move(results[k]));
+      luax::push_new(L, std::move(plans[k]));
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    return 1;
+  });
+}
+
+// ---- plan methods ----------------------------------------------------------
+
+LuaDrumPlan& check_plan(lua_State* L) { return luax::check<LuaDrumPlan>(L, 1); }
+
+int w_plan_report(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  const DrumFinishResult& r = *p.result;
+  const DrumFinishRequest& rq = p.request;
+  lua_createtable(L, 0, 24);
+  set_string(L, "name", p.name);
+  set_string(L, "tool", rq.tool->description());
+  set_number(L, "residual", rq.residual_height_mm);
+  set_number(L, "chord_tol", rq.steps.chord_tol_mm);
+  set_string(L, "steps", rq.steps.method == ChordMethod::Constant ? "constant" : "variable");
+  set_bool(L, "guarantee", rq.steps.guarantee_tolerance);
+  set_bool(L, "zigzag", rq.zigzag);
+  lua_pushinteger(L, static_cast<lua_Integer>(r.rows.size()));
+  lua_setfield(L, -2, "row_count");
+  lua_pushinteger(L, r.total_poses);
+  lua_setfield(L, -2, "poses");
+  lua_pushinteger(L, r.total_refusals);
+  lua_setfield(L, -2, "refusals");
+  lua_pushinteger(L, r.refused_links);
+  lua_setfield(L, -2, "refused_links");
+  set_number(L, "max_deviation", r.max_deviation_mm);
+  set_number(L, "first_row_u", r.first_row_u);
+  set_number(L, "hub_strip", r.hub_strip_mm);
+  double wmin = std::numeric_limits<double>::infinity(), wmax = 0;
+  long contacts = 0;
+  lua_createtable(L, static_cast<int>(r.rows.size()), 0);
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    const DrumFinishRow& row = r.rows[i];
+    wmin = std::min(wmin, row.width_mm);
+    wmax = std::max(wmax, row.width_mm);
+    contacts += row.contacts;
+    lua_createtable(L, 0, 8);
+    set_number(L, "u", row.u);
+    set_number(L, "width", row.width_mm);
+    set_number(L, "spacing_du", row.spacing_du);
+    lua_pushinteger(L, row.contacts);
+    lua_setfield(L, -2, "contacts");
+    lua_pushinteger(L, static_cast<lua_Integer>(row.poses.size()));
+    lua_setfield(L, -2, "poses");
+    lua_pushinteger(L, static_cast<lua_Integer>(row.refusals.size()));
+    lua_setfield(L, -2, "refusals");
+    set_number(L, "max_deviation", row.max_deviation_mm);
+    set_bool(L, "reversed", row.reversed);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "rows");
+  lua_pushinteger(L, contacts);
+  lua_setfield(L, -2, "contacts");
+  set_number(L, "width_min", r.rows.empty() ? 0 : wmin);
+  set_number(L, "width_max", wmax);
+  // Distinct refusal reasons (first 20), so a report says why, not only how many.
+  std::set<std::string> reasons;
+  for (const DrumFinishRow& row : r.rows)
+    for (const TiltRefusal& t : row.refusals)
+      if (reasons.size() < 20) reasons.insert(t.reason);
+  for (const DrumFinishLink& l : r.links)
+    if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
+  lua_createtable(L, static_cast<int>(reasons.size()), 0);
+  int k = 0;
+  for (const std::string& why : reasons) {
+    lua_pushstring(L, why.c_str());
+    lua_rawseti(L, -2, ++k);
+  }
+  lua_setfield(L, -2, "refusal_reasons");
+  lua_createtable(L, 0, 4);
+  set_number(L, "trim", r.trim_seconds);
+  set_number(L, "rows", r.rows_seconds);
+  set_number(L, "tilt", r.tilt_seconds);
+  set_number(L, "links", r.link_seconds);
+  lua_setfield(L, -2, "seconds");
+  return 1;
+}
+
+// plan:row(i) -> {u, v = {...}, deviation = {...}}: the contact parameters
+// of row i and the measured chord deviation of each segment (Fig. 13).
+int w_plan_row(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  const lua_Integer i = luaL_checkinteger(L, 2);
+  const auto& rows = p.result->rows;
+  if (i < 1 || i > static_cast<lua_Integer>(rows.size()))
+    luax::error(L, "DrumFinishPlan:row: row " + std::to_string(i) + " does not exist; rows are 1.." +
+                       std::to_string(rows.size()));
+  const DrumFinishRow& row = rows[static_cast<size_t>(i - 1)];
+  lua_createtable(L, 0, 3);
+  set_number(L, "u", row.u);
+  auto push_list = [&](const std::vector<double>& xs, const char* key) {
+    lua_createtable(L, static_cast<int>(xs.size()), 0);
+    for (size_t k = 0; k < xs.size(); ++k) {
+      lua_pushnumber(L, xs[k]);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, key);
+  };
+  push_list(row.v, "v");
+  push_list(row.deviation_mm, "deviation");
+  return 1;
+}
+
+int w_plan_write_apt(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  return luax::guarded(L, [&] {
+    write_drum_finish_apt(path, *p.result, p.request);
+    return 0;
+  });
+}
+
+// plan:trimmed() -> the trimmed flank (u' = 0 on the hub curve, 1 on the casing).
+int w_plan_trimmed(lua_State* L) {
+  push_surface(L, check_plan(L).result->trimmed);
+  return 1;
+}
+
+int w_plan_simulate(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  return luax::guarded(L, [&] {
+    const luax::Options o(
+        L, 2, "DrumFinishPlan:simulate",
+        {Field{"samples_u", Kind::Integer, false, 2, 5000, "design samples along the span (default 200)", {}},
+         Field{"samples_v", Kind::Integer, false, 2, 20000, "design samples along the chord (default 1000)", {}},
+         Field{"search_above", Kind::Number, false, 1e-4, 10.0, "material tracked up to this above the design, mm (default 0.1)", {}},
+         Field{"search_below", Kind::Number, false, 1e-4, 10.0, "gouges measured down to this, mm (default 0.1)", {}},
+         Field{"sweep_step", Kind::Number, false, 1e-4, 10.0, "largest cutter-point motion between evaluated positions, mm (default 0.05)", {}},
+         Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+    const DrumFinishResult& r = *p.result;
+    UndercutOptions so;
+    so.samples_u = static_cast<int>(o.integer("samples_u", 200));
+    so.samples_v = static_cast<int>(o.integer("samples_v", 1000));
+    so.search_above_mm = o.number("search_above", so.search_above_mm);
+    so.search_below_mm = o.number("search_below", so.search_below_mm);
+    so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
+    so.threads = threads_option(o, L);
+    const auto t0 = std::chrono::steady_clock::now();
+    UndercutResult u = simulate_drum_finish(r, p.request, so, context(L).progress);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    lua_createtable(L, 0, 14);
+    set_number(L, "undercut_max", u.undercut_max_mm);
+    set_number(L, "undercut_mean", u.undercut_mean_mm);
+    set_number(L, "undercut_median", u.undercut_median_mm);
+    set_number(L, "undercut_std", u.undercut_std_mm);
+    set_number(L, "overcut", u.overcut_mm);
+    lua_pushinteger(L, u.untouched);
+    lua_setfield(L, -2, "untouched");
+    lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
+    lua_setfield(L, -2, "samples");
+    lua_pushinteger(L, u.tool_positions);
+    lua_setfield(L, -2, "tool_positions");
+    set_number(L, "u0", r.first_row_u);
+    set_number(L, "seconds", seconds);
+    LuaUndercutMap m;
+    m.map.rows = u.samples_u;
+    m.map.cols = u.samples_v;
+    m.map.values = std::move(u.residual_mm);
+    char footer[240];
+    std::snprintf(footer, sizeof footer,
+                  "%d x %d samples of u' in [%.4f, 1]; undercut max %.2f, mean %.2f, median %.2f, std %.2f um; "
+                  "overcut %.2f um; untouched %d",
+                  m.map.rows, m.map.cols, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
+                  1e3 * u.undercut_median_mm, 1e3 * u.undercut_std_mm, 1e3 * u.overcut_mm, u.untouched);
+    m.footer = footer;
+    luax::push_new(L, std::move(m));
+    lua_setfield(L, -2, "map");
+    return 1;
+  });
+}
+
+int w_map_write_svg(lua_State* L) {
+  const LuaUndercutMap& m = luax::check<LuaUndercutMap>(L, 1);
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  return luax::guarded(L, [&] {
+    const luax::Options o(
+        L, 3, "UndercutMap:write_svg",
+        {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
+         Field{"scale", Kind::Number, false, 0.0, 10.0, "colour scale +-, mm (default: largest |value|)", {}}});
+    HeatMapOptions h;
+    h.title = o.string("title", "Undercut (material left, mm): red above the design, blue below");
+    h.value_label = "mm";
+    h.footer = m.footer;
+    h.scale_max = o.number("scale", 0);
+    HeatMap map = m.map;
+    write_heat_map_svg(map, path, h);
+    return 0;
+  });
+}
+
+int w_plan_tostring(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  lua_pushfstring(L, "bliskrun.DrumFinishPlan(%s%s%d rows, %d poses, %d refusals)", p.name.c_str(),
+                  p.name.empty() ? "" : ": ", static_cast<int>(p.result->rows.size()), p.result->total_poses,
+                  p.result->total_refusals);
+  return 1;
+}
+
+}  // namespace
+
+void open_planning(lua_State* L) {
+  static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"row", w_plan_row},
+                                          {"write_apt", w_plan_write_apt}, {"trimmed", w_plan_trimmed},
+                                          {"simulate", w_plan_simulate},   {nullptr, nullptr}};
+  luax::register_type(L, luax::TypeName<LuaDrumPlan>::name, plan_methods, &luax::gc_value<LuaDrumPlan>,
+                      w_plan_tostring);
+  static const luaL_Reg map_methods[] = {{"write_svg", w_map_write_svg}, {nullptr, nullptr}};
+  luax::register_type<LuaUndercutMap>(L, map_methods);
+  static const luaL_Reg functions[] = {
+      {"drum_finish", w_drum_finish}, {"drum_finish_all", w_drum_finish_all}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api

@@ -1,0 +1,84 @@
+-- Blisk flank finishing with a drum wheel on the built-in blisk (blisk paper
+-- §2.2-§4), shared by blisk_drum_finish.lua and blisk_drum_study.lua:
+-- the wheel design of Tables 1-3, the C-axis limit at a blade, and the
+-- planning settings.
+--
+--   local finish = require("blisk_finish")
+--   local design = finish.design_wheels(blisk, {c_range = 30})
+--   local plan = finish.plan(blisk, 1, "pressure", design.wheels.extended, world, {residual = 0.014})
+
+local M = {}
+
+-- The design flank of blade k, rebuilt from its 100 x 500 grid as the paper
+-- does (§1, eq. 4-8), u hub -> tip; pu x pv points out of the material.
+function M.flank(blisk, k, side)
+  return blisk:flank_grid(k, side):surface()
+end
+
+-- Table 1 (curvature over K < 0 of both flanks of blade 1, k_e within the
+-- C range), Table 2 (traditional and extended wheel) and the two wheels of
+-- Table 3 as tools (head length 4, shank 6 x 96 mm).
+-- opts: c_range (deg, 30), head_length (4), shank = {diameter, length}.
+function M.design_wheels(blisk, opts)
+  opts = opts or {}
+  local c_range = opts.c_range or 30
+  local table1 = {k1_max = 0, k2_max = 0, ke_max = 0}
+  for _, side in ipairs{"pressure", "suction"} do
+    local st = bliskrun.curvature_stats(M.flank(blisk, 1, side), {c_range = c_range})
+    for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
+      if st[key].value > table1[key] then
+        table1[key] = st[key].value
+        table1[key .. "_flank"] = side
+      end
+    end
+  end
+  local d_min = blisk:narrowest_passage()
+  local design = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = d_min}
+  local shank = opts.shank or {diameter = 6, length = 96}
+  local wheels = {}
+  for _, rule in ipairs{"traditional", "extended"} do
+    wheels[rule] = bliskrun.drum_wheel{max_diameter = design[rule].max_diameter,
+                                       barrel_radius = design[rule].barrel_radius,
+                                       head_length = opts.head_length or 4, shank = shank}
+  end
+  return {table1 = table1, table2 = design, d_min = d_min, c_range = c_range, wheels = wheels}
+end
+
+-- The paper's C-axis limit (§2.2, Fig. 3-4) at blade k: the blade's radial
+-- direction is the machine's Y; the tool axis, projected on the blade's
+-- meridional plane (radial and rotor axis), stays within ±c_range degrees
+-- of it. The same reading as curvature_stats' k_e (docs/lua_api.md).
+function M.c_axis_limit(blisk, k, c_range)
+  local p = blisk:flank(k, "pressure"):point(0.5, 0.5)
+  local a = math.atan(p[2], p[1])
+  return {name = "C", rotary_axis = {-math.sin(a), math.cos(a), 0}, reference = {math.cos(a), math.sin(a), 0},
+          min = -c_range, max = c_range}
+end
+
+-- Options for bliskrun.drum_finish / drum_finish_all common to every flank.
+-- opts: residual (mm, 0.014), chord_tol (mm, 0.002), steps ("variable"),
+-- guarantee (true), zigzag (true), clearance ({cutter = 0, shank = 0.5,
+-- holder = 1}).
+function M.settings(blisk, tool, opts)
+  opts = opts or {}
+  return {
+    hub = blisk:hub(), casing = blisk:casing(), tool = tool,
+    residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,
+    steps = opts.steps or "variable", guarantee = opts.guarantee ~= false, zigzag = opts.zigzag ~= false,
+    clearance = opts.clearance or {cutter = 0, shank = 0.5, holder = 1},
+  }
+end
+
+-- Plans one flank of blade k (opts as for M.settings, plus c_range: apply
+-- the C-axis limit, degrees; nil = none).
+function M.plan(blisk, k, side, tool, world, opts)
+  opts = opts or {}
+  local s = M.settings(blisk, tool, opts)
+  s.flank = M.flank(blisk, k, side)
+  s.world = world
+  s.name = string.format("blade %d %s", k, side)
+  if opts.c_range then s.axis_limit = M.c_axis_limit(blisk, k, opts.c_range) end
+  return bliskrun.drum_finish(s)
+end
+
+return M

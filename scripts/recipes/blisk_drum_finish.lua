@@ -1,0 +1,118 @@
+-- Blisk flank finishing with a drum wheel, end to end, on the built-in
+-- 22-blade blisk (blisk paper §3-4, SPEC §6.1 and §8):
+--   1. the wheel is designed as in blisk_wheel_design.lua (Tables 1-3);
+--   2. each flank of the blade is trimmed between hub and casing (§3.1,
+--      Fig. 5), its rows spaced by the wheel's cut width at the allowed
+--      residual height (Fig. 6), stepped along each row by the variable chord
+--      height (eq. 18-19) with every segment's measured chord deviation within
+--      the tolerance (§3.2);
+--   3. the axis comes from the contact frame and is tilted until the wheel,
+--      shank and holder clear the neighbouring blades and the hub, within the
+--      C-axis range (§3.3-3.4); the motion between poses and the links between
+--      rows are proved clear too; nothing unproven is emitted;
+--   4. an independent simulation samples the design flank 200 x 1000 and
+--      measures the material left (undercut) and any gouge (overcut) after
+--      the swept tool (§4, Table 5, Fig. 15).
+-- Outputs: blisk_drum_finish.json, blade<k>_<side>.apt (APT/CL: tool tip and
+-- axis per move), undercut_blade<k>_<side>.svg. The run fails (exit 1, after
+-- writing the report) if the simulation finds an overcut beyond the chord
+-- tolerance or a pose was refused.
+--
+--   bliskrun scripts/recipes/blisk_drum_finish.lua --out out/
+--   options: --set blade=1 --set wheel=extended|traditional --set residual=0.014
+--            --set chord_tol=0.002 --set steps=variable|constant --set c_range=30
+--            --set samples_u=200 --set samples_v=1000
+--            --set all_blades=true   (also plan both flanks of every blade, on --threads)
+
+local finish = require("blisk_finish")
+local blisk_world = require("blisk_world")
+
+local blade = args.blade or 1
+local wheel_rule = args.wheel or "extended"
+local c_range = args.c_range or 30
+local settings = {residual = args.residual or 0.014, chord_tol = args.chord_tol or 0.002,
+                  steps = args.steps or "variable"}
+assert(wheel_rule == "extended" or wheel_rule == "traditional",
+       "--set wheel= expects 'extended' or 'traditional', got " .. tostring(wheel_rule))
+
+local blisk = bliskrun.blisk{}
+assert(math.type(blade) == "integer" and blade >= 1 and blade <= blisk:blade_count(),
+       string.format("--set blade= expects 1..%d", blisk:blade_count()))
+local design = finish.design_wheels(blisk, {c_range = c_range})
+local tool = design.wheels[wheel_rule]
+-- The extended wheel is only valid within the C range it was designed for.
+if wheel_rule == "extended" then settings.c_range = c_range end
+bliskrun.log(string.format("wheel %s: %s", wheel_rule, tool:description()))
+
+local world = blisk_world.around_blade(blisk, blade)
+local report = {
+  part = {kind = "built-in blisk", blades = blisk:blade_count(), narrowest_passage_mm = design.d_min},
+  wheel = {rule = wheel_rule, description = tool:description(), table2 = design.table2[wheel_rule]},
+  settings = {residual_mm = settings.residual, chord_tol_mm = settings.chord_tol, steps = settings.steps,
+              c_range_deg = settings.c_range},
+  flanks = {},
+}
+local ok = true
+print(string.format("Drum-wheel finish of blade %d, %s", blade, tool:description()))
+print("  flank     rows  width mm      poses  refused  max chord um  undercut max/mean/median/std um  overcut um")
+for _, side in ipairs{"pressure", "suction"} do
+  local plan = finish.plan(blisk, blade, side, tool, world, settings)
+  local r = plan:report()
+  local apt = string.format("blade%d_%s.apt", blade, side)
+  plan:write_apt(apt)
+  local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
+  local picture = string.format("undercut_blade%d_%s.svg", blade, side)
+  sim.map:write_svg(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  local verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -settings.chord_tol - 1e-4
+  ok = ok and verified
+  print(string.format("  %-8s  %4d  %4.2f-%4.2f  %6d  %7d  %12.2f  %6.2f / %5.2f / %5.2f / %5.2f  %10.2f",
+                      side, r.row_count, r.width_min, r.width_max, r.poses, r.refusals + r.refused_links,
+                      1e3 * r.max_deviation, 1e3 * sim.undercut_max, 1e3 * sim.undercut_mean,
+                      1e3 * sim.undercut_median, 1e3 * sim.undercut_std, 1e3 * sim.overcut))
+  r.apt = apt
+  r.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
+                  undercut_median_mm = sim.undercut_median, undercut_std_mm = sim.undercut_std,
+                  overcut_mm = sim.overcut, untouched = sim.untouched, samples = sim.samples,
+                  tool_positions = sim.tool_positions, u0 = sim.u0, picture = picture}
+  r.verified = verified
+  report.flanks[side] = r
+end
+print(string.format("  first row raised above the hub by the wheel's hub clearance: strip %.2f mm (pressure), "
+                    .. "%.2f mm (suction), left for the hub-fillet operation",
+                    report.flanks.pressure.hub_strip, report.flanks.suction.hub_strip))
+
+if args.all_blades then
+  local worlds = blisk_world.all_blades(blisk)
+  local common = finish.settings(blisk, tool, settings)
+  common.jobs = {}
+  for k = 1, blisk:blade_count() do
+    for _, side in ipairs{"pressure", "suction"} do
+      local job = {flank = finish.flank(blisk, k, side), world = worlds[k], name = string.format("blade %d %s", k, side)}
+      -- The extended wheel needs each blade's own C range.
+      if settings.c_range then job.axis_limit = finish.c_axis_limit(blisk, k, c_range) end
+      common.jobs[#common.jobs + 1] = job
+    end
+  end
+  local plans = bliskrun.drum_finish_all(common)
+  local all = {flanks = {}, poses = 0, refusals = 0}
+  for i, plan in ipairs(plans) do
+    local r = plan:report()
+    local apt = string.format("blade%02d_%s.apt", (i + 1) // 2, i % 2 == 1 and "pressure" or "suction")
+    plan:write_apt(apt)
+    all.flanks[i] = {name = r.name, rows = r.row_count, poses = r.poses, refusals = r.refusals + r.refused_links,
+                     max_deviation_mm = r.max_deviation, apt = apt}
+    all.poses = all.poses + r.poses
+    all.refusals = all.refusals + r.refusals + r.refused_links
+  end
+  ok = ok and all.refusals == 0
+  report.all_blades = all
+  print(string.format("  all %d blades: %d flanks, %d poses, %d refused", blisk:blade_count(), #plans, all.poses,
+                      all.refusals))
+end
+
+report.verified = ok
+bliskrun.write_json("blisk_drum_finish.json", report)
+if not ok then
+  error("verification failed: a pose or link was refused, or the simulation found an overcut beyond the chord "
+        .. "tolerance; see blisk_drum_finish.json")
+end
