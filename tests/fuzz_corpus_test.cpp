@@ -10,6 +10,7 @@
 #include "core/io/point_grid_reader.h"
 #include "core/machine/program_reader.h"
 #include "machine/test_machines.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -51,6 +52,30 @@ TEST(FuzzCorpus, ProgramInputsReadOrSayWhere) {
       EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
     }
   }
+}
+
+// Machine-definition seeds (machine_definition_fuzz): loaded as a machine
+// file, a valid table gives a machine; an invalid one fails at the machine
+// file's line, naming the key.
+TEST(FuzzCorpus, MachineDefinitionsLoadOrSayWhere) {
+  const auto files = corpus("machine");
+  ASSERT_GE(files.size(), 3u);
+  int loaded = 0, refused = 0;
+  for (const auto& [name, body] : files) {
+    test::TempDir dir;
+    std::ofstream(dir.path() + "/fuzz_machine.lua") << "return machine {" << body << "}\n";
+    const test::RecipeResult r =
+        test::run_recipe_text(dir, "local m = bliskrun.machine.load('fuzz_machine.lua')\nprint(m:name())\n");
+    if (r.exit_code == 0) {
+      ++loaded;
+    } else {
+      EXPECT_EQ(r.exit_code, 1) << name << ": " << r.output;
+      EXPECT_NE(r.output.find("fuzz_machine.lua:1"), std::string::npos) << name << ": " << r.output;
+      ++refused;
+    }
+  }
+  EXPECT_GE(loaded, 2);   // the two complete definitions
+  EXPECT_GE(refused, 2);  // bad.txt, short.txt
 }
 
 }  // namespace

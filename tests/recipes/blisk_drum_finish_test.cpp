@@ -1,0 +1,136 @@
+// The drum-finishing recipes of issue 4, run through the executable as a
+// user runs them, with smaller simulation grids to keep the suite quick.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string recipe(const char* name) { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+size_t count(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+std::vector<std::string> finish_args(const std::string& out, const char* threads) {
+  return {recipe("blisk_drum_finish.lua"), "--out", out, "--quiet", "--threads", threads,
+          "--set", "samples_u=80", "--set", "samples_v=400"};
+}
+
+TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidualAndNoGouge) {
+  TempDir dir;
+  const RecipeResult r = run_bliskrun(finish_args(dir.path(), "2"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_finish.json"));
+  EXPECT_TRUE(j["verified"].get<bool>());
+  EXPECT_EQ(j["wheel"]["rule"], "extended");
+  const double residual = j["settings"]["residual_mm"], chord_tol = j["settings"]["chord_tol_mm"];
+  for (const char* side : {"pressure", "suction"}) {
+    SCOPED_TRACE(side);
+    const nlohmann::json& f = j["flanks"][side];
+    EXPECT_EQ(f["refusals"].get<int>(), 0);
+    EXPECT_EQ(f["refused_links"].get<int>(), 0);
+    // Wheel 2 (R_c 50) on a 30 mm blade at 14 um: about 2.3 mm rows.
+    EXPECT_GE(f["row_count"].get<int>(), 11);
+    EXPECT_LE(f["row_count"].get<int>(), 16);
+    EXPECT_GT(f["width_min"].get<double>(), 2.0);
+    EXPECT_LT(f["width_max"].get<double>(), 2.8);
+    // Every segment's measured chord deviation is within the tolerance.
+    EXPECT_LE(f["max_deviation"].get<double>(), chord_tol * (1 + 1e-9));
+    for (const auto& row : f["rows"]) EXPECT_LE(row["max_deviation"].get<double>(), chord_tol * (1 + 1e-9));
+    // The first row is raised off the hub; the strip is reported.
+    EXPECT_GT(f["first_row_u"].get<double>(), 0.0);
+    EXPECT_GT(f["hub_strip"].get<double>(), 1.0);
+    EXPECT_LT(f["hub_strip"].get<double>(), 5.0);
+    // The simulation: material left up to the residual height (rows spaced
+    // for it; a little over from the sampled curvature and the chords), no
+    // gouge beyond the chord tolerance, every sample reached.
+    const nlohmann::json& sim = f["simulation"];
+    EXPECT_GT(sim["undercut_max_mm"].get<double>(), 0.8 * residual);
+    EXPECT_LT(sim["undercut_max_mm"].get<double>(), 1.05 * residual);
+    EXPECT_GT(sim["undercut_mean_mm"].get<double>(), 0.0);
+    EXPECT_LT(sim["undercut_mean_mm"].get<double>(), sim["undercut_max_mm"].get<double>());
+    EXPECT_GE(sim["overcut_mm"].get<double>(), -chord_tol);
+    EXPECT_EQ(sim["untouched"].get<int>(), 0);
+    EXPECT_EQ(sim["samples"].get<int>(), 80 * 400);
+    // APT: one GOTO per pose and two per link between rows.
+    const std::string apt = slurp(fs::path(dir.path()) / f["apt"].get<std::string>());
+    const size_t rows = f["rows"].size();
+    EXPECT_EQ(count(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1));
+    EXPECT_EQ(count(apt, "$$ ROW "), rows);
+    EXPECT_EQ(count(apt, "STOP"), 0u);
+    const fs::path svg = fs::path(dir.path()) / sim["picture"].get<std::string>();
+    ASSERT_TRUE(fs::exists(svg));
+    EXPECT_GT(fs::file_size(svg), 10000u);
+  }
+}
+
+// Issue 7: same recipe and inputs give the same bytes, whatever the thread
+// count (the simulation splits tool positions over the workers).
+TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {
+  TempDir one, two;
+  ASSERT_EQ(run_bliskrun(finish_args(one.path(), "1")).exit_code, 0);
+  ASSERT_EQ(run_bliskrun(finish_args(two.path(), "2")).exit_code, 0);
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(one.path())) {
+    const fs::path other = fs::path(two.path()) / e.path().filename();
+    ASSERT_TRUE(fs::exists(other)) << other;
+    EXPECT_EQ(slurp(e.path()), slurp(other)) << e.path().filename();
+    ++files;
+  }
+  EXPECT_EQ(files, 5);  // json, 2 apt, 2 svg
+}
+
+TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceedsTheTolerance) {
+  TempDir dir;
+  const RecipeResult r = run_bliskrun({recipe("blisk_drum_study.lua"), "--out", dir.path(), "--quiet", "--set",
+                                       "samples_u=60", "--set", "samples_v=300"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Table 4"), std::string::npos);
+  EXPECT_NE(r.output.find("Table 5"), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_study.json"));
+  const nlohmann::json& g = j["groups"];
+  const double tol = j["chord_tol_mm"];
+  // Wheel 2 (extended rule) needs fewer rows than wheel 1 at the same residual.
+  EXPECT_EQ(g["a"]["rows"], g["b"]["rows"]);
+  EXPECT_EQ(g["c"]["rows"], g["d"]["rows"]);
+  EXPECT_LT(g["c"]["rows"].get<int>(), g["a"]["rows"].get<int>());
+  // Eq. 17 as written exceeds the chord tolerance; the variable method, measured, never does.
+  EXPECT_GT(g["a"]["max_chord_error_mm"].get<double>(), tol * 1.05);
+  EXPECT_GT(g["c"]["max_chord_error_mm"].get<double>(), tol * 1.05);
+  EXPECT_LE(g["b"]["max_chord_error_mm"].get<double>(), tol * (1 + 1e-9));
+  EXPECT_LE(g["d"]["max_chord_error_mm"].get<double>(), tol * (1 + 1e-9));
+  EXPECT_EQ(g["b"]["rows_over_tolerance"].get<int>(), 0);
+  EXPECT_GT(g["a"]["rows_over_tolerance"].get<int>(), 0);
+  for (const char* id : {"a", "b", "c", "d"}) {
+    SCOPED_TRACE(id);
+    EXPECT_EQ(g[id]["refusals"].get<int>(), 0);
+    EXPECT_GT(g[id]["table5"]["undercut_std_mm"].get<double>(), 0.0);
+    EXPECT_TRUE(fs::exists(fs::path(dir.path()) / g[id]["picture"].get<std::string>()));
+    // Fig. 13's row: one chord error per segment between its contacts.
+    EXPECT_EQ(g[id]["fig13_row"]["chord_error_mm"].size() + 1, g[id]["fig13_row"]["v"].size());
+  }
+  // Variable chord puts more points where the curvature rises (Fig. 12).
+  EXPECT_GT(g["b"]["poses"].get<int>(), g["a"]["poses"].get<int>());
+  for (const char* f : {"fig12_points_per_row.svg", "fig13_chord_error.svg"}) {
+    const std::string svg = slurp(fs::path(dir.path()) / f);
+    EXPECT_NE(svg.find("<polyline"), std::string::npos) << f;
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun::test
