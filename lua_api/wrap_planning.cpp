@@ -331,6 +331,40 @@ int w_plan_row(lua_State* L) {
   return 1;
 }
 
+// plan:moves() -> {{kind = "feed"|"rapid", tip =, axis =, row =}, ...}: the
+// toolpath in cutting order, rows linked by their (proved) retract and
+// approach moves, in the form bliskrun.post.write takes. A refused link ends
+// the list there: nothing unproven is implied.
+int w_plan_moves(lua_State* L) {
+  const LuaDrumPlan& p = check_plan(L);
+  const DrumFinishResult& r = *p.result;
+  lua_newtable(L);
+  lua_Integer n = 0;
+  auto move = [&](const char* kind, const ToolPose& pose, size_t row) {
+    lua_createtable(L, 0, 4);
+    set_string(L, "kind", kind);
+    luax::set_vec3(L, "tip", pose.tip);
+    luax::set_vec3(L, "axis", pose.axis);
+    lua_pushinteger(L, static_cast<lua_Integer>(row + 1));
+    lua_setfield(L, -2, "row");
+    lua_rawseti(L, -2, ++n);
+  };
+  size_t link = 0;
+  bool started = false;
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    const DrumFinishRow& row = r.rows[i];
+    if (row.poses.empty()) continue;
+    if (started) {
+      const DrumFinishLink& l = r.links.at(link++);
+      if (!l.clear) break;
+      for (const ToolPose& m : l.moves) move("rapid", m, i);
+    }
+    for (const DrumFinishPose& dp : row.poses) move("feed", dp.pose, i);
+    started = true;
+  }
+  return 1;
+}
+
 int w_plan_write_apt(lua_State* L) {
   const LuaDrumPlan& p = check_plan(L);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
@@ -430,6 +464,7 @@ int w_plan_tostring(lua_State* L) {
 
 void open_planning(lua_State* L) {
   static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"row", w_plan_row},
+                                          {"moves", w_plan_moves},
                                           {"write_apt", w_plan_write_apt}, {"trimmed", w_plan_trimmed},
                                           {"simulate", w_plan_simulate},   {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaDrumPlan>::name, plan_methods, &luax::gc_value<LuaDrumPlan>,

@@ -13,7 +13,7 @@
 --   4. an independent simulation samples the design flank 200 x 1000 and
 --      measures the material left (undercut) and any gouge (overcut) after
 --      the swept tool (§4, Table 5, Fig. 15).
--- Outputs: blisk_drum_finish.json, blade<k>_<side>.apt (APT/CL: tool tip and
+-- Outputs: blisk_drum_finish.json (report and toolpath), blade<k>_<side>.apt (APT/CL: tool tip and
 -- axis per move), undercut_blade<k>_<side>.svg. The run fails (exit 1, after
 -- writing the report) if the simulation finds an overcut beyond the chord
 -- tolerance or a pose was refused.
@@ -74,6 +74,11 @@ for _, side in ipairs{"pressure", "suction"} do
                              r.seconds.trim, r.seconds.rows, r.seconds.tilt, r.seconds.links, sim.seconds))
   r.seconds = nil
   r.apt = apt
+  r.toolpath = {}
+  for i, m in ipairs(plan:moves()) do
+    r.toolpath[i] = {kind = m.kind, row = m.row, tip = {m.tip[1], m.tip[2], m.tip[3]},
+                     axis = {m.axis[1], m.axis[2], m.axis[3]}}
+  end
   r.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
                   undercut_median_mm = sim.undercut_median, undercut_std_mm = sim.undercut_std,
                   overcut_mm = sim.overcut, untouched = sim.untouched, samples = sim.samples,

@@ -73,6 +73,10 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     EXPECT_EQ(count(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1));
     EXPECT_EQ(count(apt, "$$ ROW "), rows);
     EXPECT_EQ(count(apt, "STOP"), 0u);
+    // The JSON carries the same toolpath: feeds at the poses, two rapids per link.
+    EXPECT_EQ(f["toolpath"].size(), f["poses"].get<size_t>() + 2 * (rows - 1));
+    EXPECT_EQ(f["toolpath"][0]["kind"], "feed");
+    EXPECT_EQ(f["toolpath"][0]["tip"].size(), 3u);
     const fs::path svg = fs::path(dir.path()) / sim["picture"].get<std::string>();
     ASSERT_TRUE(fs::exists(svg));
     EXPECT_GT(fs::file_size(svg), 10000u);
