@@ -90,7 +90,7 @@ function M.lines(spec)
   if spec.limit then
     add(string.format('<line x1="%d" x2="%d" y1="%s" y2="%s" stroke="black" stroke-dasharray="6 4"/>', left,
                       left + W, f(Y(spec.limit.y)), f(Y(spec.limit.y))))
-    add(string.format('<text x="%d" y="%s">%s</text>', left + W + 12, f(Y(spec.limit.y) + 4), esc(spec.limit.name or "")))
+    add(string.format('<text x="%d" y="%s">%s</text>', left + 6, f(Y(spec.limit.y) - 4), esc(spec.limit.name or "")))
   end
   add("</svg>\n")
   return table.concat(out, "\n")
