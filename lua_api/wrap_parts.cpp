@@ -34,7 +34,9 @@ std::vector<luax::Field> loft_fields() {
           Field{"edge_margin", Kind::Number, false, 0, 0.49,
                 "arc-length fraction of each side left out at the edge circles; default 0.03", {}},
           Field{"span_extension", Kind::Number, false, 0, 0.5,
-                "fraction of the span the flanks reach past the hub and tip sections; default 0.03", {}}};
+                "fraction of the span the flanks reach past the hub and tip sections; default 0.03", {}},
+          Field{"cross_check", Kind::Boolean, false, std::nullopt, std::nullopt,
+                "also measure each interior section against the loft of the others (fit.left_out); default false", {}}};
 }
 
 LoftOptions loft_options(const luax::Options& o) {
@@ -42,6 +44,7 @@ LoftOptions loft_options(const luax::Options& o) {
   l.cols = static_cast<int>(o.integer("cols", l.cols));
   l.edge_margin = o.number("edge_margin", l.edge_margin);
   l.span_extension = o.number("span_extension", l.span_extension);
+  l.cross_check = o.boolean("cross_check", false);
   return l;
 }
 
@@ -128,6 +131,16 @@ void push_blade_model(lua_State* L, const BladeSections& blade, const LoftOption
     lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
   }
   lua_setfield(L, -2, "sections");
+  if (options.cross_check) {
+    push_fit(L, loft.cross);
+    lua_createtable(L, static_cast<int>(loft.cross_sections.size()), 0);
+    for (size_t k = 0; k < loft.cross_sections.size(); ++k) {
+      push_fit(L, loft.cross_sections[k]);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "sections");
+    lua_setfield(L, -2, "left_out");
+  }
   lua_setfield(L, -2, "fit");
 }
 

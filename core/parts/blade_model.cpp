@@ -363,7 +363,16 @@ SectionEdges find_section_edges(const std::vector<Vec3>& loop) {
   return e;
 }
 
-BladeLoft loft_blade(const BladeSections& blade, const LoftOptions& o) {
+namespace {
+
+// The loft without the fit, with each section's sides as assigned.
+struct Lofted {
+  BladeLoft loft;
+  std::vector<Side> pside, sside;
+  bool p_forward = true, s_forward = false;
+};
+
+Lofted loft_core(const BladeSections& blade, const LoftOptions& o) {
   if (o.cols < 4) throw ParameterError("cols", "need at least 4 columns, got " + std::to_string(o.cols));
   if (!(o.edge_margin >= 0 && o.edge_margin < 0.5)) throw ParameterError("edge_margin", "must be in [0, 0.5)");
   if (!(o.span_extension >= 0 && o.span_extension <= 0.5))
@@ -374,7 +383,8 @@ BladeLoft loft_blade(const BladeSections& blade, const LoftOptions& o) {
     throw ParameterError("rotation_sign", "must be -1, 0 or +1");
   const int ns = static_cast<int>(blade.sections.size());
 
-  BladeLoft out;
+  Lofted result;
+  BladeLoft& out = result.loft;
   std::vector<Side> first(ns), second(ns);  // A: forwards from the LE; B: backwards
   std::vector<SideJudgement> judged(ns);
   int implied = 0;
@@ -429,39 +439,83 @@ BladeLoft loft_blade(const BladeSections& blade, const LoftOptions& o) {
   }
   out.tip_row = out.hub_row + ns - 1;
 
-  // Fit of the given points inside the resampled range.
+  out.pressure = std::move(pres);
+  out.suction = std::move(suct);
+  for (int k = 0; k < ns; ++k) {
+    result.pside.push_back(*pside[k]);
+    result.sside.push_back(*sside[k]);
+  }
+  result.p_forward = p_forward;
+  result.s_forward = s_forward;
+  return result;
+}
+
+// Distances of side `s`'s given points inside the chord range to `surf`
+// (grid `g`, `forward` its v direction), Newton from the point's own row
+// parameter `u` and column.
+void measure(const Side& s, const BSplineSurface& surf, const std::vector<double>& v_params, double u, bool forward,
+             const LoftOptions& o, const std::string& where, std::vector<FitStats*> into) {
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    const double f = s.fraction[i];
+    if (f < o.edge_margin - 1e-12 || f > 1 - o.edge_margin + 1e-12) continue;
+    double c = (f - o.edge_margin) / (1 - 2 * o.edge_margin) * (o.cols - 1);
+    if (!forward) c = o.cols - 1 - c;
+    ProjectionOptions po;
+    po.seed = Eigen::Vector2d(u, interp(v_params, c));
+    const SurfaceProjection pr = project_to_surface(surf, s.points[i], po);
+    if (!pr.ok)
+      throw Error("blade fit: " + where + ", point " + std::to_string(i + 1) + " does not project onto the flank: " +
+                  pr.failure);
+    for (FitStats* f : into) accumulate(*f, pr.distance);
+  }
+}
+
+}  // namespace
+
+BladeLoft loft_blade(const BladeSections& blade, const LoftOptions& o) {
+  Lofted l = loft_core(blade, o);
+  BladeLoft& out = l.loft;
+  const int ns = static_cast<int>(blade.sections.size());
   out.fit_sections.assign(ns, FitStats{});
   for (int side = 0; side < 2; ++side) {
-    const PointGrid& g = side == 0 ? pres : suct;
-    const bool forward = side == 0 ? p_forward : s_forward;
+    const PointGrid& g = side == 0 ? out.pressure : out.suction;
     const BSplineSurface surf = interpolate_grid(g);
     const GridParameters params = averaged_grid_parameters(g);
     FitStats& total = side == 0 ? out.fit_pressure : out.fit_suction;
-    for (int k = 0; k < ns; ++k) {
-      const Side& s = side == 0 ? *pside[k] : *sside[k];
-      for (size_t i = 0; i < s.points.size(); ++i) {
-        const double f = s.fraction[i];
-        if (f < o.edge_margin - 1e-12 || f > 1 - o.edge_margin + 1e-12) continue;
-        double c = (f - o.edge_margin) / (1 - 2 * o.edge_margin) * (cols - 1);
-        if (!forward) c = cols - 1 - c;
-        ProjectionOptions po;
-        po.seed = Eigen::Vector2d(params.u[out.hub_row + k], interp(params.v, c));
-        const SurfaceProjection pr = project_to_surface(surf, s.points[i], po);
-        if (!pr.ok)
-          throw Error("blade fit: section " + std::to_string(k + 1) + ", point " + std::to_string(i + 1) +
-                      " does not project onto the " + (side == 0 ? "pressure" : "suction") + " flank: " + pr.failure);
-        accumulate(total, pr.distance);
-        accumulate(out.fit, pr.distance);
-        accumulate(out.fit_sections[k], pr.distance);
-      }
-    }
+    for (int k = 0; k < ns; ++k)
+      measure(side == 0 ? l.pside[k] : l.sside[k], surf, params.v, params.u[out.hub_row + k],
+              side == 0 ? l.p_forward : l.s_forward, o,
+              "section " + std::to_string(k + 1) + (side == 0 ? " pressure" : " suction"),
+              {&total, &out.fit, &out.fit_sections[k]});
   }
   finish(out.fit);
   finish(out.fit_pressure);
   finish(out.fit_suction);
   for (FitStats& s : out.fit_sections) finish(s);
-  out.pressure = std::move(pres);
-  out.suction = std::move(suct);
+
+  // Leave one out: each interior section against the loft of the others.
+  if (o.cross_check && ns >= 3) {
+    out.cross_sections.assign(ns, FitStats{});
+    LoftOptions without = o;
+    without.span_extension = 0;
+    without.cross_check = false;
+    for (int k = 1; k + 1 < ns; ++k) {
+      BladeSections rest = blade;
+      rest.sections.erase(rest.sections.begin() + k);
+      rest.rotation_sign = out.rotation_sign;  // the same sides as the whole blade
+      const Lofted r = loft_core(rest, without);
+      for (int side = 0; side < 2; ++side) {
+        const PointGrid& g = side == 0 ? r.loft.pressure : r.loft.suction;
+        const BSplineSurface surf = interpolate_grid(g);
+        const GridParameters params = averaged_grid_parameters(g);
+        measure(side == 0 ? l.pside[k] : l.sside[k], surf, params.v, 0.5 * (params.u[k - 1] + params.u[k]),
+                side == 0 ? r.p_forward : r.s_forward, without, "section " + std::to_string(k + 1) + " (left out)",
+                {&out.cross, &out.cross_sections[k]});
+      }
+    }
+    finish(out.cross);
+    for (FitStats& s : out.cross_sections) finish(s);
+  }
   return out;
 }
 

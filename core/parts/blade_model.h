@@ -66,6 +66,10 @@ struct LoftOptions {
   int cols = 200;               // grid columns along the chord, >= 4
   double edge_margin = 0.03;    // arc-length fraction left out at each edge, [0, 0.5)
   double span_extension = 0.03; // fraction of each column's length added past hub and tip, [0, 0.5]
+  // Also loft the blade once without each interior section and measure that
+  // section's points against it: how well the loft represents the blade
+  // between its sections (costs one loft per interior section).
+  bool cross_check = false;
 };
 
 // Distance of the given section points (those inside the resampled chord
@@ -87,6 +91,10 @@ struct BladeLoft {
   bool pressure_v_le_to_te = true;  // v direction of the pressure grid (suction: the reverse)
   FitStats fit, fit_pressure, fit_suction;
   std::vector<FitStats> fit_sections;  // per section, both sides
+  // With LoftOptions::cross_check: each interior section's points against the
+  // loft of the other sections (the hub and tip sections stay zero).
+  FitStats cross;
+  std::vector<FitStats> cross_sections;
 };
 
 // Throws ParameterError naming the option or the section that cannot be used.

@@ -145,7 +145,10 @@ struct AnalyticBlade {
 
 TEST(BladeModel, LoftReproducesAnAnalyticBladeBetweenItsSections) {
   const BladeSections b = AnalyticBlade::sections(9);
-  const BladeLoft loft = loft_blade(b);
+  LoftOptions opts;
+  opts.cross_check = true;
+  const BladeLoft loft = loft_blade(b, opts);
+  std::printf("cross %.3g\n", loft.cross.max_mm);
   EXPECT_FALSE(loft.rotation_given);
   EXPECT_EQ(loft.rotation_sign, -1);  // the suction side bulges towards +θ
   EXPECT_TRUE(loft.camber_agrees);
@@ -232,8 +235,8 @@ void expect_outward(const BladeLoft& loft) {
 }
 
 void report(const char* what, const BladeLoft& l) {
-  std::printf("%s: fit max %.5f rms %.5f mm over %d points; rotation %+d (%s), camber %s; LE r hub %.3f tip %.3f, TE r hub %.3f tip %.3f\n",
-              what, l.fit.max_mm, l.fit.rms_mm, l.fit.points, l.rotation_sign, l.rotation_given ? "given" : "camber",
+  std::printf("%s: left-out sections max %.4f rms %.4f mm; fit max %.5f rms %.5f mm over %d points; rotation %+d (%s), camber %s; LE r hub %.3f tip %.3f, TE r hub %.3f tip %.3f\n",
+              what, l.cross.max_mm, l.cross.rms_mm, l.fit.max_mm, l.fit.rms_mm, l.fit.points, l.rotation_sign, l.rotation_given ? "given" : "camber",
               l.camber_agrees ? "agrees" : "DISAGREES", l.edges.front().leading.radius_mm, l.edges.back().leading.radius_mm,
               l.edges.front().trailing.radius_mm, l.edges.back().trailing.radius_mm);
 }
@@ -242,7 +245,9 @@ TEST(BladeModelReal, Rotor37) {
   const std::string data = test::shared_data_dir();
   if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 37 loft skipped";
   const std::string dir = data + "/nasa_rotor37/agard_table/";
-  const BladeLoft l = loft_blade(read_rotor37(dir + "rotor37geometry.dat", dir + "rotor37hub-shroud.dat"));
+  LoftOptions o;
+  o.cross_check = true;
+  const BladeLoft l = loft_blade(read_rotor37(dir + "rotor37geometry.dat", dir + "rotor37hub-shroud.dat"), o);
   report("Rotor 37", l);
   EXPECT_EQ(l.rotation_sign, -1);  // PROVENANCE: THETA1 (+θ) is the suction side
   EXPECT_TRUE(l.camber_agrees);
@@ -261,7 +266,9 @@ TEST(BladeModelReal, Rotor37) {
 TEST(BladeModelReal, Rotor67) {
   const std::string data = test::shared_data_dir();
   if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 loft skipped";
-  const BladeLoft l = loft_blade(blade_sections(read_rotor67(data + "/nasa_rotor67/rotor67geometry.dat")));
+  LoftOptions o;
+  o.cross_check = true;
+  const BladeLoft l = loft_blade(blade_sections(read_rotor67(data + "/nasa_rotor67/rotor67geometry.dat")), o);
   report("Rotor 67", l);
   EXPECT_EQ(l.rotation_sign, -1);  // PROVENANCE: the upper (+θ) side is the suction side
   EXPECT_TRUE(l.camber_agrees);
@@ -274,7 +281,9 @@ TEST(BladeModelReal, Hecc) {
   if (data.empty()) GTEST_SKIP() << "../shared/data not present: HECC loft skipped";
   for (HeccSet set : {HeccSet::design_intent, HeccSet::as_manufactured})
     for (HeccBlade blade : {HeccBlade::main, HeccBlade::splitter}) {
-      const BladeLoft l = loft_blade(read_hecc_impeller(data + "/nasa_hecc_impeller", set, blade));
+      LoftOptions o;
+      o.cross_check = true;
+      const BladeLoft l = loft_blade(read_hecc_impeller(data + "/nasa_hecc_impeller", set, blade), o);
       report(set == HeccSet::design_intent ? (blade == HeccBlade::main ? "HECC design main" : "HECC design splitter")
                                            : (blade == HeccBlade::main ? "HECC cold main" : "HECC cold splitter"),
              l);
