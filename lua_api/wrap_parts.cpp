@@ -32,9 +32,12 @@ std::vector<luax::Field> loft_fields() {
   using luax::Kind;
   return {Field{"cols", Kind::Integer, false, 4, 5000, "grid columns along the chord; default 200", {}},
           Field{"edge_margin", Kind::Number, false, 0, 0.49,
-                "arc-length fraction of each side left out at the edge circles; default 0.03", {}},
+                "chord fraction of each side left out at the edge circles; default 0.03", {}},
           Field{"span_extension", Kind::Number, false, 0, 0.5,
                 "fraction of the span the flanks reach past the hub and tip sections; default 0.03", {}},
+          Field{"chord_fraction", Kind::String, false, std::nullopt, std::nullopt,
+                "how columns correspond across sections: \"projection\" on the chord (default) or \"arc_length\"",
+                {"projection", "arc_length"}},
           Field{"cross_check", Kind::Boolean, false, std::nullopt, std::nullopt,
                 "also measure each interior section against the loft of the others (fit.left_out); default false", {}}};
 }
@@ -45,6 +48,7 @@ LoftOptions loft_options(const luax::Options& o) {
   l.edge_margin = o.number("edge_margin", l.edge_margin);
   l.span_extension = o.number("span_extension", l.span_extension);
   l.cross_check = o.boolean("cross_check", false);
+  if (o.string("chord_fraction", "projection") == "arc_length") l.chord_fraction = ChordFraction::arc_length;
   return l;
 }
 
@@ -98,6 +102,8 @@ void push_blade_model(lua_State* L, const BladeSections& blade, const LoftOption
   lua_setfield(L, -2, "rotation");
   luax::set_string(L, "rotation_from", loft.rotation_given ? "data" : "camber");
   luax::set_bool(L, "camber_agrees", loft.camber_agrees);
+  luax::set_string(L, "chord_fraction",
+                   loft.chord_fraction == ChordFraction::projection ? "projection" : "arc_length");
   if (blade.hub_meridian.size() >= 2) {
     push_meridian(L, blade.hub_meridian);
     lua_setfield(L, -2, "hub_meridian");

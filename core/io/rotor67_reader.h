@@ -42,9 +42,10 @@ BladeSections blade_sections(const StreamSurfaceRotor& rotor);
 // Flank grids of blade 0, one row per stream surface (hub -> casing), cols
 // along the chord: loft_blade (core/parts/blade_model.h) of blade_sections()
 // without span extension - edge circles found from the geometry, each side
-// resampled at `cols` common arc-length fractions in [edge_margin,
-// 1 - edge_margin] so that columns correspond across sections and the edge
-// circles are left out (they are machined by the edge strategy).
+// resampled at `cols` common chord fractions (projection on the LE-TE
+// chord) in [edge_margin, 1 - edge_margin] so that columns correspond across
+// sections and the edge circles are left out (the edge strategy machines
+// them).
 // Orientation as the built-in blisk: u hub -> tip; v LE -> TE on the
 // pressure side, TE -> LE on the suction side, so that pu x pv points out of
 // the material on both.

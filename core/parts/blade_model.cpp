@@ -193,17 +193,44 @@ SectionEdges edges_of(const Loop& l) {
   return e;
 }
 
-// One side of a section, LE -> TE, as a cubic with its arc-length table.
+// One side of a section, LE -> TE, as a cubic with a table of the chord
+// measure (arc length, or projection on the chord) against its parameter.
 struct Side {
-  std::vector<Vec3> points;     // given points, LE -> TE
-  std::vector<double> fraction; // their arc-length fractions
+  std::vector<Vec3> points;       // given points, LE -> TE
+  std::vector<double> fraction;   // their chord fractions (the measure in use)
   BSplineCurve curve;
-  std::vector<double> t, len;   // arc-length table
+  std::vector<double> t;          // table nodes: the points' parameters, subdivided
+  std::vector<size_t> node;       // table node of each given point
+  std::vector<double> len, proj;  // arc length; projection on the chord, 0 at the LE and 1 at the TE point
+  std::vector<double> measure;    // the one in use, non-decreasing
+
+  // Projection increases along the side inside [margin, 1 - margin]: the
+  // side does not fold back along its chord there.
+  bool projection_monotonic(double margin) const {
+    for (size_t k = 1; k < proj.size(); ++k)
+      if (proj[k] <= proj[k - 1] && proj[k - 1] >= margin && proj[k] <= 1 - margin) return false;
+    return true;
+  }
+  void use(ChordFraction how) {
+    if (how == ChordFraction::arc_length) {
+      measure = len;
+    } else {
+      measure.clear();
+      double best = 0;
+      for (size_t k = 0; k < proj.size(); ++k) {
+        best = std::max(best, proj[k]);
+        measure.push_back(best + 1e-13 * k);  // strictly increasing for the search
+      }
+    }
+    fraction.clear();
+    for (size_t n : node) fraction.push_back(measure[n] / measure.back());
+  }
   Vec3 at_fraction(double f) const {
-    const double target = f * len.back();
-    const size_t k = std::min<size_t>(std::upper_bound(len.begin(), len.end(), target) - len.begin(), len.size() - 1);
+    const double target = f * measure.back();
+    const size_t k =
+        std::min<size_t>(std::upper_bound(measure.begin(), measure.end(), target) - measure.begin(), measure.size() - 1);
     const size_t k0 = k == 0 ? 0 : k - 1;
-    const double w = len[k] > len[k0] ? (target - len[k0]) / (len[k] - len[k0]) : 0.0;
+    const double w = measure[k] > measure[k0] ? (target - measure[k0]) / (measure[k] - measure[k0]) : 0.0;
     return curve.point(t[k0] + w * (t[k] - t[k0]));
   }
 };
@@ -216,22 +243,25 @@ Side make_side(const Loop& l, int from, int to, int step) {
   }
   const std::vector<double> params = chord_length_parameters(s.points);
   s.curve = interpolate_cubic(s.points, params);
+  const Vec3 a = s.points.front(), chord = s.points.back() - a;
   constexpr int kSub = 16;
   s.t.push_back(0);
   s.len.push_back(0);
+  s.proj.push_back(0);
+  s.node.push_back(0);
   Vec3 prev = s.curve.point(0);
-  std::vector<double> at_point(1, 0.0);
   for (size_t i = 1; i < params.size(); ++i) {
     for (int k = 1; k <= kSub; ++k) {
       const double t = params[i - 1] + (params[i] - params[i - 1]) * k / kSub;
       const Vec3 p = s.curve.point(t);
       s.t.push_back(t);
       s.len.push_back(s.len.back() + (p - prev).norm());
+      s.proj.push_back((p - a).dot(chord) / chord.squaredNorm());
       prev = p;
     }
-    at_point.push_back(s.len.back());
+    s.node.push_back(s.t.size() - 1);
   }
-  for (double a : at_point) s.fraction.push_back(a / s.len.back());
+  s.use(ChordFraction::arc_length);
   return s;
 }
 
@@ -407,6 +437,15 @@ Lofted loft_core(const BladeSections& blade, const LoftOptions& o) {
   }
   out.rotation_given = blade.rotation_sign != 0;
   out.rotation_sign = out.rotation_given ? blade.rotation_sign : (implied >= 0 ? 1 : -1);
+  // One chord measure for every section, so that columns correspond.
+  out.chord_fraction = o.chord_fraction;
+  for (int k = 0; k < ns; ++k)
+    if (!first[k].projection_monotonic(o.edge_margin) || !second[k].projection_monotonic(o.edge_margin))
+      out.chord_fraction = ChordFraction::arc_length;
+  for (int k = 0; k < ns; ++k) {
+    first[k].use(out.chord_fraction);
+    second[k].use(out.chord_fraction);
+  }
 
   // Rows: the resampled sides, LE -> TE for now.
   const int cols = o.cols;
