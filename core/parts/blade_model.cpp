@@ -141,8 +141,10 @@ EdgeCircle fit_edge(const Loop& l, int e, const Vec3& away) {
     cur.rms_mm = std::sqrt(ss / q.size());
     cur.point = e;
     const bool round = cur.rms_mm < 0.05 * cur.radius_mm;
-    // The edge point: the window point farthest out along `away` from the
-    // centre (on the camber line rather than on the chord's extreme).
+    // The edge point: the window point farthest out along the chord from the
+    // fitted centre - the circle's own extreme, which the next window is
+    // centred on (the loop's raw extreme can sit off it where the points are
+    // sparse).
     int next_e = e;
     if (round) {
       double far = -1e300;

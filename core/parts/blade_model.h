@@ -8,8 +8,9 @@
 //      give the chord; the end with the smaller z is the LE (flow towards
 //      +Z). At each end a circle is fitted (least squares, in the plane of
 //      the local camber direction and the thickness direction) to the points
-//      within ~45 degrees of arc either side of the edge point, the window
-//      and the edge point refined until the radius settles;
+//      within ~45 degrees of arc either side of the edge point (the loop
+//      point farthest out along the chord from the circle's centre), window
+//      and edge point refined until the radius settles;
 //   2. the loop is split at the two edge points into two sides, each run
 //      LE -> TE, interpolated by a cubic and resampled at `cols` common
 //      chord fractions (ChordFraction) in [edge_margin, 1 - edge_margin]
