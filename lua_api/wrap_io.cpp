@@ -1,18 +1,24 @@
-// Point grids from CAD in Lua: bliskrun.read_point_grid, write_point_grid.
+// Point grids from CAD in Lua: bliskrun.read_point_grid, write_point_grid;
+// real parts: read_rotor37, read_rotor67, read_hecc (blade models, wrap_parts.h).
 // Reads resolve inside the recipe, data and out folders; writes go to the
 // out folder (write_file_atomic). Data errors name the file:line.
+#include <filesystem>
 #include <memory>
 
+#include "core/io/hecc_reader.h"
 #include "core/io/point_grid_reader.h"
+#include "core/io/rotor37_reader.h"
 #include "core/io/rotor67_reader.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
+#include "lua_api/wrap_parts.h"
 
 namespace bliskrun::lua_api {
 
 namespace {
 
+namespace fs = std::filesystem;
 using luax::Field;
 using luax::Kind;
 
@@ -49,33 +55,70 @@ int w_write_point_grid(lua_State* L) {
 }
 
 
-// bliskrun.read_rotor67(path [, {cols=200, edge_margin=0.03}]) -> {blades,
-// sections, pressure, suction, hub_meridian, casing_meridian}
+// bliskrun.read_rotor67(path [, {cols=200, edge_margin=0.03,
+// span_extension=0.03}]) -> blade model table (wrap_parts.h)
 int w_read_rotor67(lua_State* L) {
   const std::string path = luax::check_string(L, 1, "path");
-  const luax::Options o(L, 2, "bliskrun.read_rotor67",
-                        {{"cols", luax::Kind::Integer, false, 4, 5000, "grid columns along the chord (200)", {}},
-                         {"edge_margin", luax::Kind::Number, false, 0, 0.49,
-                          "chord fraction left out at each edge circle (0.03)", {}}});
+  const luax::Options o(L, 2, "bliskrun.read_rotor67", loft_fields());
   const std::string file = context(L).resolve_read(L, path);
-  const int cols = static_cast<int>(o.integer("cols", 200));
-  const double margin = o.number("edge_margin", 0.03);
+  const LoftOptions lo = loft_options(o);
   return luax::guarded(L, [&] {
-    const StreamSurfaceRotor rotor = read_rotor67(file);
-    const RotorFlanks flanks = rotor_flank_grids(rotor, cols, margin);
-    lua_createtable(L, 0, 6);
-    lua_pushinteger(L, rotor.blade_count);
-    lua_setfield(L, -2, "blades");
-    lua_pushinteger(L, static_cast<lua_Integer>(rotor.surfaces.size()));
-    lua_setfield(L, -2, "sections");
-    push_grid(L, std::make_shared<PointGrid>(flanks.pressure));
-    lua_setfield(L, -2, "pressure");
-    push_grid(L, std::make_shared<PointGrid>(flanks.suction));
-    lua_setfield(L, -2, "suction");
-    push_meridian(L, rotor.hub_meridian);
-    lua_setfield(L, -2, "hub_meridian");
-    push_meridian(L, rotor.casing_meridian);
-    lua_setfield(L, -2, "casing_meridian");
+    push_blade_model(L, blade_sections(read_rotor67(file)), lo);
+    return 1;
+  });
+}
+
+// The file `name` in `dir` or in `dir`/`sub`, or "".
+std::string find_in(const std::string& dir, const std::string& sub, const std::string& name) {
+  for (const std::string& c : {dir + "/" + name, dir + "/" + sub + "/" + name})
+    if (fs::is_regular_file(c)) return c;
+  return "";
+}
+
+// bliskrun.read_rotor37(path [, {hub_shroud=, cols=, edge_margin=,
+// span_extension=}]): path is rotor37geometry.dat or a folder holding it
+// (agard_table, or nasa_rotor37 above it).
+int w_read_rotor37(lua_State* L) {
+  const std::string path = luax::check_string(L, 1, "path");
+  std::vector<Field> fields = loft_fields();
+  fields.push_back(Field{"hub_shroud", Kind::String, false, std::nullopt, std::nullopt,
+                         "Table V file; default rotor37hub-shroud.dat beside the geometry", {}});
+  const luax::Options o(L, 2, "bliskrun.read_rotor37", fields);
+  const std::string found = context(L).resolve_read(L, path);
+  std::string geometry = found;
+  if (fs::is_directory(found)) {
+    geometry = find_in(found, "agard_table", "rotor37geometry.dat");
+    if (geometry.empty()) luax::error(L, "no rotor37geometry.dat in '" + path + "' or its agard_table folder");
+  }
+  std::string hub_shroud = fs::path(geometry).parent_path().string() + "/rotor37hub-shroud.dat";
+  if (o.has("hub_shroud")) hub_shroud = context(L).resolve_read(L, o.string("hub_shroud", ""));
+  const LoftOptions lo = loft_options(o);
+  return luax::guarded(L, [&] {
+    push_blade_model(L, read_rotor37(geometry, hub_shroud), lo);
+    return 1;
+  });
+}
+
+// bliskrun.read_hecc(path [, {blade="main", set="design", cols=, ...}]):
+// path is the nasa_hecc_impeller folder, or a file or folder inside it.
+int w_read_hecc(lua_State* L) {
+  const std::string path = luax::check_string(L, 1, "path");
+  std::vector<Field> fields = loft_fields();
+  fields.push_back(Field{"blade", Kind::String, false, std::nullopt, std::nullopt,
+                         "\"main\" (default) or \"splitter\"", {"main", "splitter"}});
+  fields.push_back(Field{"set", Kind::String, false, std::nullopt, std::nullopt,
+                         "\"design\": design intent, hot, no fillets (default); \"cold\": as manufactured, with fillets",
+                         {"design", "cold"}});
+  const luax::Options o(L, 2, "bliskrun.read_hecc", fields);
+  fs::path dir = context(L).resolve_read(L, path);
+  for (int up = 0; up < 3 && !fs::is_directory(dir / "design_intent_hot_no_fillets"); ++up) dir = dir.parent_path();
+  if (!fs::is_directory(dir / "design_intent_hot_no_fillets"))
+    luax::error(L, "'" + path + "' is not in a HECC impeller folder (one holding design_intent_hot_no_fillets)");
+  const HeccSet set = o.string("set", "design") == "cold" ? HeccSet::as_manufactured : HeccSet::design_intent;
+  const HeccBlade blade = o.string("blade", "main") == "splitter" ? HeccBlade::splitter : HeccBlade::main;
+  const LoftOptions lo = loft_options(o);
+  return luax::guarded(L, [&] {
+    push_blade_model(L, read_hecc_impeller(dir.string(), set, blade), lo);
     return 1;
   });
 }
@@ -86,6 +129,8 @@ void open_io(lua_State* L) {
   static const luaL_Reg functions[] = {{"read_point_grid", w_read_point_grid},
                                        {"write_point_grid", w_write_point_grid},
                                        {"read_rotor67", w_read_rotor67},
+                                       {"read_rotor37", w_read_rotor37},
+                                       {"read_hecc", w_read_hecc},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

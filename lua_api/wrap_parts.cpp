@@ -1,6 +1,9 @@
-// Built-in parts in Lua: bliskrun.blisk{...} -> Blisk. Lengths mm, angles
+// Built-in parts in Lua: bliskrun.blisk{...} -> Blisk; blade models lofted
+// from section loops: bliskrun.loft_sections{...} and the result table the
+// part readers share (wrap_parts.h). Lengths mm, angles
 // degrees (converted here); blades are numbered 1..N in Lua (blade 1 is the
 // core's blade 0, blade k+1 is blade 1 turned by k * 360°/N about Z).
+#include <cmath>
 #include <memory>
 #include <sstream>
 
@@ -8,6 +11,7 @@
 #include "core/parts/builtin_blisk.h"
 #include "lua_api/modules.h"
 #include "lua_api/wrap_geometry.h"
+#include "lua_api/wrap_parts.h"
 
 namespace bliskrun::lua_api {
 
@@ -22,6 +26,129 @@ template <> struct TypeName<lua_api::BliskHandle> { static constexpr const char*
 }  // namespace bliskrun::luax
 
 namespace bliskrun::lua_api {
+
+std::vector<luax::Field> loft_fields() {
+  using luax::Field;
+  using luax::Kind;
+  return {Field{"cols", Kind::Integer, false, 4, 5000, "grid columns along the chord; default 200", {}},
+          Field{"edge_margin", Kind::Number, false, 0, 0.49,
+                "chord fraction of each side left out at the edge circles; default 0.03", {}},
+          Field{"span_extension", Kind::Number, false, 0, 0.5,
+                "fraction of the span the flanks reach past the hub and tip sections; default 0.03", {}},
+          Field{"chord_fraction", Kind::String, false, std::nullopt, std::nullopt,
+                "how columns correspond across sections: \"projection\" on the chord (default) or \"arc_length\"",
+                {"projection", "arc_length"}},
+          Field{"cross_check", Kind::Boolean, false, std::nullopt, std::nullopt,
+                "also measure each interior section against the loft of the others (fit.left_out); default false", {}}};
+}
+
+LoftOptions loft_options(const luax::Options& o) {
+  LoftOptions l;
+  l.cols = static_cast<int>(o.integer("cols", l.cols));
+  l.edge_margin = o.number("edge_margin", l.edge_margin);
+  l.span_extension = o.number("span_extension", l.span_extension);
+  l.cross_check = o.boolean("cross_check", false);
+  if (o.string("chord_fraction", "projection") == "arc_length") l.chord_fraction = ChordFraction::arc_length;
+  return l;
+}
+
+namespace {
+
+void push_fit(lua_State* L, const FitStats& f) {
+  lua_createtable(L, 0, 3);
+  luax::set_number(L, "max_mm", f.max_mm);
+  luax::set_number(L, "rms_mm", f.rms_mm);
+  lua_pushinteger(L, f.points);
+  lua_setfield(L, -2, "points");
+}
+
+void push_edge(lua_State* L, const EdgeCircle& e) {
+  lua_createtable(L, 0, 5);
+  luax::set_vec3(L, "centre", e.centre);
+  luax::set_number(L, "radius", e.radius_mm);
+  luax::set_number(L, "rms_mm", e.rms_mm);
+  lua_pushinteger(L, e.point + 1);
+  lua_setfield(L, -2, "point");
+  lua_pushinteger(L, e.fitted_points);
+  lua_setfield(L, -2, "fitted_points");
+}
+
+// A meridian line usable as a profile: consecutive repeats dropped.
+std::vector<Vec2> distinct(const std::vector<Vec2>& m) {
+  std::vector<Vec2> out;
+  for (const Vec2& p : m)
+    if (out.empty() || (p - out.back()).norm() > 1e-9) out.push_back(p);
+  return out;
+}
+
+}  // namespace
+
+void push_blade_model(lua_State* L, const BladeSections& blade, const LoftOptions& options) {
+  const BladeLoft loft = loft_blade(blade, options);
+  lua_createtable(L, 0, 16);
+  lua_pushinteger(L, blade.blade_count);
+  lua_setfield(L, -2, "blades");
+  lua_pushinteger(L, static_cast<lua_Integer>(blade.sections.size()));
+  lua_setfield(L, -2, "sections");
+  push_grid(L, std::make_shared<PointGrid>(loft.pressure));
+  lua_setfield(L, -2, "pressure");
+  push_grid(L, std::make_shared<PointGrid>(loft.suction));
+  lua_setfield(L, -2, "suction");
+  lua_pushinteger(L, loft.hub_row + 1);
+  lua_setfield(L, -2, "hub_row");
+  lua_pushinteger(L, loft.tip_row + 1);
+  lua_setfield(L, -2, "tip_row");
+  lua_pushinteger(L, loft.rotation_sign);
+  lua_setfield(L, -2, "rotation");
+  luax::set_string(L, "rotation_from", loft.rotation_given ? "data" : "camber");
+  luax::set_bool(L, "camber_agrees", loft.camber_agrees);
+  luax::set_string(L, "chord_fraction",
+                   loft.chord_fraction == ChordFraction::projection ? "projection" : "arc_length");
+  if (blade.hub_meridian.size() >= 2) {
+    push_meridian(L, blade.hub_meridian);
+    lua_setfield(L, -2, "hub_meridian");
+    push_surface(L, std::make_shared<SurfaceOfRevolution>(distinct(blade.hub_meridian)));
+    lua_setfield(L, -2, "hub");
+  }
+  if (blade.casing_meridian.size() >= 2) {
+    push_meridian(L, blade.casing_meridian);
+    lua_setfield(L, -2, "casing_meridian");
+    push_surface(L, std::make_shared<SurfaceOfRevolution>(distinct(blade.casing_meridian)));
+    lua_setfield(L, -2, "casing");
+  }
+  lua_createtable(L, static_cast<int>(loft.edges.size()), 0);
+  for (size_t k = 0; k < loft.edges.size(); ++k) {
+    lua_createtable(L, 0, 2);
+    push_edge(L, loft.edges[k].leading);
+    lua_setfield(L, -2, "leading");
+    push_edge(L, loft.edges[k].trailing);
+    lua_setfield(L, -2, "trailing");
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, "edges");
+  push_fit(L, loft.fit);
+  push_fit(L, loft.fit_pressure);
+  lua_setfield(L, -2, "pressure");
+  push_fit(L, loft.fit_suction);
+  lua_setfield(L, -2, "suction");
+  lua_createtable(L, static_cast<int>(loft.fit_sections.size()), 0);
+  for (size_t k = 0; k < loft.fit_sections.size(); ++k) {
+    push_fit(L, loft.fit_sections[k]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, "sections");
+  if (options.cross_check) {
+    push_fit(L, loft.cross);
+    lua_createtable(L, static_cast<int>(loft.cross_sections.size()), 0);
+    for (size_t k = 0; k < loft.cross_sections.size(); ++k) {
+      push_fit(L, loft.cross_sections[k]);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "sections");
+    lua_setfield(L, -2, "left_out");
+  }
+  lua_setfield(L, -2, "fit");
+}
 
 namespace {
 
@@ -176,6 +303,75 @@ int w_narrowest_passage(lua_State* L) {
   });
 }
 
+// bliskrun.loft_sections{sections = {{{x, y, z}, ...}, ...}, blades=,
+// rotation=, cols=, edge_margin=, span_extension=} -> blade model table.
+int w_loft_sections(lua_State* L) {
+  std::vector<Field> fields = loft_fields();
+  fields.push_back(Field{"sections", Kind::Table, true, std::nullopt, std::nullopt,
+                         "closed section loops hub -> tip, each a list of {x, y, z} points, mm", {}});
+  fields.push_back(Field{"blades", Kind::Integer, false, 1, 1000, "blade count; default 1", {}});
+  fields.push_back(Field{"rotation", Kind::Integer, false, -1, 1,
+                         "+1: the rotor turns towards +theta, -1: towards -theta, 0: from the camber (default)", {}});
+  fields.push_back(Field{"hub_meridian", Kind::Table, false, std::nullopt, std::nullopt, "{{z, r}, ...}, mm", {}});
+  fields.push_back(Field{"casing_meridian", Kind::Table, false, std::nullopt, std::nullopt, "{{z, r}, ...}, mm", {}});
+  const luax::Options o(L, 1, "bliskrun.loft_sections", fields);
+  BladeSections b;
+  b.source = "bliskrun.loft_sections";
+  b.blade_count = static_cast<int>(o.integer("blades", 1));
+  b.rotation_sign = static_cast<int>(o.integer("rotation", 0));
+  o.push_raw("sections");
+  const int t = lua_gettop(L);
+  const lua_Integer n = luaL_len(L, t);
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_rawgeti(L, t, k);
+    if (!lua_istable(L, -1)) luax::error(L, "option 'sections': entry " + std::to_string(k) + " is not a list of points");
+    const int s = lua_gettop(L);
+    std::vector<Vec3> loop;
+    const lua_Integer m = luaL_len(L, s);
+    for (lua_Integer i = 1; i <= m; ++i) {
+      lua_rawgeti(L, s, i);
+      Vec3 p = Vec3::Zero();
+      bool ok = lua_istable(L, -1);
+      for (int c = 0; ok && c < 3; ++c) {
+        lua_rawgeti(L, -1, c + 1);
+        ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
+        if (ok) p[c] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      if (!ok)
+        luax::error(L, "option 'sections': section " + std::to_string(k) + ", point " + std::to_string(i) +
+                           ": expected {x, y, z} of finite numbers");
+      loop.push_back(p);
+      lua_pop(L, 1);
+    }
+    b.sections.push_back(std::move(loop));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  for (const char* key : {"hub_meridian", "casing_meridian"}) {
+    o.push_raw(key);
+    if (lua_istable(L, -1)) {
+      std::vector<Vec2>& m = std::string(key) == "hub_meridian" ? b.hub_meridian : b.casing_meridian;
+      const int mt = lua_gettop(L);
+      for (lua_Integer i = 1; i <= luaL_len(L, mt); ++i) {
+        lua_rawgeti(L, mt, i);
+        lua_rawgeti(L, -1, 1);
+        lua_rawgeti(L, -2, 2);
+        if (!lua_isnumber(L, -1) || !lua_isnumber(L, -2))
+          luax::error(L, std::string("option '") + key + "': entry " + std::to_string(i) + " is not {z, r}");
+        m.emplace_back(lua_tonumber(L, -2), lua_tonumber(L, -1));
+        lua_pop(L, 3);
+      }
+    }
+    lua_pop(L, 1);
+  }
+  const LoftOptions lo = loft_options(o);
+  return luax::guarded(L, [&] {
+    push_blade_model(L, b, lo);
+    return 1;
+  });
+}
+
 int w_tostring(lua_State* L) {
   const BliskParams& p = check_blisk(L).params();
   std::ostringstream s;
@@ -203,7 +399,7 @@ void open_parts(lua_State* L) {
                                      {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<BliskHandle>::name, methods, &luax::gc_value<BliskHandle>,
                       w_tostring);
-  static const luaL_Reg functions[] = {{"blisk", w_blisk}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"blisk", w_blisk}, {"loft_sections", w_loft_sections}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

@@ -81,6 +81,10 @@ SurfaceProjection newton_surface(const Surface& s, const Vec3& q, double u, doub
 }  // namespace
 
 SurfaceProjection project_to_surface(const Surface& s, const Vec3& q, const ProjectionOptions& o) {
+  if (o.seed) {
+    SurfaceProjection r = newton_surface(s, q, std::clamp(o.seed->x(), 0.0, 1.0), std::clamp(o.seed->y(), 0.0, 1.0), o);
+    if (r.ok) return r;
+  }
   const int nu = std::max(2, o.seed_samples_u), nv = std::max(2, o.seed_samples_v);
   // Seeds: the best few local minima of the coarse sample grid, so that a
   // surface folding back towards q still finds the global foot.

@@ -3,6 +3,7 @@
 // (impeller paper §5, eq. 33–35). Newton's method from a seed found by a
 // coarse sample, restricted to the domain so that answers on the boundary are
 // correct. Failure is reported, never a wrong answer.
+#include <optional>
 #include <string>
 
 #include "core/geometry/curve.h"
@@ -15,6 +16,10 @@ struct ProjectionOptions {
   int seed_samples_v = 24;
   double tol_mm = 1e-9;     // stop when the step moves the point less than this
   int max_iterations = 50;
+  // (u, v) near the foot, when the caller knows it (e.g. a data point's own
+  // grid parameters): Newton starts there and the coarse sample is taken only
+  // if that start does not converge. Surfaces only.
+  std::optional<Eigen::Vector2d> seed;
 };
 
 struct SurfaceProjection {

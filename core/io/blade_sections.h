@@ -13,6 +13,10 @@ namespace bliskrun {
 struct BladeSections {
   std::string source;  // the file (or first file) the sections were read from
   int blade_count = 0;
+  // Direction of rotation when the source states it: +1 towards +θ
+  // (right-handed about +Z), -1 towards -θ, 0 not stated (the blade model
+  // then takes it from the camber; core/parts/blade_model.h).
+  int rotation_sign = 0;
   // Closed loops ordered hub -> tip. The closing segment (last -> first
   // point) is implied; the first point is not repeated.
   std::vector<std::vector<Vec3>> sections;

@@ -81,6 +81,7 @@ BladeSections read_hecc_impeller(const std::string& impeller_dir, HeccSet set, H
   const int sections = intent ? 11 : 14;
   BladeSections out;
   out.blade_count = blade == HeccBlade::main ? kHeccMainBlades : kHeccSplitterBlades;
+  out.rotation_sign = +1;  // Read-Me §6.1: θ positive in the direction of rotation (both sets, after the mirror)
   for (int k = 1; k <= sections; ++k) {
     char name[160];
     if (intent)

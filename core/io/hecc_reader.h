@@ -9,7 +9,8 @@
 // The two sets wrap θ in opposite directions. The as-manufactured set follows
 // the Read-Me's convention (θ positive in the direction of rotation, θ falls
 // from LE to TE on a backswept blade); the design-intent set is mirrored here
-// (θ -> -θ) so both come out in that one convention.
+// (θ -> -θ) so both come out in that one convention, and the sections say so
+// (BladeSections::rotation_sign = +1: the rotor turns towards +θ).
 #include <string>
 #include <vector>
 

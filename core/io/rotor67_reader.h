@@ -12,6 +12,7 @@
 
 #include "core/common/types.h"
 #include "core/geometry/point_grid.h"
+#include "core/io/blade_sections.h"
 
 namespace bliskrun {
 
@@ -31,14 +32,23 @@ struct StreamSurfaceRotor {
 StreamSurfaceRotor read_rotor67(const std::string& path);
 StreamSurfaceRotor parse_rotor67(const std::string& text, const std::string& file_label);
 
-// Flank grids of blade 0 (rows = stream surfaces hub -> casing, cols along
-// the chord), resampled at `cols` common chord fractions in
-// [edge_margin, 1 - edge_margin] of each section's axial extent so that the
-// columns correspond across sections and the edge circles are left out (they
-// are machined by the edge strategy). Each side is interpolated with a cubic
-// through its points before resampling. Orientation as the built-in blisk:
-// u hub -> tip; v LE -> TE on the pressure side, TE -> LE on the suction
-// side, so that pu x pv points out of the material on both.
+// The blade's sections as closed loops (hub -> casing): each stream surface's
+// points JLE..JTE along the upper side, then back along the lower side, the
+// edge points once. Rotation not stated (the blade model takes it from the
+// camber: the upper side is the convex suction side, the rotor turns towards
+// -θ).
+BladeSections blade_sections(const StreamSurfaceRotor& rotor);
+
+// Flank grids of blade 0, one row per stream surface (hub -> casing), cols
+// along the chord: loft_blade (core/parts/blade_model.h) of blade_sections()
+// without span extension - edge circles found from the geometry, each side
+// resampled at `cols` common chord fractions (projection on the LE-TE
+// chord) in [edge_margin, 1 - edge_margin] so that columns correspond across
+// sections and the edge circles are left out (the edge strategy machines
+// them).
+// Orientation as the built-in blisk: u hub -> tip; v LE -> TE on the
+// pressure side, TE -> LE on the suction side, so that pu x pv points out of
+// the material on both.
 struct RotorFlanks {
   PointGrid pressure, suction;
 };

@@ -1,0 +1,74 @@
+-- Tables 1 and 2 of the blisk paper (§2.2: curvature over K < 0 with the
+-- C-axis range, the narrowest passage, the traditional and the extended
+-- drum wheel) for a blade read from real data, shared by the Rotor 37 and
+-- Rotor 67 recipes.
+--
+--   local wheel_design = require("blade_wheel_design")
+--   wheel_design.run(part, {name = "NASA Rotor 37", prefix = "rotor37", c_range = 30})
+--
+-- part: a blade model table (bliskrun.read_rotor37 / read_rotor67 / ...),
+-- read with span_extension = 0 so that the analysis covers the blade between
+-- its hub and tip sections and the passage is not measured below the hub.
+-- Prints the tables, writes <prefix>_gaussian_curvature_{pressure,suction}.svg
+-- and <prefix>_wheel_design.json (keys as the demo recipe's, plus the fit),
+-- and returns the report table.
+
+local M = {}
+
+function M.run(part, opts)
+  local c_range = opts.c_range or 30
+  local prefix, name = opts.prefix, opts.name
+  local flanks, table1, surfaces = {}, {k1_max = 0, k2_max = 0, ke_max = 0}, {}
+  for _, side in ipairs{"pressure", "suction"} do
+    local surface = part[side]:surface()
+    surfaces[side] = surface
+    local rows, cols = part[side]:size()
+    local st = bliskrun.curvature_stats(surface, {samples_u = 100, samples_v = 500, c_range = c_range})
+    local picture = prefix .. "_gaussian_curvature_" .. side .. ".svg"
+    st.map:write_svg(picture, {title = name .. ", " .. side .. " flank: Gaussian curvature K (1/mm^2)"})
+    local function where(e) return {value = e.value, u = e.u, v = e.v, angle_deg = e.angle} end
+    flanks[side] = {k1_max = where(st.k1_max), k2_max = where(st.k2_max), ke_max = where(st.ke_max),
+                    negative_K_fraction = st.negative_K_fraction, K_min = st.K_min, K_max = st.K_max,
+                    grid = {rows = rows, cols = cols}, picture = picture}
+    for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
+      if st[key].value > table1[key] then
+        table1[key] = st[key].value
+        table1[key .. "_flank"] = side
+      end
+    end
+  end
+
+  -- The passage: suction flank of blade 1 to the pressure flank of blade 2
+  -- (blade 1 turned one pitch in the direction the suction side faces).
+  local pitch = -part.rotation * 360 / part.blades
+  local next_pressure = part.pressure:rotated(pitch):surface()
+  local passage = bliskrun.narrowest_passage(surfaces.suction, next_pressure)
+  local wheel = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = passage.distance}
+
+  print(string.format("%s: %d blades, %d sections, narrowest passage d_min = %.2f mm", name, part.blades,
+                      part.sections, passage.distance))
+  print(string.format("Loft fit of the given section points: max %.2f um, RMS %.2f um (%d points)",
+                      part.fit.max_mm * 1000, part.fit.rms_mm * 1000, part.fit.points))
+  print("Table 1  curvature over K < 0 (1/mm)")
+  for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
+    print(string.format("  %-6s  %.4f   (%s flank)", key, table1[key], table1[key .. "_flank"]))
+  end
+  print(string.format("  k_e within C in [-%g, +%g] deg", c_range, c_range))
+  print("Table 2  drum-wheel head design (mm)")
+  print(string.format("  traditional: R_c < %.1f -> %g, D_t %.1f", wheel.traditional.radius_limit,
+                      wheel.traditional.barrel_radius, wheel.traditional.max_diameter))
+  print(string.format("  extended:    R_c < %.1f -> %g, D_t %.1f", wheel.extended.radius_limit,
+                      wheel.extended.barrel_radius, wheel.extended.max_diameter))
+
+  local report = {
+    part = {kind = name, blades = part.blades, sections = part.sections, narrowest_passage_mm = passage.distance,
+            rotation = part.rotation, rotation_from = part.rotation_from},
+    fit = {max_mm = part.fit.max_mm, rms_mm = part.fit.rms_mm, points = part.fit.points},
+    c_range_deg = c_range, table1 = table1, flanks = flanks,
+    table2 = {traditional = wheel.traditional, extended = wheel.extended},
+  }
+  bliskrun.write_json(prefix .. "_wheel_design.json", report)
+  return report
+end
+
+return M
