@@ -170,9 +170,29 @@ CurveProjection project_to_curve(const Curve& c, const Vec3& q, const Projection
       }
     }
     if (!converged) {
-      failure = "Newton iteration on the curve did not converge in " +
-                std::to_string(o.max_iterations) + " steps";
-      continue;
+      // Newton can cycle where the curve's second derivative jumps (a
+      // cubic through unevenly spaced meridian points). The seed is a
+      // sampled local minimum, so the foot lies within one sample spacing:
+      // golden-section search there is slower but cannot fail.
+      const double h = (t1 - t0) / n;
+      double a = std::max(t0, seed.second - h), b = std::min(t1, seed.second + h);
+      const double r = 0.5 * (std::sqrt(5.0) - 1);
+      double x1 = b - r * (b - a), x2 = a + r * (b - a);
+      double f1 = (c.point(x1) - q).squaredNorm(), f2 = (c.point(x2) - q).squaredNorm();
+      for (int it = 0; it < 200 && (b - a) * c.eval(0.5 * (a + b)).dt.norm() > 0.1 * o.tol_mm; ++it) {
+        if (f1 <= f2) {
+          b = x2; x2 = x1; f2 = f1;
+          x1 = b - r * (b - a); f1 = (c.point(x1) - q).squaredNorm();
+        } else {
+          a = x1; x1 = x2; f1 = f2;
+          x2 = a + r * (b - a); f2 = (c.point(x2) - q).squaredNorm();
+        }
+      }
+      t = 0.5 * (a + b);
+      if (!((b - a) * c.eval(t).dt.norm() <= 0.1 * o.tol_mm)) {
+        failure = "neither Newton iteration nor golden-section search on the curve converged";
+        continue;
+      }
     }
     const Vec3 p = c.point(t);
     const double dist = (p - q).norm();

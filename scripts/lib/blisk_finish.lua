@@ -49,7 +49,13 @@ end
 -- meridional plane (radial and rotor axis), stays within ±c_range degrees
 -- of it. The same reading as curvature_stats' k_e (docs/lua_api.md).
 function M.c_axis_limit(blisk, k, c_range)
-  local p = blisk:flank(k, "pressure"):point(0.5, 0.5)
+  return M.c_axis_limit_at(blisk:flank(k, "pressure"), c_range)
+end
+
+-- The same for any blade, from one of its flanks (Z the rotor axis): the
+-- radial direction through the flank's middle is the machine's Y.
+function M.c_axis_limit_at(flank, c_range)
+  local p = flank:point(0.5, 0.5)
   local a = math.atan(p[2], p[1])
   return {name = "C", rotary_axis = {-math.sin(a), math.cos(a), 0}, reference = {math.cos(a), math.sin(a), 0},
           min = -c_range, max = c_range}
@@ -59,10 +65,11 @@ end
 -- opts: residual (mm, 0.014), chord_tol (mm, 0.002), steps ("variable"),
 -- guarantee (true), zigzag (true), clearance ({cutter = 0, shank = 0.5,
 -- holder = 1}).
+-- blisk may be nil (a real part): set hub and casing yourself.
 function M.settings(blisk, tool, opts)
   opts = opts or {}
   return {
-    hub = blisk:hub(), casing = blisk:casing(), tool = tool,
+    hub = blisk and blisk:hub(), casing = blisk and blisk:casing(), tool = tool,
     residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,
     steps = opts.steps or "variable", guarantee = opts.guarantee ~= false, zigzag = opts.zigzag ~= false,
     clearance = opts.clearance or {cutter = 0, shank = 0.5, holder = 1},

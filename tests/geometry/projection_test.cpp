@@ -116,5 +116,25 @@ TEST(ProjectToCurve, AgreesWithBruteForce) {
   }
 }
 
+// Where Newton does not converge (here: forced, one iteration allowed) the
+// golden-section fallback inside the seed's bracket still finds the foot.
+TEST(ProjectToCurve, FallsBackWhenNewtonDoesNotConverge) {
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 20; ++i) pts.emplace_back(i, 3 * std::sin(0.5 * i), 0.1 * i * i);
+  const BSplineCurve c = interpolate_cubic(pts);
+  ProjectionOptions o;
+  o.max_iterations = 1;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(-5, 25);
+  for (int k = 0; k < 20; ++k) {
+    const Vec3 q(d(rng), d(rng) / 4, d(rng));
+    const CurveProjection p = project_to_curve(c, q, o);
+    ASSERT_TRUE(p.ok) << p.failure;
+    double best = 1e300;
+    for (int i = 0; i <= 200000; ++i) best = std::min(best, (c.point(i / 200000.0) - q).norm());
+    EXPECT_NEAR(p.distance, best, 1e-6);
+  }
+}
+
 }  // namespace
 }  // namespace bliskrun

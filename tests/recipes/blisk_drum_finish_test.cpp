@@ -136,5 +136,34 @@ TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceed
   }
 }
 
+// Issue 6 with issue 4: a real Rotor 67 flank planned with the wheel its own
+// Table 2 gives, and simulated.
+TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 finishing recipe skipped";
+  TempDir dir;
+  const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--out",
+                                       dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "rotor67_finish.json"));
+  EXPECT_EQ(j["part"]["blades"].get<int>(), 22);
+  // Table 2 of Rotor 67: the extended wheel R_c 50, D_t 18 (d_min 20.13 mm).
+  EXPECT_EQ(j["wheel"]["table2"]["barrel_radius"].get<double>(), 50.0);
+  EXPECT_EQ(j["wheel"]["table2"]["max_diameter"].get<double>(), 18.0);
+  const nlohmann::json& f = j["flank"];
+  EXPECT_TRUE(f["verified"].get<bool>());
+  EXPECT_EQ(f["refusals"].get<int>(), 0);
+  EXPECT_EQ(f["refused_links"].get<int>(), 0);
+  // About 130 mm of span at ~2.3 mm rows.
+  EXPECT_GT(f["row_count"].get<int>(), 40);
+  EXPECT_LT(f["row_count"].get<int>(), 90);
+  EXPECT_LE(f["max_deviation"].get<double>(), 0.002 * (1 + 1e-9));
+  const nlohmann::json& sim = f["simulation"];
+  EXPECT_GE(sim["overcut_mm"].get<double>(), -0.002);
+  EXPECT_GT(sim["undercut_max_mm"].get<double>(), 0.005);
+  EXPECT_LT(sim["undercut_max_mm"].get<double>(), 0.018);  // residual 14 um + chord 2 um on a concave flank
+  EXPECT_EQ(sim["untouched"].get<int>(), 0);
+  EXPECT_TRUE(fs::exists(fs::path(dir.path()) / f["apt"].get<std::string>()));
+}
+
 }  // namespace
 }  // namespace bliskrun::test

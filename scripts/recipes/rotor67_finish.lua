@@ -1,0 +1,88 @@
+-- Drum-wheel finishing of one flank of one NASA Rotor 67 blade (blisk paper
+-- §3-4 on a real 22-blade fan; issue 6 with issue 4's planner):
+--   1. the blade is read and lofted from the 14 stream surfaces (feet -> mm),
+--      its Tables 1-2 computed between hub and tip as in rotor67_wheel_design;
+--   2. the drum wheel of the extended rule (D_t, R_c from Table 2; head
+--      length D_t / 2) plans the flank: trimmed at the hub and casing, rows
+--      by cut width at the residual height, variable chord height measured
+--      within the tolerance, tilted until clear of the two neighbouring blades
+--      and the hub within C +-c_range;
+--   3. the undercut simulation measures what is left.
+-- Outputs: rotor67_finish.json, rotor67_blade1_<side>.apt,
+-- rotor67_undercut_<side>.svg, and the design's rotor67_finish_design_* files.
+--
+--   bliskrun scripts/recipes/rotor67_finish.lua --data ../shared/data --out out/
+--   options: --set side=pressure|suction --set residual=0.014 --set chord_tol=0.002
+--            --set c_range=30 --set samples_u=600 --set samples_v=1000
+
+local wheel_design = require("blade_wheel_design")
+local finish = require("blisk_finish")
+
+local side = args.side or "pressure"
+assert(side == "pressure" or side == "suction", "--set side= expects 'pressure' or 'suction'")
+local c_range = args.c_range or 30
+local residual, chord_tol = args.residual or 0.014, args.chord_tol or 0.002
+local file = "nasa_rotor67/rotor67geometry.dat"
+
+-- Tables 1-2 between hub and tip; the planning part extends past them (as
+-- a CAD export does) so the trim finds the hub and casing on the flank.
+local design = wheel_design.run(bliskrun.read_rotor67(file, {span_extension = 0}),
+                                {name = "NASA Rotor 67", prefix = "rotor67_finish_design", c_range = c_range})
+local part = bliskrun.read_rotor67(file)
+local ext = design.table2.extended
+local tool = bliskrun.drum_wheel{max_diameter = ext.max_diameter, barrel_radius = ext.barrel_radius,
+                                 head_length = ext.max_diameter / 2,
+                                 shank = {diameter = 0.6 * ext.max_diameter, length = 120}}
+bliskrun.log("wheel: " .. tool:description())
+
+-- Check surfaces: both flanks of the two neighbouring blades and the hub.
+local pitch = 360 / part.blades
+local surfaces = {}
+for _, turn in ipairs{-pitch, pitch} do
+  for _, s in ipairs{"pressure", "suction"} do
+    surfaces[#surfaces + 1] = {name = string.format("blade at %+.2f deg %s", turn, s),
+                               surface = part[s]:rotated(turn):surface(), chord_tol = 0.01}
+  end
+end
+surfaces[#surfaces + 1] = {name = "hub", surface = part.hub, chord_tol = 0.01}
+local world = bliskrun.collision_world{surfaces = surfaces}
+
+local flank = part[side]:surface()
+local settings = finish.settings(nil, tool, {residual = residual, chord_tol = chord_tol})
+settings.hub, settings.casing = part.hub, part.casing
+settings.flank, settings.world, settings.name = flank, world, "Rotor 67 blade 1 " .. side
+settings.axis_limit = finish.c_axis_limit_at(flank, c_range)
+local plan = bliskrun.drum_finish(settings)
+local r = plan:report()
+local apt = "rotor67_blade1_" .. side .. ".apt"
+plan:write_apt(apt)
+local sim = plan:simulate{samples_u = args.samples_u or 600, samples_v = args.samples_v or 1000}
+local picture = "rotor67_undercut_" .. side .. ".svg"
+sim.map:write_svg(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: undercut (mm)"})
+bliskrun.log(string.format("timings: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s",
+                           r.seconds.trim, r.seconds.rows, r.seconds.tilt, r.seconds.links, sim.seconds))
+r.seconds = nil
+
+print(string.format("NASA Rotor 67 blade 1, %s flank, %s", side, tool:description()))
+print(string.format("  rows %d (width %.2f-%.2f mm), poses %d, refused %d poses / %d links, max chord %.2f um",
+                    r.row_count, r.width_min, r.width_max, r.poses, r.refusals, r.refused_links,
+                    1e3 * r.max_deviation))
+print(string.format("  first row %.2f mm above the hub curve (hub clearance rule)", r.hub_strip))
+print(string.format("  undercut max %.2f / mean %.2f / median %.2f / std %.2f um, overcut %.2f um, untouched %d",
+                    1e3 * sim.undercut_max, 1e3 * sim.undercut_mean, 1e3 * sim.undercut_median,
+                    1e3 * sim.undercut_std, 1e3 * sim.overcut, sim.untouched))
+for _, why in ipairs(r.refusal_reasons) do bliskrun.log("refused: " .. why) end
+
+r.apt = apt
+r.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
+                undercut_median_mm = sim.undercut_median, undercut_std_mm = sim.undercut_std,
+                overcut_mm = sim.overcut, untouched = sim.untouched, samples = sim.samples, picture = picture}
+r.verified = sim.overcut >= -chord_tol - 1e-4
+bliskrun.write_json("rotor67_finish.json", {
+  part = {kind = "NASA Rotor 67", blades = part.blades, fit = part.fit},
+  wheel = {rule = "extended", description = tool:description(), table2 = ext, table1 = design.table1,
+           narrowest_passage_mm = design.part.narrowest_passage_mm},
+  settings = {residual_mm = residual, chord_tol_mm = chord_tol, c_range_deg = c_range},
+  flank = r,
+})
+if not r.verified then error("the simulation found an overcut beyond the chord tolerance; see rotor67_finish.json") end
