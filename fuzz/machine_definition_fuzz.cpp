@@ -5,24 +5,12 @@
 // clean exit (0 or 1) with any error at a file:line — never a crash.
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 
-#include "lua_api/runner.h"
+#include "fuzz_recipe.h"
 
-namespace {
-
-const std::string& scratch() {
-  static const std::string dir = [] {
-    char name[] = "/tmp/bliskrun_fuzz_machine_XXXXXX";
-    return std::string(mkdtemp(name));
-  }();
-  return dir;
-}
-
-}  // namespace
+using bliskrun::fuzz::scratch;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string body(reinterpret_cast<const char*>(data), size);
@@ -37,15 +25,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       "local m = bliskrun.machine.load('fuzz_machine.lua')\n"
       "pcall(m.solve, m, {tip = {1, 2, 3}, axis = {0, 0.6, 0.8}}, {tool_length = 100})\n"
       "pcall(m.reachable, m, {0, 0.6, 0.8})\n";
-  bliskrun::lua_api::RunOptions o;
-  o.recipe_path = scratch() + "/recipe.lua";
-  std::ofstream(o.recipe_path) << recipe;
-  o.out_dir = scratch() + "/out";
-  o.quiet = true;
-  o.time_limit_s = 2;
-  o.memory_limit_mb = 256;
-  std::ostringstream err;
-  const int code = bliskrun::lua_api::run_recipe(o, err);
-  if (code != 0 && code != 1) __builtin_trap();
+  bliskrun::fuzz::run_recipe_or_trap(recipe);
   return 0;
 }

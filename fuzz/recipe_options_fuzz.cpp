@@ -4,25 +4,10 @@
 // positioned at the recipe line — never a crash.
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <string>
 
-#include "lua_api/runner.h"
-
-namespace {
-
-// One scratch folder for the whole fuzzing run.
-const std::string& scratch() {
-  static const std::string dir = [] {
-    char name[] = "/tmp/bliskrun_fuzz_XXXXXX";
-    return std::string(mkdtemp(name));
-  }();
-  return dir;
-}
-
-}  // namespace
+#include "fuzz_recipe.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string body(reinterpret_cast<const char*>(data), size);
@@ -34,17 +19,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                              "pcall(bliskrun.point_grid, t)\n"
                              "pcall(bliskrun.drum_wheel, t)\n"
                              "pcall(bliskrun.design_drum_wheel, t)\n"
-                             "pcall(bliskrun.flat_end_mill, t)\n";
+                             "pcall(bliskrun.flat_end_mill, t)\n"
+                             "pcall(bliskrun.drum_finish, t)\n"
+                             "pcall(bliskrun.drum_finish_all, t)\n";
   if (body.find("]==]") != std::string::npos) return 0;
-  bliskrun::lua_api::RunOptions o;
-  o.recipe_path = scratch() + "/recipe.lua";
-  std::ofstream(o.recipe_path) << recipe;
-  o.out_dir = scratch() + "/out";
-  o.quiet = true;
-  o.time_limit_s = 2;
-  o.memory_limit_mb = 256;
-  std::ostringstream err;
-  const int code = bliskrun::lua_api::run_recipe(o, err);
-  if (code != 0 && code != 1) __builtin_trap();
+  bliskrun::fuzz::run_recipe_or_trap(recipe);
   return 0;
 }

@@ -15,27 +15,50 @@
 
 local M = {}
 
-function M.run(part, opts)
-  local c_range = opts.c_range or 30
-  local prefix, name = opts.prefix, opts.name
-  local flanks, table1, surfaces = {}, {k1_max = 0, k2_max = 0, ke_max = 0}, {}
+-- Table 1 of a blade from its two flanks (§2.2): curvature statistics of
+-- each flank over K < 0 with k_e within ±c_range, a Gaussian-curvature
+-- picture per flank, and the blade's figures as the larger of the two.
+-- surfaces = {pressure = Surface, suction = Surface}; opts: c_range (deg,
+-- 30), samples_u (100), samples_v (500), picture = function(side) -> file
+-- name (nil: no pictures), title = function(side) -> picture title.
+-- Returns table1 ({k1_max, k2_max, ke_max, <key>_flank}) and flanks (per
+-- side: k1_max/k2_max/ke_max = {value, u, v, angle_deg},
+-- negative_K_fraction, K_min, K_max, picture).
+function M.analyse(surfaces, opts)
+  opts = opts or {}
+  local flanks, table1 = {}, {k1_max = 0, k2_max = 0, ke_max = 0}
   for _, side in ipairs{"pressure", "suction"} do
-    local surface = part[side]:surface()
-    surfaces[side] = surface
-    local rows, cols = part[side]:size()
-    local st = bliskrun.curvature_stats(surface, {samples_u = 100, samples_v = 500, c_range = c_range})
-    local picture = prefix .. "_gaussian_curvature_" .. side .. ".svg"
-    st.map:write_svg(picture, {title = name .. ", " .. side .. " flank: Gaussian curvature K (1/mm^2)"})
+    local st = bliskrun.curvature_stats(surfaces[side], {samples_u = opts.samples_u or 100,
+                                                         samples_v = opts.samples_v or 500,
+                                                         c_range = opts.c_range or 30})
+    local picture = opts.picture and opts.picture(side)
+    if picture then st.map:write_svg(picture, {title = opts.title(side)}) end
     local function where(e) return {value = e.value, u = e.u, v = e.v, angle_deg = e.angle} end
     flanks[side] = {k1_max = where(st.k1_max), k2_max = where(st.k2_max), ke_max = where(st.ke_max),
                     negative_K_fraction = st.negative_K_fraction, K_min = st.K_min, K_max = st.K_max,
-                    grid = {rows = rows, cols = cols}, picture = picture}
+                    picture = picture}
     for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
       if st[key].value > table1[key] then
         table1[key] = st[key].value
         table1[key .. "_flank"] = side
       end
     end
+  end
+  return table1, flanks
+end
+
+function M.run(part, opts)
+  local c_range = opts.c_range or 30
+  local prefix, name = opts.prefix, opts.name
+  local surfaces = {pressure = part.pressure:surface(), suction = part.suction:surface()}
+  local table1, flanks = M.analyse(surfaces, {
+    c_range = c_range,
+    picture = function(side) return prefix .. "_gaussian_curvature_" .. side .. ".svg" end,
+    title = function(side) return name .. ", " .. side .. " flank: Gaussian curvature K (1/mm^2)" end,
+  })
+  for _, side in ipairs{"pressure", "suction"} do
+    local rows, cols = part[side]:size()
+    flanks[side].grid = {rows = rows, cols = cols}
   end
 
   -- The passage: suction flank of blade 1 to the pressure flank of blade 2

@@ -22,16 +22,8 @@ end
 function M.design_wheels(blisk, opts)
   opts = opts or {}
   local c_range = opts.c_range or 30
-  local table1 = {k1_max = 0, k2_max = 0, ke_max = 0}
-  for _, side in ipairs{"pressure", "suction"} do
-    local st = bliskrun.curvature_stats(M.flank(blisk, 1, side), {c_range = c_range})
-    for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
-      if st[key].value > table1[key] then
-        table1[key] = st[key].value
-        table1[key .. "_flank"] = side
-      end
-    end
-  end
+  local table1 = require("blade_wheel_design").analyse(
+    {pressure = M.flank(blisk, 1, "pressure"), suction = M.flank(blisk, 1, "suction")}, {c_range = c_range})
   local d_min = blisk:narrowest_passage()
   local design = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = d_min}
   local shank = opts.shank or {diameter = 6, length = 96}

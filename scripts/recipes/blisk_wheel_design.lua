@@ -22,26 +22,12 @@ local d_min = blisk:narrowest_passage()
 local height = blisk:casing_radius(0) - blisk:hub_radius(0)
 
 -- Table 1 per flank; the blade's figures are the larger of its two flanks.
-local flanks, table1 = {}, {k1_max = 0, k2_max = 0, ke_max = 0}
-for _, side in ipairs{"pressure", "suction"} do
-  local grid = blisk:flank_grid(1, side)
-  local surface = bliskrun.interpolate_grid(grid)
-  local st = bliskrun.curvature_stats(surface, {samples_u = rows, samples_v = cols, c_range = c_range})
-  local picture = string.format("gaussian_curvature_%s.svg", side)
-  st.map:write_svg(picture, {title = string.format("Gaussian curvature K, %s flank of blade 1 (1/mm^2)", side)})
-  local function where(e) return {value = e.value, u = e.u, v = e.v, angle_deg = e.angle} end
-  flanks[side] = {
-    k1_max = where(st.k1_max), k2_max = where(st.k2_max), ke_max = where(st.ke_max),
-    negative_K_fraction = st.negative_K_fraction, K_min = st.K_min, K_max = st.K_max,
-    picture = picture,
-  }
-  for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do
-    if st[key].value > table1[key] then
-      table1[key] = st[key].value
-      table1[key .. "_flank"] = side
-    end
-  end
-end
+local table1, flanks = require("blade_wheel_design").analyse(
+  {pressure = bliskrun.interpolate_grid(blisk:flank_grid(1, "pressure")),
+   suction = bliskrun.interpolate_grid(blisk:flank_grid(1, "suction"))},
+  {samples_u = rows, samples_v = cols, c_range = c_range,
+   picture = function(side) return string.format("gaussian_curvature_%s.svg", side) end,
+   title = function(side) return string.format("Gaussian curvature K, %s flank of blade 1 (1/mm^2)", side) end})
 
 local wheel = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = d_min}
 
