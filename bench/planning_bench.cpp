@@ -6,6 +6,7 @@
 // variable chord height.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <memory>
 
 #include "core/parts/builtin_blisk.h"
@@ -15,6 +16,17 @@
 namespace bliskrun {
 namespace {
 
+// The paper's C +-30 deg about the radial direction through the flank's
+// middle (as scripts/lib/blisk_finish.lua).
+RotaryAxisLimit c_limit(const Surface& flank) {
+  const Vec3 p = flank.point(0.5, 0.5);
+  const double a = std::atan2(p.y(), p.x());
+  RotaryAxisLimit l;
+  l.rotary_axis = Vec3(-std::sin(a), std::cos(a), 0);
+  l.reference = Vec3(std::cos(a), std::sin(a), 0);
+  return l;
+}
+
 // The built-in blisk with its hub and casing, and the check surfaces around
 // each blade (neighbours' flanks and the hub), built once.
 struct BliskSetup {
@@ -23,14 +35,18 @@ struct BliskSetup {
   Tool wheel = Tool::drum_wheel({8, 50, 4, {6, 96}, {}});
   TriangleMesh hub_mesh = tessellate(hub, 0.01);
   std::vector<TriangleMesh> flank_meshes[2];  // per side, per blade
+  std::vector<TriangleMesh> own_meshes[2];    // coarse (0.05 mm), for the shank
   std::vector<CollisionWorld> worlds;         // per blade
 
   BliskSetup() {
     const int n = blisk.blade_count();
     for (int side = 0; side < 2; ++side)
       for (int k = 0; k < n; ++k)
-        flank_meshes[side].push_back(
-            tessellate(*blisk.flank_surface(k, side ? FlankSide::kSuction : FlankSide::kPressure), 0.01));
+      {
+        const auto flank = blisk.flank_surface(k, side ? FlankSide::kSuction : FlankSide::kPressure);
+        flank_meshes[side].push_back(tessellate(*flank, 0.01));
+        own_meshes[side].push_back(tessellate(*flank, 0.05));
+      }
     worlds.resize(n);
     for (int k = 0; k < n; ++k) {
       for (int nb : {(k + n - 1) % n, (k + 1) % n})
@@ -38,6 +54,11 @@ struct BliskSetup {
           worlds[k].add("blade " + std::to_string(nb) + (side ? " suction" : " pressure"),
                         flank_meshes[side][nb]);
       worlds[k].add("hub", hub_mesh);
+      // The blade itself, for the shank only (as scripts/lib/blisk_world.lua).
+      PartMask shank_only;
+      shank_only.cutter = false;
+      for (int side = 0; side < 2; ++side)
+        worlds[k].add(std::string("own ") + (side ? "suction" : "pressure"), own_meshes[side][k], {shank_only, 0.05});
     }
   }
 
@@ -50,6 +71,8 @@ struct BliskSetup {
     rq.world = &worlds[blade];
     rq.residual_height_mm = 0.014;
     rq.steps.chord_tol_mm = 0.002;
+    rq.tilt.clearances = {0, 0.1, 1};  // as scripts/lib/blisk_finish.lua
+    rq.tilt.axis_limit = make_axis_limit(c_limit(*rq.flank));
     return rq;
   }
 };
@@ -71,6 +94,7 @@ void BM_PlanOneFlank(benchmark::State& state) {
   state.counters["first_row_u"] = r.first_row_u;
   state.counters["max_dev_um"] = 1e3 * r.max_deviation_mm;
   state.counters["tilt_s"] = r.tilt_seconds;
+  state.counters["inserted_rows"] = r.inserted_rows;
   state.counters["trim_s"] = r.trim_seconds;
   state.counters["rows_s"] = r.rows_seconds;
   state.counters["link_s"] = r.link_seconds;

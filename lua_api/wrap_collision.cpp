@@ -237,8 +237,34 @@ int w_collision_world(lua_State* L) {
            Field{"mesh", Kind::Any, false, std::nullopt, std::nullopt,
                  "bliskrun.Mesh or {vertices={{x,y,z},...}, triangles={{i,j,k},...}} (1-based)", {}},
            Field{"surface", Kind::Any, false, std::nullopt, std::nullopt, "bliskrun.Surface to tessellate", {}},
-           Field{"chord_tol", Kind::Number, false, 1e-6, std::nullopt, "tessellation tolerance, mm", {}}});
-      world->add(s.string("name", ""), check_surface_entry(L, s, what));
+           Field{"chord_tol", Kind::Number, false, 1e-6, std::nullopt, "tessellation tolerance, mm", {}},
+           Field{"margin", Kind::Number, false, 0.0, 100.0,
+                 "extra clearance against this surface, mm (default 0); give a coarse mesh its chord_tol", {}},
+           Field{"parts", Kind::Table, false, std::nullopt, std::nullopt,
+                 "tool parts checked against it, e.g. {\"shank\", \"holder\"} for the blade being machined "
+                 "(default all)", {}}});
+      PartMask mask;
+      if (s.has("parts")) {
+        s.push_raw("parts");
+        mask = {false, false, false};
+        const lua_Integer np = luaL_len(L, -1);
+        for (lua_Integer k = 1; k <= np; ++k) {
+          lua_rawgeti(L, -1, k);
+          const char* part = lua_tostring(L, -1);
+          const std::string p = part ? part : "";
+          if (p == "cutter") mask.cutter = true;
+          else if (p == "shank") mask.shank = true;
+          else if (p == "holder") mask.holder = true;
+          else luax::error(L, what + ".parts[" + std::to_string(k) + "]: expected \"cutter\", \"shank\" or \"holder\"");
+          lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+        if (np < 1) luax::error(L, what + ".parts: expected at least one of \"cutter\", \"shank\", \"holder\"");
+      }
+      CheckSurfaceOptions options;
+      options.parts = mask;
+      options.margin_mm = s.number("margin", 0.0);
+      world->add(s.string("name", ""), check_surface_entry(L, s, what), options);
       lua_pop(L, 1);
     }
     lua_pop(L, 1);

@@ -256,8 +256,8 @@ int w_plan_report(lua_State* L) {
   set_number(L, "max_deviation", r.max_deviation_mm);
   set_number(L, "first_row_u", r.first_row_u);
   set_number(L, "hub_strip", r.hub_strip_mm);
-  double wmin = std::numeric_limits<double>::infinity(), wmax = 0;
-  long contacts = 0;
+  double wmin = std::numeric_limits<double>::infinity(), wmax = 0, lead_raised = 0;
+  long contacts = 0, tilted = 0;
   lua_createtable(L, static_cast<int>(r.rows.size()), 0);
   for (size_t i = 0; i < r.rows.size(); ++i) {
     const DrumFinishRow& row = r.rows[i];
@@ -267,6 +267,8 @@ int w_plan_report(lua_State* L) {
     lua_createtable(L, 0, 8);
     set_number(L, "u", row.u);
     set_number(L, "width", row.width_mm);
+    set_number(L, "reach_below", row.reach_below_mm);
+    set_number(L, "reach_above", row.reach_above_mm);
     set_number(L, "spacing_du", row.spacing_du);
     lua_pushinteger(L, row.contacts);
     lua_setfield(L, -2, "contacts");
@@ -276,9 +278,24 @@ int w_plan_report(lua_State* L) {
     lua_setfield(L, -2, "refusals");
     set_number(L, "max_deviation", row.max_deviation_mm);
     set_bool(L, "reversed", row.reversed);
+    // The largest lead the tilt loop needed on the row (0: the paper's
+    // initial axis was clear everywhere), degrees.
+    double lead = 0;
+    for (const DrumFinishPose& dp : row.poses) lead = std::max(lead, std::abs(dp.lead_rad - rq.tilt.lead0_rad));
+    set_number(L, "lead_raised", rad_to_deg(lead));
+    lead_raised = std::max(lead_raised, lead);
+    for (const DrumFinishPose& dp : row.poses)
+      if (std::abs(dp.lead_rad - rq.tilt.lead0_rad) > 1e-12) ++tilted;
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "rows");
+  set_number(L, "lead_raised", rad_to_deg(lead_raised));
+  lua_pushinteger(L, r.inserted_rows);
+  lua_setfield(L, -2, "inserted_rows");
+  lua_pushinteger(L, r.uncovered_gaps);
+  lua_setfield(L, -2, "uncovered_gaps");
+  lua_pushinteger(L, tilted);
+  lua_setfield(L, -2, "tilted_poses");
   lua_pushinteger(L, contacts);
   lua_setfield(L, -2, "contacts");
   set_number(L, "width_min", r.rows.empty() ? 0 : wmin);

@@ -66,7 +66,21 @@ std::vector<Vec3> piece_vertices(const TriangleMesh& mesh) {
 
 }  // namespace
 
-void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh) {
+bool PartMask::has(ToolPartId part) const {
+  switch (part) {
+    case ToolPartId::Cutter: return cutter;
+    case ToolPartId::Shank: return shank;
+    case ToolPartId::Holder: return holder;
+  }
+  return true;
+}
+
+void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
+  const PartMask& parts = options.parts;
+  if (!parts.cutter && !parts.shank && !parts.holder)
+    throw ParameterError(name, "a check surface must be checked against at least one tool part");
+  if (!(options.margin_mm >= 0) || !std::isfinite(options.margin_mm))
+    throw ParameterError(name, "the margin of a check surface must be a non-negative length");
   if (name.empty()) throw ParameterError("name", "a check surface needs a name");
   for (const Object& o : objects_) {
     if (o.name == name) throw ParameterError("name", "check surface '" + name + "' is already in the world");
@@ -89,7 +103,8 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh) {
   }
   model->endModel();
   model->computeLocalAABB();
-  objects_.push_back(Object{name, std::move(model), static_cast<int>(mesh.triangles.size()), piece_vertices(mesh)});
+  objects_.push_back(
+      Object{name, std::move(model), static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options});
 }
 
 PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, const Clearances& clearances,
@@ -119,8 +134,9 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
     pc.resolved = false;
     // A piece wholly inside the part crosses no face: test one vertex each.
     for (int i = 0; i < size() && !pc.collides; ++i) {
+      if (!objects_[i].options.parts.has(part.id)) continue;
       for (const Vec3& v : objects_[i].piece_vertices) {
-        if (body.tool().signed_distance(to_tool * v, part.id) < part.overestimate_mm) {
+        if (body.tool().signed_distance(to_tool * v, part.id) < part.overestimate_mm + objects_[i].options.margin_mm) {
           pc.collides = pc.resolved = true;
           pc.distance_mm = 0;
           pc.object = i;
@@ -130,18 +146,23 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
       }
     }
     for (int i = 0; i < size() && !pc.collides; ++i) {
+      if (!objects_[i].options.parts.has(part.id)) continue;
+      // A surface with a margin counts as that much nearer than its mesh.
+      const double margin = objects_[i].options.margin_mm;
       fcl::DistanceResultd result;
       // Seeded with the best bound so far: FCL prunes every bounding volume
       // farther than that.
-      result.min_distance = pc.distance_mm;
+      const double seed = pc.distance_mm + margin;
+      result.min_distance = seed;
       // Mesh first, tool second: nearest_points follow the argument order.
       fcl::distance(objects_[i].model.get(), identity, part.geometry.get(), frame, request, result);
-      if (result.min_distance < pc.distance_mm) {
+      // Compared with the seed itself: (d + m) - m can round below d.
+      if (result.min_distance < seed) {
         pc.resolved = true;
         pc.object = i;
         pc.on_object = result.nearest_points[0];
         pc.on_tool = result.nearest_points[1];
-        pc.distance_mm = result.min_distance;
+        pc.distance_mm = std::min(pc.distance_mm, std::max(0.0, result.min_distance - margin));
         if (pc.distance_mm <= 0) {
           pc.collides = true;
           pc.distance_mm = 0;

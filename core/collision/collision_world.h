@@ -93,6 +93,23 @@ struct MotionCheck {
   double min_margin_mm = 0;
 };
 
+// Which tool parts a check surface is checked against: every part by
+// default. The blade being machined is a check surface for the shank and
+// holder only — the cutter touches it by design.
+struct PartMask {
+  bool cutter = true, shank = true, holder = true;
+  bool has(ToolPartId part) const;
+};
+
+// How a check surface is checked: against which parts, and with what extra
+// margin (mm) added to every clearance against it — e.g. the chord
+// tolerance of a coarse mesh, so that a mesh that may lie up to that far
+// behind the true surface is never optimistic.
+struct CheckSurfaceOptions {
+  PartMask parts;
+  double margin_mm = 0;
+};
+
 class CollisionWorld {
  public:
   CollisionWorld() = default;
@@ -103,7 +120,7 @@ class CollisionWorld {
   // should share vertex indices (tessellate() does): the containment test
   // checks one vertex per connected piece, so a triangle soup makes it
   // linear in the triangle count per query.
-  void add(const std::string& name, const TriangleMesh& mesh);
+  void add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options = {});
 
   int size() const { return static_cast<int>(objects_.size()); }
   const std::string& name(int index) const { return objects_.at(index).name; }
@@ -136,6 +153,7 @@ class CollisionWorld {
     std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
     int triangles = 0;
     std::vector<Vec3> piece_vertices;  // one vertex of every connected piece
+    CheckSurfaceOptions options;
   };
   // bound_mm[i]: resolve part i's distance up to this.
   PoseCheck check_bounded(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,

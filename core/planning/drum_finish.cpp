@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <atomic>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -115,6 +116,78 @@ double first_clear_row(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
   return hi;
 }
 
+// Largest 3-D distance between the rows at u'a and u'b over the chord.
+double row_gap(const TrimmedSurface& ts, double ua, double ub) {
+  double gap = 0;
+  for (int i = 0; i <= 20; ++i) {
+    const double v = i / 20.0;
+    gap = std::max(gap, (ts.point(ub, v) - ts.point(ua, v)).norm());
+  }
+  return gap;
+}
+
+// How far along the span each pose's cut reaches within the residual height
+// below (towards the hub) and above its contact, the smallest over the row.
+// Measured on the pose as placed, not from the profile's Fig. 6 width: a
+// lead moves the contact along the barrel, or onto the head's edge, where
+// the wheel no longer lies tangent to the surface. The wheel's meridian
+// through the contact (in the plane of the axis and the contact) is walked
+// from the contact towards each end until its height above the surface's
+// osculating circle across the feed reaches the residual height; at an end
+// without reaching it the strip ends with the wheel.
+void row_reach(DrumFinishRow& row, const TrimmedSurface& ts, const Tool& tool, const DrumFinishRequest& rq) {
+  row.reach_below_mm = row.reach_above_mm = std::numeric_limits<double>::infinity();
+  const Profile& c = tool.cutter();
+  constexpr int kSteps = 400;
+  for (const DrumFinishPose& p : row.poses) {
+    const SurfaceDerivs d = ts.eval(p.u, p.v);
+    const Vec3 n = outward_normal(d, rq.flip_normal);
+    Vec3 across = d.pu - d.pu.dot(n) * n;
+    across = (across - across.dot(d.pv.normalized()) * d.pv.normalized()).normalized();
+    const double k_along = normal_curvature(d, across);
+    const double k = rq.flip_normal ? -k_along : k_along;  // > 0 concave
+    const Eigen::Isometry3d to_part = tool_to_part(p.pose);
+    const Vec3 q = to_part.inverse() * p.contact;
+    const double phi = std::atan2(q.y(), q.x());
+    const double zc = std::clamp(q.z(), c.z_min(), c.z_max());
+    // Height above the surface and span offset of the meridian point at z.
+    auto at = [&](double z, double* s_out) {
+      const double r = c.radius_at(std::clamp(z, c.z_min() + 1e-9, c.z_max() - 1e-9));
+      const Vec3 e = to_part * Vec3(r * std::cos(phi), r * std::sin(phi), z) - p.contact;
+      const double s = e.dot(across);
+      *s_out = s;
+      return e.dot(n) - 0.5 * k * s * s;
+    };
+    double reach[2] = {0, 0};
+    for (int side = 0; side < 2; ++side) {
+      const double z_end = side == 0 ? c.z_min() : c.z_max();
+      double z_prev = zc, s_prev = 0, s = 0;
+      bool found = false;
+      for (int i = 1; i <= kSteps && !found; ++i) {
+        const double z = zc + (z_end - zc) * i / kSteps;
+        if (at(z, &s) >= rq.residual_height_mm) {
+          // Bisection between the last point below and this one.
+          double lo = z_prev, hi = z;
+          for (int it = 0; it < 40; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            double sm;
+            (at(mid, &sm) >= rq.residual_height_mm ? hi : lo) = mid;
+          }
+          at(hi, &s);
+          found = true;
+        } else {
+          z_prev = z;
+          s_prev = s;
+        }
+      }
+      reach[side] = std::abs(found ? s : s_prev);
+    }
+    row.reach_below_mm = std::min(row.reach_below_mm, reach[0]);
+    row.reach_above_mm = std::min(row.reach_above_mm, reach[1]);
+  }
+  if (row.poses.empty()) row.reach_below_mm = row.reach_above_mm = 0;
+}
+
 }  // namespace
 
 RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
@@ -169,9 +242,11 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   }
   res.trim_seconds = seconds_since(t0);
 
-  // §3.1 Fig. 6: rows from the first row up to the tip (u' = 1).
+  // §3.1 Fig. 6: rows from the first row up to the tip (u' = 1), spaced
+  // for the initial axis.
   t0 = Clock::now();
   const Tool& tool = *rq.tool;
+  std::vector<DrumFinishRow> rows;
   double u = res.first_row_u;
   for (;;) {
     DrumFinishRow row;
@@ -179,60 +254,110 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     const RowWidth w = row_width(ts, tool, u, rq.residual_height_mm, rq.width_samples, rq.flip_normal);
     row.width_mm = w.width_mm;
     const bool last = u >= 1.0;
-    row.spacing_du = last ? 0 : std::min(w.du, 1.0 - u);
-    res.rows.push_back(std::move(row));
+    rows.push_back(std::move(row));
     if (last) break;
     if (!(w.du > 1e-9)) throw Error("plan_drum_finish: row spacing vanished at u' = " + std::to_string(u));
     u = std::min(1.0, u + w.du);
-    if (res.rows.size() > 100000) throw Error("plan_drum_finish: more than 100000 rows; check residual height");
+    if (rows.size() > 100000) throw Error("plan_drum_finish: more than 100000 rows; check residual height");
   }
   res.rows_seconds = seconds_since(t0);
 
+  // Steps and tilt, row by row; then check that the rows as tilted still
+  // cover the flank. A lead λ > 0 (raised by the tilt loop to clear e.g. the
+  // shank from the concave blade) moves the contact along the barrel, so the
+  // strip the wheel leaves within the residual height shrinks on one side;
+  // where two neighbouring rows no longer meet, a row is inserted halfway
+  // and everything re-planned (steps are cached per row).
   ToolBody body(tool, rq.tool_tol_mm);
-  double tilt_s = 0;
-  // Rows are the progress unit; the tilt loop's own per-contact progress
-  // would restart for every row.
   Progress per_row(&progress);
-  progress.begin("drum finish rows", static_cast<long>(res.rows.size()));
-  for (size_t r = 0; r < res.rows.size(); ++r) {
-    DrumFinishRow& row = res.rows[r];
-    row.reversed = rq.zigzag && (r % 2 == 1);
-    t0 = Clock::now();
-    IsoUCurve curve(ts, row.u);
-    const RowSteps steps = plan_row_steps(curve, rq.steps);
-    res.rows_seconds += seconds_since(t0);
-    row.contacts = static_cast<int>(steps.t.size());
-    row.max_deviation_mm = steps.max_deviation_mm;
-    row.v = steps.t;
-    row.deviation_mm = steps.deviation_mm;
-    res.max_deviation_mm = std::max(res.max_deviation_mm, steps.max_deviation_mm);
+  std::map<double, RowSteps> steps_cache;
+  std::map<double, std::pair<std::vector<DrumFinishPose>, std::vector<TiltRefusal>>> tilt_cache;
+  double tilt_s = 0;
+  for (int pass = 0;; ++pass) {
+    progress.begin(pass == 0 ? "drum finish rows" : "drum finish rows (after inserting rows)",
+                   static_cast<long>(rows.size()));
+    for (size_t r = 0; r < rows.size(); ++r) {
+      DrumFinishRow& row = rows[r];
+      row.reversed = rq.zigzag && (r % 2 == 1);
+      t0 = Clock::now();
+      auto cached = steps_cache.find(row.u);
+      if (cached == steps_cache.end()) {
+        IsoUCurve curve(ts, row.u);
+        cached = steps_cache.emplace(row.u, plan_row_steps(curve, rq.steps)).first;
+      }
+      const RowSteps& steps = cached->second;
+      res.rows_seconds += seconds_since(t0);
+      row.contacts = static_cast<int>(steps.t.size());
+      row.max_deviation_mm = steps.max_deviation_mm;
+      row.v = steps.t;
+      row.deviation_mm = steps.deviation_mm;
 
-    t0 = Clock::now();
-    std::vector<double> vs(steps.t.size());
-    for (size_t i = 0; i < vs.size(); ++i) vs[i] = steps.t[row.reversed ? vs.size() - 1 - i : i];
-    const RowFrames rf = row_frames(ts, row.u, vs, row.reversed, rq.flip_normal, rq.tilt.tilt0_rad);
-    const std::vector<ContactFrame>& frames = rf.frames;
-    TiltSettings settings = rq.tilt;
-    settings.tilt0_rad = rf.tilt0_rad;
-    const TiltRun run = tilt_path(*rq.world, body, frames, settings, per_row);
-    row.refusals = run.refusals;
-    for (const TiltAccepted& a : run.poses) {
-      DrumFinishPose p;
-      p.pose = a.pose;
-      p.contact = frames[a.index].point;
-      p.u = row.u;
-      p.v = vs[a.index];
-      p.lead_rad = a.lead_rad;
-      p.tilt_rad = a.tilt_rad;
-      row.poses.push_back(p);
+      t0 = Clock::now();
+      // Tilted once per row, along +v: the same axes serve the row run
+      // backwards (X, Y and w0 all flip, the axis does not), and a motion
+      // proved clear one way is clear the other. So inserting a row, which
+      // flips the zigzag direction of the rows above it, costs one row.
+      auto tilted = tilt_cache.find(row.u);
+      if (tilted == tilt_cache.end()) {
+        const RowFrames rf = row_frames(ts, row.u, steps.t, false, rq.flip_normal, rq.tilt.tilt0_rad);
+        TiltSettings settings = rq.tilt;
+        settings.tilt0_rad = rf.tilt0_rad;
+        const TiltRun run = tilt_path(*rq.world, body, rf.frames, settings, per_row);
+        std::vector<DrumFinishPose> poses;
+        for (const TiltAccepted& a : run.poses) {
+          DrumFinishPose p;
+          p.pose = a.pose;
+          p.contact = rf.frames[a.index].point;
+          p.u = row.u;
+          p.v = steps.t[a.index];
+          p.lead_rad = a.lead_rad;
+          p.tilt_rad = a.tilt_rad;
+          poses.push_back(p);
+        }
+        tilted = tilt_cache.emplace(row.u, std::make_pair(std::move(poses), run.refusals)).first;
+      }
+      row.poses = tilted->second.first;
+      row.refusals = tilted->second.second;
+      if (row.reversed) std::reverse(row.poses.begin(), row.poses.end());
+      row_reach(row, ts, tool, rq);
+      tilt_s += seconds_since(t0);
+      progress.step(static_cast<long>(r + 1));
     }
-    res.total_poses += static_cast<int>(row.poses.size());
-    res.total_refusals += static_cast<int>(row.refusals.size());
-    tilt_s += seconds_since(t0);
-    progress.step(static_cast<long>(r + 1));
+    progress.end();
+    // Neighbouring rows that no longer meet within the residual height.
+    std::vector<DrumFinishRow> refined;
+    int inserted = 0;
+    for (size_t r = 0; r < rows.size(); ++r) {
+      refined.push_back(rows[r]);
+      if (r + 1 == rows.size()) break;
+      const DrumFinishRow &a = rows[r], &b = rows[r + 1];
+      if (a.poses.empty() || b.poses.empty()) continue;
+      const double gap = row_gap(ts, a.u, b.u);
+      // 2% slack: the reaches come from the actual contacts, the spacing
+      // from sampled ones; h grows with the square of the gap.
+      if (gap > 1.02 * (a.reach_above_mm + b.reach_below_mm) && b.u - a.u > 1e-4 && pass < 4) {
+        DrumFinishRow mid;
+        mid.u = 0.5 * (a.u + b.u);
+        mid.width_mm = row_width(ts, tool, mid.u, rq.residual_height_mm, rq.width_samples, rq.flip_normal).width_mm;
+        refined.push_back(std::move(mid));
+        ++inserted;
+      }
+    }
+    if (inserted == 0) break;
+    res.inserted_rows += inserted;
+    rows = std::move(refined);
   }
-  progress.end();
   res.tilt_seconds = tilt_s;
+  for (size_t r = 0; r < rows.size(); ++r) {
+    rows[r].spacing_du = r + 1 < rows.size() ? rows[r + 1].u - rows[r].u : 0.0;
+    if (r + 1 < rows.size() && !rows[r].poses.empty() && !rows[r + 1].poses.empty() &&
+        row_gap(ts, rows[r].u, rows[r + 1].u) > 1.02 * (rows[r].reach_above_mm + rows[r + 1].reach_below_mm))
+      ++res.uncovered_gaps;
+    res.total_poses += static_cast<int>(rows[r].poses.size());
+    res.total_refusals += static_cast<int>(rows[r].refusals.size());
+    res.max_deviation_mm = std::max(res.max_deviation_mm, rows[r].max_deviation_mm);
+  }
+  res.rows = std::move(rows);
 
   // Links: retract along the axis, traverse, approach; each segment checked.
   t0 = Clock::now();

@@ -55,7 +55,10 @@ struct DrumFinishPose {
 
 struct DrumFinishRow {
   double u = 0;                // u' of the row
-  double width_mm = 0;         // smallest cut width along the row
+  double width_mm = 0;         // smallest cut width along the row (initial axis)
+  // Smallest reach of the cut within the residual height towards the hub /
+  // the tip over the row's poses as tilted (width/2 each at lead 0).
+  double reach_below_mm = 0, reach_above_mm = 0;
   double spacing_du = 0;       // u' step to the next row (0 on the last)
   int contacts = 0;            // contact points planned along the row
   double max_deviation_mm = 0; // measured chord deviation
@@ -85,6 +88,10 @@ struct DrumFinishResult {
   std::vector<DrumFinishRow> rows;
   std::vector<DrumFinishLink> links;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
+  // Rows inserted because tilted neighbours no longer met within the
+  // residual height, and neighbouring rows that still do not after the
+  // refinement (reported, not hidden).
+  int inserted_rows = 0, uncovered_gaps = 0;
   double max_deviation_mm = 0;
   double trim_seconds = 0, rows_seconds = 0, tilt_seconds = 0, link_seconds = 0;
 };

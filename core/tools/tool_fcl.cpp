@@ -11,13 +11,27 @@ RevolvedPolytope circumscribed_polytope(const Profile& profile, double tol_mm) {
   if (!(tol_mm > 0) || !std::isfinite(tol_mm)) {
     throw ParameterError("tol_mm", "tessellation tolerance must be a positive length");
   }
-  const std::vector<Vec2> meridian = profile.circumscribed_polyline(tol_mm);
+  const std::vector<Vec2> polyline = profile.circumscribed_polyline(tol_mm);
   double r_max = 0;
-  for (const Vec2& p : meridian) r_max = std::max(r_max, p.x());
+  for (const Vec2& p : polyline) r_max = std::max(r_max, p.x());
   // N-gon whose inscribed circle is the ring: corners at r / cos(pi/N).
   const double half_step = std::acos(1.0 / (1.0 + tol_mm / r_max));
   const int n = std::max(8, static_cast<int>(std::ceil(kPi / half_step)));
   const double scale = 1.0 / std::cos(kPi / n);
+  // Long straight sides (a 96 mm shank) would give sliver faces a few
+  // hundredths wide and 100 mm long, which bound badly in FCL's hierarchy
+  // and make every query near the part slow: cut them into pieces at most
+  // eight ring edges long (same solid, more but well-shaped faces).
+  const double max_piece = 8 * 2 * kPi * r_max / n;
+  std::vector<Vec2> meridian;
+  for (size_t i = 0; i < polyline.size(); ++i) {
+    if (i > 0) {
+      const Vec2 a = polyline[i - 1], b = polyline[i];
+      const int pieces = std::min(1000, static_cast<int>(std::ceil((b - a).norm() / max_piece)));
+      for (int k = 1; k < pieces; ++k) meridian.push_back(a + (b - a) * (static_cast<double>(k) / pieces));
+    }
+    meridian.push_back(polyline[i]);
+  }
 
   RevolvedPolytope poly;
   poly.overestimate_mm = tol_mm + (r_max * scale - r_max);
@@ -55,12 +69,18 @@ RevolvedPolytope circumscribed_polytope(const Profile& profile, double tol_mm) {
   return poly;
 }
 
+constexpr double kShankTolMm = 0.02;
+
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
   std::vector<FclToolPart> parts;
   for (int i = 0; i < kToolPartCount; ++i) {
     const auto id = static_cast<ToolPartId>(i);
     if (!tool.has(id)) continue;
-    const RevolvedPolytope poly = circumscribed_polytope(tool.profile(id), tol_mm);
+    // The shank and holder keep clearances of tenths of a millimetre: a
+    // coarser body (at most 0.02 mm larger) keeps their queries cheap where
+    // they run close along a blade.
+    const double part_tol = id == ToolPartId::Cutter ? tol_mm : std::max(tol_mm, kShankTolMm);
+    const RevolvedPolytope poly = circumscribed_polytope(tool.profile(id), part_tol);
     FclToolPart part;
     part.id = id;
     part.overestimate_mm = poly.overestimate_mm;

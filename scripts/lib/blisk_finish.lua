@@ -55,8 +55,14 @@ end
 
 -- Options for bliskrun.drum_finish / drum_finish_all common to every flank.
 -- opts: residual (mm, 0.014), chord_tol (mm, 0.002), steps ("variable"),
--- guarantee (true), zigzag (true), clearance ({cutter = 0, shank = 0.5,
--- holder = 1}).
+-- guarantee (true), zigzag (true), clearance ({cutter = 0, shank = 0.1,
+-- holder = 1}). The shank clearance matters on the concave pressure flank
+-- near the hub: the shank (d 6 x 96) lies along the blade there and the
+-- tilt loop raises the lead to clear it, which moves the contact along the
+-- barrel by R_c sin(lead) - off the 4 mm head for R_c 50 beyond 2.3 deg -
+-- and rows are inserted to keep the residual (measured on blade 1: shank
+-- clearance 0.1 / 0.25 / 0.5 mm gives 18 / 20 / 26 rows with wheel 2
+-- against 20 with wheel 1).
 -- blisk may be nil (a real part): set hub and casing yourself.
 function M.settings(blisk, tool, opts)
   opts = opts or {}
@@ -64,7 +70,7 @@ function M.settings(blisk, tool, opts)
     hub = blisk and blisk:hub(), casing = blisk and blisk:casing(), tool = tool,
     residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,
     steps = opts.steps or "variable", guarantee = opts.guarantee ~= false, zigzag = opts.zigzag ~= false,
-    clearance = opts.clearance or {cutter = 0, shank = 0.5, holder = 1},
+    clearance = opts.clearance or {cutter = 0, shank = opts.shank_clearance or 0.1, holder = 1},
   }
 end
 

@@ -29,6 +29,17 @@ function M.around_blade(blisk, k, opts)
   if opts.hub ~= false then
     surfaces[#surfaces + 1] = {name = "hub", surface = blisk:hub(), chord_tol = tol}
   end
+  if opts.own ~= false then
+    -- The blade being machined, for the shank and holder only (the cutter
+    -- touches it by design). The shank runs along it a fraction of a mm
+    -- away, FCL's slowest case, so its mesh is coarser (0.05 mm) and that
+    -- tolerance is added to the clearance against it.
+    local own_tol = opts.own_chord_tol or 0.05
+    for _, side in ipairs{"pressure", "suction"} do
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = blisk:flank(k, side),
+                                 chord_tol = own_tol, margin = own_tol, parts = {"shank", "holder"}}
+    end
+  end
   return bliskrun.collision_world{surfaces = surfaces}
 end
 

@@ -21,7 +21,7 @@
 --   bliskrun scripts/recipes/blisk_drum_finish.lua --out out/
 --   options: --set blade=1 --set wheel=extended|traditional --set residual=0.014
 --            --set chord_tol=0.002 --set steps=variable|constant --set c_range=30
---            --set samples_u=200 --set samples_v=1000
+--            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
 --            --set all_blades=true   (also plan both flanks of every blade, on --threads)
 
 local finish = require("blisk_finish")
@@ -31,7 +31,7 @@ local blade = args.blade or 1
 local wheel_rule = args.wheel or "extended"
 local c_range = args.c_range or 30
 local settings = {residual = args.residual or 0.014, chord_tol = args.chord_tol or 0.002,
-                  steps = args.steps or "variable"}
+                  steps = args.steps or "variable", shank_clearance = args.shank_clearance or 0.1}
 assert(wheel_rule == "extended" or wheel_rule == "traditional",
        "--set wheel= expects 'extended' or 'traditional', got " .. tostring(wheel_rule))
 
@@ -49,7 +49,7 @@ local report = {
   part = {kind = "built-in blisk", blades = blisk:blade_count(), narrowest_passage_mm = design.d_min},
   wheel = {rule = wheel_rule, description = tool:description(), table2 = design.table2[wheel_rule]},
   settings = {residual_mm = settings.residual, chord_tol_mm = settings.chord_tol, steps = settings.steps,
-              c_range_deg = settings.c_range},
+              c_range_deg = settings.c_range, shank_clearance_mm = settings.shank_clearance},
   flanks = {},
 }
 local ok = true

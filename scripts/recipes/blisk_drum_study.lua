@@ -11,7 +11,7 @@
 --   bliskrun scripts/recipes/blisk_drum_study.lua --out out/
 --   options: --set side=pressure|suction --set blade=1 --set residual=0.014
 --            --set chord_tol=0.002 --set c_range=30 --set row_u=0.93
---            --set samples_u=200 --set samples_v=1000
+--            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
 
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
@@ -22,6 +22,7 @@ local blade = args.blade or 1
 local residual, chord_tol = args.residual or 0.014, args.chord_tol or 0.002
 local c_range = args.c_range or 30
 local row_u = args.row_u or 0.93  -- the row of Fig. 13
+local shank_clearance = args.shank_clearance or 0.1
 
 local blisk = bliskrun.blisk{}
 local design = finish.design_wheels(blisk, {c_range = c_range})
@@ -38,7 +39,7 @@ local results = {}
 for _, g in ipairs(groups) do
   bliskrun.log(string.format("group %s: wheel %d (%s), %s chord height", g.id, g.wheel, g.rule, g.steps))
   local plan = finish.plan(blisk, blade, side, design.wheels[g.rule], world, {
-    residual = residual, chord_tol = chord_tol, steps = g.steps,
+    residual = residual, chord_tol = chord_tol, steps = g.steps, shank_clearance = shank_clearance,
     -- Eq. 17 as the paper applies it: the step from the local curvature,
     -- not measured. The variable method is always measured (ours).
     guarantee = g.steps == "variable",
@@ -101,7 +102,7 @@ bliskrun.write_text("fig13_chord_error.svg", chart.lines{
   y_label = "chord error (um)", series = series13, limit = {y = 1e3 * chord_tol, name = "tolerance"}})
 
 local json = {part = {kind = "built-in blisk", blade = blade, flank = side}, residual_mm = residual,
-              chord_tol_mm = chord_tol, c_range_deg = c_range, table1 = design.table1, table2 = design.table2,
+              chord_tol_mm = chord_tol, c_range_deg = c_range, shank_clearance_mm = shank_clearance, table1 = design.table1, table2 = design.table2,
               groups = {}}
 for _, x in ipairs(results) do
   local rows = {}

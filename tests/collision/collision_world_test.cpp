@@ -61,6 +61,39 @@ TEST(CollisionWorld, BallEndAbovePlaneMatchesAnalyticDistance) {
   EXPECT_FALSE(dipped.clear);
 }
 
+// The blade being machined is a check surface for the shank and holder
+// only, and a coarse mesh carries its chord tolerance as a margin.
+TEST(CollisionWorld, PartMaskAndMarginPerCheckSurface) {
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  const ToolPose pose{Vec3(0, 0, 0.5), Vec3::UnitZ()};  // ball 0.5 above the floor, shank 15.5
+  CollisionWorld shank_only;
+  PartMask mask;
+  mask.cutter = false;
+  shank_only.add("own blade", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10), {mask, 0.0});
+  const PoseCheck c = shank_only.check(body, pose, Clearances{});
+  ASSERT_EQ(c.parts.size(), 2u);
+  EXPECT_EQ(c.parts[0].object, -1);  // the cutter does not see it
+  EXPECT_FALSE(c.parts[0].resolved);
+  expect_enclosing_distance(c.parts[1].distance_mm, 15.5, body, "shank");
+  // Dipping the ball into it is no collision for a shank-only surface.
+  EXPECT_TRUE(shank_only.check(body, ToolPose{Vec3(0, 0, -1), Vec3::UnitZ()}, Clearances{}).clear);
+
+  CollisionWorld margined;
+  margined.add("coarse", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10), {{}, 0.2});
+  const PoseCheck m = margined.check(body, pose, Clearances{});
+  expect_enclosing_distance(m.parts[0].distance_mm, 0.5 - 0.2, body, "cutter with margin");
+  // Clear/not-clear at exactly the clearance: a surface the query does not
+  // reach must not turn "not clear" through (d + margin) - margin rounding.
+  const ToolPose far{Vec3(0, 0, 5), Vec3::UnitZ()};
+  const PoseCheck at_bound = margined.check(body, far, Clearances{0.5, 0.5, 0}, 0.0);
+  EXPECT_TRUE(at_bound.clear);
+  EXPECT_EQ(at_bound.parts[0].object, -1);
+  CheckSurfaceOptions none;
+  none.parts.cutter = none.parts.shank = none.parts.holder = false;
+  EXPECT_THROW(margined.add("nothing", grid_mesh(Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), 1, 1), none),
+               ParameterError);
+}
+
 TEST(CollisionWorld, SeparateClearancesForCutterShankAndHolder) {
   // Flat-end mill R 5 (corner r 1, flutes 20), shank d 8 up to z 50, holder d 30 up to z 70.
   const ToolBody body(Tool::flat_end_mill({5, 1, 20, {8, 30}, {30, 20}}), 1e-3);

@@ -38,15 +38,24 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_finish.json"));
   EXPECT_TRUE(j["verified"].get<bool>());
   EXPECT_EQ(j["wheel"]["rule"], "extended");
+  // The concave pressure flank: the shank (d 6 x 96) lies along the blade
+  // near the hub, so the tilt loop leans the axis there; the convex suction
+  // flank needs no lead.
+  EXPECT_GT(j["flanks"]["pressure"]["tilted_poses"].get<int>(), 0);
+  EXPECT_EQ(j["flanks"]["suction"]["tilted_poses"].get<int>(), 0);
   const double residual = j["settings"]["residual_mm"], chord_tol = j["settings"]["chord_tol_mm"];
   for (const char* side : {"pressure", "suction"}) {
     SCOPED_TRACE(side);
     const nlohmann::json& f = j["flanks"][side];
     EXPECT_EQ(f["refusals"].get<int>(), 0);
     EXPECT_EQ(f["refused_links"].get<int>(), 0);
-    // Wheel 2 (R_c 50) on a 30 mm blade at 14 um: about 2.3 mm rows.
+    // Wheel 2 (R_c 50) on a 30 mm blade at 14 um: about 2.3 mm rows, more
+    // where the lead raised to clear the shank from the blade itself moved
+    // the contact along the barrel (rows inserted; none left uncovered).
     EXPECT_GE(f["row_count"].get<int>(), 11);
-    EXPECT_LE(f["row_count"].get<int>(), 16);
+    EXPECT_LE(f["row_count"].get<int>(), 25);
+    EXPECT_EQ(f["row_count"].get<int>(), 13 + (side == std::string("suction") ? 1 : 0) + f["inserted_rows"].get<int>());
+    EXPECT_EQ(f["uncovered_gaps"].get<int>(), 0);
     EXPECT_GT(f["width_min"].get<double>(), 2.0);
     EXPECT_LT(f["width_max"].get<double>(), 2.8);
     // Every segment's measured chord deviation is within the tolerance.
@@ -137,12 +146,15 @@ TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceed
 }
 
 // Issue 6 with issue 4: a real Rotor 67 flank planned with the wheel its own
-// Table 2 gives, and simulated.
+// Table 2 gives, and simulated. The suction flank: the pressure flank needs
+// the tilt loop on most poses (the shank along the concave blade) and takes
+// about a minute, too long for the suite.
 TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 finishing recipe skipped";
   TempDir dir;
   const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--out",
-                                       dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300"});
+                                       dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300",
+                                       "--set", "side=suction"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "rotor67_finish.json"));
   EXPECT_EQ(j["part"]["blades"].get<int>(), 22);
@@ -158,7 +170,11 @@ TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
   EXPECT_LT(f["row_count"].get<int>(), 90);
   EXPECT_LE(f["max_deviation"].get<double>(), 0.002 * (1 + 1e-9));
   const nlohmann::json& sim = f["simulation"];
-  EXPECT_GE(sim["overcut_mm"].get<double>(), -0.002);
+  // The convex flank: the chords sag into it by up to the tolerance, plus
+  // what the axis turning between poses adds (reported, well under 1 um).
+  EXPECT_LT(f["axis_turn_deviation_mm"].get<double>(), 0.001);
+  EXPECT_GE(sim["overcut_mm"].get<double>(), -(0.002 + f["axis_turn_deviation_mm"].get<double>()));
+  EXPECT_LT(sim["overcut_mm"].get<double>(), -0.001);
   EXPECT_GT(sim["undercut_max_mm"].get<double>(), 0.005);
   EXPECT_LT(sim["undercut_max_mm"].get<double>(), 0.018);  // residual 14 um + chord 2 um on a concave flank
   EXPECT_EQ(sim["untouched"].get<int>(), 0);
