@@ -44,7 +44,8 @@ function M.around_blade(blisk, k, opts)
 end
 
 -- The worlds around every blade (k = 1..N), each flank and the hub
--- tessellated once and shared. opts as for around_blade.
+-- tessellated once and shared; the same check surfaces as around_blade
+-- (neighbours, hub, the blade itself for the shank). opts as for around_blade.
 function M.all_blades(blisk, opts)
   opts = opts or {}
   local n = blisk:blade_count()
@@ -55,6 +56,14 @@ function M.all_blades(blisk, opts)
     for _, side in ipairs{"pressure", "suction"} do meshes[b][side] = blisk:flank(b, side):tessellate(tol) end
   end
   local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
+  local own_tol = opts.own_chord_tol or 0.05
+  local own = {}
+  if opts.own ~= false then
+    for b = 1, n do
+      own[b] = {}
+      for _, side in ipairs{"pressure", "suction"} do own[b][side] = blisk:flank(b, side):tessellate(own_tol) end
+    end
+  end
   local worlds = {}
   for k = 1, n do
     local surfaces = {}
@@ -64,6 +73,12 @@ function M.all_blades(blisk, opts)
       end
     end
     if hub then surfaces[#surfaces + 1] = {name = "hub", mesh = hub} end
+    if own[k] then
+      for _, side in ipairs{"pressure", "suction"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), mesh = own[k][side],
+                                   margin = own_tol, parts = {"shank", "holder"}}
+      end
+    end
     worlds[k] = bliskrun.collision_world{surfaces = surfaces}
   end
   return worlds
