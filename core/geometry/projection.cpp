@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/common/error.h"
+
 namespace bliskrun {
 
 namespace {
@@ -128,11 +130,25 @@ SurfaceProjection project_to_surface(const Surface& s, const Vec3& q, const Proj
   return best;
 }
 
-CurveProjection project_to_curve(const Curve& c, const Vec3& q, const ProjectionOptions& o) {
+std::vector<Vec3> curve_seed_samples(const Curve& c, const ProjectionOptions& o) {
   const double t0 = c.t_min(), t1 = c.t_max();
   const int n = std::max(8, o.seed_samples_u * 4);
+  std::vector<Vec3> out(n + 1);
+  for (int i = 0; i <= n; ++i) out[i] = c.point(t0 + (t1 - t0) * i / n);
+  return out;
+}
+
+CurveProjection project_to_curve(const Curve& c, const Vec3& q, const ProjectionOptions& o) {
+  return project_to_curve(c, q, o, curve_seed_samples(c, o));
+}
+
+CurveProjection project_to_curve(const Curve& c, const Vec3& q, const ProjectionOptions& o,
+                                 const std::vector<Vec3>& samples) {
+  const double t0 = c.t_min(), t1 = c.t_max();
+  const int n = static_cast<int>(samples.size()) - 1;
+  if (n < 1) throw ParameterError("seed_samples", "need at least 2 seed samples on the curve");
   std::vector<double> d2(n + 1);
-  for (int i = 0; i <= n; ++i) d2[i] = (c.point(t0 + (t1 - t0) * i / n) - q).squaredNorm();
+  for (int i = 0; i <= n; ++i) d2[i] = (samples[i] - q).squaredNorm();
   std::vector<std::pair<double, double>> seeds;  // (d2, t)
   for (int i = 0; i <= n; ++i)
     if ((i == 0 || d2[i] <= d2[i - 1]) && (i == n || d2[i] <= d2[i + 1]))

@@ -5,6 +5,7 @@
 // correct. Failure is reported, never a wrong answer.
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/geometry/curve.h"
 #include "core/geometry/surface.h"
@@ -44,5 +45,14 @@ struct CurveProjection {
 
 CurveProjection project_to_curve(const Curve& c, const Vec3& q,
                                  const ProjectionOptions& opts = {});
+
+// The coarse sample project_to_curve seeds from: n + 1 points at
+// t_min + (t_max - t_min) i / n, n = max(8, 4 seed_samples_u). A caller
+// projecting many points onto one curve (a surface of revolution's
+// meridian) computes it once and passes it to the overload below; results
+// are the same.
+std::vector<Vec3> curve_seed_samples(const Curve& c, const ProjectionOptions& opts = {});
+CurveProjection project_to_curve(const Curve& c, const Vec3& q, const ProjectionOptions& opts,
+                                 const std::vector<Vec3>& seed_samples);
 
 }  // namespace bliskrun

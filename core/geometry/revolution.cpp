@@ -29,7 +29,10 @@ BSplineCurve fit_meridian(const std::vector<Vec2>& meridian) {
 }  // namespace
 
 SurfaceOfRevolution::SurfaceOfRevolution(const std::vector<Vec2>& meridian)
-    : meridian_(fit_meridian(meridian)), samples_(meridian) {}
+    : meridian_(fit_meridian(meridian)), samples_(meridian) {
+  foot_options_.seed_samples_u = std::max<int>(16, static_cast<int>(samples_.size()));
+  foot_seeds_ = curve_seed_samples(meridian_, foot_options_);
+}
 
 SurfaceDerivs SurfaceOfRevolution::eval(double u, double v) const {
   const CurveDerivs m = meridian_.eval(u);  // (z, r, 0)
@@ -49,9 +52,7 @@ SurfaceDerivs SurfaceOfRevolution::eval(double u, double v) const {
 double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
   // Work in q's meridian plane: (z, r) of q against the profile curve.
   const Vec3 qzr(q.z(), std::hypot(q.x(), q.y()), 0.0);
-  ProjectionOptions opt;
-  opt.seed_samples_u = std::max<int>(16, static_cast<int>(samples_.size()));
-  const CurveProjection foot = project_to_curve(meridian_, qzr, opt);
+  const CurveProjection foot = project_to_curve(meridian_, qzr, foot_options_, foot_seeds_);
   if (!foot.ok)
     throw Error("radial_offset: no foot on the meridian for (z, r) = (" + std::to_string(qzr.x()) +
                 ", " + std::to_string(qzr.y()) + "): " + foot.failure);

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/geometry/curve.h"
+#include "core/geometry/projection.h"
 #include "core/geometry/surface.h"
 
 namespace bliskrun {
@@ -25,6 +26,10 @@ class SurfaceOfRevolution : public Surface {
  private:
   BSplineCurve meridian_;  // points (z, r, 0)
   std::vector<Vec2> samples_;
+  // radial_offset's projection settings and the coarse sample of the
+  // meridian it seeds from, computed once (it is called per cutter point).
+  ProjectionOptions foot_options_;
+  std::vector<Vec3> foot_seeds_;
 };
 
 // Curve where a surface meets a surface of revolution, as (u, v) parameter

@@ -1,6 +1,7 @@
 #include "core/sim/undercut.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -117,8 +118,15 @@ double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool
   return kInf;  // grazing line that never entered within the iteration budget
 }
 
+// Lowers a to v if v is smaller, from any thread.
+void lower_to(std::atomic<double>& a, double v) {
+  double current = a.load(std::memory_order_relaxed);
+  while (v < current && !a.compare_exchange_weak(current, v, std::memory_order_relaxed)) {
+  }
+}
+
 void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
-              const UndercutOptions& o, std::vector<double>& residual, long& evaluations) {
+              const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
   const Eigen::Isometry3d to_tool = to_part.inverse();
   const double range = std::max(o.search_above_mm, o.search_below_mm);
   auto far = [&](const Group& g) {
@@ -133,8 +141,8 @@ void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const Sam
         const Sample& smp = idx.samples[m];
         ++evaluations;
         const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
-                                     std::min(o.search_above_mm, residual[m]));
-        if (s < residual[m]) residual[m] = s;
+                                     std::min(o.search_above_mm, residual[m].load(std::memory_order_relaxed)));
+        if (s < kInf) lower_to(residual[m], s);
       }
     }
   }
@@ -157,18 +165,27 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
   const std::vector<Eigen::Isometry3d> positions =
       tool_positions(passes, cutter.reach(), o.sweep_step_mm);
 
-  // Each worker takes every threads-th position into its own residual array;
-  // the minimum over workers does not depend on how positions were split, so
-  // the result is the same for any thread count.
+  // The workers share one residual array (atomic minimum) and take chunks
+  // of consecutive positions in turn, so each sees what the others have
+  // already cut. The result does not depend on the thread count or the
+  // order: a trace returns the same value whenever it returns one, and it
+  // stops early only above a residual that is already at least the final
+  // minimum.
   const int workers = std::min<int>(o.threads, std::max<size_t>(1, positions.size()));
-  std::vector<std::vector<double>> partial(workers, std::vector<double>(idx.samples.size(), kInf));
+  std::vector<std::atomic<double>> residual(idx.samples.size());
+  for (auto& x : residual) x.store(kInf, std::memory_order_relaxed);
   std::vector<long> evaluations(workers, 0);
+  constexpr size_t kChunk = 32;
+  std::atomic<size_t> next{0};
   progress.begin("undercut simulation", static_cast<long>(positions.size()));
   auto work = [&](int w) {
-    for (size_t k = w; k < positions.size(); k += workers) {
-      if (w == 0 && k % 64 == 0) progress.step(static_cast<long>(k));
-      else if (k % 64 == 0) progress.check();
-      cut_with(cutter, positions[k], idx, o, partial[w], evaluations[w]);
+    for (;;) {
+      const size_t begin = next.fetch_add(kChunk);
+      if (begin >= positions.size()) return;
+      if (w == 0) progress.step(static_cast<long>(begin));
+      else progress.check();
+      const size_t end = std::min(positions.size(), begin + kChunk);
+      for (size_t k = begin; k < end; ++k) cut_with(cutter, positions[k], idx, o, residual, evaluations[w]);
     }
   };
   if (workers == 1) {
@@ -195,12 +212,9 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
   r.samples_u = o.samples_u;
   r.samples_v = o.samples_v;
   r.tool_positions = static_cast<long>(positions.size());
-  r.residual_mm.assign(idx.samples.size(), kInf);
-  for (int w = 0; w < workers; ++w) {
-    r.line_evaluations += evaluations[w];
-    for (size_t i = 0; i < idx.samples.size(); ++i)
-      r.residual_mm[i] = std::min(r.residual_mm[i], partial[w][i]);
-  }
+  r.residual_mm.resize(idx.samples.size());
+  for (size_t i = 0; i < idx.samples.size(); ++i) r.residual_mm[i] = residual[i].load(std::memory_order_relaxed);
+  for (int w = 0; w < workers; ++w) r.line_evaluations += evaluations[w];
   std::vector<double> under;
   under.reserve(r.residual_mm.size());
   for (double res : r.residual_mm) {
