@@ -281,11 +281,13 @@ int w_plan_report(lua_State* L) {
     // The largest lead the tilt loop needed on the row (0: the paper's
     // initial axis was clear everywhere), degrees.
     double lead = 0;
-    for (const DrumFinishPose& dp : row.poses) lead = std::max(lead, std::abs(dp.lead_rad - rq.tilt.lead0_rad));
+    for (const DrumFinishPose& dp : row.poses) {
+      const double raised = std::abs(dp.lead_rad - rq.tilt.lead0_rad);
+      lead = std::max(lead, raised);
+      if (raised > 1e-12) ++tilted;
+    }
     set_number(L, "lead_raised", rad_to_deg(lead));
     lead_raised = std::max(lead_raised, lead);
-    for (const DrumFinishPose& dp : row.poses)
-      if (std::abs(dp.lead_rad - rq.tilt.lead0_rad) > 1e-12) ++tilted;
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "rows");
@@ -357,27 +359,15 @@ int w_plan_moves(lua_State* L) {
   const DrumFinishResult& r = *p.result;
   lua_newtable(L);
   lua_Integer n = 0;
-  auto move = [&](const char* kind, const ToolPose& pose, size_t row) {
+  for (const DrumFinishMove& m : drum_finish_moves(r)) {
+    if (m.kind == DrumFinishMove::Kind::Stop) break;
     lua_createtable(L, 0, 4);
-    set_string(L, "kind", kind);
-    luax::set_vec3(L, "tip", pose.tip);
-    luax::set_vec3(L, "axis", pose.axis);
-    lua_pushinteger(L, static_cast<lua_Integer>(row + 1));
+    set_string(L, "kind", m.kind == DrumFinishMove::Kind::Feed ? "feed" : "rapid");
+    luax::set_vec3(L, "tip", m.pose.tip);
+    luax::set_vec3(L, "axis", m.pose.axis);
+    lua_pushinteger(L, m.row + 1);
     lua_setfield(L, -2, "row");
     lua_rawseti(L, -2, ++n);
-  };
-  size_t link = 0;
-  bool started = false;
-  for (size_t i = 0; i < r.rows.size(); ++i) {
-    const DrumFinishRow& row = r.rows[i];
-    if (row.poses.empty()) continue;
-    if (started) {
-      const DrumFinishLink& l = r.links.at(link++);
-      if (!l.clear) break;
-      for (const ToolPose& m : l.moves) move("rapid", m, i);
-    }
-    for (const DrumFinishPose& dp : row.poses) move("feed", dp.pose, i);
-    started = true;
   }
   return 1;
 }

@@ -32,17 +32,34 @@ Vec3 outward_normal(const SurfaceDerivs& d, bool flip) {
   return flip ? Vec3(-n) : n;
 }
 
-// §3.3 contact frames of a row, in cutting order: X = travel direction,
+// The drum wheel's axis lies in the tangent plane across the feed, i.e.
+// along the span: the unit direction there (pu without its part along pv)
+// and the flank's normal curvature along it, signed by the normal out of the
+// material (> 0 concave) as Profile::cut_width wants it.
+struct AcrossFeed {
+  Vec3 direction;
+  double curvature_per_mm = 0;
+};
+AcrossFeed across_feed(const SurfaceDerivs& d, bool flip_normal) {
+  const Vec3 pv = d.pv.normalized();
+  const Vec3 across = (d.pu - d.pu.dot(pv) * pv).normalized();
+  // normal_curvature is signed by pu × pv.
+  const double k = normal_curvature(d, across);
+  return {across, flip_normal ? -k : k};
+}
+
+// §3.3 contact frames of a row run along +v: X = travel direction,
 // Z = outward normal, Y = Z × X; the axis at λ = w = 0 is +Y. The initial
 // tilt w0 ∈ {0, π} (added to the settings' w0) is chosen per row so the axis
 // leans towards the tip (+∂p/∂u'), out of the passage on the spindle side;
-// with it the axis does not depend on the travel direction.
+// with it the axis does not depend on the travel direction, so a row run
+// backwards reuses these axes.
 struct RowFrames {
   std::vector<ContactFrame> frames;
   double tilt0_rad = 0;
 };
-RowFrames row_frames(const TrimmedSurface& ts, double u, const std::vector<double>& vs, bool reversed,
-                     bool flip_normal, double tilt0_rad) {
+RowFrames row_frames(const TrimmedSurface& ts, double u, const std::vector<double>& vs, bool flip_normal,
+                     double tilt0_rad) {
   RowFrames out;
   out.frames.reserve(vs.size());
   double tip_side = 0;
@@ -51,8 +68,7 @@ RowFrames row_frames(const TrimmedSurface& ts, double u, const std::vector<doubl
     ContactFrame f;
     f.point = d.p;
     f.normal = outward_normal(d, flip_normal);
-    Vec3 x = reversed ? Vec3(-d.pv) : d.pv;
-    f.tangent = (x - x.dot(f.normal) * f.normal).normalized();
+    f.tangent = (d.pv - d.pv.dot(f.normal) * f.normal).normalized();
     tip_side += f.normal.cross(f.tangent).dot(d.pu);
     out.frames.push_back(f);
   }
@@ -87,7 +103,7 @@ double hub_margin(const TrimmedSurface& ts, const DrumFinishRequest& rq, const s
                   double u) {
   std::vector<double> vs(rq.width_samples);
   for (int i = 0; i < rq.width_samples; ++i) vs[i] = static_cast<double>(i) / (rq.width_samples - 1);
-  const RowFrames rf = row_frames(ts, u, vs, false, rq.flip_normal, rq.tilt.tilt0_rad);
+  const RowFrames rf = row_frames(ts, u, vs, rq.flip_normal, rq.tilt.tilt0_rad);
   double margin = std::numeric_limits<double>::infinity();
   for (const ContactFrame& f : rf.frames) {
     const ToolPose pose = place_tool(*rq.tool, f, axis_from_lead_tilt(f, rq.tilt.lead0_rad, rf.tilt0_rad));
@@ -116,14 +132,20 @@ double first_clear_row(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
   return hi;
 }
 
-// Largest 3-D distance between the rows at u'a and u'b over the chord.
-double row_gap(const TrimmedSurface& ts, double ua, double ub) {
+// Whether two neighbouring rows, as tilted, leave a strip between them
+// where neither wheel reaches within the residual height: their largest
+// 3-D gap over the chord against the reach of a's cut above and b's below.
+// 2% slack: the reaches come from the actual contacts, the spacing from
+// sampled ones (h grows with the square of the gap). Rows without poses
+// are not compared.
+bool rows_apart(const TrimmedSurface& ts, const DrumFinishRow& a, const DrumFinishRow& b) {
+  if (a.poses.empty() || b.poses.empty()) return false;
   double gap = 0;
   for (int i = 0; i <= 20; ++i) {
     const double v = i / 20.0;
-    gap = std::max(gap, (ts.point(ub, v) - ts.point(ua, v)).norm());
+    gap = std::max(gap, (ts.point(b.u, v) - ts.point(a.u, v)).norm());
   }
-  return gap;
+  return gap > 1.02 * (a.reach_above_mm + b.reach_below_mm);
 }
 
 // How far along the span each pose's cut reaches within the residual height
@@ -142,10 +164,9 @@ void row_reach(DrumFinishRow& row, const TrimmedSurface& ts, const Tool& tool, c
   for (const DrumFinishPose& p : row.poses) {
     const SurfaceDerivs d = ts.eval(p.u, p.v);
     const Vec3 n = outward_normal(d, rq.flip_normal);
-    Vec3 across = d.pu - d.pu.dot(n) * n;
-    across = (across - across.dot(d.pv.normalized()) * d.pv.normalized()).normalized();
-    const double k_along = normal_curvature(d, across);
-    const double k = rq.flip_normal ? -k_along : k_along;  // > 0 concave
+    const AcrossFeed af = across_feed(d, rq.flip_normal);
+    const Vec3& across = af.direction;
+    const double k = af.curvature_per_mm;
     const Eigen::Isometry3d to_part = tool_to_part(p.pose);
     const Vec3 q = to_part.inverse() * p.contact;
     const double phi = std::atan2(q.y(), q.x());
@@ -199,14 +220,9 @@ RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double re
   for (int i = 0; i < samples; ++i) {
     const double v = static_cast<double>(i) / (samples - 1);
     const SurfaceDerivs d = trimmed.eval(u, v);
-    // The wheel axis lies in the tangent plane across the feed, i.e. along
-    // the span: the cut width depends on the normal curvature along it.
-    const Vec3 across = d.pu - d.pu.dot(d.pv.normalized()) * d.pv.normalized();
-    // normal_curvature is signed by pu × pv; cut_width wants it signed by
-    // the normal out of the material (> 0 concave).
-    const double k_along = normal_curvature(d, across.normalized());
-    const double k = flip_normal ? -k_along : k_along;
-    const CutWidth w = tool.cut_width(tool.flank_contact_height(), k, residual_height_mm);
+    // The cut width depends on the normal curvature across the feed.
+    const CutWidth w =
+        tool.cut_width(tool.flank_contact_height(), across_feed(d, flip_normal).curvature_per_mm, residual_height_mm);
     out.width_mm = std::min(out.width_mm, w.width_mm);
     max_pu = std::max(max_pu, d.pu.norm());
   }
@@ -299,7 +315,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       // flips the zigzag direction of the rows above it, costs one row.
       auto tilted = tilt_cache.find(row.u);
       if (tilted == tilt_cache.end()) {
-        const RowFrames rf = row_frames(ts, row.u, steps.t, false, rq.flip_normal, rq.tilt.tilt0_rad);
+        const RowFrames rf = row_frames(ts, row.u, steps.t, rq.flip_normal, rq.tilt.tilt0_rad);
         TiltSettings settings = rq.tilt;
         settings.tilt0_rad = rf.tilt0_rad;
         const TiltRun run = tilt_path(*rq.world, body, rf.frames, settings, per_row);
@@ -331,11 +347,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       refined.push_back(rows[r]);
       if (r + 1 == rows.size()) break;
       const DrumFinishRow &a = rows[r], &b = rows[r + 1];
-      if (a.poses.empty() || b.poses.empty()) continue;
-      const double gap = row_gap(ts, a.u, b.u);
-      // 2% slack: the reaches come from the actual contacts, the spacing
-      // from sampled ones; h grows with the square of the gap.
-      if (gap > 1.02 * (a.reach_above_mm + b.reach_below_mm) && b.u - a.u > 1e-4 && pass < 4) {
+      if (pass < 4 && b.u - a.u > 1e-4 && rows_apart(ts, a, b)) {
         DrumFinishRow mid;
         mid.u = 0.5 * (a.u + b.u);
         mid.width_mm = row_width(ts, tool, mid.u, rq.residual_height_mm, rq.width_samples, rq.flip_normal).width_mm;
@@ -350,9 +362,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   res.tilt_seconds = tilt_s;
   for (size_t r = 0; r < rows.size(); ++r) {
     rows[r].spacing_du = r + 1 < rows.size() ? rows[r + 1].u - rows[r].u : 0.0;
-    if (r + 1 < rows.size() && !rows[r].poses.empty() && !rows[r + 1].poses.empty() &&
-        row_gap(ts, rows[r].u, rows[r + 1].u) > 1.02 * (rows[r].reach_above_mm + rows[r + 1].reach_below_mm))
-      ++res.uncovered_gaps;
+    if (r + 1 < rows.size() && rows_apart(ts, rows[r], rows[r + 1])) ++res.uncovered_gaps;
     res.total_poses += static_cast<int>(rows[r].poses.size());
     res.total_refusals += static_cast<int>(rows[r].refusals.size());
     res.max_deviation_mm = std::max(res.max_deviation_mm, rows[r].max_deviation_mm);
@@ -497,6 +507,32 @@ void put_goto(std::ostringstream& os, const ToolPose& p) {
 }
 }  // namespace
 
+std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
+  std::vector<DrumFinishMove> moves;
+  size_t link = 0;
+  bool started = false;
+  for (size_t r = 0; r < result.rows.size(); ++r) {
+    const DrumFinishRow& row = result.rows[r];
+    if (row.poses.empty()) continue;
+    const int ri = static_cast<int>(r);
+    if (started) {
+      const DrumFinishLink& l = result.links.at(link++);
+      if (!l.clear) {
+        DrumFinishMove stop;
+        stop.kind = DrumFinishMove::Kind::Stop;
+        stop.row = ri;
+        stop.reason = l.reason;
+        moves.push_back(std::move(stop));
+      } else {
+        for (const ToolPose& m : l.moves) moves.push_back({DrumFinishMove::Kind::Rapid, m, ri, {}});
+      }
+    }
+    for (const DrumFinishPose& p : row.poses) moves.push_back({DrumFinishMove::Kind::Feed, p.pose, ri, {}});
+    started = true;
+  }
+  return moves;
+}
+
 std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequest& rq) {
   std::ostringstream os;
   char buf[240];
@@ -507,29 +543,27 @@ std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequ
                 result.total_refusals);
   os << buf;
   os << "MULTAX\n";
-  // A refused link leaves the rows on either side unlinked: stop so no
-  // unchecked move is implied between them.
-  size_t link = 0;
-  bool started = false;
-  for (size_t r = 0; r < result.rows.size(); ++r) {
-    const DrumFinishRow& row = result.rows[r];
-    if (row.poses.empty()) continue;
-    if (started) {
-      const DrumFinishLink& l = result.links.at(link++);
-      if (!l.clear) {
-        os << "$$ LINK REFUSED: " << l.reason << "\n";
+  int row = -1;
+  for (const DrumFinishMove& m : drum_finish_moves(result)) {
+    switch (m.kind) {
+      case DrumFinishMove::Kind::Stop:
+        os << "$$ LINK REFUSED: " << m.reason << "\n";
         os << "STOP\n";
-      } else {
-        for (const ToolPose& m : l.moves) {
-          os << "RAPID\n";
-          put_goto(os, m);
+        break;
+      case DrumFinishMove::Kind::Rapid:
+        os << "RAPID\n";
+        put_goto(os, m.pose);
+        break;
+      case DrumFinishMove::Kind::Feed:
+        if (m.row != row) {
+          row = m.row;
+          const DrumFinishRow& r = result.rows[row];
+          std::snprintf(buf, sizeof buf, "$$ ROW %d U %.6f WIDTH %.6f\n", row, r.u, r.width_mm);
+          os << buf;
         }
-      }
+        put_goto(os, m.pose);
+        break;
     }
-    std::snprintf(buf, sizeof buf, "$$ ROW %zu U %.6f WIDTH %.6f\n", r, row.u, row.width_mm);
-    os << buf;
-    for (const DrumFinishPose& p : row.poses) put_goto(os, p.pose);
-    started = true;
   }
   os << "FINI\n";
   return os.str();

@@ -108,6 +108,19 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& pr
 std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
                                                    Progress& progress = Progress::none());
 
+// The toolpath of a plan in cutting order: each row's poses (Feed), the
+// proved retract/approach moves linking it to the next row with poses
+// (Rapid), and where that link was refused a Stop carrying the reason — so
+// no unchecked move is implied between the rows on either side.
+struct DrumFinishMove {
+  enum class Kind { Feed, Rapid, Stop };
+  Kind kind = Kind::Feed;
+  ToolPose pose;       // Feed, Rapid
+  int row = 0;         // the row the move leads into or cuts
+  std::string reason;  // Stop
+};
+std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result);
+
 // The cutting passes of a plan, one per row with poses, in cutting order, for
 // the undercut simulation (core/sim). Links do not cut.
 std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result);
