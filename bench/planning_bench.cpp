@@ -111,7 +111,7 @@ void BM_SimulateOneFlank(benchmark::State& state) {
   o.search_above_mm = o.search_below_mm = state.range(1) * 1e-3;
   o.sweep_step_mm = state.range(2) * 1e-3;
   UndercutResult r;
-  for (auto _ : state) r = simulate_undercut(*plan.trimmed, s.wheel, drum_finish_passes(plan), o);
+  for (auto _ : state) r = simulate_undercut(*plan.trimmed, s.wheel, drum_finish_passes(plan).passes, o);
   state.counters["undercut_max_um"] = 1e3 * r.undercut_max_mm;
   state.counters["undercut_std_um"] = 1e3 * r.undercut_std_mm;
   state.counters["overcut_um"] = 1e3 * r.overcut_mm;

@@ -78,7 +78,15 @@ std::vector<Field> common_fields() {
             "the flank's pu x pv points into the material (default false)", {}},
       Field{"width_samples", Kind::Integer, false, 2, 10000, "contacts per row sampled for the width (default 40)", {}},
       Field{"trim_samples", Kind::Integer, false, 4, 100000, "iso-v lines intersected with hub and casing (default 200)", {}},
-      Field{"retract", Kind::Number, false, 0.0, 1000.0, "retract along the axis between rows, mm (default 5)", {}},
+      Field{"retract", Kind::Number, false, 1e-3, 1000.0,
+            "largest offset a link between rows leaves the flank by, mm (default 5; halved until the link is proved)", {}},
+      Field{"link", Kind::String, false, std::nullopt, std::nullopt,
+            "how a link leaves the flank: \"normal\" (along the flank normal, default: a drum wheel cuts with its side) "
+            "or \"axis\" (along the tool axis)", {"normal", "axis"}},
+      Field{"link_overcut", Kind::Number, false, 0.0, 1.0,
+            "how far a link may dip below the finished flank, mm (default: chord_tol)", {}},
+      Field{"guard_spacing", Kind::Number, false, 0.01, 10.0,
+            "spacing of the finished-flank samples every link is proved against, mm (default 0.1)", {}},
       Field{"hub_clearance", Kind::Number, false, 0.0, 100.0,
             "the first row is the lowest whose wheel clears the hub by this, mm (default 0.02)", {}},
       Field{"tool_tol", Kind::Number, false, 1e-5, 1.0, "tessellation tolerance of the tool's collision body, mm", {}},
@@ -126,7 +134,12 @@ LuaDrumPlan read_common(lua_State* L, const luax::Options& o, const std::string&
   rq.flip_normal = o.boolean("flip_normal", false);
   rq.width_samples = static_cast<int>(o.integer("width_samples", 40));
   rq.trim_samples_v = static_cast<int>(o.integer("trim_samples", 200));
-  rq.retract_mm = o.number("retract", 5.0);
+  rq.links.retract_mm = o.number("retract", 5.0);
+  rq.links.min_retract_mm = std::min(rq.links.min_retract_mm, rq.links.retract_mm);
+  rq.links.direction =
+      o.string("link", "normal") == "axis" ? RetractDirection::ToolAxis : RetractDirection::SurfaceNormal;
+  rq.links.allowed_overcut_mm = o.number("link_overcut", rq.steps.chord_tol_mm);
+  rq.guard_spacing_mm = o.number("guard_spacing", 0.1);
   rq.hub_clearance_mm = o.number("hub_clearance", 0.02);
   rq.tool_tol_mm = o.number("tool_tol", 1e-3);
   rq.tilt = read_tilt_settings(L, o, what);
@@ -253,6 +266,26 @@ int w_plan_report(lua_State* L) {
   lua_setfield(L, -2, "refusals");
   lua_pushinteger(L, r.refused_links);
   lua_setfield(L, -2, "refused_links");
+  // How the links leave the flank and what proved them: the retract
+  // direction, the smallest and largest offset used, the deepest sampled dip
+  // below the finished flank over every link (<= 0) and the allowance.
+  {
+    double off_min = std::numeric_limits<double>::infinity(), off_max = 0, deepest = 0;
+    for (const DrumFinishLink& l : r.links) {
+      if (!l.clear) continue;
+      off_min = std::min(off_min, l.offset_mm);
+      off_max = std::max(off_max, l.offset_mm);
+      deepest = std::min(deepest, l.deepest_cut_mm);
+    }
+    lua_createtable(L, 0, 6);
+    set_string(L, "retract", rq.links.direction == RetractDirection::SurfaceNormal ? "normal" : "axis");
+    set_number(L, "offset_min", off_max > 0 ? off_min : 0);
+    set_number(L, "offset_max", off_max);
+    set_number(L, "deepest_cut", deepest);
+    set_number(L, "allowed_overcut", rq.links.allowed_overcut_mm);
+    set_number(L, "guard_spacing", r.guard_spacing_mm);
+    lua_setfield(L, -2, "links");
+  }
   set_number(L, "max_deviation", r.max_deviation_mm);
   set_number(L, "first_row_u", r.first_row_u);
   set_number(L, "hub_strip", r.hub_strip_mm);
@@ -363,6 +396,7 @@ int w_plan_moves(lua_State* L) {
     if (m.kind == DrumFinishMove::Kind::Stop) break;
     lua_createtable(L, 0, 4);
     set_string(L, "kind", m.kind == DrumFinishMove::Kind::Feed ? "feed" : "rapid");
+    set_string(L, "motion", m.motion);
     luax::set_vec3(L, "tip", m.pose.tip);
     luax::set_vec3(L, "axis", m.pose.axis);
     lua_pushinteger(L, m.row + 1);
@@ -407,7 +441,8 @@ int w_plan_simulate(lua_State* L) {
     so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
     so.threads = threads_option(o, L);
     const auto t0 = std::chrono::steady_clock::now();
-    UndercutResult u = simulate_drum_finish(r, p.request, so, context(L).progress);
+    DrumFinishSimulation sim = simulate_drum_finish(r, p.request, so, context(L).progress);
+    UndercutResult& u = sim.undercut;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     lua_createtable(L, 0, 14);
     set_number(L, "undercut_max", u.undercut_max_mm);
@@ -415,6 +450,14 @@ int w_plan_simulate(lua_State* L) {
     set_number(L, "undercut_median", u.undercut_median_mm);
     set_number(L, "undercut_std", u.undercut_std_mm);
     set_number(L, "overcut", u.overcut_mm);
+    // The move that cut the deepest overcut (1-based, as in plan:moves()).
+    if (sim.overcut_move >= 0) {
+      lua_pushinteger(L, sim.overcut_move + 1);
+      lua_setfield(L, -2, "overcut_move");
+      set_string(L, "overcut_motion", sim.overcut_motion);
+      lua_pushinteger(L, sim.overcut_row + 1);
+      lua_setfield(L, -2, "overcut_row");
+    }
     lua_pushinteger(L, u.untouched);
     lua_setfield(L, -2, "untouched");
     lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
@@ -422,6 +465,9 @@ int w_plan_simulate(lua_State* L) {
     lua_pushinteger(L, u.tool_positions);
     lua_setfield(L, -2, "tool_positions");
     set_number(L, "u0", r.first_row_u);
+    // Sample rows below this one (0-based) lie in the hub strip: overcut only.
+    lua_pushinteger(L, sim.first_machined_row);
+    lua_setfield(L, -2, "first_machined_row");
     set_number(L, "seconds", seconds);
     LuaUndercutMap m;
     m.map.rows = u.samples_u;
@@ -429,8 +475,8 @@ int w_plan_simulate(lua_State* L) {
     m.map.values = std::move(u.residual_mm);
     char footer[240];
     std::snprintf(footer, sizeof footer,
-                  "%d x %d samples of u' in [%.4f, 1]; undercut max %.2f, mean %.2f, median %.2f, std %.2f um; "
-                  "overcut %.2f um; untouched %d",
+                  "%d x %d samples of u' in [0, 1], machined from %.4f; undercut max %.2f, mean %.2f, median %.2f, "
+                  "std %.2f um; overcut %.2f um (every move); untouched %d",
                   m.map.rows, m.map.cols, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
                   1e3 * u.undercut_median_mm, 1e3 * u.undercut_std_mm, 1e3 * u.overcut_mm, u.untouched);
     m.footer = footer;

@@ -209,6 +209,30 @@ void row_reach(DrumFinishRow& row, const TrimmedSurface& ts, const Tool& tool, c
   if (row.poses.empty()) row.reach_below_mm = row.reach_above_mm = 0;
 }
 
+// Samples of the whole trimmed flank for the links' gouge guard, about
+// rq.guard_spacing_mm apart (lengths measured along the middle iso-lines).
+UndercutOptions guard_sampling(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
+  double span = 0, chord = 0;
+  constexpr int kN = 64;
+  for (double w : {0.0, 0.5, 1.0}) {
+    double su = 0, sv = 0;
+    for (int i = 0; i < kN; ++i) {
+      su += (ts.point((i + 1.0) / kN, w) - ts.point(static_cast<double>(i) / kN, w)).norm();
+      sv += (ts.point(w, (i + 1.0) / kN) - ts.point(w, static_cast<double>(i) / kN)).norm();
+    }
+    span = std::max(span, su);
+    chord = std::max(chord, sv);
+  }
+  UndercutOptions o;
+  o.samples_u = std::clamp(static_cast<int>(std::ceil(span / rq.guard_spacing_mm)) + 1, 2, 4000);
+  o.samples_v = std::clamp(static_cast<int>(std::ceil(chord / rq.guard_spacing_mm)) + 1, 2, 8000);
+  o.flip_normal = rq.flip_normal;
+  o.search_below_mm = 0.1;
+  o.sweep_step_mm = 0.02;
+  o.threads = 1;
+  return o;
+}
+
 }  // namespace
 
 RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
@@ -239,7 +263,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   if (!rq.world) throw ParameterError("world", "a collision world (neighbouring blades, hub) is required");
   if (!(rq.residual_height_mm > 0)) throw ParameterError("residual_height_mm", "must be > 0");
   if (rq.width_samples < 2) throw ParameterError("width_samples", "at least 2");
-  if (!(rq.retract_mm >= 0)) throw ParameterError("retract_mm", "must be >= 0");
+  if (!(rq.guard_spacing_mm > 0)) throw ParameterError("guard_spacing_mm", "must be > 0");
   if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance_mm", "must be >= 0");
 
   DrumFinishResult res;
@@ -369,38 +393,45 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   }
   res.rows = std::move(rows);
 
-  // Links: retract along the axis, traverse, approach; each segment checked.
+  // Links: leave along the flank normal, traverse, approach along the
+  // normal (plan_link); every leg proved against the world and against the
+  // finished flank itself, sampled over the whole trimmed flank.
   t0 = Clock::now();
+  const GougeGuard guard(ts, guard_sampling(ts, rq));
+  res.guard_spacing_mm = guard.spacing_mm();
+  LinkChecks checks;
+  checks.world = rq.world;
+  checks.body = &body;
+  checks.clearances = rq.tilt.clearances;
+  checks.motion_tol_mm = rq.tilt.motion_tol_mm;
+  checks.guard = &guard;
+  // The barrel's radius about its axis is the cutter's smallest curvature
+  // radius where it crosses the flank.
+  checks.guard_margin_mm = guard.between_samples_mm(tool.cutter().max_radius());
+  auto end_of = [&](const DrumFinishPose& p) {
+    return LinkEnd{p.pose, outward_normal(ts.eval(p.u, p.v), rq.flip_normal)};
+  };
   const DrumFinishRow* prev = nullptr;
   int prev_index = -1;
   for (size_t r = 0; r < res.rows.size(); ++r) {
     const DrumFinishRow& row = res.rows[r];
     if (row.poses.empty()) continue;
     if (prev) {
+      progress.check();
       DrumFinishLink link;
       link.from_row = prev_index;
       link.to_row = static_cast<int>(r);
-      const ToolPose& a = prev->poses.back().pose;
-      const ToolPose& b = row.poses.front().pose;
-      ToolPose up_a = a, up_b = b;
-      up_a.tip = a.tip + rq.retract_mm * a.axis;
-      up_b.tip = b.tip + rq.retract_mm * b.axis;
-      const ToolPose* seq[4] = {&a, &up_a, &up_b, &b};
-      const char* what[3] = {"retract", "traverse", "approach"};
-      link.clear = true;
-      for (int s = 0; s < 3 && link.clear; ++s) {
-        const MotionCheck mc =
-            rq.world->check_motion(body, *seq[s], *seq[s + 1], rq.tilt.clearances, rq.tilt.motion_tol_mm);
-        if (!mc.clear) {
-          link.clear = false;
-          std::ostringstream os;
-          os << what[s] << " from row " << prev_index << " to row " << r << " not clear at t = " << mc.t
-             << (mc.undecided ? " (undecided)" : "") << ", margin " << mc.min_margin_mm << " mm";
-          link.reason = os.str();
-        }
+      const PlannedLink pl = plan_link(end_of(prev->poses.back()), end_of(row.poses.front()), checks, rq.links);
+      link.clear = pl.clear;
+      if (pl.clear) {
+        link.moves = pl.via;
+        link.legs = pl.legs;
+        link.offset_mm = pl.offset_mm;
+        link.deepest_cut_mm = pl.deepest_cut_mm;
+      } else {
+        link.reason = "link from row " + std::to_string(prev_index) + " to row " + std::to_string(r) + ": " + pl.reason;
+        ++res.refused_links;
       }
-      if (link.clear) link.moves = {up_a, up_b};
-      else ++res.refused_links;
       res.links.push_back(std::move(link));
     }
     prev = &row;
@@ -449,53 +480,52 @@ std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishR
   return results;
 }
 
-std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result) {
-  std::vector<std::vector<ToolPose>> passes;
-  for (const DrumFinishRow& row : result.rows) {
-    if (row.poses.empty()) continue;
-    std::vector<ToolPose> pass;
-    pass.reserve(row.poses.size());
-    for (const DrumFinishPose& p : row.poses) pass.push_back(p.pose);
-    passes.push_back(std::move(pass));
+DrumFinishPasses drum_finish_passes(const DrumFinishResult& result) {
+  DrumFinishPasses out;
+  const std::vector<DrumFinishMove> moves = drum_finish_moves(result);
+  std::vector<ToolPose> pass;
+  auto close = [&] {
+    if (!pass.empty()) out.passes.push_back(std::move(pass));
+    pass.clear();
+  };
+  for (size_t i = 0; i < moves.size(); ++i) {
+    if (moves[i].kind == DrumFinishMove::Kind::Stop) {
+      close();
+      continue;
+    }
+    if (pass.empty()) out.first_move.push_back(static_cast<long>(i));
+    pass.push_back(moves[i].pose);
   }
-  return passes;
+  close();
+  return out;
 }
 
-namespace {
-// A surface with u reversed (u -> 1 - u): same points, opposite pu x pv.
-class ReversedU : public Surface {
- public:
-  explicit ReversedU(const Surface& s) : s_(s) {}
-  SurfaceDerivs eval(double u, double v) const override {
-    SurfaceDerivs d = s_.eval(1 - u, v);
-    d.pu = -d.pu;
-    d.puv = -d.puv;
-    return d;
-  }
-
- private:
-  const Surface& s_;
-};
-}  // namespace
-
-UndercutResult simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
-                                    UndercutOptions o, Progress& progress) {
+DrumFinishSimulation simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
+                                          UndercutOptions o, Progress& progress) {
   if (!result.trimmed) throw ParameterError("result", "a drum-finish plan with its trimmed flank");
   if (!request.tool) throw ParameterError("tool", "the plan's drum wheel");
-  const std::vector<ToolPass> passes = drum_finish_passes(result);
-  if (!request.flip_normal) {
-    o.u0 = result.first_row_u;
-    o.u1 = 1;
-    return simulate_undercut(*result.trimmed, *request.tool, passes, o, progress);
+  const DrumFinishPasses passes = drum_finish_passes(result);
+  // The machined window's samples as the caller asked (samples_u over
+  // [first_row_u, 1]), continued at the same spacing down to the hub curve.
+  DrumFinishSimulation sim;
+  if (o.samples_u < 2) throw ParameterError("samples_u", "at least 2");
+  const double du = (1 - result.first_row_u) / (o.samples_u - 1);
+  sim.first_machined_row = du > 0 ? static_cast<int>(std::floor(result.first_row_u / du + 1e-9)) : 0;
+  o.u0 = result.first_row_u - sim.first_machined_row * du;
+  o.u1 = 1;
+  o.samples_u += sim.first_machined_row;
+  o.machined_u0 = result.first_row_u - 0.5 * du;
+  o.machined_u1 = 1;
+  o.flip_normal = request.flip_normal;
+  sim.undercut = simulate_undercut(*result.trimmed, *request.tool, passes.passes, o, progress);
+  if (sim.undercut.overcut_pass >= 0) {
+    const std::vector<DrumFinishMove> moves = drum_finish_moves(result);
+    sim.overcut_move = passes.first_move.at(sim.undercut.overcut_pass) + sim.undercut.overcut_pose;
+    const DrumFinishMove& m = moves.at(sim.overcut_move);
+    sim.overcut_motion = m.motion;
+    sim.overcut_row = m.row;
   }
-  o.u0 = 0;
-  o.u1 = 1 - result.first_row_u;
-  UndercutResult r = simulate_undercut(ReversedU(*result.trimmed), *request.tool, passes, o, progress);
-  for (int i = 0; i < r.samples_u / 2; ++i)
-    std::swap_ranges(r.residual_mm.begin() + static_cast<long>(i) * r.samples_v,
-                     r.residual_mm.begin() + static_cast<long>(i + 1) * r.samples_v,
-                     r.residual_mm.begin() + static_cast<long>(r.samples_u - 1 - i) * r.samples_v);
-  return r;
+  return sim;
 }
 
 namespace {
@@ -521,13 +551,21 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
         DrumFinishMove stop;
         stop.kind = DrumFinishMove::Kind::Stop;
         stop.row = ri;
+        stop.motion = "stop";
         stop.reason = l.reason;
         moves.push_back(std::move(stop));
       } else {
-        for (const ToolPose& m : l.moves) moves.push_back({DrumFinishMove::Kind::Rapid, m, ri, {}});
+        for (size_t k = 0; k < l.moves.size(); ++k)
+          moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
     }
-    for (const DrumFinishPose& p : row.poses) moves.push_back({DrumFinishMove::Kind::Feed, p.pose, ri, {}});
+    for (size_t k = 0; k < row.poses.size(); ++k) {
+      // After a refused link the program stops: the row's first pose is
+      // reached by the operator, not by a proved move.
+      const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
+      const char* motion = k > 0 ? "cut" : (!started || after_stop) ? "start" : "approach";
+      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[k].pose, ri, motion, {}});
+    }
     started = true;
   }
   return moves;

@@ -14,6 +14,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
+#include "core/planning/links.h"
 #include "core/planning/row_steps.h"
 #include "core/planning/trimmed_surface.h"
 #include "core/sim/undercut.h"
@@ -34,7 +35,14 @@ struct DrumFinishRequest {
   bool zigzag = true;
   int width_samples = 40;      // contact points per row sampled for the width
   int trim_samples_v = 200;    // iso-v lines intersected with hub and casing
-  double retract_mm = 5.0;
+  // Links between rows (core/planning/links.h). A drum wheel cuts with its
+  // side, its axis along the span nearly tangent to the flank: it leaves
+  // along the flank normal, never along its axis. Every link is proved
+  // against the world and against the finished flank itself (the whole
+  // trimmed flank, sampled every guard_spacing_mm) with
+  // links.allowed_overcut_mm.
+  LinkOptions links;
+  double guard_spacing_mm = 0.1;
   double tool_tol_mm = 1e-3;   // ToolBody meshing tolerance
   // Hub clearance rule: at u' = 0 the contact is on the hub curve and the
   // half of the wheel below its widest point would sit in the hub. The first
@@ -71,12 +79,16 @@ struct DrumFinishRow {
   std::vector<TiltRefusal> refusals;  // contacts with no clear axis
 };
 
-// Move from the end of one row to the start of the next: retract along
-// the tool axis, traverse, approach. Emitted only when every segment is
-// clear (check_motion); otherwise the link is a refusal.
+// Move from the end of one row to the start of the next (plan_link):
+// retract along the flank normal, traverse, approach along the normal.
+// Emitted only when every segment is proved clear of the world and of the
+// finished flank; otherwise the link is a refusal.
 struct DrumFinishLink {
   int from_row = 0, to_row = 0;
-  std::vector<ToolPose> moves;  // retract point, approach point (rapid)
+  std::vector<ToolPose> moves;  // the via poses (rapid), in order
+  std::vector<LinkLeg> legs;    // legs[i] ends at moves[i]; the last (to the next row) is the approach
+  double offset_mm = 0;         // the normal offset the proof used
+  double deepest_cut_mm = 0;    // deepest sampled dip below the flank (<= 0, within the allowance)
   bool clear = false;
   std::string reason;           // why it was refused, when not clear
 };
@@ -93,11 +105,13 @@ struct DrumFinishResult {
   // refinement (reported, not hidden).
   int inserted_rows = 0, uncovered_gaps = 0;
   double max_deviation_mm = 0;
+  double guard_spacing_mm = 0;  // largest spacing of the finished-flank samples the links were proved on
   double trim_seconds = 0, rows_seconds = 0, tilt_seconds = 0, link_seconds = 0;
 };
 
 // Throws ParameterError for a missing flank/hub/casing/tool/world or
-// non-positive residual height, width_samples < 2 or retract_mm < 0.
+// non-positive residual height, width_samples < 2, bad link options or
+// guard_spacing_mm <= 0.
 DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& progress = Progress::none());
 
 // Plans several flanks (e.g. every blade of a blisk) on `threads` worker
@@ -109,30 +123,53 @@ std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishR
                                                    Progress& progress = Progress::none());
 
 // The toolpath of a plan in cutting order: each row's poses (Feed), the
-// proved retract/approach moves linking it to the next row with poses
-// (Rapid), and where that link was refused a Stop carrying the reason — so
-// no unchecked move is implied between the rows on either side.
+// proved link poses to the next row (Rapid), and where that link was
+// refused a Stop carrying the reason — so no unchecked move is implied
+// between the rows on either side. `motion` names the motion that ends at
+// the move: "start" (the first), "cut" (along a row), "retract",
+// "traverse", "approach" (the last leg of a link ends at the next row's
+// first pose, a Feed).
 struct DrumFinishMove {
   enum class Kind { Feed, Rapid, Stop };
   Kind kind = Kind::Feed;
   ToolPose pose;       // Feed, Rapid
   int row = 0;         // the row the move leads into or cuts
+  std::string motion;  // see above; "stop" for a Stop
   std::string reason;  // Stop
 };
 std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result);
 
-// The cutting passes of a plan, one per row with poses, in cutting order, for
-// the undercut simulation (core/sim). Links do not cut.
-std::vector<std::vector<ToolPose>> drum_finish_passes(const DrumFinishResult& result);
+// The program's motion for the undercut simulation (core/sim): every move
+// of drum_finish_moves — rows and links — as passes, one per stretch of
+// continuous motion (a Stop ends one). `first_move[p]` is the index in
+// drum_finish_moves of pass p's first pose.
+struct DrumFinishPasses {
+  std::vector<std::vector<ToolPose>> passes;
+  std::vector<long> first_move;
+};
+DrumFinishPasses drum_finish_passes(const DrumFinishResult& result);
 
-// The undercut simulation (core/sim) of a plan against its design flank:
-// the trimmed flank over the machined window u' in [first_row_u, 1] (the
-// strip under the first row is the hub operation's), the rows' poses as
-// passes. The options' u0/u1 are set here; with flip_normal the flank is
-// mirrored in u for the simulation so its normal points out of the material,
-// and the result's rows are put back in hub -> tip order.
-UndercutResult simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
-                                    UndercutOptions options, Progress& progress = Progress::none());
+// The undercut simulation (core/sim) of the whole program against its
+// design flank: the whole trimmed flank u' in [0, 1] is sampled and swept
+// by every move (rows, retracts, traverses, approaches) in program order
+// with the motion the checks assume (PoseMotion); the undercut statistics
+// cover the machined window u' in [first_row_u, 1] (the strip under the
+// first row is the hub operation's), the overcut covers every sample. The
+// options' samples_u (over the machined window), v window and sweep are the
+// caller's; below the machined window the samples continue at the same
+// spacing down to the hub curve (u0, u1, the machined window and
+// flip_normal are set here).
+struct DrumFinishSimulation {
+  UndercutResult undercut;
+  int first_machined_row = 0;  // sample row of the first drum row (rows below: the hub strip)
+  // The move that cut the deepest overcut (index into drum_finish_moves,
+  // -1 when nothing cut below the design), its motion and row.
+  long overcut_move = -1;
+  std::string overcut_motion;
+  int overcut_row = -1;
+};
+DrumFinishSimulation simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
+                                          UndercutOptions options, Progress& progress = Progress::none());
 
 // Cut width row spacing at u' (exposed for tests): smallest cut width over
 // `samples` points of the row, and the u' step that keeps the 3-D gap

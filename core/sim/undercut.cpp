@@ -57,7 +57,7 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
     for (int j = 0; j < nv; ++j) {
       const double v = o.v0 + (o.v1 - o.v0) * j / (nv - 1);
       const SurfaceDerivs d = s.eval(u, v);
-      const Vec3 n = d.pu.cross(d.pv);
+      const Vec3 n = o.flip_normal ? Vec3(d.pv.cross(d.pu)) : Vec3(d.pu.cross(d.pv));
       if (n.norm() < 1e-14)
         throw Error("simulate_undercut: design surface is singular at (u, v) = (" +
                     std::to_string(u) + ", " + std::to_string(v) + ")");
@@ -81,17 +81,30 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
   return idx;
 }
 
-// Every tool position the simulation evaluates, passes swept.
-std::vector<Eigen::Isometry3d> tool_positions(const std::vector<ToolPass>& passes,
-                                              double reach_mm, double step_mm) {
-  std::vector<Eigen::Isometry3d> out;
-  for (const ToolPass& pass : passes) {
+// Every tool position the simulation evaluates, passes swept, with the pass
+// and the pose index each belongs to (the pose its motion ends at).
+struct Positions {
+  std::vector<Eigen::Isometry3d> frames;
+  std::vector<std::pair<int, long>> origin;  // (pass, pose)
+};
+Positions tool_positions(const std::vector<ToolPass>& passes, double reach_mm, double step_mm) {
+  Positions out;
+  for (size_t p = 0; p < passes.size(); ++p) {
+    const ToolPass& pass = passes[p];
     for (size_t k = 0; k + 1 < pass.size(); ++k) {
       const PoseMotion motion(pass[k], pass[k + 1]);
       const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(reach_mm) / step_mm)));
-      for (int s = 0; s < n; ++s) out.push_back(motion.frame_at(static_cast<double>(s) / n));
+      for (int s = 0; s < n; ++s) {
+        out.frames.push_back(motion.frame_at(static_cast<double>(s) / n));
+        // The motion's start pose ends the motion before it (or is a pass's
+        // first pose).
+        out.origin.emplace_back(static_cast<int>(p), static_cast<long>(s == 0 ? k : k + 1));
+      }
     }
-    if (!pass.empty()) out.push_back(tool_to_part(pass.back()));
+    if (!pass.empty()) {
+      out.frames.push_back(tool_to_part(pass.back()));
+      out.origin.emplace_back(static_cast<int>(p), static_cast<long>(pass.size() - 1));
+    }
   }
   return out;
 }
@@ -162,8 +175,8 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
 
   const SampleIndex idx = build_index(design, o);
   const Profile& cutter = tool.cutter();
-  const std::vector<Eigen::Isometry3d> positions =
-      tool_positions(passes, cutter.reach(), o.sweep_step_mm);
+  const Positions swept = tool_positions(passes, cutter.reach(), o.sweep_step_mm);
+  const std::vector<Eigen::Isometry3d>& positions = swept.frames;
 
   // The workers share one residual array (atomic minimum) and take chunks
   // of consecutive positions in turn, so each sees what the others have
@@ -217,13 +230,33 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
   for (int w = 0; w < workers; ++w) r.line_evaluations += evaluations[w];
   std::vector<double> under;
   under.reserve(r.residual_mm.size());
-  for (double res : r.residual_mm) {
+  for (size_t i = 0; i < r.residual_mm.size(); ++i) {
+    const double res = r.residual_mm[i];
+    const double u = o.u0 + (o.u1 - o.u0) * static_cast<double>(i / o.samples_v) / (o.samples_u - 1);
+    const bool machined = u >= o.machined_u0 && u <= o.machined_u1;
     if (!std::isfinite(res)) {
-      ++r.untouched;
+      if (machined) ++r.untouched;
       continue;
     }
-    r.overcut_mm = std::min(r.overcut_mm, res);
-    under.push_back(std::max(res, 0.0));
+    if (res < r.overcut_mm) {
+      r.overcut_mm = res;
+      r.overcut_sample = static_cast<long>(i);
+    }
+    if (machined) under.push_back(std::max(res, 0.0));
+  }
+  if (r.overcut_sample >= 0) {
+    // Which motion cut it: the first position (in program order) whose
+    // trace reaches the final residual there.
+    const Sample& smp = idx.samples[r.overcut_sample];
+    for (size_t k = 0; k < positions.size(); ++k) {
+      const Eigen::Isometry3d to_tool = positions[k].inverse();
+      const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, r.overcut_mm + 1e-9);
+      if (s <= r.overcut_mm + 1e-9) {
+        r.overcut_pass = swept.origin[k].first;
+        r.overcut_pose = swept.origin[k].second;
+        break;
+      }
+    }
   }
   if (!under.empty()) {
     double sum = 0;
@@ -238,6 +271,71 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
     r.undercut_median_mm = n % 2 ? under[n / 2] : 0.5 * (under[n / 2 - 1] + under[n / 2]);
   }
   return r;
+}
+
+struct GougeGuard::Index {
+  SampleIndex samples;
+  double spacing_mm = 0;
+};
+
+GougeGuard::GougeGuard(const Surface& design, const UndercutOptions& o)
+    : index_(std::make_unique<Index>()), options_(o) {
+  if (o.samples_u < 2 || o.samples_v < 2) throw ParameterError("samples", "need at least 2 x 2 samples");
+  if (!(o.search_below_mm > 0)) throw ParameterError("search_below_mm", "must be > 0");
+  if (!(o.sweep_step_mm > 0)) throw ParameterError("sweep_step", "must be > 0");
+  index_->samples = build_index(design, o);
+  const auto& smp = index_->samples.samples;
+  for (int i = 0; i < o.samples_u; ++i)
+    for (int j = 0; j < o.samples_v; ++j) {
+      const size_t m = static_cast<size_t>(i) * o.samples_v + j;
+      if (i + 1 < o.samples_u)
+        index_->spacing_mm = std::max(index_->spacing_mm, (smp[m + o.samples_v].p - smp[m].p).norm());
+      if (j + 1 < o.samples_v) index_->spacing_mm = std::max(index_->spacing_mm, (smp[m + 1].p - smp[m].p).norm());
+    }
+}
+
+GougeGuard::~GougeGuard() = default;
+
+double GougeGuard::spacing_mm() const { return index_->spacing_mm; }
+
+double GougeGuard::between_samples_mm(double r_mm) const {
+  if (!(r_mm > 0)) throw ParameterError("r_mm", "must be > 0");
+  return index_->spacing_mm * index_->spacing_mm / (8 * r_mm);
+}
+
+GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, const ToolPose& to,
+                                        double allowed_mm, bool include_from, bool include_to) const {
+  if (!(allowed_mm >= 0)) throw ParameterError("allowed_mm", "must be >= 0");
+  const Profile& cutter = tool.cutter();
+  const PoseMotion motion(from, to);
+  const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(cutter.reach()) / options_.sweep_step_mm)));
+  const SampleIndex& idx = index_->samples;
+  const double range = options_.search_below_mm;
+  Cut cut;
+  for (int s = include_from ? 0 : 1; s <= (include_to ? n : n - 1); ++s) {
+    const double t = static_cast<double>(s) / n;
+    const Eigen::Isometry3d to_tool = motion.frame_at(t).inverse();
+    auto far = [&](const Group& g) { return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range; };
+    for (const Group& sup : idx.supers) {
+      if (far(sup)) continue;
+      for (int ti : sup.members) {
+        const Group& tile = idx.tiles[ti];
+        if (far(tile)) continue;
+        for (int m : tile.members) {
+          const Sample& smp = idx.samples[m];
+          // Only entries below -allowed matter: the trace stops there.
+          const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_,
+                                       std::min(-allowed_mm, cut.depth_mm));
+          if (e < cut.depth_mm && e < -allowed_mm) {
+            cut.depth_mm = e;
+            cut.t = t;
+            cut.point = smp.p;
+          }
+        }
+      }
+    }
+  }
+  return cut;
 }
 
 }  // namespace bliskrun

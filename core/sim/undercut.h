@@ -23,6 +23,8 @@
 // range is skipped. Each tool position so visits only the samples near it:
 // the cost is (tool positions) x (samples near one position), not
 // samples x poses.
+#include <limits>
+#include <memory>
 #include <vector>
 
 #include "core/common/progress.h"
@@ -41,10 +43,21 @@ struct UndercutOptions {
   double sweep_step_mm = 0.05;   // largest cutter-point motion between evaluated positions
   int threads = 2;               // results do not depend on it
   double tol_mm = 1e-5;          // sphere-tracing stop
+  // The normal out of the material is -(pu x pv) instead of pu x pv.
+  bool flip_normal = false;
+  // Undercut statistics cover the samples with u in [machined_u0,
+  // machined_u1] (the window an operation machines); the overcut and its
+  // location cover every sample, so a move that dips into a strip the
+  // operation leaves (e.g. the hub strip under the first row) is still seen.
+  double machined_u0 = -std::numeric_limits<double>::infinity();
+  double machined_u1 = std::numeric_limits<double>::infinity();
 };
 
-// A pass: poses the tool moves through while cutting, in order. Motion between
-// passes (linking, retract) does not cut.
+// A pass: poses the tool moves through, in order, each to the next by
+// PoseMotion (the motion the collision checks and the posts assume). Every
+// move the program makes belongs in a pass — links, retracts and approaches
+// too, since any of them can cut; between passes the tool is taken to make
+// no motion near the part (e.g. a refused link, where the program stops).
 using ToolPass = std::vector<ToolPose>;
 
 struct UndercutResult {
@@ -52,11 +65,18 @@ struct UndercutResult {
   // Per sample (row-major, u outer): material left along the normal, mm;
   // +infinity where the tool never came within search_above_mm.
   std::vector<double> residual_mm;
-  int untouched = 0;   // samples the tool never reached
+  int untouched = 0;   // samples of the machined window the tool never reached
   // Statistics over touched samples of max(residual, 0) (the paper's Table 5
   // reports undercut magnitudes) and the deepest gouge.
   double undercut_max_mm = 0, undercut_mean_mm = 0, undercut_median_mm = 0, undercut_std_mm = 0;
   double overcut_mm = 0;  // most negative residual (0 if none)
+  // Where the deepest overcut is and which motion cut it: the sample
+  // (row-major index) and the pass and the pose index in that pass at which
+  // the motion ends (the motion from pose k-1 to pose k; k = 0 for a pass of
+  // one pose). -1 when there is no overcut.
+  long overcut_sample = -1;
+  int overcut_pass = -1;
+  long overcut_pose = -1;
   long tool_positions = 0;     // evaluated tool positions including sweeps
   long line_evaluations = 0;   // (sample, position) pairs examined
 };
@@ -65,5 +85,48 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
                                  const std::vector<ToolPass>& passes,
                                  const UndercutOptions& options,
                                  Progress& progress = Progress::none());
+
+// The design surface sampled once for many gouge queries of single motions —
+// a planner's proof that a non-cutting move (retract, traverse, approach)
+// does not cut below the finished surface. Same samples, normal lines,
+// sweep and trace as simulate_undercut, so a motion the guard accepts is one
+// the simulation of the program cannot find cutting deeper.
+//
+// Between two samples h apart the tool's surface can dip below what the
+// samples see by about h^2 / (8 r) for a cutter of radius r there; the
+// planner subtracts that from its allowance (between_samples_mm()).
+class GougeGuard {
+ public:
+  // Uses o.samples_u/v, u0..v1, flip_normal, sweep_step_mm, tol_mm and
+  // search_below_mm (the depth below which every gouge reads as that depth).
+  GougeGuard(const Surface& design, const UndercutOptions& o);
+  ~GougeGuard();
+  GougeGuard(const GougeGuard&) = delete;
+  GougeGuard& operator=(const GougeGuard&) = delete;
+
+  struct Cut {
+    double depth_mm = 0;   // deepest entry below the design (<= 0); 0 if none below -allowed
+    double t = -1;         // motion parameter of the position that cut it
+    Vec3 point = Vec3::Zero();  // the design-surface sample it cut
+  };
+  // The deepest cut below -allowed_mm of the tool moving from `from` to
+  // `to` (PoseMotion), at the evaluated positions t in (0, 1) plus the end
+  // points unless excluded (a motion leaving or reaching a cutting pose
+  // leaves that pose's cut to the pass it belongs to).
+  Cut deepest_cut(const Tool& tool, const ToolPose& from, const ToolPose& to, double allowed_mm,
+                  bool include_from = false, bool include_to = false) const;
+  // Largest distance between neighbouring samples, mm.
+  double spacing_mm() const;
+  // About what the samples can miss for a cutter whose surface has no
+  // curvature radius below r_mm where it crosses the design surface:
+  // spacing^2 / (8 r). For a drum wheel crossing a flank that is the barrel's
+  // radius about its axis (its meridian radius R_c is far larger).
+  double between_samples_mm(double r_mm) const;
+
+ private:
+  struct Index;
+  std::unique_ptr<Index> index_;
+  UndercutOptions options_;
+};
 
 }  // namespace bliskrun

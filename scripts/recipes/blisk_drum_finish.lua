@@ -12,7 +12,12 @@
 --      rows are proved clear too; nothing unproven is emitted;
 --   4. an independent simulation samples the design flank 200 x 1000 and
 --      measures the material left (undercut) and any gouge (overcut) after
---      the swept tool (§4, Table 5, Fig. 15).
+--      the swept tool (§4, Table 5, Fig. 15) - every move of the program,
+--      rows and links, in the motion the checks assume; the worst overcut is
+--      reported with the move that cut it.
+-- Links leave the flank along its normal (a drum wheel's axis lies along the
+-- span, nearly tangent to the flank: retracting along it drags the barrel
+-- into a concave flank) and are proved against the finished flank itself.
 -- Outputs: blisk_drum_finish.json (report and toolpath), blade<k>_<side>.apt (APT/CL: tool tip and
 -- axis per move), undercut_blade<k>_<side>.svg. The run fails (exit 1, after
 -- writing the report) if the simulation finds an overcut beyond the chord
@@ -22,7 +27,8 @@
 --   options: --set blade=1 --set wheel=extended|traditional --set residual=0.014
 --            --set chord_tol=0.002 --set steps=variable|constant --set c_range=30
 --            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
---            --set all_blades=true   (also plan both flanks of every blade, on --threads)
+--            --set all_blades=true   (also plan and simulate both flanks of every blade, on --threads;
+--                                     --set all_samples_u=100 --set all_samples_v=500)
 
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
@@ -64,6 +70,10 @@ for _, side in ipairs{"pressure", "suction"} do
   local picture = string.format("undercut_blade%d_%s.svg", blade, side)
   sim.map:write_svg(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
   local verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -settings.chord_tol - 1e-4
+  if sim.overcut_move then
+    bliskrun.log(string.format("%s: deepest overcut %.2f um by move %d (%s, row %d)", side, 1e3 * sim.overcut,
+                               sim.overcut_move, sim.overcut_motion, sim.overcut_row))
+  end
   ok = ok and verified
   print(string.format("  %-8s  %4d  %4.2f-%4.2f  %6d  %7d  %12.2f  %6.2f / %5.2f / %5.2f / %5.2f  %10.2f",
                       side, r.row_count, r.width_min, r.width_max, r.poses, r.refusals + r.refused_links,
@@ -76,16 +86,22 @@ for _, side in ipairs{"pressure", "suction"} do
   r.apt = apt
   r.toolpath = {}
   for i, m in ipairs(plan:moves()) do
-    r.toolpath[i] = {kind = m.kind, row = m.row, tip = {m.tip[1], m.tip[2], m.tip[3]},
+    r.toolpath[i] = {kind = m.kind, motion = m.motion, row = m.row, tip = {m.tip[1], m.tip[2], m.tip[3]},
                      axis = {m.axis[1], m.axis[2], m.axis[3]}}
   end
   r.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
                   undercut_median_mm = sim.undercut_median, undercut_std_mm = sim.undercut_std,
-                  overcut_mm = sim.overcut, untouched = sim.untouched, samples = sim.samples,
-                  tool_positions = sim.tool_positions, u0 = sim.u0, picture = picture}
+                  overcut_mm = sim.overcut, overcut_move = sim.overcut_move, overcut_motion = sim.overcut_motion,
+                  overcut_row = sim.overcut_row, untouched = sim.untouched, samples = sim.samples,
+                  first_machined_row = sim.first_machined_row, tool_positions = sim.tool_positions, u0 = sim.u0,
+                  picture = picture}
   r.verified = verified
   report.flanks[side] = r
 end
+print(string.format("  links leave along the flank normal, offset %.2f-%.2f mm (pressure), %.2f-%.2f mm (suction); "
+                    .. "every move simulated", report.flanks.pressure.links.offset_min,
+                    report.flanks.pressure.links.offset_max, report.flanks.suction.links.offset_min,
+                    report.flanks.suction.links.offset_max))
 print(string.format("  first row raised above the hub by the wheel's hub clearance: strip %.2f mm (pressure), "
                     .. "%.2f mm (suction), left for the hub-fillet operation",
                     report.flanks.pressure.hub_strip, report.flanks.suction.hub_strip))
@@ -103,20 +119,26 @@ if args.all_blades then
     end
   end
   local plans = bliskrun.drum_finish_all(common)
-  local all = {flanks = {}, poses = 0, refusals = 0}
+  local all = {flanks = {}, poses = 0, refusals = 0, overcut_mm = 0}
+  -- Every flank's whole program simulated too (coarser by default: 44 flanks).
+  local su, sv = args.all_samples_u or 100, args.all_samples_v or 500
   for i, plan in ipairs(plans) do
     local r = plan:report()
     local apt = string.format("blade%02d_%s.apt", (i + 1) // 2, i % 2 == 1 and "pressure" or "suction")
     plan:write_apt(apt)
+    local sim = plan:simulate{samples_u = su, samples_v = sv}
     all.flanks[i] = {name = r.name, rows = r.row_count, poses = r.poses, refusals = r.refusals + r.refused_links,
-                     max_deviation_mm = r.max_deviation, apt = apt}
+                     max_deviation_mm = r.max_deviation, apt = apt, undercut_max_mm = sim.undercut_max,
+                     overcut_mm = sim.overcut, overcut_motion = sim.overcut_motion}
     all.poses = all.poses + r.poses
     all.refusals = all.refusals + r.refusals + r.refused_links
+    all.overcut_mm = math.min(all.overcut_mm, sim.overcut)
   end
-  ok = ok and all.refusals == 0
+  ok = ok and all.refusals == 0 and all.overcut_mm >= -settings.chord_tol - 1e-4
   report.all_blades = all
-  print(string.format("  all %d blades: %d flanks, %d poses, %d refused", blisk:blade_count(), #plans, all.poses,
-                      all.refusals))
+  print(string.format("  all %d blades: %d flanks, %d poses, %d refused, deepest overcut %.2f um (every move, %d x %d "
+                      .. "samples per flank)", blisk:blade_count(), #plans, all.poses, all.refusals,
+                      1e3 * all.overcut_mm, su, sv))
 end
 
 report.verified = ok

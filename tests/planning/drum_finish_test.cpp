@@ -52,7 +52,7 @@ struct Fixture {
     rq.world = &world;
     rq.flip_normal = true;  // pu × pv points away from the axis, into the material
     rq.residual_height_mm = 0.014;
-    rq.retract_mm = 5;
+    rq.links.retract_mm = 5;
     return rq;
   }
 };
@@ -169,20 +169,65 @@ TEST(DrumFinish, SimulatedPathLeavesTheResidualHeightAndNoGouge) {
   o.samples_v = 60;
   o.v0 = 0.2;  // away from the row ends, where the wheel runs out
   o.v1 = 0.8;
-  const UndercutResult sim = simulate_drum_finish(plan, rq, o);
+  const DrumFinishSimulation full = simulate_drum_finish(plan, rq, o);
+  const UndercutResult& sim = full.undercut;
   EXPECT_EQ(sim.untouched, 0);
   EXPECT_LE(sim.undercut_max_mm, rq.residual_height_mm * 1.005);
   EXPECT_GE(sim.undercut_max_mm, rq.residual_height_mm * 0.95);
   EXPECT_GE(sim.overcut_mm, -2 * o.tol_mm);  // the tracing stops within tol_mm of the tool
   // Rows are hub -> tip: the first sample row lies on the first row's
   // contact line (material 0), whatever the flip.
-  for (int j = 0; j < sim.samples_v; ++j) EXPECT_NEAR(sim.residual_mm[j], 0, 1e-4) << j;
+  const size_t first = static_cast<size_t>(full.first_machined_row) * sim.samples_v;
+  EXPECT_GT(full.first_machined_row, 0);  // the hub strip is sampled too
+  for (int j = 0; j < sim.samples_v; ++j) EXPECT_NEAR(sim.residual_mm[first + j], 0, 1e-4) << j;
   // A wheel twice as far apart (every other row) leaves about 4x the scallop
   // (h ~ w^2 / 8R_eff): the simulation sees the spacing.
   DrumFinishResult sparse = plan;
   for (size_t r = 1; r < sparse.rows.size(); r += 2) sparse.rows[r].poses.clear();
-  const UndercutResult coarse = simulate_drum_finish(sparse, rq, o);
+  const UndercutResult coarse = simulate_drum_finish(sparse, rq, o).undercut;
   EXPECT_GT(coarse.undercut_max_mm, 3.5 * rq.residual_height_mm);
+}
+
+// Issue 11: the simulation sweeps every move of the program, links too. The
+// planned links leave along the normal and cut nothing; the same plan with
+// its links replaced by the old rule (straight up the axis by 5 mm, then
+// across) cuts into the concave flank, and the simulation names the move.
+TEST(DrumFinish, SimulationSweepsTheLinksAndCatchesAnInjectedGougingLink) {
+  Fixture f;
+  f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
+  const DrumFinishRequest rq = f.request();
+  const DrumFinishResult plan = plan_drum_finish(rq);
+  ASSERT_GE(plan.links.size(), 2u);
+  for (const DrumFinishLink& l : plan.links) {
+    ASSERT_TRUE(l.clear) << l.reason;
+    EXPECT_GT(l.offset_mm, 0.0);
+    EXPECT_GE(l.deepest_cut_mm, -rq.links.allowed_overcut_mm);
+  }
+  UndercutOptions o;
+  o.samples_u = 150;
+  o.samples_v = 60;
+  const DrumFinishSimulation planned = simulate_drum_finish(plan, rq, o);
+  EXPECT_GE(planned.undercut.overcut_mm, -2 * o.tol_mm);
+
+  DrumFinishResult injected = plan;
+  DrumFinishLink& l = injected.links[1];
+  const ToolPose& a = injected.rows[l.from_row].poses.back().pose;
+  const ToolPose& b = injected.rows[l.to_row].poses.front().pose;
+  ToolPose up_a = a, up_b = b;
+  up_a.tip += 5 * a.axis;
+  up_b.tip += 5 * b.axis;
+  l.moves = {up_a, up_b};
+  const DrumFinishSimulation gouged = simulate_drum_finish(injected, rq, o);
+  // The barrel (R_c 50) sliding 5 mm along the concave span (R 100) cuts far
+  // beyond the tolerance (s^2 / (2 (R - R_c)) = 250 um before the head ends).
+  EXPECT_LT(gouged.undercut.overcut_mm, -0.05);
+  ASSERT_GE(gouged.overcut_move, 0);
+  EXPECT_EQ(gouged.overcut_row, l.to_row);
+  EXPECT_TRUE(gouged.overcut_motion == "retract" || gouged.overcut_motion == "traverse" ||
+              gouged.overcut_motion == "approach")
+      << gouged.overcut_motion;
+  const std::vector<DrumFinishMove> moves = drum_finish_moves(injected);
+  EXPECT_EQ(moves.at(gouged.overcut_move).motion, gouged.overcut_motion);
 }
 
 TEST(DrumFinish, AllFlanksOnTwoThreadsMatchOneByOne) {

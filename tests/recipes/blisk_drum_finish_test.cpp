@@ -75,7 +75,10 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     EXPECT_LT(sim["undercut_mean_mm"].get<double>(), sim["undercut_max_mm"].get<double>());
     EXPECT_GE(sim["overcut_mm"].get<double>(), -chord_tol);
     EXPECT_EQ(sim["untouched"].get<int>(), 0);
-    EXPECT_EQ(sim["samples"].get<int>(), 80 * 400);
+    // 80 rows of samples over the machined window, continued at the same
+    // spacing through the hub strip (overcut only there).
+    EXPECT_GT(sim["first_machined_row"].get<int>(), 0);
+    EXPECT_EQ(sim["samples"].get<int>(), (80 + sim["first_machined_row"].get<int>()) * 400);
     // APT: one GOTO per pose and two per link between rows.
     const std::string apt = slurp(fs::path(dir.path()) / f["apt"].get<std::string>());
     const size_t rows = f["rows"].size();

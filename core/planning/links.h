@@ -1,0 +1,84 @@
+#pragma once
+// Links between cutting passes: leave the surface, traverse, come back —
+// one builder for every strategy, each choosing how its tool leaves.
+//
+// A side-cutting tool (a drum wheel, a flank mill) has its axis nearly
+// tangent to the surface: pulled back along the axis it slides along the
+// finished surface and, where that surface is concave, into it (a straight
+// line tangent to a circle of radius rho enters it by ~ s^2 / (2 rho) after
+// a distance s). It must leave along the surface normal, away from the
+// material. A bottom-cutting tool (a flat end on an edge) leaves along its
+// axis. So the retract direction is a property of the operation.
+//
+// A link from pose a (end of a pass) to pose b (start of the next) is
+//   a -> a + d e_a [-> + e axis_a] -> [b + d e_b + e axis_b ->] b + d e_b -> b
+// where e is the retract direction (normal or axis) and the optional second
+// leg along the tool axis. Every segment is proved, in the motion the
+// machine makes (PoseMotion), against the check surfaces (whole tool,
+// core/collision) and — for the cutter — against the finished surface
+// itself (core/sim GougeGuard) with the operation's allowed overcut. The
+// offset d is the largest that proves clear, from `retract_mm` halving down
+// to `min_retract_mm` (in a narrow passage the largest offset can reach the
+// neighbouring blade); a link that no offset proves is refused, never
+// emitted.
+#include <string>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/sim/undercut.h"
+#include "core/tools/pose.h"
+
+namespace bliskrun {
+
+enum class RetractDirection {
+  SurfaceNormal,  // side-cutting operations: away from the material first
+  ToolAxis,       // bottom-cutting operations: up the tool
+};
+
+struct LinkOptions {
+  RetractDirection direction = RetractDirection::SurfaceNormal;
+  double retract_mm = 5.0;        // largest offset tried
+  double min_retract_mm = 0.1;    // smallest offset tried (halving from retract_mm)
+  double axis_retract_mm = 0;     // a second leg up the tool axis after the first (0: none)
+  double allowed_overcut_mm = 0.002;  // how far a non-cutting move may dip below the finished surface
+};
+
+// One end of a link: the cutting pose and the surface normal out of the
+// material at its contact.
+struct LinkEnd {
+  ToolPose pose;
+  Vec3 normal = Vec3::UnitZ();
+};
+
+// What a link is proved against. `guard` may be null (no finished surface
+// to protect, e.g. roughing); `world` and `body` may not.
+struct LinkChecks {
+  const CollisionWorld* world = nullptr;
+  const ToolBody* body = nullptr;
+  Clearances clearances;
+  double motion_tol_mm = 1e-3;
+  const GougeGuard* guard = nullptr;
+  // Subtracted from the allowed overcut for what the guard's samples can
+  // miss (GougeGuard::between_samples_mm).
+  double guard_margin_mm = 0;
+};
+
+enum class LinkLeg { Retract, Traverse, Approach };
+const char* link_leg_name(LinkLeg leg);
+
+struct PlannedLink {
+  bool clear = false;
+  std::vector<ToolPose> via;   // the poses between a and b, in order
+  std::vector<LinkLeg> legs;   // legs[i]: the motion from (a, via...)[i] to (via..., b)[i]; via.size() + 1 of them
+  double offset_mm = 0;        // the offset d used
+  double deepest_cut_mm = 0;   // deepest dip below the finished surface over the link (<= 0)
+  std::string reason;          // why it was refused
+};
+
+// Throws ParameterError for missing world/body, non-positive retract_mm,
+// min_retract_mm outside (0, retract_mm], negative axis_retract_mm or
+// allowed_overcut_mm.
+PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks,
+                      const LinkOptions& options);
+
+}  // namespace bliskrun

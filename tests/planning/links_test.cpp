@@ -1,0 +1,156 @@
+// Links between cutting passes (issue 11): how a side-cutting drum wheel
+// leaves a concave flank. Retracting along its axis - nearly tangent to the
+// flank - drags the barrel into the finished surface by the closed form
+// below; leaving along the normal does not, and the gouge guard sees both.
+#include "core/planning/links.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/collision/tilt.h"
+#include "core/common/error.h"
+#include "core/sim/undercut.h"
+
+namespace bliskrun {
+namespace {
+
+// A concave cylinder of radius kRho about the x axis, material outside it:
+// v runs along x (the chord), u around the circle (the span), so the span
+// direction is curved with radius kRho and the normal out of the material
+// points to the axis.
+constexpr double kRho = 100, kL = 20, kPhi = 0.15;
+
+class ConcaveCylinder : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double phi = -kPhi + 2 * kPhi * u, dphi = 2 * kPhi;
+    SurfaceDerivs d;
+    d.p = Vec3(kL * (v - 0.5), kRho * std::sin(phi), -kRho * std::cos(phi));
+    d.pu = Vec3(0, kRho * std::cos(phi), kRho * std::sin(phi)) * dphi;
+    d.pv = Vec3(kL, 0, 0);
+    d.puu = Vec3(0, -kRho * std::sin(phi), kRho * std::cos(phi)) * dphi * dphi;
+    return d;
+  }
+};
+
+// Drum wheel 2 of the blisk paper: D_t 8, R_c 50, L_c 4.
+constexpr double kRc = 50;
+Tool wheel() { return Tool::drum_wheel({8, kRc, 4, {6, 96}, {}}); }
+
+UndercutOptions sampling() {
+  UndercutOptions o;
+  o.samples_u = 301;  // 0.1 mm along the 30 mm span
+  o.samples_v = 201;  // 0.1 mm along the 20 mm chord
+  o.flip_normal = true;  // pu x pv points away from the axis, into the material
+  o.sweep_step_mm = 0.01;
+  o.search_below_mm = 0.5;
+  return o;
+}
+
+// The wheel touching the flank at (u, 0.5) with its axis along the span
+// (the drum-finish axis at lead 0), as the planner places it.
+LinkEnd contact(const Tool& tool, double u) {
+  const SurfaceDerivs d = ConcaveCylinder().eval(u, 0.5);
+  ContactFrame f;
+  f.point = d.p;
+  f.normal = -d.pu.cross(d.pv).normalized();
+  f.tangent = d.pv.normalized();
+  const Vec3 axis = d.pu.normalized();
+  return {place_tool(tool, f, axis), f.normal};
+}
+
+// The old link rule: straight up the axis by s. The barrel's meridian (radius
+// R_c) slides along the concave span (radius rho): at axial offset z from the
+// contact it sits z^2 / (2 R_c) above the tangent line and meets the flank
+// z' = s + z along it, s'^2 / (2 rho) above; the deepest cut,
+// max_z (s + z)^2 / (2 rho) - z^2 / (2 R_c) = s^2 / (2 (rho - R_c)) at
+// z = s R_c / (rho - R_c), on the head while that is within L_c / 2. Even the
+// contact point alone (z = 0) enters by s^2 / (2 rho).
+TEST(Links, AxisRetractOnAConcaveFlankCutsInByTheClosedForm) {
+  const Tool tool = wheel();
+  const ConcaveCylinder flank;
+  const GougeGuard guard(flank, sampling());
+  const LinkEnd a = contact(tool, 0.5);
+  for (double s : {0.5, 1.0, 1.5}) {
+    SCOPED_TRACE(s);
+    ToolPose up = a.pose;
+    up.tip += s * a.pose.axis;
+    const GougeGuard::Cut cut = guard.deepest_cut(tool, a.pose, up, 0, false, true);
+    const double closed_form = s * s / (2 * (kRho - kRc));
+    EXPECT_NEAR(-cut.depth_mm, closed_form, 0.01 * closed_form + guard.between_samples_mm(4));
+    EXPECT_GT(-cut.depth_mm, s * s / (2 * kRho));
+    // The simulation of the same motion as a pass finds the same gouge.
+    UndercutOptions o = sampling();
+    o.threads = 1;
+    const UndercutResult sim = simulate_undercut(flank, tool, {{a.pose, up}}, o);
+    EXPECT_NEAR(sim.overcut_mm, cut.depth_mm, 1e-4);
+    EXPECT_EQ(sim.overcut_pass, 0);
+  }
+}
+
+TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithinTheAllowance) {
+  const Tool tool = wheel();
+  const ConcaveCylinder flank;
+  const GougeGuard guard(flank, sampling());
+  const CollisionWorld nothing;
+  const ToolBody body(tool, 0.02);
+  LinkChecks checks;
+  checks.world = &nothing;
+  checks.body = &body;
+  checks.guard = &guard;
+  checks.guard_margin_mm = guard.between_samples_mm(4);
+  // Two neighbouring rows, 2.4 mm apart along the span (a drum-finish row
+  // spacing), linked at the same end.
+  const LinkEnd a = contact(tool, 0.5), b = contact(tool, 0.5 + 2.4 / (2 * kPhi * kRho));
+  LinkOptions o;
+  o.allowed_overcut_mm = 0.002;
+  const PlannedLink normal = plan_link(a, b, checks, o);
+  ASSERT_TRUE(normal.clear) << normal.reason;
+  EXPECT_EQ(normal.offset_mm, o.retract_mm);
+  EXPECT_GE(normal.deepest_cut_mm, -o.allowed_overcut_mm);
+  ASSERT_EQ(normal.via.size(), 2u);
+  EXPECT_NEAR((normal.via[0].tip - a.pose.tip).dot(a.normal), o.retract_mm, 1e-9);
+  EXPECT_EQ(normal.legs.size(), 3u);
+  EXPECT_EQ(normal.legs.back(), LinkLeg::Approach);
+  // The old rule, now proved against the flank: it is accepted only at an
+  // offset s whose cut s^2 / (2 (rho - R_c)) stays within the allowance.
+  o.direction = RetractDirection::ToolAxis;
+  const PlannedLink axis = plan_link(a, b, checks, o);
+  const double s_max = std::sqrt(2 * (kRho - kRc) * o.allowed_overcut_mm);  // 0.45 mm
+  if (axis.clear) {
+    EXPECT_LE(axis.offset_mm, s_max);
+    EXPECT_GE(axis.deepest_cut_mm, -o.allowed_overcut_mm);
+  }
+  // Unchecked against the flank it would have gone the full 5 mm.
+  checks.guard = nullptr;
+  const PlannedLink blind = plan_link(a, b, checks, o);
+  ASSERT_TRUE(blind.clear);
+  EXPECT_EQ(blind.offset_mm, o.retract_mm);
+  const GougeGuard::Cut old_cut = guard.deepest_cut(tool, a.pose, blind.via[0], 0, false, true);
+  EXPECT_LT(old_cut.depth_mm, -0.05);  // tens of um into the finished flank
+}
+
+TEST(Links, RejectsBadOptions) {
+  const Tool tool = wheel();
+  const CollisionWorld nothing;
+  const ToolBody body(tool, 0.02);
+  LinkChecks checks;
+  checks.world = &nothing;
+  checks.body = &body;
+  const LinkEnd a = contact(tool, 0.5), b = contact(tool, 0.6);
+  LinkOptions o;
+  o.retract_mm = 0;
+  EXPECT_THROW(plan_link(a, b, checks, o), ParameterError);
+  o = {};
+  o.min_retract_mm = 10;
+  EXPECT_THROW(plan_link(a, b, checks, o), ParameterError);
+  o = {};
+  o.allowed_overcut_mm = -1;
+  EXPECT_THROW(plan_link(a, b, checks, o), ParameterError);
+  checks.world = nullptr;
+  EXPECT_THROW(plan_link(a, b, checks, LinkOptions{}), ParameterError);
+}
+
+}  // namespace
+}  // namespace bliskrun
