@@ -55,7 +55,8 @@ end
 
 -- Options for bliskrun.drum_finish / drum_finish_all common to every flank.
 -- opts: residual (mm, 0.014), chord_tol (mm, 0.002), steps ("variable"),
--- guarantee (true), zigzag (true), clearance ({cutter = 0, shank = 0.1,
+-- guarantee (true), zigzag (true), link ("normal"), link_overcut (chord_tol),
+-- clearance ({cutter = 0, shank = 0.1,
 -- holder = 1}). The shank clearance matters on the concave pressure flank
 -- near the hub: the shank (d 6 x 96) lies along the blade there and the
 -- tilt loop raises the lead to clear it, which moves the contact along the
@@ -71,6 +72,11 @@ function M.settings(blisk, tool, opts)
     residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,
     steps = opts.steps or "variable", guarantee = opts.guarantee ~= false, zigzag = opts.zigzag ~= false,
     clearance = opts.clearance or {cutter = 0, shank = opts.shank_clearance or 0.1, holder = 1},
+    -- Links leave along the flank normal, proved against the finished flank
+    -- with chord_tol as the allowed overcut (link = "axis" retracts along
+    -- the wheel's axis instead, still proved: on a concave flank it drags
+    -- the barrel into it and is accepted only at a tiny offset).
+    link = opts.link, link_overcut = opts.link_overcut,
   }
 end
 

@@ -27,6 +27,8 @@
 --   options: --set blade=1 --set wheel=extended|traditional --set residual=0.014
 --            --set chord_tol=0.002 --set steps=variable|constant --set c_range=30
 --            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
+--            --set link=normal|axis --set link_overcut=0.002 (how links leave the flank, and how far
+--                                     below it they may dip; see docs/lua_api.md "Links")
 --            --set all_blades=true   (also plan and simulate both flanks of every blade, on --threads;
 --                                     --set all_samples_u=100 --set all_samples_v=500)
 
@@ -37,7 +39,8 @@ local blade = args.blade or 1
 local wheel_rule = args.wheel or "extended"
 local c_range = args.c_range or 30
 local settings = {residual = args.residual or 0.014, chord_tol = args.chord_tol or 0.002,
-                  steps = args.steps or "variable", shank_clearance = args.shank_clearance or 0.1}
+                  steps = args.steps or "variable", shank_clearance = args.shank_clearance or 0.1,
+                  link = args.link, link_overcut = args.link_overcut}
 assert(wheel_rule == "extended" or wheel_rule == "traditional",
        "--set wheel= expects 'extended' or 'traditional', got " .. tostring(wheel_rule))
 
@@ -98,8 +101,8 @@ for _, side in ipairs{"pressure", "suction"} do
   r.verified = verified
   report.flanks[side] = r
 end
-print(string.format("  links leave along the flank normal, offset %.2f-%.2f mm (pressure), %.2f-%.2f mm (suction); "
-                    .. "every move simulated", report.flanks.pressure.links.offset_min,
+print(string.format("  links leave along the flank %s, offset %.2f-%.2f mm (pressure), %.2f-%.2f mm (suction); "
+                    .. "every move simulated", report.flanks.pressure.links.retract, report.flanks.pressure.links.offset_min,
                     report.flanks.pressure.links.offset_max, report.flanks.suction.links.offset_min,
                     report.flanks.suction.links.offset_max))
 print(string.format("  first row raised above the hub by the wheel's hub clearance: strip %.2f mm (pressure), "

@@ -13,7 +13,7 @@
 --
 --   bliskrun scripts/recipes/rotor67_finish.lua --data ../shared/data --out out/
 --   options: --set side=pressure|suction --set residual=0.014 --set chord_tol=0.002
---            --set c_range=30 --set samples_u=600 --set samples_v=1000
+--            --set c_range=30 --set samples_u=600 --set samples_v=1000 --set link=normal|axis
 
 local wheel_design = require("blade_wheel_design")
 local finish = require("blisk_finish")
@@ -57,7 +57,8 @@ end
 local world = bliskrun.collision_world{surfaces = surfaces}
 
 local flank = part[side]:surface()
-local settings = finish.settings(nil, tool, {residual = residual, chord_tol = chord_tol})
+local settings = finish.settings(nil, tool, {residual = residual, chord_tol = chord_tol, link = args.link,
+                                             link_overcut = args.link_overcut})
 settings.hub, settings.casing = part.hub, part.casing
 settings.flank, settings.world, settings.name = flank, world, "Rotor 67 blade 1 " .. side
 settings.axis_limit = finish.c_axis_limit_at(flank, c_range)
@@ -98,11 +99,17 @@ for i = 2, #moves do
   end
 end
 print(string.format("  axis turning between poses adds up to %.2f um to the chord tolerance", 1e3 * turn_dev))
+print(string.format("  links leave along the flank %s, offset %.2f-%.2f mm; every move simulated%s", r.links.retract,
+                    r.links.offset_min, r.links.offset_max,
+                    sim.overcut_move and string.format(", deepest overcut by move %d (%s, row %d)", sim.overcut_move,
+                                                       sim.overcut_motion, sim.overcut_row) or ""))
 r.axis_turn_deviation_mm = turn_dev
 r.apt = apt
 r.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
                 undercut_median_mm = sim.undercut_median, undercut_std_mm = sim.undercut_std,
-                overcut_mm = sim.overcut, untouched = sim.untouched, samples = sim.samples, picture = picture}
+                overcut_mm = sim.overcut, overcut_move = sim.overcut_move, overcut_motion = sim.overcut_motion,
+                overcut_row = sim.overcut_row, untouched = sim.untouched, samples = sim.samples,
+                first_machined_row = sim.first_machined_row, picture = picture}
 r.verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -(chord_tol + turn_dev) - 1e-4
 bliskrun.write_json("rotor67_finish.json", {
   part = {kind = "NASA Rotor 67", blades = part.blades, fit = part.fit},
