@@ -270,12 +270,21 @@ int w_plan_report(lua_State* L) {
   // direction, the smallest and largest offset used, the deepest sampled dip
   // below the finished flank over every link (<= 0) and the allowance.
   {
-    double off_min = std::numeric_limits<double>::infinity(), off_max = 0, deepest = 0;
+    double off_min = std::numeric_limits<double>::infinity(), off_max = 0, deepest = 0, turn_max = 0;
+    int turned = 0;
     for (const DrumFinishLink& l : r.links) {
       if (!l.clear) continue;
       off_min = std::min(off_min, l.offset_mm);
       off_max = std::max(off_max, l.offset_mm);
       deepest = std::min(deepest, l.deepest_cut_mm);
+      turned += l.turn_rad > 0;
+      turn_max = std::max(turn_max, l.turn_rad);
+    }
+    for (const DrumFinishEnd* e : {&r.lead_in, &r.lead_out}) {
+      if (!e->clear) continue;
+      deepest = std::min(deepest, e->deepest_cut_mm);
+      turned += e->turn_rad > 0;
+      turn_max = std::max(turn_max, e->turn_rad);
     }
     lua_createtable(L, 0, 6);
     set_string(L, "retract", rq.links.direction == RetractDirection::SurfaceNormal ? "normal" : "axis");
@@ -284,6 +293,13 @@ int w_plan_report(lua_State* L) {
     set_number(L, "deepest_cut", deepest);
     set_number(L, "allowed_overcut", rq.links.allowed_overcut_mm);
     set_number(L, "guard_spacing", r.guard_spacing_mm);
+    // Links and leads whose direction was turned from the normal up the axis
+    // (a neighbouring surface in the way), and the largest turn, degrees.
+    lua_pushinteger(L, turned);
+    lua_setfield(L, -2, "turned");
+    set_number(L, "turn_max", rad_to_deg(turn_max));
+    set_number(L, "lead_in", r.lead_in.clear ? r.lead_in.offset_mm : 0);    // offset, 0 when refused
+    set_number(L, "lead_out", r.lead_out.clear ? r.lead_out.offset_mm : 0);
     lua_setfield(L, -2, "links");
   }
   set_number(L, "max_deviation", r.max_deviation_mm);
@@ -342,6 +358,8 @@ int w_plan_report(lua_State* L) {
       if (reasons.size() < 20) reasons.insert(t.reason);
   for (const DrumFinishLink& l : r.links)
     if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
+  for (const DrumFinishEnd* e : {&r.lead_in, &r.lead_out})
+    if (!e->clear && !e->reason.empty()) reasons.insert(e->reason);
   lua_createtable(L, static_cast<int>(reasons.size()), 0);
   int k = 0;
   for (const std::string& why : reasons) {

@@ -427,6 +427,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
         link.moves = pl.via;
         link.legs = pl.legs;
         link.offset_mm = pl.offset_mm;
+        link.turn_rad = pl.turn_rad;
         link.deepest_cut_mm = pl.deepest_cut_mm;
       } else {
         link.reason = "link from row " + std::to_string(prev_index) + " to row " + std::to_string(r) + ": " + pl.reason;
@@ -436,6 +437,31 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     }
     prev = &row;
     prev_index = static_cast<int>(r);
+  }
+  // In and out: along the normal at the first and last pose.
+  const DrumFinishRow* first = nullptr;
+  for (const DrumFinishRow& row : res.rows)
+    if (!row.poses.empty()) {
+      if (!first) first = &row;
+      prev = &row;
+    }
+  if (first) {
+    auto departure = [&](const DrumFinishPose& p, const char* what) {
+      const PlannedDeparture d = plan_departure(end_of(p), checks, rq.links);
+      DrumFinishEnd e;
+      e.clear = d.clear;
+      e.away = d.away;
+      e.offset_mm = d.offset_mm;
+      e.turn_rad = d.turn_rad;
+      e.deepest_cut_mm = d.deepest_cut_mm;
+      if (!d.clear) {
+        e.reason = std::string(what) + ": " + d.reason;
+        ++res.refused_links;
+      }
+      return e;
+    };
+    res.lead_in = departure(first->poses.front(), "lead-in");
+    res.lead_out = departure(prev->poses.back(), "lead-out");
   }
   res.link_seconds = seconds_since(t0);
   return res;
@@ -541,19 +567,28 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
   std::vector<DrumFinishMove> moves;
   size_t link = 0;
   bool started = false;
+  auto stop = [&](int row, const std::string& reason) {
+    DrumFinishMove m;
+    m.kind = DrumFinishMove::Kind::Stop;
+    m.row = row;
+    m.motion = "stop";
+    m.reason = reason;
+    moves.push_back(std::move(m));
+  };
+  int last_row = -1;
   for (size_t r = 0; r < result.rows.size(); ++r) {
     const DrumFinishRow& row = result.rows[r];
     if (row.poses.empty()) continue;
     const int ri = static_cast<int>(r);
+    last_row = ri;
+    if (!started) {
+      if (result.lead_in.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_in.away, ri, "start", {}});
+      else stop(ri, result.lead_in.reason);
+    }
     if (started) {
       const DrumFinishLink& l = result.links.at(link++);
       if (!l.clear) {
-        DrumFinishMove stop;
-        stop.kind = DrumFinishMove::Kind::Stop;
-        stop.row = ri;
-        stop.motion = "stop";
-        stop.reason = l.reason;
-        moves.push_back(std::move(stop));
+        stop(ri, l.reason);
       } else {
         for (size_t k = 0; k < l.moves.size(); ++k)
           moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
@@ -563,10 +598,14 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
       // After a refused link the program stops: the row's first pose is
       // reached by the operator, not by a proved move.
       const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
-      const char* motion = k > 0 ? "cut" : (!started || after_stop) ? "start" : "approach";
+      const char* motion = k > 0 ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
       moves.push_back({DrumFinishMove::Kind::Feed, row.poses[k].pose, ri, motion, {}});
     }
     started = true;
+  }
+  if (started) {
+    if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
+    else stop(last_row, result.lead_out.reason);
   }
   return moves;
 }

@@ -88,9 +88,22 @@ struct DrumFinishLink {
   std::vector<ToolPose> moves;  // the via poses (rapid), in order
   std::vector<LinkLeg> legs;    // legs[i] ends at moves[i]; the last (to the next row) is the approach
   double offset_mm = 0;         // the normal offset the proof used
+  double turn_rad = 0;          // the direction turned from the normal up the axis (plan_link)
   double deepest_cut_mm = 0;    // deepest sampled dip below the flank (<= 0, within the allowance)
   bool clear = false;
   std::string reason;           // why it was refused, when not clear
+};
+
+// The way into the first row and out of the last: from / to the pose
+// `offset_mm` along the flank normal, proved like a link leg
+// (plan_departure). A job links these to its clearance surface.
+struct DrumFinishEnd {
+  bool clear = false;
+  ToolPose away;
+  double offset_mm = 0;
+  double turn_rad = 0;
+  double deepest_cut_mm = 0;
+  std::string reason;  // why it was refused, when not clear
 };
 
 struct DrumFinishResult {
@@ -99,6 +112,8 @@ struct DrumFinishResult {
   double hub_strip_mm = 0;     // largest 3-D gap from the hub curve to the first row
   std::vector<DrumFinishRow> rows;
   std::vector<DrumFinishLink> links;
+  DrumFinishEnd lead_in, lead_out;
+  // refused_links counts refused links and a refused lead-in or lead-out.
   int total_poses = 0, total_refusals = 0, refused_links = 0;
   // Rows inserted because tilted neighbours no longer met within the
   // residual height, and neighbouring rows that still do not after the
@@ -122,13 +137,13 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& pr
 std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
                                                    Progress& progress = Progress::none());
 
-// The toolpath of a plan in cutting order: each row's poses (Feed), the
-// proved link poses to the next row (Rapid), and where that link was
-// refused a Stop carrying the reason — so no unchecked move is implied
-// between the rows on either side. `motion` names the motion that ends at
-// the move: "start" (the first), "cut" (along a row), "retract",
-// "traverse", "approach" (the last leg of a link ends at the next row's
-// first pose, a Feed).
+// The toolpath of a plan in cutting order: the lead-in pose (Rapid), each
+// row's poses (Feed), the proved link poses to the next row (Rapid), the
+// lead-out pose (Rapid); where a link (or the lead-in/out) was refused a
+// Stop carrying the reason — so no unchecked move is implied. `motion`
+// names the motion that ends at the move: "start" (the first), "cut"
+// (along a row), "retract", "traverse", "approach" (a link's or the
+// lead-in's last leg ends at a row's first pose, a Feed).
 struct DrumFinishMove {
   enum class Kind { Feed, Rapid, Stop };
   Kind kind = Kind::Feed;

@@ -1,5 +1,6 @@
 #include "core/planning/links.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -23,9 +24,10 @@ struct Attempt {
   std::string reason;
 };
 
-// Proves the chain of poses a, via..., b segment by segment.
+// Proves the chain of poses a, via..., b segment by segment. `b_cuts`: b
+// is a cutting pose (the next pass's first), whose own cut is its pass's.
 Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::vector<LinkLeg>& legs,
-              const ToolPose& b, const LinkChecks& checks, double allowed_mm) {
+              const ToolPose& b, const LinkChecks& checks, double allowed_mm, bool b_cuts = true) {
   Attempt out;
   std::vector<const ToolPose*> chain{&a};
   for (const ToolPose& p : via) chain.push_back(&p);
@@ -38,6 +40,12 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
     if (!mc.clear) {
       why << link_leg_name(leg) << " not clear at t = " << mc.t << (mc.undecided ? " (undecided)" : "")
           << ", margin " << mc.min_margin_mm << " mm";
+      if (mc.at.worst >= 0) {
+        const PartClearance& pc = mc.at.parts[mc.at.worst];
+        why << " (" << to_string(pc.part);
+        if (pc.object >= 0) why << " vs " << checks.world->name(pc.object);
+        why << ")";
+      }
       out.clear = false;
       out.reason = why.str();
       return out;
@@ -46,7 +54,7 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
       // The link leaves the cutting pose a and reaches the cutting pose b:
       // their own cut belongs to their passes.
       const GougeGuard::Cut cut = checks.guard->deepest_cut(checks.body->tool(), *chain[s], *chain[s + 1],
-                                                            allowed_mm, s > 0, s + 2 < chain.size());
+                                                            allowed_mm, s > 0, s + 2 < chain.size() || !b_cuts);
       out.deepest_cut_mm = std::min(out.deepest_cut_mm, cut.depth_mm);
       if (cut.depth_mm < 0) {
         why << link_leg_name(leg) << " cuts " << -cut.depth_mm * 1000 << " um below the finished surface at t = "
@@ -60,9 +68,7 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
   return out;
 }
 
-}  // namespace
-
-PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks, const LinkOptions& o) {
+void check_options(const LinkChecks& checks, const LinkOptions& o) {
   if (!checks.world) throw ParameterError("world", "a collision world is required for links");
   if (!checks.body) throw ParameterError("body", "the tool body is required for links");
   if (!(o.retract_mm > 0)) throw ParameterError("retract_mm", "must be > 0");
@@ -70,16 +76,69 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
     throw ParameterError("min_retract_mm", "must be in (0, retract_mm]");
   if (!(o.axis_retract_mm >= 0)) throw ParameterError("axis_retract_mm", "must be >= 0");
   if (!(o.allowed_overcut_mm >= 0)) throw ParameterError("allowed_overcut_mm", "must be >= 0");
-  const double allowed = std::max(0.0, o.allowed_overcut_mm - checks.guard_margin_mm);
+}
 
-  auto away = [&](const LinkEnd& e) {
-    return o.direction == RetractDirection::SurfaceNormal ? unit_axis(e.normal, "normal")
-                                                          : unit_axis(e.pose.axis, "axis");
-  };
-  const Vec3 ea = away(from), eb = away(to);
-  PlannedLink best;
-  std::string first_reason;
+double allowance(const LinkChecks& checks, const LinkOptions& o) {
+  return std::max(0.0, o.allowed_overcut_mm - checks.guard_margin_mm);
+}
+
+// Directions tried, in order: the normal itself, then turned towards the
+// tool axis by 30 and 60 degrees — where leaving straight along the normal
+// runs into a neighbouring surface (e.g. the hub under a first row planned at
+// its hub clearance), leaving along the normal *and* up the axis clears it
+// while still lifting off the finished surface at once (the gouge guard
+// proves that, as for every leg).
+constexpr double kTurnsRad[] = {0.0, kPi / 6, kPi / 3};
+
+Vec3 away_from(const LinkEnd& e, const LinkOptions& o, double turn_rad) {
+  if (o.direction == RetractDirection::ToolAxis) return unit_axis(e.pose.axis, "axis");
+  const Vec3 n = unit_axis(e.normal, "normal");
+  if (turn_rad == 0) return n;
+  Vec3 up = unit_axis(e.pose.axis) - unit_axis(e.pose.axis).dot(n) * n;
+  if (up.norm() < 1e-9) return n;  // the axis is along the normal already
+  return std::cos(turn_rad) * n + std::sin(turn_rad) * up.normalized();
+}
+
+int turns(const LinkOptions& o) { return o.direction == RetractDirection::ToolAxis ? 1 : 3; }
+
+}  // namespace
+
+PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, const LinkOptions& o) {
+  check_options(checks, o);
+  const double allowed = allowance(checks, o);
+  PlannedDeparture out;
+  for (int k = 0; k < turns(o); ++k)
   for (double d = o.retract_mm; d >= o.min_retract_mm * (1 - 1e-12); d *= 0.5) {
+    const Vec3 e = away_from(at, o, kTurnsRad[k]);
+    ToolPose away = at.pose;
+    away.tip += d * e;
+    const Attempt a = prove(at.pose, {}, {LinkLeg::Retract}, away, checks, allowed, false);
+    if (a.clear) {
+      out.clear = true;
+      out.away = away;
+      out.offset_mm = d;
+      out.turn_rad = kTurnsRad[k];
+      out.deepest_cut_mm = a.deepest_cut_mm;
+      out.reason.clear();
+      return out;
+    }
+    std::ostringstream why;
+    why << "offset " << d << " mm";
+    if (k > 0) why << " turned " << kTurnsRad[k] * 180 / kPi << " deg up the axis";
+    why << ": " << a.reason;
+    // The largest offset's reason for each direction; the others add little.
+    if (d == o.retract_mm) out.reason += (out.reason.empty() ? "" : "; ") + why.str();
+  }
+  return out;
+}
+
+PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks, const LinkOptions& o) {
+  check_options(checks, o);
+  const double allowed = allowance(checks, o);
+  PlannedLink best;
+  for (int k = 0; k < turns(o); ++k)
+  for (double d = o.retract_mm; d >= o.min_retract_mm * (1 - 1e-12); d *= 0.5) {
+    const Vec3 ea = away_from(from, o, kTurnsRad[k]), eb = away_from(to, o, kTurnsRad[k]);
     std::vector<ToolPose> via;
     std::vector<LinkLeg> legs;
     ToolPose up_a = from.pose, up_b = to.pose;
@@ -107,13 +166,15 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
       best.via = std::move(via);
       best.legs = std::move(legs);
       best.offset_mm = d;
+      best.turn_rad = kTurnsRad[k];
       best.deepest_cut_mm = at.deepest_cut_mm;
       return best;
     }
     std::ostringstream why;
-    why << "offset " << d << " mm: " << at.reason;
-    if (first_reason.empty()) first_reason = why.str();
-    best.reason = first_reason + (d == o.retract_mm ? "" : "; " + why.str());
+    why << "offset " << d << " mm";
+    if (k > 0) why << " turned " << kTurnsRad[k] * 180 / kPi << " deg up the axis";
+    why << ": " << at.reason;
+    if (d == o.retract_mm) best.reason += (best.reason.empty() ? "" : "; ") + why.str();
   }
   return best;
 }

@@ -19,8 +19,11 @@
 // itself (core/sim GougeGuard) with the operation's allowed overcut. The
 // offset d is the largest that proves clear, from `retract_mm` halving down
 // to `min_retract_mm` (in a narrow passage the largest offset can reach the
-// neighbouring blade); a link that no offset proves is refused, never
-// emitted.
+// neighbouring blade). Where no offset straight along the normal proves
+// (e.g. the hub right under a first row planned at its hub clearance), the
+// direction is turned 30, then 60 degrees from the normal up the tool axis
+// — still lifting off the surface at once. A link that nothing proves is
+// refused, never emitted.
 #include <string>
 #include <vector>
 
@@ -71,9 +74,25 @@ struct PlannedLink {
   std::vector<ToolPose> via;   // the poses between a and b, in order
   std::vector<LinkLeg> legs;   // legs[i]: the motion from (a, via...)[i] to (via..., b)[i]; via.size() + 1 of them
   double offset_mm = 0;        // the offset d used
+  double turn_rad = 0;         // how far the direction was turned from the normal up the axis
   double deepest_cut_mm = 0;   // deepest dip below the finished surface over the link (<= 0)
   std::string reason;          // why it was refused
 };
+
+// A lead-in or lead-out: the pose `d` along the retract direction from a
+// cutting pose, d the largest offset (retract_mm halving down to
+// min_retract_mm) whose straight motion to the pose is proved like a link
+// leg. A lead-out moves pose -> away, a lead-in away -> pose: the same
+// swept tool, the same proof.
+struct PlannedDeparture {
+  bool clear = false;
+  ToolPose away;
+  double offset_mm = 0;
+  double turn_rad = 0;
+  double deepest_cut_mm = 0;
+  std::string reason;
+};
+PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, const LinkOptions& options);
 
 // Throws ParameterError for missing world/body, non-positive retract_mm,
 // min_retract_mm outside (0, retract_mm], negative axis_retract_mm or

@@ -99,12 +99,16 @@ TEST(DrumFinish, TrimmedBetweenHubAndCasingRowsSpacedByTheClosedFormCutWidth) {
   EXPECT_EQ(res.refused_links, 0);
   EXPECT_EQ(res.links.size(), res.rows.size() - 1);
 
-  // APT output is deterministic and has one GOTO per pose plus two per link.
+  // APT output is deterministic and has one GOTO per pose plus two per link
+  // and the lead-in and lead-out, each proved along the normal.
+  EXPECT_TRUE(res.lead_in.clear) << res.lead_in.reason;
+  EXPECT_TRUE(res.lead_out.clear) << res.lead_out.reason;
+  EXPECT_NEAR((res.lead_in.away.tip - res.rows.front().poses.front().pose.tip).norm(), res.lead_in.offset_mm, 1e-9);
   const std::string apt = drum_finish_apt(res, rq);
   EXPECT_EQ(apt, drum_finish_apt(plan_drum_finish(rq), rq));
   size_t gotos = 0;
   for (size_t at = apt.find("GOTO/"); at != std::string::npos; at = apt.find("GOTO/", at + 1)) ++gotos;
-  EXPECT_EQ(gotos, static_cast<size_t>(res.total_poses) + 2 * res.links.size());
+  EXPECT_EQ(gotos, static_cast<size_t>(res.total_poses) + 2 * res.links.size() + 2);
 }
 
 // Smallest radial offset from the hub over a dense sampling of the whole

@@ -79,15 +79,24 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     // spacing through the hub strip (overcut only there).
     EXPECT_GT(sim["first_machined_row"].get<int>(), 0);
     EXPECT_EQ(sim["samples"].get<int>(), (80 + sim["first_machined_row"].get<int>()) * 400);
-    // APT: one GOTO per pose and two per link between rows.
+    // APT: one GOTO per pose, two per link between rows, the lead-in and
+    // the lead-out (every move of the program simulated).
     const std::string apt = slurp(fs::path(dir.path()) / f["apt"].get<std::string>());
     const size_t rows = f["rows"].size();
-    EXPECT_EQ(count(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1));
+    EXPECT_EQ(count(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1) + 2);
+    EXPECT_EQ(count(apt, "RAPID"), 2 * (rows - 1) + 2);
+    EXPECT_EQ(f["links"]["retract"], "normal");
+    EXPECT_GT(f["links"]["offset_min"].get<double>(), 0.0);
+    EXPECT_GE(f["links"]["deepest_cut"].get<double>(), -chord_tol);
     EXPECT_EQ(count(apt, "$$ ROW "), rows);
     EXPECT_EQ(count(apt, "STOP"), 0u);
-    // The JSON carries the same toolpath: feeds at the poses, two rapids per link.
-    EXPECT_EQ(f["toolpath"].size(), f["poses"].get<size_t>() + 2 * (rows - 1));
-    EXPECT_EQ(f["toolpath"][0]["kind"], "feed");
+    // The JSON carries the same toolpath: feeds at the poses, two rapids per
+    // link, the lead-in and lead-out; each move says which motion ends at it.
+    EXPECT_EQ(f["toolpath"].size(), f["poses"].get<size_t>() + 2 * (rows - 1) + 2);
+    EXPECT_EQ(f["toolpath"][0]["kind"], "rapid");
+    EXPECT_EQ(f["toolpath"][0]["motion"], "start");
+    EXPECT_EQ(f["toolpath"][1]["motion"], "approach");
+    EXPECT_EQ(f["toolpath"].back()["motion"], "retract");
     EXPECT_EQ(f["toolpath"][0]["tip"].size(), 3u);
     const fs::path svg = fs::path(dir.path()) / sim["picture"].get<std::string>();
     ASSERT_TRUE(fs::exists(svg));
