@@ -209,6 +209,40 @@ void row_reach(DrumFinishRow& row, const TrimmedSurface& ts, const Tool& tool, c
   if (row.poses.empty()) row.reach_below_mm = row.reach_above_mm = 0;
 }
 
+// Halves every segment of the row whose chord deviation plus the axis
+// turning term ρ θ²/8 (ρ the larger distance from the tip to the contact of
+// its two poses, θ the axis turn) exceeds the tolerance; returns whether
+// any was. The new contacts' chord deviations are measured.
+bool split_turning_segments(const TrimmedSurface& ts, double u, RowSteps& st, const std::vector<DrumFinishPose>& poses,
+                            const std::vector<int>& index, double tol_mm) {
+  std::vector<double> split_after;  // contact parameters to insert
+  for (size_t k = 0; k + 1 < poses.size(); ++k) {
+    if (index[k + 1] != index[k] + 1) continue;  // a refusal between: nothing is emitted across it
+    const DrumFinishPose &a = poses[k], &b = poses[k + 1];
+    const double rho = std::max((a.contact - a.pose.tip).norm(), (b.contact - b.pose.tip).norm());
+    const double theta = axis_angle_rad(a.pose.axis, b.pose.axis);
+    if (st.deviation_mm[index[k]] + rho * theta * theta / 8 > tol_mm * (1 + 1e-9))
+      split_after.push_back(0.5 * (st.t[index[k]] + st.t[index[k] + 1]));
+  }
+  if (split_after.empty()) return false;
+  const IsoUCurve curve(ts, u);
+  std::vector<double> t = st.t;
+  t.insert(t.end(), split_after.begin(), split_after.end());
+  std::sort(t.begin(), t.end());
+  st.t = t;
+  st.points.clear();
+  st.deviation_mm.clear();
+  st.max_deviation_mm = 0;
+  for (size_t k = 0; k < t.size(); ++k) {
+    st.points.push_back(curve.eval(t[k]).p);
+    if (k + 1 < t.size()) {
+      st.deviation_mm.push_back(chord_deviation(curve, t[k], t[k + 1]));
+      st.max_deviation_mm = std::max(st.max_deviation_mm, st.deviation_mm.back());
+    }
+  }
+  return true;
+}
+
 // Samples of the whole trimmed flank for the links' gouge guard, about
 // rq.guard_spacing_mm apart (lengths measured along the middle iso-lines).
 UndercutOptions guard_sampling(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
@@ -327,10 +361,6 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       }
       const RowSteps& steps = cached->second;
       res.rows_seconds += seconds_since(t0);
-      row.contacts = static_cast<int>(steps.t.size());
-      row.max_deviation_mm = steps.max_deviation_mm;
-      row.v = steps.t;
-      row.deviation_mm = steps.deviation_mm;
 
       t0 = Clock::now();
       // Tilted once per row, along +v: the same axes serve the row run
@@ -338,24 +368,41 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       // proved clear one way is clear the other. So inserting a row, which
       // flips the zigzag direction of the rows above it, costs one row.
       auto tilted = tilt_cache.find(row.u);
-      if (tilted == tilt_cache.end()) {
-        const RowFrames rf = row_frames(ts, row.u, steps.t, rq.flip_normal, rq.tilt.tilt0_rad);
+      for (int round = 0; tilted == tilt_cache.end(); ++round) {
+        RowSteps& st = steps_cache.at(row.u);
+        const RowFrames rf = row_frames(ts, row.u, st.t, rq.flip_normal, rq.tilt.tilt0_rad);
         TiltSettings settings = rq.tilt;
         settings.tilt0_rad = rf.tilt0_rad;
         const TiltRun run = tilt_path(*rq.world, body, rf.frames, settings, per_row);
         std::vector<DrumFinishPose> poses;
+        std::vector<int> index;
         for (const TiltAccepted& a : run.poses) {
           DrumFinishPose p;
           p.pose = a.pose;
           p.contact = rf.frames[a.index].point;
           p.u = row.u;
-          p.v = steps.t[a.index];
+          p.v = st.t[a.index];
           p.lead_rad = a.lead_rad;
           p.tilt_rad = a.tilt_rad;
           poses.push_back(p);
+          index.push_back(a.index);
+        }
+        // The chord tolerance bounds the contact's path between two poses;
+        // where the tilt loop turns the axis by θ between them, a cutter
+        // point ρ from the tip also leaves that chord by up to ρ θ²/8. Where
+        // the two together exceed the tolerance the segment is halved and
+        // the row tilted again (a few rounds; what is left is measured by
+        // the simulation of the whole program).
+        if (round < 6 && split_turning_segments(ts, row.u, st, poses, index, rq.steps.chord_tol_mm)) {
+          ++res.turn_splits;
+          continue;
         }
         tilted = tilt_cache.emplace(row.u, std::make_pair(std::move(poses), run.refusals)).first;
       }
+      row.contacts = static_cast<int>(steps.t.size());
+      row.max_deviation_mm = steps.max_deviation_mm;
+      row.v = steps.t;
+      row.deviation_mm = steps.deviation_mm;
       row.poses = tilted->second.first;
       row.refusals = tilted->second.second;
       if (row.reversed) std::reverse(row.poses.begin(), row.poses.end());
@@ -565,8 +612,8 @@ void put_goto(std::ostringstream& os, const ToolPose& p) {
 
 std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
   std::vector<DrumFinishMove> moves;
-  size_t link = 0;
   bool started = false;
+  int prev_row = -1;
   auto stop = [&](int row, const std::string& reason) {
     DrumFinishMove m;
     m.kind = DrumFinishMove::Kind::Stop;
@@ -586,10 +633,18 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
       else stop(ri, result.lead_in.reason);
     }
     if (started) {
-      const DrumFinishLink& l = result.links.at(link++);
-      if (!l.clear) {
-        stop(ri, l.reason);
+      // The link from the previous row with poses into this one; a plan
+      // edited afterwards (rows emptied) may have none: then the program
+      // stops rather than imply an unproved move.
+      const DrumFinishLink* found = nullptr;
+      for (const DrumFinishLink& l : result.links)
+        if (l.to_row == ri && l.from_row == prev_row) found = &l;
+      if (!found) {
+        stop(ri, "no proved link from row " + std::to_string(prev_row) + " to row " + std::to_string(ri));
+      } else if (!found->clear) {
+        stop(ri, found->reason);
       } else {
+        const DrumFinishLink& l = *found;
         for (size_t k = 0; k < l.moves.size(); ++k)
           moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
@@ -602,6 +657,7 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
       moves.push_back({DrumFinishMove::Kind::Feed, row.poses[k].pose, ri, motion, {}});
     }
     started = true;
+    prev_row = ri;
   }
   if (started) {
     if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});

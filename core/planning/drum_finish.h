@@ -119,6 +119,9 @@ struct DrumFinishResult {
   // residual height, and neighbouring rows that still do not after the
   // refinement (reported, not hidden).
   int inserted_rows = 0, uncovered_gaps = 0;
+  // Row tilts redone after halving segments where the axis turned enough
+  // between two poses that chord + ρ θ²/8 exceeded the chord tolerance.
+  int turn_splits = 0;
   double max_deviation_mm = 0;
   double guard_spacing_mm = 0;  // largest spacing of the finished-flank samples the links were proved on
   double trim_seconds = 0, rows_seconds = 0, tilt_seconds = 0, link_seconds = 0;
