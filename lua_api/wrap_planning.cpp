@@ -347,6 +347,8 @@ int w_plan_report(lua_State* L) {
   lua_setfield(L, -2, "uncovered_gaps");
   lua_pushinteger(L, r.turn_splits);
   lua_setfield(L, -2, "turn_splits");
+  lua_pushinteger(L, r.gouge_splits);
+  lua_setfield(L, -2, "gouge_splits");
   lua_pushinteger(L, tilted);
   lua_setfield(L, -2, "tilted_poses");
   lua_pushinteger(L, contacts);

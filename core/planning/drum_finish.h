@@ -43,6 +43,9 @@ struct DrumFinishRequest {
   // links.allowed_overcut_mm.
   LinkOptions links;
   double guard_spacing_mm = 0.1;
+  // Every cutting segment is also swept through the guard's samples and
+  // halved where it dips below the flank by more than the chord tolerance.
+  bool verify_rows = true;
   double tool_tol_mm = 1e-3;   // ToolBody meshing tolerance
   // Hub clearance rule: at u' = 0 the contact is on the hub curve and the
   // half of the wheel below its widest point would sit in the hub. The first
@@ -122,6 +125,9 @@ struct DrumFinishResult {
   // Row tilts redone after halving segments where the axis turned enough
   // between two poses that chord + ρ θ²/8 exceeded the chord tolerance.
   int turn_splits = 0;
+  // Row tilts redone after halving segments whose swept wheel the guard
+  // found dipping below the finished flank by more than the chord tolerance.
+  int gouge_splits = 0;
   double max_deviation_mm = 0;
   double guard_spacing_mm = 0;  // largest spacing of the finished-flank samples the links were proved on
   double trim_seconds = 0, rows_seconds = 0, tilt_seconds = 0, link_seconds = 0;

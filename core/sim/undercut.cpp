@@ -304,11 +304,12 @@ double GougeGuard::between_samples_mm(double r_mm) const {
 }
 
 GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, const ToolPose& to,
-                                        double allowed_mm, bool include_from, bool include_to) const {
+                                        double allowed_mm, bool include_from, bool include_to, double step_mm) const {
   if (!(allowed_mm >= 0)) throw ParameterError("allowed_mm", "must be >= 0");
   const Profile& cutter = tool.cutter();
   const PoseMotion motion(from, to);
-  const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(cutter.reach()) / options_.sweep_step_mm)));
+  const double step = step_mm > 0 ? step_mm : options_.sweep_step_mm;
+  const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(cutter.reach()) / step)));
   const SampleIndex& idx = index_->samples;
   const double range = options_.search_below_mm;
   Cut cut;

@@ -113,8 +113,9 @@ class GougeGuard {
   // `to` (PoseMotion), at the evaluated positions t in (0, 1) plus the end
   // points unless excluded (a motion leaving or reaching a cutting pose
   // leaves that pose's cut to the pass it belongs to).
+  // `step_mm` > 0 overrides the sampling's sweep step for this motion.
   Cut deepest_cut(const Tool& tool, const ToolPose& from, const ToolPose& to, double allowed_mm,
-                  bool include_from = false, bool include_to = false) const;
+                  bool include_from = false, bool include_to = false, double step_mm = 0) const;
   // Largest distance between neighbouring samples, mm.
   double spacing_mm() const;
   // About what the samples can miss for a cutter whose surface has no
