@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "core/common/error.h"
 
@@ -99,7 +100,30 @@ Vec3 away_from(const LinkEnd& e, const LinkOptions& o, double turn_rad) {
   return std::cos(turn_rad) * n + std::sin(turn_rad) * up.normalized();
 }
 
-int turns(const LinkOptions& o) { return o.direction == RetractDirection::ToolAxis ? 1 : 3; }
+// The (direction turn, offset) pairs a link or lead tries, in order of
+// preference: straight along the normal from the largest offset down, then
+// each turn up the axis likewise.
+struct Candidate {
+  double turn_rad, offset_mm;
+};
+std::vector<Candidate> candidates(const LinkOptions& o) {
+  std::vector<Candidate> out;
+  const int turns = o.direction == RetractDirection::ToolAxis ? 1 : 3;
+  for (int k = 0; k < turns; ++k)
+    for (double d = o.retract_mm; d >= o.min_retract_mm * (1 - 1e-12); d *= 0.5) out.push_back({kTurnsRad[k], d});
+  return out;
+}
+
+// "offset d mm [turned x deg up the axis]: reason", kept for the largest
+// offset of each direction (the smaller ones add little).
+void add_reason(std::string& reasons, const Candidate& c, const LinkOptions& o, const std::string& why) {
+  if (c.offset_mm != o.retract_mm) return;
+  std::ostringstream os;
+  os << "offset " << c.offset_mm << " mm";
+  if (c.turn_rad > 0) os << " turned " << c.turn_rad * 180 / kPi << " deg up the axis";
+  os << ": " << why;
+  reasons += (reasons.empty() ? "" : "; ") + os.str();
+}
 
 }  // namespace
 
@@ -107,27 +131,20 @@ PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, con
   check_options(checks, o);
   const double allowed = allowance(checks, o);
   PlannedDeparture out;
-  for (int k = 0; k < turns(o); ++k)
-  for (double d = o.retract_mm; d >= o.min_retract_mm * (1 - 1e-12); d *= 0.5) {
-    const Vec3 e = away_from(at, o, kTurnsRad[k]);
+  for (const Candidate& c : candidates(o)) {
     ToolPose away = at.pose;
-    away.tip += d * e;
+    away.tip += c.offset_mm * away_from(at, o, c.turn_rad);
     const Attempt a = prove(at.pose, {}, {LinkLeg::Retract}, away, checks, allowed, false);
     if (a.clear) {
       out.clear = true;
       out.away = away;
-      out.offset_mm = d;
-      out.turn_rad = kTurnsRad[k];
+      out.offset_mm = c.offset_mm;
+      out.turn_rad = c.turn_rad;
       out.deepest_cut_mm = a.deepest_cut_mm;
       out.reason.clear();
       return out;
     }
-    std::ostringstream why;
-    why << "offset " << d << " mm";
-    if (k > 0) why << " turned " << kTurnsRad[k] * 180 / kPi << " deg up the axis";
-    why << ": " << a.reason;
-    // The largest offset's reason for each direction; the others add little.
-    if (d == o.retract_mm) out.reason += (out.reason.empty() ? "" : "; ") + why.str();
+    add_reason(out.reason, c, o, a.reason);
   }
   return out;
 }
@@ -136,25 +153,18 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
   check_options(checks, o);
   const double allowed = allowance(checks, o);
   PlannedLink best;
-  for (int k = 0; k < turns(o); ++k)
-  for (double d = o.retract_mm; d >= o.min_retract_mm * (1 - 1e-12); d *= 0.5) {
-    const Vec3 ea = away_from(from, o, kTurnsRad[k]), eb = away_from(to, o, kTurnsRad[k]);
-    std::vector<ToolPose> via;
-    std::vector<LinkLeg> legs;
+  for (const Candidate& c : candidates(o)) {
     ToolPose up_a = from.pose, up_b = to.pose;
-    up_a.tip += d * ea;
-    up_b.tip += d * eb;
-    via.push_back(up_a);
-    legs.push_back(LinkLeg::Retract);
+    up_a.tip += c.offset_mm * away_from(from, o, c.turn_rad);
+    up_b.tip += c.offset_mm * away_from(to, o, c.turn_rad);
+    std::vector<ToolPose> via{up_a};
+    std::vector<LinkLeg> legs{LinkLeg::Retract};
     if (o.axis_retract_mm > 0) {
       ToolPose high_a = up_a, high_b = up_b;
       high_a.tip += o.axis_retract_mm * unit_axis(up_a.axis);
       high_b.tip += o.axis_retract_mm * unit_axis(up_b.axis);
-      via.push_back(high_a);
-      legs.push_back(LinkLeg::Retract);
-      via.push_back(high_b);
-      legs.push_back(LinkLeg::Traverse);
-      legs.push_back(LinkLeg::Approach);  // high_b -> up_b
+      via.insert(via.end(), {high_a, high_b});
+      legs.insert(legs.end(), {LinkLeg::Retract, LinkLeg::Traverse, LinkLeg::Approach});  // .. high_b -> up_b
     } else {
       legs.push_back(LinkLeg::Traverse);  // up_a -> up_b
     }
@@ -165,16 +175,13 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
       best.clear = true;
       best.via = std::move(via);
       best.legs = std::move(legs);
-      best.offset_mm = d;
-      best.turn_rad = kTurnsRad[k];
+      best.offset_mm = c.offset_mm;
+      best.turn_rad = c.turn_rad;
       best.deepest_cut_mm = at.deepest_cut_mm;
+      best.reason.clear();
       return best;
     }
-    std::ostringstream why;
-    why << "offset " << d << " mm";
-    if (k > 0) why << " turned " << kTurnsRad[k] * 180 / kPi << " deg up the axis";
-    why << ": " << at.reason;
-    if (d == o.retract_mm) best.reason += (best.reason.empty() ? "" : "; ") + why.str();
+    add_reason(best.reason, c, o, at.reason);
   }
   return best;
 }
