@@ -254,20 +254,23 @@ void insert_contacts(const TrimmedSurface& ts, double u, RowSteps& st, const std
 // Halves every segment of the row whose swept wheel dips below the
 // finished flank (the guard's samples) by more than the tolerance; returns
 // whether any did.
-// Only segments whose estimate (chord + ρθ²/8) is within a quarter of the
+// Only segments whose estimate (chord + ρθ²/8) is at least half the
 // tolerance are swept: what the estimate leaves out is second order (the
 // contact moving over the wheel between the poses), a small fraction of it.
-// The sweep steps 0.05 mm of cutter motion, as the simulation does.
+// The sweep steps 0.05 mm of cutter motion, as the simulation does; the
+// allowance is the tolerance less what the guard's samples can miss across
+// the feed (spacing² / 8 r, r the wheel's radius).
 bool split_gouging_segments(const TrimmedSurface& ts, double u, RowSteps& st, const std::vector<DrumFinishPose>& poses,
                             const std::vector<int>& index, const GougeGuard& guard, const Tool& tool, double tol_mm) {
+  const double allowed = std::max(0.0, tol_mm - guard.between_samples_mm(tool.cutter().max_radius()));
   std::vector<double> split_after;
   for (size_t k = 0; k + 1 < poses.size(); ++k) {
     if (index[k + 1] != index[k] + 1) continue;
     const DrumFinishPose &a = poses[k], &b = poses[k + 1];
     const double rho = std::max((a.contact - a.pose.tip).norm(), (b.contact - b.pose.tip).norm());
     const double theta = axis_angle_rad(a.pose.axis, b.pose.axis);
-    if (st.deviation_mm[index[k]] + rho * theta * theta / 8 < 0.75 * tol_mm) continue;
-    if (guard.deepest_cut(tool, a.pose, b.pose, tol_mm, false, false, 0.05).depth_mm < 0)
+    if (st.deviation_mm[index[k]] + rho * theta * theta / 8 < 0.5 * tol_mm) continue;
+    if (guard.deepest_cut(tool, a.pose, b.pose, allowed, false, false, 0.05).depth_mm < 0)
       split_after.push_back(0.5 * (st.t[index[k]] + st.t[index[k] + 1]));
   }
   if (split_after.empty()) return false;
