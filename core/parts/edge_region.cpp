@@ -62,7 +62,23 @@ SpanSection section_at(const Surface& a, const Surface& b, double span_u, double
   sec.b = &b;
   sec.span_u = span_u;
   const SurfaceDerivs da = a.eval(span_u, 0.0), db = b.eval(span_u, 1.0);
-  const Vec3 na = unit_normal(da), nb = unit_normal(db);
+  const Vec3 na3 = unit_normal(da), nb3 = unit_normal(db);
+  // The round lies in the section: the plane of flank A's section tangent at
+  // its end and the chord to flank B's end (a circle's two tangents and its
+  // chord are coplanar). In that plane each flank's end normal is the
+  // in-plane perpendicular of its section tangent, on the side of its 3-D
+  // normal. The surface normals themselves tilt out of the section where the
+  // edge leans along the span, so they would not share a centre.
+  const Vec3 ta = -da.pv.normalized(), tb = db.pv.normalized();  // towards the edge
+  Vec3 plane_normal = ta.cross(db.p - da.p);
+  if (plane_normal.squaredNorm() < 1e-20)
+    throw Error("edge region: the flank ends at span u = " + std::to_string(span_u) + " do not bound a round");
+  plane_normal.normalize();
+  Vec3 na = plane_normal.cross(ta).normalized();
+  if (na.dot(na3) < 0) na = -na;
+  const Vec3 tb_in = (tb - tb.dot(plane_normal) * plane_normal).normalized();
+  Vec3 nb = plane_normal.cross(tb_in).normalized();
+  if (nb.dot(nb3) < 0) nb = -nb;
   const Vec3 dn = na - nb;
   if (dn.squaredNorm() < 1e-12)
     throw Error("edge region: the flank ends at span u = " + std::to_string(span_u) +
@@ -75,20 +91,15 @@ SpanSection section_at(const Surface& a, const Surface& b, double span_u, double
   const Vec3 ca = da.p - sec.radius * na, cb = db.p - sec.radius * nb;
   sec.centre = 0.5 * (ca + cb);
   sec.misfit = (ca - cb).norm();
-  // The round turns from n_a towards flank A's direction off its edge end
-  // (-pv at v = 0).
+  // The round turns from n_a towards flank A's direction off its edge end.
   sec.e1 = na;
-  const Vec3 t = -da.pv.normalized();
-  sec.e2 = (t - t.dot(na) * na).normalized();
-  const Vec3 plane_normal = sec.e1.cross(sec.e2);
-  const Vec3 nb_in = nb - nb.dot(plane_normal) * plane_normal;
-  sec.sweep = std::atan2(nb_in.dot(sec.e2), nb_in.dot(sec.e1));
+  sec.e2 = (ta - ta.dot(na) * na).normalized();
+  const Vec3 pn = sec.e1.cross(sec.e2);
+  sec.sweep = std::atan2(nb.dot(sec.e2), nb.dot(sec.e1));
   if (sec.sweep <= 0) sec.sweep += 2 * kPi;
-  sec.out_of_plane = nb.dot(plane_normal) * plane_normal;
-  // Re-anchor the circle on the two end points exactly: the arc starts at
-  // P_a and ends at P_b (centre from each end, blended along the arc would
-  // bend it; instead the misfit is reported and the small residual taken up
-  // by the end normals' blend).
+  sec.out_of_plane = nb.dot(pn) * pn;
+  // The arc runs from the common centre; its ends miss P_a and P_b by half
+  // the misfit, which is reported.
   sec.dv_a = std::min(0.5, overlap_mm / std::max(da.pv.norm(), 1e-9));
   sec.dv_b = std::min(0.5, overlap_mm / std::max(db.pv.norm(), 1e-9));
   sec.len_a = polyline_length(a, span_u, sec.dv_a, 0.0, 32);

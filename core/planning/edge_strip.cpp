@@ -5,11 +5,12 @@
 #include <limits>
 
 #include "core/common/error.h"
+#include "core/geometry/projection.h"
 
 namespace bliskrun {
 
-ContactFrame contact_frame(const SurfaceDerivs& d, bool flip_normal) {
-  ContactFrame f;
+EdgeFrame edge_frame(const SurfaceDerivs& d, bool flip_normal) {
+  EdgeFrame f;
   f.point = d.p;
   Vec3 n = d.pu.cross(d.pv);
   if (n.squaredNorm() == 0 || d.pu.squaredNorm() == 0) throw Error("contact frame: singular surface point");
@@ -36,7 +37,7 @@ FlatEnd flat_end_of(const Tool& tool) {
   return f;
 }
 
-ToolPose position_tool(const FlatEnd& tool, const ContactFrame& frame, const EdgePosition& pos) {
+ToolPose position_tool(const FlatEnd& tool, const EdgeFrame& frame, const EdgePosition& pos) {
   const double R = tool.radius_mm, r = tool.corner_mm;
   Vec3 c_tool;
   double theta = 0;
@@ -105,7 +106,8 @@ StripSamples sample_strip(const Surface& surface, double u, double v, const Stri
     for (int idx = 0; idx < out.across; idx += std::max(sm.gouge_stride, 1)) {
       const double vj = std::clamp(v + js[idx] * dv, 0.0, 1.0);
       for (int k = 0; k < sm.gouge_along; ++k) {
-        const double uk = u + (k - (sm.gouge_along - 1) / 2.0) * gdu;
+        const double uk = sm.gouge_whole_u ? static_cast<double>(k) / (sm.gouge_along - 1)
+                                           : u + (k - (sm.gouge_along - 1) / 2.0) * gdu;
         if (uk < 0 || uk > 1) continue;
         const SurfaceDerivs e = surface.eval(uk, vj);
         Vec3 n = e.pu.cross(e.pv).normalized();
@@ -119,28 +121,54 @@ StripSamples sample_strip(const Surface& surface, double u, double v, const Stri
   return out;
 }
 
-double directed_distance(const Profile& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
+void add_guard_samples(StripSamples& out, const Surface& guard, const Vec3& point, const StripSampling& sm) {
+  const SurfaceProjection pr = project_to_surface(guard, point);
+  if (!pr.ok) throw Error("guard samples: the contact does not project onto the guard surface: " + pr.failure);
+  const SurfaceDerivs d = guard.eval(pr.u, pr.v);
+  const int half = sm.across / 2;
+  const double dv = sm.half_width_mm / half / std::max(d.pv.norm(), 1e-12);
+  const double du = 2 * sm.gouge_half_mm / std::max(sm.gouge_along - 1, 1) / std::max(d.pu.norm(), 1e-12);
+  for (int j = -half; j <= half; j += std::max(sm.gouge_stride, 1)) {
+    const double vj = pr.v + j * dv;
+    if (vj < 0 || vj > 1) continue;
+    for (int k = 0; k < sm.gouge_along; ++k) {
+      const double uk = pr.u + (k - (sm.gouge_along - 1) / 2.0) * du;
+      if (uk < 0 || uk > 1) continue;
+      const SurfaceDerivs e = guard.eval(uk, vj);
+      out.gouge_p.push_back(e.p);
+      out.gouge_n.push_back(e.pu.cross(e.pv).normalized());
+    }
+  }
+}
+
+double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
                          const Vec3& n, double cap_mm) {
   const Vec3 q = part_to_tool * p;
   const Vec3 m = part_to_tool.linear() * n;
   constexpr double kTol = 1e-8;
   double t = 0;
   double d = cutter.signed_distance(q);
-  for (int it = 0; it < 200; ++it) {
+  // A ray grazing the cutter advances by tiny steps; after kMaxSteps it is
+  // reported as missing (+cap) when outside — the strip then ends there,
+  // which can only make it narrower, never hide a gouge (a ray starting
+  // inside the cutter leaves it in a few steps: the exact signed distance of
+  // a convex profile shrinks linearly along any line out of it).
+  constexpr int kMaxSteps = 40;
+  for (int it = 0; it < kMaxSteps; ++it) {
     if (std::abs(d) < kTol) return t;
     t += d;  // outside: along +n towards the tool; inside: along -n out of it
     if (t > cap_mm) return cap_mm;
     if (t < -cap_mm) return -cap_mm;
     d = cutter.signed_distance(Vec3(q + t * m));
   }
-  return t;
+  return t < 0 ? t : cap_mm;
 }
 
 StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
   StripWidth w;
-  const Profile& cutter = tool.cutter();
+  const FlatEnd cutter = flat_end_of(tool);
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
-  const double cap = std::max(4 * (band.e2_mm - band.e1_mm), 0.05);
+  const double cap = 2 * (band.e2_mm - band.e1_mm);
   // ① every sample: cheap signed distance first, the directed one only where
   // the sample is inside the cutter.
   w.deepest_mm = std::numeric_limits<double>::infinity();
@@ -189,7 +217,25 @@ StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSample
   return w;
 }
 
-ContactStrip::ContactStrip(const Tool& tool, const ContactFrame& frame, StripSamples samples, Band band)
+double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+  const FlatEnd cutter = flat_end_of(tool);
+  const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
+  const double cap = 2 * (band.e2_mm - band.e1_mm);
+  double deepest = std::numeric_limits<double>::infinity();
+  auto screen = [&](const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
+      deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
+    }
+  };
+  screen(smp.p, smp.n);
+  screen(smp.gouge_p, smp.gouge_n);
+  return deepest;
+}
+
+double ContactStrip::deepest(const ToolPose& pose) const { return deepest_distance(tool_, pose, samples_, band_); }
+
+ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band)
     : tool_(tool), flat_(flat_end_of(tool)), frame_(frame), samples_(std::move(samples)), band_(band) {}
 
 ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }

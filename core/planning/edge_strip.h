@@ -42,13 +42,13 @@
 
 namespace bliskrun {
 
-struct ContactFrame {
+struct EdgeFrame {
   Vec3 point = Vec3::Zero();
   Vec3 x = Vec3::UnitX(), y = Vec3::UnitY(), z = Vec3::UnitZ();  // feed, across, normal (out)
 };
 // Frame at S(u, v) with the feed along pu. flip_normal: the material lies on
 // the +pu x pv side.
-ContactFrame contact_frame(const SurfaceDerivs& d, bool flip_normal = false);
+EdgeFrame edge_frame(const SurfaceDerivs& d, bool flip_normal = false);
 
 enum class EdgeContact { Bottom, Corner };
 const char* to_string(EdgeContact c);
@@ -64,17 +64,29 @@ struct EdgePosition {
 // ParameterError("tool") for any other tool.
 struct FlatEnd {
   double radius_mm = 0, corner_mm = 0;
+  // Exact signed distance (tool frame, mm) to the cutting end: the points
+  // within corner_mm of the quadrant {ρ <= R - r, z >= r} — bottom, corner
+  // torus and side, the side continued upwards (the flute's top and the
+  // shank are far from any strip sample). One square root, where the
+  // general profile distance visits every element.
+  double signed_distance(const Vec3& p_tool) const {
+    const double x = std::sqrt(p_tool.x() * p_tool.x() + p_tool.y() * p_tool.y()) - (radius_mm - corner_mm);
+    const double y = corner_mm - p_tool.z();
+    const double d = x <= 0 && y <= 0 ? std::max(x, y) : std::sqrt(std::max(x, 0.0) * std::max(x, 0.0) +
+                                                                    std::max(y, 0.0) * std::max(y, 0.0));
+    return d - corner_mm;
+  }
 };
 FlatEnd flat_end_of(const Tool& tool);
 
 // The tool pose (tip = centre of the bottom, axis) for a position at a
 // contact frame. Throws ParameterError for l outside (0, R - r] (Bottom) or
 // θ outside [0, 90°) (Corner).
-ToolPose position_tool(const FlatEnd& tool, const ContactFrame& frame, const EdgePosition& position);
+ToolPose position_tool(const FlatEnd& tool, const EdgeFrame& frame, const EdgePosition& position);
 
 struct StripSampling {
   double half_width_mm = 6.0;   // across the feed on each side of C
-  int across = 121;             // samples across (odd: one at C)
+  int across = 81;              // samples across (odd: one at C)
   double along_half_mm = 0.12;  // along the feed on each side of C
   int along = 5;                // samples along (odd: one at C)
   // Condition ① must hold over the tool's whole footprint, not only the
@@ -84,6 +96,10 @@ struct StripSampling {
   double gouge_half_mm = 6.0;
   int gouge_along = 13;
   int gouge_stride = 4;
+  // Instead of ±gouge_half_mm: gouge_along samples over the surface's whole
+  // u range (a small surface such as an edge region, whose round would fall
+  // between samples spaced for the tool's size).
+  bool gouge_whole_u = false;
 };
 
 // Samples of the design surface around a contact: points and unit normals
@@ -98,6 +114,12 @@ struct StripSamples {
 // Samples stop at the surface's parameter bounds (fewer on that side).
 StripSamples sample_strip(const Surface& surface, double u, double v, const StripSampling& sampling,
                           bool flip_normal = false);
+
+// Adds condition-① samples from a second surface around its point nearest
+// `point` (±gouge_half_mm along its u on every gouge_stride-th across line
+// of ±half_width_mm along its v): the edge region with a wide overlap, so a
+// flat bottom reaching over a concave flank beyond the edge region is seen.
+void add_guard_samples(StripSamples& samples, const Surface& guard, const Vec3& point, const StripSampling& sampling);
 
 struct Band {
   double e1_mm = -0.001;  // overcut limit (<= 0)
@@ -115,10 +137,12 @@ struct StripWidth {
 // Directed distance from a design point along its normal to the cutter of
 // `tool` at `pose` (sphere tracing, both ways); +cap_mm when the normal
 // misses the cutter within cap_mm.
-double directed_distance(const Profile& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
+double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
                          const Vec3& n, double cap_mm);
 
 StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& samples, const Band& band);
+// Condition ① alone: the smallest directed distance over every sample.
+double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& samples, const Band& band);
 
 // --- optimisation (§3.2) ----------------------------------------------------
 
@@ -131,7 +155,9 @@ struct SideSlipSearch {
   double min_step_rad = 0.05 * kPi / 180.0;
 };
 struct SearchResult {
-  double phi_rad = 0, width_mm = 0;
+  double phi_rad = 0, width_mm = 0;  // the better of the two
+  double phi_from_minus_rad = 0, width_from_minus_mm = 0;  // the climb from -90°
+  double phi_from_plus_rad = 0, width_from_plus_mm = 0;    // the climb from +90°
   int evaluations = 0;
 };
 template <class F>
@@ -140,16 +166,19 @@ SearchResult search_side_slip(F width, const SideSlipSearch& s);
 // One contact: samples + the width of any bottom/corner position there.
 class ContactStrip {
  public:
-  ContactStrip(const Tool& tool, const ContactFrame& frame, StripSamples samples, Band band);
+  ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band);
   StripWidth width(const EdgePosition& pos) const;
   ToolPose pose(const EdgePosition& pos) const;
-  const ContactFrame& frame() const { return frame_; }
+  const EdgeFrame& frame() const { return frame_; }
   const FlatEnd& flat_end() const { return flat_; }
+  // Smallest directed distance over this contact's samples from the cutter
+  // at any pose (e.g. between two planned poses): condition ① for motion.
+  double deepest(const ToolPose& pose) const;
 
  private:
   const Tool& tool_;
   FlatEnd flat_;
-  ContactFrame frame_;
+  EdgeFrame frame_;
   StripSamples samples_;
   Band band_;
 };
@@ -219,6 +248,8 @@ SearchResult search_side_slip(F width, const SideSlipSearch& s) {
         step = -step / 2;  // overshot the peak (or hit the end): turn back, finer
       }
     }
+    (side == 0 ? best.phi_from_minus_rad : best.phi_from_plus_rad) = phi;
+    (side == 0 ? best.width_from_minus_mm : best.width_from_plus_mm) = w;
     if (w > best.width_mm) {
       best.width_mm = w;
       best.phi_rad = phi;

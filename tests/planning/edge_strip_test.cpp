@@ -61,13 +61,13 @@ Tool mill(double R, double r) {
 
 StripWidth width_at(const Surface& s, const Tool& tool, const EdgePosition& pos, const StripSampling& sm,
                     const Band& band) {
-  const ContactStrip strip(tool, contact_frame(s.eval(0.5, 0.5)), sample_strip(s, 0.5, 0.5, sm), band);
+  const ContactStrip strip(tool, edge_frame(s.eval(0.5, 0.5)), sample_strip(s, 0.5, 0.5, sm), band);
   return strip.width(pos);
 }
 
 TEST(EdgeStripTest, PositionPutsTheContactOnTheToolWithTheAxisAsSpecified) {
   const Cylinder cyl(0.4, 1.0, 20);
-  const ContactFrame f = contact_frame(cyl.eval(0.5, 0.5));
+  const EdgeFrame f = edge_frame(cyl.eval(0.5, 0.5));
   const Tool tool = mill(5, 1);
   const FlatEnd fe = flat_end_of(tool);
   EXPECT_DOUBLE_EQ(fe.radius_mm, 5);
@@ -149,7 +149,7 @@ TEST(EdgeStripTest, SideContactOnACylinderMatchesTheBallAndTheTorus) {
   const double R = 5, r = 1, theta = 10 * kPi / 180;
   const Tool torus_tool = mill(R, r);
   const StripWidth torus = width_at(cyl, torus_tool, {EdgeContact::Corner, 0, theta, 0}, sm, {-0.001, e2});
-  const ContactFrame f = contact_frame(cyl.eval(0.5, 0.5));
+  const EdgeFrame f = edge_frame(cyl.eval(0.5, 0.5));
   const Eigen::Isometry3d to_tool =
       tool_to_part(position_tool(flat_end_of(torus_tool), f, {EdgeContact::Corner, 0, theta, 0})).inverse();
   auto g = [&](double y) {
@@ -178,7 +178,7 @@ TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
   StripSampling sm;
   sm.half_width_mm = 6;
   sm.across = 121;
-  const ContactStrip strip(tool, contact_frame(cyl.eval(0.5, 0.5), true), sample_strip(cyl, 0.5, 0.5, sm, true),
+  const ContactStrip strip(tool, edge_frame(cyl.eval(0.5, 0.5), true), sample_strip(cyl, 0.5, 0.5, sm, true),
                            {-0.001, 0.02});
   const StripWidth w = strip.width({EdgeContact::Bottom, 2.0, 0, 0});
   EXPECT_TRUE(w.gouges);
