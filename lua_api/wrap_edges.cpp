@@ -26,7 +26,7 @@ namespace bliskrun::lua_api {
 // A plan and everything its request points to, kept alive together.
 struct LuaEdgePlan {
   std::string name;
-  std::shared_ptr<const Surface> edge, guard;
+  std::shared_ptr<const Surface> edge, first, second;
   std::shared_ptr<const Tool> tool;
   std::shared_ptr<const CollisionWorld> world;
   EdgeFinishRequest request;
@@ -137,8 +137,9 @@ int w_edge_finish(lua_State* L) {
     const luax::Options o(
         L, 1, what,
         {Field{"edge", Kind::Any, true, std::nullopt, std::nullopt, "edge region surface (bliskrun.edge_region(...).surface)", {}},
-         Field{"guard", Kind::Any, false, std::nullopt, std::nullopt,
-               "the edge region with an overlap >= the tool radius: condition ① checked on it too", {}},
+         Field{"flanks", Kind::Table, false, std::nullopt, std::nullopt,
+               "{first, second} flanks the region was built from: condition ① checked on them too", {}},
+         Field{"flank_span", Kind::Table, false, std::nullopt, std::nullopt, "the region's flank u range (default {0, 1})", {}},
          Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "a flat-end mill (bliskrun.tool.flat_end_mill)", {}},
          Field{"world", Kind::Any, true, std::nullopt, std::nullopt, "check surfaces: neighbouring blades, hub, own blade", {}},
          Field{"name", Kind::String, false, std::nullopt, std::nullopt, "name used in reports", {}},
@@ -164,7 +165,18 @@ int w_edge_finish(lua_State* L) {
     LuaEdgePlan p;
     p.name = o.string("name", "");
     p.edge = surface_option(L, o, "edge", what);
-    if (o.has("guard")) p.guard = surface_option(L, o, "guard", what);
+    if (o.has("flanks")) {
+      o.push_raw("flanks");
+      const int t = lua_gettop(L);
+      for (int i = 1; i <= 2; ++i) {
+        lua_rawgeti(L, t, i);
+        const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+        if (!h) luax::error(L, what + ": option 'flanks': expected {first, second} bliskrun.Surface values");
+        (i == 1 ? p.first : p.second) = h->surface;
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+    }
     o.push_raw("tool");
     const LuaTool* tool = luax::test<LuaTool>(L, -1);
     if (!tool) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (a flat-end mill)");
@@ -179,7 +191,11 @@ int w_edge_finish(lua_State* L) {
     lua_pop(L, 1);
     EdgeFinishRequest& rq = p.request;
     rq.edge = p.edge;
-    rq.guard = p.guard;
+    rq.first = p.first;
+    rq.second = p.second;
+    const auto fspan = range_option(L, o, "flank_span", what, {0.0, 1.0});
+    rq.span_u0 = fspan.first;
+    rq.span_u1 = fspan.second;
     rq.tool = p.tool.get();
     rq.world = p.world.get();
     const auto span = range_option(L, o, "span", what, {0.1, 0.9});

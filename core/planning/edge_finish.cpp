@@ -55,7 +55,10 @@ std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
 std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
                                                double v) {
   StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
-  if (rq.guard) add_guard_samples(samples, *rq.guard, frame.point, rq.sampling);
+  (void)frame;
+  const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
+  if (rq.first) add_flank_samples(samples, *rq.first, u_f, 0.0, rq.sampling);
+  if (rq.second) add_flank_samples(samples, *rq.second, u_f, 1.0, rq.sampling);
   return std::make_shared<const ContactStrip>(*rq.tool, frame, std::move(samples), rq.band);
 }
 
@@ -147,9 +150,13 @@ PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<dou
     pr.contacts.push_back(plan_contact(rq, u, v, ls, side_only));
     pr.row.strip_evaluations += pr.contacts.back().evaluations;
   }
+  // Over the contacts where the side-edge positioning has a gouge-free
+  // position (a contact where it has none does not bound its rows; the
+  // count of such contacts is left to the width table of the comparison).
   double side = std::numeric_limits<double>::infinity();
-  for (const ContactPlan& c : pr.contacts) side = std::min(side, c.side_w);
-  pr.row.side_width_mm = pr.contacts.empty() ? 0.0 : side;
+  for (const ContactPlan& c : pr.contacts)
+    if (c.side_w > 0) side = std::min(side, c.side_w);
+  pr.row.side_width_mm = std::isfinite(side) ? side : 0.0;
   if (side_only) return pr;
   const BalancedRow paper = balance(pr.contacts, true, ls.size());
   const BalancedRow joint = balance(pr.contacts, false, ls.size());

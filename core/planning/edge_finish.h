@@ -49,10 +49,12 @@ inline StripSampling edge_sampling() {
 
 struct EdgeFinishRequest {
   std::shared_ptr<const Surface> edge;  // edge region: u around, v span (build_edge_region)
-  // The same edge with a wide overlap (at least the tool radius) onto the
-  // flanks: condition ① is checked on it too, so the flat bottom reaching
+  // The two flanks the region was built from (EdgeRegionRequest first and
+  // second, with its span range): condition ① is checked on them too, a
+  // tool radius into each from its edge end, so the flat bottom reaching
   // over a concave flank beyond the edge region is seen. Optional.
-  std::shared_ptr<const Surface> guard;
+  std::shared_ptr<const Surface> first, second;
+  double span_u0 = 0, span_u1 = 1;
   double v0 = 0.1, v1 = 0.9;            // span window to machine (edge-region v)
   const Tool* tool = nullptr;           // a flat-end mill
   const CollisionWorld* world = nullptr;

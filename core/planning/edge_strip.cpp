@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "core/common/error.h"
-#include "core/geometry/projection.h"
 
 namespace bliskrun {
 
@@ -121,20 +120,19 @@ StripSamples sample_strip(const Surface& surface, double u, double v, const Stri
   return out;
 }
 
-void add_guard_samples(StripSamples& out, const Surface& guard, const Vec3& point, const StripSampling& sm) {
-  const SurfaceProjection pr = project_to_surface(guard, point);
-  if (!pr.ok) throw Error("guard samples: the contact does not project onto the guard surface: " + pr.failure);
-  const SurfaceDerivs d = guard.eval(pr.u, pr.v);
+void add_flank_samples(StripSamples& out, const Surface& flank, double u_f, double end_v, const StripSampling& sm) {
+  const SurfaceDerivs d = flank.eval(u_f, end_v);
   const int half = sm.across / 2;
-  const double dv = sm.half_width_mm / half / std::max(d.pv.norm(), 1e-12);
-  const double du = 2 * sm.gouge_half_mm / std::max(sm.gouge_along - 1, 1) / std::max(d.pu.norm(), 1e-12);
+  const double du = sm.half_width_mm / half / std::max(d.pu.norm(), 1e-12);
+  const double dv = sm.gouge_half_mm / std::max(sm.gouge_along - 1, 1) / std::max(d.pv.norm(), 1e-12);
+  const double dir = end_v < 0.5 ? 1.0 : -1.0;  // into the flank from its edge end
   for (int j = -half; j <= half; j += std::max(sm.gouge_stride, 1)) {
-    const double vj = pr.v + j * dv;
-    if (vj < 0 || vj > 1) continue;
-    for (int k = 0; k < sm.gouge_along; ++k) {
-      const double uk = pr.u + (k - (sm.gouge_along - 1) / 2.0) * du;
-      if (uk < 0 || uk > 1) continue;
-      const SurfaceDerivs e = guard.eval(uk, vj);
+    const double uj = u_f + j * du;
+    if (uj < 0 || uj > 1) continue;
+    for (int k = 1; k < sm.gouge_along; ++k) {
+      const double vk = end_v + dir * k * dv;
+      if (vk < 0 || vk > 1) break;
+      const SurfaceDerivs e = flank.eval(uj, vk);
       out.gouge_p.push_back(e.p);
       out.gouge_n.push_back(e.pu.cross(e.pv).normalized());
     }

@@ -115,11 +115,13 @@ struct StripSamples {
 StripSamples sample_strip(const Surface& surface, double u, double v, const StripSampling& sampling,
                           bool flip_normal = false);
 
-// Adds condition-① samples from a second surface around its point nearest
-// `point` (±gouge_half_mm along its u on every gouge_stride-th across line
-// of ±half_width_mm along its v): the edge region with a wide overlap, so a
-// flat bottom reaching over a concave flank beyond the edge region is seen.
-void add_guard_samples(StripSamples& samples, const Surface& guard, const Vec3& point, const StripSampling& sampling);
+// Adds condition-① samples on a flank beyond an edge region: at flank
+// parameter u_f (the contact's span) ± half_width_mm along the flank's u,
+// and from the flank's edge end (v = end_v, 0 or 1) gouge_half_mm of arc
+// into the flank, so a flat bottom reaching over a concave flank past the
+// edge region is seen. Normals pu x pv of the flank (out of the material).
+void add_flank_samples(StripSamples& samples, const Surface& flank, double u_f, double end_v,
+                       const StripSampling& sampling);
 
 struct Band {
   double e1_mm = -0.001;  // overcut limit (<= 0)

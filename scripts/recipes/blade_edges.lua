@@ -104,10 +104,9 @@ for _, edge in ipairs(edges) do
   local first, second = pressure, suction
   if edge == "trailing" then first, second = suction, pressure end
   local region = bliskrun.edge_region{first = first, second = second, overlap = settings.overlap}
-  -- The same edge reaching a tool radius onto the flanks, where the flat
-  -- bottom of a pose near the flank can reach: condition ① is checked there too.
-  local guard = bliskrun.edge_region{first = first, second = second, overlap = R + 1, samples_around = 241}
-  local plan = bliskrun.edge_finish{edge = region.surface, guard = guard.surface, tool = tool, world = world, name = label .. " " .. edge,
+  -- The flanks too, a tool radius from their edge ends, where the flat
+  -- bottom of a pose near a flank can reach: condition ① is checked there.
+  local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
                                     span = {settings.v0, settings.v1}, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
                                     side_min_lead = settings.side_min_lead}
