@@ -217,6 +217,19 @@ EdgeFinishLink plan_edge_link(const EdgeFinishRequest& rq, const ToolBody& body,
       return link;
     }
   }
+  // Against the machined blade itself: every leg sampled (t = 1/16 ...
+  // 15/16) against both end contacts' samples (edge region and flanks).
+  for (size_t i = 0; i + 1 < seq.size(); ++i) {
+    const PoseMotion m(seq[i], seq[i + 1]);
+    for (int k = 1; k < 16; ++k) {
+      const ToolPose p = m.pose_at(k / 16.0);
+      const double d = std::min(a.strip->deepest(p), b.strip->deepest(p));
+      if (d < rq.band.e1_mm) {
+        link.reason = "link leg " + std::to_string(i) + ": cuts the blade itself (" + std::to_string(1e3 * d) + " um)";
+        return link;
+      }
+    }
+  }
   for (size_t i = 0; i + 1 < seq.size(); ++i) {
     const MotionCheck mc = rq.world->check_motion(body, seq[i], seq[i + 1], rq.clearances, rq.motion_tol_mm);
     if (!mc.clear) {
