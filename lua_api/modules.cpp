@@ -14,6 +14,7 @@ void open_all(lua_State* L) {
   open_collision(L);
   open_planning(L);
   open_machine(L);
+  open_edges(L);
   lua_setglobal(L, "bliskrun");
 }
 

@@ -12,6 +12,11 @@ CurveDerivs IsoUCurve::eval(double t) const {
   return {d.p, d.pv, d.pvv};
 }
 
+CurveDerivs IsoVCurve::eval(double t) const {
+  const SurfaceDerivs d = s_.eval(t, v_);
+  return {d.p, d.pu, d.puu};
+}
+
 double curve_curvature(const Curve& c, double t) {
   const CurveDerivs d = c.eval(t);
   const double speed = d.dt.norm();

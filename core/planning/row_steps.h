@@ -38,6 +38,18 @@ class IsoUCurve : public Curve {
   double u_;
 };
 
+// The curve u -> S(u, v) for fixed v, on t = u in [0, 1] (the edge region's
+// rows run around the edge at constant v; core/planning/edge_finish.h).
+class IsoVCurve : public Curve {
+ public:
+  IsoVCurve(const Surface& s, double v) : s_(s), v_(v) {}
+  CurveDerivs eval(double t) const override;
+
+ private:
+  const Surface& s_;
+  double v_;
+};
+
 // Curvature |C' x C''| / |C'|^3 of a space curve at t.
 double curve_curvature(const Curve& c, double t);
 

@@ -1,0 +1,130 @@
+// Cost of blade-edge finishing with a flat-end bottom (issue 14) on the
+// built-in blisk's leading edge of blade 1, tool R = 3, r = 0.5, band
+// (-0.001, 0.02) mm, chord 0.001 mm: the strip width of one pose (condition
+// ① over 81 x 5 strip samples, 21 x 41 over the region and 21 x 12 on each
+// flank beyond it), the φ/l optimisation and checks of one row, and one
+// whole edge (v 0.1..0.9: rows, side-edge rows, world checks with the
+// neighbours' flanks, the hub and the blade itself for the shank, links).
+#include <benchmark/benchmark.h>
+
+#include <memory>
+
+#include "core/geometry/mesh.h"
+#include "core/geometry/revolution.h"
+#include "core/parts/builtin_blisk.h"
+#include "core/parts/edge_region.h"
+#include "core/planning/edge_finish.h"
+
+namespace bliskrun {
+namespace {
+
+struct EdgeSetup {
+  BuiltinBlisk blisk;
+  EdgeRegion edge;
+  std::shared_ptr<const Surface> first, second;
+  Tool tool = Tool::flat_end_mill({3, 0.5, 9, {6, 50}, {12, 40}});
+  CollisionWorld hub_only, world;
+
+  EdgeSetup() {
+    EdgeRegionRequest er;
+    er.first = blisk.flank_surface(0, FlankSide::kPressure);
+    er.second = blisk.flank_surface(0, FlankSide::kSuction);
+    edge = build_edge_region(er);
+    first = er.first;
+    second = er.second;
+    const TriangleMesh hub = tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.01);
+    hub_only.add("hub", hub);
+    world.add("hub", hub);
+    for (int b : {1, 21})
+      for (FlankSide s : {FlankSide::kPressure, FlankSide::kSuction})
+        world.add("blade " + std::to_string(b) + (s == FlankSide::kPressure ? " p" : " s"),
+                  tessellate(*blisk.flank_surface(b, s), 0.01));
+    CheckSurfaceOptions own;
+    own.parts.cutter = false;
+    own.margin_mm = 0.05;
+    world.add("own p", tessellate(*blisk.flank_surface(0, FlankSide::kPressure), 0.05), own);
+    world.add("own s", tessellate(*blisk.flank_surface(0, FlankSide::kSuction), 0.05), own);
+  }
+  EdgeFinishRequest request(const CollisionWorld& w, double v0, double v1) const {
+    EdgeFinishRequest rq;
+    rq.edge = edge.surface;
+    rq.first = first;
+    rq.second = second;
+    rq.tool = &tool;
+    rq.world = &w;
+    rq.sampling.half_width_mm = 4;
+    rq.sampling.gouge_half_mm = 4;
+    rq.v0 = v0;
+    rq.v1 = v1;
+    return rq;
+  }
+};
+
+EdgeSetup& setup() {
+  static EdgeSetup s;
+  return s;
+}
+
+void BM_EdgeStripWidthOnePose(benchmark::State& state) {
+  EdgeSetup& s = setup();
+  const EdgeFinishRequest rq = s.request(s.hub_only, 0.1, 0.9);
+  const EdgeFrame f = edge_frame(s.edge.surface->eval(0.5, 0.5));
+  StripSamples smp = sample_strip(*s.edge.surface, 0.5, 0.5, rq.sampling);
+  add_flank_samples(smp, *s.first, 0.5, 0.0, rq.sampling);
+  add_flank_samples(smp, *s.second, 0.5, 1.0, rq.sampling);
+  const ContactStrip strip(s.tool, f, smp, rq.band);
+  double phi = -1.2;
+  for (auto _ : state) {
+    const StripWidth w = strip.width({EdgeContact::Bottom, 2.0, 0, phi});
+    benchmark::DoNotOptimize(w.width_mm);
+    phi = phi < -1.0 ? phi + 0.01 : -1.2;
+  }
+  state.counters["samples"] = static_cast<double>(smp.p.size() + smp.gouge_p.size());
+}
+BENCHMARK(BM_EdgeStripWidthOnePose)->Unit(benchmark::kMicrosecond);
+
+// Sampling one contact (edge region and both flanks beyond it): paid once per contact.
+void BM_EdgeStripSamplesOneContact(benchmark::State& state) {
+  EdgeSetup& s = setup();
+  const EdgeFinishRequest rq = s.request(s.hub_only, 0.1, 0.9);
+  for (auto _ : state) {
+    StripSamples smp = sample_strip(*s.edge.surface, 0.5, 0.5, rq.sampling);
+    add_flank_samples(smp, *s.first, 0.5, 0.0, rq.sampling);
+    add_flank_samples(smp, *s.second, 0.5, 1.0, rq.sampling);
+    benchmark::DoNotOptimize(smp.p.data());
+  }
+}
+BENCHMARK(BM_EdgeStripSamplesOneContact)->Unit(benchmark::kMillisecond);
+
+// One row: contacts by chord height, the φ search at each l_j, the
+// averaged φ, l balancing, corner contacts, the side-edge row, checks.
+void BM_EdgeOneRow(benchmark::State& state) {
+  EdgeSetup& s = setup();
+  const EdgeFinishRequest rq = s.request(s.hub_only, 0.5, 0.5001);
+  for (auto _ : state) {
+    const EdgeFinishResult r = plan_edge_finish(rq);
+    benchmark::DoNotOptimize(r.total_poses);
+    state.counters["rows"] = static_cast<double>(r.rows.size());
+    state.counters["poses"] = r.total_poses;
+  }
+}
+BENCHMARK(BM_EdgeOneRow)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_EdgeWholeLeadingEdge(benchmark::State& state) {
+  EdgeSetup& s = setup();
+  const EdgeFinishRequest rq = s.request(s.world, 0.1, 0.9);
+  for (auto _ : state) {
+    const EdgeFinishResult r = plan_edge_finish(rq);
+    benchmark::DoNotOptimize(r.total_poses);
+    state.counters["rows"] = static_cast<double>(r.rows.size());
+    state.counters["side_rows"] = r.side_rows;
+    state.counters["poses"] = r.total_poses;
+    state.counters["refused"] = r.total_refusals + r.refused_links;
+    state.counters["rows_s"] = r.rows_seconds;
+    state.counters["checks_s"] = r.checks_seconds;
+  }
+}
+BENCHMARK(BM_EdgeWholeLeadingEdge)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace bliskrun

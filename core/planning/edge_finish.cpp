@@ -1,0 +1,641 @@
+#include "core/planning/edge_finish.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void validate(const EdgeFinishRequest& rq) {
+  if (!rq.edge) throw ParameterError("edge", "missing edge region surface");
+  if (!rq.tool) throw ParameterError("tool", "missing tool");
+  flat_end_of(*rq.tool);
+  if (!rq.world) throw ParameterError("world", "missing collision world");
+  if (!(rq.v0 >= 0 && rq.v1 <= 1 && rq.v0 < rq.v1)) throw ParameterError("span", "expected 0 <= v0 < v1 <= 1");
+  if (!(rq.band.e1_mm <= 0)) throw ParameterError("e1", "the overcut limit must be <= 0");
+  if (!(rq.band.e2_mm > rq.band.e1_mm)) throw ParameterError("e2", "the undercut limit must exceed e1");
+  if (rq.l_count < 1) throw ParameterError("l_count", "must be >= 1");
+  if (!(rq.retract_mm > 0)) throw ParameterError("retract", "must be > 0");
+}
+
+// Everything one contact contributes to its row.
+struct ContactPlan {
+  double u = 0;
+  EdgeFrame frame;
+  bool bottom = false, any = false;   // a bottom position exists / any position exists
+  std::vector<double> paper_w, joint_w;  // per l_j (0 = infeasible)
+  std::vector<double> joint_phi;
+  double paper_phi = 0;
+  EdgePosition corner;                // when !bottom
+  double corner_w = 0;
+  double side_w = 0;                  // conventional side-edge positioning
+  int evaluations = 0;
+  std::shared_ptr<const ContactStrip> strip;
+};
+
+double score(const StripWidth& w) { return w.gouges || !w.touches ? 0.0 : w.width_mm; }
+
+std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
+  const double hi = f.radius_mm - f.corner_mm;
+  if (count == 1 || r_e >= hi) return {hi};
+  std::vector<double> l;
+  for (int j = 0; j < count; ++j) l.push_back(r_e + (hi - r_e) * j / (count - 1));
+  return l;
+}
+
+std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
+                                               double v) {
+  StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
+  (void)frame;
+  const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
+  if (rq.first) add_flank_samples(samples, *rq.first, u_f, 0.0, rq.sampling);
+  if (rq.second) add_flank_samples(samples, *rq.second, u_f, 1.0, rq.sampling);
+  return std::make_shared<const ContactStrip>(*rq.tool, frame, std::move(samples), rq.band);
+}
+
+ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const std::vector<double>& ls,
+                         bool side_only) {
+  ContactPlan c;
+  c.u = u;
+  const SurfaceDerivs d = rq.edge->eval(u, v);
+  c.frame = edge_frame(d);
+  c.strip = make_strip(rq, c.frame, u, v);
+  const ContactStrip& strip = *c.strip;
+  const CornerPosition side = corner_min_lead(strip, rq.side_min_lead_rad);
+  c.side_w = side.feasible ? side.width.width_mm : 0.0;
+  c.evaluations += 1;
+  if (side_only) return c;
+  double phi_sum = 0;
+  int feasible = 0;
+  for (double l : ls) {
+    const SearchResult r = search_side_slip(
+        [&](double phi) { return score(strip.width({EdgeContact::Bottom, l, 0, phi})); }, rq.search);
+    c.evaluations += r.evaluations;
+    const bool plus = r.width_from_plus_mm > (1 + rq.peak_preference) * r.width_from_minus_mm;
+    const double w = plus ? r.width_from_plus_mm : r.width_from_minus_mm;
+    const double phi = plus ? r.phi_from_plus_rad : r.phi_from_minus_rad;
+    c.joint_w.push_back(std::max(w, 0.0));
+    c.joint_phi.push_back(phi);
+    if (w > 0) {
+      phi_sum += phi;
+      ++feasible;
+    }
+  }
+  c.bottom = feasible > 0;
+  if (c.bottom) {
+    c.paper_phi = phi_sum / feasible;  // §3.2: the average of the φ_j,opt
+    for (double l : ls) c.paper_w.push_back(score(strip.width({EdgeContact::Bottom, l, 0, c.paper_phi})));
+    c.evaluations += static_cast<int>(ls.size());
+    c.any = true;
+    return c;
+  }
+  // Concave part: the corner with the smallest lead that does not gouge.
+  // Concave part: the corner with the smallest lead that does not gouge,
+  // then (θ, φ) as the paper positions the corner (§1.2): φ by the same
+  // two-sided search at that lead and a little above it.
+  const CornerPosition cp = corner_min_lead(strip, 0.0);
+  c.evaluations += 1;
+  if (cp.feasible) {
+    c.any = true;
+    c.corner = cp.position;
+    c.corner_w = cp.width.width_mm;
+    for (double extra_deg : {0.0, 1.0, 3.0}) {
+      const double theta = cp.position.lead_rad + extra_deg * kPi / 180;
+      if (theta >= kPi / 2) break;
+      const SearchResult r = search_side_slip(
+          [&](double phi) { return score(strip.width({EdgeContact::Corner, 0, theta, phi})); }, rq.search);
+      c.evaluations += r.evaluations;
+      if (r.width_mm > c.corner_w * (1 + 1e-9)) {
+        c.corner_w = r.width_mm;
+        c.corner = {EdgeContact::Corner, 0, theta, r.phi_rad};
+      }
+    }
+  }
+  return c;
+}
+
+// Row width of a table by balance_l, corner contacts taking their one width
+// at every l.
+BalancedRow balance(const std::vector<ContactPlan>& cs, bool paper, size_t nl) {
+  std::vector<std::vector<double>> table;
+  for (const ContactPlan& c : cs) {
+    if (c.bottom) table.push_back(paper ? c.paper_w : c.joint_w);
+    else table.push_back(std::vector<double>(nl, c.any ? c.corner_w : 0.0));
+  }
+  return balance_l(table);
+}
+
+struct PlannedRow {
+  EdgeFinishRow row;
+  std::vector<ContactPlan> contacts;
+  BalancedRow emitted;
+};
+
+PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, bool side_only) {
+  PlannedRow pr;
+  pr.row.v = v;
+  const IsoVCurve curve(*rq.edge, v);
+  const RowSteps steps = plan_row_steps(curve, rq.steps);
+  pr.row.max_deviation_mm = steps.max_deviation_mm;
+  for (double u : steps.t) {
+    pr.contacts.push_back(plan_contact(rq, u, v, ls, side_only));
+    pr.row.strip_evaluations += pr.contacts.back().evaluations;
+  }
+  // Over the contacts where the side-edge positioning has a gouge-free
+  // position (a contact where it has none does not bound its rows; the
+  // count of such contacts is left to the width table of the comparison).
+  double side = std::numeric_limits<double>::infinity();
+  for (const ContactPlan& c : pr.contacts)
+    if (c.side_w > 0) side = std::min(side, c.side_w);
+  pr.row.side_width_mm = std::isfinite(side) ? side : 0.0;
+  if (side_only) return pr;
+  const BalancedRow paper = balance(pr.contacts, true, ls.size());
+  const BalancedRow joint = balance(pr.contacts, false, ls.size());
+  pr.row.paper_width_mm = paper.width_mm;
+  pr.row.joint_width_mm = joint.width_mm;
+  pr.emitted = rq.optimum == EdgeOptimum::Paper ? paper : joint;
+  pr.row.width_mm = pr.emitted.width_mm;
+  return pr;
+}
+
+// The position a contact takes in the emitted path, or false.
+bool chosen_position(const EdgeFinishRequest& rq, const ContactPlan& c, int l_index, const std::vector<double>& ls,
+                     EdgePosition& pos) {
+  if (!c.any) return false;
+  if (!c.bottom) {
+    pos = c.corner;
+    return true;
+  }
+  if (l_index < 0) return false;
+  pos = {EdgeContact::Bottom, ls[l_index], 0,
+         rq.optimum == EdgeOptimum::Paper ? c.paper_phi : c.joint_phi[l_index]};
+  return true;
+}
+
+std::string nearest_object(const CollisionWorld& world, const PoseCheck& pc) {
+  if (pc.worst < 0) return "?";
+  const PartClearance& p = pc.parts[pc.worst];
+  return std::string(to_string(p.part)) + " within clearance of " + (p.object >= 0 ? world.name(p.object) : "?");
+}
+
+// Links: retract up the tool axis, [via the edge's front when the axis turns
+// by more than 90° (one-way rows)], approach down the next axis. One place,
+// so it can switch to the shared link builder.
+EdgeFinishLink plan_edge_link(const EdgeFinishRequest& rq, const ToolBody& body, const EdgeFinishPose& a,
+                              const EdgeFinishPose& b, int from_row, int to_row) {
+  EdgeFinishLink link;
+  link.from_row = from_row;
+  link.to_row = to_row;
+  const ToolPose ra{a.pose.tip + rq.retract_mm * a.pose.axis, a.pose.axis};
+  const ToolPose rb{b.pose.tip + rq.retract_mm * b.pose.axis, b.pose.axis};
+  std::vector<ToolPose> seq = {a.pose, ra};
+  if (a.pose.axis.dot(b.pose.axis) < 0) {
+    // Round the edge's front: the mean of the two normals points off the
+    // edge; go there at the retract distance plus the tool radius.
+    Vec3 front = (a.normal + b.normal);
+    if (front.norm() < 1e-6) front = a.normal.cross(b.contact - a.contact).cross(a.normal);
+    front.normalize();
+    const Vec3 mid = 0.5 * (a.contact + b.contact) + (rq.retract_mm + flat_end_of(*rq.tool).radius_mm) * front;
+    seq.push_back({mid, front});
+  }
+  seq.push_back(rb);
+  seq.push_back(b.pose);
+  for (size_t i = 1; i + 1 < seq.size(); ++i) link.moves.push_back(seq[i]);
+  for (size_t i = 1; i + 1 < seq.size(); ++i) {
+    const PoseCheck pc = rq.world->check(body, seq[i], rq.clearances, 0);
+    if (!pc.clear) {
+      link.reason = "link pose " + std::to_string(i) + ": " + nearest_object(*rq.world, pc);
+      return link;
+    }
+  }
+  // Against the machined blade itself: every leg sampled (t = 1/16 ...
+  // 15/16) against both end contacts' samples (edge region and flanks).
+  for (size_t i = 0; i + 1 < seq.size(); ++i) {
+    const PoseMotion m(seq[i], seq[i + 1]);
+    for (int k = 1; k < 16; ++k) {
+      const ToolPose p = m.pose_at(k / 16.0);
+      const double d = std::min(a.strip->deepest(p), b.strip->deepest(p));
+      if (d < rq.band.e1_mm) {
+        link.reason = "link leg " + std::to_string(i) + ": cuts the blade itself (" + std::to_string(1e3 * d) + " um)";
+        return link;
+      }
+    }
+  }
+  for (size_t i = 0; i + 1 < seq.size(); ++i) {
+    const MotionCheck mc = rq.world->check_motion(body, seq[i], seq[i + 1], rq.clearances, rq.motion_tol_mm);
+    if (!mc.clear) {
+      link.reason = "link leg " + std::to_string(i) + (mc.undecided ? ": undecided" : ": " + nearest_object(*rq.world, mc.at));
+      return link;
+    }
+  }
+  link.clear = true;
+  return link;
+}
+
+// Where the optimum's tool is not clear of the world (on the sides of an
+// edge in a narrow passage the surface normal points at the neighbour), the
+// contact moves to the corner with more lead — the paper's §1.2(a)
+// positioning, which turns the axis off the normal — trying leads up to 60°
+// and side-slips all round, the widest gouge-free clear one at the smallest
+// lead winning. The motion from `previous` must be clear too.
+bool clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
+                       const ToolPose* previous) {
+  for (int lead_deg = 5; lead_deg <= 60; lead_deg += 5) {
+    bool found = false;
+    EdgePosition best;
+    StripWidth best_w;
+    for (int phi_deg = -180; phi_deg < 180; phi_deg += 30) {
+      const EdgePosition pos{EdgeContact::Corner, 0, lead_deg * kPi / 180, phi_deg * kPi / 180};
+      const StripWidth w = p.strip->width(pos);
+      if (w.gouges || !w.touches || (found && w.width_mm <= best_w.width_mm)) continue;
+      const ToolPose pose = p.strip->pose(pos);
+      if (!rq.world->check(body, pose, rq.clearances, 0).clear) continue;
+      if (previous && !rq.world->check_motion(body, *previous, pose, rq.clearances, rq.motion_tol_mm).clear) continue;
+      found = true;
+      best = pos;
+      best_w = w;
+    }
+    if (found) {
+      p.position = best;
+      p.pose = p.strip->pose(best);
+      p.width_mm = best_w.width_mm;
+      p.left_mm = best_w.left_mm;
+      p.right_mm = best_w.right_mm;
+      p.tilted = true;
+      return true;
+    }
+  }
+  return false;
+}
+
+double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const ContactStrip& sa, const ContactStrip& sb) {
+  const PoseMotion m(a.pose, b.pose);
+  double d = std::numeric_limits<double>::infinity();
+  for (double t : {0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875}) {
+    const ToolPose p = m.pose_at(t);
+    d = std::min({d, sa.deepest(p), sb.deepest(p)});
+  }
+  return d;
+}
+
+// The contact positions fix the tool at the contacts, but the straight
+// motion between two of them (tip on the chord, axis turning) swings the
+// tool's far side — l from the contact on a round of radius ρ — through a
+// chord of radius ~ sqrt(ρ² + l²), far more than the contact's own chord
+// height. Where the motion, sampled at t = 1/8 ... 7/8 against both
+// contacts' samples, dips below e1, a contact is inserted half-way with the
+// blended position (same family: l, θ, φ averaged) until it does not; a
+// switch between bottom and corner cannot be blended and becomes a link.
+void refine_row(const EdgeFinishRequest& rq, double v, std::vector<EdgeFinishPose>& poses,
+                std::vector<std::shared_ptr<const ContactStrip>>& strips, int& inserted) {
+  size_t i = 0;
+  while (i + 1 < poses.size()) {
+    const EdgeFinishPose& a = poses[i];
+    const EdgeFinishPose& b = poses[i + 1];
+    if (b.break_before || motion_deepest(a, b, *strips[i], *strips[i + 1]) >= rq.band.e1_mm) {
+      ++i;
+      continue;
+    }
+    const bool same = a.position.contact == b.position.contact;
+    if (!same || std::abs(b.u - a.u) < 1e-7) {
+      poses[i + 1].break_before = true;
+      ++i;
+      continue;
+    }
+    EdgeFinishPose m;
+    m.u = 0.5 * (a.u + b.u);
+    m.v = v;
+    m.position = {a.position.contact, 0.5 * (a.position.l_mm + b.position.l_mm),
+                  0.5 * (a.position.lead_rad + b.position.lead_rad),
+                  0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)};
+    const EdgeFrame f = edge_frame(rq.edge->eval(m.u, v));
+    auto strip = make_strip(rq, f, m.u, v);
+    const StripWidth w = strip->width(m.position);
+    m.pose = strip->pose(m.position);
+    m.contact = f.point;
+    m.normal = f.z;
+    m.width_mm = w.width_mm;
+    m.left_mm = w.left_mm;
+    m.right_mm = w.right_mm;
+    m.inserted = true;
+    m.strip = strip;
+    if (w.gouges) {  // the blend itself gouges: cut no further along, link over
+      poses[i + 1].break_before = true;
+      ++i;
+      continue;
+    }
+    poses.insert(poses.begin() + static_cast<long>(i) + 1, m);
+    strips.insert(strips.begin() + static_cast<long>(i) + 1, strip);
+    ++inserted;
+  }
+}
+
+}  // namespace
+
+EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progress) {
+  validate(rq);
+  EdgeFinishResult out;
+  const FlatEnd fe = flat_end_of(*rq.tool);
+  if (rq.r_e_mm > fe.radius_mm - fe.corner_mm)
+    throw ParameterError("r_e", "the cutting-speed radius exceeds the flat bottom (R - r = " +
+                                    std::to_string(fe.radius_mm - fe.corner_mm) + " mm)");
+  const std::vector<double> ls = l_grid(fe, rq.r_e_mm, rq.l_count);
+  const ToolBody body(*rq.tool, rq.tool_tol_mm);
+
+  // Span speed: the largest |pv| over a row, so a span step in mm becomes a
+  // v step that no contact exceeds.
+  auto max_pv = [&](double v) {
+    double m = 0;
+    for (int i = 0; i <= 20; ++i) m = std::max(m, rq.edge->eval(i / 20.0, v).pv.norm());
+    return m;
+  };
+
+  // ---- rows: bottom method ----
+  const auto t_rows = Clock::now();
+  std::vector<PlannedRow> planned;
+  double v = rq.v0;
+  progress.begin("edge finish rows", 0);
+  while (true) {
+    progress.step(static_cast<long>(planned.size()));
+    PlannedRow pr = plan_row(rq, v, ls, false);
+    // Strip sides over the emitted positions, for the spacing.
+    double left = std::numeric_limits<double>::infinity(), right = left, narrowest = left;
+    std::vector<std::shared_ptr<const ContactStrip>> strips;
+    for (size_t i = 0; i < pr.contacts.size(); ++i) {
+      const ContactPlan& c = pr.contacts[i];
+      EdgePosition pos;
+      if (!chosen_position(rq, c, pr.emitted.l_index[i], ls, pos)) continue;
+      const ContactStrip& strip = *c.strip;
+      const StripWidth w = strip.width(pos);
+      EdgeFinishPose p;
+      p.pose = strip.pose(pos);
+      p.contact = c.frame.point;
+      p.normal = c.frame.z;
+      p.u = c.u;
+      p.v = v;
+      p.position = pos;
+      p.width_mm = w.width_mm;
+      p.left_mm = w.left_mm;
+      p.right_mm = w.right_mm;
+      p.strip = c.strip;
+      pr.row.poses.push_back(p);
+      strips.push_back(c.strip);
+      left = std::min(left, w.left_mm);
+      right = std::min(right, w.right_mm);
+      narrowest = std::min(narrowest, w.width_mm);
+      if (pos.contact == EdgeContact::Bottom) ++pr.row.bottom_contacts;
+      else ++pr.row.corner_contacts;
+    }
+    refine_row(rq, v, pr.row.poses, strips, pr.row.inserted_contacts);
+    pr.row.left_min_mm = std::isfinite(left) ? left : 0;
+    pr.row.right_min_mm = std::isfinite(right) ? right : 0;
+    // §3.2: rows spaced by the smallest strip along the row. The strips are
+    // lopsided (up by right, down by left at each contact) but the next row's
+    // contacts sit where this row's do and have about the same strips, so at
+    // each place along the row right + next left ~ this contact's width.
+    // The simulation (core/sim) measures what that leaves.
+    const double span_step = std::isfinite(narrowest) ? narrowest : 0.0;
+    const bool last = v >= rq.v1 - 1e-12;
+    if (!last && !(span_step > 1e-6)) {
+      planned.push_back(std::move(pr));
+      throw Error("edge finish: row at v = " + std::to_string(v) + " has no strip (no feasible position)");
+    }
+    if (!last) {
+      pr.row.spacing_mm = span_step;
+      // Stop when this row's strip already reaches the window's end.
+      const double to_end = (rq.v1 - v) * max_pv(v);
+      if (to_end <= pr.row.right_min_mm) {
+        planned.push_back(std::move(pr));
+        break;
+      }
+      planned.push_back(std::move(pr));
+      v = std::min(rq.v1, v + span_step / max_pv(v));
+    } else {
+      planned.push_back(std::move(pr));
+      break;
+    }
+  }
+  planned.back().row.spacing_mm = 0;
+  out.rows_seconds = seconds_since(t_rows);
+
+  // ---- comparison row (Fig. 8) ----
+  const int crow = rq.comparison_row >= 0 ? std::min<int>(rq.comparison_row, static_cast<int>(planned.size()) - 1)
+                                          : static_cast<int>(planned.size()) / 2;
+  {
+    const PlannedRow& pr = planned[crow];
+    EdgeWidthComparison& cmp = out.comparison;
+    cmp.row = crow;
+    cmp.v = pr.row.v;
+    for (size_t i = 0; i < pr.contacts.size(); ++i) {
+      const ContactPlan& c = pr.contacts[i];
+      cmp.u.push_back(c.u);
+      const double best_joint = c.joint_w.empty() ? 0 : *std::max_element(c.joint_w.begin(), c.joint_w.end());
+      const double best_paper = c.paper_w.empty() ? 0 : *std::max_element(c.paper_w.begin(), c.paper_w.end());
+      cmp.paper_mm.push_back(c.bottom ? best_paper : c.corner_w);
+      cmp.joint_mm.push_back(c.bottom ? best_joint : c.corner_w);
+      cmp.side_mm.push_back(c.side_w);
+      cmp.contact.push_back(c.bottom ? "bottom" : "corner");
+    }
+    for (const EdgeFinishPose& p : pr.row.poses) cmp.bottom_mm.push_back(p.width_mm);
+  }
+
+  // ---- side-edge positioning over the same window: its own rows ----
+  const auto t_side = Clock::now();
+  {
+    double vs = rq.v0;
+    int rows = 0;
+    progress.begin("edge finish, side-edge rows", 0);
+    while (true) {
+      progress.step(rows);
+      ++rows;
+      const PlannedRow pr = plan_row(rq, vs, ls, true);
+      // The side contact is symmetric across the feed (φ = 0): half each way.
+      const double w = pr.row.side_width_mm;
+      if (!(w > 1e-6)) throw Error("edge finish: side-edge positioning has no strip at v = " + std::to_string(vs));
+      if ((rq.v1 - vs) * max_pv(vs) <= w / 2 || vs >= rq.v1 - 1e-12) break;
+      vs = std::min(rq.v1, vs + w / max_pv(vs));
+    }
+    out.side_rows = rows;
+    out.side_window_mm = 0;
+    const int n = 50;
+    for (int i = 0; i < n; ++i)
+      out.side_window_mm += (rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * (i + 1) / n) -
+                             rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * i / n))
+                                .norm();
+  }
+  out.side_seconds = seconds_since(t_side);
+
+  // ---- order, checks, links ----
+  const auto t_checks = Clock::now();
+  progress.begin("edge finish checks", static_cast<long>(planned.size()));
+  for (size_t r = 0; r < planned.size(); ++r) {
+    EdgeFinishRow& row = planned[r].row;
+    std::vector<EdgeFinishPose> candidates = std::move(row.poses);
+    row.poses.clear();
+    row.reversed = rq.zigzag && r % 2 == 1;
+    if (row.reversed) {
+      // A break belongs to the pair it separates: move it to the pose that
+      // now comes second.
+      const size_t n = candidates.size();
+      std::vector<bool> breaks(n);
+      for (size_t i = 0; i < n; ++i) breaks[i] = candidates[i].break_before;
+      std::reverse(candidates.begin(), candidates.end());
+      for (size_t j = 0; j < n; ++j) candidates[j].break_before = j > 0 && breaks[n - j];
+    }
+    int segment = 0;
+    long last = -1;  // index in row.poses of the previous emitted pose of this pass
+    progress.step(static_cast<long>(r));
+    for (EdgeFinishPose& p : candidates) {
+      progress.check();
+      if (p.break_before && last >= 0) {
+        ++segment;
+        last = -1;
+      }
+      const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
+      std::string reason;
+      if (!pc.clear) reason = nearest_object(*rq.world, pc);
+      else if (last >= 0) {
+        const MotionCheck mc =
+            rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm);
+        if (!mc.clear) reason = "motion from the previous pose: " + (mc.undecided ? std::string("undecided")
+                                                                                   : nearest_object(*rq.world, mc.at));
+      }
+      if (!reason.empty() &&
+          clear_alternative(rq, body, p, last >= 0 ? &row.poses[last].pose : nullptr)) {
+        reason.clear();
+        ++row.tilted_contacts;
+        // A tilted pose is a different family from its neighbours: reach it
+        // by a link unless the motion is proved within e1 of the blade.
+        if (last >= 0 && motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm) {
+          ++segment;
+          last = -1;
+        }
+      }
+      if (!reason.empty()) {
+        row.refusals.push_back({p.u, p.contact, reason});
+        if (last >= 0) ++segment;  // the row is split: no straight move across the refused contact
+        last = -1;
+        continue;
+      }
+      // Every cutting motion within e1 of the blade (a tilted neighbour, a
+      // pose after a refused one): otherwise reach this pose by a link.
+      if (last >= 0 && motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm) ++segment;
+      p.segment = segment;
+      row.poses.push_back(p);
+      last = static_cast<long>(row.poses.size()) - 1;
+    }
+    // Rows whose contacts had no feasible position at all.
+    for (size_t i = 0; i < planned[r].contacts.size(); ++i) {
+      EdgePosition pos;
+      const ContactPlan& c = planned[r].contacts[i];
+      if (!chosen_position(rq, c, planned[r].emitted.l_index[i], ls, pos))
+        row.refusals.push_back({c.u, c.frame.point, "no gouge-free position within the band"});
+    }
+    out.total_poses += static_cast<int>(row.poses.size());
+    out.total_refusals += static_cast<int>(row.refusals.size());
+    out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
+    out.rows.push_back(std::move(row));
+  }
+  // Links between consecutive passes, in cutting order.
+  const EdgeFinishPose* prev = nullptr;
+  int prev_row = -1;
+  for (size_t r = 0; r < out.rows.size(); ++r) {
+    const std::vector<EdgeFinishPose>& poses = out.rows[r].poses;
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
+      if (starts_pass && prev) {
+        out.links.push_back(plan_edge_link(rq, body, *prev, poses[i], prev_row, static_cast<int>(r)));
+        if (!out.links.back().clear) ++out.refused_links;
+      }
+      prev = &poses[i];
+      prev_row = static_cast<int>(r);
+    }
+  }
+  progress.end();
+  out.checks_seconds = seconds_since(t_checks);
+  return out;
+}
+
+std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
+  std::vector<DrumFinishMove> moves;
+  size_t link = 0;
+  bool started = false;
+  for (size_t r = 0; r < result.rows.size(); ++r) {
+    const EdgeFinishRow& row = result.rows[r];
+    const int ri = static_cast<int>(r);
+    for (size_t i = 0; i < row.poses.size(); ++i) {
+      const bool starts_pass = i == 0 || row.poses[i].segment != row.poses[i - 1].segment;
+      if (starts_pass && started) {
+        const EdgeFinishLink& l = result.links.at(link++);
+        if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, l.reason});
+        else
+          for (const ToolPose& m : l.moves) moves.push_back({DrumFinishMove::Kind::Rapid, m, ri, {}});
+      }
+      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, {}});
+      started = true;
+    }
+  }
+  return moves;
+}
+
+std::vector<ToolPass> edge_finish_passes(const EdgeFinishResult& result) {
+  std::vector<ToolPass> passes(1);
+  for (const DrumFinishMove& m : edge_finish_moves(result)) {
+    if (m.kind == DrumFinishMove::Kind::Stop) {
+      if (!passes.back().empty()) passes.emplace_back();
+      continue;
+    }
+    passes.back().push_back(m.pose);
+  }
+  if (passes.back().empty()) passes.pop_back();
+  return passes;
+}
+
+std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& rq, const std::string& name) {
+  std::ostringstream os;
+  char buf[240];
+  os << "$$ bliskrun blade edge finish (flat-end bottom) " << name << "\n";
+  os << "$$ TOOL " << (rq.tool ? rq.tool->description() : std::string("?")) << "\n";
+  std::snprintf(buf, sizeof buf, "$$ BAND %.6f %.6f CHORD_TOL %.6f ROWS %zu POSES %d REFUSALS %d\n", rq.band.e1_mm,
+                rq.band.e2_mm, rq.steps.chord_tol_mm, result.rows.size(), result.total_poses, result.total_refusals);
+  os << buf << "MULTAX\n";
+  int row = -1;
+  auto put = [&](const ToolPose& p) {
+    std::snprintf(buf, sizeof buf, "GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.tip.x(), p.tip.y(), p.tip.z(), p.axis.x(),
+                  p.axis.y(), p.axis.z());
+    os << buf;
+  };
+  for (const DrumFinishMove& m : edge_finish_moves(result)) {
+    switch (m.kind) {
+      case DrumFinishMove::Kind::Stop:
+        os << "$$ REFUSED: " << m.reason << "\nSTOP\n";
+        break;
+      case DrumFinishMove::Kind::Rapid:
+        os << "RAPID\n";
+        put(m.pose);
+        break;
+      case DrumFinishMove::Kind::Feed:
+        if (m.row != row) {
+          row = m.row;
+          std::snprintf(buf, sizeof buf, "$$ ROW %d V %.6f WIDTH %.6f\n", row, result.rows[row].v,
+                        result.rows[row].width_mm);
+          os << buf;
+        }
+        put(m.pose);
+        break;
+    }
+  }
+  os << "FINI\n";
+  return os.str();
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,168 @@
+#pragma once
+// Blade leading/trailing-edge finishing with the bottom of a flat-end mill
+// (SPEC §6.2, edge paper §3.2): rows around the edge at constant span v of
+// the edge region (core/parts/edge_region.h), stepped by chord height
+// (plan_row_steps), each contact positioned on the cutter bottom with (l, φ)
+// optimised for the widest strip (core/planning/edge_strip.h) — on the
+// corner torus with the smallest gouge-free lead where the bottom cannot cut
+// — rows spaced by the row's smallest strip, every pose and motion proved
+// against the world (neighbouring blades, hub, the blade itself for shank
+// and holder: core/collision), links retracting along the tool axis. The
+// same rows are also measured for the conventional side-edge positioning
+// (corner contact, φ = 0, smallest gouge-free lead from a minimum lead), so
+// the paper's comparison (Fig. 8: strip width along a row; Fig. 9: row
+// counts, 31 vs 48) comes out of the same run.
+//
+// The result has the drum finish's shape (rows of poses, links, moves() as
+// DrumFinishMove: Feed/Rapid/Stop), so the posts and a whole-blisk job can
+// take it as they take a drum-finish plan.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/common/progress.h"
+#include "core/geometry/surface.h"
+#include "core/planning/drum_finish.h"
+#include "core/planning/edge_strip.h"
+#include "core/planning/row_steps.h"
+#include "core/sim/undercut.h"
+#include "core/tools/tool.h"
+
+namespace bliskrun {
+
+// Which bottom optimum the emitted path uses.
+enum class EdgeOptimum {
+  Paper,  // §3.2: φ averaged over the l_j's two-sided searches, then l balanced
+  Joint,  // ours: each l_j keeps its own best φ, then l balanced (no averaging)
+};
+
+// Strip sampling for an edge region: condition ① on 41 samples over the
+// whole region around (its round is a fraction of the tool's size) on every
+// 4th line across.
+inline StripSampling edge_sampling() {
+  StripSampling s;
+  s.gouge_whole_u = true;
+  s.gouge_along = 41;
+  return s;
+}
+
+struct EdgeFinishRequest {
+  std::shared_ptr<const Surface> edge;  // edge region: u around, v span (build_edge_region)
+  // The two flanks the region was built from (EdgeRegionRequest first and
+  // second, with its span range): condition ① is checked on them too, a
+  // tool radius into each from its edge end, so the flat bottom reaching
+  // over a concave flank beyond the edge region is seen. Optional.
+  std::shared_ptr<const Surface> first, second;
+  double span_u0 = 0, span_u1 = 1;
+  double v0 = 0.1, v1 = 0.9;            // span window to machine (edge-region v)
+  const Tool* tool = nullptr;           // a flat-end mill
+  const CollisionWorld* world = nullptr;
+  Band band;                            // e1 (overcut), e2 (undercut)
+  double r_e_mm = 1.0;                  // condition ③: l >= r_e
+  int l_count = 6;                      // discretised l in [r_e, R - r]
+  EdgeOptimum optimum = EdgeOptimum::Paper;
+  SideSlipSearch search;
+  // On a nearly cylindrical edge the width has two equal peaks (φ of either
+  // sign, the tool centre towards the hub or the tip across the feed) and
+  // which one the search keeps is noise; the strip is then lopsided to
+  // alternate sides from contact to contact and the row spacing (this row's
+  // smallest reach up + the next's smallest reach down) collapses. Ours, not
+  // the paper's: keep the peak from -90° (centre towards the tip, the disc
+  // away from the hub) unless the other is wider by this fraction.
+  double peak_preference = 0.02;
+  StripSampling sampling = edge_sampling();
+  // Chord tolerance around the edge (the paper's 0.001 mm). Constant chord
+  // height with the measured guarantee: the variable method's δ only
+  // shrinks after the round's curvature peak (eq. 18-19 never lets it grow
+  // back above the ratio), which on a 0.4 mm round left steps of 0.2 µm.
+  StepOptions steps{ChordMethod::Constant, 0.001, true, 0.5, 1e-4};
+  bool zigzag = true;                   // one-way links go round the edge
+  double side_min_lead_rad = 3.0 * kPi / 180.0;  // conventional side-edge positioning
+  Clearances clearances;
+  double motion_tol_mm = 1e-3;
+  double retract_mm = 3.0;              // links: up the tool axis
+  double tool_tol_mm = 1e-3;            // ToolBody meshing tolerance
+  int comparison_row = -1;              // row whose widths are reported in full (-1: the middle one)
+};
+
+struct EdgeFinishPose {
+  ToolPose pose;
+  Vec3 contact = Vec3::Zero(), normal = Vec3::UnitZ();
+  double u = 0, v = 0;
+  EdgePosition position;
+  double width_mm = 0, left_mm = 0, right_mm = 0;  // strip at this pose
+  int segment = 0;  // passes within the row (a refused contact splits the row)
+  bool break_before = false;  // bottom <-> corner switch: a link, not a cut, from the previous pose
+  bool inserted = false;      // added so the motion from the previous pose stays within e1
+  bool tilted = false;        // the optimum was not clear of the world: corner with more lead instead
+  std::shared_ptr<const ContactStrip> strip;  // the contact's samples
+};
+
+struct EdgeContactRefusal {
+  double u = 0;
+  Vec3 contact = Vec3::Zero();
+  std::string reason;
+};
+
+struct EdgeFinishRow {
+  double v = 0;
+  bool reversed = false;
+  double width_mm = 0;                 // balanced row width (the emitted method)
+  double left_min_mm = 0, right_min_mm = 0;
+  double spacing_mm = 0;               // to the next row (0 on the last)
+  double paper_width_mm = 0, joint_width_mm = 0;  // row width by either optimum
+  double side_width_mm = 0;            // conventional side-edge positioning
+  int bottom_contacts = 0, corner_contacts = 0;
+  double max_deviation_mm = 0;         // measured chord deviation
+  std::vector<EdgeFinishPose> poses;   // emitted, in cutting order
+  std::vector<EdgeContactRefusal> refusals;
+  int strip_evaluations = 0;
+  int inserted_contacts = 0;           // motion refinement (see plan_edge_finish)
+  int tilted_contacts = 0;             // corner positions taken for clearance
+};
+
+// Between consecutive passes: rows, and the pieces of a row split by a
+// refused contact or a bottom <-> corner switch.
+struct EdgeFinishLink {
+  int from_row = 0, to_row = 0;
+  std::vector<ToolPose> moves;  // via poses (rapid)
+  bool clear = false;
+  std::string reason;
+};
+
+// The paper's Fig. 8 for one row: strip widths per contact for each method.
+struct EdgeWidthComparison {
+  int row = -1;
+  double v = 0;
+  std::vector<double> u, bottom_mm, paper_mm, joint_mm, side_mm;
+  std::vector<std::string> contact;  // "bottom" / "corner" per contact
+};
+
+struct EdgeFinishResult {
+  std::vector<EdgeFinishRow> rows;
+  std::vector<EdgeFinishLink> links;
+  int total_poses = 0, total_refusals = 0, refused_links = 0;
+  int side_rows = 0;             // rows the side-edge positioning needs over the same window
+  double side_window_mm = 0;     // span length covered (along the round's middle)
+  EdgeWidthComparison comparison;
+  double max_deviation_mm = 0;
+  double rows_seconds = 0, checks_seconds = 0, side_seconds = 0;
+};
+
+// Throws ParameterError for a missing edge/tool/world, a tool that is not a
+// flat-end mill, an empty span window, band e1 > 0 or e2 <= e1.
+EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& progress = Progress::none());
+
+// Rows' poses (Feed), link poses (Rapid), Stop where a contact or link was
+// refused — the same move list as drum_finish_moves.
+std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result);
+
+// Every move as simulation passes (a Stop ends a pass), rows and links.
+std::vector<ToolPass> edge_finish_passes(const EdgeFinishResult& result);
+
+// APT/CL text (header, GOTO/x,y,z,i,j,k, RAPID before link moves).
+std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& request,
+                            const std::string& name);
+
+}  // namespace bliskrun

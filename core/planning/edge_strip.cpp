@@ -1,0 +1,337 @@
+#include "core/planning/edge_strip.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+EdgeFrame edge_frame(const SurfaceDerivs& d, bool flip_normal) {
+  EdgeFrame f;
+  f.point = d.p;
+  Vec3 n = d.pu.cross(d.pv);
+  if (n.squaredNorm() == 0 || d.pu.squaredNorm() == 0) throw Error("contact frame: singular surface point");
+  n.normalize();
+  if (flip_normal) n = -n;
+  f.z = n;
+  f.x = (d.pu - d.pu.dot(n) * n).normalized();
+  f.y = f.z.cross(f.x);
+  return f;
+}
+
+const char* to_string(EdgeContact c) { return c == EdgeContact::Bottom ? "bottom" : "corner"; }
+
+FlatEnd flat_end_of(const Tool& tool) {
+  if (tool.kind() != ToolKind::FlatEndMill)
+    throw ParameterError("tool", std::string("expected a flat-end mill, got a ") + to_string(tool.kind()));
+  FlatEnd f;
+  f.radius_mm = tool.cutter().max_radius();
+  for (const ProfileElement& e : tool.cutter().elements())
+    if (e.kind == ProfileElement::Kind::Arc) {
+      f.corner_mm = e.radius;
+      break;
+    }
+  return f;
+}
+
+ToolPose position_tool(const FlatEnd& tool, const EdgeFrame& frame, const EdgePosition& pos) {
+  const double R = tool.radius_mm, r = tool.corner_mm;
+  Vec3 c_tool;
+  double theta = 0;
+  if (pos.contact == EdgeContact::Bottom) {
+    if (!(pos.l_mm > 0 && pos.l_mm <= R - r + 1e-12))
+      throw ParameterError("l", "the bottom contact must lie in (0, R - r] from the axis");
+    c_tool = Vec3(pos.l_mm, 0, 0);
+  } else {
+    theta = pos.lead_rad;
+    if (!(theta >= 0 && theta < kPi / 2)) throw ParameterError("lead", "expected 0 <= lead < 90 deg");
+    c_tool = Vec3(R - r + r * std::sin(theta), 0, r * (1 - std::cos(theta)));
+  }
+  // p_L = Rz(φ) Ry(θ) (p_T - c_T): eq. (3)-(6) of the paper as one rotation.
+  const Eigen::Matrix3d m =
+      (Eigen::AngleAxisd(pos.side_slip_rad, Vec3::UnitZ()) * Eigen::AngleAxisd(theta, Vec3::UnitY())).toRotationMatrix();
+  Eigen::Matrix3d f;
+  f.col(0) = frame.x;
+  f.col(1) = frame.y;
+  f.col(2) = frame.z;
+  ToolPose pose;
+  pose.tip = frame.point + f * (-(m * c_tool));
+  pose.axis = (f * m.col(2)).normalized();
+  return pose;
+}
+
+StripSamples sample_strip(const Surface& surface, double u, double v, const StripSampling& sm, bool flip_normal) {
+  if (sm.across < 3 || sm.across % 2 == 0) throw ParameterError("across", "expected an odd count >= 3");
+  if (sm.along < 1 || sm.along % 2 == 0) throw ParameterError("along", "expected an odd count >= 1");
+  if (!(sm.half_width_mm > 0) || !(sm.along_half_mm >= 0))
+    throw ParameterError("half_width", "expected half_width > 0 and along_half >= 0");
+  const SurfaceDerivs d = surface.eval(u, v);
+  const int half = sm.across / 2, ahalf = sm.along / 2;
+  const double dv = sm.half_width_mm / half / std::max(d.pv.norm(), 1e-12);
+  const double du = ahalf > 0 ? sm.along_half_mm / ahalf / std::max(d.pu.norm(), 1e-12) : 0.0;
+  std::vector<int> js;
+  for (int j = -half; j <= half; ++j) {
+    const double vj = v + j * dv;
+    if (vj < -1e-12 || vj > 1 + 1e-12) continue;
+    js.push_back(j);
+  }
+  StripSamples out;
+  out.along = sm.along;
+  out.across = static_cast<int>(js.size());
+  out.s_mm.resize(out.across);
+  out.p.resize(static_cast<size_t>(out.across) * out.along);
+  out.n.resize(out.p.size());
+  Vec3 prev = Vec3::Zero();
+  for (int idx = 0; idx < out.across; ++idx) {
+    const double vj = std::clamp(v + js[idx] * dv, 0.0, 1.0);
+    if (js[idx] == 0) out.centre = idx;
+    for (int k = 0; k < out.along; ++k) {
+      const double uk = std::clamp(u + (k - ahalf) * du, 0.0, 1.0);
+      const SurfaceDerivs e = surface.eval(uk, vj);
+      Vec3 n = e.pu.cross(e.pv).normalized();
+      if (flip_normal) n = -n;
+      out.p[static_cast<size_t>(idx) * out.along + k] = e.p;
+      out.n[static_cast<size_t>(idx) * out.along + k] = n;
+    }
+    // Arc offsets along the centre line (k = ahalf), from C.
+    const Vec3 c = out.p[static_cast<size_t>(idx) * out.along + ahalf];
+    out.s_mm[idx] = idx == 0 ? 0.0 : out.s_mm[idx - 1] + (c - prev).norm();
+    prev = c;
+  }
+  if (sm.gouge_along > 1 && sm.gouge_half_mm > 0) {
+    const double gdu = 2 * sm.gouge_half_mm / (sm.gouge_along - 1) / std::max(d.pu.norm(), 1e-12);
+    for (int idx = 0; idx < out.across; idx += std::max(sm.gouge_stride, 1)) {
+      const double vj = std::clamp(v + js[idx] * dv, 0.0, 1.0);
+      for (int k = 0; k < sm.gouge_along; ++k) {
+        const double uk = sm.gouge_whole_u ? static_cast<double>(k) / (sm.gouge_along - 1)
+                                           : u + (k - (sm.gouge_along - 1) / 2.0) * gdu;
+        if (uk < 0 || uk > 1) continue;
+        const SurfaceDerivs e = surface.eval(uk, vj);
+        Vec3 n = e.pu.cross(e.pv).normalized();
+        out.gouge_p.push_back(e.p);
+        out.gouge_n.push_back(flip_normal ? Vec3(-n) : n);
+      }
+    }
+  }
+  const double s0 = out.s_mm[out.centre];
+  for (double& s : out.s_mm) s -= s0;
+  return out;
+}
+
+void add_flank_samples(StripSamples& out, const Surface& flank, double u_f, double end_v, const StripSampling& sm) {
+  const SurfaceDerivs d = flank.eval(u_f, end_v);
+  const int half = sm.across / 2;
+  const double du = sm.half_width_mm / half / std::max(d.pu.norm(), 1e-12);
+  const double dv = sm.gouge_half_mm / std::max(sm.gouge_along - 1, 1) / std::max(d.pv.norm(), 1e-12);
+  const double dir = end_v < 0.5 ? 1.0 : -1.0;  // into the flank from its edge end
+  for (int j = -half; j <= half; j += std::max(sm.gouge_stride, 1)) {
+    const double uj = u_f + j * du;
+    if (uj < 0 || uj > 1) continue;
+    for (int k = 1; k < sm.gouge_along; ++k) {
+      const double vk = end_v + dir * k * dv;
+      if (vk < 0 || vk > 1) break;
+      const SurfaceDerivs e = flank.eval(uj, vk);
+      out.gouge_p.push_back(e.p);
+      out.gouge_n.push_back(e.pu.cross(e.pv).normalized());
+    }
+  }
+}
+
+double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
+                         const Vec3& n, double cap_mm) {
+  const Vec3 q = part_to_tool * p;
+  const Vec3 m = part_to_tool.linear() * n;
+  constexpr double kTol = 1e-8;
+  double t = 0;
+  double d = cutter.signed_distance(q);
+  // A ray grazing the cutter advances by tiny steps; after kMaxSteps it is
+  // reported as missing (+cap) when outside — the strip then ends there,
+  // which can only make it narrower, never hide a gouge (a ray starting
+  // inside the cutter leaves it in a few steps: the exact signed distance of
+  // a convex profile shrinks linearly along any line out of it).
+  constexpr int kMaxSteps = 40;
+  for (int it = 0; it < kMaxSteps; ++it) {
+    if (std::abs(d) < kTol) return t;
+    t += d;  // outside: along +n towards the tool; inside: along -n out of it
+    if (t > cap_mm) return cap_mm;
+    if (t < -cap_mm) return -cap_mm;
+    d = cutter.signed_distance(Vec3(q + t * m));
+  }
+  return t < 0 ? t : cap_mm;
+}
+
+StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+  StripWidth w;
+  const FlatEnd cutter = flat_end_of(tool);
+  const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
+  const double cap = 2 * (band.e2_mm - band.e1_mm);
+  // ① every sample: cheap signed distance first, the directed one only where
+  // the sample is inside the cutter.
+  w.deepest_mm = std::numeric_limits<double>::infinity();
+  auto screen = [&](const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
+      w.deepest_mm = std::min(w.deepest_mm, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
+    }
+  };
+  screen(smp.p, smp.n);
+  screen(smp.gouge_p, smp.gouge_n);
+  if (w.deepest_mm < band.e1_mm) {
+    w.gouges = true;
+    return w;
+  }
+  auto residual = [&](int j) {
+    double r = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < smp.along; ++k) {
+      const size_t i = static_cast<size_t>(j) * smp.along + k;
+      r = std::min(r, directed_distance(cutter, to_tool, smp.p[i], smp.n[i], cap));
+    }
+    return r;
+  };
+  const double rc = residual(smp.centre);
+  w.touches = rc <= band.e2_mm;
+  if (!w.touches) return w;
+  // Walk out from C on each side while the residual stays in the band.
+  auto extent = [&](int dir) {
+    int j = smp.centre;
+    double r_in = rc;
+    while (true) {
+      const int next = j + dir;
+      if (next < 0 || next >= smp.across) return std::abs(smp.s_mm[j]);
+      const double r = residual(next);
+      if (r > band.e2_mm) {
+        const double f = (band.e2_mm - r_in) / (r - r_in);
+        return std::abs(smp.s_mm[j] + f * (smp.s_mm[next] - smp.s_mm[j]));
+      }
+      j = next;
+      r_in = r;
+    }
+  };
+  w.left_mm = extent(-1);
+  w.right_mm = extent(+1);
+  w.width_mm = w.left_mm + w.right_mm;
+  return w;
+}
+
+double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+  const FlatEnd cutter = flat_end_of(tool);
+  const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
+  const double cap = 2 * (band.e2_mm - band.e1_mm);
+  double deepest = std::numeric_limits<double>::infinity();
+  auto screen = [&](const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
+      deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
+    }
+  };
+  screen(smp.p, smp.n);
+  screen(smp.gouge_p, smp.gouge_n);
+  return deepest;
+}
+
+double ContactStrip::deepest(const ToolPose& pose) const { return deepest_distance(tool_, pose, samples_, band_); }
+
+ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band)
+    : tool_(tool), flat_(flat_end_of(tool)), frame_(frame), samples_(std::move(samples)), band_(band) {}
+
+ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }
+
+StripWidth ContactStrip::width(const EdgePosition& pos) const {
+  return strip_width(tool_, pose(pos), samples_, band_);
+}
+
+namespace {
+
+std::vector<double> l_values(const FlatEnd& f, double r_e, int count) {
+  const double hi = f.radius_mm - f.corner_mm;
+  if (!(r_e > 0)) throw ParameterError("r_e", "the cutting-speed radius must be > 0");
+  if (r_e > hi) throw ParameterError("r_e", "the cutting-speed radius exceeds the flat bottom (R - r)");
+  if (count < 1) throw ParameterError("l_count", "must be >= 1");
+  std::vector<double> l;
+  if (count == 1) return {hi};
+  for (int j = 0; j < count; ++j) l.push_back(r_e + (hi - r_e) * j / (count - 1));
+  return l;
+}
+
+double score(const StripWidth& w) { return w.gouges || !w.touches ? -1.0 : w.width_mm; }
+
+}  // namespace
+
+BottomOptimum optimise_side_slip(const ContactStrip& strip, double r_e_mm, int l_count, const SideSlipSearch& s) {
+  BottomOptimum o;
+  o.l_mm = l_values(strip.flat_end(), r_e_mm, l_count);
+  double sum = 0;
+  int n = 0;
+  for (double l : o.l_mm) {
+    const SearchResult r = search_side_slip(
+        [&](double phi) { return score(strip.width({EdgeContact::Bottom, l, 0, phi})); }, s);
+    o.evaluations += r.evaluations;
+    o.phi_j_rad.push_back(r.phi_rad);
+    o.width_j_mm.push_back(std::max(r.width_mm, 0.0));
+    if (r.width_mm > 0) {
+      sum += r.phi_rad;
+      ++n;
+    }
+  }
+  o.feasible = n > 0;
+  o.phi_rad = n > 0 ? sum / n : 0.0;
+  return o;
+}
+
+JointOptimum optimise_jointly(const ContactStrip& strip, double r_e_mm, int l_count, const SideSlipSearch& s) {
+  JointOptimum o;
+  for (double l : l_values(strip.flat_end(), r_e_mm, l_count)) {
+    const SearchResult r = search_side_slip(
+        [&](double phi) { return score(strip.width({EdgeContact::Bottom, l, 0, phi})); }, s);
+    if (r.width_mm > 0 && r.width_mm >= o.width_mm) {  // ties: the larger l (cutting speed)
+      o.feasible = true;
+      o.width_mm = r.width_mm;
+      o.position = {EdgeContact::Bottom, l, 0, r.phi_rad};
+    }
+  }
+  return o;
+}
+
+CornerPosition corner_min_lead(const ContactStrip& strip, double min_lead_rad) {
+  CornerPosition c;
+  const double step = 0.5 * kPi / 180;
+  for (double theta = std::max(min_lead_rad, 0.0); theta <= 60 * kPi / 180 + 1e-12; theta += step) {
+    const EdgePosition pos{EdgeContact::Corner, 0, theta, 0};
+    const StripWidth w = strip.width(pos);
+    if (!w.gouges && w.touches) {
+      c.feasible = true;
+      c.position = pos;
+      c.width = w;
+      return c;
+    }
+  }
+  return c;
+}
+
+BalancedRow balance_l(const std::vector<std::vector<double>>& widths) {
+  BalancedRow b;
+  b.width_mm = std::numeric_limits<double>::infinity();
+  bool any = false;
+  for (const auto& w : widths) {
+    const double best = w.empty() ? 0.0 : *std::max_element(w.begin(), w.end());
+    if (best > 0) {
+      b.width_mm = std::min(b.width_mm, best);
+      any = true;
+    }
+  }
+  if (!any) b.width_mm = 0;
+  for (const auto& w : widths) {
+    int pick = -1;
+    for (int j = static_cast<int>(w.size()) - 1; j >= 0; --j)
+      if (w[j] > 0 && w[j] >= b.width_mm) {
+        pick = j;
+        break;
+      }
+    b.l_index.push_back(pick);
+  }
+  return b;
+}
+
+}  // namespace bliskrun

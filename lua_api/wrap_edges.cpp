@@ -1,0 +1,465 @@
+// bliskrun.edge_region{...} and bliskrun.edge_finish{...}: blade leading/
+// trailing-edge finishing with the bottom of a flat-end mill
+// (core/parts/edge_region.h, core/planning/edge_finish.h), the plan's
+// report, the strip-width comparison with side-edge positioning, APT/CL and
+// the undercut simulation (core/sim). Lengths in mm, angles in degrees. See
+// docs/lua_api.md.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <set>
+
+#include "core/analysis/heat_map.h"
+#include "core/common/atomic_file.h"
+#include "core/parts/edge_region.h"
+#include "core/planning/edge_finish.h"
+#include "core/sim/undercut.h"
+#include "lua_api/lua_tool.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+#include "lua_api/wrap_collision.h"
+#include "lua_api/wrap_geometry.h"
+
+namespace bliskrun::lua_api {
+
+// A plan and everything its request points to, kept alive together.
+struct LuaEdgePlan {
+  std::string name;
+  std::shared_ptr<const Surface> edge, first, second;
+  std::shared_ptr<const Tool> tool;
+  std::shared_ptr<const CollisionWorld> world;
+  EdgeFinishRequest request;
+  std::shared_ptr<const EdgeFinishResult> result;
+};
+
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <>
+struct TypeName<lua_api::LuaEdgePlan> {
+  static constexpr const char* name = "bliskrun.EdgeFinishPlan";
+};
+}  // namespace bliskrun::luax
+
+namespace bliskrun::lua_api {
+namespace {
+
+using luax::Field;
+using luax::Kind;
+using luax::set_bool;
+using luax::set_number;
+using luax::set_string;
+
+std::shared_ptr<const Surface> surface_option(lua_State* L, const luax::Options& o, const std::string& key,
+                                              const std::string& what) {
+  o.push_raw(key);
+  const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+  if (!h) luax::error(L, what + ": option '" + key + "': expected a bliskrun.Surface");
+  std::shared_ptr<const Surface> s = h->surface;
+  lua_pop(L, 1);
+  return s;
+}
+
+// {a, b} with 0 <= a < b <= 1.
+std::pair<double, double> range_option(lua_State* L, const luax::Options& o, const std::string& key,
+                                       const std::string& what, std::pair<double, double> fallback) {
+  if (!o.has(key)) return fallback;
+  o.push_raw(key);
+  const int t = lua_gettop(L);
+  lua_rawgeti(L, t, 1);
+  lua_rawgeti(L, t, 2);
+  const bool ok = lua_isnumber(L, -2) && lua_isnumber(L, -1);
+  const double a = lua_tonumber(L, -2), b = lua_tonumber(L, -1);
+  lua_pop(L, 3);
+  if (!ok || !(a >= 0 && b <= 1 && a < b))
+    luax::error(L, what + ": option '" + key + "': expected {from, to} with 0 <= from < to <= 1");
+  return {a, b};
+}
+
+void push_list(lua_State* L, const std::vector<double>& xs, const char* key) {
+  lua_createtable(L, static_cast<int>(xs.size()), 0);
+  for (size_t k = 0; k < xs.size(); ++k) {
+    lua_pushnumber(L, xs[k]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, key);
+}
+
+void set_integer(lua_State* L, const char* key, long long v) {
+  lua_pushinteger(L, static_cast<lua_Integer>(v));
+  lua_setfield(L, -2, key);
+}
+
+// ---- bliskrun.edge_region ----------------------------------------------------
+
+int w_edge_region(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const std::string what = "bliskrun.edge_region";
+    const luax::Options o(
+        L, 1, what,
+        {Field{"first", Kind::Any, true, std::nullopt, std::nullopt,
+               "flank whose edge end is at its v = 0 (pressure at the LE, suction at the TE)", {}},
+         Field{"second", Kind::Any, true, std::nullopt, std::nullopt, "flank whose edge end is at its v = 1", {}},
+         Field{"overlap", Kind::Number, false, 0.0, 50.0, "overlap onto each flank, mm of arc (default 0.3)", {}},
+         Field{"span", Kind::Table, false, std::nullopt, std::nullopt, "flank u range {from, to} (default {0, 1})", {}},
+         Field{"samples_around", Kind::Integer, false, 8, 10000, "grid samples around the edge (default 161)", {}},
+         Field{"samples_span", Kind::Integer, false, 4, 10000, "grid samples along the span (default 81)", {}}});
+    EdgeRegionRequest rq;
+    rq.first = surface_option(L, o, "first", what);
+    rq.second = surface_option(L, o, "second", what);
+    rq.overlap_mm = o.number("overlap", 0.3);
+    const auto span = range_option(L, o, "span", what, {0.0, 1.0});
+    rq.span_u0 = span.first;
+    rq.span_u1 = span.second;
+    rq.samples_around = static_cast<int>(o.integer("samples_around", 161));
+    rq.samples_span = static_cast<int>(o.integer("samples_span", 81));
+    const EdgeRegion e = build_edge_region(rq);
+    lua_createtable(L, 0, 9);
+    push_surface(L, e.surface);
+    lua_setfield(L, -2, "surface");
+    set_number(L, "round_u0", e.round_u0);
+    set_number(L, "round_u1", e.round_u1);
+    set_number(L, "overlap", e.overlap_mm);
+    set_number(L, "radius_min", e.radius_min_mm);
+    set_number(L, "radius_max", e.radius_max_mm);
+    set_number(L, "circle_misfit", e.circle_misfit_mm);
+    set_number(L, "fit_deviation", e.fit_deviation_mm);
+    return 1;
+  });
+}
+
+// ---- bliskrun.edge_finish ------------------------------------------------------
+
+int w_edge_finish(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const std::string what = "bliskrun.edge_finish";
+    const luax::Options o(
+        L, 1, what,
+        {Field{"edge", Kind::Any, true, std::nullopt, std::nullopt, "edge region surface (bliskrun.edge_region(...).surface)", {}},
+         Field{"flanks", Kind::Table, false, std::nullopt, std::nullopt,
+               "{first, second} flanks the region was built from: condition ① checked on them too", {}},
+         Field{"flank_span", Kind::Table, false, std::nullopt, std::nullopt, "the region's flank u range (default {0, 1})", {}},
+         Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "a flat-end mill (bliskrun.tool.flat_end_mill)", {}},
+         Field{"world", Kind::Any, true, std::nullopt, std::nullopt, "check surfaces: neighbouring blades, hub, own blade", {}},
+         Field{"name", Kind::String, false, std::nullopt, std::nullopt, "name used in reports", {}},
+         Field{"span", Kind::Table, false, std::nullopt, std::nullopt, "edge-region v window {from, to} (default {0.1, 0.9})", {}},
+         Field{"e1", Kind::Number, false, -10.0, 0.0, "overcut limit, mm (<= 0, default -0.001)", {}},
+         Field{"e2", Kind::Number, false, 1e-6, 10.0, "undercut limit, mm (default 0.02)", {}},
+         Field{"r_e", Kind::Number, false, 1e-3, 100.0, "cutting-speed radius: l >= r_e, mm (default 1)", {}},
+         Field{"l_count", Kind::Integer, false, 1, 100, "discretised l values in [r_e, R - r] (default 6)", {}},
+         Field{"optimum", Kind::String, false, std::nullopt, std::nullopt,
+               "\"paper\" (φ averaged over l, default) or \"joint\" (each l keeps its best φ)", {"paper", "joint"}},
+         Field{"chord_tol", Kind::Number, false, 1e-6, 1.0, "chord height around the edge, mm (default 0.001)", {}},
+         Field{"max_step", Kind::Number, false, 1e-3, 100.0, "longest step along a row, mm (default 0.5)", {}},
+         Field{"zigzag", Kind::Boolean, false, std::nullopt, std::nullopt, "alternate row direction (default true)", {}},
+         Field{"side_min_lead", Kind::Number, false, 0.0, 60.0,
+               "smallest lead of the side-edge comparison, degrees (default 3)", {}},
+         Field{"half_width", Kind::Number, false, 0.01, 100.0, "strip samples across the feed each side, mm (default R + 1)", {}},
+         Field{"across", Kind::Integer, false, 3, 10001, "strip samples across (odd, default 81)", {}},
+         Field{"retract", Kind::Number, false, 0.01, 1000.0, "links: retract up the tool axis, mm (default 3)", {}},
+         Field{"cutter_clearance", Kind::Number, false, 0.0, 100.0, "cutter to check surfaces, mm (default 0)", {}},
+         Field{"shank_clearance", Kind::Number, false, 0.0, 100.0, "shank to check surfaces, mm (default 0.1)", {}},
+         Field{"holder_clearance", Kind::Number, false, 0.0, 100.0, "holder to check surfaces, mm (default 0.5)", {}},
+         Field{"comparison_row", Kind::Integer, false, 1, 100000, "row of the strip-width comparison (default: middle)", {}}});
+    LuaEdgePlan p;
+    p.name = o.string("name", "");
+    p.edge = surface_option(L, o, "edge", what);
+    if (o.has("flanks")) {
+      o.push_raw("flanks");
+      const int t = lua_gettop(L);
+      for (int i = 1; i <= 2; ++i) {
+        lua_rawgeti(L, t, i);
+        const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+        if (!h) luax::error(L, what + ": option 'flanks': expected {first, second} bliskrun.Surface values");
+        (i == 1 ? p.first : p.second) = h->surface;
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+    }
+    o.push_raw("tool");
+    const LuaTool* tool = luax::test<LuaTool>(L, -1);
+    if (!tool) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (a flat-end mill)");
+    p.tool = std::make_shared<const Tool>(tool->tool);
+    lua_pop(L, 1);
+    if (p.tool->kind() != ToolKind::FlatEndMill)
+      luax::error(L, what + ": option 'tool': expected a flat-end mill, got a " + to_string(p.tool->kind()));
+    o.push_raw("world");
+    const LuaWorld* w = luax::test<LuaWorld>(L, -1);
+    if (!w) luax::error(L, what + ": option 'world': expected a bliskrun.CollisionWorld");
+    p.world = w->world;
+    lua_pop(L, 1);
+    EdgeFinishRequest& rq = p.request;
+    rq.edge = p.edge;
+    rq.first = p.first;
+    rq.second = p.second;
+    const auto fspan = range_option(L, o, "flank_span", what, {0.0, 1.0});
+    rq.span_u0 = fspan.first;
+    rq.span_u1 = fspan.second;
+    rq.tool = p.tool.get();
+    rq.world = p.world.get();
+    const auto span = range_option(L, o, "span", what, {0.1, 0.9});
+    rq.v0 = span.first;
+    rq.v1 = span.second;
+    rq.band.e1_mm = o.number("e1", -0.001);
+    rq.band.e2_mm = o.number("e2", 0.02);
+    rq.r_e_mm = o.number("r_e", 1.0);
+    rq.l_count = static_cast<int>(o.integer("l_count", 6));
+    rq.optimum = o.string("optimum", "paper") == "joint" ? EdgeOptimum::Joint : EdgeOptimum::Paper;
+    rq.steps.chord_tol_mm = o.number("chord_tol", 0.001);
+    rq.steps.max_step_mm = o.number("max_step", 0.5);
+    rq.zigzag = o.boolean("zigzag", true);
+    rq.side_min_lead_rad = deg_to_rad(o.number("side_min_lead", 3.0));
+    const double R = p.tool->cutter().max_radius();
+    rq.sampling.half_width_mm = o.number("half_width", R + 1);
+    rq.sampling.gouge_half_mm = rq.sampling.half_width_mm;
+    rq.sampling.across = static_cast<int>(o.integer("across", 81));
+    if (rq.sampling.across % 2 == 0) luax::error(L, what + ": option 'across': expected an odd count");
+    rq.retract_mm = o.number("retract", 3.0);
+    rq.clearances.cutter_mm = o.number("cutter_clearance", 0.0);
+    rq.clearances.shank_mm = o.number("shank_clearance", 0.1);
+    rq.clearances.holder_mm = o.number("holder_clearance", 0.5);
+    rq.comparison_row = static_cast<int>(o.integer("comparison_row", 0)) - 1;
+    p.result = std::make_shared<const EdgeFinishResult>(plan_edge_finish(rq, context(L).progress));
+    luax::push_new(L, std::move(p));
+    return 1;
+  });
+}
+
+// ---- plan methods ----------------------------------------------------------------
+
+LuaEdgePlan& check_plan(lua_State* L) { return luax::check<LuaEdgePlan>(L, 1); }
+
+int w_plan_report(lua_State* L) {
+  const LuaEdgePlan& p = check_plan(L);
+  const EdgeFinishResult& r = *p.result;
+  const EdgeFinishRequest& rq = p.request;
+  lua_createtable(L, 0, 24);
+  set_string(L, "name", p.name);
+  set_string(L, "tool", rq.tool->description());
+  set_number(L, "e1", rq.band.e1_mm);
+  set_number(L, "e2", rq.band.e2_mm);
+  set_number(L, "r_e", rq.r_e_mm);
+  set_string(L, "optimum", rq.optimum == EdgeOptimum::Paper ? "paper" : "joint");
+  set_number(L, "chord_tol", rq.steps.chord_tol_mm);
+  set_number(L, "span_v0", rq.v0);
+  set_number(L, "span_v1", rq.v1);
+  set_bool(L, "zigzag", rq.zigzag);
+  set_integer(L, "row_count", static_cast<long long>(r.rows.size()));
+  set_integer(L, "side_rows", r.side_rows);
+  set_number(L, "side_window", r.side_window_mm);
+  set_number(L, "side_min_lead", rad_to_deg(rq.side_min_lead_rad));
+  set_integer(L, "poses", r.total_poses);
+  set_integer(L, "refusals", r.total_refusals);
+  set_integer(L, "refused_links", r.refused_links);
+  set_number(L, "max_deviation", r.max_deviation_mm);
+  double wmin = std::numeric_limits<double>::infinity(), wmax = 0, smin = wmin, smax = 0;
+  long bottom = 0, corner = 0, evals = 0;
+  lua_createtable(L, static_cast<int>(r.rows.size()), 0);
+  for (size_t i = 0; i < r.rows.size(); ++i) {
+    const EdgeFinishRow& row = r.rows[i];
+    wmin = std::min(wmin, row.width_mm);
+    wmax = std::max(wmax, row.width_mm);
+    smin = std::min(smin, row.side_width_mm);
+    smax = std::max(smax, row.side_width_mm);
+    bottom += row.bottom_contacts;
+    corner += row.corner_contacts;
+    evals += row.strip_evaluations;
+    lua_createtable(L, 0, 14);
+    set_number(L, "v", row.v);
+    set_number(L, "width", row.width_mm);
+    set_number(L, "paper_width", row.paper_width_mm);
+    set_number(L, "joint_width", row.joint_width_mm);
+    set_number(L, "side_width", row.side_width_mm);
+    set_number(L, "left_min", row.left_min_mm);
+    set_number(L, "right_min", row.right_min_mm);
+    set_number(L, "spacing", row.spacing_mm);
+    set_integer(L, "poses", static_cast<long long>(row.poses.size()));
+    set_integer(L, "bottom_contacts", row.bottom_contacts);
+    set_integer(L, "corner_contacts", row.corner_contacts);
+    set_integer(L, "refusals", static_cast<long long>(row.refusals.size()));
+    set_number(L, "max_deviation", row.max_deviation_mm);
+    set_bool(L, "reversed", row.reversed);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "rows");
+  set_number(L, "width_min", r.rows.empty() ? 0 : wmin);
+  set_number(L, "width_max", wmax);
+  set_number(L, "side_width_min", r.rows.empty() ? 0 : smin);
+  set_number(L, "side_width_max", smax);
+  set_integer(L, "bottom_contacts", bottom);
+  set_integer(L, "corner_contacts", corner);
+  set_integer(L, "strip_evaluations", evals);
+  std::set<std::string> reasons;
+  for (const EdgeFinishRow& row : r.rows)
+    for (const EdgeContactRefusal& f : row.refusals)
+      if (reasons.size() < 20) reasons.insert(f.reason);
+  for (const EdgeFinishLink& l : r.links)
+    if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
+  lua_createtable(L, static_cast<int>(reasons.size()), 0);
+  int k = 0;
+  for (const std::string& why : reasons) {
+    lua_pushstring(L, why.c_str());
+    lua_rawseti(L, -2, ++k);
+  }
+  lua_setfield(L, -2, "refusal_reasons");
+  lua_createtable(L, 0, 3);
+  set_number(L, "rows", r.rows_seconds);
+  set_number(L, "side", r.side_seconds);
+  set_number(L, "checks", r.checks_seconds);
+  lua_setfield(L, -2, "seconds");
+  return 1;
+}
+
+// plan:comparison() -> the paper's Fig. 8 for one row: {row, v, u = {...},
+// contact = {"bottom"|"corner"}, paper = {...}, joint = {...}, side = {...},
+// emitted = {...}} (strip widths, mm, per contact).
+int w_plan_comparison(lua_State* L) {
+  const EdgeWidthComparison& c = check_plan(L).result->comparison;
+  lua_createtable(L, 0, 8);
+  set_integer(L, "row", c.row + 1);
+  set_number(L, "v", c.v);
+  push_list(L, c.u, "u");
+  push_list(L, c.paper_mm, "paper");
+  push_list(L, c.joint_mm, "joint");
+  push_list(L, c.side_mm, "side");
+  push_list(L, c.bottom_mm, "emitted");
+  lua_createtable(L, static_cast<int>(c.contact.size()), 0);
+  for (size_t i = 0; i < c.contact.size(); ++i) {
+    lua_pushstring(L, c.contact[i].c_str());
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "contact");
+  return 1;
+}
+
+// plan:moves() -> {{kind = "feed"|"rapid", tip =, axis =, row =}, ...} as
+// post.write takes; the list ends at the first refused contact or link.
+int w_plan_moves(lua_State* L) {
+  const LuaEdgePlan& p = check_plan(L);
+  lua_newtable(L);
+  lua_Integer n = 0;
+  for (const DrumFinishMove& m : edge_finish_moves(*p.result)) {
+    if (m.kind == DrumFinishMove::Kind::Stop) break;
+    lua_createtable(L, 0, 4);
+    set_string(L, "kind", m.kind == DrumFinishMove::Kind::Feed ? "feed" : "rapid");
+    luax::set_vec3(L, "tip", m.pose.tip);
+    luax::set_vec3(L, "axis", m.pose.axis);
+    lua_pushinteger(L, m.row + 1);
+    lua_setfield(L, -2, "row");
+    lua_rawseti(L, -2, ++n);
+  }
+  return 1;
+}
+
+int w_plan_write_apt(lua_State* L) {
+  const LuaEdgePlan& p = check_plan(L);
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  return luax::guarded(L, [&] {
+    write_file_atomic(path, edge_finish_apt(*p.result, p.request, p.name));
+    return 0;
+  });
+}
+
+// plan:simulate{samples_u=, samples_v=, picture=, flanks = {s1, s2}}: the
+// undercut simulation of every move (rows and links) on the edge region
+// over the machined span window, and the overcut on the blade's flanks.
+int w_plan_simulate(lua_State* L) {
+  const LuaEdgePlan& p = check_plan(L);
+  return luax::guarded(L, [&] {
+    const luax::Options o(
+        L, 2, "EdgeFinishPlan:simulate",
+        {Field{"samples_u", Kind::Integer, false, 2, 5000, "design samples around the edge (default 200)", {}},
+         Field{"samples_v", Kind::Integer, false, 2, 20000, "design samples along the span (default 400)", {}},
+         Field{"sweep_step", Kind::Number, false, 1e-4, 10.0, "largest cutter-point motion between positions, mm (default 0.05)", {}},
+         Field{"picture", Kind::String, false, std::nullopt, std::nullopt, "undercut map SVG file", {}},
+         Field{"flanks", Kind::Table, false, std::nullopt, std::nullopt, "the blade's flank surfaces: overcut measured on them too", {}},
+         Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+    const EdgeFinishResult& r = *p.result;
+    UndercutOptions so;
+    so.samples_u = static_cast<int>(o.integer("samples_u", 200));
+    so.samples_v = static_cast<int>(o.integer("samples_v", 400));
+    so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
+    so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+    so.v0 = p.request.v0;
+    so.v1 = p.request.v1;
+    const std::vector<ToolPass> passes = edge_finish_passes(r);
+    const auto t0 = std::chrono::steady_clock::now();
+    UndercutResult u = simulate_undercut(*p.edge, *p.tool, passes, so, context(L).progress);
+    double flank_overcut = 0;
+    if (o.has("flanks")) {
+      o.push_raw("flanks");
+      const int t = lua_gettop(L);
+      const lua_Integer n = luaL_len(L, t);
+      for (lua_Integer i = 1; i <= n; ++i) {
+        lua_rawgeti(L, t, i);
+        const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+        if (!h) luax::error(L, "EdgeFinishPlan:simulate: flanks[" + std::to_string(i) + "]: expected a bliskrun.Surface");
+        UndercutOptions fo = so;
+        fo.v0 = 0;
+        fo.v1 = 1;
+        fo.samples_u = 100;
+        fo.samples_v = 500;
+        const UndercutResult f = simulate_undercut(*h->surface, *p.tool, passes, fo, context(L).progress);
+        flank_overcut = std::min(flank_overcut, f.overcut_mm);
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    lua_createtable(L, 0, 12);
+    set_number(L, "undercut_max", u.undercut_max_mm);
+    set_number(L, "undercut_mean", u.undercut_mean_mm);
+    set_number(L, "undercut_median", u.undercut_median_mm);
+    set_number(L, "undercut_std", u.undercut_std_mm);
+    set_number(L, "overcut", u.overcut_mm);
+    set_number(L, "flank_overcut", flank_overcut);
+    set_integer(L, "untouched", u.untouched);
+    set_integer(L, "samples", static_cast<long long>(u.samples_u) * u.samples_v);
+    set_integer(L, "tool_positions", u.tool_positions);
+    set_number(L, "seconds", seconds);
+    if (o.has("picture")) {
+      const std::string path = context(L).resolve_write(L, o.string("picture", ""));
+      HeatMap map;
+      map.rows = u.samples_u;
+      map.cols = u.samples_v;
+      map.values = u.residual_mm;
+      HeatMapOptions h;
+      h.title = "Edge region after the edge finish: material left (mm), u around the edge, v along the span";
+      h.value_label = "mm";
+      char footer[240];
+      std::snprintf(footer, sizeof footer,
+                    "%d x %d samples, span v in [%.3f, %.3f]; undercut max %.2f, mean %.2f um; overcut %.2f um; "
+                    "untouched %d",
+                    map.rows, map.cols, so.v0, so.v1, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
+                    1e3 * u.overcut_mm, u.untouched);
+      h.footer = footer;
+      h.scale_max = 2 * p.request.band.e2_mm;
+      write_heat_map_svg(map, path, h);
+    }
+    return 1;
+  });
+}
+
+int w_plan_tostring(lua_State* L) {
+  const LuaEdgePlan& p = check_plan(L);
+  lua_pushfstring(L, "bliskrun.EdgeFinishPlan(%s%s%d rows, %d poses, %d refusals)", p.name.c_str(),
+                  p.name.empty() ? "" : ": ", static_cast<int>(p.result->rows.size()), p.result->total_poses,
+                  p.result->total_refusals);
+  return 1;
+}
+
+}  // namespace
+
+void open_edges(lua_State* L) {
+  static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"comparison", w_plan_comparison},
+                                          {"moves", w_plan_moves},         {"write_apt", w_plan_write_apt},
+                                          {"simulate", w_plan_simulate},   {nullptr, nullptr}};
+  luax::register_type(L, luax::TypeName<LuaEdgePlan>::name, plan_methods, &luax::gc_value<LuaEdgePlan>,
+                      w_plan_tostring);
+  static const luaL_Reg functions[] = {
+      {"edge_region", w_edge_region}, {"edge_finish", w_edge_finish}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api
