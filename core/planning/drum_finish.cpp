@@ -436,14 +436,17 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
         // the two together exceed the tolerance the segment is halved and
         // the row tilted again (a few rounds; what is left is measured by
         // the simulation of the whole program).
-        if (round < 6 && split_turning_segments(ts, row.u, st, poses, index, rq.steps.chord_tol_mm)) {
+        // Without the measured guarantee (eq. 17 as the paper writes it,
+        // for its Fig. 13 comparison) the steps are left as planned.
+        const bool guarantee = rq.steps.guarantee_tolerance && round < 6;
+        if (guarantee && split_turning_segments(ts, row.u, st, poses, index, rq.steps.chord_tol_mm)) {
           ++res.turn_splits;
           continue;
         }
         // The estimate is not the proof: each cutting segment is swept
         // through the finished flank's samples, and one that dips below it
         // by more than the chord tolerance is halved too.
-        if (rq.verify_rows && round < 6 &&
+        if (guarantee && rq.verify_rows &&
             split_gouging_segments(ts, row.u, st, poses, index, guard, tool, rq.steps.chord_tol_mm)) {
           ++res.gouge_splits;
           continue;

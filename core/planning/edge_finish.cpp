@@ -576,11 +576,14 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
       const bool starts_pass = i == 0 || row.poses[i].segment != row.poses[i - 1].segment;
       if (starts_pass && started) {
         const EdgeFinishLink& l = result.links.at(link++);
-        if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, l.reason});
+        if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
         else
-          for (const ToolPose& m : l.moves) moves.push_back({DrumFinishMove::Kind::Rapid, m, ri, {}});
+          for (size_t k = 0; k < l.moves.size(); ++k)
+            moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, k == 0 ? "retract" : "traverse", {}});
       }
-      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, {}});
+      const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
+      const char* motion = !starts_pass ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
+      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, motion, {}});
       started = true;
     }
   }
