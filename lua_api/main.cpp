@@ -1,5 +1,6 @@
 // bliskrun RECIPE.lua [options]: runs a recipe. See README.md and
 // docs/lua_api.md.
+#include <csignal>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -100,5 +101,9 @@ int main(int argc, char** argv) {
     }
   }
   if (options.recipe_path.empty()) return usage_error("no recipe given");
+  options.hard_time_limit = true;
+  // A file-size limit (ulimit -f) then fails the write with EFBIG, reported
+  // as a clean error naming the file, instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   return bliskrun::lua_api::run_recipe(options, std::cerr);
 }

@@ -7,12 +7,15 @@
 #include <cstdlib>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <mutex>
 #include <regex>
 #include <sstream>
 #include <thread>
 
+#include "core/common/atomic_file.h"
+#include "core/common/memory_budget.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
 
@@ -73,20 +76,35 @@ void* limited_alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
 
 // Watches the wall clock from its own thread so that long core loops (which
 // run no Lua) are cancelled too; the Lua hook turns the same deadline into a
-// Lua error at the recipe line.
+// Lua error at the recipe line. That cooperative path is the normal one, but
+// it cannot stop code that reaches neither a hook nor a cancellation point (a
+// pathological string.find inside Lua's C library, FCL, a third-party call):
+// with a hard stop, once the limit plus kHardStopGrace has passed the
+// watchdog itself prints the message (with the last recipe line the hook
+// saw), removes unfinished temporary files and ends the process with exit 1.
+// Atomic writes guarantee that no output is half-written.
 class Watchdog {
  public:
-  Watchdog(Progress& progress, double seconds) : progress_(progress) {
+  static constexpr double kHardStopGrace = 2.0;  // seconds after the limit
+  using HardStop = std::function<void(const std::string& message)>;
+
+  Watchdog(Progress& progress, double seconds, HardStop hard_stop = {})
+      : progress_(progress), hard_stop_(std::move(hard_stop)) {
     if (seconds <= 0) return;
-    deadline_ = std::chrono::steady_clock::now() +
-                std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+    auto after = [](double s) {
+      return std::chrono::steady_clock::now() +
+             std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(s));
+    };
+    deadline_ = after(seconds);
     seconds_ = seconds;
-    thread_ = std::thread([this] {
+    thread_ = std::thread([this, after] {
       std::unique_lock<std::mutex> lock(mutex_);
-      if (!cv_.wait_until(lock, deadline_, [this] { return done_; })) {
-        expired_ = true;
-        progress_.cancel(message());
-      }
+      if (cv_.wait_until(lock, deadline_, [this] { return done_; })) return;
+      expired_ = true;
+      progress_.cancel(message());
+      if (!hard_stop_) return;
+      if (cv_.wait_until(lock, after(kHardStopGrace), [this] { return done_; })) return;
+      hard_stop_(message());
     });
   }
   ~Watchdog() {
@@ -106,6 +124,7 @@ class Watchdog {
 
  private:
   Progress& progress_;
+  HardStop hard_stop_;
   std::chrono::steady_clock::time_point deadline_;
   double seconds_ = 0;
   std::thread thread_;
@@ -119,7 +138,15 @@ struct RunState {
   RunContext* context;
   Allocator* allocator;
   Watchdog* watchdog;
-  std::string last_position;  // "recipe.lua:12", refreshed by the count hook
+  // "recipe.lua:12", refreshed by the count hook; read by the watchdog's
+  // hard stop from its own thread, hence the mutex.
+  std::string last_position;
+  std::mutex position_mutex;
+
+  std::string position() {
+    std::lock_guard<std::mutex> lock(position_mutex);
+    return last_position;
+  }
 };
 
 RunState& state(lua_State* L) {
@@ -137,11 +164,18 @@ void count_hook(lua_State* L, lua_Debug*) {
   for (int level = 0; lua_getstack(L, level, &ar); ++level) {
     lua_getinfo(L, "Sl", &ar);
     if (ar.currentline > 0) {
-      s.last_position = std::string(ar.short_src) + ":" + std::to_string(ar.currentline);
+      std::string at = std::string(ar.short_src) + ":" + std::to_string(ar.currentline);
+      std::lock_guard<std::mutex> lock(s.position_mutex);
+      s.last_position = std::move(at);
       break;
     }
   }
-  if (s.watchdog->expired()) luaL_error(L, "%s", s.watchdog->message().c_str());
+  if (s.watchdog->expired()) {
+    // luaL_where cannot see the recipe line from inside a hook: name it here.
+    const std::string at = s.position();
+    lua_pushfstring(L, "%s%s%s", at.c_str(), at.empty() ? "" : ": ", s.watchdog->message().c_str());
+    lua_error(L);
+  }
 }
 
 // ---- the sandbox ---------------------------------------------------------------------
@@ -374,8 +408,24 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
 
   Allocator allocator;
   allocator.limit = static_cast<size_t>(options.memory_limit_mb * 1024.0 * 1024.0);
-  Watchdog watchdog(ctx.progress, options.time_limit_s);
-  RunState run_state{&ctx, &allocator, &watchdog};
+  // Core refuses single allocations it can estimate beyond the limit.
+  set_memory_budget(options.memory_limit_mb * 1024.0 * 1024.0);
+  struct BudgetReset {
+    ~BudgetReset() { set_memory_budget(0); }
+  } budget_reset;
+  RunState run_state{&ctx, &allocator, nullptr, {}, {}};
+  Watchdog::HardStop hard_stop;
+  if (options.hard_time_limit)
+    hard_stop = [&err, &run_state](const std::string& message) {
+      const std::string at = run_state.position();
+      err << "bliskrun: " << (at.empty() ? "" : at + ": ") << message
+          << " (stopped by the watchdog: the running code reached no cancellation point)\n"
+          << std::flush;
+      remove_unfinished_writes();
+      std::_Exit(kExitRecipeError);
+    };
+  Watchdog watchdog(ctx.progress, options.time_limit_s, std::move(hard_stop));
+  run_state.watchdog = &watchdog;
 
   lua_State* L = lua_newstate(limited_alloc, &allocator);
   if (!L) {
@@ -409,7 +459,7 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   if (status == LUA_OK) return kExitOk;
   if (allocator.exceeded && status == LUA_ERRMEM) {
     std::ostringstream s;
-    s << (run_state.last_position.empty() ? "" : run_state.last_position + ": ") << "memory limit of "
+    s << (run_state.position().empty() ? "" : run_state.position() + ": ") << "memory limit of "
       << options.memory_limit_mb << " MB exceeded (--memory-limit)";
     message = s.str();
   }

@@ -21,6 +21,11 @@ struct RunOptions {
   double time_limit_s = 3600;      // wall time of the whole run; 0 = none
   double memory_limit_mb = 8192;   // Lua heap of the recipe; 0 = none
   bool verify_report = false;      // --verify: print every posted program's read-back
+  // Last resort of the time limit: when the run has not stopped by itself
+  // 2 s after --time-limit (code that reaches no cancellation point), the
+  // watchdog prints the message and ends the whole process with exit 1. The
+  // bliskrun command sets it; in-process callers (tests, fuzzers) do not.
+  bool hard_time_limit = false;
   int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
 };
 

@@ -207,7 +207,7 @@ TriangleMesh check_surface_entry(lua_State* L, const luax::Options& s, const std
     s.push_raw("surface");
     const std::shared_ptr<const Surface> surface = luax::check<SurfaceHandle>(L, -1).surface;
     lua_pop(L, 1);
-    return tessellate(*surface, s.number("chord_tol", 0));
+    return tessellate(*surface, s.number("chord_tol", 0), 0, 1, 0, 1, context(L).progress);
   }
   s.push_raw("mesh");
   TriangleMesh mesh;

@@ -6,6 +6,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "core/common/atomic_file.h"
 #include "lua_api/luax.h"
@@ -17,10 +19,21 @@ namespace bliskrun::lua_api {
 namespace {
 
 // A Lua value as JSON: tables with keys 1..n are arrays, tables with string
-// keys are objects (sorted keys, so output is deterministic).
-nlohmann::json to_json(lua_State* L, int idx, const std::string& where, int depth) {
+// keys are objects (sorted keys, so output is deterministic). The recursion is
+// bounded by kMaxJsonDepth (documented in docs/lua_api.md), tables already on
+// the current path are a cycle named by both key paths, and the Lua stack is
+// grown explicitly (without lua_checkstack a deep table overran it and
+// crashed the process).
+constexpr int kMaxJsonDepth = 64;
+
+struct JsonWalk {
+  lua_State* L;
+  std::vector<std::pair<const void*, std::string>> path;  // tables being converted, outermost first
+};
+
+nlohmann::json to_json(JsonWalk& walk, int idx, const std::string& where) {
+  lua_State* L = walk.L;
   idx = lua_absindex(L, idx);
-  if (depth > 64) luax::error(L, "write_json: " + where + " nests deeper than 64 levels (a cycle?)");
   switch (lua_type(L, idx)) {
     case LUA_TNIL:
       return nullptr;
@@ -32,9 +45,20 @@ nlohmann::json to_json(lua_State* L, int idx, const std::string& where, int dept
       if (!std::isfinite(x)) luax::error(L, "write_json: " + where + " is not a finite number");
       return x;
     }
-    case LUA_TSTRING:
-      return std::string(lua_tostring(L, idx));
+    case LUA_TSTRING: {
+      size_t len = 0;
+      const char* text = lua_tolstring(L, idx, &len);
+      return std::string(text, len);
+    }
     case LUA_TTABLE: {
+      const void* self = lua_topointer(L, idx);
+      for (const auto& [table, at] : walk.path)
+        if (table == self) luax::error(L, "write_json: " + where + " is " + at + " again (a cycle)");
+      if (static_cast<int>(walk.path.size()) >= kMaxJsonDepth)
+        luax::error(L, "write_json: " + where + " nests deeper than " + std::to_string(kMaxJsonDepth) +
+                           " tables (the limit of write_json)");
+      if (!lua_checkstack(L, 4)) luax::error(L, "write_json: " + where + ": Lua stack exhausted");
+      walk.path.emplace_back(self, where);
       const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, idx));
       size_t count = 0;
       bool string_keys = true;
@@ -44,25 +68,28 @@ nlohmann::json to_json(lua_State* L, int idx, const std::string& where, int dept
         if (lua_type(L, -2) != LUA_TSTRING) string_keys = false;
         lua_pop(L, 1);
       }
-      if (count == 0) return nlohmann::json::object();
-      if (n > 0 && static_cast<size_t>(n) == count) {
-        nlohmann::json arr = nlohmann::json::array();
+      nlohmann::json out = nlohmann::json::object();
+      if (count == 0) {
+      } else if (n > 0 && static_cast<size_t>(n) == count) {
+        out = nlohmann::json::array();
         for (lua_Integer i = 1; i <= n; ++i) {
           lua_rawgeti(L, idx, i);
-          arr.push_back(to_json(L, -1, where + "[" + std::to_string(i) + "]", depth + 1));
+          out.push_back(to_json(walk, -1, where + "[" + std::to_string(i) + "]"));
           lua_pop(L, 1);
         }
-        return arr;
+      } else {
+        if (!string_keys) luax::error(L, "write_json: " + where + " mixes array entries and named keys");
+        lua_pushnil(L);
+        while (lua_next(L, idx)) {
+          size_t len = 0;
+          const char* text = lua_tolstring(L, -2, &len);  // a string key: no conversion, lua_next stays valid
+          const std::string key(text, len);
+          out[key] = to_json(walk, -1, where + "." + key);
+          lua_pop(L, 1);
+        }
       }
-      if (!string_keys) luax::error(L, "write_json: " + where + " mixes array entries and named keys");
-      nlohmann::json obj = nlohmann::json::object();
-      lua_pushnil(L);
-      while (lua_next(L, idx)) {
-        const std::string key = lua_tostring(L, -2);
-        obj[key] = to_json(L, -1, where + "." + key, depth + 1);
-        lua_pop(L, 1);
-      }
-      return obj;
+      walk.path.pop_back();
+      return out;
     }
     default:
       luax::error(L, std::string("write_json: ") + where + " is a " + luaL_typename(L, idx) +
@@ -74,9 +101,12 @@ int w_write_json(lua_State* L) {
   const std::string path = luax::check_string(L, 1, "path");
   luaL_checktype(L, 2, LUA_TTABLE);
   const std::string target = context(L).resolve_write(L, path);
-  const nlohmann::json j = to_json(L, 2, "value", 0);
+  JsonWalk walk{L, {}};
+  const nlohmann::json j = to_json(walk, 2, "value");
   return luax::guarded(L, [&] {
-    write_file_atomic(target, j.dump(2) + "\n");
+    // Strings are Lua bytes, not necessarily UTF-8: replace invalid sequences
+    // rather than let dump() throw.
+    write_file_atomic(target, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
     lua_pushstring(L, target.c_str());
     return 1;
   });

@@ -213,7 +213,7 @@ int w_surface_tessellate(lua_State* L) {
   const double tol = luax::check_number(L, 2, "chord_tol");
   if (!(tol > 0)) luax::error(L, "argument 'chord_tol': must be > 0 mm");
   return luax::guarded(L, [&] {
-    push_mesh(L, std::make_shared<TriangleMesh>(tessellate(s, tol)));
+    push_mesh(L, std::make_shared<TriangleMesh>(tessellate(s, tol, 0, 1, 0, 1, context(L).progress)));
     return 1;
   });
 }

@@ -5,10 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "core/common/error.h"
 #include "core/io/point_grid_reader.h"
 #include "core/machine/program_reader.h"
+#include "lua_api/runner.h"
 #include "machine/test_machines.h"
 #include "test_support.h"
 
@@ -76,6 +78,27 @@ TEST(FuzzCorpus, MachineDefinitionsLoadOrSayWhere) {
   }
   EXPECT_GE(loaded, 2);   // the two complete definitions
   EXPECT_GE(refused, 2);  // bad.txt, short.txt
+}
+
+// Lua API seeds (lua_api_fuzz): each plan of calls through the API walk
+// recipe ends normally, every call having returned or raised a Lua error.
+TEST(FuzzCorpus, LuaApiPlansEndNormally) {
+  const auto files = corpus("lua_api");
+  ASSERT_GE(files.size(), 3u);
+  for (const auto& [name, bytes] : files) {
+    test::TempDir dir;
+    std::string plan = "p";
+    static const char* hex = "0123456789abcdef";
+    for (unsigned char c : bytes) plan += std::string{hex[c >> 4], hex[c & 15]};
+    lua_api::RunOptions o;
+    o.recipe_path = std::string(BLISKRUN_SOURCE_DIR) + "/tests/lua_api/api_fuzz/api_walk.lua";
+    o.out_dir = dir.path() + "/out";
+    o.quiet = true;
+    o.time_limit_s = 60;
+    o.sets = {{"plan", plan}};
+    std::ostringstream err;
+    EXPECT_EQ(lua_api::run_recipe(o, err), 0) << name << ": " << err.str();
+  }
 }
 
 }  // namespace

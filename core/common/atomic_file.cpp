@@ -8,12 +8,39 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
 
 #include "core/common/error.h"
 
 namespace bliskrun {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// Temporary files of writes in progress, for remove_unfinished_writes().
+std::mutex unfinished_mutex;
+std::set<std::string> unfinished;
+
+struct Unfinished {
+  explicit Unfinished(const std::string& tmp) : tmp_(tmp) {
+    std::lock_guard<std::mutex> lock(unfinished_mutex);
+    unfinished.insert(tmp_);
+  }
+  ~Unfinished() {
+    std::lock_guard<std::mutex> lock(unfinished_mutex);
+    unfinished.erase(tmp_);
+  }
+  std::string tmp_;
+};
+
+}  // namespace
+
+void remove_unfinished_writes() {
+  std::lock_guard<std::mutex> lock(unfinished_mutex);
+  for (const auto& tmp : unfinished) ::unlink(tmp.c_str());
+}
 
 void write_file_atomic(const std::string& path, const std::string& contents) {
   const fs::path target(path);
@@ -28,6 +55,7 @@ void write_file_atomic(const std::string& path, const std::string& contents) {
   std::string tmp = path + ".tmp.XXXXXX";
   const int fd = mkstemp(tmp.data());
   if (fd < 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  const Unfinished in_progress(tmp);
   const char* data = contents.data();
   size_t left = contents.size();
   while (left > 0) {

@@ -10,4 +10,9 @@ namespace bliskrun {
 // Throws Error naming the path and the system reason on failure.
 void write_file_atomic(const std::string& path, const std::string& contents);
 
+// Removes the temporary files of writes still in progress. For a process
+// about to end abruptly (the watchdog's hard stop), so that it leaves nothing
+// half-written behind; safe to call from another thread.
+void remove_unfinished_writes();
+
 }  // namespace bliskrun

@@ -6,6 +6,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/memory_budget.h"
 
 namespace bliskrun {
 
@@ -20,11 +21,12 @@ struct GridMesh {
 // edge midpoints along each direction and at the centre of each cell's
 // diagonal (both triangles of a cell share it).
 void sampled_error(const Surface& s, double u0, double u1, double v0, double v1, int nu, int nv,
-                   double& err_u, double& err_v) {
+                   double& err_u, double& err_v, Progress& progress) {
   err_u = err_v = 0;
   auto uat = [&](double i) { return u0 + (u1 - u0) * i / nu; };
   auto vat = [&](double j) { return v0 + (v1 - v0) * j / nv; };
-  for (int i = 0; i <= nu; ++i)
+  for (int i = 0; i <= nu; ++i) {
+    progress.check();
     for (int j = 0; j <= nv; ++j) {
       const Vec3 p = s.point(uat(i), vat(j));
       if (i < nu) {
@@ -42,20 +44,27 @@ void sampled_error(const Surface& s, double u0, double u1, double v0, double v1,
         err_v = std::max(err_v, e);
       }
     }
+  }
 }
 
 }  // namespace
 
 TriangleMesh tessellate(const Surface& s, double chord_tol_mm, double u0, double u1, double v0,
-                        double v1) {
+                        double v1, Progress& progress) {
   if (!(chord_tol_mm > 0)) throw ParameterError("chord_tol", "must be > 0");
   if (!(u1 > u0) || !(v1 > v0)) throw ParameterError("window", "needs u0 < u1 and v0 < v1");
   // Chordal error of a grid shrinks as the square of the spacing, so each
   // refinement predicts the count that meets the tolerance and verifies it.
   int nu = 8, nv = 8;
   for (int round = 0; round < 12; ++round) {
+    // Refused before sampling (the sampling of a huge grid is the slow part)
+    // and before allocating: the mesh this grid would become.
+    const double vertices = static_cast<double>(nu + 1) * (nv + 1), triangles = 2.0 * nu * nv;
+    check_allocation_estimate(vertices * sizeof(Vec3) + triangles * sizeof(Eigen::Vector3i),
+                              "tessellate: a " + std::to_string(nu) + " x " + std::to_string(nv) + " grid mesh for " +
+                                  std::to_string(chord_tol_mm) + " mm");
     double eu, ev;
-    sampled_error(s, u0, u1, v0, v1, nu, nv, eu, ev);
+    sampled_error(s, u0, u1, v0, v1, nu, nv, eu, ev, progress);
     if (eu <= chord_tol_mm && ev <= chord_tol_mm) break;
     constexpr int kMax = 4096;
     if (eu > chord_tol_mm)
@@ -68,9 +77,11 @@ TriangleMesh tessellate(const Surface& s, double chord_tol_mm, double u0, double
   }
   TriangleMesh mesh;
   mesh.vertices.reserve(static_cast<size_t>(nu + 1) * (nv + 1));
-  for (int i = 0; i <= nu; ++i)
+  for (int i = 0; i <= nu; ++i) {
+    progress.check();
     for (int j = 0; j <= nv; ++j)
       mesh.vertices.push_back(s.point(u0 + (u1 - u0) * i / nu, v0 + (v1 - v0) * j / nv));
+  }
   auto id = [&](int i, int j) { return i * (nv + 1) + j; };
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/progress.h"
 #include "core/geometry/surface.h"
 
 namespace bliskrun {
@@ -15,8 +16,12 @@ struct TriangleMesh {
 
 // Grid tessellation of s over [u0,u1]x[v0,v1], refined (per direction) until
 // the distance between each triangle and the surface is within chord_tol_mm.
+// Checks `progress` for cancellation once per grid row (a 4096-wide row is a
+// few ms of work); refuses, before allocating, a mesh whose estimated size
+// exceeds the run's memory budget (core/common/memory_budget.h).
 TriangleMesh tessellate(const Surface& s, double chord_tol_mm,
-                        double u0 = 0, double u1 = 1, double v0 = 0, double v1 = 1);
+                        double u0 = 0, double u1 = 1, double v0 = 0, double v1 = 1,
+                        Progress& progress = Progress::none());
 
 // Binary STL, written atomically.
 void write_stl(const TriangleMesh& mesh, const std::string& path);
