@@ -546,15 +546,9 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     }
   if (first) {
     auto departure = [&](const DrumFinishPose& p, const char* what) {
-      const PlannedDeparture d = plan_departure(end_of(p), checks, rq.links);
-      DrumFinishEnd e;
-      e.clear = d.clear;
-      e.away = d.away;
-      e.offset_mm = d.offset_mm;
-      e.turn_rad = d.turn_rad;
-      e.deepest_cut_mm = d.deepest_cut_mm;
-      if (!d.clear) {
-        e.reason = std::string(what) + ": " + d.reason;
+      DrumFinishEnd e = plan_departure(end_of(p), checks, rq.links);
+      if (!e.clear) {
+        e.reason = std::string(what) + ": " + e.reason;
         ++res.refused_links;
       }
       return e;

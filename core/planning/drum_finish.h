@@ -100,14 +100,7 @@ struct DrumFinishLink {
 // The way into the first row and out of the last: from / to the pose
 // `offset_mm` along the flank normal, proved like a link leg
 // (plan_departure). A job links these to its clearance surface.
-struct DrumFinishEnd {
-  bool clear = false;
-  ToolPose away;
-  double offset_mm = 0;
-  double turn_rad = 0;
-  double deepest_cut_mm = 0;
-  std::string reason;  // why it was refused, when not clear
-};
+using DrumFinishEnd = PlannedDeparture;
 
 struct DrumFinishResult {
   std::shared_ptr<const TrimmedSurface> trimmed;

@@ -138,27 +138,32 @@ void lower_to(std::atomic<double>& a, double v) {
   }
 }
 
-void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
-              const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
-  const Eigen::Isometry3d to_tool = to_part.inverse();
-  const double range = std::max(o.search_above_mm, o.search_below_mm);
-  auto far = [&](const Group& g) {
-    return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range;
-  };
+// Calls f(m) for every sample m whose group the cutter at `to_tool` may
+// reach within `range` (the Lipschitz bound prunes super-tiles, then tiles).
+template <class F>
+void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_tool, const SampleIndex& idx,
+                          double range, F&& f) {
+  auto far = [&](const Group& g) { return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range; };
   for (const Group& sup : idx.supers) {
     if (far(sup)) continue;
     for (int t : sup.members) {
       const Group& tile = idx.tiles[t];
       if (far(tile)) continue;
-      for (int m : tile.members) {
-        const Sample& smp = idx.samples[m];
-        ++evaluations;
-        const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
-                                     std::min(o.search_above_mm, residual[m].load(std::memory_order_relaxed)));
-        if (s < kInf) lower_to(residual[m], s);
-      }
+      for (int m : tile.members) f(m);
     }
   }
+}
+
+void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
+              const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
+  const Eigen::Isometry3d to_tool = to_part.inverse();
+  for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), [&](int m) {
+    const Sample& smp = idx.samples[m];
+    ++evaluations;
+    const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
+                                 std::min(o.search_above_mm, residual[m].load(std::memory_order_relaxed)));
+    if (s < kInf) lower_to(residual[m], s);
+  });
 }
 
 }  // namespace
@@ -316,25 +321,17 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
   for (int s = include_from ? 0 : 1; s <= (include_to ? n : n - 1); ++s) {
     const double t = static_cast<double>(s) / n;
     const Eigen::Isometry3d to_tool = motion.frame_at(t).inverse();
-    auto far = [&](const Group& g) { return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range; };
-    for (const Group& sup : idx.supers) {
-      if (far(sup)) continue;
-      for (int ti : sup.members) {
-        const Group& tile = idx.tiles[ti];
-        if (far(tile)) continue;
-        for (int m : tile.members) {
-          const Sample& smp = idx.samples[m];
-          // Only entries below -allowed matter: the trace stops there.
-          const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_,
-                                       std::min(-allowed_mm, cut.depth_mm));
-          if (e < cut.depth_mm && e < -allowed_mm) {
-            cut.depth_mm = e;
-            cut.t = t;
-            cut.point = smp.p;
-          }
-        }
+    for_each_sample_near(cutter, to_tool, idx, range, [&](int m) {
+      const Sample& smp = idx.samples[m];
+      // Only entries below -allowed matter: the trace stops there.
+      const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_,
+                                   std::min(-allowed_mm, cut.depth_mm));
+      if (e < cut.depth_mm && e < -allowed_mm) {
+        cut.depth_mm = e;
+        cut.t = t;
+        cut.point = smp.p;
       }
-    }
+    });
   }
   return cut;
 }
