@@ -163,6 +163,11 @@ TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceed
 // about a minute, too long for the suite.
 TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 finishing recipe skipped";
+#ifdef BLISKRUN_SANITIZED
+  // ~9 minutes under ASan+UBSan; the planner and simulation it drives run
+  // there in the built-in blisk's recipe and planning tests.
+  GTEST_SKIP() << "Rotor 67 finishing recipe skipped under the sanitizers (runs in the Release suite)";
+#endif
   TempDir dir;
   const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--out",
                                        dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300",
