@@ -180,7 +180,7 @@ void check_keys(lua_State* L, int idx, const std::string& what, const std::set<s
 RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(what + ": expected a table, got " + type_of(L, idx));
-  check_keys(L, idx, what + ": ", {"name", "carrier", "direction", "pivot", "travel"});
+  check_keys(L, idx, what + ": ", {"name", "carrier", "direction", "pivot", "travel", "iso841"});
   RotaryAxis a;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error(what + ": missing name (A, B or C)");
@@ -202,7 +202,14 @@ RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
     a.min_rad = deg_to_rad(lo);
     a.max_rad = deg_to_rad(hi);
   }
-  lua_pop(L, 5);
+  lua_getfield(L, idx, "iso841");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_isboolean(L, -1))
+      table_error(what + ".iso841: expected true (a positive angle turns the tool relative to the part as "
+                         "ISO 841 says) or false (the reverse), got " + type_of(L, -1));
+    a.iso841_sense = lua_toboolean(L, -1) ? 1 : -1;
+  }
+  lua_pop(L, 6);
   return a;
 }
 
@@ -210,7 +217,7 @@ MachineDefinition read_definition(lua_State* L, int idx) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(std::string("expected a table, got ") + type_of(L, idx));
   check_keys(L, idx, "", {"name", "linear", "rotary", "spindle", "part_origin", "tool_length", "feed",
-                          "resolution"});
+                          "rapid", "resolution"});
   MachineDefinition m;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error("missing name");
@@ -258,6 +265,22 @@ MachineDefinition read_definition(lua_State* L, int idx) {
     m.feed = read_choice(L, -1, "feed", {"per_minute", "inverse_time"}) == "per_minute"
                  ? FeedMode::PerMinute
                  : FeedMode::InverseTime;
+  lua_getfield(L, idx, "rapid");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_istable(L, -1)) table_error("rapid: expected { feed = mm/min, linear = true|false }");
+    check_keys(L, -1, "rapid: ", {"feed", "linear"});
+    lua_getfield(L, -1, "feed");
+    if (!lua_isnil(L, -1)) m.rapid.feed_mm_per_min = read_number(L, -1, "rapid.feed");
+    lua_getfield(L, -2, "linear");
+    if (!lua_isnil(L, -1)) {
+      if (!lua_isboolean(L, -1))
+        table_error(std::string("rapid.linear: expected true (the controller interpolates rapids linearly) or false, got ") +
+                    type_of(L, -1));
+      m.rapid.linear = lua_toboolean(L, -1);
+    }
+    lua_pop(L, 2);
+  }
+  lua_pop(L, 1);
   lua_getfield(L, idx, "resolution");
   if (!lua_isnil(L, -1)) {
     if (!lua_istable(L, -1)) table_error("resolution: expected { linear = mm, rotary = deg }");
@@ -433,6 +456,8 @@ int l_moves_next(lua_State* L) {
   }
   lua_pushboolean(L, m.inserted);
   lua_setfield(L, -2, "inserted");
+  lua_pushboolean(L, m.positioning);
+  lua_setfield(L, -2, "positioning");
   set_vec3(L, m.pose.tip, "tip");
   set_vec3(L, m.pose.axis, "axis");
   return 1;
@@ -575,6 +600,16 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
     lua_rawseti(L, -2, i + 1);
   }
   lua_setfield(L, -2, "rotary");
+  lua_createtable(L, 3, 0);
+  for (int i = 0; i < 3; ++i) {
+    lua_pushnumber(L, def.part_origin_mm[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_setfield(L, -2, "part_origin");
+  lua_pushnumber(L, def.rapid.feed_mm_per_min);
+  lua_setfield(L, -2, "rapid_feed");
+  lua_pushboolean(L, def.rapid.linear);
+  lua_setfield(L, -2, "linear_rapids");
   lua_setfield(L, -2, "machine");
   lua_createtable(L, 0, 3);
   lua_pushinteger(L, job.tool_number);

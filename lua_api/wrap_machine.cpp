@@ -272,6 +272,8 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "worst_line");
   lua_pushinteger(L, p.plan.inserted_moves);
   lua_setfield(L, -2, "inserted");
+  lua_pushinteger(L, p.plan.positioning_moves);
+  lua_setfield(L, -2, "positioning");
   lua_pushnumber(L, p.plan.max_deviation_mm);
   lua_setfield(L, -2, "max_deviation");
   luax::push(L, p.file);

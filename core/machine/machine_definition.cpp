@@ -44,6 +44,24 @@ void validate(const MachineDefinition& m) {
     if (std::isnan(a.min_rad) || std::isnan(a.max_rad) || !(a.min_rad < a.max_rad))
       throw ParameterError(field, "expected min < max");
   }
+  for (int i = 0; i < 2; ++i) {
+    const RotaryAxis& a = m.rotary[i];
+    if (a.iso841_sense == 0) continue;
+    const int sense = iso841_sense(m, i);
+    if (sense != a.iso841_sense) {
+      const char* machine_axis = a.name == "A" ? "+X" : a.name == "B" ? "+Y" : "+Z";
+      throw ParameterError(
+          "rotary[" + std::to_string(i + 1) + "].iso841",
+          std::string("stated ") + (a.iso841_sense > 0 ? "true" : "false") + ", but as defined (" +
+              (a.carrier == AxisCarrier::Part ? "a table" : "a head") + " turning " +
+              (a.carrier == AxisCarrier::Part ? "the part" : "the tool") + " right-handed about its direction) a positive " +
+              a.name + " turns the tool relative to the part " + (sense > 0 ? "right" : "left") +
+              "-handed about " + machine_axis + ", " + (sense > 0 ? "as" : "the reverse of") +
+              " ISO 841's +" + a.name);
+    }
+  }
+  if (!(m.rapid.feed_mm_per_min > 0) || !std::isfinite(m.rapid.feed_mm_per_min))
+    throw ParameterError("rapid.feed", "expected a rapid feed > 0 mm/min");
   if (m.rotary[0].name == m.rotary[1].name)
     throw ParameterError("rotary[2].name", "both rotary axes are named " + m.rotary[0].name);
   if (m.rotary[0].direction.cross(m.rotary[1].direction).norm() < 1e-6)
@@ -63,6 +81,13 @@ void validate(const MachineDefinition& m) {
   if (!finite(m.part_origin_mm)) throw ParameterError("part_origin", "expected finite numbers");
   if (!(m.linear_resolution_mm > 0) || !(m.rotary_resolution_rad > 0))
     throw ParameterError("resolution", "expected positive resolutions");
+}
+
+int iso841_sense(const MachineDefinition& m, int i) {
+  const RotaryAxis& a = m.rotary[i];
+  const Vec3 machine_axis = a.name == "A" ? Vec3::UnitX() : a.name == "B" ? Vec3::UnitY() : Vec3::UnitZ();
+  const double along = a.direction.dot(machine_axis) * (a.carrier == AxisCarrier::Part ? -1 : 1);
+  return along >= 0 ? 1 : -1;
 }
 
 std::string configuration_name(const MachineDefinition& m) {

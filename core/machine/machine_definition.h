@@ -54,6 +54,24 @@ struct RotaryAxis {
   double min_rad = -std::numeric_limits<double>::infinity();
   double max_rad = std::numeric_limits<double>::infinity();
   bool continuous() const { return std::isinf(max_rad - min_rad); }
+  // What the machine file states about this axis against ISO 841: +1 "a
+  // positive angle turns the tool relative to the part right-handed about the
+  // machine's +X, +Y or +Z (for A, B, C)", -1 the reverse, 0 not stated.
+  // validate() checks a statement against the geometry above.
+  int iso841_sense = 0;
+};
+
+// How the controller moves on a rapid (G0, FMAX). Each axis then runs at its
+// own rate, so the tool follows the straight line the collision checks proved
+// only where one linear axis moves, or where the controller is set to
+// interpolate rapids linearly (`linear`: Fanuc parameter 1401#1 LRP, Siemens
+// RTLION; Heidenhain L blocks and LinuxCNC always) and no rotary axis turns —
+// a joint-linear rotary move still swings the tip off the line. Every other
+// rapid is posted as a feed move at `feed_mm_per_min`, split to the chord
+// tolerance like a cutting move (see motion.h).
+struct RapidMotion {
+  double feed_mm_per_min = 10000;
+  bool linear = false;
 };
 
 struct MachineDefinition {
@@ -66,6 +84,7 @@ struct MachineDefinition {
   Vec3 part_origin_mm = Vec3::Zero();
   ToolLengthMode tool_length = ToolLengthMode::Tip;
   FeedMode feed = FeedMode::PerMinute;
+  RapidMotion rapid;
   // What the controller can represent; read-back adds it to the tolerance.
   double linear_resolution_mm = 0.001;
   double rotary_resolution_rad = deg_to_rad(0.001);
@@ -77,6 +96,12 @@ struct MachineDefinition {
 // first (else that axis cannot change the tool orientation). Throws
 // ParameterError naming the offending field ("rotary[2].direction", ...).
 void validate(const MachineDefinition& machine);
+
+// The sense of rotary axis i against ISO 841, from the geometry: +1 when a
+// positive angle turns the tool relative to the part right-handed about the
+// machine axis the name denotes (A: +X, B: +Y, C: +Z), -1 when left-handed.
+// A table axis turns the part, so the tool turns the other way relative to it.
+int iso841_sense(const MachineDefinition& machine, int i);
 
 // "table-table", "head-table" or "head-head", from the carriers.
 std::string configuration_name(const MachineDefinition& machine);

@@ -32,6 +32,29 @@ bool same_axes(const MachineAxes& a, const MachineAxes& b) {
          std::abs(a.rotary_rad[1] - b.rotary_rad[1]) < 1e-12;
 }
 
+bool same_rotaries(const MachineAxes& a, const MachineAxes& b) {
+  return std::abs(a.rotary_rad[0] - b.rotary_rad[0]) < 1e-9 && std::abs(a.rotary_rad[1] - b.rotary_rad[1]) < 1e-9;
+}
+
+// Whether the controller's rapid from `a` to `b` runs along the planned
+// segment by itself (see motion.h): no rotary turns, and one linear axis moves
+// or the controller interpolates rapids linearly.
+bool rapid_follows_segment(const MachineDefinition& machine, const MachineAxes& a, const MachineAxes& b) {
+  if (!same_rotaries(a, b)) return false;
+  if (machine.rapid.linear) return true;
+  int moving = 0;
+  for (int i = 0; i < 3; ++i) moving += std::abs(a.linear_mm[i] - b.linear_mm[i]) > 1e-9;
+  return moving <= 1;
+}
+
+std::string rotary_words(const MachineDefinition& machine, const MachineAxes& q) {
+  std::ostringstream out;
+  out.precision(6);
+  out << machine.rotary[0].name << rad_to_deg(q.rotary_rad[0]) << " " << machine.rotary[1].name
+      << rad_to_deg(q.rotary_rad[1]);
+  return out.str();
+}
+
 std::string describe(long index, const PlannedMove& m) {
   std::ostringstream out;
   out.precision(6);
@@ -263,6 +286,32 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
                                  : planner.inverse(m.pose, axes, m, index);
     if (same_axes(next, axes) && i > 0) {
       ++program.skipped_moves;
+    } else if (i > 0 && m.kind == MoveKind::Rapid && !rapid_follows_segment(kin.machine(), axes, next)) {
+      // The branch continuity reaches is the one a motion along the segment
+      // ends on; choose_branch may have preferred another for travel.
+      const MachineAxes continued = planner.inverse(m.pose, axes, m, index);
+      if (!same_rotaries(continued, next))
+        throw Error(describe(index, m) + ": this rapid changes the rotary branch (" +
+                    rotary_words(kin.machine(), axes) + " to " + rotary_words(kin.machine(), next) +
+                    " where following the motion ends at " + rotary_words(kin.machine(), continued) +
+                    "), which no motion along the planned segment does; retract the tool to where "
+                    "any motion is safe before it, or plan the link so the branch is kept");
+      PlannedMove positioning = m;
+      positioning.kind = MoveKind::Feed;
+      positioning.feed_mm_per_min = kin.machine().rapid.feed_mm_per_min;
+      const size_t first = program.moves.size();
+      try {
+        planner.feed(pose, axes, m.pose, next, positioning, index, 0, true);
+      } catch (const Error& e) {
+        throw Error(std::string("a rapid posted as a positioning move cannot follow the planned segment: ") +
+                    e.what() + "; retract the tool to where any motion is safe before it");
+      }
+      for (size_t k = first; k < program.moves.size(); ++k) program.moves[k].positioning = true;
+      ++program.positioning_moves;
+      axes = program.moves.back().axes;
+      pose = m.pose;
+      if ((i & 255) == 0) progress.step(index + 1);
+      continue;
     } else if (m.kind == MoveKind::Rapid || i == 0) {
       // The first move starts from wherever the machine is, not from a
       // planned pose: there is no segment to stay on.

@@ -8,8 +8,18 @@
 // split by inserting poses on the planned segment (tip linear, axis along the
 // great circle) until every piece is within tolerance. With TCP control
 // (G43.4, TRAORI, M128) the controller keeps the tip on the segment and no
-// move is split. Rapid moves are never split: they do not cut, and retracts
-// are the planner's business.
+// move is split.
+//
+// Rapids. On a rapid each axis runs at its own rate along a path the program
+// does not define, yet the planner proved every link clear along the same
+// straight segment (tip linear, axis along the great circle) as a feed move.
+// So a rapid stays a rapid only where the machine follows that segment anyway
+// (one linear axis, or linear axes on a controller that interpolates rapids
+// linearly — MachineDefinition::rapid); every other planned rapid becomes a
+// *positioning* feed move at the machine's rapid feed, split like a cutting
+// move. A positioning move that would have to change the rotary branch (the
+// same tool axis reached by other rotary angles) cannot follow the segment at
+// all and is refused: the plan must retract to where any motion is safe.
 #include <string>
 #include <vector>
 
@@ -45,6 +55,7 @@ struct MachineMove {
   long source = 0;     // index of the planned move this one ends or belongs to
   long row = -1;
   bool inserted = false;  // added by splitting; ends inside the planned move
+  bool positioning = false;  // a planned rapid posted as a feed move (see above)
 };
 
 struct MachineProgram {
@@ -54,6 +65,7 @@ struct MachineProgram {
   double max_deviation_mm = 0;  // bound on the tip departure over all feed moves, after splitting
   long inserted_moves = 0;
   long skipped_moves = 0;       // planned moves that did not move any axis
+  long positioning_moves = 0;   // planned rapids posted as feed moves at the rapid feed
 };
 
 // The departure of the tip from the straight segment tip_from -> tip_to (part

@@ -41,6 +41,17 @@ class LineReader {
         i = end + 1;
         continue;
       }
+      // Heidenhain "BEGIN PGM name MM": the name may mix letters, digits and
+      // '_' ("BLADE_1_SUCTION"); it is one token, whatever it holds.
+      if (out.size() >= 2 && out.back().kind == Token::Keyword && out.back().text == "PGM" &&
+          out[out.size() - 2].kind == Token::Keyword &&
+          (out[out.size() - 2].text == "BEGIN" || out[out.size() - 2].text == "END")) {
+        size_t j = i;
+        while (j < s.size() && !std::isspace(static_cast<unsigned char>(s[j]))) ++j;
+        out.push_back(Token{Token::Keyword, 0, s.substr(i, j - i), 0, col});
+        i = j;
+        continue;
+      }
       if (std::isalpha(static_cast<unsigned char>(c))) {
         size_t j = i;
         while (j < s.size() && (std::isalpha(static_cast<unsigned char>(s[j])) || s[j] == '_')) ++j;

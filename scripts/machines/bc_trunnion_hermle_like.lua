@@ -15,4 +15,5 @@ return generic "table_table_bc" {
   tool_length = "tip",
   feed = "inverse_time",
   resolution = { linear = 0.001, rotary = 0.001 },
+  rapid = { feed = 35000, linear = true },   -- TNC: L ... FMAX is a straight line
 }

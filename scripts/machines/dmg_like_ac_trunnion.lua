@@ -18,4 +18,5 @@ return generic "table_table_ac" {
   tool_length = "tip",
   feed = "inverse_time",
   resolution = { linear = 0.001, rotary = 0.001 },
+  rapid = { feed = 30000, linear = false },  -- Fanuc: rapids not set to interpolate linearly
 }

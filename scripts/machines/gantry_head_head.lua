@@ -15,4 +15,5 @@ return generic "head_head" {
   tool_length = "tip",
   feed = "per_minute",
   resolution = { linear = 0.001, rotary = 0.001 },
+  rapid = { feed = 20000, linear = false }
 }

@@ -3,6 +3,10 @@
 -- spindle; the part stays put. C is the primary axis, singular when the tool
 -- is vertical (A = 0). The fork pivot is given from the spindle gauge point.
 -- Lengths mm, angles deg.
+--
+-- Rotary senses (ISO 841, checked when the file loads): a positive head
+-- angle turns the tool right-handed about the axis direction, as ISO 841
+-- says (iso841 = true).
 return parametric {
   parameters = {
     name        = { default = "head-head C/A fork", doc = "machine name" },
@@ -17,20 +21,23 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "per_minute", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    rapid       = { default = { feed = 10000, linear = false },
+                    doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
   build = function(p)
     return machine {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {  -- chain order: C carries the A fork
-        { name = "C", carrier = "tool", direction = { 0, 0, 1 }, pivot = p.c_offset, travel = p.c },
-        { name = "A", carrier = "tool", direction = { 1, 0, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.a },
+        { name = "C", carrier = "tool", direction = { 0, 0, 1 }, pivot = p.c_offset, travel = p.c, iso841 = true },
+        { name = "A", carrier = "tool", direction = { 1, 0, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.a, iso841 = true },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
       tool_length = p.tool_length,
       feed = p.feed,
       resolution = p.resolution,
+      rapid = p.rapid,
     }
   end,
 }

@@ -3,6 +3,11 @@
 -- singular at B = 0. The head pivot is given from the spindle gauge point
 -- (the length the head manufacturer states as "pivot length").
 -- Lengths mm, angles deg.
+--
+-- Rotary senses (ISO 841, checked when the file loads): a positive C turns
+-- the part right-handed about +Z, so relative to the part the tool turns the
+-- other way -- the reverse of ISO 841's +C (iso841 = false); a positive B
+-- turns the tool right-handed about +Y, as ISO 841 says (iso841 = true).
 return parametric {
   parameters = {
     name        = { default = "head-table B head / C table", doc = "machine name" },
@@ -17,20 +22,23 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "per_minute", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    rapid       = { default = { feed = 10000, linear = false },
+                    doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
   build = function(p)
     return machine {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {  -- one axis on each side: the order only says which is which
-        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c },
-        { name = "B", carrier = "tool", direction = { 0, 1, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.b },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false },
+        { name = "B", carrier = "tool", direction = { 0, 1, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.b, iso841 = true },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
       tool_length = p.tool_length,
       feed = p.feed,
       resolution = p.resolution,
+      rapid = p.rapid,
     }
   end,
 }

@@ -19,4 +19,5 @@ return generic "head_table_bc" {
   tool_length = "tip",
   feed = "per_minute",
   resolution = { linear = 0.001, rotary = 0.001 },
+  rapid = { feed = 30000, linear = true },   -- TNC: L ... FMAX is a straight line
 }

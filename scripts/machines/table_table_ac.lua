@@ -6,6 +6,12 @@
 -- Frames (see core/machine/machine_definition.h): the machine frame has its
 -- origin at the program zero (G54) and its axes along X, Y, Z; pivots and
 -- the part origin are given with all axes at zero. Lengths mm, angles deg.
+--
+-- Rotary senses (ISO 841, checked when the file loads): a positive table
+-- angle turns the part right-handed about the axis direction, so relative to
+-- the part the tool turns the other way -- the reverse of ISO 841's positive
+-- sense (iso841 = false). A table that turns the other way for a positive
+-- command gets the opposite direction and iso841 = true.
 return parametric {
   parameters = {
     name        = { default = "table-table A/C trunnion", doc = "machine name" },
@@ -20,20 +26,23 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "inverse_time", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    rapid       = { default = { feed = 10000, linear = false },
+                    doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
   build = function(p)
     return machine {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {  -- chain order: the cradle carries the table
-        { name = "A", carrier = "part", direction = { 1, 0, 0 }, pivot = p.a_pivot, travel = p.a },
-        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c },
+        { name = "A", carrier = "part", direction = { 1, 0, 0 }, pivot = p.a_pivot, travel = p.a, iso841 = false },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
       tool_length = p.tool_length,
       feed = p.feed,
       resolution = p.resolution,
+      rapid = p.rapid,
     }
   end,
 }

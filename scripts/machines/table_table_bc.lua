@@ -2,6 +2,12 @@
 -- (about machine Y) carries the C rotary table; vertical spindle. C is the
 -- primary axis, singular at B = 0.
 -- Lengths mm, angles deg; pivots with all axes at zero, machine frame.
+--
+-- Rotary senses (ISO 841, checked when the file loads): a positive table
+-- angle turns the part right-handed about the axis direction, so relative to
+-- the part the tool turns the other way -- the reverse of ISO 841's positive
+-- sense (iso841 = false). A table that turns the other way for a positive
+-- command gets the opposite direction and iso841 = true.
 return parametric {
   parameters = {
     name        = { default = "table-table B/C trunnion", doc = "machine name" },
@@ -16,20 +22,23 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "inverse_time", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    rapid       = { default = { feed = 10000, linear = false },
+                    doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
   build = function(p)
     return machine {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {
-        { name = "B", carrier = "part", direction = { 0, 1, 0 }, pivot = p.b_pivot, travel = p.b },
-        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c },
+        { name = "B", carrier = "part", direction = { 0, 1, 0 }, pivot = p.b_pivot, travel = p.b, iso841 = false },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
       tool_length = p.tool_length,
       feed = p.feed,
       resolution = p.resolution,
+      rapid = p.rapid,
     }
   end,
 }

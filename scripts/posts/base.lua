@@ -12,7 +12,8 @@
 -- job:moves(), an iterator over the machine moves. A move has kind ("rapid" |
 -- "feed"), one field per machine axis (X, Y, Z in mm; the rotary names in
 -- degrees; under TCP control X, Y, Z are the tool tip in the part frame), F
--- (the feed word, feed moves only), index, row, inserted, tip and axis.
+-- (the feed word, feed moves only), index, row, inserted, positioning (a
+-- planned rapid written as a feed move at the rapid feed), tip and axis.
 -- `out:line(text)` appends one line. `self` is a fresh instance per program:
 -- modal state lives in it, never in the post table.
 local P = {}
@@ -102,6 +103,26 @@ function P.feed_word(self, job, move)
     return text
   end
   return nil
+end
+
+-- What the program assumes of the setup, as comment texts for the header:
+-- where the work offset must be set, and how rapids are written.
+function P.setup_notes(self, job)
+  local o = job.machine.part_origin
+  local at = string.format("X%s Y%s Z%s", self:number(o[1], 3), self:number(o[2], 3), self:number(o[3], 3))
+  local notes = {}
+  if job.tcp then
+    notes[#notes + 1] = "work offset: the part frame origin; it lies at " .. at ..
+                        " from the machine zero of the machine file with all axes at 0"
+  else
+    notes[#notes + 1] = "work offset: the machine zero of the machine file; the part frame origin must lie at " ..
+                        at .. " from it with all axes at 0"
+  end
+  notes[#notes + 1] = string.format("rapids that turn a rotary axis%s are feed moves at F%d mm/min",
+                                    job.machine.linear_rapids and "" or " or move more than one linear axis",
+                                    math.floor(job.machine.rapid_feed + 0.5))
+  notes[#notes + 1] = "the first move positions from the tool change point: start with the tool clear of the part"
+  return notes
 end
 
 -- ---- steps -------------------------------------------------------------

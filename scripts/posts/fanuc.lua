@@ -22,6 +22,7 @@ function P.header(self, job, out)
   out:line(self:comment("MACHINE " .. job.machine.name))
   out:line(self:comment(string.format("TOOL %d LENGTH %s", job.tool.number,
                                       self:number(job.tool.length, job.decimals.linear))))
+  for _, note in ipairs(self:setup_notes(job)) do out:line(self:comment(note)) end
   self:emit(out, "G90 G17 G21 G40 G49 G80 " .. (job.feed_mode == "inverse_time" and "G93" or "G94"))
   self:emit(out, "G54")
 end

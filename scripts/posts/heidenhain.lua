@@ -40,6 +40,7 @@ function P.header(self, job, out)
   self:emit(out, self:comment("machine " .. job.machine.name))
   self:emit(out, self:comment(string.format("tool %d length %s", job.tool.number,
                                             self:number(job.tool.length, job.decimals.linear))))
+  for _, note in ipairs(self:setup_notes(job)) do self:emit(out, self:comment(note)) end
 end
 
 function P.tool_change(self, job, out)

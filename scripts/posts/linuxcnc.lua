@@ -23,6 +23,7 @@ function P.header(self, job, out)
   out:line(self:comment("machine " .. job.machine.name .. ", kinematics xyzac-trt"))
   out:line(self:comment(string.format("tool %d length %s", job.tool.number,
                                       self:number(job.tool.length, job.decimals.linear))))
+  for _, note in ipairs(self:setup_notes(job)) do out:line(self:comment(note)) end
   out:line("G21 G90 G17 G40 G49 G94")
   out:line("G54")
 end

@@ -1,67 +1,62 @@
--- Posts one blade flank of a blisk-scale part for two machines and proves
--- both programs by read-back (issue 5, SPEC §7):
+-- Posts the real drum-wheel finishing plan of one flank of the built-in
+-- blisk (the plan blisk_drum_finish.lua makes and proves) for two machines,
+-- and proves both programs by read-back (issue 5, SPEC §7; issue 13 item 5):
 --   the A/C trunnion (dmg_like_ac_trunnion) with the Fanuc post, in machine
 --   axes (G93, moves split to the chord tolerance), and
 --   the B head / C table (monoblock_like_head_table) with the Heidenhain post
 --   (FUNCTION TCPM).
--- Until the blisk-finishing strategy is bound to Lua, the path is a planned
--- test path at the blisk paper's scale: rows along the chord at spans from
--- the hub (r = 100 mm) to the tip (r = 130 mm, blade height 30 mm), the
--- blade twisting 14 deg from hub to tip, the tool axis along the span leaning
--- 10 deg against the feed.
+-- The plan's links (retract, traverse, approach) are rapids that turn the
+-- rotary axes; a G0 would move each axis at its own rate and swing the tool
+-- off the path the planner proved clear, so the post writes them as
+-- positioning feed moves at the machine's rapid feed, split like cuts (see
+-- docs/lua_api.md, post.write). Each header states where the work offset
+-- must be set.
 --
---   bliskrun scripts/recipes/blisk_post.lua --out out [--set rows=16]
-local rows = args.rows or 16         -- rows from hub to tip
-local steps = 120                    -- feed moves per row
-local hub_r, tip_r = 100, 130        -- mm
-local chord = 36                     -- mm along the rotor axis
-local feed = 900                     -- mm/min
-local clearance = 20                 -- radial retract between rows, mm
+--   bliskrun scripts/recipes/blisk_post.lua --out out [--set side=suction|pressure]
+--            [--set blade=1] [--set feed=600]
+local finish = require("blisk_finish")
+local blisk_world = require("blisk_world")
 
-local function flank_point(span, along)
-  local r = hub_r + (tip_r - hub_r) * span
-  local theta = math.rad(-8 + 16 * along + 14 * span * (along - 0.5))  -- twist
-  local z = -chord / 2 + chord * along
-  return r, theta, z
-end
+local blade = args.blade or 1
+local side = args.side or "suction"
+local feed = args.feed or 600                  -- mm/min along the flank
+assert(side == "suction" or side == "pressure", "--set side= expects 'suction' or 'pressure'")
+assert(type(feed) == "number" and feed > 0, "--set feed= expects a feed > 0 mm/min")
 
-local function pose(r, theta, z, lean_deg)
-  local c, s = math.cos(theta), math.sin(theta)
-  local lean = math.rad(lean_deg)
-  -- along the span (radial), leaning towards -Z by `lean`
-  local axis = {c * math.cos(lean), s * math.cos(lean), -math.sin(lean)}
-  return {r * c, r * s, z}, axis
-end
+local blisk = bliskrun.blisk{}
+assert(math.type(blade) == "integer" and blade >= 1 and blade <= blisk:blade_count(),
+       string.format("--set blade= expects 1..%d", blisk:blade_count()))
+local design = finish.design_wheels(blisk, {c_range = 30})
+local wheel = design.wheels.extended
+local plan = finish.plan(blisk, blade, side, wheel, blisk_world.around_blade(blisk, blade),
+                         {residual = 0.014, chord_tol = 0.002, steps = "variable", shank_clearance = 0.1,
+                          c_range = 30})
+local r = plan:report()
+assert(r.refusals == 0 and r.refused_links == 0,
+       string.format("the plan refused %d poses and %d links: nothing to post", r.refusals, r.refused_links))
 
 local path = {}
-for row = 0, rows - 1 do
-  local span = row / (rows - 1)
-  local r0, t0, z0 = flank_point(span, 0)
-  local tip, axis = pose(r0 + clearance, t0, z0, 10)
-  path[#path + 1] = {kind = "rapid", tip = tip, axis = axis, row = row + 1}
-  for k = 0, steps do
-    local r, theta, z = flank_point(span, k / steps)
-    tip, axis = pose(r, theta, z, 10)
-    path[#path + 1] = {kind = "feed", tip = tip, axis = axis, feed = feed, row = row + 1}
-  end
-  local r1, t1, z1 = flank_point(span, 1)
-  tip, axis = pose(r1 + clearance, t1, z1, 10)
-  path[#path + 1] = {kind = "feed", tip = tip, axis = axis, feed = 2 * feed, row = row + 1}
+for i, m in ipairs(plan:moves()) do
+  path[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, feed = m.kind == "feed" and feed or nil}
 end
 
-local tool = {number = 7, length = 95, spindle_rpm = 18000}
-local report = {}
+-- Tool 5: the extended drum wheel, gauge length 110 mm (head 4 + shank 96 + 10 in the holder).
+local tool = {number = 5, length = 110, spindle_rpm = 8000}
+local name = string.format("blisk blade %d %s", blade, side)
+local report = {planned_moves = #path, rows = r.row_count, blade = blade, side = side, programs = {}}
 for _, job in ipairs({
   {machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blade_ac_fanuc.nc"},
   {machine = "monoblock_like_head_table", post = "heidenhain", file = "blade_bc_heidenhain.h"},
 }) do
   local m = bliskrun.machine.load(job.machine)
-  local r = bliskrun.post.write{machine = m, post = job.post, path = path, file = job.file,
-                                tool = tool, name = "blisk blade 1", chord_tol = 0.002}
-  bliskrun.log(string.format("%s on %s: %d blocks (%d inserted), tip within %.4f mm of the plan, axis within %.5f deg",
-                             job.file, m:name(), r.moves, r.inserted, r.max_position, r.max_angle))
-  report[#report + 1] = {file = job.file, machine = m:name(), post = job.post, blocks = r.moves,
-                         inserted = r.inserted, max_position_mm = r.max_position,
-                         max_angle_deg = r.max_angle, max_departure_mm = r.max_deviation}
+  local w = bliskrun.post.write{machine = m, post = job.post, path = path, file = job.file,
+                                tool = tool, name = name, chord_tol = 0.002}
+  bliskrun.log(string.format("%s on %s: %d blocks (%d inserted, %d rapids as positioning moves), tip within "
+                             .. "%.4f mm of the plan, axis within %.5f deg", job.file, m:name(), w.moves, w.inserted,
+                             w.positioning, w.max_position, w.max_angle))
+  report.programs[#report.programs + 1] = {
+    file = job.file, machine = m:name(), post = job.post, blocks = w.moves, inserted = w.inserted,
+    positioning = w.positioning, max_position_mm = w.max_position, max_angle_deg = w.max_angle,
+    max_departure_mm = w.max_deviation}
 end
-bliskrun.write_json("blisk_post.json", {planned_moves = #path, programs = report})
+bliskrun.write_json("blisk_post.json", report)

@@ -56,7 +56,7 @@ TEST(MachineLua, EditedProgramFailsVerificationAtItsLine) {
       "bliskrun.write_text(\"edited.mpf\", edited)\n"
       "bliskrun.post.verify{program = r.program, file = \"out/edited.mpf\"}\n");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("edited.mpf:12: the replayed tool is 0.1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("edited.mpf:15: the replayed tool is 0.1"), std::string::npos) << r.output;
 }
 
 TEST(MachineLua, PostWriteOptionsAreValidated) {

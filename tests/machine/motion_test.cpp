@@ -102,6 +102,50 @@ TEST(MachineMotion, SplittingKeepsANinetyDegreeSwingWithinTolerance) {
   EXPECT_LT((program.moves.back().pose.tip - path[1].pose.tip).norm(), 1e-12);
 }
 
+// A planned rapid that turns a rotary axis is posted as positioning feed
+// moves at the machine's rapid feed, split like a cutting move: the machine
+// then follows the segment the link checks proved (within the chord
+// tolerance, measured densely), where a G0 would swing the tip off it.
+TEST(MachineMotion, RapidsThatTurnARotaryAreSplitPositioningMoves) {
+  MachineDefinition m = test::table_table_ac();
+  m.rapid.feed_mm_per_min = 12000;
+  const Kinematics kin(m, 80.0);
+  const double tol = 0.005;
+  std::vector<PlannedMove> path(3);
+  path[0].kind = MoveKind::Rapid;
+  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[1].kind = MoveKind::Rapid;  // C turns 60 deg: a link between rows
+  path[1].pose = tilted(Vec3(20, 35, 8), 30 * kDeg, 60 * kDeg);
+  path[2].kind = MoveKind::Rapid;  // two linear axes, rotaries fixed
+  path[2].pose = tilted(Vec3(25, 40, 8), 30 * kDeg, 60 * kDeg);
+  MotionOptions options;
+  options.chord_tol_mm = tol;
+  const MachineProgram program = plan_machine_motion(kin, path, options);
+  EXPECT_EQ(program.positioning_moves, 2);
+  ASSERT_EQ(program.moves.front().kind, MoveKind::Rapid);
+  EXPECT_GT(program.moves.size(), 5u);  // the 60 deg turn is split
+  const MachineAxes a = kin.inverse(path[0].pose, MachineAxes{});
+  const MachineAxes b = kin.inverse(path[1].pose, a);
+  EXPECT_GT(dense_deviation(kin, a, b, path[0].pose.tip, path[1].pose.tip), 1.0);  // as one G0: mm off
+  for (size_t i = 1; i < program.moves.size(); ++i) {
+    const MachineMove& from = program.moves[i - 1];
+    const MachineMove& to = program.moves[i];
+    EXPECT_EQ(to.kind, MoveKind::Feed) << i;
+    EXPECT_TRUE(to.positioning) << i;
+    EXPECT_DOUBLE_EQ(to.feed, 12000) << i;
+    const PlannedMove& planned_from = path[to.source - 1];
+    const PlannedMove& planned_to = path[to.source];
+    EXPECT_LE(dense_deviation(kin, from.axes, to.axes, planned_from.pose.tip, planned_to.pose.tip, 400), tol) << i;
+  }
+  // A controller that interpolates rapids linearly keeps the linear-only one a rapid.
+  MachineDefinition linear = m;
+  linear.rapid.linear = true;
+  const MachineProgram with_linear = plan_machine_motion(Kinematics(linear, 80.0), path, options);
+  EXPECT_EQ(with_linear.positioning_moves, 1);
+  EXPECT_EQ(with_linear.moves.back().kind, MoveKind::Rapid);
+  EXPECT_FALSE(with_linear.moves.back().positioning);
+}
+
 // With TCP control the controller keeps the tip on the segment: no splitting.
 TEST(MachineMotion, TcpOutputIsNotSplit) {
   const Kinematics kin(test::table_table_ac(), 80.0);

@@ -112,6 +112,9 @@ TEST(MachinePosts, FanucMachineAxesProgramIsLiteral) {
             "O1000 (BLADE 1)\n"
             "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
             "(TOOL 3 LENGTH 80.000)\n"
+            "(WORK OFFSET: THE MACHINE ZERO OF THE MACHINE FILE; THE PART FRAME ORIGIN MUST LIE AT X0.000 Y0.000 Z120.000 FROM IT WITH ALL AXES AT 0)\n"
+            "(RAPIDS THAT TURN A ROTARY AXIS OR MOVE MORE THAN ONE LINEAR AXIS ARE FEED MOVES AT F30000 MM/MIN)\n"
+            "(THE FIRST MOVE POSITIONS FROM THE TOOL CHANGE POINT: START WITH THE TOOL CLEAR OF THE PART)\n"
             "N10 G90 G17 G21 G40 G49 G80 G93\n"
             "N20 G54\n"
             "N30 T3 M6\n"
@@ -139,6 +142,9 @@ TEST(MachinePosts, FanucTcpProgramIsLiteral) {
             "O1000 (BLADE 1)\n"
             "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
             "(TOOL 3 LENGTH 80.000)\n"
+            "(WORK OFFSET: THE PART FRAME ORIGIN; IT LIES AT X0.000 Y0.000 Z120.000 FROM THE MACHINE ZERO OF THE MACHINE FILE WITH ALL AXES AT 0)\n"
+            "(RAPIDS THAT TURN A ROTARY AXIS OR MOVE MORE THAN ONE LINEAR AXIS ARE FEED MOVES AT F30000 MM/MIN)\n"
+            "(THE FIRST MOVE POSITIONS FROM THE TOOL CHANGE POINT: START WITH THE TOOL CLEAR OF THE PART)\n"
             "N10 G90 G17 G21 G40 G49 G80 G94\n"
             "N20 G54\n"
             "N30 T3 M6\n"
@@ -161,6 +167,9 @@ TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
             "; blade 1\n"
             "; machine gantry C/A fork head\n"
             "; tool 3 length 80.000\n"
+            "; work offset: the part frame origin; it lies at X0.000 Y0.000 Z0.000 from the machine zero of the machine file with all axes at 0\n"
+            "; rapids that turn a rotary axis or move more than one linear axis are feed moves at F20000 mm/min\n"
+            "; the first move positions from the tool change point: start with the tool clear of the part\n"
             "N10 G90 G17 G71 G40 G94\n"
             "N20 G54\n"
             "N30 T3 D1\n"
@@ -183,17 +192,20 @@ TEST(MachinePosts, HeidenhainTcpmProgramIsLiteral) {
             "0 BEGIN PGM BLADE_1 MM\n"
             "1 ; machine monoBLOCK-like B head / C table\n"
             "2 ; tool 3 length 80.000\n"
-            "3 TOOL CALL 3 Z S12000\n"
-            "4 M3\n"
-            "5 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n"
-            "6 L X+40.000 Y+0.000 Z+30.000 C-90.000 B+20.000 R0 FMAX\n"
-            "7 L Z+5.000 F800.0\n"
-            "8 L Y+2.000 C-92.000 B+21.000\n"
-            "9 L Y+4.000 Z+5.500 C-94.000 B+22.000\n"
-            "10 FUNCTION RESET TCPM\n"
-            "11 M5\n"
-            "12 M30\n"
-            "13 END PGM BLADE_1 MM\n");
+            "3 ; work offset: the part frame origin; it lies at X0.000 Y0.000 Z100.000 from the machine zero of the machine file with all axes at 0\n"
+            "4 ; rapids that turn a rotary axis are feed moves at F30000 mm/min\n"
+            "5 ; the first move positions from the tool change point: start with the tool clear of the part\n"
+            "6 TOOL CALL 3 Z S12000\n"
+            "7 M3\n"
+            "8 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n"
+            "9 L X+40.000 Y+0.000 Z+30.000 C-90.000 B+20.000 R0 FMAX\n"
+            "10 L Z+5.000 F800.0\n"
+            "11 L Y+2.000 C-92.000 B+21.000\n"
+            "12 L Y+4.000 Z+5.500 C-94.000 B+22.000\n"
+            "13 FUNCTION RESET TCPM\n"
+            "14 M5\n"
+            "15 M30\n"
+            "16 END PGM BLADE_1 MM\n");
   LuaState again;
   EXPECT_THROW(write(again.L, "monoblock_like_head_table.lua", "heidenhain", false), Error);
 }
@@ -207,6 +219,9 @@ TEST(MachinePosts, LinuxcncTrtProgramIsLiteral) {
             "(blade 1)\n"
             "(machine DMG-like A/C trunnion 650, kinematics xyzac-trt)\n"
             "(tool 3 length 80.000)\n"
+            "(work offset: the part frame origin; it lies at X0.000 Y0.000 Z120.000 from the machine zero of the machine file with all axes at 0)\n"
+            "(rapids that turn a rotary axis or move more than one linear axis are feed moves at F30000 mm/min)\n"
+            "(the first move positions from the tool change point: start with the tool clear of the part)\n"
             "G21 G90 G17 G40 G49 G94\n"
             "G54\n"
             "T3 M6\n"
@@ -269,7 +284,7 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("-- comment\nreturn machine {\n  name = 'm', speed = 3,\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
                      good_rotary + "}\n"),
             path + ":2: machine: unknown key 'speed', expected one of: feed, linear, name, part_origin, "
-                   "resolution, rotary, spindle, tool_length");
+                   "rapid, resolution, rotary, spindle, tool_length");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Z = {-1, 1} },\n" + good_rotary + "}\n"),
             path + ":1: machine: linear: missing axis Y");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n"
@@ -278,7 +293,7 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
             path + ":1: machine: rotary[2].direction: parallel to rotary[1]: the two rotary axes cannot orient the tool");
   EXPECT_EQ(error_of("return generic 'table_table_ac' {\n  name = 'x', a_travel = {0, 1} }\n"),
             path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, feed, name, "
-                   "part_origin, resolution, tool_length, x, y, z");
+                   "part_origin, rapid, resolution, tool_length, x, y, z");
   EXPECT_NE(error_of("return 42\n").find("expected the file to return machine"), std::string::npos);
 }
 
@@ -296,6 +311,54 @@ TEST(MachinePosts, ShippedMachinesLoad) {
   // Generic definitions build with their defaults.
   for (const char* generic : {"table_table_ac.lua", "table_table_bc.lua", "head_table_bc.lua", "head_head.lua"})
     EXPECT_NO_THROW(load_machine(lua.L, generic)) << generic;
+}
+
+// ISO 841: every shipped machine file states the sense of both rotary axes,
+// and the statement holds for the motion the kinematics produce: a small
+// positive angle turns the tool axis, seen from the part, right-handed about
+// the machine axis the name denotes (+X for A, +Y for B, +Z for C) exactly
+// when the file says iso841 = true.
+TEST(MachinePosts, ShippedMachinesStateTheirRotarySensesAgainstIso841) {
+  LuaState lua;
+  for (const char* file : {"dmg_like_ac_trunnion.lua", "bc_trunnion_hermle_like.lua",
+                           "monoblock_like_head_table.lua", "gantry_head_head.lua", "table_table_ac.lua",
+                           "table_table_bc.lua", "head_table_bc.lua", "head_head.lua"}) {
+    const MachineDefinition m = load_machine(lua.L, file);
+    const Kinematics kin(m, 80.0);
+    for (int i = 0; i < 2; ++i) {
+      const RotaryAxis& a = m.rotary[i];
+      ASSERT_NE(a.iso841_sense, 0) << file << " does not state iso841 for " << a.name;
+      const Vec3 machine_axis = a.name == "A" ? Vec3::UnitX() : a.name == "B" ? Vec3::UnitY() : Vec3::UnitZ();
+      // From home, or with the other axis tilted where the tool would lie
+      // along this one. In the shipped configurations that tilt does not move
+      // this axis' line as seen from the part: it stays the home direction.
+      Vec3 turn = Vec3::Zero();
+      for (double other : {0.0, 0.4}) {
+        std::array<double, 2> q0{0.0, 0.0};
+        q0[1 - i] = other;
+        std::array<double, 2> q1 = q0;
+        q1[i] += 1e-4;
+        turn = kin.tool_axis(q0).cross(kin.tool_axis(q1));
+        if (turn.norm() > 1e-7) break;
+      }
+      ASSERT_GT(turn.norm(), 1e-7) << file << " " << a.name;
+      const Vec3 line = machine_axis;
+      const int sense = turn.dot(line) > 0 ? 1 : -1;
+      EXPECT_EQ(sense, a.iso841_sense) << file << " " << a.name;
+      EXPECT_EQ(sense, iso841_sense(m, i)) << file << " " << a.name;
+    }
+  }
+  // A wrong statement is refused where it is made.
+  const std::string path = std::string(::testing::TempDir()) + "/bliskrun_iso841.lua";
+  std::ofstream(path) << "return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n"
+                         "  rotary = { { name = 'A', carrier = 'part', direction = {1, 0, 0}, iso841 = true },\n"
+                         "             { name = 'C', carrier = 'part', direction = {0, 0, 1} } },\n}\n";
+  const std::string error = protect(lua.L, [&](lua_State* S) {
+    lua_api::load_machine_file(S, path, 0, scripts() + "/machines");
+  });
+  EXPECT_NE(error.find("rotary[1].iso841: stated true, but as defined (a table turning the part right-handed "
+                       "about its direction) a positive A turns the tool relative to the part left-handed about +X"),
+            std::string::npos) << error;
 }
 
 }  // namespace

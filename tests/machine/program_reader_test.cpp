@@ -65,7 +65,7 @@ TEST(MachineProgramReader, ReadsAnIsoProgram) {
 
 TEST(MachineProgramReader, ReadsHeidenhainAndSiemensBlocks) {
   const std::string heidenhain =
-      "0 BEGIN PGM BLISK MM\n"
+      "0 BEGIN PGM BLISK_BLADE_1_SUCTION MM\n"
       "1 TOOL CALL 3 Z S12000\n"
       "2 L X+10.000 Y-5.500 Z+100.000 B+0.000 C+90.000 R0 FMAX M3\n"
       "3 M128\n"
@@ -73,7 +73,7 @@ TEST(MachineProgramReader, ReadsHeidenhainAndSiemensBlocks) {
       "5 L X+12.345 B-30.000 C-45.500 R0 F500 ; comment\n"
       "6 FUNCTION RESET TCPM\n"
       "7 L Z+50 FMAX\n"
-      "8 END PGM BLISK MM\n";
+      "8 END PGM BLISK_BLADE_1_SUCTION MM\n";
   const auto h = read_program(heidenhain, test::head_table_bc(), named("h.h"));
   ASSERT_EQ(h.size(), 4u);
   EXPECT_EQ(h[0].kind, MoveKind::Rapid);
