@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <new>
 #include <sstream>
+
+#include "core/common/memory_budget.h"
 
 namespace bliskrun::luax {
 
@@ -20,6 +23,15 @@ int guarded(lua_State* L, const std::function<int()>& body) {
   std::string message;
   try {
     return body();
+  } catch (const std::bad_alloc&) {
+    // A C++ allocation refused for the run's budget (or by the system).
+    if (memory_budget_exceeded()) {
+      std::ostringstream text;
+      text << "memory limit of " << memory_budget() / (1024.0 * 1024.0) << " MB exceeded (--memory-limit)";
+      message = text.str();
+    } else {
+      message = "out of memory";
+    }
   } catch (const std::exception& e) {
     // Lua's own errors (C++ build) are not std::exceptions and pass through
     // untouched; only core's errors are converted, after the catch block has

@@ -21,7 +21,7 @@ const char* const kUsage =
     "                       true/false are converted)\n"
     "  --quiet              no progress on stderr\n"
     "  --time-limit S       stop the run after S seconds of wall time (default 3600, 0 = none)\n"
-    "  --memory-limit MB    limit the recipe's Lua memory (default 8192, 0 = none)\n"
+    "  --memory-limit MB    limit the run's memory, Lua and core heap (default 8192, 0 = none)\n"
     "  --threads N          worker threads for planning and simulation (default 2;\n"
     "                       outputs do not depend on it)\n"
     "  --verify             after the run, print the read-back verification of every\n"

@@ -49,10 +49,11 @@ std::string scripts_dir() {
 
 // ---- memory limit: a counting allocator ------------------------------------------
 
+// The Lua heap counts into the run's memory budget (core/common/memory_budget.h)
+// together with the C++ heap, so --memory-limit bounds both at once.
 struct Allocator {
-  size_t used = 0;
-  size_t limit = 0;  // 0: none
-  bool exceeded = false;
+  size_t used = 0;         // the Lua heap
+  bool exceeded = false;   // a Lua allocation was refused for the budget
 };
 
 void* limited_alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
@@ -61,14 +62,20 @@ void* limited_alloc(void* ud, void* ptr, size_t old_size, size_t new_size) {
   if (new_size == 0) {
     std::free(ptr);
     a->used -= old_size;
+    release_memory(old_size);
     return nullptr;
   }
-  if (a->limit && new_size > old_size && a->used + (new_size - old_size) > a->limit) {
+  if (new_size > old_size && !reserve_memory(new_size - old_size)) {
     a->exceeded = true;
     return nullptr;  // Lua raises "not enough memory"
   }
   void* p = std::realloc(ptr, new_size);
-  if (p) a->used = a->used - old_size + new_size;
+  if (!p) {
+    if (new_size > old_size) release_memory(new_size - old_size);
+    return nullptr;
+  }
+  if (new_size < old_size) release_memory(old_size - new_size);
+  a->used = a->used - old_size + new_size;
   return p;
 }
 
@@ -407,8 +414,9 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   });
 
   Allocator allocator;
-  allocator.limit = static_cast<size_t>(options.memory_limit_mb * 1024.0 * 1024.0);
-  // Core refuses single allocations it can estimate beyond the limit.
+  // The budget holds the Lua heap and the C++ heap together; what the
+  // process already holds (the runner, the standard library) counts as well,
+  // so the limit is on the process' heap, as a shop reads it.
   set_memory_budget(options.memory_limit_mb * 1024.0 * 1024.0);
   struct BudgetReset {
     ~BudgetReset() { set_memory_budget(0); }
@@ -457,7 +465,12 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     for (const auto& line : ctx.verified_programs) out << "  " << line << "\n";
   }
   if (status == LUA_OK) return kExitOk;
-  if (allocator.exceeded && status == LUA_ERRMEM) {
+  // A Lua allocation refused for the budget raises a bare "not enough
+  // memory"; a C++ one comes through luax::guarded already worded, with the
+  // recipe line. Anything else that failed after the budget ran out is
+  // reported as the limit, at the last recipe line the hook saw.
+  const bool worded = message.find("memory limit of ") != std::string::npos;
+  if (!worded && ((allocator.exceeded && status == LUA_ERRMEM) || memory_budget_exceeded())) {
     std::ostringstream s;
     s << (run_state.position().empty() ? "" : run_state.position() + ": ") << "memory limit of "
       << options.memory_limit_mb << " MB exceeded (--memory-limit)";
