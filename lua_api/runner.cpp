@@ -97,6 +97,7 @@ class Watchdog {
 
   Watchdog(Progress& progress, double seconds, HardStop hard_stop = {})
       : progress_(progress), hard_stop_(std::move(hard_stop)) {
+    clear_cancel_all();
     if (seconds <= 0) return;
     auto after = [](double s) {
       return std::chrono::steady_clock::now() +
@@ -109,6 +110,7 @@ class Watchdog {
       if (cv_.wait_until(lock, deadline_, [this] { return done_; })) return;
       expired_ = true;
       progress_.cancel(message());
+      request_cancel_all(message());  // loops that take no Progress
       if (!hard_stop_) return;
       if (cv_.wait_until(lock, after(kHardStopGrace), [this] { return done_; })) return;
       hard_stop_(message());
@@ -121,6 +123,7 @@ class Watchdog {
     }
     cv_.notify_all();
     if (thread_.joinable()) thread_.join();
+    clear_cancel_all();  // the next run in this process starts clean
   }
   bool expired() const { return expired_.load(); }
   std::string message() const {

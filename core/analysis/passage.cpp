@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 #include "core/geometry/projection.h"
 
 namespace bliskrun {
@@ -16,6 +17,7 @@ PassageDistance narrowest_passage(const Surface& a, const Surface& b, int nu, in
   std::vector<Candidate> candidates;
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
+      cancellation_point();  // each sample is a whole projection search
       const double u = static_cast<double>(i) / (nu - 1), v = static_cast<double>(j) / (nv - 1);
       const SurfaceProjection p = project_to_surface(b, a.point(u, v));
       if (p.ok && !p.on_boundary) candidates.push_back({p.distance, u, v});

@@ -1,8 +1,38 @@
 #include "core/common/progress.h"
 
+#include <mutex>
+
 #include "core/common/error.h"
 
 namespace bliskrun {
+
+namespace {
+std::atomic<bool> cancel_all{false};
+std::mutex cancel_all_mutex;
+std::string cancel_all_reason;
+}  // namespace
+
+void request_cancel_all(const std::string& reason) {
+  {
+    std::lock_guard<std::mutex> lock(cancel_all_mutex);
+    cancel_all_reason = reason;
+  }
+  cancel_all.store(true);
+}
+
+void clear_cancel_all() { cancel_all.store(false); }
+
+bool cancel_all_requested() { return cancel_all.load(std::memory_order_relaxed); }
+
+void cancellation_point() {
+  if (!cancel_all.load(std::memory_order_relaxed)) return;
+  std::string reason;
+  {
+    std::lock_guard<std::mutex> lock(cancel_all_mutex);
+    reason = cancel_all_reason;
+  }
+  throw Cancelled("cancelled: " + reason);
+}
 
 void Progress::begin(const std::string& task, long total) {
   task_ = task;
@@ -31,6 +61,7 @@ void Progress::end() {
 void Progress::check() const {
   if (cancelled_.load()) throw Cancelled("cancelled: " + reason_);
   if (parent_) parent_->check();
+  cancellation_point();
 }
 
 Progress& Progress::none() {

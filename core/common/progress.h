@@ -10,6 +10,8 @@
 
 namespace bliskrun {
 
+bool cancel_all_requested();
+
 class Progress {
  public:
   // Called with (task, done, total); may be empty.
@@ -33,7 +35,9 @@ class Progress {
     reason_ = std::move(reason);
     cancelled_.store(true);
   }
-  bool cancelled() const { return cancelled_.load() || (parent_ && parent_->cancelled()); }
+  bool cancelled() const {
+    return cancelled_.load() || (parent_ && parent_->cancelled()) || cancel_all_requested();
+  }
   // Throws Cancelled if a cancel was requested.
   void check() const;
 
@@ -49,5 +53,15 @@ class Progress {
   const Progress* parent_ = nullptr;
   std::string reason_;
 };
+
+// Process-wide cancellation, for the loops that take no Progress (readers,
+// analysis, geometry searches, lofting) and for every Progress, none()
+// included: once the run's watchdog requests it, cancellation_point() and
+// every Progress::check()/step() throw Cancelled. One relaxed atomic load per
+// point, so a loop can afford one per row, line or search iteration.
+void request_cancel_all(const std::string& reason);
+void clear_cancel_all();
+bool cancel_all_requested();
+void cancellation_point();
 
 }  // namespace bliskrun

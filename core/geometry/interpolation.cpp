@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 #include "core/geometry/bspline_basis.h"
 
 namespace bliskrun {
@@ -221,6 +222,7 @@ BSplineSurface interpolate_grid(const PointGrid& g, const GridParameters& par) {
   std::vector<Vec3> mid(static_cast<size_t>(R) * g.cols);
   std::vector<Vec3> column(g.rows);
   for (int j = 0; j < g.cols; ++j) {
+    cancellation_point();
     for (int i = 0; i < g.rows; ++i) column[i] = g.at(i, j);
     const auto [d0, dn] = estimate_end_tangents(column, par.u);
     const std::vector<Vec3> p = along_u.solve(column.data(), 1, d0, dn);
@@ -232,6 +234,7 @@ BSplineSurface interpolate_grid(const PointGrid& g, const GridParameters& par) {
   std::vector<Vec3> ctrl(static_cast<size_t>(R) * C);
   std::vector<Vec3> row(g.cols);
   for (int i = 0; i < R; ++i) {
+    cancellation_point();
     for (int j = 0; j < g.cols; ++j) row[j] = mid[static_cast<size_t>(i) * g.cols + j];
     const auto [d0, dn] = estimate_end_tangents(row, par.v);
     const std::vector<Vec3> p = along_v.solve(row.data(), 1, d0, dn);

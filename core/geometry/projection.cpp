@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 
 namespace bliskrun {
 
@@ -91,10 +92,12 @@ SurfaceProjection project_to_surface(const Surface& s, const Vec3& q, const Proj
   // Seeds: the best few local minima of the coarse sample grid, so that a
   // surface folding back towards q still finds the global foot.
   std::vector<double> d2(static_cast<size_t>(nu) * nv);
-  for (int i = 0; i < nu; ++i)
+  for (int i = 0; i < nu; ++i) {
+    cancellation_point();
     for (int j = 0; j < nv; ++j)
       d2[static_cast<size_t>(i) * nv + j] =
           (s.point(static_cast<double>(i) / (nu - 1), static_cast<double>(j) / (nv - 1)) - q).squaredNorm();
+  }
   std::vector<Seed> seeds;
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
 
@@ -89,6 +90,7 @@ SurfaceCurveOnSurface intersect_with_revolution(const Surface& s, const SurfaceO
   constexpr int kBracket = 64;
   SurfaceCurveOnSurface out;
   for (int j = 0; j < samples_v; ++j) {
+    cancellation_point();
     const double v = static_cast<double>(j) / (samples_v - 1);
     auto g = [&](double u) { return rev.radial_offset(s.point(u, v)); };
     double prev_u = 0, prev_g = g(0);

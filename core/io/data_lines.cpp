@@ -7,12 +7,14 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 
 namespace bliskrun::io_detail {
 
 DataLines::DataLines(const std::string& text, std::string file) : file_(std::move(file)) {
   std::istringstream ss(text);
   for (std::string l; std::getline(ss, l);) {
+    if ((lines_.size() & 1023) == 0) cancellation_point();
     if (!l.empty() && l.back() == '\r') l.pop_back();
     lines_.push_back(std::move(l));
   }
@@ -20,6 +22,7 @@ DataLines::DataLines(const std::string& text, std::string file) : file_(std::mov
 }
 
 const std::string& DataLines::take(const std::string& expected) {
+  if ((next_ & 1023) == 0) cancellation_point();
   if (at_end()) throw DataError(file_, static_cast<long>(next_ + 1), "unexpected end of file; expected " + expected);
   return lines_[next_++];
 }

@@ -10,6 +10,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/progress.h"
 
 namespace bliskrun {
 
@@ -90,6 +91,7 @@ PointGrid parse_point_grid(const std::string& text, const std::string& file,
   long line_no = 0;
   while (std::getline(in, raw)) {
     ++line_no;
+    if ((line_no & 1023) == 0) cancellation_point();
     std::string line = raw;
     const size_t hash = line.find('#');
     if (hash != std::string::npos) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
 
@@ -421,6 +422,7 @@ Lofted loft_core(const BladeSections& blade, const LoftOptions& o) {
   std::vector<SideJudgement> judged(ns);
   int implied = 0;
   for (int k = 0; k < ns; ++k) {
+    cancellation_point();
     const std::string what = "section " + std::to_string(k + 1);
     const Loop l = clean(blade.sections[k], what);
     SectionEdges e = edges_of(l);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 
 namespace bliskrun {
 
@@ -189,10 +190,12 @@ PointGrid BuiltinBlisk::flank_grid(int blade, FlankSide side) const {
   const auto surface = flank_surface(blade, side);
   const auto& flank = static_cast<const FlankSurface&>(*surface);
   PointGrid grid(params_.grid_rows, params_.grid_cols);
-  for (int i = 0; i < grid.rows; ++i)
+  for (int i = 0; i < grid.rows; ++i) {
+    cancellation_point();
     for (int j = 0; j < grid.cols; ++j)
       grid.at(i, j) = flank.at(static_cast<double>(i) / (grid.rows - 1),
                                static_cast<double>(j) / (grid.cols - 1));
+  }
   return grid;
 }
 
