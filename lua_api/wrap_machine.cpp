@@ -1,6 +1,7 @@
 // bliskrun.machine and bliskrun.post: machine definitions, kinematics,
 // posting a toolpath with a Lua post and proving the program by read-back.
 // Degrees and mm at this boundary; core works in radians.
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -249,7 +250,8 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx) {
     m.pose.axis = luax::check_vec3(L, -1, (where + ".axis").c_str());
     lua_getfield(L, -4, "feed");
     if (m.kind == MoveKind::Feed) {
-      if (!lua_isnumber(L, -1) || !(lua_tonumber(L, -1) > 0)) luax::error(L, where + ".feed: expected a feed > 0 mm/min");
+      if (!lua_isnumber(L, -1) || !(lua_tonumber(L, -1) > 0) || !std::isfinite(lua_tonumber(L, -1)))
+        luax::error(L, where + ".feed: expected a finite feed > 0 mm/min");
       m.feed_mm_per_min = lua_tonumber(L, -1);
     }
     lua_getfield(L, -5, "row");
