@@ -24,7 +24,9 @@ TEST(ApiWalk, EveryFunctionAndMethodSurvivesHostileArguments) {
   EXPECT_GE(summary["functions"].get<int>(), 30) << summary.dump();
   EXPECT_GE(summary["calls"].get<int>(), 4000) << summary.dump();
   const auto types = summary["types"].get<std::vector<std::string>>();
-  for (const char* t : {"bliskrun.Blisk", "bliskrun.Surface", "bliskrun.Curve", "bliskrun.Mesh"})
+  for (const char* t : {"bliskrun.Blisk", "bliskrun.Surface", "bliskrun.Curve", "bliskrun.Mesh",
+                        "bliskrun.PointGrid", "bliskrun.CurvatureMap", "bliskrun.Tool", "bliskrun.CollisionWorld",
+                        "bliskrun.Machine", "bliskrun.PostedProgram"})
     EXPECT_NE(std::find(types.begin(), types.end(), t), types.end()) << t << " not reached: " << summary.dump();
 }
 

@@ -41,7 +41,9 @@ local function keep(...)
   for i = 1, select("#", ...) do
     local r = select(i, ...)
     if type(r) == "userdata" then
-      local name = tostring(r):match("^[%w%.]+") or "?"
+      local mt = getmetatable(r)
+      local name = type(mt) == "table" and type(mt.__name) == "string" and mt.__name
+                   or tostring(r):match("^[%w%.]+") or "?"
       if not object_types[name] then
         object_types[name] = r
         objects[#objects + 1] = r
@@ -66,8 +68,28 @@ local function try(f, ...)
   if results[1] then keep(table.unpack(results, 2, results.n)) else errors = errors + 1 end
 end
 
--- Seed objects through the public API itself.
+-- Seed objects through the public API itself: one valid object of every
+-- cheap type, so each type's methods are walked (plans are left out: a
+-- single default call of theirs runs a whole simulation).
 pcall(function() keep(bliskrun.blisk{}) end)
+pcall(function()
+  local blisk = bliskrun.blisk{grid_rows = 12, grid_cols = 24}
+  keep(blisk:flank_grid(1, "pressure"))
+  keep(bliskrun.curvature_stats(blisk:flank(1, "pressure"), {samples_u = 6, samples_v = 8}).map)
+end)
+pcall(function()
+  keep(bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4, shank = {diameter = 6, length = 96}})
+  keep(bliskrun.collision_world{surfaces = {{name = "plate", mesh = {
+    vertices = {{-50, 60, -5}, {50, 60, -5}, {50, 60, 5}, {-50, 60, 5}}, triangles = {{1, 2, 3}, {1, 3, 4}}}}}})
+end)
+pcall(function()
+  local m = bliskrun.machine.load("dmg_like_ac_trunnion")
+  keep(m)
+  local r = bliskrun.post.write{machine = m, post = "fanuc", file = "walk.nc", tool = {number = 1, length = 80},
+                                path = {{kind = "rapid", tip = {40, 0, 30}, axis = {0, 0, 1}},
+                                        {kind = "feed", tip = {40, 2, 5}, axis = {0, 0, 1}, feed = 500}}}
+  keep(r.program)
+end)
 
 local function argument_sets(self)
   local sets = {}
