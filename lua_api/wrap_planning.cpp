@@ -188,6 +188,32 @@ int w_drum_finish(lua_State* L) {
   });
 }
 
+// bliskrun.trim_flank{flank=, hub=, casing=, samples=200} -> the flank
+// between hub and casing (u' = 0 on the hub curve, 1 on the casing), the
+// region a drum finish machines (Table 1 over the machined flank).
+int w_trim_flank(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const std::string what = "bliskrun.trim_flank";
+    const luax::Options o(L, 1, what, {
+        Field{"flank", Kind::Any, true, std::nullopt, std::nullopt, "the flank (u hub->tip, v along the chord)", {}},
+        Field{"hub", Kind::Any, true, std::nullopt, std::nullopt, "hub as a surface of revolution (blisk:hub())", {}},
+        Field{"casing", Kind::Any, true, std::nullopt, std::nullopt, "casing as a surface of revolution", {}},
+        Field{"samples", Kind::Integer, false, 4, 100000, "iso-v lines intersected with hub and casing (default 200)", {}},
+    });
+    const std::shared_ptr<const Surface> hub = revolution_option(L, o, "hub", what);
+    const std::shared_ptr<const Surface> casing = revolution_option(L, o, "casing", what);
+    o.push_raw("flank");
+    const SurfaceHandle* flank = luax::test<SurfaceHandle>(L, -1);
+    if (!flank) luax::error(L, what + ": option 'flank': expected a bliskrun.Surface");
+    const std::shared_ptr<const Surface> base = flank->surface;
+    lua_pop(L, 1);
+    push_surface(L, trim_between(base, static_cast<const SurfaceOfRevolution&>(*hub),
+                                 static_cast<const SurfaceOfRevolution&>(*casing),
+                                 static_cast<int>(o.integer("samples", 200))));
+    return 1;
+  });
+}
+
 int w_drum_finish_all(lua_State* L) {
   return luax::guarded(L, [&] {
     const std::string what = "bliskrun.drum_finish_all";
@@ -547,7 +573,8 @@ void open_planning(lua_State* L) {
   static const luaL_Reg map_methods[] = {{"write_svg", w_map_write_svg}, {nullptr, nullptr}};
   luax::register_type<LuaUndercutMap>(L, map_methods);
   static const luaL_Reg functions[] = {
-      {"drum_finish", w_drum_finish}, {"drum_finish_all", w_drum_finish_all}, {nullptr, nullptr}};
+      {"drum_finish", w_drum_finish}, {"drum_finish_all", w_drum_finish_all}, {"trim_flank", w_trim_flank},
+      {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

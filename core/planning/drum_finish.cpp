@@ -23,10 +23,6 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-ParameterBoundary boundary_from(const SurfaceCurveOnSurface& c) {
-  return ParameterBoundary(c.v, c.u);
-}
-
 Vec3 outward_normal(const SurfaceDerivs& d, bool flip) {
   Vec3 n = d.pu.cross(d.pv).normalized();
   return flip ? Vec3(-n) : n;
@@ -340,9 +336,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   DrumFinishResult res;
   auto t0 = Clock::now();
   // §3.1 Fig. 5: trim between hub (u1) and casing (u2), eq. 16.
-  const SurfaceCurveOnSurface lower = intersect_with_revolution(*rq.flank, *rq.hub, rq.trim_samples_v);
-  const SurfaceCurveOnSurface upper = intersect_with_revolution(*rq.flank, *rq.casing, rq.trim_samples_v);
-  res.trimmed = std::make_shared<TrimmedSurface>(rq.flank, boundary_from(lower), boundary_from(upper));
+  res.trimmed = trim_between(rq.flank, *rq.hub, *rq.casing, rq.trim_samples_v);
   const TrimmedSurface& ts = *res.trimmed;
 
   // The first row: as low as the hub lets the wheel go.

@@ -79,4 +79,13 @@ SurfaceDerivs TrimmedSurface::eval(double u, double v) const {
   return d;
 }
 
+std::shared_ptr<const TrimmedSurface> trim_between(std::shared_ptr<const Surface> flank,
+                                                   const SurfaceOfRevolution& hub,
+                                                   const SurfaceOfRevolution& casing, int samples_v) {
+  const SurfaceCurveOnSurface lower = intersect_with_revolution(*flank, hub, samples_v);
+  const SurfaceCurveOnSurface upper = intersect_with_revolution(*flank, casing, samples_v);
+  return std::make_shared<TrimmedSurface>(std::move(flank), ParameterBoundary(lower.v, lower.u),
+                                          ParameterBoundary(upper.v, upper.u));
+}
+
 }  // namespace bliskrun

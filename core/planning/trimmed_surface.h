@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/geometry/curve.h"
+#include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
 
 namespace bliskrun {
@@ -50,5 +51,13 @@ class TrimmedSurface : public Surface {
   std::shared_ptr<const Surface> base_;
   ParameterBoundary lower_, upper_;
 };
+
+// The flank trimmed between a hub and a casing of revolution (blisk paper
+// §3.1): each boundary found along `samples_v` iso-v lines
+// (intersect_with_revolution) and fitted as u(v). The region a drum finish
+// machines, and the one Table 1 describes.
+std::shared_ptr<const TrimmedSurface> trim_between(std::shared_ptr<const Surface> flank,
+                                                   const SurfaceOfRevolution& hub,
+                                                   const SurfaceOfRevolution& casing, int samples_v = 200);
 
 }  // namespace bliskrun

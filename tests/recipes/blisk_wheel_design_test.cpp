@@ -26,9 +26,23 @@ TEST(BliskWheelDesignRecipe, WritesTables1And2AndTheCurvaturePictures) {
   // height 30 mm, k1 max ~0.0435 and k_e max ~0.0195 within C +-30 deg.
   EXPECT_NEAR(j["part"]["narrowest_passage_mm"].get<double>(), 10.5, 0.05);
   EXPECT_NEAR(j["part"]["blade_height_mm"].get<double>(), 30.0, 1e-9);
+  // Over the machined flank (trimmed between hub and casing): 0.0425 / 0.0192.
   EXPECT_NEAR(j["table1"]["k1_max"].get<double>(), 0.0435, 0.003);
   EXPECT_NEAR(j["table1"]["ke_max"].get<double>(), 0.0195, 0.002);
   EXPECT_LT(j["table1"]["ke_max"].get<double>(), j["table1"]["k1_max"].get<double>());
+  // The whole grid reaches below the hub, where the blade keeps curving: its
+  // extremes are at least the machined flank's, and each extreme is placed
+  // on the machined flank (span and chord fractions in [0, 1]).
+  for (const char* key : {"k1_max", "k2_max", "ke_max"}) {
+    EXPECT_GE(j["table1_whole_grid"][key].get<double>(), j["table1"][key].get<double>()) << key;
+    const std::string side = j["table1"][std::string(key) + "_flank"];
+    const auto& at = j["flanks"][side][key];
+    EXPECT_GE(at["u"].get<double>(), 0.0);
+    EXPECT_LE(at["u"].get<double>(), 1.0);
+    EXPECT_GE(at["v"].get<double>(), 0.0);
+    EXPECT_LE(at["v"].get<double>(), 1.0);
+  }
+  EXPECT_LT(j["table1"]["k1_max"].get<double>(), j["table1_whole_grid"]["k1_max"].get<double>());
   // Table 2: the traditional rule gives R_c 20, the extended one 50; D_t 8.
   EXPECT_EQ(j["table2"]["traditional"]["barrel_radius"].get<double>(), 20.0);
   EXPECT_EQ(j["table2"]["extended"]["barrel_radius"].get<double>(), 50.0);
