@@ -1,6 +1,7 @@
 #include "lua_api/luax.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <exception>
 #include <new>
@@ -19,7 +20,14 @@ void error(lua_State* L, const std::string& message) {
   std::terminate();
 }
 
+namespace {
+std::atomic<void (*)(lua_State*)> call_observer{nullptr};
+}  // namespace
+
+void set_call_observer(void (*observer)(lua_State* L)) { call_observer.store(observer); }
+
 int guarded(lua_State* L, const std::function<int()>& body) {
+  if (auto* observe = call_observer.load(std::memory_order_relaxed)) observe(L);
   std::string message;
   try {
     return body();

@@ -41,6 +41,11 @@ namespace bliskrun::luax {
 // through unchanged.
 int guarded(lua_State* L, const std::function<int()>& body);
 
+// Called by guarded() before each core call with the calling state (the
+// runner records the recipe line there, so that a last-resort stop inside a
+// long core call can name it). Process-wide; nullptr = none.
+void set_call_observer(void (*observer)(lua_State* L));
+
 // ---- argument checks (errors name the argument) ------------------------
 
 double check_number(lua_State* L, int idx, const char* name);

@@ -168,8 +168,8 @@ RunState& state(lua_State* L) {
 
 // Every few thousand instructions: remember where the recipe is (a memory
 // error unwinds the stack before it can be reported) and stop at the deadline.
-void count_hook(lua_State* L, lua_Debug*) {
-  RunState& s = state(L);
+// Remembers the innermost Lua line on the stack as the run's position.
+void record_position(lua_State* L, RunState& s) {
   lua_Debug ar;
   for (int level = 0; lua_getstack(L, level, &ar); ++level) {
     lua_getinfo(L, "Sl", &ar);
@@ -177,9 +177,23 @@ void count_hook(lua_State* L, lua_Debug*) {
       std::string at = std::string(ar.short_src) + ":" + std::to_string(ar.currentline);
       std::lock_guard<std::mutex> lock(s.position_mutex);
       s.last_position = std::move(at);
-      break;
+      return;
     }
   }
+}
+
+// Before each core call (luax::guarded): the line that made it, so that the
+// watchdog's last resort can name it even when no hook ran in between.
+void observe_call(lua_State* L) {
+  lua_getfield(L, LUA_REGISTRYINDEX, kContextKey);
+  auto* s = static_cast<RunState*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  if (s) record_position(L, *s);
+}
+
+void count_hook(lua_State* L, lua_Debug*) {
+  RunState& s = state(L);
+  record_position(L, s);
   if (s.watchdog->expired()) {
     // luaL_where cannot see the recipe line from inside a hook: name it here.
     const std::string at = s.position();
@@ -452,6 +466,7 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     open_all(L);
     push_args(L, options.sets);
     lua_sethook(L, count_hook, LUA_MASKCOUNT, 10000);
+    luax::set_call_observer(observe_call);
 
     lua_pushcfunction(L, traceback);
     status = luaL_loadfilex(L, options.recipe_path.c_str(), "t");
@@ -461,6 +476,7 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     status = LUA_ERRRUN;
     message = e.what();
   }
+  luax::set_call_observer(nullptr);
   lua_close(L);
   if (options.verify_report) {
     std::ostream& out = std::cout;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/common/error.h"
+#include "core/common/progress.h"
 
 namespace bliskrun {
 
@@ -53,6 +54,7 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
   const int nu = o.samples_u, nv = o.samples_v;
   idx.samples.resize(static_cast<size_t>(nu) * nv);
   for (int i = 0; i < nu; ++i) {
+    cancellation_point();
     const double u = o.u0 + (o.u1 - o.u0) * i / (nu - 1);
     for (int j = 0; j < nv; ++j) {
       const double v = o.v0 + (o.v1 - o.v0) * j / (nv - 1);
@@ -66,9 +68,12 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
   }
   const int tu = (nu + kTile - 1) / kTile, tv = (nv + kTile - 1) / kTile;
   idx.tiles.resize(static_cast<size_t>(tu) * tv);
-  for (int i = 0; i < nu; ++i)
+  for (int i = 0; i < nu; ++i) {
+    cancellation_point();
     for (int j = 0; j < nv; ++j)
       idx.tiles[static_cast<size_t>(i / kTile) * tv + j / kTile].members.push_back(i * nv + j);
+  }
+  cancellation_point();
   for (Group& t : idx.tiles)
     bound(t, [&](int m) { return std::pair<Vec3, double>(idx.samples[m].p, 0.0); });
   const int su = (tu + kTile - 1) / kTile, sv = (tv + kTile - 1) / kTile;
@@ -192,6 +197,7 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
   const int workers = std::min<int>(o.threads, std::max<size_t>(1, positions.size()));
   std::vector<std::atomic<double>> residual(idx.samples.size());
   for (auto& x : residual) x.store(kInf, std::memory_order_relaxed);
+  cancellation_point();
   std::vector<long> evaluations(workers, 0);
   constexpr size_t kChunk = 32;
   std::atomic<size_t> next{0};
@@ -254,6 +260,7 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
     // trace reaches the final residual there.
     const Sample& smp = idx.samples[r.overcut_sample];
     for (size_t k = 0; k < positions.size(); ++k) {
+      if ((k & 1023) == 0) cancellation_point();
       const Eigen::Isometry3d to_tool = positions[k].inverse();
       const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, r.overcut_mm + 1e-9);
       if (s <= r.overcut_mm + 1e-9) {
@@ -270,6 +277,7 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
     double var = 0;
     for (double x : under) var += (x - r.undercut_mean_mm) * (x - r.undercut_mean_mm);
     r.undercut_std_mm = std::sqrt(var / under.size());
+    cancellation_point();
     std::sort(under.begin(), under.end());
     r.undercut_max_mm = under.back();
     const size_t n = under.size();
