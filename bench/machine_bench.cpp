@@ -70,8 +70,7 @@ void BM_PostAndVerify(benchmark::State& state) {
   lua_setfield(L, -2, "tcp");
   lua_api::PostJob job;
   job.name = "bench";
-  job.tool_number = 1;
-  job.tool_length_mm = 80;
+  job.tools.push_back({1, 80, 0});
   MotionOptions motion;
   motion.tcp = state.range(1) != 0;
   motion.chord_tol_mm = 0.005;

@@ -458,6 +458,8 @@ int l_moves_next(lua_State* L) {
   lua_setfield(L, -2, "inserted");
   lua_pushboolean(L, m.positioning);
   lua_setfield(L, -2, "positioning");
+  lua_pushinteger(L, m.tool + 1);
+  lua_setfield(L, -2, "tool");  // index into job.tools
   set_vec3(L, m.pose.tip, "tip");
   set_vec3(L, m.pose.axis, "axis");
   return 1;
@@ -611,16 +613,25 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   lua_pushboolean(L, def.rapid.linear);
   lua_setfield(L, -2, "linear_rapids");
   lua_setfield(L, -2, "machine");
-  lua_createtable(L, 0, 3);
-  lua_pushinteger(L, job.tool_number);
-  lua_setfield(L, -2, "number");
-  lua_pushnumber(L, job.tool_length_mm);
-  lua_setfield(L, -2, "length");
-  if (job.spindle_rpm > 0) {
-    lua_pushinteger(L, job.spindle_rpm);
-    lua_setfield(L, -2, "spindle_rpm");
+  // job.tools: every tool in program order; job.tool: the one in the
+  // spindle (the first; base.motion moves it on at each tool change).
+  lua_createtable(L, static_cast<int>(job.tools.size()), 0);
+  for (size_t t = 0; t < job.tools.size(); ++t) {
+    const PostTool& tool = job.tools[t];
+    lua_createtable(L, 0, 3);
+    lua_pushinteger(L, tool.number);
+    lua_setfield(L, -2, "number");
+    lua_pushnumber(L, tool.length_mm);
+    lua_setfield(L, -2, "length");
+    if (tool.spindle_rpm > 0) {
+      lua_pushinteger(L, tool.spindle_rpm);
+      lua_setfield(L, -2, "spindle_rpm");
+    }
+    lua_rawseti(L, -2, static_cast<lua_Integer>(t + 1));
   }
-  lua_setfield(L, -2, "tool");
+  lua_rawgeti(L, -1, 1);
+  lua_setfield(L, -3, "tool");
+  lua_setfield(L, -2, "tools");
   lua_pushboolean(L, program.tcp);
   lua_setfield(L, -2, "tcp");
   lua_pushstring(L, program.feed_mode == FeedMode::InverseTime ? "inverse_time" : "per_minute");

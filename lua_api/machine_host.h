@@ -17,6 +17,7 @@
 #include <lua.hpp>
 
 #include <string>
+#include <vector>
 
 #include "core/machine/kinematics.h"
 #include "core/machine/motion.h"
@@ -49,15 +50,20 @@ MachineDefinition check_machine_table(lua_State* L, int idx);
 // Loads a post file and pushes its module table.
 void load_post_file(lua_State* L, const std::string& path, const std::string& posts_dir);
 
-struct PostJob {
-  std::string name;         // program name
-  int tool_number = 1;
-  double tool_length_mm = 0;
+struct PostTool {
+  int number = 1;
+  double length_mm = 0;
   long spindle_rpm = 0;     // 0: no spindle word
 };
 
+struct PostJob {
+  std::string name;             // program name
+  std::vector<PostTool> tools;  // in the order MachineMove::tool indexes them; at least one
+};
+
 // Runs post:write(job, out) for the post table at `post_idx` over `program`
-// and returns the program text. Lua errors propagate.
+// and returns the program text. `kin` gives the machine (and, for one tool,
+// its kinematics). Lua errors propagate.
 std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
                      const MachineProgram& program, const PostJob& job);
 

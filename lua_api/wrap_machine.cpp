@@ -1,6 +1,7 @@
 // bliskrun.machine and bliskrun.post: machine definitions, kinematics,
 // posting a toolpath with a Lua post and proving the program by read-back.
 // Degrees and mm at this boundary; core works in radians.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -22,7 +23,8 @@ namespace bliskrun {
 // A posted program, kept for post.verify: the plan and how to read it.
 struct PostedProgram {
   MachineDefinition machine;
-  double tool_length_mm = 0;
+  std::vector<double> tool_lengths_mm;  // per tool index of the plan's moves
+  std::vector<int> tool_numbers;
   MachineProgram plan;
   bool tcp_always = false;
   std::string file;  // absolute path of the written program
@@ -228,8 +230,10 @@ int w_post_load(lua_State* L) {
   return 1;
 }
 
-// The toolpath: a list of {kind = "rapid"|"feed", tip =, axis =, feed =, row =}.
-std::vector<PlannedMove> check_path(lua_State* L, int idx) {
+// The toolpath: a list of {kind = "rapid"|"feed", tip =, axis =, feed =, row =,
+// tool =}. `tool_numbers` receives each move's tool number (0 where absent:
+// the tool of the move before, or the first tool).
+std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* tool_numbers = nullptr) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) luax::error(L, "path: expected a list of moves {kind=, tip=, axis=, feed=}");
   const lua_Unsigned n = lua_rawlen(L, idx);
@@ -256,7 +260,11 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx) {
     }
     lua_getfield(L, -5, "row");
     if (lua_isinteger(L, -1)) m.row = static_cast<long>(lua_tointeger(L, -1));
-    lua_pop(L, 6);
+    lua_getfield(L, -6, "tool");
+    if (!lua_isnil(L, -1) && !lua_isinteger(L, -1))
+      luax::error(L, where + ".tool: expected a tool number (an integer)");
+    if (tool_numbers) tool_numbers->push_back(lua_isinteger(L, -1) ? static_cast<int>(lua_tointeger(L, -1)) : 0);
+    lua_pop(L, 7);
     path.push_back(m);
   }
   return path;
@@ -290,9 +298,13 @@ VerifyReport verify_posted(lua_State* L, const PostedProgram& p, const std::stri
   options.read.file_name = p.file;
   options.read.tcp = p.tcp_always;
   VerifyReport report;
+  options.tool_numbers = p.tool_numbers;
   luax::guarded(L, [&] {
-    const Kinematics kin(p.machine, p.tool_length_mm);
-    report = verify_program(text, kin, p.plan, options);
+    std::vector<Kinematics> kins;
+    for (double length : p.tool_lengths_mm) kins.emplace_back(p.machine, length);
+    std::vector<const Kinematics*> pointers;
+    for (const Kinematics& k : kins) pointers.push_back(&k);
+    report = verify_program(text, pointers, p.plan, options);
     return 0;
   });
   return report;
@@ -305,7 +317,8 @@ int w_post_write(lua_State* L) {
       {"post", luax::Kind::Any, true, {}, {}, "post name ('fanuc'), file, or a loaded post table", {}},
       {"path", luax::Kind::Table, true, {}, {}, "moves {kind=, tip=, axis=, feed=, row=}", {}},
       {"file", luax::Kind::String, true, {}, {}, "program file, relative to the out folder", {}},
-      {"tool", luax::Kind::Table, true, {}, {}, "{number=, length= mm, spindle_rpm=}", {}},
+      {"tool", luax::Kind::Table, false, {}, {}, "{number=, length= mm, spindle_rpm=} (one tool)", {}},
+      {"tools", luax::Kind::Table, false, {}, {}, "{{number=, length=, spindle_rpm=}, ...}: moves name theirs by tool = number", {}},
       {"name", luax::Kind::String, false, {}, {}, "program name (default: the file name)", {}},
       {"chord_tol", luax::Kind::Number, false, 1e-6, 10.0, "tip departure allowed between blocks, mm", {}},
       {"tcp", luax::Kind::Boolean, false, {}, {}, "write under TCP control (default: the post's choice)", {}},
@@ -330,21 +343,58 @@ int w_post_write(lua_State* L) {
     lua_setfield(L, post_idx, "tcp");
   }
 
-  o.push_raw("tool");
-  const luax::Options tool(L, -1, "bliskrun.post.write tool", {
-      {"number", luax::Kind::Integer, true, 0.0, 99999.0, "tool number (T, H, TOOL CALL)", {}},
-      {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
-      {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
-  });
+  if (o.has("tool") == o.has("tools"))
+    luax::error(L, "bliskrun.post.write: give either 'tool' (one tool) or 'tools' (a list), not both or neither");
   PostJob job;
-  job.tool_number = static_cast<int>(tool.integer("number", 1));
-  job.tool_length_mm = tool.number("length", 0);
-  job.spindle_rpm = static_cast<long>(tool.integer("spindle_rpm", 0));
-  lua_pop(L, 1);
+  auto read_tool = [&](int idx, const std::string& what) {
+    const luax::Options tool(L, idx, what, {
+        {"number", luax::Kind::Integer, true, 0.0, 99999.0, "tool number (T, H, TOOL CALL)", {}},
+        {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
+        {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
+    });
+    PostTool t;
+    t.number = static_cast<int>(tool.integer("number", 1));
+    t.length_mm = tool.number("length", 0);
+    t.spindle_rpm = static_cast<long>(tool.integer("spindle_rpm", 0));
+    for (const PostTool& other : job.tools)
+      if (other.number == t.number) luax::error(L, what + ": tool number " + std::to_string(t.number) + " is listed twice");
+    job.tools.push_back(t);
+  };
+  if (o.has("tool")) {
+    o.push_raw("tool");
+    read_tool(lua_gettop(L), "bliskrun.post.write tool");
+    lua_pop(L, 1);
+  } else {
+    o.push_raw("tools");
+    const int tools_idx = lua_gettop(L);
+    const lua_Unsigned n = lua_rawlen(L, tools_idx);
+    if (n == 0) luax::error(L, "bliskrun.post.write tools: expected a list of at least one tool");
+    for (lua_Unsigned i = 1; i <= n; ++i) {
+      lua_rawgeti(L, tools_idx, static_cast<lua_Integer>(i));
+      read_tool(lua_gettop(L), "bliskrun.post.write tools[" + std::to_string(i) + "]");
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
 
   o.push_raw("path");
-  const std::vector<PlannedMove> path = check_path(L, -1);
+  std::vector<int> move_tools;
+  const std::vector<PlannedMove> path = check_path(L, -1, &move_tools);
   lua_pop(L, 1);
+  // Each move's tool index; a move without `tool` keeps the one before.
+  std::vector<int> tool_of(path.size(), 0);
+  for (size_t i = 0; i < path.size(); ++i) {
+    if (move_tools[i] == 0) {
+      tool_of[i] = i > 0 ? tool_of[i - 1] : 0;
+      continue;
+    }
+    const auto it = std::find_if(job.tools.begin(), job.tools.end(),
+                                 [&](const PostTool& t) { return t.number == move_tools[i]; });
+    if (it == job.tools.end())
+      luax::error(L, "path[" + std::to_string(i + 1) + "].tool: tool " + std::to_string(move_tools[i]) +
+                         " is not in the program's tools");
+    tool_of[i] = static_cast<int>(it - job.tools.begin());
+  }
 
   const std::string file = o.string("file", "");
   const std::string target = context(L).resolve_write(L, file);
@@ -352,7 +402,10 @@ int w_post_write(lua_State* L) {
 
   PostedProgram posted;
   posted.machine = machine.definition;
-  posted.tool_length_mm = job.tool_length_mm;
+  for (const PostTool& t : job.tools) {
+    posted.tool_lengths_mm.push_back(t.length_mm);
+    posted.tool_numbers.push_back(t.number);
+  }
   posted.tcp_always = post_tcp_always(L, post_idx);
   posted.file = target;
   MotionOptions motion;
@@ -363,13 +416,15 @@ int w_post_write(lua_State* L) {
     motion.start = check_axes(L, -1, machine.definition, "start");
     lua_pop(L, 1);
   }
-  std::unique_ptr<Kinematics> kin;
+  std::vector<Kinematics> kins;
   luax::guarded(L, [&] {
-    kin = std::make_unique<Kinematics>(machine.definition, job.tool_length_mm);
-    posted.plan = plan_machine_motion(*kin, path, motion, context(L).progress);
+    for (const PostTool& t : job.tools) kins.emplace_back(machine.definition, t.length_mm);
+    std::vector<const Kinematics*> pointers;
+    for (const Kinematics& k : kins) pointers.push_back(&k);
+    posted.plan = plan_machine_motion_tools(pointers, path, tool_of, motion, context(L).progress);
     return 0;
   });
-  const std::string text = run_post(L, post_idx, *kin, posted.plan, job);
+  const std::string text = run_post(L, post_idx, kins.front(), posted.plan, job);
   // Prove the program before it replaces anything on disk.
   const VerifyReport report = verify_posted(L, posted, text, o.number("verify_tol", 0.001), 0.001);
   luax::guarded(L, [&] {

@@ -333,4 +333,45 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
   return program;
 }
 
+MachineProgram plan_machine_motion_tools(const std::vector<const Kinematics*>& kins,
+                                         const std::vector<PlannedMove>& path, const std::vector<int>& tool_of,
+                                         const MotionOptions& options, Progress& progress) {
+  if (tool_of.size() != path.size()) throw ParameterError("tools", "need one tool index per move");
+  if (kins.empty()) throw ParameterError("tools", "need at least one tool");
+  MachineProgram program;
+  bool first = true;
+  for (size_t begin = 0; begin < path.size();) {
+    const int tool = tool_of[begin];
+    if (tool < 0 || tool >= static_cast<int>(kins.size()))
+      throw ParameterError("tools", "move " + std::to_string(begin + 1) + ": no tool " + std::to_string(tool + 1));
+    size_t end = begin;
+    while (end < path.size() && tool_of[end] == tool) ++end;
+    const std::vector<PlannedMove> segment(path.begin() + static_cast<long>(begin), path.begin() + static_cast<long>(end));
+    MotionOptions o = options;
+    if (!first) o.start = program.moves.empty() ? options.start : program.moves.back().axes;
+    MachineProgram part;
+    try {
+      part = plan_machine_motion(*kins[tool], segment, o, progress);
+    } catch (const Error& e) {
+      throw Error("tool " + std::to_string(tool + 1) + ", from move " + std::to_string(begin + 1) + ": " + e.what());
+    }
+    if (first) {
+      program.feed_mode = part.feed_mode;
+      program.tcp = part.tcp;
+    }
+    for (MachineMove m : part.moves) {
+      m.tool = tool;
+      m.source += static_cast<long>(begin);
+      program.moves.push_back(m);
+    }
+    program.max_deviation_mm = std::max(program.max_deviation_mm, part.max_deviation_mm);
+    program.inserted_moves += part.inserted_moves;
+    program.skipped_moves += part.skipped_moves;
+    program.positioning_moves += part.positioning_moves;
+    first = false;
+    begin = end;
+  }
+  return program;
+}
+
 }  // namespace bliskrun

@@ -56,6 +56,7 @@ struct MachineMove {
   long row = -1;
   bool inserted = false;  // added by splitting; ends inside the planned move
   bool positioning = false;  // a planned rapid posted as a feed move (see above)
+  int tool = 0;              // index of the tool (plan_machine_motion_tools); 0 with one tool
 };
 
 struct MachineProgram {
@@ -94,6 +95,15 @@ MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, con
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
                                    const MotionOptions& options,
                                    Progress& progress = Progress::none());
+
+// One program, several tools: `path` is cut in segments where `tool_of`
+// changes (tool_of[i] indexes `kins`, one Kinematics per tool — its length
+// moves the tip on head axes and in gauge mode). Each segment is planned as a
+// program of its own, its first move a rapid from the tool change position;
+// the moves carry their tool index and `source` counts in the whole path.
+MachineProgram plan_machine_motion_tools(const std::vector<const Kinematics*>& kins,
+                                         const std::vector<PlannedMove>& path, const std::vector<int>& tool_of,
+                                         const MotionOptions& options, Progress& progress = Progress::none());
 
 // The pose at t in [0, 1] of the planned motion from a to b: tip linear, axis
 // along the great circle. Throws ParameterError("axis") when the axes are

@@ -17,14 +17,20 @@ ToolPose replay(const Kinematics& kin, const ProgramMove& move) {
 
 VerifyReport verify_program(const std::string& text, const Kinematics& kin,
                             const MachineProgram& plan, const VerifyOptions& options) {
+  return verify_program(text, std::vector<const Kinematics*>{&kin}, plan, options);
+}
+
+VerifyReport verify_program(const std::string& text, const std::vector<const Kinematics*>& kins,
+                            const MachineProgram& plan, const VerifyOptions& options) {
+  if (kins.empty()) throw ParameterError("tools", "need at least one tool's kinematics");
   const std::string& file = options.read.file_name;
-  const std::vector<ProgramMove> moves = read_program(text, kin.machine(), options.read);
+  const std::vector<ProgramMove> moves = read_program(text, kins.front()->machine(), options.read);
   const int last_line = moves.empty() ? 1 : moves.back().line;
   if (moves.size() != plan.moves.size())
     throw DataError(file, last_line,
                     "the program commands " + std::to_string(moves.size()) +
                         " moves, the plan has " + std::to_string(plan.moves.size()));
-  const MachineDefinition& m = kin.machine();
+  const MachineDefinition& m = kins.front()->machine();
   const double linear_slack = 0.5 * m.linear_resolution_mm * std::sqrt(3.0);
   const double rotary_step = 0.5 * m.rotary_resolution_rad;
   VerifyReport report;
@@ -36,6 +42,14 @@ VerifyReport verify_program(const std::string& text, const Kinematics& kin,
       throw DataError(file, got.line,
                       std::string("expected a ") + (want.kind == MoveKind::Rapid ? "rapid" : "feed") +
                           " move (plan move " + std::to_string(want.source + 1) + ")");
+    if (want.tool < 0 || want.tool >= static_cast<int>(kins.size()))
+      throw ParameterError("tools", "plan move " + std::to_string(want.source + 1) + " uses a tool without kinematics");
+    if (!options.tool_numbers.empty() && got.tool != options.tool_numbers.at(static_cast<size_t>(want.tool)))
+      throw DataError(file, got.line,
+                      "expected tool " + std::to_string(options.tool_numbers.at(static_cast<size_t>(want.tool))) +
+                          " here (plan move " + std::to_string(want.source + 1) + "), the program has tool " +
+                          std::to_string(got.tool));
+    const Kinematics& kin = *kins[static_cast<size_t>(want.tool)];
     const ToolPose pose = replay(kin, got);
     const double position = (pose.tip - want.pose.tip).norm();
     const double angle = std::atan2(pose.axis.cross(want.pose.axis).norm(), pose.axis.dot(want.pose.axis));

@@ -11,6 +11,7 @@
 // arm from that axis to the tip (zero with TCP control, where the controller
 // places the tip itself).
 #include <string>
+#include <vector>
 
 #include "core/machine/kinematics.h"
 #include "core/machine/motion.h"
@@ -22,6 +23,9 @@ struct VerifyOptions {
   double tol_mm = 0.001;                       // beyond output resolution
   double angle_tol_rad = deg_to_rad(0.001);    // beyond output resolution
   ProgramReadOptions read;                     // file name for messages, TCP from the start
+  // With several tools: the tool number each plan tool index must be read
+  // back as (T word, TOOL CALL); empty = not checked.
+  std::vector<int> tool_numbers;
 };
 
 struct VerifyReport {
@@ -36,6 +40,10 @@ struct VerifyReport {
 // not matching the plan (count, kind). Feed words are not compared: they do
 // not place the tool. Returns the report when every move is within.
 VerifyReport verify_program(const std::string& text, const Kinematics& kin,
+                            const MachineProgram& plan, const VerifyOptions& options);
+// The same for a program of several tools: move i is replayed with
+// kins[plan.moves[i].tool].
+VerifyReport verify_program(const std::string& text, const std::vector<const Kinematics*>& kins,
                             const MachineProgram& plan, const VerifyOptions& options);
 
 // Replays one read-back move: the tool pose it puts in the part frame.

@@ -7,13 +7,15 @@
 -- Each step is function(self, job, out). `job` carries what the program is
 -- about (see docs/lua_api.md, post.write): job.name, job.machine (name,
 -- linear = {"X","Y","Z"}, rotary = {"A","C"}, configuration, tool_length),
--- job.tool (number, length, spindle_rpm), job.tcp, job.feed_mode
+-- job.tool (number, length, spindle_rpm: the tool in the spindle), job.tools
+-- (every tool of the program, in order), job.tcp, job.feed_mode
 -- ("per_minute" | "inverse_time"), job.decimals (linear, rotary, feed) and
 -- job:moves(), an iterator over the machine moves. A move has kind ("rapid" |
 -- "feed"), one field per machine axis (X, Y, Z in mm; the rotary names in
 -- degrees; under TCP control X, Y, Z are the tool tip in the part frame), F
 -- (the feed word, feed moves only), index, row, inserted, positioning (a
--- planned rapid written as a feed move at the rapid feed), tip and axis.
+-- planned rapid written as a feed move at the rapid feed), tool (index into
+-- job.tools), tip and axis.
 -- `out:line(text)` appends one line. `self` is a fresh instance per program:
 -- modal state lives in it, never in the post table.
 local P = {}
@@ -133,8 +135,21 @@ function P.tcp_on(self, job, out) end
 function P.tcp_off(self, job, out) end
 function P.footer(self, job, out) end
 
+-- Every move in order; where the tool changes (move.tool indexes
+-- job.tools), the tool-centre control goes off, the next tool is called
+-- (job.tool is that tool from then on) and the control comes back on. The
+-- first move after a change starts from the tool change position.
 function P.motion(self, job, out)
+  local current = 1
   for move in job:moves() do
+    if move.tool ~= current then
+      self:tcp_off(job, out)
+      current = move.tool
+      job.tool = job.tools[current]
+      self.last = {}  -- modal words start over after a tool change
+      self:tool_change(job, out)
+      self:tcp_on(job, out)
+    end
     if move.kind == "rapid" then self:rapid(job, move, out) else self:feed_move(job, move, out) end
   end
 end

@@ -59,6 +59,29 @@ TEST(MachineLua, EditedProgramFailsVerificationAtItsLine) {
   EXPECT_NE(r.output.find("edited.mpf:15: the replayed tool is 0.1"), std::string::npos) << r.output;
 }
 
+// One program, two tools: the second tool's moves follow a tool change
+// (TCP off, T7 M6, length compensation on again), the read-back replays each
+// move with its own tool and checks the tool number, and a program whose
+// tool call was edited fails at that move's line.
+TEST(MachineLua, TwoToolsInOneProgramAreChangedAndVerified) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, std::string(kPath) +
+      "local m = bliskrun.machine.load(\"monoblock_like_head_table\")\n"
+      "local p = path({10, 12, 14})\n"
+      "for _, move in ipairs(path({20, 22})) do move.tool = 7; p[#p + 1] = move end\n"
+      "local r = bliskrun.post.write{machine = m, post = \"heidenhain\", path = p, file = \"two.h\",\n"
+      "  tools = {{number = 3, length = 80, spindle_rpm = 9000}, {number = 7, length = 120}}}\n"
+      "local text = bliskrun.read_text(\"two.h\")\n"
+      "assert(text:find(\"TOOL CALL 3 Z S9000\", 1, true) and text:find(\"TOOL CALL 7 Z\", 1, true))\n"
+      "assert(text:find(\"FUNCTION RESET TCPM\\n%d+ TOOL CALL 7\"))\n"
+      "assert(r.moves == 7)\n"
+      "bliskrun.write_text(\"edited.h\", (text:gsub(\"TOOL CALL 7\", \"TOOL CALL 3\")))\n"
+      "bliskrun.post.verify{program = r.program, file = \"out/edited.h\"}\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("recipe.lua:20:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("expected tool 7 here (plan move 5), the program has tool 3"), std::string::npos) << r.output;
+}
+
 TEST(MachineLua, PostWriteOptionsAreValidated) {
   TempDir dir;
   const RecipeResult r = run_recipe_text(dir,

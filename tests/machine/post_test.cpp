@@ -94,9 +94,7 @@ Written write(lua_State* L, const std::string& machine_file, const std::string& 
     w.plan = plan_machine_motion(*w.kin, short_path(), options);
     lua_api::PostJob job;
     job.name = "blade 1";
-    job.tool_number = 3;
-    job.tool_length_mm = 80;
-    job.spindle_rpm = 12000;
+    job.tools.push_back({3, 80, 12000});
     w.text = lua_api::run_post(S, -1, *w.kin, w.plan, job);
   });
   if (!error.empty()) throw Error(error);
