@@ -1,0 +1,52 @@
+-- The built-in blisk's flanks finished as one job and posted as one verified
+-- program per machine (issue 13 item 7, issue 18 item 3): drum-wheel
+-- finishing of both flanks of the chosen blades with the extended wheel of
+-- Table 2, each flank planned and proved as in blisk_drum_finish.lua, the
+-- flanks linked through a clearance cylinder outside the casing (every link
+-- motion proved clear of every blade and the hub, whole tool), then posted
+-- for an A/C trunnion (Fanuc) and a B/C head-table (Heidenhain TCPM), each
+-- program read back and replayed through the machine.
+--
+--   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
+local job = require("job")
+local finish = require("blisk_finish")
+
+local blisk = bliskrun.blisk{}
+local count = args.blades or 2
+assert(math.type(count) == "integer" and count >= 1 and count <= blisk:blade_count(),
+       string.format("--set blades= expects 1..%d", blisk:blade_count()))
+local sides = ({both = {"pressure", "suction"}, pressure = {"pressure"}, suction = {"suction"}})[args.sides or "both"]
+assert(sides, "--set sides= expects both, pressure or suction")
+local blades = {}
+for k = 1, count do blades[k] = k end
+
+local wheel = finish.design_wheels(blisk, {c_range = 30}).wheels.extended
+local j = job.new{
+  name = "blisk flanks",
+  part = blisk,
+  clearance_radius = 110,
+  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel}},
+  operations = {
+    job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002, feed = 600},
+  },
+}
+local planned = j:plan()
+
+local report = {flanks = {}, links = planned.links, moves = #planned.moves, programs = {}}
+print(string.format("Job '%s': %d flanks, %d moves, %d links through the clearance cylinder (r = %g mm), each proved clear",
+                    j.name, #planned.flanks, #planned.moves, planned.links, j.clearance_radius))
+for _, f in ipairs(planned.flanks) do
+  print(string.format("  blade %2d %-8s  rows %3d  poses %5d  refused 0", f.blade, f.side, f.report.row_count, f.report.poses))
+  report.flanks[#report.flanks + 1] = {blade = f.blade, side = f.side, rows = f.report.row_count, poses = f.report.poses,
+                                       moves = f.moves}
+end
+for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
+                    {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}}) do
+  local r = j:post(m)
+  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan", m.file, r.moves,
+                      r.positioning, r.max_position))
+  report.programs[#report.programs + 1] = {file = m.file, machine = m.machine, post = m.post, blocks = r.moves,
+                                           positioning = r.positioning, max_position_mm = r.max_position,
+                                           max_angle_deg = r.max_angle}
+end
+bliskrun.write_json("blisk_job.json", report)

@@ -1,0 +1,69 @@
+// scripts/recipes/blisk_job.lua and scripts/lib/job.lua through the
+// executable: the flanks of a blade planned as one job, linked through the
+// clearance cylinder with every link motion proved, posted for two machines
+// and read back; a bad operation option fails at its recipe line and writes
+// nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(BliskJobRecipe, BothFlanksOfABladeBecomeOneVerifiedProgramPerMachine) {
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_job.lua", "--out", out,
+                                       "--quiet", "--set", "blades=1"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out + "/blisk_job.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["flanks"].size(), 2u);
+  EXPECT_EQ(j["links"].get<int>(), 1);  // pressure flank -> round the blade -> suction flank
+  ASSERT_EQ(j["programs"].size(), 2u);
+  long flank_moves = 0;
+  for (const auto& f : j["flanks"]) flank_moves += f["moves"].get<long>();
+  // The link adds its back-out, traverse and approach poses.
+  EXPECT_GT(j["moves"].get<long>(), flank_moves + 2);
+  for (const auto& p : j["programs"]) {
+    EXPECT_GE(p["blocks"].get<long>(), j["moves"].get<long>());
+    EXPECT_LT(p["max_position_mm"].get<double>(), 0.005);
+    EXPECT_GT(p["positioning"].get<long>(), 0);
+    EXPECT_TRUE(fs::exists(out + "/" + p["file"].get<std::string>()));
+  }
+}
+
+TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local blisk = bliskrun.blisk{}\n"
+      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4}\n"
+      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 150,\n"
+      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
+      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}, residul = 0.01}}}\n"
+      "bliskrun.write_text(\"never.txt\", \"x\")\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("recipe.lua:6: job.drum_finish: unknown option 'residul', expected one of:"),
+            std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() + "/out/never.txt"));
+  const RecipeResult tool = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local blisk = bliskrun.blisk{}\n"
+      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4}\n"
+      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 90,\n"
+      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
+      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}}}}\n");
+  EXPECT_EQ(tool.exit_code, 1);
+  EXPECT_NE(tool.output.find("recipe.lua:4: job.new: option 'clearance_radius': 90.000 mm is not outside the casing"),
+            std::string::npos) << tool.output;
+}
+
+}  // namespace
+}  // namespace bliskrun::test
