@@ -8,6 +8,7 @@
 -- program read back and replayed through the machine.
 --
 --   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
+--            [--set samples_u=100 --set samples_v=500]   (simulation samples per flank)
 local job = require("job")
 local finish = require("blisk_finish")
 
@@ -40,6 +41,25 @@ for _, f in ipairs(planned.flanks) do
   report.flanks[#report.flanks + 1] = {blade = f.blade, side = f.side, rows = f.report.row_count, poses = f.report.poses,
                                        moves = f.moves}
 end
+-- Every flank simulated after the moves that machine it (core/sim).
+local sim = j:simulate{samples_u = args.samples_u or 100, samples_v = args.samples_v or 500}
+report.simulation = {undercut_max_mm = sim.undercut_max, overcut_mm = sim.overcut, flanks = {}}
+for _, f in ipairs(sim.flanks) do
+  report.simulation.flanks[#report.simulation.flanks + 1] = {blade = f.blade, side = f.side,
+    undercut_max_mm = f.undercut_max, undercut_mean_mm = f.undercut_mean, overcut_mm = f.overcut,
+    overcut_move = f.overcut_move, overcut_motion = f.overcut_motion}
+end
+print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 * sim.undercut_max, 1e3 * sim.overcut,
+                    sim.overcut_at and sim.overcut_at.overcut_move and string.format(" (job move %d, %s, blade %d %s)",
+                      sim.overcut_at.overcut_move, sim.overcut_at.overcut_motion, sim.overcut_at.blade,
+                      sim.overcut_at.side) or ""))
+local chord_tol = 0.002
+if sim.overcut < -chord_tol - 1e-4 then
+  bliskrun.write_json("blisk_job.json", report)
+  error(string.format("the simulation finds an overcut of %.2f um, beyond the %.0f um chord tolerance; nothing posted",
+                      -1e3 * sim.overcut, 1e3 * chord_tol), 0)
+end
+
 for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
                     {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}}) do
   local r = j:post(m)

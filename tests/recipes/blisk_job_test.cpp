@@ -20,13 +20,18 @@ TEST(BliskJobRecipe, BothFlanksOfABladeBecomeOneVerifiedProgramPerMachine) {
   TempDir dir;
   const std::string out = dir.path() + "/out";
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_job.lua", "--out", out,
-                                       "--quiet", "--set", "blades=1"});
+                                       "--quiet", "--set", "blades=1", "--set", "samples_u=40", "--set", "samples_v=200"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(out + "/blisk_job.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_EQ(j["flanks"].size(), 2u);
   EXPECT_EQ(j["links"].get<int>(), 1);  // pressure flank -> round the blade -> suction flank
   ASSERT_EQ(j["programs"].size(), 2u);
+  // Both flanks simulated after the whole job: nothing cut beyond the chord
+  // tolerance, and the residual of the rows is there.
+  ASSERT_EQ(j["simulation"]["flanks"].size(), 2u);
+  EXPECT_GE(j["simulation"]["overcut_mm"].get<double>(), -0.002 - 1e-4);
+  EXPECT_GT(j["simulation"]["undercut_max_mm"].get<double>(), 0.001);
   long flank_moves = 0;
   for (const auto& f : j["flanks"]) flank_moves += f["moves"].get<long>();
   // The link adds its back-out, traverse and approach poses.
