@@ -79,27 +79,37 @@ function M.drum_finish(o)
   local op = {kind = "drum_finish", tool = o.tool, blades = o.blades, sides = o.sides or {"pressure", "suction"},
               residual = o.residual or 0.014, chord_tol = o.chord_tol or 0.002, c_range = o.c_range or 30,
               shank_clearance = o.shank_clearance or 0.1, feed = o.feed or 600}
-  -- The plans of this operation, flank by flank, in cutting order.
+  -- The plans of this operation, flank by flank, in cutting order: all
+  -- flanks planned at once on the run's --threads (bliskrun.drum_finish_all;
+  -- the plans do not depend on the thread count).
   function op.plan_flanks(self, j)
     local finish = require("blisk_finish")
     local blisk = j.part
-    local tool = j.tools[self.tool].tool
-    local flanks = {}
+    local common = finish.settings(blisk, j.tools[self.tool].tool,
+                                   {residual = self.residual, chord_tol = self.chord_tol,
+                                    shank_clearance = self.shank_clearance})
+    common.jobs = {}
+    local which = {}
     for _, k in ipairs(self.blades) do
       if k > blisk:blade_count() then
         error(string.format("job.drum_finish: blade %d does not exist; the part has %d", k, blisk:blade_count()), 0)
       end
       for _, side in ipairs(self.sides) do
-        local plan = finish.plan(blisk, k, side, tool, j:world_around(k),
-                                 {residual = self.residual, chord_tol = self.chord_tol, c_range = self.c_range,
-                                  shank_clearance = self.shank_clearance})
-        local r = plan:report()
-        if r.refusals > 0 or r.refused_links > 0 then
-          error(string.format("job.drum_finish: blade %d %s flank: %d poses and %d links refused; nothing of it is "
-                              .. "emitted (see plan:report().refusal_reasons)", k, side, r.refusals, r.refused_links), 0)
-        end
-        flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed}
+        common.jobs[#common.jobs + 1] = {flank = finish.flank(blisk, k, side), world = j:world_around(k),
+                                         name = string.format("blade %d %s", k, side),
+                                         axis_limit = finish.c_axis_limit(blisk, k, self.c_range)}
+        which[#which + 1] = {blade = k, side = side}
       end
+    end
+    local flanks = {}
+    for i, plan in ipairs(bliskrun.drum_finish_all(common)) do
+      local k, side = which[i].blade, which[i].side
+      local r = plan:report()
+      if r.refusals > 0 or r.refused_links > 0 then
+        error(string.format("job.drum_finish: blade %d %s flank: %d poses and %d links refused; nothing of it is "
+                            .. "emitted (see plan:report().refusal_reasons)", k, side, r.refusals, r.refused_links), 0)
+      end
+      flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed}
     end
     return flanks
   end
@@ -154,8 +164,27 @@ end
 -- The check surfaces around blade k (neighbours, hub, the blade itself for
 -- the shank), built once per blade.
 function Job:world_around(k)
-  if not self.worlds[k] then self.worlds[k] = require("blisk_world").around_blade(self.part, k) end
+  if not self.worlds[k] then
+    -- Beyond a few blades, tessellate every flank once and share the meshes.
+    local blisk_world = require("blisk_world")
+    if self.part:blade_count() > 4 and self:blade_count_used() > 3 then
+      self.worlds = blisk_world.all_blades(self.part)
+    else
+      self.worlds[k] = blisk_world.around_blade(self.part, k)
+    end
+  end
   return self.worlds[k]
+end
+
+-- How many distinct blades the operations machine.
+function Job:blade_count_used()
+  local seen, n = {}, 0
+  for _, op in ipairs(self.operations) do
+    for _, b in ipairs(op.blades or {}) do
+      if not seen[b] then seen[b] = true; n = n + 1 end
+    end
+  end
+  return n
 end
 
 -- What a link's back-out from, or approach to, blade k's flanks is proved
