@@ -143,9 +143,15 @@ function M.new(spec)
       length = {type = "number", required = true, check = positive},
       spindle_rpm = {type = "number"},
       tool = {type = "userdata", required = true},
+      life_mm = {type = "number", check = positive},
+      sisters = {type = "table", check = function(v)
+        for _, n in ipairs(v) do if math.type(n) ~= "integer" or n < 0 then return "expected a list of tool numbers" end end
+      end},
     }, 2)
-    if numbers[t.number] then error(string.format("job.new: tools '%s' and '%s' share number %d", numbers[t.number], name, t.number), 2) end
-    numbers[t.number] = name
+    for _, n in ipairs({t.number, table.unpack(t.sisters or {})}) do
+      if numbers[n] then error(string.format("job.new: tools '%s' and '%s' share number %d", numbers[n], name, n), 2) end
+      numbers[n] = name
+    end
   end
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
@@ -295,39 +301,107 @@ function Job:link(a, b, tool, what, blade_a, blade_b)
   return poses
 end
 
+-- Tool life (the impeller paper's grouping of blades per tool, §4): whole
+-- blades in order, as many per tool as its life allows, the next group on the
+-- next sister tool. lengths[i] = cutting length of the i-th blade (mm);
+-- numbers = the tool and its sisters. Returns the tool number of each blade
+-- and the groups {{tool =, first =, last =, length_mm =}, ...}; an error when
+-- one blade alone outlasts the life or the sisters run out.
+function M.group_by_life(lengths, life_mm, numbers, what)
+  local of, groups = {}, {}
+  local current, used = 1, 0
+  for i, length in ipairs(lengths) do
+    if life_mm and length > life_mm then
+      error(string.format("%s: one blade cuts %.0f mm, more than the tool's life of %.0f mm", what, length, life_mm), 0)
+    end
+    if life_mm and used + length > life_mm and used > 0 then
+      current, used = current + 1, 0
+      if not numbers[current] then
+        error(string.format("%s: the tool's life of %.0f mm is used up after blade %d of %d and no sister tool is left "
+                            .. "(tools.<name>.sisters)", what, life_mm, i - 1, #lengths), 0)
+      end
+    end
+    used = used + length
+    of[i] = numbers[current]
+    local g = groups[#groups]
+    if not g or g.tool ~= numbers[current] then
+      g = {tool = numbers[current], first = i, last = i, length_mm = 0}
+      groups[#groups + 1] = g
+    end
+    g.last = i
+    g.length_mm = g.length_mm + length
+  end
+  return of, groups
+end
+
+-- The cutting length of a plan's moves (mm): the tip's path over the cuts.
+local function cutting_length(plan_moves)
+  local total = 0
+  for i = 2, #plan_moves do
+    local m, p = plan_moves[i], plan_moves[i - 1]
+    if m.kind == "feed" and m.motion == "cut" then
+      total = total + math.sqrt((m.tip[1] - p.tip[1]) ^ 2 + (m.tip[2] - p.tip[2]) ^ 2 + (m.tip[3] - p.tip[3]) ^ 2)
+    end
+  end
+  return total
+end
+
 -- Plans every operation and links them: returns {moves = {...}, flanks =
 -- {...}, links = n}. A move: {kind, tip, axis, feed, row, tool (number),
 -- operation (index), kind_of (operation kind), blade, side, motion}.
 function Job:plan()
   local moves, flanks, links = {}, {}, 0
   local last = nil
+  local groups = {}
   for i, op in ipairs(self.operations) do
     local t = self.tools[op.tool]
-    for _, f in ipairs(op:plan_flanks(self)) do
+    local planned_flanks = op:plan_flanks(self)
+    -- Blades in order with their cutting length, then the tool of each.
+    local blade_order, blade_length, index_of = {}, {}, {}
+    for _, f in ipairs(planned_flanks) do
+      f.moves_list = f.plan:moves()
+      if not index_of[f.blade] then
+        blade_order[#blade_order + 1] = f.blade
+        index_of[f.blade] = #blade_order
+        blade_length[#blade_order] = 0
+      end
+      blade_length[index_of[f.blade]] = blade_length[index_of[f.blade]] + cutting_length(f.moves_list)
+    end
+    local tool_of, op_groups = M.group_by_life(blade_length, t.life_mm, {t.number, table.unpack(t.sisters or {})},
+                                               string.format("operation %d (%s), tool %d", i, op.kind, t.number))
+    for _, g in ipairs(op_groups) do
+      groups[#groups + 1] = {operation = i, tool = g.tool, blades = {table.unpack(blade_order, g.first, g.last)},
+                             cutting_length_mm = g.length_mm}
+    end
+    for _, f in ipairs(planned_flanks) do
+      local number = tool_of[index_of[f.blade]]
       local what = string.format("operation %d (%s) blade %d %s", i, op.kind, f.blade, f.side)
-      local plan_moves = f.plan:moves()
+      local plan_moves = f.moves_list
       if last then
         local first = plan_moves[1]
         local link = self:link(last.pose, {tip = first.tip, axis = first.axis}, t.tool, "link to " .. what,
                                last.blade, f.blade)
         links = links + 1
-        for _, p in ipairs(link) do
-          moves[#moves + 1] = {kind = "rapid", tip = p.tip, axis = p.axis, tool = t.number, operation = i,
-                               operation_kind = "link", blade = f.blade, side = f.side, motion = "link"}
+        for k, p in ipairs(link) do
+          -- The back-out to the clearance cylinder is the old tool's last
+          -- move: a tool change happens out there, never at the part.
+          moves[#moves + 1] = {kind = "rapid", tip = p.tip, axis = p.axis, tool = k == 1 and last.tool or number,
+                               operation = i, operation_kind = "link", blade = f.blade, side = f.side, motion = "link"}
         end
       end
       local first_move = #moves + 1
       for _, m in ipairs(plan_moves) do
         moves[#moves + 1] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion,
-                             feed = m.kind == "feed" and f.feed or nil, tool = t.number, operation = i,
+                             feed = m.kind == "feed" and f.feed or nil, tool = number, operation = i,
                              operation_kind = op.kind, blade = f.blade, side = f.side}
       end
-      last = {pose = {tip = plan_moves[#plan_moves].tip, axis = plan_moves[#plan_moves].axis}, blade = f.blade}
+      last = {pose = {tip = plan_moves[#plan_moves].tip, axis = plan_moves[#plan_moves].axis}, blade = f.blade,
+              tool = number}
       flanks[#flanks + 1] = {operation = i, kind = op.kind, blade = f.blade, side = f.side, plan = f.plan,
                              report = f.report, moves = #plan_moves, first_move = first_move}
     end
   end
-  self.planned = {moves = moves, flanks = flanks, links = links}
+  self.planned = {moves = moves, flanks = flanks, links = links, tool_groups = groups}
   return self.planned
 end
 
@@ -369,12 +443,16 @@ function Job:post(o)
     file = {type = "string", required = true}, chord_tol = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:post: plan the job first (j:plan())", 2) end
+  -- The program's tools in the order they are first used; a sister tool
+  -- has its tool's length and speed.
   local tools, order = {}, {}
   for _, m in ipairs(self.planned.moves) do
     if not order[m.tool] then
       order[m.tool] = true
       for _, t in pairs(self.tools) do
-        if t.number == m.tool then tools[#tools + 1] = {number = t.number, length = t.length, spindle_rpm = t.spindle_rpm} end
+        for _, n in ipairs({t.number, table.unpack(t.sisters or {})}) do
+          if n == m.tool then tools[#tools + 1] = {number = n, length = t.length, spindle_rpm = t.spindle_rpm} end
+        end
       end
     end
   end

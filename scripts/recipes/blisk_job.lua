@@ -9,6 +9,7 @@
 --
 --   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
 --            [--set samples_u=100 --set samples_v=500]   (simulation samples per flank)
+--            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
 local job = require("job")
 local finish = require("blisk_finish")
 
@@ -26,7 +27,11 @@ local j = job.new{
   name = "blisk flanks",
   part = blisk,
   clearance_radius = 110,
-  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel}},
+  -- --set tool_life=mm: whole blades per wheel up to that cutting length,
+  -- then the next sister wheel (T15, T25, ...), as the impeller paper groups
+  -- blades per tool.
+  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = args.tool_life,
+                    sisters = args.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil}},
   operations = {
     job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002, feed = 600},
   },
@@ -36,6 +41,11 @@ local planned = j:plan()
 local report = {flanks = {}, links = planned.links, moves = #planned.moves, programs = {}}
 print(string.format("Job '%s': %d flanks, %d moves, %d links through the clearance cylinder (r = %g mm), each proved clear",
                     j.name, #planned.flanks, #planned.moves, planned.links, j.clearance_radius))
+report.tool_groups = planned.tool_groups
+for _, g in ipairs(planned.tool_groups) do
+  print(string.format("  tool T%d: blades %d-%d, cutting length %.0f mm", g.tool, g.blades[1], g.blades[#g.blades],
+                      g.cutting_length_mm))
+end
 for _, f in ipairs(planned.flanks) do
   print(string.format("  blade %2d %-8s  rows %3d  poses %5d  refused 0", f.blade, f.side, f.report.row_count, f.report.poses))
   report.flanks[#report.flanks + 1] = {blade = f.blade, side = f.side, rows = f.report.row_count, poses = f.report.poses,

@@ -70,5 +70,30 @@ TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
             std::string::npos) << tool.output;
 }
 
+// Tool life: whole blades per tool up to its cutting length, then the next
+// sister tool; one blade beyond the life, or sisters running out, is an error.
+TEST(BliskJobRecipe, BladesAreGroupedPerToolByCuttingLength) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local lengths = {}\n"
+      "for i = 1, 17 do lengths[i] = 1000 + (i % 3) * 100 end\n"
+      "local of, groups = job.group_by_life(lengths, 4500, {5, 15, 25, 35, 45}, \"wheel\")\n"
+      "local sizes = {}\n"
+      "for _, g in ipairs(groups) do\n"
+      "  sizes[#sizes + 1] = g.last - g.first + 1\n"
+      "  assert(g.length_mm <= 4500, g.length_mm)\n"
+      "end\n"
+      "assert(table.concat(sizes, \",\") == \"4,4,4,4,1\", table.concat(sizes, \",\"))\n"
+      "assert(of[1] == 5 and of[4] == 5 and of[5] == 15 and of[17] == 45)\n"
+      "local ok, err = pcall(job.group_by_life, lengths, 900, {5}, \"wheel\")\n"
+      "assert(not ok and err:find(\"one blade cuts 1100 mm, more than the tool's life of 900 mm\"), err)\n"
+      "ok, err = pcall(job.group_by_life, lengths, 4500, {5, 15}, \"wheel\")\n"
+      "assert(not ok and err:find(\"used up after blade 8 of 17 and no sister tool is left\"), err)\n"
+      "local all = job.group_by_life(lengths, nil, {5}, \"wheel\")\n"
+      "for i = 1, 17 do assert(all[i] == 5) end\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test
