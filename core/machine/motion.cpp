@@ -350,10 +350,15 @@ MachineProgram plan_machine_motion_tools(const std::vector<const Kinematics*>& k
     MotionOptions o = options;
     if (!first) o.start = program.moves.empty() ? options.start : program.moves.back().axes;
     MachineProgram part;
-    try {
-      part = plan_machine_motion(*kins[tool], segment, o, progress);
-    } catch (const Error& e) {
-      throw Error("tool " + std::to_string(tool + 1) + ", from move " + std::to_string(begin + 1) + ": " + e.what());
+    if (begin == 0 && end == path.size()) {
+      part = plan_machine_motion(*kins[tool], segment, o, progress);  // one tool: messages as they are
+    } else {
+      try {
+        part = plan_machine_motion(*kins[tool], segment, o, progress);
+      } catch (const Error& e) {
+        throw Error("tool " + std::to_string(tool + 1) + ", whose moves start at move " + std::to_string(begin + 1) +
+                    " (move numbers below count from there): " + e.what());
+      }
     }
     if (first) {
       program.feed_mode = part.feed_mode;

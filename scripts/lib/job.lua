@@ -457,8 +457,21 @@ function Job:post(o)
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
-  return bliskrun.post.write{machine = machine, post = o.post, path = self.planned.moves, file = o.file,
-                             tools = tools, name = self.name, chord_tol = o.chord_tol or 0.002}
+  local ok, result = pcall(bliskrun.post.write, {machine = machine, post = o.post, path = self.planned.moves,
+                                                 file = o.file, tools = tools, name = self.name,
+                                                 chord_tol = o.chord_tol or 0.002})
+  if ok then return result end
+  -- A move out of travel (or out of reach) names the job's move: say which
+  -- operation, blade and flank it belongs to.
+  local message = tostring(result)
+  local offset = tonumber(message:match("moves start at move (%d+)")) or 1
+  local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
+  local m = n and self.planned.moves[offset + n - 1]
+  if m then
+    error(string.format("job:post: job move %d (operation %d %s, blade %d %s flank, %s): %s", offset + n - 1,
+                        m.operation, m.operation_kind, m.blade, m.side, m.motion or m.kind, message), 2)
+  end
+  error(message, 2)
 end
 
 return M

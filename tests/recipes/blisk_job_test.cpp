@@ -70,6 +70,28 @@ TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
             std::string::npos) << tool.output;
 }
 
+// A machine too small for the part: the travel error names the recipe line,
+// the job move and its operation, blade and flank, and nothing is written.
+TEST(BliskJobRecipe, AMoveOutOfTravelNamesItsOperationAndBlade) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local blisk = bliskrun.blisk{}\n"
+      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,\n"
+      "                                  shank = {diameter = 6, length = 96}}\n"
+      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 110,\n"
+      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
+      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}, sides = {\"suction\"}, residual = 0.05}}}\n"
+      "j:plan()\n"
+      "local small = bliskrun.machine.load(\"table_table_ac\", {name = \"small\", y = {-50, 50}})\n"
+      "j:post{machine = small, post = \"fanuc\", file = \"x.nc\"}\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("recipe.lua:10: job:post: job move 1 (operation 1 drum_finish, blade 1 suction flank, start)"),
+            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("outside travel"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir.path() + "/out/x.nc"));
+}
+
 // Tool life: whole blades per tool up to its cutting length, then the next
 // sister tool; one blade beyond the life, or sisters running out, is an error.
 TEST(BliskJobRecipe, BladesAreGroupedPerToolByCuttingLength) {
