@@ -252,6 +252,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "poses", r.total_poses);
   set_integer(L, "refusals", r.total_refusals);
   set_integer(L, "refused_links", r.refused_links);
+  set_integer(L, "gouge_breaks", r.gouge_breaks);
   set_number(L, "max_deviation", r.max_deviation_mm);
   double wmin = std::numeric_limits<double>::infinity(), wmax = 0, smin = wmin, smax = 0;
   long bottom = 0, corner = 0, evals = 0;
@@ -361,6 +362,38 @@ int w_plan_write_apt(lua_State* L) {
   });
 }
 
+// The move (1-based, in edge_finish_moves order) a simulation's (pass, pose)
+// is, with its motion and row: passes are the moves split at stops.
+struct LocatedMove {
+  long move = 0;
+  std::string motion;
+  int row = -1;
+};
+LocatedMove locate(const EdgeFinishResult& r, int pass, long pose) {
+  LocatedMove out;
+  if (pass < 0 || pose < 0) return out;
+  const std::vector<DrumFinishMove> moves = edge_finish_moves(r);
+  int p = 0;
+  long k = 0;
+  bool open = false;
+  for (size_t i = 0; i < moves.size(); ++i) {
+    if (moves[i].kind == DrumFinishMove::Kind::Stop) {
+      if (open) ++p, k = 0;
+      open = false;
+      continue;
+    }
+    open = true;
+    if (p == pass && k == pose) {
+      out.move = static_cast<long>(i) + 1;
+      out.motion = moves[i].motion;
+      out.row = moves[i].row;
+      return out;
+    }
+    ++k;
+  }
+  return out;
+}
+
 // plan:simulate{samples_u=, samples_v=, picture=, flanks = {s1, s2}}: the
 // undercut simulation of every move (rows and links) on the edge region
 // over the machined span window, and the overcut on the blade's flanks.
@@ -387,6 +420,9 @@ int w_plan_simulate(lua_State* L) {
     const auto t0 = std::chrono::steady_clock::now();
     UndercutResult u = simulate_undercut(*p.edge, *p.tool, passes, so, context(L).progress);
     double flank_overcut = 0;
+    LocatedMove flank_at;
+    int flank_index = 0;
+    double flank_u = 0, flank_v = 0;
     if (o.has("flanks")) {
       o.push_raw("flanks");
       const int t = lua_gettop(L);
@@ -401,7 +437,13 @@ int w_plan_simulate(lua_State* L) {
         fo.samples_u = 100;
         fo.samples_v = 500;
         const UndercutResult f = simulate_undercut(*h->surface, *p.tool, passes, fo, context(L).progress);
-        flank_overcut = std::min(flank_overcut, f.overcut_mm);
+        if (f.overcut_mm < flank_overcut) {
+          flank_overcut = f.overcut_mm;
+          flank_at = locate(r, f.overcut_pass, f.overcut_pose);
+          flank_index = static_cast<int>(i);
+          flank_u = static_cast<double>(f.overcut_sample / fo.samples_v) / (fo.samples_u - 1);
+          flank_v = static_cast<double>(f.overcut_sample % fo.samples_v) / (fo.samples_v - 1);
+        }
         lua_pop(L, 1);
       }
       lua_pop(L, 1);
@@ -414,6 +456,25 @@ int w_plan_simulate(lua_State* L) {
     set_number(L, "undercut_std", u.undercut_std_mm);
     set_number(L, "overcut", u.overcut_mm);
     set_number(L, "flank_overcut", flank_overcut);
+    // Where the deepest overcut is and which move cut it (edge_finish_moves
+    // order, as plan:moves() lists them).
+    const LocatedMove at = locate(r, u.overcut_pass, u.overcut_pose);
+    if (at.move > 0) {
+      set_integer(L, "overcut_move", at.move);
+      set_string(L, "overcut_motion", at.motion);
+      set_integer(L, "overcut_row", at.row + 1);
+      set_number(L, "overcut_u", static_cast<double>(u.overcut_sample / so.samples_v) / (so.samples_u - 1));
+      set_number(L, "overcut_v", so.v0 + (so.v1 - so.v0) * static_cast<double>(u.overcut_sample % so.samples_v) /
+                                             (so.samples_v - 1));
+    }
+    if (flank_at.move > 0) {
+      set_integer(L, "flank_overcut_move", flank_at.move);
+      set_string(L, "flank_overcut_motion", flank_at.motion);
+      set_integer(L, "flank_overcut_row", flank_at.row + 1);
+      set_integer(L, "flank_overcut_flank", flank_index);
+      set_number(L, "flank_overcut_u", flank_u);
+      set_number(L, "flank_overcut_v", flank_v);
+    }
     set_integer(L, "untouched", u.untouched);
     set_integer(L, "samples", static_cast<long long>(u.samples_u) * u.samples_v);
     set_integer(L, "tool_positions", u.tool_positions);

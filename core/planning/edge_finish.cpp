@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -476,6 +477,53 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
 
   // ---- order, checks, links ----
   const auto t_checks = Clock::now();
+  // Every cutting motion is also swept through the design surfaces the way
+  // the independent simulation sweeps it (core/sim GougeGuard: the edge
+  // region over the machined span and both flanks, dense samples, the whole
+  // swept tool): the contact strips see only samples near each contact, and
+  // a motion into a tilted pose was found cutting 4.4 um into the round
+  // between them. Allowed: the band's overcut less what the samples can miss.
+  UndercutOptions guard_options;
+  guard_options.samples_u = 200;
+  guard_options.samples_v = 500;
+  guard_options.v0 = rq.v0;
+  guard_options.v1 = rq.v1;
+  const GougeGuard edge_guard(*rq.edge, guard_options);
+  // The flanks near their edge ends (first: v = 0, second: v = 1), where the
+  // flat bottom of a pose reaches over them: 12 % of the chord, densely.
+  std::vector<std::unique_ptr<GougeGuard>> flank_guards;
+  for (int k = 0; k < 2; ++k) {
+    const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
+    if (!flank) continue;
+    UndercutOptions fo;
+    fo.samples_u = 500;
+    fo.samples_v = 150;
+    fo.u0 = rq.span_u0;
+    fo.u1 = rq.span_u1;
+    fo.v0 = k == 0 ? 0.0 : 0.88;
+    fo.v1 = k == 0 ? 0.12 : 1.0;
+    flank_guards.push_back(std::make_unique<GougeGuard>(*flank, fo));
+  }
+  // Swept only where the contact strips' view is least to be trusted: a
+  // change of contact family (bottom <-> corner), a tilted pose, or an axis
+  // turning more than 5 degrees between the poses (the swept tool then leaves
+  // the strips' samples). Smooth motions within one family stay with the
+  // strips' check, and the independent simulation checks every move after.
+  auto risky = [&](const EdgeFinishPose& a, const EdgeFinishPose& b) {
+    return a.position.contact != b.position.contact || a.tilted || b.tilted ||
+           a.pose.axis.normalized().dot(b.pose.axis.normalized()) < std::cos(deg_to_rad(5.0));
+  };
+  auto motion_gouges = [&](const EdgeFinishPose& pa, const EdgeFinishPose& pb) {
+    if (!risky(pa, pb)) return false;
+    const ToolPose& a = pa.pose;
+    const ToolPose& b = pb.pose;
+    const double corner = std::max(fe.corner_mm, 1e-3);
+    auto allowed = [&](const GougeGuard& g) { return std::max(0.0, -rq.band.e1_mm - g.between_samples_mm(corner)); };
+    if (edge_guard.deepest_cut(*rq.tool, a, b, allowed(edge_guard)).depth_mm < 0) return true;
+    for (const auto& g : flank_guards)
+      if (g->deepest_cut(*rq.tool, a, b, allowed(*g)).depth_mm < 0) return true;
+    return false;
+  };
   progress.begin("edge finish checks", static_cast<long>(planned.size()));
   for (size_t r = 0; r < planned.size(); ++r) {
     EdgeFinishRow& row = planned[r].row;
@@ -515,7 +563,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
         ++row.tilted_contacts;
         // A tilted pose is a different family from its neighbours: reach it
         // by a link unless the motion is proved within e1 of the blade.
-        if (last >= 0 && motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm) {
+        if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+                          motion_gouges(row.poses[last], p))) {
           ++segment;
           last = -1;
         }
@@ -528,7 +577,11 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       }
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
       // pose after a refused one): otherwise reach this pose by a link.
-      if (last >= 0 && motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm) ++segment;
+      if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+                        motion_gouges(row.poses[last], p))) {
+        ++segment;
+        ++out.gouge_breaks;
+      }
       p.segment = segment;
       row.poses.push_back(p);
       last = static_cast<long>(row.poses.size()) - 1;

@@ -143,6 +143,9 @@ struct EdgeFinishResult {
   std::vector<EdgeFinishRow> rows;
   std::vector<EdgeFinishLink> links;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
+  // Cutting motions the gouge guard (core/sim, the whole edge region and
+  // both flanks) found cutting beyond e1: reached by a link instead.
+  long gouge_breaks = 0;
   int side_rows = 0;             // rows the side-edge positioning needs over the same window
   double side_window_mm = 0;     // span length covered (along the round's middle)
   EdgeWidthComparison comparison;

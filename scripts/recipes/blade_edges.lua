@@ -135,7 +135,19 @@ for _, edge in ipairs(edges) do
                 radius_min_mm = region.radius_min, radius_max_mm = region.radius_max,
                 circle_misfit_mm = region.circle_misfit, fit_deviation_mm = region.fit_deviation}
   rep.comparison = cmp
+  if sim.overcut_move then
+    bliskrun.log(string.format("%s: deepest overcut %.2f um on the edge by move %d (%s, row %d) at u %.3f v %.3f", edge,
+                               1e3 * sim.overcut, sim.overcut_move, sim.overcut_motion, sim.overcut_row,
+                               sim.overcut_u, sim.overcut_v))
+  end
+  if sim.flank_overcut_move then
+    bliskrun.log(string.format("%s: deepest overcut %.2f um on flank %d by move %d (%s, row %d) at u %.3f v %.3f", edge,
+                               1e3 * sim.flank_overcut, sim.flank_overcut_flank, sim.flank_overcut_move,
+                               sim.flank_overcut_motion, sim.flank_overcut_row, sim.flank_overcut_u, sim.flank_overcut_v))
+  end
   rep.simulation = {undercut_max_mm = sim.undercut_max, undercut_mean_mm = sim.undercut_mean,
+                    overcut_move = sim.overcut_move, overcut_motion = sim.overcut_motion, overcut_row = sim.overcut_row,
+                    flank_overcut_move = sim.flank_overcut_move, flank_overcut_motion = sim.flank_overcut_motion,
                     undercut_median_mm = sim.undercut_median, overcut_mm = sim.overcut,
                     flank_overcut_mm = sim.flank_overcut, untouched = sim.untouched, samples = sim.samples,
                     picture = stem .. "_undercut.svg"}
