@@ -1,0 +1,37 @@
+// scripts/recipes/blade_edges.lua on a band of the built-in blade's leading
+// edge (small samples): the recipe passes its own verification, and the
+// report shows no gouge beyond e1 (plus the simulation's sampling slack the
+// recipe allows) on the edge or the flanks, rows of both methods, and the
+// moves the gouge guard turned into links.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+TEST(BladeEdgesRecipe, LeadingEdgeBandPassesWithoutGouge) {
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_edges.lua", "--out",
+                                       out, "--quiet", "--set", "part=builtin", "--set", "edges=leading", "--set",
+                                       "v0=0.45", "--set", "v1=0.55", "--set", "samples_u=80", "--set", "samples_v=60"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out + "/blade_edges.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& e = j["edges"]["leading"];
+  EXPECT_TRUE(e["verified"].get<bool>());
+  EXPECT_GE(e["row_count"].get<int>(), 2);
+  EXPECT_GE(e["side_rows"].get<int>(), 2);
+  EXPECT_GT(e["poses"].get<int>(), 50);
+  const double e1 = -0.001;
+  EXPECT_GE(e["simulation"]["overcut_mm"].get<double>(), e1 - 1e-3);
+  EXPECT_GE(e["simulation"]["flank_overcut_mm"].get<double>(), e1 - 1e-3);
+  EXPECT_GE(e["gouge_breaks"].get<int>(), 0);
+}
+
+}  // namespace
+}  // namespace bliskrun::test
