@@ -44,27 +44,27 @@ TEST(BliskJobRecipe, BothFlanksOfABladeBecomeOneVerifiedProgramPerMachine) {
   }
 }
 
+// A job of blade 1 with the given clearance radius and drum-finish options
+// (recipe lines 1-6; the operation is on line 6).
+std::string one_blade_job(const std::string& clearance_radius, const std::string& operation_options) {
+  return "local job = require(\"job\")\n"
+         "local blisk = bliskrun.blisk{}\n"
+         "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,\n"
+         "  shank = {diameter = 6, length = 96}} local j = job.new{name = \"x\", part = blisk, clearance_radius = " +
+         clearance_radius + ",\n"
+         "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
+         "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}" + operation_options + "}}}\n";
+}
+
 TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir,
-      "local job = require(\"job\")\n"
-      "local blisk = bliskrun.blisk{}\n"
-      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4}\n"
-      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 150,\n"
-      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
-      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}, residul = 0.01}}}\n"
-      "bliskrun.write_text(\"never.txt\", \"x\")\n");
+  const RecipeResult r =
+      run_recipe_text(dir, one_blade_job("150", ", residul = 0.01") + "bliskrun.write_text(\"never.txt\", \"x\")\n");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("recipe.lua:6: job.drum_finish: unknown option 'residul', expected one of:"),
             std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() + "/out/never.txt"));
-  const RecipeResult tool = run_recipe_text(dir,
-      "local job = require(\"job\")\n"
-      "local blisk = bliskrun.blisk{}\n"
-      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4}\n"
-      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 90,\n"
-      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
-      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}}}}\n");
+  const RecipeResult tool = run_recipe_text(dir, one_blade_job("90", ""));
   EXPECT_EQ(tool.exit_code, 1);
   EXPECT_NE(tool.output.find("recipe.lua:4: job.new: option 'clearance_radius': 90.000 mm is not outside the casing"),
             std::string::npos) << tool.output;
@@ -75,18 +75,12 @@ TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
 TEST(BliskJobRecipe, AMoveOutOfTravelNamesItsOperationAndBlade) {
   TempDir dir;
   const RecipeResult r = run_recipe_text(dir,
-      "local job = require(\"job\")\n"
-      "local blisk = bliskrun.blisk{}\n"
-      "local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,\n"
-      "                                  shank = {diameter = 6, length = 96}}\n"
-      "local j = job.new{name = \"x\", part = blisk, clearance_radius = 110,\n"
-      "  tools = {wheel = {number = 5, length = 110, tool = wheel}},\n"
-      "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}, sides = {\"suction\"}, residual = 0.05}}}\n"
+      one_blade_job("110", ", sides = {\"suction\"}, residual = 0.05") +
       "j:plan()\n"
       "local small = bliskrun.machine.load(\"table_table_ac\", {name = \"small\", y = {-50, 50}})\n"
       "j:post{machine = small, post = \"fanuc\", file = \"x.nc\"}\n");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("recipe.lua:10: job:post: job move 1 (operation 1 drum_finish, blade 1 suction flank, start)"),
+  EXPECT_NE(r.output.find("recipe.lua:9: job:post: job move 1 (operation 1 drum_finish, blade 1 suction flank, start)"),
             std::string::npos) << r.output;
   EXPECT_NE(r.output.find("outside travel"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() + "/out/x.nc"));
