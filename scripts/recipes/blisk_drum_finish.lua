@@ -19,7 +19,7 @@
 -- span, nearly tangent to the flank: retracting along it drags the barrel
 -- into a concave flank) and are proved against the finished flank itself.
 -- Outputs: blisk_drum_finish.json (report and toolpath), blade<k>_<side>.apt (APT/CL: tool tip and
--- axis per move), undercut_blade<k>_<side>.svg. The run fails (exit 1, after
+-- axis per move), undercut_blade<k>_<side>.png. The run fails (exit 1, after
 -- writing the report) if the simulation finds an overcut beyond the chord
 -- tolerance or a pose was refused.
 --
@@ -70,8 +70,8 @@ for _, side in ipairs{"pressure", "suction"} do
   local apt = string.format("blade%d_%s.apt", blade, side)
   plan:write_apt(apt)
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
-  local picture = string.format("undercut_blade%d_%s.svg", blade, side)
-  sim.map:write_svg(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  local picture = string.format("undercut_blade%d_%s.png", blade, side)
+  sim.map:write_png(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
   local verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -settings.chord_tol - 1e-4
   if sim.overcut_move then
     bliskrun.log(string.format("%s: deepest overcut %.2f um by move %d (%s, row %d)", side, 1e3 * sim.overcut,
