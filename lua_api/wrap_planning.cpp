@@ -11,6 +11,7 @@
 #include "core/analysis/heat_map.h"
 #include "core/planning/drum_finish.h"
 #include "core/sim/undercut.h"
+#include "lua_api/undercut_map.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -29,22 +30,12 @@ struct LuaDrumPlan {
   std::shared_ptr<const DrumFinishResult> result;
 };
 
-// The undercut over the simulated window, for its picture.
-struct LuaUndercutMap {
-  HeatMap map;
-  std::string footer;
-};
-
 }  // namespace bliskrun::lua_api
 
 namespace bliskrun::luax {
 template <>
 struct TypeName<lua_api::LuaDrumPlan> {
   static constexpr const char* name = "bliskrun.DrumFinishPlan";
-};
-template <>
-struct TypeName<lua_api::LuaUndercutMap> {
-  static constexpr const char* name = "bliskrun.UndercutMap";
 };
 }  // namespace bliskrun::luax
 

@@ -19,7 +19,8 @@
 -- span, nearly tangent to the flank: retracting along it drags the barrel
 -- into a concave flank) and are proved against the finished flank itself.
 -- Outputs: blisk_drum_finish.json (report and toolpath), blade<k>_<side>.apt (APT/CL: tool tip and
--- axis per move), undercut_blade<k>_<side>.png. The run fails (exit 1, after
+-- axis per move), undercut_blade<k>_<side>.png, blisk_drum_finish.pvd (+ .vtp: flanks
+-- coloured by undercut and toolpaths, for ParaView). The run fails (exit 1, after
 -- writing the report) if the simulation finds an overcut beyond the chord
 -- tolerance or a pose was refused.
 --
@@ -62,6 +63,7 @@ local report = {
   flanks = {},
 }
 local ok = true
+local vtk_blocks = {}  -- for ParaView: each flank with its undercut, each toolpath
 print(string.format("Drum-wheel finish of blade %d, %s", blade, tool:description()))
 print("  flank     rows  width mm      poses  refused  max chord um  undercut max/mean/median/std um  overcut um")
 for _, side in ipairs{"pressure", "suction"} do
@@ -72,6 +74,9 @@ for _, side in ipairs{"pressure", "suction"} do
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
   local picture = string.format("undercut_blade%d_%s.png", blade, side)
   sim.map:write_png(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  table.insert(vtk_blocks, {name = side .. " flank, undercut", surface = plan:trimmed(), map = sim.map,
+                            samples_u = 100, samples_v = 250})
+  table.insert(vtk_blocks, {name = side .. " toolpath", moves = plan:moves()})
   local verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -settings.chord_tol - 1e-4
   if sim.overcut_move then
     bliskrun.log(string.format("%s: deepest overcut %.2f um by move %d (%s, row %d)", side, 1e3 * sim.overcut,
@@ -146,6 +151,7 @@ end
 
 report.verified = ok
 bliskrun.write_json("blisk_drum_finish.json", report)
+bliskrun.write_vtk{path = "blisk_drum_finish.pvd", blocks = vtk_blocks}
 if not ok then
   error("verification failed: a pose or link was refused, or the simulation found an overcut beyond the chord "
         .. "tolerance; see blisk_drum_finish.json")
