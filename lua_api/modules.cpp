@@ -7,6 +7,7 @@ void open_all(lua_State* L) {
   open_units(L);
   open_files(L);
   open_vtk(L);
+  open_report(L);
   open_geometry(L);
   open_io(L);
   open_parts(L);

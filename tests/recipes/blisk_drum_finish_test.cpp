@@ -132,7 +132,7 @@ TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {
     EXPECT_EQ(slurp(e.path()), slurp(other)) << e.path().filename();
     ++files;
   }
-  EXPECT_EQ(files, 10);  // json, 2 apt, 2 png, pvd, 2 flank vtp, 2 toolpath vtp
+  EXPECT_EQ(files, 11);  // json, 2 apt, 2 png, pvd, 2 flank vtp, 2 toolpath vtp, report.html
 }
 
 TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceedsTheTolerance) {
