@@ -6,6 +6,8 @@ void open_all(lua_State* L) {
   lua_newtable(L);  // the `bliskrun` table
   open_units(L);
   open_files(L);
+  open_vtk(L);
+  open_report(L);
   open_geometry(L);
   open_io(L);
   open_parts(L);

@@ -1,5 +1,9 @@
 #include "lua_api/runner.h"
 
+#include <memory>
+
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -424,10 +428,21 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     ctx.data_dirs.push_back(canonical(d));
   }
   const bool quiet = options.quiet;
-  ctx.progress.set_reporter([&err, quiet](const std::string& task, long done, long total) {
+  // On a terminal, one bar redrawn in place (percent, elapsed, remaining);
+  // otherwise (CI logs, pipes, tests) plain lines at 0, 25, 50, 75, 100 %.
+  const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO);
+  auto task_start = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  ctx.progress.set_reporter([&err, quiet, terminal, task_start](const std::string& task, long done, long total) {
     if (quiet || total <= 0) return;
     const long pct = done * 100 / total;
-    if (pct % 25 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
+    if (!terminal) {
+      if (pct % 25 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
+      return;
+    }
+    if (done == 0) *task_start = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - *task_start).count();
+    err << "\r" << progress_bar_line(task, done, total, elapsed) << "\x1b[K" << (done >= total ? "\n" : "")
+        << std::flush;
   });
 
   Allocator allocator;

@@ -108,12 +108,12 @@ int w_map_at(lua_State* L) {
   return 1;
 }
 
-// map:write_svg(path [, {title=, levels=, width=, height=}]) -> full path
-int w_map_write_svg(lua_State* L) {
+// map:write_svg / map:write_png (path [, {title=, levels=, width=, height=}]) -> full path
+int write_map(lua_State* L, const char* where, bool png) {
   const auto stats = luax::check<CurvatureMapHandle>(L, 1).stats;
   const std::string target = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
   const luax::Options o(
-      L, 3, "map:write_svg",
+      L, 3, where,
       {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
        Field{"levels", Kind::Integer, false, 2, 1024, "colours in the scale; default 64", {}},
        Field{"width", Kind::Integer, false, 50, 10000, "plot width, px; default 800", {}},
@@ -124,11 +124,16 @@ int w_map_write_svg(lua_State* L) {
   opts.plot_width_px = static_cast<int>(o.integer("width", opts.plot_width_px));
   opts.plot_height_px = static_cast<int>(o.integer("height", opts.plot_height_px));
   return luax::guarded(L, [&] {
-    write_curvature_map_svg(*stats, target, opts);
+    if (png)
+      write_curvature_map_png(*stats, target, opts);
+    else
+      write_curvature_map_svg(*stats, target, opts);
     lua_pushstring(L, target.c_str());
     return 1;
   });
 }
+int w_map_write_svg(lua_State* L) { return write_map(L, "map:write_svg", false); }
+int w_map_write_png(lua_State* L) { return write_map(L, "map:write_png", true); }
 
 void push_choice(lua_State* L, const WheelChoice& c) {
   lua_createtable(L, 0, 4);
@@ -186,7 +191,7 @@ int w_narrowest_passage(lua_State* L) {
 void open_analysis(lua_State* L) {
   static const luaL_Reg map_methods[] = {{"size", w_map_size},
                                          {"at", w_map_at},
-                                         {"write_svg", w_map_write_svg},
+                                         {"write_svg", w_map_write_svg}, {"write_png", w_map_write_png},
                                          {nullptr, nullptr}};
   luax::register_type<CurvatureMapHandle>(L, map_methods);
   static const luaL_Reg functions[] = {{"curvature_stats", w_curvature_stats},

@@ -496,7 +496,11 @@ int w_plan_simulate(lua_State* L) {
                     1e3 * u.overcut_mm, u.untouched);
       h.footer = footer;
       h.scale_max = 2 * p.request.band.e2_mm;
-      write_heat_map_svg(map, path, h);
+      // The picture's format follows its name: .png raster, anything else SVG.
+      if (path.size() >= 4 && path.compare(path.size() - 4, 4, ".png") == 0)
+        write_heat_map_png(map, path, h);
+      else
+        write_heat_map_svg(map, path, h);
     }
     return 1;
   });

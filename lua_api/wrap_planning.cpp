@@ -11,6 +11,7 @@
 #include "core/analysis/heat_map.h"
 #include "core/planning/drum_finish.h"
 #include "core/sim/undercut.h"
+#include "lua_api/undercut_map.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -29,22 +30,12 @@ struct LuaDrumPlan {
   std::shared_ptr<const DrumFinishResult> result;
 };
 
-// The undercut over the simulated window, for its picture.
-struct LuaUndercutMap {
-  HeatMap map;
-  std::string footer;
-};
-
 }  // namespace bliskrun::lua_api
 
 namespace bliskrun::luax {
 template <>
 struct TypeName<lua_api::LuaDrumPlan> {
   static constexpr const char* name = "bliskrun.DrumFinishPlan";
-};
-template <>
-struct TypeName<lua_api::LuaUndercutMap> {
-  static constexpr const char* name = "bliskrun.UndercutMap";
 };
 }  // namespace bliskrun::luax
 
@@ -534,24 +525,34 @@ int w_plan_simulate(lua_State* L) {
   });
 }
 
-int w_map_write_svg(lua_State* L) {
+// map:write_svg / map:write_png (path [, {title=, scale=, width=, height=}])
+int write_undercut_map(lua_State* L, const char* where, bool png) {
   const LuaUndercutMap& m = luax::check<LuaUndercutMap>(L, 1);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
   return luax::guarded(L, [&] {
     const luax::Options o(
-        L, 3, "UndercutMap:write_svg",
+        L, 3, where,
         {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
-         Field{"scale", Kind::Number, false, 0.0, 10.0, "colour scale +-, mm (default: largest |value|)", {}}});
+         Field{"scale", Kind::Number, false, 0.0, 10.0, "colour scale +-, mm (default: largest |value|)", {}},
+         Field{"width", Kind::Integer, false, 50, 10000, "plot width, px; default 800", {}},
+         Field{"height", Kind::Integer, false, 50, 10000, "plot height, px; default 320", {}}});
     HeatMapOptions h;
     h.title = o.string("title", "Undercut (material left, mm): red above the design, blue below");
     h.value_label = "mm";
     h.footer = m.footer;
     h.scale_max = o.number("scale", 0);
-    HeatMap map = m.map;
-    write_heat_map_svg(map, path, h);
-    return 0;
+    h.plot_width_px = static_cast<int>(o.integer("width", h.plot_width_px));
+    h.plot_height_px = static_cast<int>(o.integer("height", h.plot_height_px));
+    if (png)
+      write_heat_map_png(m.map, path, h);
+    else
+      write_heat_map_svg(m.map, path, h);
+    lua_pushstring(L, path.c_str());
+    return 1;
   });
 }
+int w_map_write_svg(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_svg", false); }
+int w_map_write_png(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_png", true); }
 
 int w_plan_tostring(lua_State* L) {
   const LuaDrumPlan& p = check_plan(L);
@@ -570,7 +571,8 @@ void open_planning(lua_State* L) {
                                           {"simulate", w_plan_simulate},   {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaDrumPlan>::name, plan_methods, &luax::gc_value<LuaDrumPlan>,
                       w_plan_tostring);
-  static const luaL_Reg map_methods[] = {{"write_svg", w_map_write_svg}, {nullptr, nullptr}};
+  static const luaL_Reg map_methods[] = {
+      {"write_svg", w_map_write_svg}, {"write_png", w_map_write_png}, {nullptr, nullptr}};
   luax::register_type<LuaUndercutMap>(L, map_methods);
   static const luaL_Reg functions[] = {
       {"drum_finish", w_drum_finish}, {"drum_finish_all", w_drum_finish_all}, {"trim_flank", w_trim_flank},

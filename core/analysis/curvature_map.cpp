@@ -1,6 +1,7 @@
 #include "core/analysis/curvature_map.h"
 
 #include <cstdio>
+#include <utility>
 
 #include "core/analysis/heat_map.h"
 #include "core/common/atomic_file.h"
@@ -8,7 +9,10 @@
 
 namespace bliskrun {
 
-std::string curvature_map_svg(const CurvatureStats& st, const CurvatureMapOptions& o) {
+namespace {
+
+// The K picture's map and labels, shared by the SVG and the PNG.
+std::pair<HeatMap, HeatMapOptions> curvature_heat_map(const CurvatureStats& st, const CurvatureMapOptions& o) {
   if (st.map.empty() ||
       st.map.size() != static_cast<size_t>(st.samples_u) * static_cast<size_t>(st.samples_v))
     throw ParameterError("stats", "expected curvature statistics with a map (keep_map = true)");
@@ -27,7 +31,19 @@ std::string curvature_map_svg(const CurvatureStats& st, const CurvatureMapOption
   h.plot_width_px = o.plot_width_px;
   h.plot_height_px = o.plot_height_px;
   h.levels = o.levels;
+  return {std::move(map), std::move(h)};
+}
+
+}  // namespace
+
+std::string curvature_map_svg(const CurvatureStats& st, const CurvatureMapOptions& o) {
+  const auto [map, h] = curvature_heat_map(st, o);
   return heat_map_svg(map, h);
+}
+
+void write_curvature_map_png(const CurvatureStats& st, const std::string& path, const CurvatureMapOptions& o) {
+  const auto [map, h] = curvature_heat_map(st, o);
+  write_heat_map_png(map, path, h);
 }
 
 void write_curvature_map_svg(const CurvatureStats& stats, const std::string& path,

@@ -23,5 +23,8 @@ std::string curvature_map_svg(const CurvatureStats& stats, const CurvatureMapOpt
 // Writes curvature_map_svg(...) with write_file_atomic.
 void write_curvature_map_svg(const CurvatureStats& stats, const std::string& path,
                              const CurvatureMapOptions& opts = {});
+// The same picture as a PNG (heat_map.h's raster), written atomically.
+void write_curvature_map_png(const CurvatureStats& stats, const std::string& path,
+                             const CurvatureMapOptions& opts = {});
 
 }  // namespace bliskrun

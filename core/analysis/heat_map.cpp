@@ -42,43 +42,57 @@ std::string escape(const std::string& s) {
   return out;
 }
 
-}  // namespace
-
-std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
+void check(const HeatMap& map, const HeatMapOptions& o) {
   if (map.rows < 1 || map.cols < 1 ||
       map.values.size() != static_cast<size_t>(map.rows) * static_cast<size_t>(map.cols))
     throw ParameterError("map", "expected rows x cols values");
   if (o.levels < 2 || o.levels > 1024) throw ParameterError("levels", "expected 2 to 1024");
-  if (o.plot_width_px < 50 || o.plot_height_px < 50)
-    throw ParameterError("plot_width_px", "expected a plot of at least 50 x 50 px");
+  if (o.plot_width_px < 50 || o.plot_height_px < 50 || o.plot_width_px > 10000 || o.plot_height_px > 10000)
+    throw ParameterError("plot_width_px", "expected a plot of 50 x 50 to 10000 x 10000 px");
   if (!(o.scale_max >= 0)) throw ParameterError("scale_max", "expected >= 0");
+}
 
-  const int nu = map.rows, nv = map.cols;
+// Level -1 is "no value" (grey); [-m, m] maps onto levels 0..levels-1.
+int level_of(double x, double m, int levels) {
+  if (!std::isfinite(x)) return -1;
+  const int l = static_cast<int>(std::floor((x / m + 1) / 2 * levels));
+  return std::clamp(l, 0, levels - 1);
+}
+
+Rgb level_rgb(int l, int levels) {
+  if (l < 0) return {187, 187, 187};
+  int r, g, b;
+  colour(((l + 0.5) / levels) * 2 - 1, &r, &g, &b);
+  return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b)};
+}
+
+}  // namespace
+
+double heat_map_scale(const HeatMap& map, const HeatMapOptions& o) {
   double m = o.scale_max;
   if (!(m > 0)) {
     for (double x : map.values)
       if (std::isfinite(x)) m = std::max(m, std::abs(x));
   }
-  if (!(m > 0)) m = 1;  // all zero: everything white
+  return m > 0 ? m : 1;  // all zero: everything white
+}
+
+Rgb heat_map_colour(double value, double m, int levels) { return level_rgb(level_of(value, m, levels), levels); }
+
+std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
+  check(map, o);
+  const int nu = map.rows, nv = map.cols;
+  const double m = heat_map_scale(map, o);
 
   const double left = 80, top = 40, W = o.plot_width_px, H = o.plot_height_px;
   const double bar_x = left + W + 30, bar_w = 18;
   const double total_w = bar_x + bar_w + 90, total_h = top + H + 60;
   const double cw = W / nv, ch = H / nu;
-  // Level -1 is "no value" (grey).
-  auto level_of = [&](double x) {
-    if (!std::isfinite(x)) return -1;
-    // Map [-m, m] onto levels 0..levels-1.
-    const int l = static_cast<int>(std::floor((x / m + 1) / 2 * o.levels));
-    return std::clamp(l, 0, o.levels - 1);
-  };
+  auto level = [&](double x) { return level_of(x, m, o.levels); };
   auto level_colour = [&](int l) {
-    if (l < 0) return std::string("#bbbbbb");
-    const double s = ((l + 0.5) / o.levels) * 2 - 1;
-    int r, g, b;
-    colour(s, &r, &g, &b);
+    const Rgb c = level_rgb(l, o.levels);
     char buf[16];
-    std::snprintf(buf, sizeof buf, "#%02x%02x%02x", r, g, b);
+    std::snprintf(buf, sizeof buf, "#%02x%02x%02x", c[0], c[1], c[2]);
     return std::string(buf);
   };
   std::string out;
@@ -95,9 +109,9 @@ std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
     const double y = top + H - (i + 1) * ch;
     int j = 0;
     while (j < nv) {
-      const int l = level_of(map.at(i, j));
+      const int l = level(map.at(i, j));
       int k = j + 1;
-      while (k < nv && level_of(map.at(i, k)) == l) ++k;
+      while (k < nv && level(map.at(i, k)) == l) ++k;
       out += "<rect x=\"" + fmt("%.2f", left + j * cw) + "\" y=\"" + fmt("%.2f", y) +
              "\" width=\"" + fmt("%.2f", (k - j) * cw + 0.01) + "\" height=\"" +
              fmt("%.2f", ch + 0.01) + "\" fill=\"" + level_colour(l) + "\"/>\n";
@@ -144,6 +158,70 @@ std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
 
 void write_heat_map_svg(const HeatMap& map, const std::string& path, const HeatMapOptions& opts) {
   write_file_atomic(path, heat_map_svg(map, opts));
+}
+
+HeatMapRasterLayout heat_map_raster_layout(const HeatMapOptions& o) {
+  HeatMapRasterLayout l;
+  l.plot_x = 80;
+  l.plot_y = 40;
+  l.bar_x = l.plot_x + o.plot_width_px + 30;
+  l.bar_width = 18;
+  l.width = l.bar_x + l.bar_width + 80;
+  l.height = l.plot_y + o.plot_height_px + 62;
+  // A long title or footer widens the picture rather than being cut.
+  l.width = std::max({l.width, l.plot_x + text_width(o.title, 2) + 10, l.plot_x + text_width(o.footer) + 10});
+  return l;
+}
+
+RgbImage heat_map_raster(const HeatMap& map, const HeatMapOptions& o) {
+  check(map, o);
+  const double m = heat_map_scale(map, o);
+  const HeatMapRasterLayout L = heat_map_raster_layout(o);
+  const int W = o.plot_width_px, H = o.plot_height_px;
+  const Rgb white{255, 255, 255}, black{0, 0, 0};
+  RgbImage im(L.width, L.height, white);
+  // Plot: pixel (x, y) shows the cell whose centre is nearest its centre;
+  // rows counted from the bottom so u = 0 (hub) is at the bottom.
+  std::vector<Rgb> palette(static_cast<size_t>(o.levels) + 1);
+  for (int l = -1; l < o.levels; ++l) palette[static_cast<size_t>(l + 1)] = level_rgb(l, o.levels);
+  for (int y = 0; y < H; ++y) {
+    const int i = std::min(map.rows - 1, static_cast<int>((H - 1 - y + 0.5) / H * map.rows));
+    for (int x = 0; x < W; ++x) {
+      const int j = std::min(map.cols - 1, static_cast<int>((x + 0.5) / W * map.cols));
+      im.set(L.plot_x + x, L.plot_y + y, palette[static_cast<size_t>(level_of(map.at(i, j), m, o.levels) + 1)]);
+    }
+  }
+  im.frame(L.plot_x - 1, L.plot_y - 1, L.plot_x + W + 1, L.plot_y + H + 1, black);
+  im.text(L.plot_x, 12, o.title, black, 2);
+  // Axes: ticks and fractions along v (across) and u (up).
+  for (int t = 0; t <= 4; ++t) {
+    const std::string label = fmt("%.2f", t / 4.0);
+    const int x = L.plot_x + static_cast<int>(std::lround(t / 4.0 * (W - 1)));
+    const int y = L.plot_y + H - 1 - static_cast<int>(std::lround(t / 4.0 * (H - 1)));
+    im.fill(x, L.plot_y + H + 1, x + 1, L.plot_y + H + 5, black);
+    im.text(x - text_width(label) / 2, L.plot_y + H + 8, label, black);
+    im.fill(L.plot_x - 5, y, L.plot_x - 1, y + 1, black);
+    im.text(L.plot_x - 8 - text_width(label), y - 3, label, black);
+  }
+  const std::string v_label = "v (chord)", u_label = "u (span, hub to tip)";
+  im.text(L.plot_x + W / 2 - text_width(v_label) / 2, L.plot_y + H + 22, v_label, black);
+  im.text(14, L.plot_y + H / 2 + text_width(u_label) / 2, u_label, black, 1, true);
+  // Colour bar: level l's band of rows, -m at the bottom.
+  for (int y = 0; y < H; ++y) {
+    const int l = std::min(o.levels - 1, static_cast<int>((H - 1 - y + 0.5) / H * o.levels));
+    im.fill(L.bar_x, L.plot_y + y, L.bar_x + L.bar_width, L.plot_y + y + 1, level_rgb(l, o.levels));
+  }
+  im.frame(L.bar_x - 1, L.plot_y - 1, L.bar_x + L.bar_width + 1, L.plot_y + H + 1, black);
+  for (const auto& [f, value] : {std::pair{0.0, -m}, std::pair{0.5, 0.0}, std::pair{1.0, m}})
+    im.text(L.bar_x + L.bar_width + 4, L.plot_y + H - 1 - static_cast<int>(f * (H - 1)) - 3, fmt("%.3e", value),
+            black);
+  im.text(L.bar_x, L.plot_y - 12, o.value_label, black);
+  if (!o.footer.empty()) im.text(L.plot_x, L.plot_y + H + 40, o.footer, black);
+  return im;
+}
+
+void write_heat_map_png(const HeatMap& map, const std::string& path, const HeatMapOptions& opts) {
+  write_file_atomic(path, encode_png(heat_map_raster(map, opts)));
 }
 
 }  // namespace bliskrun

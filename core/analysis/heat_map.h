@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "core/common/raster.h"
+
 namespace bliskrun {
 
 struct HeatMap {
@@ -37,5 +39,29 @@ struct HeatMapOptions {
 std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& opts);
 // Writes heat_map_svg(...) with write_file_atomic.
 void write_heat_map_svg(const HeatMap& map, const std::string& path, const HeatMapOptions& opts);
+
+// The same picture as a raster (one pixel per plot pixel, each showing the
+// nearest cell), so a 200 x 1000 map costs what its picture size costs, not
+// what its cell count costs. Same colours, layout and labels as the SVG, drawn
+// with raster.h's built-in bitmap font.
+//
+// Where things are in the PNG, so tests and readers can find the plot: the
+// plot occupies [plot_x, plot_x + plot_width_px) x [plot_y, plot_y + plot_height_px),
+// u = 0 (hub) at the bottom row, v = 0 at the left column.
+struct HeatMapRasterLayout {
+  int plot_x = 0, plot_y = 0;
+  int bar_x = 0, bar_width = 0;  // colour bar, same rows as the plot, -m at the bottom
+  int width = 0, height = 0;     // whole picture
+};
+HeatMapRasterLayout heat_map_raster_layout(const HeatMapOptions& opts);
+// The scale's colour for `value` on [-m, m] quantised to `levels` colours;
+// grey (187, 187, 187) for a non-finite value. The SVG uses the same colours.
+Rgb heat_map_colour(double value, double m, int levels);
+// The scale's half range m the picture uses: opts.scale_max if set, else the
+// largest |finite value| (1 if all are zero).
+double heat_map_scale(const HeatMap& map, const HeatMapOptions& opts);
+RgbImage heat_map_raster(const HeatMap& map, const HeatMapOptions& opts);
+// Writes encode_png(heat_map_raster(...)) with write_file_atomic.
+void write_heat_map_png(const HeatMap& map, const std::string& path, const HeatMapOptions& opts);
 
 }  // namespace bliskrun

@@ -1,5 +1,8 @@
 #include "core/common/progress.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include <mutex>
 
 #include "core/common/error.h"
@@ -32,6 +35,18 @@ void cancellation_point() {
     reason = cancel_all_reason;
   }
   throw Cancelled("cancelled: " + reason);
+}
+
+std::string progress_bar_line(const std::string& task, long done, long total, double elapsed_s, int bar_width) {
+  const double f = total > 0 ? std::clamp(static_cast<double>(done) / total, 0.0, 1.0) : 0.0;
+  const int filled = static_cast<int>(f * bar_width);
+  char tail[96];
+  if (done > 0 && done < total)
+    std::snprintf(tail, sizeof tail, "] %3d%%  elapsed %.1f s  remaining ~%.1f s", static_cast<int>(f * 100),
+                  elapsed_s, elapsed_s * (total - done) / done);
+  else
+    std::snprintf(tail, sizeof tail, "] %3d%%  elapsed %.1f s", static_cast<int>(f * 100), elapsed_s);
+  return "[" + task + "] [" + std::string(filled, '#') + std::string(bar_width - filled, '.') + tail;
 }
 
 void Progress::begin(const std::string& task, long total) {

@@ -12,6 +12,14 @@ namespace bliskrun {
 
 bool cancel_all_requested();
 
+// One line of a terminal progress bar, e.g.
+//   "[simulate] [########............]  42%  elapsed 3.1 s  remaining ~4.3 s"
+// `bar_width` cells of '#' for the done fraction; the remaining time is
+// elapsed * (total - done) / done, shown once something is done. Pure, so
+// the CLI's drawing (carriage return on a terminal) is tested through it.
+std::string progress_bar_line(const std::string& task, long done, long total, double elapsed_s,
+                              int bar_width = 24);
+
 class Progress {
  public:
   // Called with (task, done, total); may be empty.

@@ -27,7 +27,7 @@
 -- most contacts there. R = 3, r = 0.5 (shank d = 6) keeps the paper's ratio
 -- r/R ~ 0.2 and a flat bottom (5 mm) still far wider than the edge rounds
 -- (0.4 / 0.3 mm); --set R=5 --set r=1 runs the paper's tool.
--- Outputs: blade_edges.json, <part>_<edge>.apt, <part>_<edge>_undercut.svg,
+-- Outputs: blade_edges.json, <part>_<edge>.apt, <part>_<edge>_undercut.png,
 -- <part>_<edge>_strip_widths.svg.
 --
 --   bliskrun scripts/recipes/blade_edges.lua --out out/
@@ -114,7 +114,7 @@ for _, edge in ipairs(edges) do
   local stem = string.format("%s_%s", part_name, edge)
   plan:write_apt(stem .. ".apt")
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 400,
-                            flanks = {pressure, suction}, picture = stem .. "_undercut.svg"}
+                            flanks = {pressure, suction}, picture = stem .. "_undercut.png"}
   local cmp = plan:comparison()
   local series = {{name = "bottom, paper (φ averaged)", points = {}}, {name = "bottom, joint optimum", points = {}},
                   {name = "side edge (corner, φ = 0)", points = {}}}
@@ -150,7 +150,7 @@ for _, edge in ipairs(edges) do
                     flank_overcut_move = sim.flank_overcut_move, flank_overcut_motion = sim.flank_overcut_motion,
                     undercut_median_mm = sim.undercut_median, overcut_mm = sim.overcut,
                     flank_overcut_mm = sim.flank_overcut, untouched = sim.untouched, samples = sim.samples,
-                    picture = stem .. "_undercut.svg"}
+                    picture = stem .. "_undercut.png"}
   rep.apt = stem .. ".apt"
   -- No gouge anywhere (edge region and flanks) beyond e1 plus what the
   -- simulation's sampling can miss; refusals are reported, not hidden.

@@ -19,7 +19,8 @@
 -- span, nearly tangent to the flank: retracting along it drags the barrel
 -- into a concave flank) and are proved against the finished flank itself.
 -- Outputs: blisk_drum_finish.json (report and toolpath), blade<k>_<side>.apt (APT/CL: tool tip and
--- axis per move), undercut_blade<k>_<side>.svg. The run fails (exit 1, after
+-- axis per move), undercut_blade<k>_<side>.png, blisk_drum_finish.pvd (+ .vtp: flanks
+-- coloured by undercut and toolpaths, for ParaView), report.html. The run fails (exit 1, after
 -- writing the report) if the simulation finds an overcut beyond the chord
 -- tolerance or a pose was refused.
 --
@@ -34,6 +35,7 @@
 
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
+local run_report = require("run_report")
 
 local blade = args.blade or 1
 local wheel_rule = args.wheel or "extended"
@@ -62,6 +64,8 @@ local report = {
   flanks = {},
 }
 local ok = true
+local vtk_blocks = {}  -- for ParaView: each flank with its undercut, each toolpath
+local flank_rows, pictures = {}, {}  -- for report.html
 print(string.format("Drum-wheel finish of blade %d, %s", blade, tool:description()))
 print("  flank     rows  width mm      poses  refused  max chord um  undercut max/mean/median/std um  overcut um")
 for _, side in ipairs{"pressure", "suction"} do
@@ -70,8 +74,11 @@ for _, side in ipairs{"pressure", "suction"} do
   local apt = string.format("blade%d_%s.apt", blade, side)
   plan:write_apt(apt)
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
-  local picture = string.format("undercut_blade%d_%s.svg", blade, side)
-  sim.map:write_svg(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  local picture = string.format("undercut_blade%d_%s.png", blade, side)
+  sim.map:write_png(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  table.insert(vtk_blocks, {name = side .. " flank, undercut", surface = plan:trimmed(), map = sim.map,
+                            samples_u = 100, samples_v = 250})
+  table.insert(vtk_blocks, {name = side .. " toolpath", moves = plan:moves()})
   local verified = r.refusals == 0 and r.refused_links == 0 and sim.overcut >= -settings.chord_tol - 1e-4
   if sim.overcut_move then
     bliskrun.log(string.format("%s: deepest overcut %.2f um by move %d (%s, row %d)", side, 1e3 * sim.overcut,
@@ -82,6 +89,11 @@ for _, side in ipairs{"pressure", "suction"} do
                       side, r.row_count, r.width_min, r.width_max, r.poses, r.refusals + r.refused_links,
                       1e3 * r.max_deviation, 1e3 * sim.undercut_max, 1e3 * sim.undercut_mean,
                       1e3 * sim.undercut_median, 1e3 * sim.undercut_std, 1e3 * sim.overcut))
+  flank_rows[#flank_rows + 1] = {side, r.row_count, r.poses, r.refusals + r.refused_links, 1e3 * r.max_deviation,
+                                 1e3 * sim.undercut_max, 1e3 * sim.undercut_mean, 1e3 * sim.overcut}
+  pictures[#pictures + 1] = {title = "Undercut, " .. side .. " flank", image = picture,
+                             caption = "Material left over (u', v) of the trimmed flank, mm: red above the design, "
+                                       .. "blue below, grey never reached."}
   -- Timings go to the log, not the report: same inputs, same bytes.
   bliskrun.log(string.format("%s: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s", side,
                              r.seconds.trim, r.seconds.rows, r.seconds.tilt, r.seconds.links, sim.seconds))
@@ -146,6 +158,19 @@ end
 
 report.verified = ok
 bliskrun.write_json("blisk_drum_finish.json", report)
+bliskrun.write_vtk{path = "blisk_drum_finish.pvd", blocks = vtk_blocks}
+local settings_shown = {blade = blade, wheel = wheel_rule .. ": " .. tool:description()}
+for k, v in pairs(report.settings) do settings_shown[k] = v end
+run_report.write{title = string.format("Drum-wheel finish of blade %d", blade),
+  subtitle = ok and "verified: no pose refused, no overcut beyond the chord tolerance" or "NOT verified",
+  settings = settings_shown,
+  sections = {{title = "Flanks", table = {columns = {"flank", "rows", "poses", "refused", "max chord error (um)",
+                                                     "undercut max (um)", "undercut mean (um)", "overcut (um)"},
+                                          rows = flank_rows}},
+              pictures[1], pictures[2]},
+  files = {{"blisk_drum_finish.json", "report and toolpath"}, {"blade*_*.apt", "APT/CL per flank"},
+           {"undercut_blade*_*.png", "the undercut maps above"},
+           {"blisk_drum_finish.pvd", "ParaView: flanks coloured by undercut, toolpaths"}}}
 if not ok then
   error("verification failed: a pose or link was refused, or the simulation found an overcut beyond the chord "
         .. "tolerance; see blisk_drum_finish.json")

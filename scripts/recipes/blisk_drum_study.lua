@@ -6,7 +6,7 @@
 -- same residual height; all four are simulated at 200 x 1000 samples.
 -- Outputs: blisk_drum_study.json (Tables 4-5, per-row points and chord
 -- errors of every group), fig12_points_per_row.svg, fig13_chord_error.svg,
--- fig15_undercut_<group>.svg.
+-- fig15_undercut_<group>.png.
 --
 --   bliskrun scripts/recipes/blisk_drum_study.lua --out out/
 --   options: --set side=pressure|suction --set blade=1 --set residual=0.014
@@ -47,9 +47,9 @@ for _, g in ipairs(groups) do
   })
   local r = plan:report()
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
-  local picture = "fig15_undercut_" .. g.id .. ".svg"
+  local picture = "fig15_undercut_" .. g.id .. ".png"
   -- One colour scale for all four maps, so they compare.
-  sim.map:write_svg(picture, {title = string.format("Fig. 15 (%s): undercut, wheel %d, %s chord height (mm)", g.id,
+  sim.map:write_png(picture, {title = string.format("Fig. 15 (%s): undercut, wheel %d, %s chord height (mm)", g.id,
                                                     g.wheel, g.steps), scale = 2 * residual})
   -- Rows over chord tolerance: eq. 17 underestimates where curvature rises.
   local over = 0

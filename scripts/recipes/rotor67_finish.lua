@@ -9,7 +9,7 @@
 --      and the hub within C +-c_range;
 --   3. the undercut simulation measures what is left.
 -- Outputs: rotor67_finish.json, rotor67_blade1_<side>.apt,
--- rotor67_undercut_<side>.svg, and the design's rotor67_finish_design_* files.
+-- rotor67_undercut_<side>.png, and the design's rotor67_finish_design_* files.
 --
 --   bliskrun scripts/recipes/rotor67_finish.lua --data ../shared/data --out out/
 --   options: --set side=pressure|suction --set residual=0.014 --set chord_tol=0.002
@@ -67,8 +67,8 @@ local r = plan:report()
 local apt = "rotor67_blade1_" .. side .. ".apt"
 plan:write_apt(apt)
 local sim = plan:simulate{samples_u = args.samples_u or 600, samples_v = args.samples_v or 1000}
-local picture = "rotor67_undercut_" .. side .. ".svg"
-sim.map:write_svg(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: undercut (mm)"})
+local picture = "rotor67_undercut_" .. side .. ".png"
+sim.map:write_png(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: undercut (mm)"})
 bliskrun.log(string.format("timings: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s",
                            r.seconds.trim, r.seconds.rows, r.seconds.tilt, r.seconds.links, sim.seconds))
 r.seconds = nil

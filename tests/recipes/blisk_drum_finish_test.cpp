@@ -6,6 +6,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/analysis/heat_map.h"
+#include "core/common/raster.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -98,9 +100,22 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     EXPECT_EQ(f["toolpath"][1]["motion"], "approach");
     EXPECT_EQ(f["toolpath"].back()["motion"], "retract");
     EXPECT_EQ(f["toolpath"][0]["tip"].size(), 3u);
-    const fs::path svg = fs::path(dir.path()) / sim["picture"].get<std::string>();
-    ASSERT_TRUE(fs::exists(svg));
-    EXPECT_GT(fs::file_size(svg), 10000u);
+    // The undercut map is a PNG with the default 800 x 320 plot, coloured
+    // where material is left (red end of the scale).
+    const fs::path png = fs::path(dir.path()) / sim["picture"].get<std::string>();
+    ASSERT_TRUE(fs::exists(png));
+    EXPECT_LT(fs::file_size(png), 1000000u);
+    const RgbImage im = decode_png(slurp(png), png.string());
+    HeatMapOptions defaults;
+    defaults.title = "x";
+    EXPECT_EQ(im.height, heat_map_raster_layout(defaults).height);
+    int reddish = 0;
+    for (int y = 40; y < 360; ++y)
+      for (int x = 80; x < 880; ++x) {
+        const Rgb c = im.at(x, y);
+        reddish += c[0] > c[2] + 20;
+      }
+    EXPECT_GT(reddish, 1000);
   }
 }
 
@@ -117,7 +132,7 @@ TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {
     EXPECT_EQ(slurp(e.path()), slurp(other)) << e.path().filename();
     ++files;
   }
-  EXPECT_EQ(files, 5);  // json, 2 apt, 2 svg
+  EXPECT_EQ(files, 11);  // json, 2 apt, 2 png, pvd, 2 flank vtp, 2 toolpath vtp, report.html
 }
 
 TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceedsTheTolerance) {

@@ -1,0 +1,215 @@
+// bliskrun.report{path=, title=, subtitle=, sections = {...}}: one
+// self-contained HTML page per run — a table of contents, sections with text,
+// tables from Lua tables, SVG charts inline and PNG pictures as data URIs.
+// No script, no stylesheet or font from the network: it opens offline in any
+// browser and can be mailed as one file. Written atomically.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "core/common/atomic_file.h"
+#include "core/common/error.h"
+#include "lua_api/luax.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+
+namespace bliskrun::lua_api {
+
+namespace {
+
+using luax::Field;
+using luax::Kind;
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                       (static_cast<unsigned char>(bytes[i + 1]) << 8) | static_cast<unsigned char>(bytes[i + 2]);
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], k[v & 63]};
+  }
+  if (i + 1 == bytes.size()) {
+    const unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
+    out += {k[v >> 18], k[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == bytes.size()) {
+    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) | (static_cast<unsigned char>(bytes[i + 1]) << 8);
+    out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+// A table cell: numbers with up to 6 significant digits, strings as they are.
+std::string cell(lua_State* L, int idx) {
+  if (lua_type(L, idx) == LUA_TNUMBER) {
+    if (lua_isinteger(L, idx)) return std::to_string(lua_tointeger(L, idx));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", lua_tonumber(L, idx));
+    return buf;
+  }
+  if (lua_type(L, idx) == LUA_TBOOLEAN) return lua_toboolean(L, idx) ? "yes" : "no";
+  if (lua_type(L, idx) == LUA_TSTRING) return escape(lua_tostring(L, idx));
+  if (lua_isnil(L, idx)) return "";
+  throw ParameterError("table", "expected numbers, strings or booleans in the cells");
+}
+
+// {columns = {...}, rows = {{...}, ...}} at idx -> <table>.
+std::string html_table(lua_State* L, int idx, const std::string& where) {
+  const luax::Options t(L, idx, "bliskrun.report " + where,
+                        {Field{"columns", Kind::Table, true, std::nullopt, std::nullopt, "column headings, with units", {}},
+                         Field{"rows", Kind::Table, true, std::nullopt, std::nullopt, "list of rows, one value per column", {}}});
+  std::string out = "<table>\n<thead><tr>";
+  t.push_raw("columns");
+  const int cols = static_cast<int>(lua_rawlen(L, -1));
+  if (cols < 1) throw ParameterError(where + ".columns", "expected at least one column");
+  for (int c = 1; c <= cols; ++c) {
+    lua_geti(L, -1, c);
+    out += "<th>" + cell(L, -1) + "</th>";
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  out += "</tr></thead>\n<tbody>\n";
+  t.push_raw("rows");
+  const lua_Integer rows = static_cast<lua_Integer>(lua_rawlen(L, -1));
+  for (lua_Integer r = 1; r <= rows; ++r) {
+    if (lua_geti(L, -1, r) != LUA_TTABLE)
+      throw ParameterError(where + ".rows[" + std::to_string(r) + "]", "expected a list of cells");
+    if (static_cast<int>(lua_rawlen(L, -1)) != cols)
+      throw ParameterError(where + ".rows[" + std::to_string(r) + "]",
+                           "expected " + std::to_string(cols) + " cells (one per column), got " +
+                               std::to_string(lua_rawlen(L, -1)));
+    out += "<tr>";
+    for (int c = 1; c <= cols; ++c) {
+      lua_geti(L, -1, c);
+      out += (lua_type(L, -1) == LUA_TNUMBER ? "<td class=\"n\">" : "<td>") + cell(L, -1) + "</td>";
+      lua_pop(L, 1);
+    }
+    out += "</tr>\n";
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return out + "</tbody>\n</table>\n";
+}
+
+const char* kStyle =
+    "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}"
+    "h1{font-size:1.6em}h2{font-size:1.25em;border-bottom:1px solid #ccc;margin-top:2em}"
+    "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #bbb;padding:.25em .6em}"
+    "th{background:#f0f0f0;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums}"
+    "figure{margin:1em 0}img,svg{max-width:100%;height:auto}figcaption{color:#555;font-size:.9em}"
+    "nav ol{padding-left:1.5em}.meta{color:#555}";
+
+int w_report(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.report",
+      {Field{"path", Kind::String, true, std::nullopt, std::nullopt, "the page, an .html file", {}},
+       Field{"title", Kind::String, true, std::nullopt, std::nullopt, "page title", {}},
+       Field{"subtitle", Kind::String, false, std::nullopt, std::nullopt, "one line under the title", {}},
+       Field{"sections", Kind::Table, true, std::nullopt, std::nullopt,
+             "list of {title=, text=, table=, svg=, image=, caption=}", {}}});
+  const std::string path = context(L).resolve_write(L, o.string("path", ""));
+  if (path.size() < 5 || path.compare(path.size() - 5, 5, ".html") != 0)
+    luax::error(L, "bliskrun.report: path: expected an .html file name, got \"" + o.string("path", "") + "\"");
+  o.push_raw("sections");
+  const int sections = lua_gettop(L);
+  return luax::guarded(L, [&] {
+    const std::string title = o.string("title", "");
+    std::string toc, body;
+    const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, sections));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      const std::string where = "sections[" + std::to_string(k) + "]";
+      if (lua_geti(L, sections, k) != LUA_TTABLE) throw ParameterError(where, "expected a table");
+      const luax::Options s(
+          L, lua_gettop(L), "bliskrun.report " + where,
+          {Field{"title", Kind::String, true, std::nullopt, std::nullopt, "section heading", {}},
+           Field{"text", Kind::Any, false, std::nullopt, std::nullopt, "a paragraph, or a list of them", {}},
+           Field{"table", Kind::Table, false, std::nullopt, std::nullopt, "{columns=, rows=}", {}},
+           Field{"svg", Kind::String, false, std::nullopt, std::nullopt, "an SVG document, drawn inline", {}},
+           Field{"image", Kind::String, false, std::nullopt, std::nullopt, "a PNG file in the out folder, inlined", {}},
+           Field{"caption", Kind::String, false, std::nullopt, std::nullopt, "under the chart or picture", {}}});
+      const std::string id = "s" + std::to_string(k);
+      const std::string heading = s.string("title", "");
+      toc += "<li><a href=\"#" + id + "\">" + escape(heading) + "</a></li>\n";
+      body += "<section id=\"" + id + "\">\n<h2>" + escape(heading) + "</h2>\n";
+      if (s.has("text")) {
+        s.push_raw("text");
+        if (lua_type(L, -1) == LUA_TSTRING) {
+          body += "<p>" + escape(lua_tostring(L, -1)) + "</p>\n";
+        } else if (lua_istable(L, -1)) {
+          for (lua_Integer p = 1; p <= static_cast<lua_Integer>(lua_rawlen(L, -1)); ++p) {
+            lua_geti(L, -1, p);
+            if (lua_type(L, -1) != LUA_TSTRING)
+              throw ParameterError(where + ".text[" + std::to_string(p) + "]", "expected a string");
+            body += "<p>" + escape(lua_tostring(L, -1)) + "</p>\n";
+            lua_pop(L, 1);
+          }
+        } else {
+          throw ParameterError(where + ".text", "expected a string or a list of strings");
+        }
+        lua_pop(L, 1);
+      }
+      if (s.has("table")) {
+        s.push_raw("table");
+        body += html_table(L, lua_gettop(L), where + ".table");
+        lua_pop(L, 1);
+      }
+      const std::string caption =
+          s.has("caption") ? "<figcaption>" + escape(s.string("caption", "")) + "</figcaption>\n" : "";
+      if (s.has("svg")) {
+        std::string svg = s.string("svg", "");
+        if (svg.rfind("<?xml", 0) == 0) svg.erase(0, svg.find("?>") + 2);  // a declaration may not sit inside HTML
+        const auto start = svg.find("<svg");
+        if (start == std::string::npos || svg.find_first_not_of(" \t\r\n") != start)
+          throw ParameterError(where + ".svg", "expected an SVG document (starting with <svg)");
+        body += "<figure>\n" + svg.substr(start) + caption + "</figure>\n";
+      }
+      if (s.has("image")) {
+        const std::string name = s.string("image", "");
+        std::ifstream in(context(L).resolve_write(L, name), std::ios::binary);
+        if (!in) throw ParameterError(where + ".image", "cannot read '" + name + "' in the out folder");
+        std::ostringstream bytes;
+        bytes << in.rdbuf();
+        if (bytes.str().compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
+          throw ParameterError(where + ".image", "expected a PNG file, '" + name + "' is not one");
+        body += "<figure>\n<img alt=\"" + escape(name) + "\" src=\"data:image/png;base64," + base64(bytes.str()) +
+                "\">\n" + caption + "</figure>\n";
+      }
+      body += "</section>\n";
+      lua_pop(L, 1);
+    }
+    std::string page = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+                       escape(title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" +
+                       escape(title) + "</h1>\n";
+    if (o.has("subtitle")) page += "<p class=\"meta\">" + escape(o.string("subtitle", "")) + "</p>\n";
+    page += "<nav>\n<h2>Contents</h2>\n<ol>\n" + toc + "</ol>\n</nav>\n" + body + "</body>\n</html>\n";
+    write_file_atomic(path, page);
+    lua_pushstring(L, path.c_str());
+    return 1;
+  });
+}
+
+}  // namespace
+
+void open_report(lua_State* L) {
+  static const luaL_Reg functions[] = {{"report", w_report}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api
