@@ -9,6 +9,7 @@ void open_all(lua_State* L) {
   open_geometry(L);
   open_io(L);
   open_parts(L);
+  open_impeller(L);
   open_analysis(L);
   open_tools(L);
   open_collision(L);
