@@ -1,0 +1,185 @@
+#include "core/planning/flank_milling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/geometry/projection.h"
+
+namespace bliskrun {
+
+namespace {
+
+std::string num(double x) { return std::to_string(x); }
+
+Vec3 unit_normal(const SurfaceDerivs& d) { return d.pu.cross(d.pv).normalized(); }
+
+// Root of g(s) = hub.radial_offset(p + s a) - r nearest s = 0: brackets
+// grow outwards from 0 in both directions, then Illinois regula falsi.
+std::optional<double> meet_hub_offset(const SurfaceOfRevolution& hub, double r, const Vec3& p,
+                                      const Vec3& a, double reach_mm) {
+  auto g = [&](double s) { return hub.radial_offset(p + s * a) - r; };
+  const double g0 = g(0);
+  if (g0 == 0) return 0.0;
+  for (double step = 0.25; step <= reach_mm * 2; step *= 2) {
+    for (double dir : {-1.0, 1.0}) {
+      double a0 = dir * step / 2, b0 = dir * step;
+      if (step == 0.25) a0 = 0;
+      double ga = a0 == 0 ? g0 : g(a0), gb = g(b0);
+      if ((ga > 0) == (gb > 0)) continue;
+      for (int it = 0; it < 200 && std::abs(b0 - a0) > 1e-12; ++it) {
+        double m = (a0 * gb - b0 * ga) / (gb - ga);
+        if (!(m > std::min(a0, b0) && m < std::max(a0, b0))) m = 0.5 * (a0 + b0);
+        const double gm = g(m);
+        if (gm == 0) return m;
+        if ((gm > 0) == (ga > 0)) {
+          a0 = m;
+          ga = gm;
+          gb *= 0.5;
+        } else {
+          b0 = m;
+          gb = gm;
+          ga *= 0.5;
+        }
+      }
+      return 0.5 * (a0 + b0);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(tool)), r_(ball_radius_mm) {
+  if (!(r_ > 0)) throw ParameterError("ball_radius", "expected a positive radius");
+  // A ball end of radius r: the profile near the tip is that circle, and
+  // the sphere of radius r at height r lies inside the cutter.
+  const double z = 0.05 * r_;
+  const double circle = std::sqrt(2 * r_ * z - z * z);
+  const double inscribed = -tool_.signed_distance(Vec3(0, 0, r_), ToolPartId::Cutter);
+  if (std::abs(tool_.radius_at(z) - circle) > 1e-6 * std::max(1.0, r_) ||
+      std::abs(inscribed - r_) > 1e-6 * std::max(1.0, r_))
+    throw ParameterError("ball_radius", "the tool (" + tool_.description() + ") has no ball end of radius " +
+                                            num(r_) + " mm");
+  top_ = tool_.cutter().z_max() - r_;
+}
+
+double FlankCutter::radius_at(double s_mm) const {
+  return std::max(0.0, -tool_.signed_distance(Vec3(0, 0, r_ + s_mm), ToolPartId::Cutter));
+}
+
+FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* hub,
+                     const FlankCutter& cutter) {
+  FlankAxis ax;
+  ax.v = v;
+  const SurfaceDerivs hub_side = face.eval(0, v), shroud_side = face.eval(1, v);
+  ax.c1 = shroud_side.p;
+  ax.c2 = hub_side.p;
+  ax.n1 = unit_normal(shroud_side);  // eq. 21
+  ax.n2 = unit_normal(hub_side);     // eq. 22
+  const double r = cutter.ball_radius_mm();
+  double rho1 = r, rho2 = r;
+  Vec3 a = Vec3::UnitZ();
+  for (ax.iterations = 1; ax.iterations <= 50; ++ax.iterations) {
+    ax.d1 = ax.c1 + rho1 * ax.n1;  // eq. 23
+    ax.d2 = ax.c2 + rho2 * ax.n2;  // eq. 24
+    a = (ax.d1 - ax.d2).normalized();  // eq. 25, towards the shroud (up the tool)
+    if (hub) {
+      const double span = (ax.d1 - ax.d2).norm();
+      const std::optional<double> s = meet_hub_offset(*hub, r, ax.d2, a, span + 4 * r);
+      if (!s)
+        throw Error("flank_axis: the cutter axis at v = " + num(v) +
+                    " does not meet the hub offset surface (ball radius " + num(r) + " mm)");
+      ax.ball_centre = ax.d2 + *s * a;
+    } else {
+      ax.ball_centre = ax.d2;
+    }
+    ax.s1 = (ax.d1 - ax.ball_centre).dot(a);
+    ax.s2 = (ax.d2 - ax.ball_centre).dot(a);
+    if (ax.s1 > cutter.flute_top_mm())
+      throw Error("flank_axis: at v = " + num(v) + " the shroud contact lies " + num(ax.s1) +
+                  " mm above the ball centre, above the flutes (" + num(cutter.flute_top_mm()) +
+                  " mm): use a longer cutter");
+    // Below the ball centre the ball meets the hub, not the face: the hub
+    // contact uses the ball radius there.
+    const double new1 = cutter.radius_at(ax.s1), new2 = cutter.radius_at(std::max(0.0, ax.s2));
+    const bool settled = std::abs(new1 - rho1) < 1e-12 && std::abs(new2 - rho2) < 1e-12;
+    rho1 = new1;
+    rho2 = new2;
+    if (settled) break;
+  }
+  ax.pose.axis = a;
+  ax.pose.tip = ax.ball_centre - r * a;
+  return ax;
+}
+
+std::vector<double> flank_stations(const Surface& face, const StepOptions& steps) {
+  std::vector<double> v;
+  for (double u : {0.0, 1.0}) {
+    const IsoUCurve row(face, u);
+    const RowSteps rs = plan_row_steps(row, steps);
+    v.insert(v.end(), rs.t.begin(), rs.t.end());
+  }
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  for (double x : v)
+    if (out.empty() || x - out.back() > 1e-9) out.push_back(x);
+  return out;
+}
+
+ResidualStats residual_stats(const std::vector<double>& values) {
+  ResidualStats s;
+  if (values.empty()) return s;
+  s.samples = static_cast<int>(values.size());
+  s.max_mm = *std::max_element(values.begin(), values.end());
+  s.min_mm = *std::min_element(values.begin(), values.end());
+  double sum = 0, sum2 = 0;
+  for (double x : values) {
+    sum += x;
+    s.max_abs_mm = std::max(s.max_abs_mm, std::abs(x));
+  }
+  s.mean_mm = sum / s.samples;
+  for (double x : values) sum2 += (x - s.mean_mm) * (x - s.mean_mm);
+  s.std_mm = std::sqrt(sum2 / s.samples);
+  return s;
+}
+
+FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& axes,
+                             const FlankCutter& cutter, int points_per_axis) {
+  if (points_per_axis < 2) throw ParameterError("points", "expected at least 2 points along each axis");
+  FlankResidual out;
+  out.axes = static_cast<int>(axes.size());
+  out.points = points_per_axis;
+  out.residual_mm.reserve(axes.size() * points_per_axis);
+  ProjectionOptions opts;
+  opts.tol_mm = 1e-10;
+  for (const FlankAxis& ax : axes) {
+    // From the hub contact's axis point, or the ball centre where that lies
+    // above it (below the centre the ball meets the hub), to D1.
+    const double s_lo = std::max(0.0, ax.s2), s_hi = ax.s1;
+    std::optional<Eigen::Vector2d> seed;
+    for (int k = 0; k < points_per_axis; ++k) {
+      const double f = static_cast<double>(k) / (points_per_axis - 1);
+      const double s = s_lo + (s_hi - s_lo) * f;
+      const Vec3 p = ax.ball_centre + s * ax.pose.axis;
+      // The foot lies near the same ruling: seed Newton there.
+      opts.seed = seed ? seed : std::optional<Eigen::Vector2d>(Eigen::Vector2d(f, ax.v));
+      const SurfaceProjection foot = project_to_surface(face, p, opts);  // eq. 33–35
+      if (!foot.ok)
+        throw Error("flank_residual: no foot on the face for the axis point at v = " + num(ax.v) +
+                    ", height " + num(s) + " mm: " + foot.failure);
+      seed = Eigen::Vector2d(foot.u, foot.v);
+      // Signed by the face normal: an axis point behind the face (deep gouge)
+      // counts its distance negative.
+      const double side = (p - foot.point).dot(unit_normal(face.eval(foot.u, foot.v))) < 0 ? -1.0 : 1.0;
+      out.residual_mm.push_back(side * foot.distance - cutter.radius_at(s));  // eq. 36
+      out.height_mm.push_back(s);
+      out.foot.push_back(foot.point);
+    }
+  }
+  out.stats = residual_stats(out.residual_mm);
+  return out;
+}
+
+}  // namespace bliskrun

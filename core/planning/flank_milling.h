@@ -1,0 +1,103 @@
+#pragma once
+// Five-axis flank (swarf) milling of a ruled blade face (impeller paper
+// §4.3, eq. 21–32) and its geometric residual (§5, eq. 33–36).
+//
+// The face is any Surface in the SPEC §2 orientation (u hub -> shroud along
+// the rulings, v along the chord, pu x pv out of the material); for an
+// impeller blade that is Impeller::face(). Its boundary curves are
+// C2(v) = S(0, v) (hub) and C1(v) = S(1, v) (shroud), with unit normals
+// n1, n2 of the face there (eq. 21–22).
+//
+// The cutter, seen from its axis, is a union of spheres: the point of the
+// axis at height s above the ball centre is the centre of the largest
+// sphere inside the cutter, of radius rho(s) (for a ball end rho = r, a
+// cylinder; for a tapered ball end rho = r + s sin(beta), the cone being the
+// envelope of those spheres). rho is derived from the tool's own profile
+// (the distance from the axis point to the cutter surface), not assumed.
+// The axis is the line through D1 = C1 + rho(s1) n1 and D2 = C2 + rho(s2) n2
+// (eq. 23–25 with the radius at each contact's own height s1, s2), and the
+// ball centre c is where the axis meets the hub offset at the ball radius r
+// (eq. 26–32: the offset of a surface of revolution is found in the
+// meridian plane, SurfaceOfRevolution::radial_offset = r, a 1-D root along
+// the axis). s1, s2 depend on c, so D1, D2, c are iterated to a fixed point
+// (a few iterations; for a ball end the first is exact).
+//
+// Residual (eq. 33–36): for points P along the axis between D2 and D1, the
+// shortest distance from P to the face (point inversion, eq. 33–35) minus
+// rho at P's height: > 0 undercut (material left), < 0 overcut.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geometry/revolution.h"
+#include "core/geometry/surface.h"
+#include "core/planning/row_steps.h"
+#include "core/tools/pose.h"
+#include "core/tools/tool.h"
+
+namespace bliskrun {
+
+// The cutter seen as spheres along its axis.
+class FlankCutter {
+ public:
+  // `ball_radius_mm`: radius of the tip ball (its centre is that far up the
+  // axis from the tip). Throws ParameterError("ball_radius") unless the
+  // tool's inscribed sphere at that height has that radius (the tool has a
+  // ball end of that size).
+  FlankCutter(Tool tool, double ball_radius_mm);
+  const Tool& tool() const { return tool_; }
+  double ball_radius_mm() const { return r_; }
+  // rho(s): radius of the largest sphere in the cutter centred on the axis
+  // at height s >= 0 above the ball centre; 0 above the flutes.
+  double radius_at(double s_mm) const;
+  // Height above the ball centre where the cutting part ends.
+  double flute_top_mm() const { return top_; }
+
+ private:
+  Tool tool_;
+  double r_, top_;
+};
+
+struct FlankAxis {
+  double v = 0;                     // chord parameter of the face
+  Vec3 c1 = Vec3::Zero(), c2 = Vec3::Zero();    // contacts on the shroud / hub boundary
+  Vec3 n1 = Vec3::Zero(), n2 = Vec3::Zero();    // face normals there (out of the material)
+  Vec3 d1 = Vec3::Zero(), d2 = Vec3::Zero();    // axis points (eq. 23–24)
+  double s1 = 0, s2 = 0;            // their heights above the ball centre
+  Vec3 ball_centre = Vec3::Zero();
+  ToolPose pose;                    // tip = ball centre - r axis; axis towards the shroud
+  int iterations = 0;
+};
+
+// The axis at chord parameter v. `hub` may be null: then the ball centre is
+// D2 (s2 = 0; used for faces without a hub, as in tests). Throws Error when
+// the axis does not meet the hub offset or a contact lies above the flutes.
+FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* hub,
+                     const FlankCutter& cutter);
+
+// Chord parameters v where both boundary curves (C1 and C2) meet the chord
+// tolerance: the union of the row steps of each (row_steps.h).
+std::vector<double> flank_stations(const Surface& face, const StepOptions& steps);
+
+struct ResidualStats {
+  double max_mm = 0, min_mm = 0, mean_mm = 0, std_mm = 0;
+  double max_abs_mm = 0;
+  int samples = 0;
+};
+struct FlankResidual {
+  int axes = 0, points = 0;          // map size: axes x points along each axis
+  std::vector<double> residual_mm;   // [axis * points + k], hub (k = 0) -> shroud
+  std::vector<double> height_mm;     // height above the ball centre of each point
+  std::vector<Vec3> foot;            // nearest face point of each
+  ResidualStats stats;
+  double at(int axis, int k) const { return residual_mm[axis * points + k]; }
+};
+// Eq. 33–36 at `points_per_axis` points evenly between D2 and D1 of each
+// axis. Throws Error if a point inversion fails.
+FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& axes,
+                             const FlankCutter& cutter, int points_per_axis);
+
+ResidualStats residual_stats(const std::vector<double>& values);
+
+}  // namespace bliskrun

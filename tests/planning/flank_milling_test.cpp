@@ -1,0 +1,146 @@
+#include "core/planning/flank_milling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/common/error.h"
+#include "core/parts/impeller.h"
+
+namespace bliskrun {
+namespace {
+
+Tool tapered(double r, double half_angle_deg, double flute) {
+  TaperedBallEndMillSpec s;
+  s.tip_radius_mm = r;
+  s.half_angle_rad = deg_to_rad(half_angle_deg);
+  s.flute_length_mm = flute;
+  s.shank = {16, 40};
+  s.holder = {40, 50};
+  return Tool::tapered_ball_end_mill(s);
+}
+
+Tool ball(double r, double flute) {
+  BallEndMillSpec s;
+  s.radius_mm = r;
+  s.flute_length_mm = flute;
+  return Tool::ball_end_mill(s);
+}
+
+double distance_to_line(const Vec3& p, const ToolPose& pose) {
+  const Vec3 d = p - pose.tip;
+  return (d - d.dot(pose.axis) * pose.axis).norm();
+}
+
+TEST(FlankMilling, TaperedCutterRadiusGrowsBySinBetaAlongTheAxis) {
+  const FlankCutter c(tapered(3, 4, 60), 3);
+  for (double s : {0.0, 1.0, 10.0, 25.0, 50.0})
+    EXPECT_NEAR(c.radius_at(s), 3 + s * std::sin(deg_to_rad(4)), 1e-9) << s;
+  EXPECT_NEAR(c.flute_top_mm(), 57.0, 1e-9);
+  const FlankCutter b(ball(4, 30), 4);
+  EXPECT_NEAR(b.radius_at(12.0), 4.0, 1e-12);  // a ball end's side is a cylinder
+  EXPECT_THROW(FlankCutter(ball(4, 30), 3), ParameterError);
+}
+
+TEST(FlankMilling, AxisPassesThroughD1AndD2AndTheBallSitsOnTheHubOffset) {
+  const Impeller imp(builtin_impeller_definition());
+  const FlankCutter cutter(tapered(3, 3, 160), 3);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = imp.face(BladeKind::kMain, 0, side);
+    for (double v : {0.05, 0.3, 0.6, 0.95}) {
+      const FlankAxis ax = flank_axis(*face, v, &imp.hub(), cutter);
+      EXPECT_LT(distance_to_line(ax.d1, ax.pose), 1e-9);
+      EXPECT_LT(distance_to_line(ax.d2, ax.pose), 1e-9);
+      // D_i is the contact offset along the face normal by the cutter radius
+      // at that contact's own height (not a cylinder's radius).
+      EXPECT_NEAR((ax.d1 - ax.c1).norm(), 3 + ax.s1 * std::sin(deg_to_rad(3)), 1e-9);
+      EXPECT_NEAR((ax.d2 - ax.c2).norm(), cutter.radius_at(std::max(0.0, ax.s2)), 1e-9);
+      EXPECT_GT(ax.s1, 10.0);  // the shroud contact is well up the cone
+      EXPECT_NEAR(imp.hub().radial_offset(ax.ball_centre), 3.0, 1e-7);  // eq. 29–32
+      EXPECT_NEAR((ax.pose.tip + 3 * ax.pose.axis - ax.ball_centre).norm(), 0, 1e-12);
+      EXPECT_GT(ax.pose.axis.dot(ax.c1 - ax.c2), 0);  // towards the shroud
+    }
+  }
+}
+
+// On a developable ruled face the normal is constant along each ruling, so
+// the axis through D1, D2 is the ruling moved by the radius: a cylinder
+// leaves no residual. The face of a cone camber with constant thickness is
+// exactly developable (impeller_test).
+TEST(FlankMilling, CylinderOnADevelopableRuledFaceLeavesNoResidual) {
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30;
+    c.hub.push_back({Vec3(50 * std::cos(a), 50 * std::sin(a), 0), 1.0});
+    c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 40), 1.0});
+  }
+  const RuledBlade blade(c);
+  const FlankCutter cutter(ball(5, 80), 5);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = blade.face(side);
+    std::vector<FlankAxis> axes;
+    for (int j = 0; j <= 20; ++j) axes.push_back(flank_axis(*face, j / 20.0, nullptr, cutter));
+    const FlankResidual r = flank_residual(*face, axes, cutter, 25);
+    EXPECT_EQ(r.stats.samples, 21 * 25);
+    EXPECT_LT(r.stats.max_abs_mm, 1e-6) << "side " << int(side);
+  }
+}
+
+// A twisted ruled face (hyperbolic paraboloid): the normals turn along each
+// ruling, the axis through the two end offsets runs closer to the face in
+// between: the paper's "concave overcut" per pose (§7 (2)), zero at the ends.
+class TwistedFace : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = Vec3(60 * v, 30 * u, 30 * k * u * (v - 0.5));
+    d.pu = Vec3(0, 30, 30 * k * (v - 0.5));
+    d.pv = Vec3(60, 0, 30 * k * u);
+    d.puv = Vec3(0, 0, 30 * k);
+    return d;
+  }
+  double k = 0.4;
+};
+
+TEST(FlankMilling, TwistedRuledFaceIsOvercutInTheMiddleOfEachPose) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  std::vector<FlankAxis> axes;
+  for (double v : {0.1, 0.5, 0.9}) axes.push_back(flank_axis(face, v, nullptr, cutter));
+  const int n = 21;
+  const FlankResidual r = flank_residual(face, axes, cutter, n);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(r.at(a, 0), 0.0, 1e-6);
+    EXPECT_NEAR(r.at(a, n - 1), 0.0, 1e-6);
+    EXPECT_LT(r.at(a, n / 2), -1e-3) << "axis " << a;
+    for (int k = 1; k < n - 1; ++k) EXPECT_LT(r.at(a, k), 0.0);
+    // The middle value against brute force: distance from the axis point to
+    // a dense sample of the face, minus the radius.
+    const Vec3 p = axes[a].ball_centre + r.height_mm[a * n + n / 2] * axes[a].pose.axis;
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 600; ++i)
+      for (int j = 0; j <= 600; ++j) best = std::min(best, (face.point(i / 600.0, j / 600.0) - p).norm());
+    EXPECT_NEAR(r.at(a, n / 2), best - 5, 2e-3);
+  }
+  EXPECT_LT(r.stats.max_mm, 1e-6);
+  EXPECT_LT(r.stats.mean_mm, 0);
+}
+
+TEST(FlankMilling, StationsKeepBothBoundaryCurvesWithinTheChordTolerance) {
+  const Impeller imp(builtin_impeller_definition());
+  const auto face = imp.face(BladeKind::kMain, 0, CamberSide::kPlus);
+  StepOptions steps;
+  steps.chord_tol_mm = 0.005;
+  const std::vector<double> v = flank_stations(*face, steps);
+  ASSERT_GE(v.size(), 10u);
+  EXPECT_EQ(v.front(), 0.0);
+  EXPECT_EQ(v.back(), 1.0);
+  for (double u : {0.0, 1.0}) {
+    const IsoUCurve row(*face, u);
+    for (size_t i = 1; i < v.size(); ++i) EXPECT_LE(chord_deviation(row, v[i - 1], v[i]), 0.005 + 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun
