@@ -16,6 +16,7 @@ void open_all(lua_State* L) {
   open_planning(L);
   open_machine(L);
   open_edges(L);
+  open_flank(L);
   lua_setglobal(L, "bliskrun");
 }
 

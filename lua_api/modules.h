@@ -18,6 +18,7 @@ void open_tools(lua_State* L);      // wrap_tools.cpp: drum wheels, mills, conta
 void open_collision(lua_State* L);  // wrap_collision.cpp: collision world, pose/motion checks, tilt
 void open_planning(lua_State* L);   // wrap_planning.cpp: drum_finish, drum_finish_all, plan report/APT/simulation
 void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics, posts, read-back
+void open_flank(lua_State* L);      // wrap_flank.cpp: flank_mill (ruled faces: impeller flank finishing)
 void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish (blade LE/TE with a flat-end bottom)
 
 // Registers everything into a new global table `bliskrun`.

@@ -42,14 +42,16 @@ struct CurveWithThickness {
   BSplineCurve curve, h;  // h as (h, 0, 0) at the curve's own parameters
 };
 
-CurveWithThickness interpolate_camber(const std::vector<CamberPoint>& pts) {
-  std::vector<Vec3> xyz, hh;
-  for (const CamberPoint& c : pts) {
-    xyz.push_back(c.p);
-    hh.emplace_back(c.half_thickness_mm, 0.0, 0.0);
-  }
-  const std::vector<double> t = chord_length_parameters(xyz);
-  return {interpolate_cubic(xyz, t), interpolate_cubic(hh, t)};
+std::vector<Vec3> points_of(const std::vector<CamberPoint>& pts) {
+  std::vector<Vec3> xyz;
+  for (const CamberPoint& c : pts) xyz.push_back(c.p);
+  return xyz;
+}
+
+CurveWithThickness interpolate_camber(const std::vector<CamberPoint>& pts, const std::vector<double>& t) {
+  std::vector<Vec3> hh;
+  for (const CamberPoint& c : pts) hh.emplace_back(c.half_thickness_mm, 0.0, 0.0);
+  return {interpolate_cubic(points_of(pts), t), interpolate_cubic(hh, t)};
 }
 
 Mat3 rotation_z(double a) { return Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(); }
@@ -109,8 +111,20 @@ class RotatedSurface : public Surface {
 RuledBlade::RuledBlade(const BladeCamber& camber, const std::string& name) {
   check_camber_list(camber.shroud, name + ".shroud");
   check_camber_list(camber.hub, name + ".hub");
-  CurveWithThickness s = interpolate_camber(camber.shroud);
-  CurveWithThickness h = interpolate_camber(camber.hub);
+  // Parameters: each list's chord-length parameters (eq. 3). When both
+  // lists have as many points, the design pairs them point by point (the
+  // paper joins "corresponding points"), so both curves take the average of
+  // the two parameter vectors, as the grid kernel does across rows (eq. 4 of
+  // the blisk paper): data point i of the hub and of the shroud then lie on
+  // one ruling. With its own parameters each, a ruling joins points at equal
+  // fractions of two curves of different lengths and skews across the
+  // passage (on the built-in impeller by up to 80 mm near the outlet).
+  std::vector<double> ts = chord_length_parameters(points_of(camber.shroud));
+  std::vector<double> th = chord_length_parameters(points_of(camber.hub));
+  if (ts.size() == th.size())
+    for (size_t i = 0; i < ts.size(); ++i) ts[i] = th[i] = 0.5 * (ts[i] + th[i]);
+  CurveWithThickness s = interpolate_camber(camber.shroud, ts);
+  CurveWithThickness h = interpolate_camber(camber.hub, th);
   shroud_ = std::move(s.curve);
   h_shroud_ = std::move(s.h);
   hub_ = std::move(h.curve);
@@ -266,8 +280,7 @@ void validate(const BuiltinImpellerParams& p) {
   require(p.shroud_inlet_radius_mm > p.hub_inlet_radius_mm &&
               p.shroud_inlet_radius_mm < p.outlet_radius_mm,
           "shroud_inlet_radius", "a radius between hub_inlet_radius and outlet_radius");
-  for (auto [name, b] : {std::pair{"beta_inlet_hub", p.beta_inlet_hub_rad},
-                         std::pair{"beta_inlet_shroud", p.beta_inlet_shroud_rad},
+  for (auto [name, b] : {std::pair{"beta_inlet", p.beta_inlet_rad},
                          std::pair{"beta_outlet", p.beta_outlet_rad}})
     require(std::isfinite(b) && std::abs(b) < deg_to_rad(75), name, "an angle in (-75, 75) degrees");
   for (auto [name, h] : {std::pair{"half_thickness_le", p.half_thickness_le_mm},
@@ -351,11 +364,18 @@ BladeCamber camber_between(const MeridianWrap& hub, const MeridianWrap& shroud,
 
 ImpellerDefinition builtin_impeller_definition(const BuiltinImpellerParams& p) {
   validate(p);
-  const MeridianWrap hub = wrap_along(p.hub_inlet_radius_mm, p.inlet_z_mm, p.outlet_radius_mm, 0.0,
-                                      p.beta_inlet_hub_rad, p.beta_outlet_rad);
   const MeridianWrap shroud =
       wrap_along(p.shroud_inlet_radius_mm, p.inlet_z_mm, p.outlet_radius_mm, p.outlet_width_mm,
-                 p.beta_inlet_shroud_rad, p.beta_outlet_rad);
+                 p.beta_inlet_rad, p.beta_outlet_rad);
+  // The hub at the same meridional fractions, with the shroud's wrap: the
+  // rulings lie in meridional planes (beta only feeds the shroud's theta).
+  MeridianWrap hub = wrap_along(p.hub_inlet_radius_mm, p.inlet_z_mm, p.outlet_radius_mm, 0.0, 0.0, 0.0);
+  for (size_t i = 0; i < hub.s.size(); ++i) {
+    const auto it = std::lower_bound(shroud.s.begin(), shroud.s.end(), hub.s[i]);
+    const size_t k = std::clamp<size_t>(it - shroud.s.begin(), 1, shroud.s.size() - 1);
+    const double f = (hub.s[i] - shroud.s[k - 1]) / (shroud.s[k] - shroud.s[k - 1]);
+    hub.theta[i] = shroud.theta[k - 1] + (shroud.theta[k] - shroud.theta[k - 1]) * f;
+  }
   ImpellerDefinition d;
   d.blade_count = p.blade_count;
   d.main = camber_between(hub, shroud, p, 0.0);

@@ -8,6 +8,8 @@
 //   - each list is interpolated by the kernel's cubic (chord-length
 //     parameters t in [0, 1], end tangents estimated as for grids), and h by
 //     a cubic in the same parameter, so h(t), h'(t) are smooth (eq. 1–3);
+//     lists of equal length share the average of their chord-length
+//     parameters, so that hub point i and shroud point i lie on one ruling;
 //   - the camber surface joins equal-parameter points: r_m(t, s) =
 //     r_hub(t) + (r_shroud(t) - r_hub(t)) s (eq. 4, s in [0, 1] hub -> shroud);
 //   - the normal of the camber surface along each boundary curve is
@@ -144,11 +146,13 @@ class Impeller {
 // Meridian: hub and shroud are quarter ellipses from the axial inlet
 // (z = inlet_z_mm) to the radial outlet (r = outlet_radius_mm); the hub meets
 // the outlet at z = 0, the shroud at z = outlet_width_mm.
-// Blade angle beta (from the meridional direction) varies linearly along the
-// normalised meridional length from its inlet value to its outlet value
-// (hub and shroud each); the wrap follows r dtheta/dm = -tan(beta): for a
-// rotor turning towards +theta the blades lean back against the rotation
-// (backswept at the outlet) and face the incoming relative flow at the inlet.
+// Along the shroud the blade angle beta (from the meridional direction)
+// varies linearly with the normalised meridional length from beta_inlet to
+// beta_outlet, the wrap following r dtheta/dm = -tan(beta): for a rotor
+// turning towards +theta the blades lean back against the rotation
+// (backswept at the outlet) and face the incoming relative flow at the
+// inlet. The hub point at the same meridional fraction has the same theta,
+// so each ruling lies in a meridional plane (no rake).
 // Half thickness: le + (te - le) s + (max - (le + te)/2) sin^2(pi s).
 struct BuiltinImpellerParams {
   int blade_count = 17;
@@ -159,8 +163,7 @@ struct BuiltinImpellerParams {
   double inlet_z_mm = 95.0;
   double hub_inlet_radius_mm = 55.0;
   double shroud_inlet_radius_mm = 135.0;
-  double beta_inlet_hub_rad = 35.0 * kPi / 180.0;
-  double beta_inlet_shroud_rad = 58.0 * kPi / 180.0;
+  double beta_inlet_rad = 58.0 * kPi / 180.0;   // at the shroud
   double beta_outlet_rad = 40.0 * kPi / 180.0;  // backsweep from radial
   double half_thickness_le_mm = 0.9;
   double half_thickness_te_mm = 1.2;

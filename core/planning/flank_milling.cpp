@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 #include <string>
 
 #include "core/common/error.h"
@@ -49,6 +52,30 @@ std::optional<double> meet_hub_offset(const SurfaceOfRevolution& hub, double r, 
   return std::nullopt;
 }
 
+// u where the ruling at v meets the hub (radial offset 0), searched in
+// [-0.5, 0.5]; 0 when the face does not cross the hub there (a face that
+// clamps its parameters outside [0, 1]).
+double hub_parameter(const Surface& face, double v, const SurfaceOfRevolution& hub) {
+  auto g = [&](double u) { return hub.radial_offset(face.point(u, v)); };
+  double a = -0.5, b = 0.5, ga = g(a), gb = g(b);
+  if ((ga > 0) == (gb > 0)) return 0.0;
+  for (int it = 0; it < 200 && b - a > 1e-14; ++it) {
+    double m = (a * gb - b * ga) / (gb - ga);
+    if (!(m > a && m < b)) m = 0.5 * (a + b);
+    const double gm = g(m);
+    if ((gm > 0) == (ga > 0)) {
+      a = m;
+      ga = gm;
+      gb *= 0.5;
+    } else {
+      b = m;
+      gb = gm;
+      ga *= 0.5;
+    }
+  }
+  return 0.5 * (a + b);
+}
+
 }  // namespace
 
 FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(tool)), r_(ball_radius_mm) {
@@ -73,7 +100,13 @@ FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* h
                      const FlankCutter& cutter) {
   FlankAxis ax;
   ax.v = v;
-  const SurfaceDerivs hub_side = face.eval(0, v), shroud_side = face.eval(1, v);
+  // The hub contact: where the ruling meets the hub. The face's own hub
+  // curve (the camber hub curve offset by h along the camber normal, eq. 10)
+  // lies off the hub by up to h times the lean of the ruling: above it on
+  // one face, inside it on the other. The ruled face is linear along the
+  // ruling, so it is followed (or cut back) to the hub.
+  ax.u_hub = hub ? hub_parameter(face, v, *hub) : 0.0;
+  const SurfaceDerivs hub_side = face.eval(ax.u_hub, v), shroud_side = face.eval(1, v);
   ax.c1 = shroud_side.p;
   ax.c2 = hub_side.p;
   ax.n1 = unit_normal(shroud_side);  // eq. 21
@@ -180,6 +213,138 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
   }
   out.stats = residual_stats(out.residual_mm);
   return out;
+}
+
+}  // namespace bliskrun
+
+namespace bliskrun {
+
+namespace {
+
+// The axis turned by `angle` about the hub contact normal through the ball
+// centre; the ball centre and the axis heights stay.
+FlankAxis tilted(const FlankAxis& ax, double angle_rad, double ball_radius) {
+  FlankAxis t = ax;
+  const Vec3 a = Eigen::AngleAxisd(angle_rad, ax.n2) * ax.pose.axis;
+  t.pose.axis = a.normalized();
+  t.pose.tip = ax.ball_centre - ball_radius * t.pose.axis;
+  t.d1 = ax.ball_centre + ax.s1 * t.pose.axis;
+  t.d2 = ax.ball_centre + ax.s2 * t.pose.axis;
+  return t;
+}
+
+std::string describe(const PoseCheck& c, const CollisionWorld& world) {
+  if (c.worst < 0) return "collides";
+  const PartClearance& p = c.parts[c.worst];
+  std::string what = std::string(to_string(p.part)) + " ";
+  what += p.object >= 0 ? "against " + world.name(p.object) : "against a check surface";
+  return what + " (margin " + std::to_string(c.min_margin_mm) + " mm)";
+}
+
+}  // namespace
+
+FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
+  if (!rq.face) throw ParameterError("face", "expected a face to machine");
+  if (!rq.cutter) throw ParameterError("tool", "expected a cutter");
+  if (rq.world && !rq.body) throw ParameterError("world", "a collision world needs the tool body");
+  if (!(rq.tilt_step_rad > 0) || rq.max_tilt_rad < 0)
+    throw ParameterError("tilt_step", "expected a positive tilt step and a max tilt >= 0");
+  FlankFacePlan plan;
+  const std::vector<double> stations = flank_stations(*rq.face, rq.steps);
+  plan.stations = static_cast<int>(stations.size());
+  plan.min_margin_mm = std::numeric_limits<double>::infinity();
+  const double r = rq.cutter->ball_radius_mm();
+  for (double v : stations) {
+    FlankAxis ax;
+    try {
+      ax = flank_axis(*rq.face, v, rq.hub, *rq.cutter);
+    } catch (const Error& e) {
+      plan.refusals.push_back({v, e.what()});
+      continue;
+    }
+    if (!rq.world) {
+      plan.axes.push_back(ax);
+      plan.tilt_rad.push_back(0);
+      continue;
+    }
+    // Tilts in the order 0, +step, -step, +2 step, ...
+    std::string why;
+    bool done = false;
+    const int n = static_cast<int>(std::floor(rq.max_tilt_rad / rq.tilt_step_rad + 1e-9));
+    for (int i = 0; i <= 2 * n && !done; ++i) {
+      const double angle = (i == 0 ? 0.0 : ((i + 1) / 2) * rq.tilt_step_rad * (i % 2 ? 1.0 : -1.0));
+      const FlankAxis cand = angle == 0 ? ax : tilted(ax, angle, r);
+      const PoseCheck pc = rq.world->check(*rq.body, cand.pose, rq.clearances, 0.0);
+      if (!pc.clear) {
+        if (i == 0) why = "pose: " + describe(pc, *rq.world);
+        continue;
+      }
+      if (!plan.axes.empty()) {
+        const MotionCheck mc = rq.world->check_motion(*rq.body, plan.axes.back().pose, cand.pose,
+                                                      rq.clearances, rq.motion_tol_mm);
+        if (!mc.clear) {
+          why = "motion from the previous pose: " + describe(mc.at, *rq.world) +
+                (mc.undecided ? " (undecided)" : "");
+          continue;
+        }
+      }
+      plan.axes.push_back(cand);
+      plan.tilt_rad.push_back(angle);
+      if (angle != 0) ++plan.tilted;
+      done = true;
+    }
+    if (!done)
+      plan.refusals.push_back({v, why + "; no tilt up to " + std::to_string(rad_to_deg(rq.max_tilt_rad)) +
+                                      " deg clears it"});
+  }
+  if (plan.axes.empty()) {
+    plan.min_margin_mm = 0;
+    return plan;
+  }
+  if (rq.world) {
+    for (const FlankAxis& a : plan.axes)
+      plan.min_margin_mm =
+          std::min(plan.min_margin_mm, rq.world->check(*rq.body, a.pose, rq.clearances).min_margin_mm);
+    LinkChecks checks;
+    checks.world = rq.world;
+    checks.body = rq.body;
+    checks.clearances = rq.clearances;
+    checks.motion_tol_mm = rq.motion_tol_mm;
+    auto end_normal = [&](const FlankAxis& a) {
+      // Out of the material at mid-span of the ruling.
+      const SurfaceDerivs d = rq.face->eval(0.5, a.v);
+      return Vec3(d.pu.cross(d.pv).normalized());
+    };
+    plan.lead_in = plan_departure({plan.axes.front().pose, end_normal(plan.axes.front())}, checks, rq.lead);
+    plan.lead_out = plan_departure({plan.axes.back().pose, end_normal(plan.axes.back())}, checks, rq.lead);
+  } else {
+    plan.min_margin_mm = 0;
+  }
+  plan.residual = flank_residual(*rq.face, plan.axes, *rq.cutter, rq.residual_points);
+  return plan;
+}
+
+std::string flank_face_apt(const FlankFacePlan& plan, const std::string& part_name,
+                           const std::string& tool_description) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(6);
+  s << "PARTNO/" << part_name << "\n";
+  s << "$$ bliskrun flank milling (impeller paper 4.3): tip x,y,z and unit axis i,j,k per pose\n";
+  s << "$$ tool: " << tool_description << "\n";
+  s << "$$ poses " << plan.axes.size() << ", refused " << plan.refusals.size() << ", tilted " << plan.tilted
+    << "\n";
+  auto go = [&](const ToolPose& p) {
+    s << "GOTO/" << p.tip.x() << "," << p.tip.y() << "," << p.tip.z() << "," << p.axis.x() << ","
+      << p.axis.y() << "," << p.axis.z() << "\n";
+  };
+  if (plan.lead_in.clear) {
+    s << "RAPID\n";
+    go(plan.lead_in.away);
+  }
+  for (const FlankAxis& a : plan.axes) go(a.pose);
+  if (plan.lead_out.clear) go(plan.lead_out.away);
+  s << "END\n";
+  return s.str();
 }
 
 }  // namespace bliskrun

@@ -5,8 +5,11 @@
 // The face is any Surface in the SPEC §2 orientation (u hub -> shroud along
 // the rulings, v along the chord, pu x pv out of the material); for an
 // impeller blade that is Impeller::face(). Its boundary curves are
-// C2(v) = S(0, v) (hub) and C1(v) = S(1, v) (shroud), with unit normals
-// n1, n2 of the face there (eq. 21–22).
+// C2(v) = S(u_hub, v) (hub) and C1(v) = S(1, v) (shroud), with unit normals
+// n1, n2 of the face there (eq. 21–22). With a hub, u_hub is where the ruling
+// meets it (the ruling followed past u = 0 or cut back before it: eq. 10's
+// offset hub curve leaves the hub by h times the lean of the ruling, up to
+// 2.3 mm on the built-in impeller); without one, u_hub = 0.
 //
 // The cutter, seen from its axis, is a union of spheres: the point of the
 // axis at height s above the ball centre is the centre of the largest
@@ -30,7 +33,9 @@
 #include <string>
 #include <vector>
 
+#include "core/collision/collision_world.h"
 #include "core/geometry/revolution.h"
+#include "core/planning/links.h"
 #include "core/geometry/surface.h"
 #include "core/planning/row_steps.h"
 #include "core/tools/pose.h"
@@ -61,6 +66,7 @@ class FlankCutter {
 
 struct FlankAxis {
   double v = 0;                     // chord parameter of the face
+  double u_hub = 0;                 // where the ruling meets the hub (0 without a hub)
   Vec3 c1 = Vec3::Zero(), c2 = Vec3::Zero();    // contacts on the shroud / hub boundary
   Vec3 n1 = Vec3::Zero(), n2 = Vec3::Zero();    // face normals there (out of the material)
   Vec3 d1 = Vec3::Zero(), d2 = Vec3::Zero();    // axis points (eq. 23–24)
@@ -99,5 +105,57 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
                              const FlankCutter& cutter, int points_per_axis);
 
 ResidualStats residual_stats(const std::vector<double>& values);
+
+// ---------------------------------------------------------------------------
+// One face planned with interference (issue 12 item 5).
+//
+// Every pose is checked against the world (neighbouring blades and
+// splitters with every tool part; the face being cut and the hub with the
+// shank and holder only, the cutter touching them by design) and so is the
+// motion from the previous emitted pose. Where a pose collides, the axis is
+// tilted about the hub contact normal n2 through the ball centre (the ball
+// keeps its place on the hub, the axis stays in the face's tangent plane
+// there) by +-tilt_step up to max_tilt; the first clear tilt is taken (its
+// residual is computed on the tilted axis). A pose nothing clears, or whose
+// motion from the previous pose collides, is refused with the reason and
+// not emitted. Lead-in at the first pose and lead-out at the last pose are
+// plan_departure() along the face normal (links.h), proved the same way.
+struct FlankFaceRequest {
+  const Surface* face = nullptr;
+  const SurfaceOfRevolution* hub = nullptr;    // may be null (no hub: ball centre at D2)
+  const FlankCutter* cutter = nullptr;
+  const CollisionWorld* world = nullptr;       // may be null: no interference checks
+  const ToolBody* body = nullptr;              // with world
+  Clearances clearances;
+  StepOptions steps;                           // chord tolerance along both boundary curves
+  double max_tilt_rad = deg_to_rad(10);
+  double tilt_step_rad = deg_to_rad(1);
+  double motion_tol_mm = 1e-3;
+  LinkOptions lead;                            // lead-in/out along the face normal
+  int residual_points = 40;                    // points along each axis for the residual
+};
+
+struct FlankRefusal {
+  double v = 0;
+  std::string reason;
+};
+
+struct FlankFacePlan {
+  std::vector<FlankAxis> axes;       // emitted poses, in order along v
+  std::vector<double> tilt_rad;      // per emitted pose
+  std::vector<FlankRefusal> refusals;
+  PlannedDeparture lead_in, lead_out;
+  FlankResidual residual;            // over the emitted poses
+  int stations = 0;
+  int tilted = 0;
+  double min_margin_mm = 0;          // smallest clearance margin over poses (world only)
+};
+
+// Throws ParameterError for missing face/cutter, or a world without a body.
+FlankFacePlan plan_flank_face(const FlankFaceRequest& request);
+
+// APT/CL text: header, lead-in, GOTO/x,y,z,i,j,k (tip, axis) per pose, lead-out.
+std::string flank_face_apt(const FlankFacePlan& plan, const std::string& part_name,
+                           const std::string& tool_description);
 
 }  // namespace bliskrun
