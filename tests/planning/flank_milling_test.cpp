@@ -144,3 +144,58 @@ TEST(FlankMilling, StationsKeepBothBoundaryCurvesWithinTheChordTolerance) {
 
 }  // namespace
 }  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// The interference loop: a small obstacle inside the holder of the untilted
+// poses near mid-chord. Those poses tilt (about the hub contact normal, so
+// the holder swings along the chord) until the holder clears it, or are
+// refused; nothing emitted collides, and every station is accounted for.
+TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30;
+    c.hub.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 0), 1.0});
+    c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 30), 1.0});
+  }
+  const RuledBlade blade(c);
+  const auto face = blade.face(CamberSide::kPlus);
+  const FlankCutter cutter(tapered(3, 2, 40), 3);
+  const ToolBody body(cutter.tool());
+  // Where the untilted holder's axis passes at mid-chord, 20 mm into the holder.
+  const FlankAxis mid = flank_axis(*face, 0.5, nullptr, cutter);
+  const Vec3 p = mid.pose.tip + (40 + 40 + 20) * mid.pose.axis;  // flutes 40, shank 40, then the holder
+  TriangleMesh obstacle;
+  obstacle.vertices = {p, p + Vec3(1, 0, 0), p + Vec3(0, 1, 0)};
+  obstacle.triangles = {{0, 1, 2}};
+  CollisionWorld world;
+  world.add("obstacle", obstacle);
+  FlankFaceRequest rq;
+  rq.face = face.get();
+  rq.cutter = &cutter;
+  rq.world = &world;
+  rq.body = &body;
+  rq.steps.chord_tol_mm = 0.05;
+  rq.max_tilt_rad = deg_to_rad(20);
+  rq.tilt_step_rad = deg_to_rad(2);
+  rq.residual_points = 5;
+  const FlankFacePlan plan = plan_flank_face(rq);
+  EXPECT_EQ(static_cast<int>(plan.axes.size() + plan.refusals.size()), plan.stations);
+  EXPECT_GT(plan.tilted, 0);
+  for (size_t i = 0; i < plan.axes.size(); ++i) {
+    EXPECT_TRUE(world.check(body, plan.axes[i].pose, Clearances{}).clear) << i;
+    if (i > 0) EXPECT_TRUE(world.check_motion(body, plan.axes[i - 1].pose, plan.axes[i].pose, Clearances{}).clear) << i;
+  }
+  for (const FlankRefusal& r : plan.refusals) EXPECT_NE(r.reason.find("obstacle"), std::string::npos) << r.reason;
+  // A tilted axis keeps its ball centre and stays in the tangent plane at the hub contact.
+  for (size_t i = 0; i < plan.axes.size(); ++i) {
+    if (plan.tilt_rad[i] == 0) continue;
+    const FlankAxis& a = plan.axes[i];
+    EXPECT_NEAR((a.pose.tip + 3 * a.pose.axis - a.ball_centre).norm(), 0, 1e-9);
+    EXPECT_NEAR(a.pose.axis.dot(a.n2), flank_axis(*face, a.v, nullptr, cutter).pose.axis.dot(a.n2), 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun
