@@ -199,3 +199,48 @@ TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
 
 }  // namespace
 }  // namespace bliskrun
+
+#include "core/sim/undercut.h"
+
+namespace bliskrun {
+namespace {
+
+// The independent undercut simulation (core/sim: normal lines of the design
+// face cut by the swept tool) agrees with the residual along the axes on the
+// same plan: on the twisted face the deepest overcut the simulation finds
+// over the dense pass (201 poses, swept between them) is the deepest residual
+// along the axes, within 5 %.
+TEST(FlankMilling, UndercutSimulationAgreesWithTheAxisResidual) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  std::vector<FlankAxis> axes;
+  ToolPass pass;
+  for (int j = 0; j <= 200; ++j) {
+    axes.push_back(flank_axis(face, j / 200.0, nullptr, cutter));
+    pass.push_back(axes.back().pose);
+  }
+  const FlankResidual r = flank_residual(face, axes, cutter, 41);
+  UndercutOptions o;
+  o.samples_u = 41;
+  o.samples_v = 201;
+  o.u0 = 0.1;
+  o.u1 = 0.9;
+  o.v0 = 0.2;
+  o.v1 = 0.8;
+  o.search_above_mm = 0.5;
+  o.search_below_mm = 0.5;
+  o.sweep_step_mm = 0.02;
+  const UndercutResult sim = simulate_undercut(face, cutter.tool(), {pass}, o);
+  EXPECT_EQ(sim.untouched, 0);
+  // Deepest residual over the axes inside the same window.
+  double deepest = 0;
+  for (int a = 0; a < r.axes; ++a) {
+    if (axes[a].v < 0.2 || axes[a].v > 0.8) continue;
+    for (int k = 0; k < r.points; ++k) deepest = std::min(deepest, r.at(a, k));
+  }
+  EXPECT_LT(deepest, -0.01);
+  EXPECT_NEAR(sim.overcut_mm, deepest, 0.05 * std::abs(deepest)) << "sim " << sim.overcut_mm << " axes " << deepest;
+}
+
+}  // namespace
+}  // namespace bliskrun
