@@ -70,6 +70,8 @@ int w_flank_mill(lua_State* L) {
        num("max_tilt", "largest tilt about the hub contact normal, degrees; default 10", 0, 60),
        num("tilt_step", "tilt step, degrees; default 1", 0.01, 30),
        num("lead_retract", "lead-in/out distance along the face normal, mm; default 5", 0.01, 1000),
+       Field{"design", Kind::Any, false, std::nullopt, std::nullopt,
+             "design face the residual is measured against (default: face), when face is a ruled fit of it", {}},
        Field{"residual_points", Kind::Integer, false, 2, 10000,
              "points along each axis for the residual; default 40", {}}});
   o.push_raw("face");
@@ -93,6 +95,12 @@ int w_flank_mill(lua_State* L) {
     world = luax::check<LuaWorld>(L, -1).world;
     lua_pop(L, 1);
   }
+  std::shared_ptr<const Surface> design;
+  if (o.has("design")) {
+    o.push_raw("design");
+    design = luax::check<SurfaceHandle>(L, -1).surface;
+    lua_pop(L, 1);
+  }
   if (!o.has("ball_radius")) luax::error(L, "bliskrun.flank_mill: missing required option 'ball_radius'");
   return luax::guarded(L, [&] {
     const FlankCutter cutter(tool.tool, o.number("ball_radius", 0));
@@ -111,6 +119,7 @@ int w_flank_mill(lua_State* L) {
     rq.lead.retract_mm = o.number("lead_retract", 5);
     rq.lead.min_retract_mm = std::min(rq.lead.min_retract_mm, rq.lead.retract_mm);
     rq.residual_points = static_cast<int>(o.integer("residual_points", 40));
+    rq.design = design.get();
     const FlankFacePlan plan = plan_flank_face(rq);
 
     lua_createtable(L, 0, 12);

@@ -7,6 +7,7 @@
 
 #include "core/io/camber_data.h"
 #include "core/parts/impeller.h"
+#include "core/parts/ruled_fit.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -186,6 +187,28 @@ int w_write_camber(lua_State* L) {
   });
 }
 
+// bliskrun.fit_ruled(grid [, {first_row =, last_row =}]) -> {max, rms, worst_row, worst_col, surface}
+// (rows 1-based, default all)
+int w_fit_ruled(lua_State* L) {
+  const std::shared_ptr<const PointGrid> grid = luax::check<GridHandle>(L, 1).grid;
+  const luax::Options o(L, 2, "bliskrun.fit_ruled",
+                        {Field{"first_row", Kind::Integer, false, 1, 1e7, "first grid row fitted (hub end); default 1", {}},
+                         Field{"last_row", Kind::Integer, false, 1, 1e7, "last grid row fitted (tip end); default the last", {}}});
+  const int r0 = static_cast<int>(o.integer("first_row", 1)) - 1;
+  const int r1 = static_cast<int>(o.integer("last_row", grid->rows)) - 1;
+  return luax::guarded(L, [&] {
+    const RuledFit f = fit_ruled(*grid, r0, r1);
+    lua_createtable(L, 0, 5);
+    luax::set_number(L, "max", f.max_mm);
+    luax::set_number(L, "rms", f.rms_mm);
+    luax::set_number(L, "worst_row", f.worst_row + 1);
+    luax::set_number(L, "worst_col", f.worst_col + 1);
+    push_surface(L, f.surface);
+    lua_setfield(L, -2, "surface");
+    return 1;
+  });
+}
+
 int w_tostring(lua_State* L) {
   const ImpellerHandle& h = check_impeller(L);
   std::ostringstream s;
@@ -205,7 +228,7 @@ void open_impeller(lua_State* L) {
                                      {"write_camber", w_write_camber}, {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<ImpellerHandle>::name, methods, &luax::gc_value<ImpellerHandle>,
                       w_tostring);
-  static const luaL_Reg functions[] = {{"impeller", w_impeller}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"impeller", w_impeller}, {"fit_ruled", w_fit_ruled}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

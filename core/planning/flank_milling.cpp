@@ -120,7 +120,10 @@ FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* h
     a = (ax.d1 - ax.d2).normalized();  // eq. 25, towards the shroud (up the tool)
     if (hub) {
       const double span = (ax.d1 - ax.d2).norm();
-      const std::optional<double> s = meet_hub_offset(*hub, r, ax.d2, a, span + 4 * r);
+      // The channel is the side of the hub the shroud contact is on (a hub
+      // meridian may run either way, flipping radial_offset's sign).
+      const double channel = hub->radial_offset(ax.c1) >= 0 ? 1.0 : -1.0;
+      const std::optional<double> s = meet_hub_offset(*hub, channel * r, ax.d2, a, span + 4 * r);
       if (!s)
         throw Error("flank_axis: the cutter axis at v = " + num(v) +
                     " does not meet the hub offset surface (ball radius " + num(r) + " mm)");
@@ -320,7 +323,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   } else {
     plan.min_margin_mm = 0;
   }
-  plan.residual = flank_residual(*rq.face, plan.axes, *rq.cutter, rq.residual_points);
+  plan.residual = flank_residual(rq.design ? *rq.design : *rq.face, plan.axes, *rq.cutter, rq.residual_points);
   return plan;
 }
 

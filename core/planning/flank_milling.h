@@ -21,8 +21,8 @@
 // (eq. 23–25 with the radius at each contact's own height s1, s2), and the
 // ball centre c is where the axis meets the hub offset at the ball radius r
 // (eq. 26–32: the offset of a surface of revolution is found in the
-// meridian plane, SurfaceOfRevolution::radial_offset = r, a 1-D root along
-// the axis). s1, s2 depend on c, so D1, D2, c are iterated to a fixed point
+// meridian plane, SurfaceOfRevolution::radial_offset = ±r on the side of the
+// shroud contact, a 1-D root along the axis). s1, s2 depend on c, so D1, D2, c are iterated to a fixed point
 // (a few iterations; for a ball end the first is exact).
 //
 // Residual (eq. 33–36): for points P along the axis between D2 and D1, the
@@ -133,6 +133,9 @@ struct FlankFaceRequest {
   double motion_tol_mm = 1e-3;
   LinkOptions lead;                            // lead-in/out along the face normal
   int residual_points = 40;                    // points along each axis for the residual
+  // The design face the residual is measured against, when the plan is made
+  // on a ruled approximation of it (a fitted face): null = `face`.
+  const Surface* design = nullptr;
 };
 
 struct FlankRefusal {
