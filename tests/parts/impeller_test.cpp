@@ -109,7 +109,9 @@ TEST(ImpellerModel, FaceDerivativesMatchFiniteDifferences) {
           const Vec3 pv = (face->point(u, v + e) - face->point(u, v - e)) / (2 * e);
           EXPECT_LT((d.pu - pu).norm(), 1e-5 * d.pu.norm());
           // pv carries eq. 15–16 with the full N_t (eq. 19–20 plus the term
-          // r_t x (r_s_t - r_h_t) the paper leaves out).
+          // r_t x (r_s_t - r_h_t) the paper leaves out; without it the
+          // shroud offset's tangent is off by up to 2.3 % of its length on
+          // this impeller, measured, far beyond this 1e-5).
           EXPECT_LT((d.pv - pv).norm(), 1e-5 * d.pv.norm()) << "u " << u << " v " << v;
           const double f = 1e-4;
           const Vec3 pvv = (face->eval(u, v + f).pv - face->eval(u, v - f).pv) / (2 * f);
