@@ -72,6 +72,8 @@ int w_flank_mill(lua_State* L) {
        num("lead_retract", "lead-in/out distance along the face normal, mm; default 5", 0.01, 1000),
        Field{"design", Kind::Any, false, std::nullopt, std::nullopt,
              "design face the residual is measured against (default: face), when face is a ruled fit of it", {}},
+       Field{"balance", Kind::Boolean, false, std::nullopt, std::nullopt,
+             "shift each axis along the mean face normal to centre its residual on zero; default false", {}},
        Field{"residual_points", Kind::Integer, false, 2, 10000,
              "points along each axis for the residual; default 40", {}}});
   o.push_raw("face");
@@ -120,6 +122,7 @@ int w_flank_mill(lua_State* L) {
     rq.lead.min_retract_mm = std::min(rq.lead.min_retract_mm, rq.lead.retract_mm);
     rq.residual_points = static_cast<int>(o.integer("residual_points", 40));
     rq.design = design.get();
+    rq.balance_residual = o.boolean("balance", false);
     const FlankFacePlan plan = plan_flank_face(rq);
 
     lua_createtable(L, 0, 12);
@@ -153,6 +156,9 @@ int w_flank_mill(lua_State* L) {
     lua_setfield(L, -2, "lead_out");
     push_stats(L, plan.residual.stats);
     lua_setfield(L, -2, "residual");
+    push_stats(L, plan.residual_unbalanced);
+    lua_setfield(L, -2, "residual_unbalanced");
+    luax::set_number(L, "balanced", plan.balanced);
     // Residual per pose: {max, min, mean, std} along each axis.
     lua_createtable(L, plan.residual.axes, 0);
     for (int a = 0; a < plan.residual.axes; ++a) {

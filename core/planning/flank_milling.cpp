@@ -236,6 +236,19 @@ FlankAxis tilted(const FlankAxis& ax, double angle_rad, double ball_radius) {
   return t;
 }
 
+// The axis moved along the mean face normal to centre its residual band.
+FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& cutter, int points) {
+  const ResidualStats st = flank_residual(face, {ax}, cutter, points).stats;
+  const Vec3 m = (ax.n1 + ax.n2).normalized();
+  const Vec3 shift = -0.5 * (st.max_mm + st.min_mm) * m;
+  FlankAxis b = ax;
+  b.pose.tip += shift;
+  b.ball_centre += shift;
+  b.d1 += shift;
+  b.d2 += shift;
+  return b;
+}
+
 std::string describe(const PoseCheck& c, const CollisionWorld& world) {
   if (c.worst < 0) return "collides";
   const PartClearance& p = c.parts[c.worst];
@@ -257,6 +270,8 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   plan.stations = static_cast<int>(stations.size());
   plan.min_margin_mm = std::numeric_limits<double>::infinity();
   const double r = rq.cutter->ball_radius_mm();
+  const Surface& design = rq.design ? *rq.design : *rq.face;
+  std::vector<FlankAxis> unbalanced;
   for (double v : stations) {
     FlankAxis ax;
     try {
@@ -266,6 +281,11 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
       continue;
     }
     if (!rq.world) {
+      unbalanced.push_back(ax);
+      if (rq.balance_residual) {
+        ax = balanced(design, ax, *rq.cutter, rq.residual_points);
+        ++plan.balanced;
+      }
       plan.axes.push_back(ax);
       plan.tilt_rad.push_back(0);
       continue;
@@ -276,25 +296,33 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     const int n = static_cast<int>(std::floor(rq.max_tilt_rad / rq.tilt_step_rad + 1e-9));
     for (int i = 0; i <= 2 * n && !done; ++i) {
       const double angle = (i == 0 ? 0.0 : ((i + 1) / 2) * rq.tilt_step_rad * (i % 2 ? 1.0 : -1.0));
-      const FlankAxis cand = angle == 0 ? ax : tilted(ax, angle, r);
-      const PoseCheck pc = rq.world->check(*rq.body, cand.pose, rq.clearances, 0.0);
-      if (!pc.clear) {
-        if (i == 0) why = "pose: " + describe(pc, *rq.world);
-        continue;
-      }
-      if (!plan.axes.empty()) {
-        const MotionCheck mc = rq.world->check_motion(*rq.body, plan.axes.back().pose, cand.pose,
-                                                      rq.clearances, rq.motion_tol_mm);
-        if (!mc.clear) {
-          why = "motion from the previous pose: " + describe(mc.at, *rq.world) +
-                (mc.undecided ? " (undecided)" : "");
+      const FlankAxis plain = angle == 0 ? ax : tilted(ax, angle, r);
+      std::vector<FlankAxis> tries;
+      if (rq.balance_residual) tries.push_back(balanced(design, plain, *rq.cutter, rq.residual_points));
+      tries.push_back(plain);
+      for (size_t k = 0; k < tries.size() && !done; ++k) {
+        const FlankAxis& cand = tries[k];
+        const PoseCheck pc = rq.world->check(*rq.body, cand.pose, rq.clearances, 0.0);
+        if (!pc.clear) {
+          if (i == 0) why = "pose: " + describe(pc, *rq.world);
           continue;
         }
+        if (!plan.axes.empty()) {
+          const MotionCheck mc = rq.world->check_motion(*rq.body, plan.axes.back().pose, cand.pose,
+                                                        rq.clearances, rq.motion_tol_mm);
+          if (!mc.clear) {
+            why = "motion from the previous pose: " + describe(mc.at, *rq.world) +
+                  (mc.undecided ? " (undecided)" : "");
+            continue;
+          }
+        }
+        plan.axes.push_back(cand);
+        unbalanced.push_back(plain);
+        plan.tilt_rad.push_back(angle);
+        if (angle != 0) ++plan.tilted;
+        if (rq.balance_residual && k == 0) ++plan.balanced;
+        done = true;
       }
-      plan.axes.push_back(cand);
-      plan.tilt_rad.push_back(angle);
-      if (angle != 0) ++plan.tilted;
-      done = true;
     }
     if (!done)
       plan.refusals.push_back({v, why + "; no tilt up to " + std::to_string(rad_to_deg(rq.max_tilt_rad)) +
@@ -323,7 +351,10 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   } else {
     plan.min_margin_mm = 0;
   }
-  plan.residual = flank_residual(rq.design ? *rq.design : *rq.face, plan.axes, *rq.cutter, rq.residual_points);
+  plan.residual = flank_residual(design, plan.axes, *rq.cutter, rq.residual_points);
+  plan.residual_unbalanced = rq.balance_residual
+                                 ? flank_residual(design, unbalanced, *rq.cutter, rq.residual_points).stats
+                                 : plan.residual.stats;
   return plan;
 }
 

@@ -136,6 +136,13 @@ struct FlankFaceRequest {
   // The design face the residual is measured against, when the plan is made
   // on a ruled approximation of it (a fitted face): null = `face`.
   const Surface* design = nullptr;
+  // Better than the paper: on a twisted face the residual along each axis is
+  // a concave overcut (0 at the ends, most negative mid-ruling). Shifting the
+  // axis along the mean face normal (n1 + n2) by -(max + min) / 2 of its own
+  // residual centres the error band on zero, halving its largest magnitude.
+  // The shifted pose is checked like any other; where it collides the
+  // unshifted one is taken. The residual before (unshifted) is reported.
+  bool balance_residual = false;
 };
 
 struct FlankRefusal {
@@ -149,6 +156,8 @@ struct FlankFacePlan {
   std::vector<FlankRefusal> refusals;
   PlannedDeparture lead_in, lead_out;
   FlankResidual residual;            // over the emitted poses
+  ResidualStats residual_unbalanced; // the same poses before balance_residual's shift
+  int balanced = 0;                  // poses shifted by balance_residual
   int stations = 0;
   int tilted = 0;
   double min_margin_mm = 0;          // smallest clearance margin over poses (world only)

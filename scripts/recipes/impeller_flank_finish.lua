@@ -21,12 +21,14 @@
 --   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose
 -- Options: --set chord_tol=0.005  --set mesh_tol=0.05  --set residual_points=40
 --          --set clearance=0.5  --set apt_blades=1 (blades written to APT, by rotation)
+--          --set balance=false (the paper's axes: no shift centring each axis's residual on zero)
 
 local chord_tol = args.chord_tol or 0.005
 local mesh_tol = args.mesh_tol or 0.05
 local residual_points = args.residual_points or 40
 local clearance = args.clearance or 0.5
 local apt_blades = args.apt_blades or 1
+local balance = args.balance ~= false  -- centre each axis's residual band on zero (before/after reported)
 local tip_radius, half_angle = args.tip_radius or 3, args.half_angle or 2
 
 local imp = bliskrun.impeller{}
@@ -79,7 +81,7 @@ for _, kind in ipairs{"main", "splitter"} do
     local world = bliskrun.collision_world{surfaces = surfaces}
     local plan = bliskrun.flank_mill{face = face, hub = hub, tool = tool, ball_radius = tip_radius,
                                      world = world, chord_tol = chord_tol, clearance = clearance,
-                                     residual_points = residual_points}
+                                     residual_points = residual_points, balance = balance}
     local name = string.format("impeller_%s_%s", kind, side)
     -- APT of blade 1, and of further blades turned about Z.
     local apt = {plan.apt}
@@ -110,14 +112,16 @@ for _, kind in ipairs{"main", "splitter"} do
                           refusals = plan.refusals, tilted = plan.tilted, min_margin = plan.min_margin,
                           lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
                           lead_reason = (plan.lead_in.reason or "") .. (plan.lead_out.reason or ""),
-                          residual = plan.residual, per_pose = per_pose}
+                          residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
+                          balanced = plan.balanced, per_pose = per_pose}
     totals.poses = totals.poses + #plan.poses
     totals.refused = totals.refused + #plan.refusals
     totals.tilted = totals.tilted + plan.tilted
     totals.max_abs = math.max(totals.max_abs, plan.residual.max_abs)
-    print(string.format("%-24s %3d stations, %3d poses, %2d refused, %2d tilted; residual max %+.4f min %+.4f mean %+.4f std %.4f mm",
-                        name, plan.stations, #plan.poses, #plan.refusals, plan.tilted, plan.residual.max,
-                        plan.residual.min, plan.residual.mean, plan.residual.std))
+    print(string.format("%-24s %3d stations, %3d poses, %2d refused, %2d tilted, %3d balanced; residual max %+.4f min %+.4f mean %+.4f std %.4f mm (unbalanced %+.4f / %+.4f)",
+                        name, plan.stations, #plan.poses, #plan.refusals, plan.tilted, plan.balanced, plan.residual.max,
+                        plan.residual.min, plan.residual.mean, plan.residual.std, plan.residual_unbalanced.max,
+                        plan.residual_unbalanced.min))
   end
 end
 report.totals = totals
