@@ -123,9 +123,11 @@ TEST(HeccImpellerRecipe, RuledFitAndFlankFinish) {
     EXPECT_EQ(f["ruled_fit"]["within_tolerance"].get<bool>(), fit_max <= 50.0) << face;
     EXPECT_EQ(f["poses"].get<int>() + f["refused"].get<int>(), f["stations"].get<int>()) << face;
     EXPECT_GT(f["poses"].get<int>(), 20) << face;
-    // Against the lofted face the residual includes the ruled fit's error.
-    EXPECT_GE(f["residual_to_design"]["max_abs"].get<double>(), f["residual"]["max_abs"].get<double>() * 0.5) << face;
-    EXPECT_LT(f["residual_to_design"]["max_abs"].get<double>(), fit_max / 1000 + 0.3) << face;
+    // Against the lofted face the residual includes the ruled fit's error;
+    // balancing each axis against that face can only narrow the band.
+    EXPECT_GT(f["residual_unbalanced"]["max_abs"].get<double>(), 0.05) << face;
+    EXPECT_LT(f["residual_unbalanced"]["max_abs"].get<double>(), fit_max / 1000 + 0.3) << face;
+    EXPECT_LE(f["residual"]["max_abs"].get<double>(), f["residual_unbalanced"]["max_abs"].get<double>() + 1e-9) << face;
   }
 }
 
