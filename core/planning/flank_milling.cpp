@@ -335,7 +335,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   if (rq.world) {
     for (const FlankAxis& a : plan.axes)
       plan.min_margin_mm =
-          std::min(plan.min_margin_mm, rq.world->check(*rq.body, a.pose, rq.clearances).min_margin_mm);
+          std::min(plan.min_margin_mm, rq.world->check(*rq.body, a.pose, rq.clearances, kMarginHorizonMm).min_margin_mm);
     LinkChecks checks;
     checks.world = rq.world;
     checks.body = rq.body;

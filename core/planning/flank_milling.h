@@ -160,8 +160,12 @@ struct FlankFacePlan {
   int balanced = 0;                  // poses shifted by balance_residual
   int stations = 0;
   int tilted = 0;
-  double min_margin_mm = 0;          // smallest clearance margin over poses (world only)
+  double min_margin_mm = 0;          // smallest clearance margin over poses (world only), resolved up to kMarginHorizonMm
 };
+
+// Margins beyond this are reported as this bound (resolving them costs more
+// than the whole plan).
+constexpr double kMarginHorizonMm = 5.0;
 
 // Throws ParameterError for missing face/cutter, or a world without a body.
 FlankFacePlan plan_flank_face(const FlankFaceRequest& request);
