@@ -11,12 +11,14 @@ void open_all(lua_State* L) {
   open_geometry(L);
   open_io(L);
   open_parts(L);
+  open_impeller(L);
   open_analysis(L);
   open_tools(L);
   open_collision(L);
   open_planning(L);
   open_machine(L);
   open_edges(L);
+  open_flank(L);
   lua_setglobal(L, "bliskrun");
 }
 

@@ -12,6 +12,7 @@ void open_files(lua_State* L);      // wrap_files.cpp: write_json, write_text, r
 void open_geometry(lua_State* L);   // wrap_geometry.cpp
 void open_io(lua_State* L);         // wrap_io.cpp: point-grid reader
 void open_parts(lua_State* L);      // wrap_parts.cpp: built-in blisk
+void open_impeller(lua_State* L);   // wrap_impeller.cpp: impellers from camber data (built-in or file)
 void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel design
 void open_tools(lua_State* L);      // wrap_tools.cpp: drum wheels, mills, contact wheel
 void open_collision(lua_State* L);  // wrap_collision.cpp: collision world, pose/motion checks, tilt
@@ -19,6 +20,7 @@ void open_planning(lua_State* L);   // wrap_planning.cpp: drum_finish, drum_fini
 void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics, posts, read-back
 void open_report(lua_State* L);     // wrap_report.cpp: report (one HTML page per run)
 void open_vtk(lua_State* L);        // wrap_vtk.cpp: write_vtk (ParaView collection)
+void open_flank(lua_State* L);      // wrap_flank.cpp: flank_mill (ruled faces: impeller flank finishing)
 void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish (blade LE/TE with a flat-end bottom)
 
 // Registers everything into a new global table `bliskrun`.

@@ -103,5 +103,33 @@ TEST(HeccRecipe, RebuildsBothBladesWithTheirFit) {
   EXPECT_GT(stl_triangles(fs::path(dir.path()) / "hecc_hub.stl"), 1000);
 }
 
+
+// The HECC blades as ruled blades, on small samples: the ruled fit is
+// reported against the thickness tolerance (they are not ruled: measured
+// 0.72-0.98 mm max), every face is planned with interference, and the
+// residual is stated against both the ruled fit and the lofted face.
+TEST(HeccImpellerRecipe, RuledFitAndFlankFinish) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC flank-finish recipe skipped";
+  TempDir dir;
+  const nlohmann::json j = run_recipe("hecc_impeller_flank_finish.lua", dir, "hecc_impeller_flank_finish.json",
+                                      {"--set", "chord_tol=0.05", "--set", "mesh_tol=0.2", "--set", "residual_points=8"});
+  ASSERT_FALSE(j.is_null());
+  EXPECT_EQ(j["blades"].get<int>(), 15);
+  for (const char* face : {"hecc_main_pressure", "hecc_main_suction", "hecc_splitter_pressure", "hecc_splitter_suction"}) {
+    const nlohmann::json& f = j["faces"][face];
+    const double fit_max = f["ruled_fit"]["max_um"].get<double>();
+    EXPECT_GT(fit_max, 100.0) << face;  // not ruled
+    EXPECT_LT(fit_max, 3000.0) << face;
+    EXPECT_EQ(f["ruled_fit"]["within_tolerance"].get<bool>(), fit_max <= 50.0) << face;
+    EXPECT_EQ(f["poses"].get<int>() + f["refused"].get<int>(), f["stations"].get<int>()) << face;
+    EXPECT_GT(f["poses"].get<int>(), 20) << face;
+    // Against the lofted face the residual includes the ruled fit's error;
+    // balancing each axis against that face can only narrow the band.
+    EXPECT_GT(f["residual_unbalanced"]["max_abs"].get<double>(), 0.05) << face;
+    EXPECT_LT(f["residual_unbalanced"]["max_abs"].get<double>(), fit_max / 1000 + 0.3) << face;
+    EXPECT_LE(f["residual"]["max_abs"].get<double>(), f["residual_unbalanced"]["max_abs"].get<double>() + 1e-9) << face;
+  }
+}
+
 }  // namespace
 }  // namespace bliskrun::test

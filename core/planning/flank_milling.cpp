@@ -1,0 +1,384 @@
+#include "core/planning/flank_milling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/geometry/projection.h"
+
+namespace bliskrun {
+
+namespace {
+
+std::string num(double x) { return std::to_string(x); }
+
+Vec3 unit_normal(const SurfaceDerivs& d) { return d.pu.cross(d.pv).normalized(); }
+
+// Root of g(s) = hub.radial_offset(p + s a) - r nearest s = 0: brackets
+// grow outwards from 0 in both directions, then Illinois regula falsi.
+std::optional<double> meet_hub_offset(const SurfaceOfRevolution& hub, double r, const Vec3& p,
+                                      const Vec3& a, double reach_mm) {
+  auto g = [&](double s) { return hub.radial_offset(p + s * a) - r; };
+  const double g0 = g(0);
+  if (g0 == 0) return 0.0;
+  for (double step = 0.25; step <= reach_mm * 2; step *= 2) {
+    for (double dir : {-1.0, 1.0}) {
+      double a0 = dir * step / 2, b0 = dir * step;
+      if (step == 0.25) a0 = 0;
+      double ga = a0 == 0 ? g0 : g(a0), gb = g(b0);
+      if ((ga > 0) == (gb > 0)) continue;
+      for (int it = 0; it < 200 && std::abs(b0 - a0) > 1e-12; ++it) {
+        double m = (a0 * gb - b0 * ga) / (gb - ga);
+        if (!(m > std::min(a0, b0) && m < std::max(a0, b0))) m = 0.5 * (a0 + b0);
+        const double gm = g(m);
+        if (gm == 0) return m;
+        if ((gm > 0) == (ga > 0)) {
+          a0 = m;
+          ga = gm;
+          gb *= 0.5;
+        } else {
+          b0 = m;
+          gb = gm;
+          ga *= 0.5;
+        }
+      }
+      return 0.5 * (a0 + b0);
+    }
+  }
+  return std::nullopt;
+}
+
+// u where the ruling at v meets the hub (radial offset 0), searched in
+// [-0.5, 0.5]; 0 when the face does not cross the hub there (a face that
+// clamps its parameters outside [0, 1]).
+double hub_parameter(const Surface& face, double v, const SurfaceOfRevolution& hub) {
+  auto g = [&](double u) { return hub.radial_offset(face.point(u, v)); };
+  double a = -0.5, b = 0.5, ga = g(a), gb = g(b);
+  if ((ga > 0) == (gb > 0)) return 0.0;
+  for (int it = 0; it < 200 && b - a > 1e-14; ++it) {
+    double m = (a * gb - b * ga) / (gb - ga);
+    if (!(m > a && m < b)) m = 0.5 * (a + b);
+    const double gm = g(m);
+    if ((gm > 0) == (ga > 0)) {
+      a = m;
+      ga = gm;
+      gb *= 0.5;
+    } else {
+      b = m;
+      gb = gm;
+      ga *= 0.5;
+    }
+  }
+  return 0.5 * (a + b);
+}
+
+}  // namespace
+
+FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(tool)), r_(ball_radius_mm) {
+  if (!(r_ > 0)) throw ParameterError("ball_radius", "expected a positive radius");
+  // A ball end of radius r: the profile near the tip is that circle, and
+  // the sphere of radius r at height r lies inside the cutter.
+  const double z = 0.05 * r_;
+  const double circle = std::sqrt(2 * r_ * z - z * z);
+  const double inscribed = -tool_.signed_distance(Vec3(0, 0, r_), ToolPartId::Cutter);
+  if (std::abs(tool_.radius_at(z) - circle) > 1e-6 * std::max(1.0, r_) ||
+      std::abs(inscribed - r_) > 1e-6 * std::max(1.0, r_))
+    throw ParameterError("ball_radius", "the tool (" + tool_.description() + ") has no ball end of radius " +
+                                            num(r_) + " mm");
+  top_ = tool_.cutter().z_max() - r_;
+}
+
+double FlankCutter::radius_at(double s_mm) const {
+  return std::max(0.0, -tool_.signed_distance(Vec3(0, 0, r_ + s_mm), ToolPartId::Cutter));
+}
+
+FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* hub,
+                     const FlankCutter& cutter) {
+  FlankAxis ax;
+  ax.v = v;
+  // The hub contact: where the ruling meets the hub. The face's own hub
+  // curve (the camber hub curve offset by h along the camber normal, eq. 10)
+  // lies off the hub by up to h times the lean of the ruling: above it on
+  // one face, inside it on the other. The ruled face is linear along the
+  // ruling, so it is followed (or cut back) to the hub.
+  ax.u_hub = hub ? hub_parameter(face, v, *hub) : 0.0;
+  const SurfaceDerivs hub_side = face.eval(ax.u_hub, v), shroud_side = face.eval(1, v);
+  ax.c1 = shroud_side.p;
+  ax.c2 = hub_side.p;
+  ax.n1 = unit_normal(shroud_side);  // eq. 21
+  ax.n2 = unit_normal(hub_side);     // eq. 22
+  const double r = cutter.ball_radius_mm();
+  double rho1 = r, rho2 = r;
+  Vec3 a = Vec3::UnitZ();
+  for (ax.iterations = 1; ax.iterations <= 50; ++ax.iterations) {
+    ax.d1 = ax.c1 + rho1 * ax.n1;  // eq. 23
+    ax.d2 = ax.c2 + rho2 * ax.n2;  // eq. 24
+    a = (ax.d1 - ax.d2).normalized();  // eq. 25, towards the shroud (up the tool)
+    if (hub) {
+      const double span = (ax.d1 - ax.d2).norm();
+      // The channel is the side of the hub the shroud contact is on (a hub
+      // meridian may run either way, flipping radial_offset's sign).
+      const double channel = hub->radial_offset(ax.c1) >= 0 ? 1.0 : -1.0;
+      const std::optional<double> s = meet_hub_offset(*hub, channel * r, ax.d2, a, span + 4 * r);
+      if (!s)
+        throw Error("flank_axis: the cutter axis at v = " + num(v) +
+                    " does not meet the hub offset surface (ball radius " + num(r) + " mm)");
+      ax.ball_centre = ax.d2 + *s * a;
+    } else {
+      ax.ball_centre = ax.d2;
+    }
+    ax.s1 = (ax.d1 - ax.ball_centre).dot(a);
+    ax.s2 = (ax.d2 - ax.ball_centre).dot(a);
+    if (ax.s1 > cutter.flute_top_mm())
+      throw Error("flank_axis: at v = " + num(v) + " the shroud contact lies " + num(ax.s1) +
+                  " mm above the ball centre, above the flutes (" + num(cutter.flute_top_mm()) +
+                  " mm): use a longer cutter");
+    // Below the ball centre the ball meets the hub, not the face: the hub
+    // contact uses the ball radius there.
+    const double new1 = cutter.radius_at(ax.s1), new2 = cutter.radius_at(std::max(0.0, ax.s2));
+    const bool settled = std::abs(new1 - rho1) < 1e-12 && std::abs(new2 - rho2) < 1e-12;
+    rho1 = new1;
+    rho2 = new2;
+    if (settled) break;
+  }
+  ax.pose.axis = a;
+  ax.pose.tip = ax.ball_centre - r * a;
+  return ax;
+}
+
+std::vector<double> flank_stations(const Surface& face, const StepOptions& steps) {
+  std::vector<double> v;
+  for (double u : {0.0, 1.0}) {
+    const IsoUCurve row(face, u);
+    const RowSteps rs = plan_row_steps(row, steps);
+    v.insert(v.end(), rs.t.begin(), rs.t.end());
+  }
+  std::sort(v.begin(), v.end());
+  std::vector<double> out;
+  for (double x : v)
+    if (out.empty() || x - out.back() > 1e-9) out.push_back(x);
+  return out;
+}
+
+ResidualStats residual_stats(const std::vector<double>& values) {
+  ResidualStats s;
+  if (values.empty()) return s;
+  s.samples = static_cast<int>(values.size());
+  s.max_mm = *std::max_element(values.begin(), values.end());
+  s.min_mm = *std::min_element(values.begin(), values.end());
+  double sum = 0, sum2 = 0;
+  for (double x : values) {
+    sum += x;
+    s.max_abs_mm = std::max(s.max_abs_mm, std::abs(x));
+  }
+  s.mean_mm = sum / s.samples;
+  for (double x : values) sum2 += (x - s.mean_mm) * (x - s.mean_mm);
+  s.std_mm = std::sqrt(sum2 / s.samples);
+  return s;
+}
+
+FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& axes,
+                             const FlankCutter& cutter, int points_per_axis) {
+  if (points_per_axis < 2) throw ParameterError("points", "expected at least 2 points along each axis");
+  FlankResidual out;
+  out.axes = static_cast<int>(axes.size());
+  out.points = points_per_axis;
+  out.residual_mm.reserve(axes.size() * points_per_axis);
+  ProjectionOptions opts;
+  opts.tol_mm = 1e-10;
+  for (const FlankAxis& ax : axes) {
+    // From the hub contact's axis point, or the ball centre where that lies
+    // above it (below the centre the ball meets the hub), to D1.
+    const double s_lo = std::max(0.0, ax.s2), s_hi = ax.s1;
+    std::optional<Eigen::Vector2d> seed;
+    for (int k = 0; k < points_per_axis; ++k) {
+      const double f = static_cast<double>(k) / (points_per_axis - 1);
+      const double s = s_lo + (s_hi - s_lo) * f;
+      const Vec3 p = ax.ball_centre + s * ax.pose.axis;
+      // The foot lies near the same ruling: seed Newton there.
+      opts.seed = seed ? seed : std::optional<Eigen::Vector2d>(Eigen::Vector2d(f, ax.v));
+      const SurfaceProjection foot = project_to_surface(face, p, opts);  // eq. 33–35
+      if (!foot.ok)
+        throw Error("flank_residual: no foot on the face for the axis point at v = " + num(ax.v) +
+                    ", height " + num(s) + " mm: " + foot.failure);
+      seed = Eigen::Vector2d(foot.u, foot.v);
+      // Signed by the face normal: an axis point behind the face (deep gouge)
+      // counts its distance negative.
+      const double side = (p - foot.point).dot(unit_normal(face.eval(foot.u, foot.v))) < 0 ? -1.0 : 1.0;
+      out.residual_mm.push_back(side * foot.distance - cutter.radius_at(s));  // eq. 36
+      out.height_mm.push_back(s);
+      out.foot.push_back(foot.point);
+    }
+  }
+  out.stats = residual_stats(out.residual_mm);
+  return out;
+}
+
+}  // namespace bliskrun
+
+namespace bliskrun {
+
+namespace {
+
+// The axis turned by `angle` about the hub contact normal through the ball
+// centre; the ball centre and the axis heights stay.
+FlankAxis tilted(const FlankAxis& ax, double angle_rad, double ball_radius) {
+  FlankAxis t = ax;
+  const Vec3 a = Eigen::AngleAxisd(angle_rad, ax.n2) * ax.pose.axis;
+  t.pose.axis = a.normalized();
+  t.pose.tip = ax.ball_centre - ball_radius * t.pose.axis;
+  t.d1 = ax.ball_centre + ax.s1 * t.pose.axis;
+  t.d2 = ax.ball_centre + ax.s2 * t.pose.axis;
+  return t;
+}
+
+// The axis moved along the mean face normal to centre its residual band.
+FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& cutter, int points) {
+  const ResidualStats st = flank_residual(face, {ax}, cutter, points).stats;
+  const Vec3 m = (ax.n1 + ax.n2).normalized();
+  const Vec3 shift = -0.5 * (st.max_mm + st.min_mm) * m;
+  FlankAxis b = ax;
+  b.pose.tip += shift;
+  b.ball_centre += shift;
+  b.d1 += shift;
+  b.d2 += shift;
+  return b;
+}
+
+std::string describe(const PoseCheck& c, const CollisionWorld& world) {
+  if (c.worst < 0) return "collides";
+  const PartClearance& p = c.parts[c.worst];
+  std::string what = std::string(to_string(p.part)) + " ";
+  what += p.object >= 0 ? "against " + world.name(p.object) : "against a check surface";
+  return what + " (margin " + std::to_string(c.min_margin_mm) + " mm)";
+}
+
+}  // namespace
+
+FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
+  if (!rq.face) throw ParameterError("face", "expected a face to machine");
+  if (!rq.cutter) throw ParameterError("tool", "expected a cutter");
+  if (rq.world && !rq.body) throw ParameterError("world", "a collision world needs the tool body");
+  if (!(rq.tilt_step_rad > 0) || rq.max_tilt_rad < 0)
+    throw ParameterError("tilt_step", "expected a positive tilt step and a max tilt >= 0");
+  FlankFacePlan plan;
+  const std::vector<double> stations = flank_stations(*rq.face, rq.steps);
+  plan.stations = static_cast<int>(stations.size());
+  plan.min_margin_mm = std::numeric_limits<double>::infinity();
+  const double r = rq.cutter->ball_radius_mm();
+  const Surface& design = rq.design ? *rq.design : *rq.face;
+  std::vector<FlankAxis> unbalanced;
+  for (double v : stations) {
+    FlankAxis ax;
+    try {
+      ax = flank_axis(*rq.face, v, rq.hub, *rq.cutter);
+    } catch (const Error& e) {
+      plan.refusals.push_back({v, e.what()});
+      continue;
+    }
+    if (!rq.world) {
+      unbalanced.push_back(ax);
+      if (rq.balance_residual) {
+        ax = balanced(design, ax, *rq.cutter, rq.residual_points);
+        ++plan.balanced;
+      }
+      plan.axes.push_back(ax);
+      plan.tilt_rad.push_back(0);
+      continue;
+    }
+    // Tilts in the order 0, +step, -step, +2 step, ...
+    std::string why;
+    bool done = false;
+    const int n = static_cast<int>(std::floor(rq.max_tilt_rad / rq.tilt_step_rad + 1e-9));
+    for (int i = 0; i <= 2 * n && !done; ++i) {
+      const double angle = (i == 0 ? 0.0 : ((i + 1) / 2) * rq.tilt_step_rad * (i % 2 ? 1.0 : -1.0));
+      const FlankAxis plain = angle == 0 ? ax : tilted(ax, angle, r);
+      std::vector<FlankAxis> tries;
+      if (rq.balance_residual) tries.push_back(balanced(design, plain, *rq.cutter, rq.residual_points));
+      tries.push_back(plain);
+      for (size_t k = 0; k < tries.size() && !done; ++k) {
+        const FlankAxis& cand = tries[k];
+        const PoseCheck pc = rq.world->check(*rq.body, cand.pose, rq.clearances, 0.0);
+        if (!pc.clear) {
+          if (i == 0) why = "pose: " + describe(pc, *rq.world);
+          continue;
+        }
+        if (!plan.axes.empty()) {
+          const MotionCheck mc = rq.world->check_motion(*rq.body, plan.axes.back().pose, cand.pose,
+                                                        rq.clearances, rq.motion_tol_mm);
+          if (!mc.clear) {
+            why = "motion from the previous pose: " + describe(mc.at, *rq.world) +
+                  (mc.undecided ? " (undecided)" : "");
+            continue;
+          }
+        }
+        plan.axes.push_back(cand);
+        unbalanced.push_back(plain);
+        plan.tilt_rad.push_back(angle);
+        if (angle != 0) ++plan.tilted;
+        if (rq.balance_residual && k == 0) ++plan.balanced;
+        done = true;
+      }
+    }
+    if (!done)
+      plan.refusals.push_back({v, why + "; no tilt up to " + std::to_string(rad_to_deg(rq.max_tilt_rad)) +
+                                      " deg clears it"});
+  }
+  if (plan.axes.empty()) {
+    plan.min_margin_mm = 0;
+    return plan;
+  }
+  if (rq.world) {
+    for (const FlankAxis& a : plan.axes)
+      plan.min_margin_mm =
+          std::min(plan.min_margin_mm, rq.world->check(*rq.body, a.pose, rq.clearances, kMarginHorizonMm).min_margin_mm);
+    LinkChecks checks;
+    checks.world = rq.world;
+    checks.body = rq.body;
+    checks.clearances = rq.clearances;
+    checks.motion_tol_mm = rq.motion_tol_mm;
+    auto end_normal = [&](const FlankAxis& a) {
+      // Out of the material at mid-span of the ruling.
+      const SurfaceDerivs d = rq.face->eval(0.5, a.v);
+      return Vec3(d.pu.cross(d.pv).normalized());
+    };
+    plan.lead_in = plan_departure({plan.axes.front().pose, end_normal(plan.axes.front())}, checks, rq.lead);
+    plan.lead_out = plan_departure({plan.axes.back().pose, end_normal(plan.axes.back())}, checks, rq.lead);
+  } else {
+    plan.min_margin_mm = 0;
+  }
+  plan.residual = flank_residual(design, plan.axes, *rq.cutter, rq.residual_points);
+  plan.residual_unbalanced = rq.balance_residual
+                                 ? flank_residual(design, unbalanced, *rq.cutter, rq.residual_points).stats
+                                 : plan.residual.stats;
+  return plan;
+}
+
+std::string flank_face_apt(const FlankFacePlan& plan, const std::string& part_name,
+                           const std::string& tool_description) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(6);
+  s << "PARTNO/" << part_name << "\n";
+  s << "$$ bliskrun flank milling (impeller paper 4.3): tip x,y,z and unit axis i,j,k per pose\n";
+  s << "$$ tool: " << tool_description << "\n";
+  s << "$$ poses " << plan.axes.size() << ", refused " << plan.refusals.size() << ", tilted " << plan.tilted
+    << "\n";
+  auto go = [&](const ToolPose& p) {
+    s << "GOTO/" << p.tip.x() << "," << p.tip.y() << "," << p.tip.z() << "," << p.axis.x() << ","
+      << p.axis.y() << "," << p.axis.z() << "\n";
+  };
+  if (plan.lead_in.clear) {
+    s << "RAPID\n";
+    go(plan.lead_in.away);
+  }
+  for (const FlankAxis& a : plan.axes) go(a.pose);
+  if (plan.lead_out.clear) go(plan.lead_out.away);
+  s << "END\n";
+  return s.str();
+}
+
+}  // namespace bliskrun

@@ -1,0 +1,177 @@
+#pragma once
+// Five-axis flank (swarf) milling of a ruled blade face (impeller paper
+// §4.3, eq. 21–32) and its geometric residual (§5, eq. 33–36).
+//
+// The face is any Surface in the SPEC §2 orientation (u hub -> shroud along
+// the rulings, v along the chord, pu x pv out of the material); for an
+// impeller blade that is Impeller::face(). Its boundary curves are
+// C2(v) = S(u_hub, v) (hub) and C1(v) = S(1, v) (shroud), with unit normals
+// n1, n2 of the face there (eq. 21–22). With a hub, u_hub is where the ruling
+// meets it (the ruling followed past u = 0 or cut back before it: eq. 10's
+// offset hub curve leaves the hub by h times the lean of the ruling, up to
+// 2.3 mm on the built-in impeller); without one, u_hub = 0.
+//
+// The cutter, seen from its axis, is a union of spheres: the point of the
+// axis at height s above the ball centre is the centre of the largest
+// sphere inside the cutter, of radius rho(s) (for a ball end rho = r, a
+// cylinder; for a tapered ball end rho = r + s sin(beta), the cone being the
+// envelope of those spheres). rho is derived from the tool's own profile
+// (the distance from the axis point to the cutter surface), not assumed.
+// The axis is the line through D1 = C1 + rho(s1) n1 and D2 = C2 + rho(s2) n2
+// (eq. 23–25 with the radius at each contact's own height s1, s2), and the
+// ball centre c is where the axis meets the hub offset at the ball radius r
+// (eq. 26–32: the offset of a surface of revolution is found in the
+// meridian plane, SurfaceOfRevolution::radial_offset = ±r on the side of the
+// shroud contact, a 1-D root along the axis). s1, s2 depend on c, so D1, D2, c are iterated to a fixed point
+// (a few iterations; for a ball end the first is exact).
+//
+// Residual (eq. 33–36): for points P along the axis between D2 and D1, the
+// shortest distance from P to the face (point inversion, eq. 33–35) minus
+// rho at P's height: > 0 undercut (material left), < 0 overcut.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/geometry/revolution.h"
+#include "core/planning/links.h"
+#include "core/geometry/surface.h"
+#include "core/planning/row_steps.h"
+#include "core/tools/pose.h"
+#include "core/tools/tool.h"
+
+namespace bliskrun {
+
+// The cutter seen as spheres along its axis.
+class FlankCutter {
+ public:
+  // `ball_radius_mm`: radius of the tip ball (its centre is that far up the
+  // axis from the tip). Throws ParameterError("ball_radius") unless the
+  // tool's inscribed sphere at that height has that radius (the tool has a
+  // ball end of that size).
+  FlankCutter(Tool tool, double ball_radius_mm);
+  const Tool& tool() const { return tool_; }
+  double ball_radius_mm() const { return r_; }
+  // rho(s): radius of the largest sphere in the cutter centred on the axis
+  // at height s >= 0 above the ball centre; 0 above the flutes.
+  double radius_at(double s_mm) const;
+  // Height above the ball centre where the cutting part ends.
+  double flute_top_mm() const { return top_; }
+
+ private:
+  Tool tool_;
+  double r_, top_;
+};
+
+struct FlankAxis {
+  double v = 0;                     // chord parameter of the face
+  double u_hub = 0;                 // where the ruling meets the hub (0 without a hub)
+  Vec3 c1 = Vec3::Zero(), c2 = Vec3::Zero();    // contacts on the shroud / hub boundary
+  Vec3 n1 = Vec3::Zero(), n2 = Vec3::Zero();    // face normals there (out of the material)
+  Vec3 d1 = Vec3::Zero(), d2 = Vec3::Zero();    // axis points (eq. 23–24)
+  double s1 = 0, s2 = 0;            // their heights above the ball centre
+  Vec3 ball_centre = Vec3::Zero();
+  ToolPose pose;                    // tip = ball centre - r axis; axis towards the shroud
+  int iterations = 0;
+};
+
+// The axis at chord parameter v. `hub` may be null: then the ball centre is
+// D2 (s2 = 0; used for faces without a hub, as in tests). Throws Error when
+// the axis does not meet the hub offset or a contact lies above the flutes.
+FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* hub,
+                     const FlankCutter& cutter);
+
+// Chord parameters v where both boundary curves (C1 and C2) meet the chord
+// tolerance: the union of the row steps of each (row_steps.h).
+std::vector<double> flank_stations(const Surface& face, const StepOptions& steps);
+
+struct ResidualStats {
+  double max_mm = 0, min_mm = 0, mean_mm = 0, std_mm = 0;
+  double max_abs_mm = 0;
+  int samples = 0;
+};
+struct FlankResidual {
+  int axes = 0, points = 0;          // map size: axes x points along each axis
+  std::vector<double> residual_mm;   // [axis * points + k], hub (k = 0) -> shroud
+  std::vector<double> height_mm;     // height above the ball centre of each point
+  std::vector<Vec3> foot;            // nearest face point of each
+  ResidualStats stats;
+  double at(int axis, int k) const { return residual_mm[axis * points + k]; }
+};
+// Eq. 33–36 at `points_per_axis` points evenly between D2 and D1 of each
+// axis. Throws Error if a point inversion fails.
+FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& axes,
+                             const FlankCutter& cutter, int points_per_axis);
+
+ResidualStats residual_stats(const std::vector<double>& values);
+
+// ---------------------------------------------------------------------------
+// One face planned with interference (issue 12 item 5).
+//
+// Every pose is checked against the world (neighbouring blades and
+// splitters with every tool part; the face being cut and the hub with the
+// shank and holder only, the cutter touching them by design) and so is the
+// motion from the previous emitted pose. Where a pose collides, the axis is
+// tilted about the hub contact normal n2 through the ball centre (the ball
+// keeps its place on the hub, the axis stays in the face's tangent plane
+// there) by +-tilt_step up to max_tilt; the first clear tilt is taken (its
+// residual is computed on the tilted axis). A pose nothing clears, or whose
+// motion from the previous pose collides, is refused with the reason and
+// not emitted. Lead-in at the first pose and lead-out at the last pose are
+// plan_departure() along the face normal (links.h), proved the same way.
+struct FlankFaceRequest {
+  const Surface* face = nullptr;
+  const SurfaceOfRevolution* hub = nullptr;    // may be null (no hub: ball centre at D2)
+  const FlankCutter* cutter = nullptr;
+  const CollisionWorld* world = nullptr;       // may be null: no interference checks
+  const ToolBody* body = nullptr;              // with world
+  Clearances clearances;
+  StepOptions steps;                           // chord tolerance along both boundary curves
+  double max_tilt_rad = deg_to_rad(10);
+  double tilt_step_rad = deg_to_rad(1);
+  double motion_tol_mm = 1e-3;
+  LinkOptions lead;                            // lead-in/out along the face normal
+  int residual_points = 40;                    // points along each axis for the residual
+  // The design face the residual is measured against, when the plan is made
+  // on a ruled approximation of it (a fitted face): null = `face`.
+  const Surface* design = nullptr;
+  // Better than the paper: on a twisted face the residual along each axis is
+  // a concave overcut (0 at the ends, most negative mid-ruling). Shifting the
+  // axis along the mean face normal (n1 + n2) by -(max + min) / 2 of its own
+  // residual centres the error band on zero, halving its largest magnitude.
+  // The shifted pose is checked like any other; where it collides the
+  // unshifted one is taken. The residual before (unshifted) is reported.
+  bool balance_residual = false;
+};
+
+struct FlankRefusal {
+  double v = 0;
+  std::string reason;
+};
+
+struct FlankFacePlan {
+  std::vector<FlankAxis> axes;       // emitted poses, in order along v
+  std::vector<double> tilt_rad;      // per emitted pose
+  std::vector<FlankRefusal> refusals;
+  PlannedDeparture lead_in, lead_out;
+  FlankResidual residual;            // over the emitted poses
+  ResidualStats residual_unbalanced; // the same poses before balance_residual's shift
+  int balanced = 0;                  // poses shifted by balance_residual
+  int stations = 0;
+  int tilted = 0;
+  double min_margin_mm = 0;          // smallest clearance margin over poses (world only), resolved up to kMarginHorizonMm
+};
+
+// Margins beyond this are reported as this bound (resolving them costs more
+// than the whole plan).
+constexpr double kMarginHorizonMm = 5.0;
+
+// Throws ParameterError for missing face/cutter, or a world without a body.
+FlankFacePlan plan_flank_face(const FlankFaceRequest& request);
+
+// APT/CL text: header, lead-in, GOTO/x,y,z,i,j,k (tip, axis) per pose, lead-out.
+std::string flank_face_apt(const FlankFacePlan& plan, const std::string& part_name,
+                           const std::string& tool_description);
+
+}  // namespace bliskrun

@@ -1,0 +1,96 @@
+-- Flank finishing of the NASA HECC impeller (15 main + 15 splitter blades) as
+-- ruled blades (issue 12 items 2–6).
+--   bliskrun scripts/recipes/hecc_impeller_flank_finish.lua --data ../shared/data --out out/
+-- The HECC blades are not exactly ruled: each lofted face (bliskrun.read_hecc)
+-- is fitted with a ruled surface (least-squares line per span column of its
+-- section rows, bliskrun.fit_ruled) and the fit is reported (max / RMS, um)
+-- against the thickness tolerance — a shop decides from it whether flank
+-- milling is allowed; where the fit exceeds it the report says so and the
+-- face is planned anyway on the ruled approximation. Each face is then flank
+-- milled (bliskrun.flank_mill: axis through D1, D2 at the tapered cutter's
+-- radius at each contact height, ball centre on the hub offset, chord
+-- stations, poses and motions checked against the neighbouring main and
+-- splitter blades, this face and the hub, tilt or refusal, leads).
+-- Writes
+--   hecc_<main|splitter>_<pressure|suction>.apt, ..._residual.svg, hecc_ruled_<...>.stl
+--   hecc_impeller_flank_finish.json   ruled fit, poses, refusals, residual per face
+-- Options: --set chord_tol=0.005 --set mesh_tol=0.05 --set residual_points=40
+--          --set tolerance=0.05 (thickness tolerance, mm) --set set=design|cold
+--          --set balance=false (the paper's axes, no shift centring each axis's residual)
+
+local set = args.set or "design"
+local chord_tol = args.chord_tol or 0.005
+local mesh_tol = args.mesh_tol or 0.05
+local residual_points = args.residual_points or 40
+local tolerance = args.tolerance or 0.05
+local tip_radius, half_angle = args.tip_radius or 2, args.half_angle or 2
+local balance = args.balance ~= false
+
+local parts = {}
+for _, blade in ipairs{"main", "splitter"} do
+  parts[blade] = bliskrun.read_hecc("nasa_hecc_impeller", {blade = blade, set = set})
+end
+local n = parts.main.blades
+local pitch = 360 / n
+local hub = parts.main.hub
+local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle = half_angle,
+                                            flute_length = args.flute_length or 90,
+                                            shank = {diameter = 12, length = 60},
+                                            holder = {diameter = 40, length = 60}}
+
+local function flank_mesh(blade, side, turn)
+  local g = parts[blade][side]
+  if turn ~= 0 then g = g:rotated(turn) end
+  return g:surface():tessellate(mesh_tol)
+end
+local neighbours = {}
+for _, nb in ipairs{{"main", pitch}, {"main", -pitch}, {"splitter", 0}, {"splitter", -pitch}, {"splitter", pitch}} do
+  for _, side in ipairs{"pressure", "suction"} do
+    neighbours[#neighbours + 1] = {name = string.format("%s %+g deg %s", nb[1], nb[2], side),
+                                   mesh = flank_mesh(nb[1], side, nb[2]), margin = mesh_tol}
+  end
+end
+local hub_mesh = hub:tessellate(mesh_tol)
+
+local report = {part = "NASA HECC impeller (" .. set .. ")", blades = n, tool = tool:description(),
+                settings = {chord_tol = chord_tol, mesh_tol = mesh_tol, residual_points = residual_points,
+                            thickness_tolerance = tolerance}, faces = {}}
+for _, blade in ipairs{"main", "splitter"} do
+  local part = parts[blade]
+  for _, side in ipairs{"pressure", "suction"} do
+    local fit = bliskrun.fit_ruled(part[side], {first_row = part.hub_row, last_row = part.tip_row})
+    local face = fit.surface
+    local name = string.format("hecc_%s_%s", blade, side)
+    face:tessellate(mesh_tol):write_stl("hecc_ruled_" .. blade .. "_" .. side .. ".stl")
+    local surfaces = {{name = "this face", mesh = face:tessellate(mesh_tol), parts = {"shank", "holder"}, margin = mesh_tol},
+                      {name = "hub", mesh = hub_mesh, parts = {"shank", "holder"}, margin = mesh_tol}}
+    local other = side == "pressure" and "suction" or "pressure"
+    surfaces[#surfaces + 1] = {name = "own " .. other, mesh = flank_mesh(blade, other, 0), parts = {"shank", "holder"}}
+    for _, s in ipairs(neighbours) do
+      if not (s.name:find("^" .. blade .. " %+0 deg")) then surfaces[#surfaces + 1] = s end
+    end
+    local world = bliskrun.collision_world{surfaces = surfaces}
+    -- Planned on the ruled fit; the residual (and the balancing shift of
+    -- each axis) against the lofted face, the blade as designed.
+    local plan = bliskrun.flank_mill{face = face, design = part[side]:surface(), hub = hub, tool = tool,
+                                     ball_radius = tip_radius, world = world, chord_tol = chord_tol,
+                                     residual_points = residual_points, balance = balance}
+    bliskrun.write_text(name .. ".apt", plan.apt)
+    if plan.residual_svg then bliskrun.write_text(name .. "_residual.svg", plan.residual_svg) end
+    report.faces[name] = {ruled_fit = {max_um = fit.max * 1000, rms_um = fit.rms * 1000,
+                                       worst_row = fit.worst_row, worst_col = fit.worst_col,
+                                       within_tolerance = fit.max <= tolerance,
+                                       note = fit.max <= tolerance and "flank milling allowed by the ruled fit"
+                                         or "ruled fit exceeds the thickness tolerance: planned on the ruled approximation"},
+                          stations = plan.stations, poses = #plan.poses, refused = #plan.refusals,
+                          refusals = plan.refusals, tilted = plan.tilted,
+                          lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
+                          residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
+                          balanced = plan.balanced}
+    print(string.format("%-22s ruled fit max %8.1f um RMS %7.1f um %s; %3d stations, %3d poses, %3d refused, %2d tilted; residual to the lofted face max %+.4f min %+.4f mm (paper's axes %+.4f / %+.4f)",
+                        name, fit.max * 1000, fit.rms * 1000, fit.max <= tolerance and "(ok)" or "(EXCEEDS tolerance)",
+                        plan.stations, #plan.poses, #plan.refusals, plan.tilted, plan.residual.max or 0, plan.residual.min or 0,
+                        plan.residual_unbalanced.max or 0, plan.residual_unbalanced.min or 0))
+  end
+end
+bliskrun.write_json("hecc_impeller_flank_finish.json", report)

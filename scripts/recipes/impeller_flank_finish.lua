@@ -1,0 +1,128 @@
+-- Five-axis flank finishing of the built-in impeller (impeller paper §4.3, §5;
+-- issue 12): φ410 mm, 17 backswept blades + 17 splitters, ruled faces from
+-- hub and shroud camber data, finished with a tapered ball-end mill whose side
+-- lies along each ruling.
+--   bliskrun scripts/recipes/impeller_flank_finish.lua --out out/
+-- Per face (main and splitter, "plus" and "minus" side of the camber
+-- surface): cutter axes through D1, D2 (the boundary curves offset by the
+-- cutter radius at each contact's height), the ball centre on the hub offset,
+-- stations by the chord tolerance on both boundary curves, every pose and
+-- every motion between poses checked against the neighbouring blades and
+-- splitters (all tool parts) and against this face and the hub (shank and
+-- holder), tilted about the hub contact normal where it collides, refused
+-- (never written) where nothing clears it; lead-in/out along the face normal.
+-- The model is exactly symmetric under turns of 360°/17 about Z, so blade k's
+-- plan is blade 1's turned by (k-1)·360°/17: the proofs carry over.
+-- Writes
+--   impeller_camber.dat                      the camber data (paper's format)
+--   impeller_<main|splitter>_<plus|minus>.apt  APT/CL of blade 1's face (GOTO tip, axis)
+--   impeller_<...>_residual.svg              residual map (eq. 33–36), + undercut, − overcut
+--   impeller_blade1_<...>.stl, impeller_hub.stl  the model
+--   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose
+-- Options: --set chord_tol=0.005  --set mesh_tol=0.05  --set residual_points=40
+--          --set clearance=0.5  --set apt_blades=1 (blades written to APT, by rotation)
+--          --set balance=false (the paper's axes: no shift centring each axis's residual on zero)
+
+local chord_tol = args.chord_tol or 0.005
+local mesh_tol = args.mesh_tol or 0.05
+local residual_points = args.residual_points or 40
+local clearance = args.clearance or 0.5
+local apt_blades = args.apt_blades or 1
+local balance = args.balance ~= false  -- centre each axis's residual band on zero (before/after reported)
+local tip_radius, half_angle = args.tip_radius or 3, args.half_angle or 2
+
+local imp = bliskrun.impeller{}
+local n = imp:blade_count()
+imp:write_camber("impeller_camber.dat")
+local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle = half_angle,
+                                            flute_length = 90,
+                                            shank = {diameter = 16, length = 60},
+                                            holder = {diameter = 50, length = 60}}
+
+-- Check surfaces of blade 1 (index 1) and its neighbours, tessellated once.
+local hub = imp:hub()
+local mesh = {}
+local function face_mesh(blade, side, kind)
+  local key = kind .. blade .. side
+  if not mesh[key] then mesh[key] = imp:face(blade, side, kind):tessellate(mesh_tol) end
+  return mesh[key]
+end
+hub:tessellate(10 * mesh_tol):write_stl("impeller_hub.stl")
+
+local report = {part = "built-in impeller", blades = n, splitters = imp:has_splitter(),
+                outer_diameter = 2 * imp:outer_radius(), tool = tool:description(),
+                settings = {chord_tol = chord_tol, mesh_tol = mesh_tol, clearance = clearance,
+                            residual_points = residual_points},
+                faces = {}}
+local totals = {poses = 0, refused = 0, tilted = 0, max_abs = 0}
+local hub_mesh = hub:tessellate(mesh_tol)
+
+for _, kind in ipairs{"main", "splitter"} do
+  for _, side in ipairs{"plus", "minus"} do
+    local face = imp:face(1, side, kind)
+    face_mesh(1, side, kind):write_stl(string.format("impeller_blade1_%s_%s.stl", kind, side))
+    -- Neighbours: the main blades either side and the splitters either side
+    -- (with every tool part); this face and the hub (shank, holder only).
+    local surfaces = {
+      {name = "this face", mesh = face_mesh(1, side, kind), parts = {"shank", "holder"}, margin = mesh_tol},
+      {name = "hub", mesh = hub_mesh, parts = {"shank", "holder"}, margin = mesh_tol}}
+    local other = side == "plus" and "minus" or "plus"
+    local neighbours = kind == "main"
+      and {{"main", 2}, {"main", n}, {"splitter", 1}, {"splitter", n}}
+      or {{"main", 1}, {"main", 2}, {"splitter", 2}, {"splitter", n}}
+    for _, nb in ipairs(neighbours) do
+      for _, s in ipairs{"plus", "minus"} do
+        surfaces[#surfaces + 1] = {name = string.format("%s %d %s", nb[1], nb[2], s),
+                                   mesh = face_mesh(nb[2], s, nb[1]), margin = mesh_tol}
+      end
+    end
+    surfaces[#surfaces + 1] = {name = "own other face", mesh = face_mesh(1, other, kind),
+                               parts = {"shank", "holder"}, margin = mesh_tol}
+    local world = bliskrun.collision_world{surfaces = surfaces}
+    local plan = bliskrun.flank_mill{face = face, hub = hub, tool = tool, ball_radius = tip_radius,
+                                     world = world, chord_tol = chord_tol, clearance = clearance,
+                                     residual_points = residual_points, balance = balance}
+    local name = string.format("impeller_%s_%s", kind, side)
+    -- APT of blade 1, and of further blades turned about Z.
+    local apt = {plan.apt}
+    for b = 2, apt_blades do
+      local a = 2 * math.pi * (b - 1) / n
+      local c, s = math.cos(a), math.sin(a)
+      local lines = {string.format("$$ blade %d: blade 1 turned by %.6f deg about Z", b, math.deg(a))}
+      for line in plan.apt:gmatch("[^\n]+") do
+        local x, y, z, i, j, k = line:match("^GOTO/([^,]+),([^,]+),([^,]+),([^,]+),([^,]+),([^,]+)$")
+        if x then
+          x, y, i, j = tonumber(x), tonumber(y), tonumber(i), tonumber(j)
+          lines[#lines + 1] = string.format("GOTO/%.6f,%.6f,%s,%.6f,%.6f,%s", c * x - s * y, s * x + c * y, z,
+                                            c * i - s * j, s * i + c * j, k)
+        elseif not line:match("^PARTNO") then
+          lines[#lines + 1] = line
+        end
+      end
+      apt[#apt + 1] = table.concat(lines, "\n") .. "\n"
+    end
+    bliskrun.write_text(name .. ".apt", table.concat(apt))
+    if plan.residual_svg then bliskrun.write_text(name .. "_residual.svg", plan.residual_svg) end
+    local per_pose = {}
+    for i, p in ipairs(plan.poses) do
+      local r = plan.residual_per_pose[i]
+      per_pose[i] = {v = p.v, tilt = p.tilt, max = r.max, min = r.min, mean = r.mean}
+    end
+    report.faces[name] = {stations = plan.stations, poses = #plan.poses, refused = #plan.refusals,
+                          refusals = plan.refusals, tilted = plan.tilted, min_margin = plan.min_margin,
+                          lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
+                          lead_reason = (plan.lead_in.reason or "") .. (plan.lead_out.reason or ""),
+                          residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
+                          balanced = plan.balanced, per_pose = per_pose}
+    totals.poses = totals.poses + #plan.poses
+    totals.refused = totals.refused + #plan.refusals
+    totals.tilted = totals.tilted + plan.tilted
+    totals.max_abs = math.max(totals.max_abs, plan.residual.max_abs)
+    print(string.format("%-24s %3d stations, %3d poses, %2d refused, %2d tilted, %3d balanced; residual max %+.4f min %+.4f mean %+.4f std %.4f mm (unbalanced %+.4f / %+.4f)",
+                        name, plan.stations, #plan.poses, #plan.refusals, plan.tilted, plan.balanced, plan.residual.max,
+                        plan.residual.min, plan.residual.mean, plan.residual.std, plan.residual_unbalanced.max,
+                        plan.residual_unbalanced.min))
+  end
+end
+report.totals = totals
+bliskrun.write_json("impeller_flank_finish.json", report)

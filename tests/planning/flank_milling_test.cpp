@@ -1,0 +1,275 @@
+#include "core/planning/flank_milling.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/common/error.h"
+#include "core/parts/impeller.h"
+
+namespace bliskrun {
+namespace {
+
+Tool tapered(double r, double half_angle_deg, double flute) {
+  TaperedBallEndMillSpec s;
+  s.tip_radius_mm = r;
+  s.half_angle_rad = deg_to_rad(half_angle_deg);
+  s.flute_length_mm = flute;
+  s.shank = {16, 40};
+  s.holder = {40, 50};
+  return Tool::tapered_ball_end_mill(s);
+}
+
+Tool ball(double r, double flute) {
+  BallEndMillSpec s;
+  s.radius_mm = r;
+  s.flute_length_mm = flute;
+  return Tool::ball_end_mill(s);
+}
+
+double distance_to_line(const Vec3& p, const ToolPose& pose) {
+  const Vec3 d = p - pose.tip;
+  return (d - d.dot(pose.axis) * pose.axis).norm();
+}
+
+TEST(FlankMilling, TaperedCutterRadiusGrowsBySinBetaAlongTheAxis) {
+  const FlankCutter c(tapered(3, 4, 60), 3);
+  for (double s : {0.0, 1.0, 10.0, 25.0, 50.0})
+    EXPECT_NEAR(c.radius_at(s), 3 + s * std::sin(deg_to_rad(4)), 1e-9) << s;
+  EXPECT_NEAR(c.flute_top_mm(), 57.0, 1e-9);
+  const FlankCutter b(ball(4, 30), 4);
+  EXPECT_NEAR(b.radius_at(12.0), 4.0, 1e-12);  // a ball end's side is a cylinder
+  EXPECT_THROW(FlankCutter(ball(4, 30), 3), ParameterError);
+}
+
+TEST(FlankMilling, AxisPassesThroughD1AndD2AndTheBallSitsOnTheHubOffset) {
+  const Impeller imp(builtin_impeller_definition());
+  const FlankCutter cutter(tapered(3, 3, 160), 3);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = imp.face(BladeKind::kMain, 0, side);
+    for (double v : {0.05, 0.3, 0.6, 0.95}) {
+      const FlankAxis ax = flank_axis(*face, v, &imp.hub(), cutter);
+      EXPECT_LT(distance_to_line(ax.d1, ax.pose), 1e-9);
+      EXPECT_LT(distance_to_line(ax.d2, ax.pose), 1e-9);
+      // D_i is the contact offset along the face normal by the cutter radius
+      // at that contact's own height (not a cylinder's radius).
+      EXPECT_NEAR((ax.d1 - ax.c1).norm(), 3 + ax.s1 * std::sin(deg_to_rad(3)), 1e-9);
+      EXPECT_NEAR((ax.d2 - ax.c2).norm(), cutter.radius_at(std::max(0.0, ax.s2)), 1e-9);
+      EXPECT_GT(ax.s1, 10.0);  // the shroud contact is well up the cone
+      EXPECT_NEAR(imp.hub().radial_offset(ax.ball_centre), 3.0, 1e-7);  // eq. 29–32
+      EXPECT_NEAR((ax.pose.tip + 3 * ax.pose.axis - ax.ball_centre).norm(), 0, 1e-12);
+      EXPECT_GT(ax.pose.axis.dot(ax.c1 - ax.c2), 0);  // towards the shroud
+    }
+  }
+}
+
+// On a developable ruled face the normal is constant along each ruling, so
+// the axis through D1, D2 is the ruling moved by the radius: a cylinder
+// leaves no residual. The face of a cone camber with constant thickness is
+// exactly developable (impeller_test).
+TEST(FlankMilling, CylinderOnADevelopableRuledFaceLeavesNoResidual) {
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30;
+    c.hub.push_back({Vec3(50 * std::cos(a), 50 * std::sin(a), 0), 1.0});
+    c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 40), 1.0});
+  }
+  const RuledBlade blade(c);
+  const FlankCutter cutter(ball(5, 80), 5);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = blade.face(side);
+    std::vector<FlankAxis> axes;
+    for (int j = 0; j <= 20; ++j) axes.push_back(flank_axis(*face, j / 20.0, nullptr, cutter));
+    const FlankResidual r = flank_residual(*face, axes, cutter, 25);
+    EXPECT_EQ(r.stats.samples, 21 * 25);
+    EXPECT_LT(r.stats.max_abs_mm, 1e-6) << "side " << int(side);
+  }
+}
+
+// A twisted ruled face (hyperbolic paraboloid): the normals turn along each
+// ruling, the axis through the two end offsets runs closer to the face in
+// between: the paper's "concave overcut" per pose (§7 (2)), zero at the ends.
+class TwistedFace : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = Vec3(60 * v, 30 * u, 30 * k * u * (v - 0.5));
+    d.pu = Vec3(0, 30, 30 * k * (v - 0.5));
+    d.pv = Vec3(60, 0, 30 * k * u);
+    d.puv = Vec3(0, 0, 30 * k);
+    return d;
+  }
+  double k = 0.4;
+};
+
+TEST(FlankMilling, TwistedRuledFaceIsOvercutInTheMiddleOfEachPose) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  std::vector<FlankAxis> axes;
+  for (double v : {0.1, 0.5, 0.9}) axes.push_back(flank_axis(face, v, nullptr, cutter));
+  const int n = 21;
+  const FlankResidual r = flank_residual(face, axes, cutter, n);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(r.at(a, 0), 0.0, 1e-6);
+    EXPECT_NEAR(r.at(a, n - 1), 0.0, 1e-6);
+    EXPECT_LT(r.at(a, n / 2), -1e-3) << "axis " << a;
+    for (int k = 1; k < n - 1; ++k) EXPECT_LT(r.at(a, k), 0.0);
+    // The middle value against brute force: distance from the axis point to
+    // a dense sample of the face, minus the radius.
+    const Vec3 p = axes[a].ball_centre + r.height_mm[a * n + n / 2] * axes[a].pose.axis;
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 600; ++i)
+      for (int j = 0; j <= 600; ++j) best = std::min(best, (face.point(i / 600.0, j / 600.0) - p).norm());
+    EXPECT_NEAR(r.at(a, n / 2), best - 5, 2e-3);
+  }
+  EXPECT_LT(r.stats.max_mm, 1e-6);
+  EXPECT_LT(r.stats.mean_mm, 0);
+}
+
+TEST(FlankMilling, StationsKeepBothBoundaryCurvesWithinTheChordTolerance) {
+  const Impeller imp(builtin_impeller_definition());
+  const auto face = imp.face(BladeKind::kMain, 0, CamberSide::kPlus);
+  StepOptions steps;
+  steps.chord_tol_mm = 0.005;
+  const std::vector<double> v = flank_stations(*face, steps);
+  ASSERT_GE(v.size(), 10u);
+  EXPECT_EQ(v.front(), 0.0);
+  EXPECT_EQ(v.back(), 1.0);
+  for (double u : {0.0, 1.0}) {
+    const IsoUCurve row(*face, u);
+    for (size_t i = 1; i < v.size(); ++i) EXPECT_LE(chord_deviation(row, v[i - 1], v[i]), 0.005 + 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// The interference loop: a small obstacle inside the holder of the untilted
+// poses near mid-chord. Those poses tilt (about the hub contact normal, so
+// the holder swings along the chord) until the holder clears it, or are
+// refused; nothing emitted collides, and every station is accounted for.
+TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30;
+    c.hub.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 0), 1.0});
+    c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 30), 1.0});
+  }
+  const RuledBlade blade(c);
+  const auto face = blade.face(CamberSide::kPlus);
+  const FlankCutter cutter(tapered(3, 2, 40), 3);
+  const ToolBody body(cutter.tool());
+  // Where the untilted holder's axis passes at mid-chord, 20 mm into the holder.
+  const FlankAxis mid = flank_axis(*face, 0.5, nullptr, cutter);
+  const Vec3 p = mid.pose.tip + (40 + 40 + 20) * mid.pose.axis;  // flutes 40, shank 40, then the holder
+  TriangleMesh obstacle;
+  obstacle.vertices = {p, p + Vec3(1, 0, 0), p + Vec3(0, 1, 0)};
+  obstacle.triangles = {{0, 1, 2}};
+  CollisionWorld world;
+  world.add("obstacle", obstacle);
+  FlankFaceRequest rq;
+  rq.face = face.get();
+  rq.cutter = &cutter;
+  rq.world = &world;
+  rq.body = &body;
+  rq.steps.chord_tol_mm = 0.05;
+  rq.max_tilt_rad = deg_to_rad(20);
+  rq.tilt_step_rad = deg_to_rad(2);
+  rq.residual_points = 5;
+  const FlankFacePlan plan = plan_flank_face(rq);
+  EXPECT_EQ(static_cast<int>(plan.axes.size() + plan.refusals.size()), plan.stations);
+  EXPECT_GT(plan.tilted, 0);
+  for (size_t i = 0; i < plan.axes.size(); ++i) {
+    EXPECT_TRUE(world.check(body, plan.axes[i].pose, Clearances{}).clear) << i;
+    if (i > 0) EXPECT_TRUE(world.check_motion(body, plan.axes[i - 1].pose, plan.axes[i].pose, Clearances{}).clear) << i;
+  }
+  for (const FlankRefusal& r : plan.refusals) EXPECT_NE(r.reason.find("obstacle"), std::string::npos) << r.reason;
+  // A tilted axis keeps its ball centre and stays in the tangent plane at the hub contact.
+  for (size_t i = 0; i < plan.axes.size(); ++i) {
+    if (plan.tilt_rad[i] == 0) continue;
+    const FlankAxis& a = plan.axes[i];
+    EXPECT_NEAR((a.pose.tip + 3 * a.pose.axis - a.ball_centre).norm(), 0, 1e-9);
+    EXPECT_NEAR(a.pose.axis.dot(a.n2), flank_axis(*face, a.v, nullptr, cutter).pose.axis.dot(a.n2), 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun
+
+#include "core/sim/undercut.h"
+
+namespace bliskrun {
+namespace {
+
+// The independent undercut simulation (core/sim: normal lines of the design
+// face cut by the swept tool) agrees with the residual along the axes on the
+// same plan: on the twisted face the deepest overcut the simulation finds
+// over the dense pass (201 poses, swept between them) is the deepest residual
+// along the axes, within 5 %.
+TEST(FlankMilling, UndercutSimulationAgreesWithTheAxisResidual) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  std::vector<FlankAxis> axes;
+  ToolPass pass;
+  for (int j = 0; j <= 200; ++j) {
+    axes.push_back(flank_axis(face, j / 200.0, nullptr, cutter));
+    pass.push_back(axes.back().pose);
+  }
+  const FlankResidual r = flank_residual(face, axes, cutter, 41);
+  UndercutOptions o;
+  o.samples_u = 41;
+  o.samples_v = 201;
+  o.u0 = 0.1;
+  o.u1 = 0.9;
+  o.v0 = 0.2;
+  o.v1 = 0.8;
+  o.search_above_mm = 0.5;
+  o.search_below_mm = 0.5;
+  o.sweep_step_mm = 0.02;
+  const UndercutResult sim = simulate_undercut(face, cutter.tool(), {pass}, o);
+  EXPECT_EQ(sim.untouched, 0);
+  // Deepest residual over the axes inside the same window.
+  double deepest = 0;
+  for (int a = 0; a < r.axes; ++a) {
+    if (axes[a].v < 0.2 || axes[a].v > 0.8) continue;
+    for (int k = 0; k < r.points; ++k) deepest = std::min(deepest, r.at(a, k));
+  }
+  EXPECT_LT(deepest, -0.01);
+  EXPECT_NEAR(sim.overcut_mm, deepest, 0.05 * std::abs(deepest)) << "sim " << sim.overcut_mm << " axes " << deepest;
+}
+
+}  // namespace
+}  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// Balancing each axis on the twisted face turns the concave overcut into a
+// band centred on zero: the largest error halves (before/after reported).
+TEST(FlankMilling, BalancedAxesHalveTheResidualOnATwistedFace) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  FlankFaceRequest rq;
+  rq.face = &face;
+  rq.cutter = &cutter;
+  rq.steps.chord_tol_mm = 0.05;
+  rq.residual_points = 21;
+  rq.balance_residual = true;
+  const FlankFacePlan plan = plan_flank_face(rq);
+  ASSERT_GT(plan.axes.size(), 3u);
+  EXPECT_EQ(plan.balanced, static_cast<int>(plan.axes.size()));
+  const ResidualStats& before = plan.residual_unbalanced;
+  const ResidualStats& after = plan.residual.stats;
+  EXPECT_LT(before.max_mm, 1e-6);  // concave overcut only
+  EXPECT_LT(before.min_mm, -0.01);
+  EXPECT_LT(after.max_abs_mm, 0.55 * before.max_abs_mm);
+  EXPECT_GT(after.max_mm, 0.4 * after.max_abs_mm);  // undercut at the ends, overcut mid-ruling
+  EXPECT_LT(after.min_mm, -0.4 * after.max_abs_mm);
+}
+
+}  // namespace
+}  // namespace bliskrun
