@@ -11,6 +11,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/xml_escape.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -21,20 +22,6 @@ namespace {
 
 using luax::Field;
 using luax::Kind;
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string base64(const std::string& bytes) {
   static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -65,7 +52,7 @@ std::string cell(lua_State* L, int idx) {
     return buf;
   }
   if (lua_type(L, idx) == LUA_TBOOLEAN) return lua_toboolean(L, idx) ? "yes" : "no";
-  if (lua_type(L, idx) == LUA_TSTRING) return escape(lua_tostring(L, idx));
+  if (lua_type(L, idx) == LUA_TSTRING) return xml_escape(lua_tostring(L, idx));
   if (lua_isnil(L, idx)) return "";
   throw ParameterError("table", "expected numbers, strings or booleans in the cells");
 }
@@ -146,18 +133,18 @@ int w_report(lua_State* L) {
            Field{"caption", Kind::String, false, std::nullopt, std::nullopt, "under the chart or picture", {}}});
       const std::string id = "s" + std::to_string(k);
       const std::string heading = s.string("title", "");
-      toc += "<li><a href=\"#" + id + "\">" + escape(heading) + "</a></li>\n";
-      body += "<section id=\"" + id + "\">\n<h2>" + escape(heading) + "</h2>\n";
+      toc += "<li><a href=\"#" + id + "\">" + xml_escape(heading) + "</a></li>\n";
+      body += "<section id=\"" + id + "\">\n<h2>" + xml_escape(heading) + "</h2>\n";
       if (s.has("text")) {
         s.push_raw("text");
         if (lua_type(L, -1) == LUA_TSTRING) {
-          body += "<p>" + escape(lua_tostring(L, -1)) + "</p>\n";
+          body += "<p>" + xml_escape(lua_tostring(L, -1)) + "</p>\n";
         } else if (lua_istable(L, -1)) {
           for (lua_Integer p = 1; p <= static_cast<lua_Integer>(lua_rawlen(L, -1)); ++p) {
             lua_geti(L, -1, p);
             if (lua_type(L, -1) != LUA_TSTRING)
               throw ParameterError(where + ".text[" + std::to_string(p) + "]", "expected a string");
-            body += "<p>" + escape(lua_tostring(L, -1)) + "</p>\n";
+            body += "<p>" + xml_escape(lua_tostring(L, -1)) + "</p>\n";
             lua_pop(L, 1);
           }
         } else {
@@ -171,7 +158,7 @@ int w_report(lua_State* L) {
         lua_pop(L, 1);
       }
       const std::string caption =
-          s.has("caption") ? "<figcaption>" + escape(s.string("caption", "")) + "</figcaption>\n" : "";
+          s.has("caption") ? "<figcaption>" + xml_escape(s.string("caption", "")) + "</figcaption>\n" : "";
       if (s.has("svg")) {
         std::string svg = s.string("svg", "");
         if (svg.rfind("<?xml", 0) == 0) svg.erase(0, svg.find("?>") + 2);  // a declaration may not sit inside HTML
@@ -188,16 +175,16 @@ int w_report(lua_State* L) {
         bytes << in.rdbuf();
         if (bytes.str().compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
           throw ParameterError(where + ".image", "expected a PNG file, '" + name + "' is not one");
-        body += "<figure>\n<img alt=\"" + escape(name) + "\" src=\"data:image/png;base64," + base64(bytes.str()) +
+        body += "<figure>\n<img alt=\"" + xml_escape(name) + "\" src=\"data:image/png;base64," + base64(bytes.str()) +
                 "\">\n" + caption + "</figure>\n";
       }
       body += "</section>\n";
       lua_pop(L, 1);
     }
     std::string page = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
-                       escape(title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" +
-                       escape(title) + "</h1>\n";
-    if (o.has("subtitle")) page += "<p class=\"meta\">" + escape(o.string("subtitle", "")) + "</p>\n";
+                       xml_escape(title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" +
+                       xml_escape(title) + "</h1>\n";
+    if (o.has("subtitle")) page += "<p class=\"meta\">" + xml_escape(o.string("subtitle", "")) + "</p>\n";
     page += "<nav>\n<h2>Contents</h2>\n<ol>\n" + toc + "</ol>\n</nav>\n" + body + "</body>\n</html>\n";
     write_file_atomic(path, page);
     lua_pushstring(L, path.c_str());

@@ -6,6 +6,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/xml_escape.h"
 
 namespace bliskrun {
 
@@ -26,20 +27,6 @@ std::string fmt(const char* f, double x) {
   char buf[64];
   std::snprintf(buf, sizeof buf, f, x);
   return buf;
-}
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 void check(const HeatMap& map, const HeatMapOptions& o) {
@@ -101,7 +88,7 @@ std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
   out += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt("%.0f", total_w) +
          "\" height=\"" + fmt("%.0f", total_h) + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   out += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  out += "<text x=\"" + fmt("%.1f", left) + "\" y=\"24\" font-size=\"15\">" + escape(o.title) +
+  out += "<text x=\"" + fmt("%.1f", left) + "\" y=\"24\" font-size=\"15\">" + xml_escape(o.title) +
          "</text>\n";
   out += "<g shape-rendering=\"crispEdges\">\n";
   // Row i (u) from the bottom; runs of equal colour along v merged.
@@ -148,10 +135,10 @@ std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
     out += "<text x=\"" + fmt("%.1f", bar_x + bar_w + 4) + "\" y=\"" +
            fmt("%.1f", top + H - f * H + 4) + "\">" + fmt("%.3e", value) + "</text>\n";
   out += "<text x=\"" + fmt("%.1f", bar_x) + "\" y=\"" + fmt("%.1f", top - 8) + "\">" +
-         escape(o.value_label) + "</text>\n";
+         xml_escape(o.value_label) + "</text>\n";
   if (!o.footer.empty())
     out += "<text x=\"" + fmt("%.1f", left) + "\" y=\"" + fmt("%.1f", top + H + 54) + "\">" +
-           escape(o.footer) + "</text>\n";
+           xml_escape(o.footer) + "</text>\n";
   out += "</svg>\n";
   return out;
 }

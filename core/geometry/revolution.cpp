@@ -8,6 +8,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
+#include "core/geometry/root_find.h"
 
 namespace bliskrun {
 
@@ -99,23 +100,7 @@ SurfaceCurveOnSurface intersect_with_revolution(const Surface& s, const SurfaceO
       const double u = static_cast<double>(i) / kBracket;
       const double gu = g(u);
       if ((prev_g <= 0) != (gu <= 0)) {
-        // Refine: Illinois-modified regula falsi, then bisection safety.
-        double a = prev_u, b = u, ga = prev_g, gb = gu;
-        for (int it = 0; it < 100 && b - a > 1e-13; ++it) {
-          double m = (a * gb - b * ga) / (gb - ga);
-          if (!(m > a && m < b)) m = 0.5 * (a + b);
-          const double gm = g(m);
-          if ((gm <= 0) == (ga <= 0)) {
-            a = m;
-            ga = gm;
-            gb *= 0.5;
-          } else {
-            b = m;
-            gb = gm;
-            ga *= 0.5;
-          }
-        }
-        const double root = 0.5 * (a + b);
+        const double root = illinois_root(g, prev_u, u, prev_g, gu, 1e-13, 100);
         out.u.push_back(root);
         out.v.push_back(v);
         out.points.push_back(s.point(root, v));

@@ -5,6 +5,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/xml_escape.h"
 
 namespace bliskrun {
 
@@ -14,20 +15,6 @@ void append_number(std::string& out, double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", x);
   out += buf;
-}
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
 }
 
 // Comments may not contain "--".
@@ -94,7 +81,7 @@ std::string vtp_xml(const VtkPolyData& d) {
   if (!d.point_data.empty()) {
     out += "      <PointData>\n";
     for (const VtkPointArray& a : d.point_data) {
-      out += "        <DataArray type=\"Float64\" Name=\"" + escape(a.name) + "\" NumberOfComponents=\"" +
+      out += "        <DataArray type=\"Float64\" Name=\"" + xml_escape(a.name) + "\" NumberOfComponents=\"" +
              std::to_string(a.components) + "\" format=\"ascii\">\n         ";
       for (double x : a.values) {
         out += ' ';
@@ -148,8 +135,8 @@ void write_vtp(const VtkPolyData& data, const std::string& path) { write_file_at
 void write_pvd(const std::vector<std::pair<std::string, std::string>>& blocks, const std::string& path) {
   std::string out = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n  <Collection>\n";
   for (size_t i = 0; i < blocks.size(); ++i)
-    out += "    <DataSet timestep=\"0\" part=\"" + std::to_string(i) + "\" name=\"" + escape(blocks[i].first) +
-           "\" file=\"" + escape(blocks[i].second) + "\"/>\n";
+    out += "    <DataSet timestep=\"0\" part=\"" + std::to_string(i) + "\" name=\"" + xml_escape(blocks[i].first) +
+           "\" file=\"" + xml_escape(blocks[i].second) + "\"/>\n";
   out += "  </Collection>\n</VTKFile>\n";
   write_file_atomic(path, out);
 }

@@ -9,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/geometry/projection.h"
+#include "core/geometry/root_find.h"
 
 namespace bliskrun {
 
@@ -31,22 +32,7 @@ std::optional<double> meet_hub_offset(const SurfaceOfRevolution& hub, double r, 
       if (step == 0.25) a0 = 0;
       double ga = a0 == 0 ? g0 : g(a0), gb = g(b0);
       if ((ga > 0) == (gb > 0)) continue;
-      for (int it = 0; it < 200 && std::abs(b0 - a0) > 1e-12; ++it) {
-        double m = (a0 * gb - b0 * ga) / (gb - ga);
-        if (!(m > std::min(a0, b0) && m < std::max(a0, b0))) m = 0.5 * (a0 + b0);
-        const double gm = g(m);
-        if (gm == 0) return m;
-        if ((gm > 0) == (ga > 0)) {
-          a0 = m;
-          ga = gm;
-          gb *= 0.5;
-        } else {
-          b0 = m;
-          gb = gm;
-          ga *= 0.5;
-        }
-      }
-      return 0.5 * (a0 + b0);
+      return illinois_root(g, a0, b0, ga, gb, 1e-12);
     }
   }
   return std::nullopt;
@@ -59,21 +45,7 @@ double hub_parameter(const Surface& face, double v, const SurfaceOfRevolution& h
   auto g = [&](double u) { return hub.radial_offset(face.point(u, v)); };
   double a = -0.5, b = 0.5, ga = g(a), gb = g(b);
   if ((ga > 0) == (gb > 0)) return 0.0;
-  for (int it = 0; it < 200 && b - a > 1e-14; ++it) {
-    double m = (a * gb - b * ga) / (gb - ga);
-    if (!(m > a && m < b)) m = 0.5 * (a + b);
-    const double gm = g(m);
-    if ((gm > 0) == (ga > 0)) {
-      a = m;
-      ga = gm;
-      gb *= 0.5;
-    } else {
-      b = m;
-      gb = gm;
-      ga *= 0.5;
-    }
-  }
-  return 0.5 * (a + b);
+  return illinois_root(g, a, b, ga, gb, 1e-14);
 }
 
 }  // namespace
