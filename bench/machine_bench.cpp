@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/machine/robot.h"
 #include "core/machine/verify.h"
 #include "lua_api/machine_host.h"
 
@@ -89,6 +90,29 @@ void BM_PostAndVerify(benchmark::State& state) {
 }
 BENCHMARK(BM_PostAndVerify)->Args({10000, 0})->Args({10000, 1})->Args({100000, 0})->Args({100000, 1})
     ->Unit(benchmark::kMillisecond);
+
+
+// Six-axis arm (issue 15 item 8: IK <= 5 us per pose, all branches): every
+// solution of a pose on a KUKA KR 120-class arm, poses from random joints.
+void BM_RobotInverseAllBranches(benchmark::State& state) {
+  RobotArm arm;
+  arm.geometry = {.a1_mm = 350, .a2_mm = -41, .b_mm = 0, .c1_mm = 675, .c2_mm = 1150, .c3_mm = 1200, .c4_mm = 215};
+  std::mt19937 rng(3);
+  std::vector<Frame> poses;
+  for (int n = 0; n < 1024; ++n) {
+    JointAngles q;
+    for (double& v : q) v = std::uniform_real_distribution<double>(-2.0, 2.0)(rng);
+    poses.push_back(robot_forward(arm, q));
+  }
+  size_t k = 0, solutions = 0;
+  for (auto _ : state) {
+    const auto s = robot_inverse(arm, poses[k++ % poses.size()]);
+    solutions += s.size();
+    benchmark::DoNotOptimize(s);
+  }
+  state.counters["solutions_per_pose"] = static_cast<double>(solutions) / state.iterations();
+}
+BENCHMARK(BM_RobotInverseAllBranches)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace bliskrun
