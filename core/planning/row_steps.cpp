@@ -102,6 +102,9 @@ RowSteps plan_row_steps(const Curve& row, const StepOptions& options) {
     throw ParameterError("max_step", "needs 0 < min_step < max_step");
   const double tol = options.chord_tol_mm;
   const bool guarantee = options.guarantee_tolerance || options.method == ChordMethod::Variable;
+  // A step computed for exactly the tolerance measures it to rounding: not a
+  // reason to halve it.
+  const double tol_measured = tol * (1 + 1e-9);
 
   RowSteps out;
   double t = row.t_min();
@@ -114,6 +117,9 @@ RowSteps plan_row_steps(const Curve& row, const StepOptions& options) {
     double step;
     if (options.method == ChordMethod::Constant) {
       step = step_for_chord_height(tol, k, options.max_step_mm);
+    } else if (options.method == ChordMethod::LargerCurvature) {
+      const double t_pred = parameter_at_chord(row, t, step_for_chord_height(tol, k, options.max_step_mm));
+      step = step_for_chord_height(tol, std::max(k, curve_curvature(row, t_pred)), options.max_step_mm);
     } else {
       // Eq. 18 with the curvature at the point the current delta predicts.
       const double t_pred = parameter_at_chord(row, t, step_for_chord_height(delta, k, options.max_step_mm));
@@ -123,7 +129,7 @@ RowSteps plan_row_steps(const Curve& row, const StepOptions& options) {
     }
     double t_next = parameter_at_chord(row, t, step);
     double dev = chord_deviation(row, t, t_next);
-    while (guarantee && dev > tol) {
+    while (guarantee && dev > tol_measured) {
       step *= 0.5;
       ++out.halvings;
       if (step < options.min_step_mm)

@@ -59,7 +59,10 @@ double curve_curvature(const Curve& c, double t);
 // curvature.
 double chord_deviation(const Curve& c, double t0, double t1);
 
-enum class ChordMethod { Constant, Variable };
+//  - Larger curvature (belt paper §2.3, eq. 6): predict the next point with
+//    the current curvature, take the larger of the current and the predicted
+//    point's curvature, and recompute the step with it.
+enum class ChordMethod { Constant, Variable, LargerCurvature };
 
 struct StepOptions {
   ChordMethod method = ChordMethod::Variable;
@@ -77,6 +80,20 @@ struct RowSteps {
   int halvings = 0;                  // steps shortened by the guarantee
 };
 
+// Steps from row.t_min() to row.t_max(); the last point is t_max().
 RowSteps plan_row_steps(const Curve& row, const StepOptions& options);
+
+// The part [t0, t1] of a curve, as a curve (a path trimmed at its ends).
+class CurveSpan : public Curve {
+ public:
+  CurveSpan(const Curve& c, double t0, double t1) : c_(c), t0_(t0), t1_(t1) {}
+  CurveDerivs eval(double t) const override { return c_.eval(t); }
+  double t_min() const override { return t0_; }
+  double t_max() const override { return t1_; }
+
+ private:
+  const Curve& c_;
+  double t0_, t1_;
+};
 
 }  // namespace bliskrun
