@@ -21,6 +21,7 @@ void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics, p
 void open_report(lua_State* L);     // wrap_report.cpp: report (one HTML page per run)
 void open_vtk(lua_State* L);        // wrap_vtk.cpp: write_vtk (ParaView collection)
 void open_flank(lua_State* L);      // wrap_flank.cpp: flank_mill (ruled faces: impeller flank finishing)
+void open_belt(lua_State* L);       // wrap_belt.cpp: belt_paths (contact-wheel paths for robotic belt grinding)
 void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish (blade LE/TE with a flat-end bottom)
 
 // Registers everything into a new global table `bliskrun`.

@@ -242,7 +242,7 @@ BeltPlan plan_belt_paths(const Surface& face, const ContactWheel& wheel, const B
       // The formulas are approximations: shorten a step-over whose measured
       // scallop exceeds h (the scallop grows with the square of the step).
       while (o.guarantee && scallop > o.scallop_mm) {
-        next = across + (next - across) * std::min(0.95, std::sqrt(o.scallop_mm / scallop));
+        next = across + (next - across) * 0.995 * std::sqrt(o.scallop_mm / scallop);
         ++plan.step_over_shrinks;
         if (next - across < 1e-9) throw Error("belt paths: the scallop height cannot be met at " + where(f, across, 0.5));
         scallop = path_scallop(f, wheel.radius_mm, path, next, o.scallop_samples);

@@ -1,0 +1,47 @@
+// scripts/recipes/blade_belt_grinding.lua on the built-in blade: three
+// stations on both flanks, each within its measured chord error and scallop,
+// the number of paths following the step-over formula station to station.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/planning/belt_paths.h"
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolerances) {
+  TempDir dir;
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_belt_grinding.lua",
+                                       "--out", dir.path(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir.path() + "/blade_belt_grinding.json");
+  ASSERT_TRUE(in.good());
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["stations"].size(), 3u);
+  for (const char* side : {"pressure", "suction"}) {
+    // The flank is nearly flat across the paths (span-wise): paths are about
+    // one flat step-over 2√(2rh) apart, so (paths - 1) · L spans the same
+    // blade height at every station.
+    std::vector<double> spans;
+    for (const auto& st : j["stations"]) {
+      const auto& f = st["flanks"][side];
+      EXPECT_LE(f["chord_max"].get<double>(), st["chord_tol"].get<double>() * (1 + 1e-9)) << side;
+      EXPECT_LE(f["scallop_max"].get<double>(), st["scallop"].get<double>() * (1 + 1e-9)) << side;
+      EXPECT_GT(f["scallop_max"].get<double>(), 0.9 * st["scallop"].get<double>()) << side;  // not wasteful
+      const double step = belt_step_over(st["scallop"].get<double>(), st["wheel"]["radius"].get<double>(), 0);
+      spans.push_back((f["paths"].get<int>() - 1) * step);
+      EXPECT_EQ(f["path"].size(), f["paths"].get<size_t>());
+      // Every path trimmed by half the wheel width at both ends.
+      const auto& first = f["path"][0];
+      EXPECT_GT(first["length"].get<double>(), 10.0);
+    }
+    for (double s : spans) EXPECT_NEAR(s, spans[1], 2.5) << side;  // ~31 mm of blade height
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun::test
