@@ -1,0 +1,190 @@
+#include "core/machine/robot_cell.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+namespace {
+
+bool orthonormal(const Mat3& r) {
+  return (r.transpose() * r - Mat3::Identity()).norm() < 1e-9 && r.determinant() > 0;
+}
+
+// Blade-frame basis at a contact: tangent, normal x tangent, normal.
+Mat3 contact_basis(const BladeContact& c, bool turned) {
+  const Vec3 n = c.normal.normalized();
+  Vec3 t = (c.tangent - c.tangent.dot(n) * n).normalized();
+  if (turned) t = -t;
+  Mat3 b;
+  b.col(0) = t;
+  b.col(1) = n.cross(t);
+  b.col(2) = n;
+  return b;
+}
+
+}  // namespace
+
+void RobotCell::validate() const {
+  arm.validate();
+  if (!orthonormal(grip.linear())) throw ParameterError("grip", "expected a rotation (orthonormal, right-handed)");
+  for (int i = 0; i < 6; ++i)
+    if (home[i] < arm.joints[i].min_rad || home[i] > arm.joints[i].max_rad)
+      throw ParameterError("home[" + std::to_string(i + 1) + "]", "expected a joint value within the limits");
+  if (stations.empty()) throw ParameterError("stations", "expected at least one belt station");
+  for (const BeltStation& s : stations) {
+    const std::string key = "stations." + s.name;
+    if (!orthonormal(s.contact.linear()))
+      throw ParameterError(key + ".frame", "expected the wheel axis and normal at right angles");
+    if (!(s.wheel_radius_mm > 0)) throw ParameterError(key + ".wheel.radius", "expected a radius > 0 in mm");
+    if (!(s.wheel_width_mm > 0)) throw ParameterError(key + ".wheel.width", "expected a width > 0 in mm");
+  }
+}
+
+const BeltStation& RobotCell::station(const std::string& station_name) const {
+  std::string known;
+  for (const BeltStation& s : stations) {
+    if (s.name == station_name) return s;
+    known += (known.empty() ? "" : ", ") + s.name;
+  }
+  throw ParameterError("station", "no station '" + station_name + "' in " + name + " (it has " + known + ")");
+}
+
+Frame flange_for_contact(const RobotCell& cell, const BeltStation& station, const BladeContact& c, bool turned) {
+  // The station's basis at the contact: wheel axis, (-N) x axis, -N — the
+  // part's normal points into the wheel.
+  const Vec3 axis = station.contact.linear().col(0), out = station.contact.linear().col(2);
+  Mat3 s;
+  s.col(0) = axis;
+  s.col(1) = (-out).cross(axis);
+  s.col(2) = -out;
+  Frame blade_in_base = Frame::Identity();  // base <- blade
+  blade_in_base.linear() = s * contact_basis(c, turned).transpose();
+  blade_in_base.translation() = station.contact.translation() - blade_in_base.linear() * c.point;
+  return blade_in_base * cell.grip.inverse();
+}
+
+BladeContact contact_in_base(const RobotCell& cell, const Frame& flange, const BladeContact& c) {
+  const Frame blade_in_base = flange * cell.grip;
+  return {blade_in_base * c.point, blade_in_base.linear() * c.normal, blade_in_base.linear() * c.tangent};
+}
+
+namespace {
+
+struct Trial {
+  std::vector<RobotMove> moves;
+  int branch_changes = 0;
+  double seconds = 0;
+  bool ok = true;
+  std::string reason;
+};
+
+// One move: the flange for the contact offset `offset` away from the wheel,
+// solved from the previous joints.
+bool solve_move(const RobotCell& cell, const BeltStation& station, const BladeContact& c, double offset, bool turned,
+                JointAngles& q, int& branch, Trial& trial, RobotMove& move) {
+  BladeContact at = c;
+  // The point `offset` out of the material along the normal is put on the
+  // wheel, so the contact itself lies `offset` off the wheel, along its normal.
+  at.point = c.point + offset * c.normal.normalized();
+  const Frame flange = flange_for_contact(cell, station, at, turned);
+  RobotIkOptions ik;
+  ik.previous = q;
+  const auto solutions = robot_inverse(cell.arm, flange, ik);
+  const auto chosen = robot_choose(cell.arm, solutions, q, branch);
+  if (!chosen) {
+    trial.ok = false;
+    if (solutions.empty()) {
+      trial.reason = "out of the arm's reach";
+    } else {
+      const RobotSolution& s = solutions.front();
+      trial.reason = "joint " + std::to_string(s.violated_joint + 1) + " would need " +
+                     std::to_string(rad_to_deg(s.violated_value_rad)) + " deg, beyond its limits";
+    }
+    return false;
+  }
+  if (branch >= 0 && chosen->branch != branch) ++trial.branch_changes;
+  trial.seconds += robot_joint_move_time(cell.arm, q, chosen->joints);
+  move.joints = chosen->joints;
+  move.branch = chosen->branch;
+  move.wrist_singular = chosen->wrist_singular;
+  move.turned = turned;
+  move.contact = c;
+  move.offset_mm = offset;
+  q = chosen->joints;
+  branch = chosen->branch;
+  return true;
+}
+
+}  // namespace
+
+RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& station,
+                                      const std::vector<std::vector<BladeContact>>& paths,
+                                      const RobotGrindingOptions& o) {
+  if (!(o.feed_mm_s > 0)) throw ParameterError("feed", "expected a contact speed > 0 in mm/s");
+  if (!(o.link_feed_mm_s > 0)) throw ParameterError("link_feed", "expected a speed > 0 in mm/s");
+  if (!(o.retract_mm > 0)) throw ParameterError("retract", "expected a lift-off > 0 in mm");
+  RobotGrindingPlan plan;
+  JointAngles q = o.start;
+  int branch = -1;
+  for (size_t k = 0; k < paths.size(); ++k) {
+    const std::vector<BladeContact>& path = paths[k];
+    if (path.empty()) continue;
+    Trial best;
+    best.ok = false;
+    std::string reasons;
+    for (bool turned : {false, true}) {
+      Trial trial;
+      JointAngles tq = q;
+      int tb = branch;
+      // Approach the first point from off the wheel, grind, lift off.
+      for (size_t i = 0; i <= path.size() + 1 && trial.ok; ++i) {
+        const bool approach = i == 0, lift = i == path.size() + 1;
+        const BladeContact& c = path[approach ? 0 : lift ? path.size() - 1 : i - 1];
+        RobotMove m;
+        if (!solve_move(cell, station, c, approach || lift ? o.retract_mm : 0.0, turned, tq, tb, trial, m)) break;
+        m.link = approach || lift;
+        m.path = static_cast<int>(k);
+        m.feed_mm_s = m.link ? o.link_feed_mm_s : o.feed_mm_s;
+        trial.moves.push_back(m);
+      }
+      if (!trial.ok) {
+        reasons += std::string(reasons.empty() ? "" : "; ") + (turned ? "turned: " : "as is: ") + trial.reason;
+        continue;
+      }
+      if (!best.ok || trial.branch_changes < best.branch_changes ||
+          (trial.branch_changes == best.branch_changes && trial.seconds < best.seconds))
+        best = std::move(trial);
+    }
+    if (!best.ok) {
+      plan.refusals.push_back("path " + std::to_string(k + 1) + ": " + reasons);
+      continue;
+    }
+    ++plan.paths;
+    if (best.moves.front().turned) ++plan.turned_paths;
+    for (RobotMove& m : best.moves) {
+      // Joint speed for the move into m at its feed (contact distance over
+      // the feed; the approach comes from wherever the last path ended).
+      if (!plan.moves.empty()) {
+        const RobotMove& p = plan.moves.back();
+        const Vec3 from = p.contact.point + p.offset_mm * p.contact.normal.normalized();
+        const Vec3 to = m.contact.point + m.offset_mm * m.contact.normal.normalized();
+        const double dt = std::max((to - from).norm(), 1e-3) / m.feed_mm_s;
+        for (int j = 0; j < 6; ++j)
+          m.joint_speed_ratio = std::max(
+              m.joint_speed_ratio, std::abs(m.joints[j] - p.joints[j]) / dt / cell.arm.joints[j].max_speed_rad_s);
+        if (m.branch != p.branch) ++plan.branch_changes;
+      }
+      plan.max_joint_speed_ratio = std::max(plan.max_joint_speed_ratio, m.joint_speed_ratio);
+      if (m.wrist_singular) ++plan.singular_moves;
+      plan.moves.push_back(m);
+    }
+    q = plan.moves.back().joints;
+    branch = plan.moves.back().branch;
+  }
+  return plan;
+}
+
+}  // namespace bliskrun

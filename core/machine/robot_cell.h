@@ -1,0 +1,97 @@
+#pragma once
+// A belt-grinding robot cell (belt paper §1, SPEC §6.3): a six-axis arm
+// holding the blade in its gripper, and fixed belt stations whose contact
+// wheels the blade is pressed against. The program moves the *part*: for a
+// contact point p on the blade (blade frame, normal n out of the material,
+// path tangent t) the flange is placed so that p lies on the wheel's contact
+// point, n points into the wheel and t lies along the wheel's axis (the
+// wheel's width along the path, core/planning/belt_paths.h). The one free
+// choice left — t along or against the wheel axis, the part turned 180°
+// about the normal — is made per path for reach, limits and continuity.
+#include <string>
+#include <vector>
+
+#include "core/machine/robot.h"
+
+namespace bliskrun {
+
+struct BeltStation {
+  std::string name;
+  // Base <- station: origin on the wheel's surface where it touches the part,
+  // z the wheel's outward normal there (towards the part), x the wheel axis.
+  Frame contact = Frame::Identity();
+  double wheel_radius_mm = 0;
+  double wheel_width_mm = 0;
+  std::string belt;            // "ceramic, 120 grit"
+  double belt_speed_m_s = 0;
+};
+
+struct RobotCell {
+  std::string name;
+  RobotArm arm;
+  Frame grip = Frame::Identity();  // flange <- blade: where the gripper holds the part
+  JointAngles home{};              // joints the program starts from and returns to
+  std::vector<BeltStation> stations;
+  // Throws ParameterError naming the field (the arm's, a station's frame not
+  // orthonormal, a wheel size <= 0).
+  void validate() const;
+  const BeltStation& station(const std::string& name) const;  // ParameterError("station") if absent
+};
+
+// A contact on the blade, blade frame: point, unit normal out of the
+// material (towards the wheel), unit path tangent.
+struct BladeContact {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 tangent = Vec3::UnitX();
+};
+
+// The flange frame that puts `c` on the station's wheel; `turned` turns the
+// part 180° about the normal (t against the wheel axis).
+Frame flange_for_contact(const RobotCell& cell, const BeltStation& station, const BladeContact& c, bool turned);
+
+// Where the contact point of the blade is, and its normal, for a flange
+// frame (the inverse of flange_for_contact, for replaying programs).
+BladeContact contact_in_base(const RobotCell& cell, const Frame& flange, const BladeContact& c);
+
+struct RobotMove {
+  JointAngles joints{};
+  int branch = 0;
+  bool wrist_singular = false;
+  bool turned = false;
+  int path = -1;              // -1 on links
+  bool link = false;          // away from the wheel (retract, traverse, approach)
+  BladeContact contact;       // blade frame; on links the contact this move is offset from
+  double offset_mm = 0;       // along the normal away from the wheel (links)
+  double feed_mm_s = 0;       // along the path at the contact
+  double joint_speed_ratio = 0;  // largest |dq/dt| / max speed over the joints for the move into this one
+};
+
+struct RobotGrindingOptions {
+  double feed_mm_s = 20;        // contact speed along the path
+  double link_feed_mm_s = 200;  // traverses between paths, away from the wheel
+  double retract_mm = 10;       // lift off the wheel along the normal between paths
+  JointAngles start{};          // joints before the first move (the cell's home)
+};
+
+struct RobotGrindingPlan {
+  std::vector<RobotMove> moves;
+  int paths = 0;
+  int turned_paths = 0;          // paths ground with the part turned 180° about the normal
+  int branch_changes = 0;        // between consecutive moves (0 is what a smooth program has)
+  int singular_moves = 0;
+  double max_joint_speed_ratio = 0;  // > 1: a joint would have to move faster than it can
+  std::vector<std::string> refusals;  // paths no choice could reach within the limits
+};
+
+// Every path of contacts (blade frame) on one station: per path the turn
+// that keeps every point within the joint limits with the least joint
+// motion and no branch change, solved point by point with continuity;
+// between paths a retract along the normal, a traverse and an approach.
+// A path that no choice reaches is refused (named in `refusals`) and not
+// emitted.
+RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& station,
+                                      const std::vector<std::vector<BladeContact>>& paths,
+                                      const RobotGrindingOptions& options);
+
+}  // namespace bliskrun

@@ -1,0 +1,100 @@
+#include "core/machine/robot_cell.h"
+
+#include <gtest/gtest.h>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+namespace {
+
+// A KR 120-class arm, one wheel 1.7 m in front of it at table height, its
+// normal facing the robot and its axis horizontal; the blade held 150 mm out
+// along the flange's z axis.
+RobotCell test_cell() {
+  RobotCell cell;
+  cell.name = "test cell";
+  RobotArm& arm = cell.arm;
+  arm.geometry = {.a1_mm = 350, .a2_mm = -41, .b_mm = 0, .c1_mm = 675, .c2_mm = 1150, .c3_mm = 1200, .c4_mm = 215};
+  const double lo[6] = {-185, -140, -120, -350, -125, -350}, hi[6] = {185, -5, 168, 350, 125, 350};
+  for (int i = 0; i < 6; ++i) {
+    arm.joints[i].min_rad = deg_to_rad(lo[i]);
+    arm.joints[i].max_rad = deg_to_rad(hi[i]);
+    arm.joints[i].max_speed_rad_s = deg_to_rad(120);
+  }
+  arm.joints[1].zero_rad = kPi / 2;  // KUKA: A2 = -90 deg stands the upper arm up
+  for (int i : {0, 3, 5}) arm.joints[i].sign = -1;
+  cell.home = {0, deg_to_rad(-90), deg_to_rad(90), 0, deg_to_rad(30), 0};
+  cell.grip.translation() = Vec3(0, 0, 150);
+  BeltStation s;
+  s.name = "fine";
+  s.contact.linear().col(0) = Vec3(0, 1, 0);   // wheel axis
+  s.contact.linear().col(1) = Vec3(0, 0, 1);
+  s.contact.linear().col(2) = Vec3(-1, 0, 0);  // outward normal, towards the robot
+  s.contact.translation() = Vec3(1700, 0, 900);
+  s.wheel_radius_mm = 20;
+  s.wheel_width_mm = 10;
+  cell.stations.push_back(s);
+  return cell;
+}
+
+// A row of contacts on a flat 60 mm strip of the blade, normal +Y (blade frame).
+std::vector<BladeContact> strip(double z) {
+  std::vector<BladeContact> path;
+  for (int i = 0; i <= 30; ++i) path.push_back({Vec3(-30 + 2.0 * i, 0, z), Vec3(0, 1, 0), Vec3(1, 0, 0)});
+  return path;
+}
+
+TEST(RobotCell, TheContactLiesOnTheWheelWithItsNormalIntoIt) {
+  const RobotCell cell = test_cell();
+  const BeltStation& st = cell.station("fine");
+  const BladeContact c{Vec3(12, -3, 40), Vec3(0.3, 1, 0.1).normalized(), Vec3(1, -0.3, 0).normalized()};
+  for (bool turned : {false, true}) {
+    const BladeContact at = contact_in_base(cell, flange_for_contact(cell, st, c, turned), c);
+    EXPECT_NEAR((at.point - st.contact.translation()).norm(), 0, 1e-9);
+    EXPECT_NEAR(at.normal.dot(st.contact.linear().col(2)), -1, 1e-12);            // into the wheel
+    const Vec3 t = (at.tangent - at.tangent.dot(at.normal) * at.normal).normalized();
+    EXPECT_NEAR(t.dot(st.contact.linear().col(0)), turned ? -1 : 1, 1e-12);       // along the wheel axis
+  }
+  EXPECT_THROW(cell.station("coarse"), ParameterError);
+}
+
+TEST(RobotCell, EveryGrindingMovePutsItsContactOnTheWheelThroughTheArmsKinematics) {
+  const RobotCell cell = test_cell();
+  const BeltStation& st = cell.station("fine");
+  RobotGrindingOptions o;
+  o.start = cell.home;
+  const RobotGrindingPlan plan = plan_robot_grinding(cell, st, {strip(20), strip(21), strip(22)}, o);
+  ASSERT_TRUE(plan.refusals.empty()) << plan.refusals.front();
+  EXPECT_EQ(plan.paths, 3);
+  ASSERT_EQ(plan.moves.size(), 3u * (31 + 2));
+  EXPECT_EQ(plan.branch_changes, 0);
+  for (const RobotMove& m : plan.moves) {
+    // Forward kinematics of the planned joints, then the blade's contact:
+    // on the wheel for grinding moves, `retract` off it along the normal on
+    // the lift-offs and approaches.
+    const BladeContact at = contact_in_base(cell, robot_forward(cell.arm, m.joints), m.contact);
+    const Vec3 off = at.point - st.contact.translation();
+    EXPECT_NEAR(off.norm(), m.link ? o.retract_mm : 0, 1e-6);
+    if (m.link) EXPECT_NEAR(off.normalized().dot(st.contact.linear().col(2)), 1, 1e-9);
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_GE(m.joints[j], cell.arm.joints[j].min_rad);
+      EXPECT_LE(m.joints[j], cell.arm.joints[j].max_rad);
+    }
+  }
+  // 2 mm steps at 20 mm/s on a flat strip: the arm moves slowly.
+  EXPECT_LT(plan.max_joint_speed_ratio, 1.0);
+}
+
+TEST(RobotCell, AStationOutOfReachRefusesThePathsAndEmitsNothing) {
+  RobotCell cell = test_cell();
+  cell.stations[0].contact.translation() = Vec3(4000, 0, 900);  // beyond 2.7 m
+  RobotGrindingOptions o;
+  o.start = cell.home;
+  const RobotGrindingPlan plan = plan_robot_grinding(cell, cell.stations[0], {strip(20)}, o);
+  EXPECT_TRUE(plan.moves.empty());
+  ASSERT_EQ(plan.refusals.size(), 1u);
+  EXPECT_NE(plan.refusals[0].find("out of the arm's reach"), std::string::npos) << plan.refusals[0];
+}
+
+}  // namespace
+}  // namespace bliskrun
