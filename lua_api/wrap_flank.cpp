@@ -4,12 +4,12 @@
 #include <memory>
 #include <string>
 
-#include "core/analysis/heat_map.h"
 #include "core/planning/flank_milling.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
+#include "lua_api/undercut_map.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
 
@@ -168,19 +168,19 @@ int w_flank_mill(lua_State* L) {
     }
     lua_setfield(L, -2, "residual_per_pose");
     luax::set_string(L, "apt", flank_face_apt(plan, "bliskrun flank finish", tool.tool.description()));
-    // The residual map as an SVG string: chord across, hub at the bottom.
+    // The residual map (map:write_png): chord across, hub at the bottom.
     if (plan.residual.axes > 0) {
-      HeatMap map;
-      map.rows = plan.residual.points;
-      map.cols = plan.residual.axes;
-      map.values.resize(static_cast<size_t>(map.rows) * map.cols);
-      for (int a = 0; a < map.cols; ++a)
-        for (int k = 0; k < map.rows; ++k) map.values[static_cast<size_t>(k) * map.cols + a] = plan.residual.at(a, k);
-      HeatMapOptions h;
-      h.title = "Flank-milling residual (eq. 33-36): + undercut, - overcut";
-      h.value_label = "residual (mm)";
-      h.footer = "poses across (" + std::to_string(map.cols) + "), points along each axis up (hub at the bottom)";
-      luax::set_string(L, "residual_svg", heat_map_svg(map, h));
+      LuaUndercutMap m;
+      m.map.rows = plan.residual.points;
+      m.map.cols = plan.residual.axes;
+      m.map.values.resize(static_cast<size_t>(m.map.rows) * m.map.cols);
+      for (int a = 0; a < m.map.cols; ++a)
+        for (int k = 0; k < m.map.rows; ++k)
+          m.map.values[static_cast<size_t>(k) * m.map.cols + a] = plan.residual.at(a, k);
+      m.footer = "flank-milling residual (eq. 33-36), + undercut, - overcut; poses across (" +
+                 std::to_string(m.map.cols) + "), points along each axis up (hub at the bottom)";
+      luax::push_new(L, std::move(m));
+      lua_setfield(L, -2, "residual_map");
     }
     return 1;
   });

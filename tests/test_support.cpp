@@ -89,4 +89,30 @@ std::string shared_data_dir() {
   return fs::is_directory(beside) ? fs::canonical(beside).string() : "";
 }
 
+::testing::AssertionResult has_run_report(const std::string& out, const std::string& pvd) {
+  namespace fs = std::filesystem;
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  const std::string html = slurp(fs::path(out) / "report.html");
+  if (html.empty()) return ::testing::AssertionFailure() << "no report.html in " << out;
+  if (html.find("<table") == std::string::npos || html.find("</html>") == std::string::npos)
+    return ::testing::AssertionFailure() << "report.html has no table or is cut short";
+  for (const char* external : {"src=\"http", "href=\"http", "src=\"//", "<script"})
+    if (html.find(external) != std::string::npos)
+      return ::testing::AssertionFailure() << "report.html is not self-contained: " << external;
+  const std::string collection = slurp(fs::path(out) / pvd);
+  if (collection.empty()) return ::testing::AssertionFailure() << "no " << pvd << " in " << out;
+  int listed = 0;
+  for (size_t at = collection.find("file=\""); at != std::string::npos; at = collection.find("file=\"", at + 1)) {
+    const size_t begin = at + 6, end = collection.find('"', begin);
+    const std::string file = collection.substr(begin, end - begin);
+    if (!fs::exists(fs::path(out) / file)) return ::testing::AssertionFailure() << pvd << " lists " << file << ", absent";
+    ++listed;
+  }
+  if (listed == 0) return ::testing::AssertionFailure() << pvd << " lists no data set";
+  return ::testing::AssertionSuccess();
+}
+
 }  // namespace bliskrun::test

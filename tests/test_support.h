@@ -54,6 +54,11 @@ inline std::string error_case_name(const ::testing::TestParamInfo<RecipeErrorCas
 // Runs the built executable with `args`; captures stdout+stderr.
 RecipeResult run_bliskrun(const std::vector<std::string>& args);
 
+// What every recipe run leaves for a person to look at (issue 19): a
+// self-contained report.html in `out` (tables, no external src/href) and the
+// ParaView collection `pvd` whose every listed .vtp exists beside it.
+::testing::AssertionResult has_run_report(const std::string& out, const std::string& pvd);
+
 // Folder of real part data (../shared/data beside the clone), or "" when absent.
 std::string shared_data_dir();
 

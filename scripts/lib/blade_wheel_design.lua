@@ -9,9 +9,10 @@
 -- part: a blade model table (bliskrun.read_rotor37 / read_rotor67 / ...),
 -- read with span_extension = 0 so that the analysis covers the blade between
 -- its hub and tip sections and the passage is not measured below the hub.
--- Prints the tables, writes <prefix>_gaussian_curvature_{pressure,suction}.svg
--- and <prefix>_wheel_design.json (keys as the demo recipe's, plus the fit),
--- and returns the report table.
+-- Prints the tables, writes <prefix>_gaussian_curvature_{pressure,suction}.png,
+-- <prefix>_wheel_design.json (keys as the demo recipe's, plus the fit), the
+-- flanks for ParaView (<prefix>_wheel_design.pvd) and report.html, and
+-- returns the report table.
 
 local M = {}
 
@@ -32,7 +33,7 @@ function M.analyse(surfaces, opts)
                                                          samples_v = opts.samples_v or 500,
                                                          c_range = opts.c_range or 30})
     local picture = opts.picture and opts.picture(side)
-    if picture then st.map:write_svg(picture, {title = opts.title(side)}) end
+    if picture then st.map:write_png(picture, {title = opts.title(side)}) end
     local function where(e) return {value = e.value, u = e.u, v = e.v, angle_deg = e.angle} end
     flanks[side] = {k1_max = where(st.k1_max), k2_max = where(st.k2_max), ke_max = where(st.ke_max),
                     negative_K_fraction = st.negative_K_fraction, K_min = st.K_min, K_max = st.K_max,
@@ -53,7 +54,7 @@ function M.run(part, opts)
   local surfaces = {pressure = part.pressure:surface(), suction = part.suction:surface()}
   local table1, flanks = M.analyse(surfaces, {
     c_range = c_range,
-    picture = function(side) return prefix .. "_gaussian_curvature_" .. side .. ".svg" end,
+    picture = function(side) return prefix .. "_gaussian_curvature_" .. side .. ".png" end,
     title = function(side) return name .. ", " .. side .. " flank: Gaussian curvature K (1/mm^2)" end,
   })
   for _, side in ipairs{"pressure", "suction"} do
@@ -91,7 +92,37 @@ function M.run(part, opts)
     table2 = {traditional = wheel.traditional, extended = wheel.extended},
   }
   bliskrun.write_json(prefix .. "_wheel_design.json", report)
+  M.write_report(name, prefix, report, surfaces, c_range)
   return report
+end
+
+-- report.html (Tables 1 and 2, the curvature pictures, every number) and the
+-- flanks as a ParaView collection, for the demo and the real-blade recipes.
+function M.write_report(name, prefix, report, surfaces, c_range)
+  local t1, t2 = report.table1, report.table2
+  local rows = {}
+  for _, key in ipairs{"k1_max", "k2_max", "ke_max"} do rows[#rows + 1] = {key, t1[key], t1[key .. "_flank"]} end
+  local sections = {
+    {title = "Table 1: curvature over K < 0", text = string.format("k_e within C in [-%g, %g] deg.", c_range, c_range),
+     table = {columns = {"figure", "value (1/mm)", "flank"}, rows = rows}},
+    {title = "Table 2: drum-wheel head", table = {columns = {"rule", "radius limit (mm)", "R_c (mm)", "D_t (mm)"},
+      rows = {{"traditional", t2.traditional.radius_limit, t2.traditional.barrel_radius, t2.traditional.max_diameter},
+              {"extended", t2.extended.radius_limit, t2.extended.barrel_radius, t2.extended.max_diameter}}}},
+  }
+  local blocks = {}
+  for _, side in ipairs{"pressure", "suction"} do
+    local picture = report.flanks[side].picture
+    if picture then
+      sections[#sections + 1] = {title = "Gaussian curvature, " .. side .. " flank", image = picture,
+                                 caption = "K over (u, v) of the flank, 1/mm^2 (Fig. 11)."}
+    end
+    blocks[#blocks + 1] = {name = side .. " flank", surface = surfaces[side], samples_u = 60, samples_v = 200}
+  end
+  require("run_report").write{title = name .. ": curvature and drum-wheel design",
+    settings = {c_range_deg = c_range}, sections = sections, numbers = report,
+    vtk = {path = prefix .. "_wheel_design.pvd", blocks = blocks},
+    files = {{prefix .. "_wheel_design.json", "the report"},
+             {prefix .. "_gaussian_curvature_*.png", "the curvature pictures above"}}}
 end
 
 return M

@@ -11,7 +11,8 @@
 -- NASA Rotor 67 (--set part=rotor67).
 -- Outputs: blade_belt_grinding.json (per station and flank: paths, points,
 -- measured chord and scallop maxima, the guarantee's corrections, and every
--- path's points, normals and wheel axes).
+-- path's points, normals and wheel axes), blade_belt_grinding.pvd (flanks and
+-- paths for ParaView), report.html.
 --
 --   bliskrun scripts/recipes/blade_belt_grinding.lua --out out/
 --   options: --set part=builtin|rotor67  --set sides=both|pressure|suction
@@ -59,6 +60,10 @@ else
 end
 
 local report = {part = part_name, stations = {}}
+local station_rows, blocks = {}, {}  -- report.html, ParaView
+for _, f in ipairs(faces) do
+  blocks[#blocks + 1] = {name = f.side .. " flank", surface = f.surface, samples_u = 40, samples_v = 150}
+end
 print(string.format("%-7s %-9s %6s %7s %12s %12s %9s %9s", "station", "flank", "paths", "points",
                     "chord max", "scallop max", "steps cut", "overs cut"))
 for _, st in ipairs(stations) do
@@ -75,6 +80,16 @@ for _, st in ipairs(stations) do
     end
     print(string.format("%-7s %-9s %6d %7d %9.2f µm %9.2f µm %9d %9d", st.name, f.side, #plan.paths, plan.points,
                         plan.chord_max * 1000, plan.scallop_max * 1000, plan.step_halvings, plan.step_over_shrinks))
+    station_rows[#station_rows + 1] = {st.name, f.side, #plan.paths, plan.points, 1e3 * plan.chord_max,
+                                       1e3 * plan.scallop_max, plan.step_halvings, plan.step_over_shrinks}
+    -- The paths as polylines for ParaView: the contact points, the wheel axis as the "tool axis".
+    local moves = {}
+    for j, p in ipairs(plan.paths) do
+      for i, pt in ipairs(p.points) do
+        moves[#moves + 1] = {kind = i == 1 and "rapid" or "feed", tip = pt, axis = p.tangents[i], row = j}
+      end
+    end
+    blocks[#blocks + 1] = {name = st.name .. " " .. f.side .. " paths", moves = moves}
     entry.flanks[f.side] = {paths = #plan.paths, points = plan.points, chord_max = plan.chord_max,
                             scallop_max = plan.scallop_max, step_halvings = plan.step_halvings,
                             step_over_shrinks = plan.step_over_shrinks, path = {}}
@@ -92,3 +107,11 @@ for _, st in ipairs(stations) do
   report.stations[#report.stations + 1] = entry
 end
 bliskrun.write_json("blade_belt_grinding.json", report)
+require("run_report").write{title = "Belt-grinding paths, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
+  subtitle = "chord error and scallop measured by sampled distances, every station within its tolerances",
+  settings = {part = part_name, sides = sides},
+  sections = {{title = "Stations", text = "Steps / step-overs cut: shortened where the measurement exceeded the tolerance.",
+               table = {columns = {"station", "flank", "paths", "points", "chord max (um)", "scallop max (um)",
+                                   "steps cut", "step-overs cut"}, rows = station_rows}}},
+  vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
+  files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes"}}}

@@ -28,7 +28,8 @@
 -- r/R ~ 0.2 and a flat bottom (5 mm) still far wider than the edge rounds
 -- (0.4 / 0.3 mm); --set R=5 --set r=1 runs the paper's tool.
 -- Outputs: blade_edges.json, <part>_<edge>.apt, <part>_<edge>_undercut.png,
--- <part>_<edge>_strip_widths.svg.
+-- <part>_<edge>_strip_widths.svg, blade_edges.pvd (edge regions and toolpaths for
+-- ParaView), report.html.
 --
 --   bliskrun scripts/recipes/blade_edges.lua --out out/
 --   bliskrun scripts/recipes/blade_edges.lua --data ../shared/data --out out/
@@ -98,6 +99,7 @@ print(string.format("Edge finishing, %s, %s, band (%.3f, %.3f) mm", label, tool:
                     settings.e2))
 print("  edge      rows  side rows  width mm (bottom / side)  poses  refused  undercut max um  overcut um (edge/flanks)")
 local edges = which == "both" and {"leading", "trailing"} or {which}
+local edge_rows, sections, blocks = {}, {}, {}  -- report.html, ParaView
 for _, edge in ipairs(edges) do
   -- Flank whose edge end is at v = 0 first: the pressure flank runs LE -> TE,
   -- the suction flank TE -> LE.
@@ -165,9 +167,27 @@ for _, edge in ipairs(edges) do
   print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts",
                       region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
+  edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
+                               rep.refusals + rep.refused_links, 1e3 * sim.undercut_max, 1e3 * sim.overcut,
+                               1e3 * sim.flank_overcut}
+  sections[#sections + 1] = {title = "Undercut, " .. edge .. " edge", image = stem .. "_undercut.png"}
+  sections[#sections + 1] = {title = "Strip widths, " .. edge .. " edge (Fig. 8)",
+                             svg = bliskrun.read_text(stem .. "_strip_widths.svg")}
+  blocks[#blocks + 1] = {name = edge .. " edge region", surface = region.surface, samples_u = 60, samples_v = 120}
+  blocks[#blocks + 1] = {name = edge .. " toolpath", moves = plan:moves()}
 end
 report.verified = ok
 bliskrun.write_json("blade_edges.json", report)
+table.insert(sections, 1, {title = "Edges", table = {columns = {"edge", "rows", "side-edge rows", "width min (mm)",
+  "width max (mm)", "poses", "refused", "undercut max (um)", "overcut edge (um)", "overcut flanks (um)"},
+  rows = edge_rows}})
+require("run_report").write{title = "Edge finishing with the bottom of a flat-end mill, " .. label,
+  subtitle = ok and "verified: no overcut beyond e1 on the edges or the flanks" or "NOT verified",
+  settings = {tool = tool:description(), e1_mm = settings.e1, e2_mm = settings.e2, overlap_mm = settings.overlap,
+              chord_tol_mm = settings.chord_tol, optimum = settings.optimum, v0 = settings.v0, v1 = settings.v1},
+  sections = sections, vtk = {path = "blade_edges.pvd", blocks = blocks},
+  files = {{"blade_edges.json", "the report"}, {"*.apt", "APT/CL per edge"},
+           {"*_undercut.png", "the undercut maps above"}, {"*_strip_widths.svg", "the strip-width charts above"}}}
 if not ok then
   error("verification failed: the simulation found an overcut beyond e1 on the edge or the flanks; see blade_edges.json")
 end

@@ -6,7 +6,8 @@
 -- same residual height; all four are simulated at 200 x 1000 samples.
 -- Outputs: blisk_drum_study.json (Tables 4-5, per-row points and chord
 -- errors of every group), fig12_points_per_row.svg, fig13_chord_error.svg,
--- fig15_undercut_<group>.png.
+-- fig15_undercut_<group>.png, blisk_drum_study.pvd (the flank painted with each
+-- group's undercut, the four toolpaths), report.html.
 --
 --   bliskrun scripts/recipes/blisk_drum_study.lua --out out/
 --   options: --set side=pressure|suction --set blade=1 --set residual=0.014
@@ -122,3 +123,29 @@ for _, x in ipairs(results) do
   }
 end
 bliskrun.write_json("blisk_drum_study.json", json)
+
+-- The run's page and the ParaView collection.
+local table4, sections, blocks = {}, {}, {}
+for _, x in ipairs(results) do
+  table4[#table4 + 1] = {x.group.id, x.group.wheel, x.group.steps, x.report.row_count, x.report.poses,
+                         1e3 * x.report.max_deviation, x.rows_over_tolerance, 1e3 * x.sim.undercut_max,
+                         1e3 * x.sim.undercut_mean, 1e3 * x.sim.undercut_median, 1e3 * x.sim.undercut_std,
+                         1e3 * x.sim.overcut}
+  sections[#sections + 1] = {title = "Fig. 15 (" .. x.group.id .. ")", image = x.picture,
+                             caption = "Undercut over the trimmed flank, mm (one colour scale for all four)."}
+  blocks[#blocks + 1] = {name = "flank, undercut " .. x.group.id, surface = x.plan:trimmed(), map = x.sim.map,
+                         samples_u = 100, samples_v = 250}
+  blocks[#blocks + 1] = {name = "toolpath " .. x.group.id, moves = x.plan:moves()}
+end
+table.insert(sections, 1, {title = "Tables 4 and 5", table = {columns = {"group", "wheel", "chord height", "rows",
+  "poses", "max chord (um)", "rows > tol", "undercut max (um)", "mean (um)", "median (um)", "std (um)",
+  "overcut (um)"}, rows = table4}})
+table.insert(sections, 2, {title = "Fig. 12: contact points per row", svg = bliskrun.read_text("fig12_points_per_row.svg")})
+table.insert(sections, 3, {title = "Fig. 13: chord error along a row", svg = bliskrun.read_text("fig13_chord_error.svg")})
+require("run_report").write{title = string.format("Drum-finish planning study, blade %d %s flank", blade, side),
+  settings = {residual_mm = residual, chord_tol_mm = chord_tol, c_range_deg = c_range, row_u = row_u,
+              shank_clearance_mm = shank_clearance},
+  sections = sections, vtk = {path = "blisk_drum_study.pvd", blocks = blocks},
+  files = {{"blisk_drum_study.json", "Tables 4-5, per-row points and chord errors"},
+           {"fig12_points_per_row.svg, fig13_chord_error.svg", "the line charts above"},
+           {"fig15_undercut_*.png", "the undercut maps above"}}}

@@ -10,6 +10,8 @@
 --   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
 --            [--set samples_u=100 --set samples_v=500]   (simulation samples per flank)
 --            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
+-- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first four flanks),
+-- blisk_job.pvd (job toolpath, flanks with their undercut, for ParaView), report.html.
 local job = require("job")
 local finish = require("blisk_finish")
 
@@ -80,3 +82,36 @@ for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "b
                                            max_angle_deg = r.max_angle}
 end
 bliskrun.write_json("blisk_job.json", report)
+
+-- The run's page and the ParaView collection: every flank painted with its
+-- undercut (the first few), the whole job's toolpath with its links.
+local flank_rows, blocks, pictures = {}, {{name = "job toolpath", moves = planned.moves}}, {}
+for i, f in ipairs(sim.flanks) do
+  flank_rows[i] = {f.blade, f.side, planned.flanks[i].report.row_count, planned.flanks[i].report.poses,
+                   1e3 * f.undercut_max, 1e3 * f.undercut_mean, 1e3 * f.overcut}
+  if i <= 4 then
+    local picture = string.format("blisk_job_undercut_blade%d_%s.png", f.blade, f.side)
+    f.map:write_png(picture, {title = string.format("Undercut after the job, blade %d %s flank (mm)", f.blade, f.side)})
+    pictures[#pictures + 1] = {title = string.format("Undercut, blade %d %s", f.blade, f.side), image = picture}
+    blocks[#blocks + 1] = {name = string.format("blade %d %s, undercut", f.blade, f.side),
+                           surface = planned.flanks[i].plan:trimmed(), map = f.map, samples_u = 60, samples_v = 150}
+  end
+end
+local program_rows = {}
+for i, p in ipairs(report.programs) do
+  program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm}
+end
+local sections = {
+  {title = "Flanks", text = string.format("%d moves, %d links through the clearance cylinder (r = %g mm).",
+                                          #planned.moves, planned.links, j.clearance_radius),
+   table = {columns = {"blade", "flank", "rows", "poses", "undercut max (um)", "mean (um)", "overcut (um)"},
+            rows = flank_rows}},
+  {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
+    "positioning moves", "tip deviation (um)"}, rows = program_rows}}}
+for _, p in ipairs(pictures) do sections[#sections + 1] = p end
+require("run_report").write{title = "Job: " .. j.name, settings = {blades = count, sides = args.sides or "both",
+  tool_life_mm = args.tool_life or "none", samples_u = args.samples_u or 100, samples_v = args.samples_v or 500},
+  sections = sections, vtk = {path = "blisk_job.pvd", blocks = blocks},
+  files = {{"blisk_job.json", "the report"}, {"blisk_job_ac_fanuc.nc", "Fanuc program, A/C trunnion"},
+           {"blisk_job_bc_heidenhain.h", "Heidenhain program, B/C head-table"},
+           {"blisk_job_undercut_*.png", "the undercut maps above"}}}

@@ -14,6 +14,8 @@
 --
 --   bliskrun scripts/recipes/blisk_post.lua --out out [--set side=suction|pressure]
 --            [--set blade=1] [--set feed=600]
+-- Outputs: the two programs, blisk_post.json, blisk_post.pvd (flank and
+-- toolpath for ParaView), report.html.
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
 
@@ -60,3 +62,16 @@ for _, job in ipairs({
     max_departure_mm = w.max_deviation}
 end
 bliskrun.write_json("blisk_post.json", report)
+
+local rows = {}
+for i, p in ipairs(report.programs) do
+  rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm, p.max_angle_deg}
+end
+require("run_report").write{title = "Posting the drum finish of " .. name,
+  settings = {blade = blade, side = side, feed_mm_min = feed, planned_moves = #path, rows = r.row_count},
+  sections = {{title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
+    "positioning moves", "tip deviation (um)", "axis deviation (deg)"}, rows = rows}}},
+  vtk = {path = "blisk_post.pvd", blocks = {{name = "flank", surface = plan:trimmed(), samples_u = 60,
+                                            samples_v = 200}, {name = "toolpath", moves = plan:moves()}}},
+  files = {{"blisk_post.json", "the figures above"}, {"blade_ac_fanuc.nc", "Fanuc program, A/C trunnion"},
+           {"blade_bc_heidenhain.h", "Heidenhain program, B/C head-table"}}}

@@ -8,7 +8,8 @@
 --   3. the drum wheel is sized by the traditional and the extended rule
 --      (eq. 12, 13, 15; Table 2).
 -- Outputs in the out folder: blisk_wheel_design.json (keys documented in
--- docs/lua_api.md, "The demo recipe"), gaussian_curvature_<side>.svg.
+-- docs/lua_api.md, "The demo recipe"), gaussian_curvature_<side>.png,
+-- blisk_wheel_design.pvd (the machined flanks, for ParaView), report.html.
 --
 --   bliskrun scripts/recipes/blisk_wheel_design.lua --out out/
 --   options: --set blades=22 --set c_range=30 --set rows=100 --set cols=500
@@ -36,7 +37,7 @@ for _, side in ipairs{"pressure", "suction"} do
 end
 local table1, flanks = wheel_design.analyse(machined,
   {samples_u = rows, samples_v = cols, c_range = c_range,
-   picture = function(side) return string.format("gaussian_curvature_%s.svg", side) end,
+   picture = function(side) return string.format("gaussian_curvature_%s.png", side) end,
    title = function(side)
      return string.format("Gaussian curvature K, machined %s flank of blade 1 (1/mm^2)", side)
    end})
@@ -67,7 +68,7 @@ print(string.format("  1      traditional  -                   %6.1f        -   
 print(string.format("  2      extended     C in [-%g, %g] deg       -   %6.1f   %4g   %4.1f", c_range, c_range,
                     wheel.extended.radius_limit, wheel.extended.barrel_radius, wheel.extended.max_diameter))
 
-bliskrun.write_json("blisk_wheel_design.json", {
+local report = {
   part = {kind = "built-in blisk", blades = blisk:blade_count(), blade_height_mm = height,
           narrowest_passage_mm = d_min, grid = {rows = rows, cols = cols}},
   c_range_deg = c_range,
@@ -80,4 +81,6 @@ bliskrun.write_json("blisk_wheel_design.json", {
     traditional = wheel.traditional,
     extended = wheel.extended,
   },
-})
+}
+bliskrun.write_json("blisk_wheel_design.json", report)
+wheel_design.write_report("Built-in blisk, blade 1 (machined flanks)", "blisk", report, machined, c_range)

@@ -12,8 +12,9 @@
 -- stations, poses and motions checked against the neighbouring main and
 -- splitter blades, this face and the hub, tilt or refusal, leads).
 -- Writes
---   hecc_<main|splitter>_<pressure|suction>.apt, ..._residual.svg, hecc_ruled_<...>.stl
+--   hecc_<main|splitter>_<pressure|suction>.apt, ..._residual.png, hecc_ruled_<...>.stl
 --   hecc_impeller_flank_finish.json   ruled fit, poses, refusals, residual per face
+--   hecc_impeller_flank_finish.pvd, report.html  faces and cutter axes for ParaView; the run's page
 -- Options: --set chord_tol=0.005 --set mesh_tol=0.05 --set residual_points=40
 --          --set tolerance=0.05 (thickness tolerance, mm) --set set=design|cold
 --          --set balance=false (the paper's axes, no shift centring each axis's residual)
@@ -55,6 +56,7 @@ local hub_mesh = hub:tessellate(mesh_tol)
 local report = {part = "NASA HECC impeller (" .. set .. ")", blades = n, tool = tool:description(),
                 settings = {chord_tol = chord_tol, mesh_tol = mesh_tol, residual_points = residual_points,
                             thickness_tolerance = tolerance}, faces = {}}
+local face_rows, pictures, blocks = {}, {}, {{name = "hub", mesh = hub_mesh}}  -- report.html, ParaView
 for _, blade in ipairs{"main", "splitter"} do
   local part = parts[blade]
   for _, side in ipairs{"pressure", "suction"} do
@@ -76,7 +78,17 @@ for _, blade in ipairs{"main", "splitter"} do
                                      ball_radius = tip_radius, world = world, chord_tol = chord_tol,
                                      residual_points = residual_points, balance = balance}
     bliskrun.write_text(name .. ".apt", plan.apt)
-    if plan.residual_svg then bliskrun.write_text(name .. "_residual.svg", plan.residual_svg) end
+    if plan.residual_map then
+      plan.residual_map:write_png(name .. "_residual.png",
+                                  {title = name .. ": flank-milling residual (mm), + undercut, - overcut"})
+      pictures[#pictures + 1] = {title = "Residual to the lofted face, " .. name, image = name .. "_residual.png"}
+    end
+    local path = {}
+    for i, p in ipairs(plan.poses) do path[i] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1} end
+    blocks[#blocks + 1] = {name = name .. " (lofted)", surface = part[side]:surface(), samples_u = 40, samples_v = 150}
+    blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
+    face_rows[#face_rows + 1] = {name, fit.max * 1000, fit.rms * 1000, fit.max <= tolerance and "yes" or "NO",
+                                 #plan.poses, #plan.refusals, plan.residual.max or 0, plan.residual.min or 0}
     report.faces[name] = {ruled_fit = {max_um = fit.max * 1000, rms_um = fit.rms * 1000,
                                        worst_row = fit.worst_row, worst_col = fit.worst_col,
                                        within_tolerance = fit.max <= tolerance,
@@ -94,3 +106,14 @@ for _, blade in ipairs{"main", "splitter"} do
   end
 end
 bliskrun.write_json("hecc_impeller_flank_finish.json", report)
+local sections = {{title = "Ruled fit and flank milling per face", text = string.format(
+  "Ruled fit against the thickness tolerance %.3f mm; residual of the plan against the lofted face.", tolerance),
+  table = {columns = {"face", "ruled fit max (um)", "RMS (um)", "within tolerance", "poses", "refused",
+                      "residual max (mm)", "residual min (mm)"}, rows = face_rows}}}
+for _, p in ipairs(pictures) do sections[#sections + 1] = p end
+require("run_report").write{title = "NASA HECC impeller: flank finishing as ruled blades",
+  settings = {set = set, chord_tol_mm = chord_tol, mesh_tol_mm = mesh_tol, thickness_tolerance_mm = tolerance,
+              balance = balance, tool = tool:description()},
+  sections = sections, vtk = {path = "hecc_impeller_flank_finish.pvd", blocks = blocks},
+  files = {{"hecc_impeller_flank_finish.json", "the report"}, {"hecc_*.apt", "APT/CL per face"},
+           {"hecc_*_residual.png", "the residual maps above"}, {"hecc_ruled_*.stl", "the ruled fits"}}}

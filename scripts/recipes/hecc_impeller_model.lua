@@ -10,6 +10,7 @@
 --   hecc_<blade>_section_fit.svg          fit of the given points per section, and
 --                                         of each section left out of the loft
 --   hecc_impeller_model.json              fit numbers, edge circles, files
+--   hecc_impeller_model.pvd, report.html  the meshes for ParaView, the run's page
 -- Options: --set set=design|cold  --set cols=200  --set chord_tol=0.01
 
 local set = args.set or "design"
@@ -71,6 +72,7 @@ end
 
 local report = {set = set, chord_tol_mm = chord_tol, blades = {}}
 local hub_written = false
+local sections, blocks, fit_rows = {}, {}, {}  -- for report.html and the ParaView collection
 for _, blade in ipairs{"main", "splitter"} do
   local part = bliskrun.read_hecc("nasa_hecc_impeller", {blade = blade, set = set, cols = cols, cross_check = true})
   local files = {}
@@ -78,12 +80,14 @@ for _, blade in ipairs{"main", "splitter"} do
     local mesh = part[side]:surface():tessellate(chord_tol)
     local file = string.format("hecc_%s_%s.stl", blade, side)
     mesh:write_stl(file)
+    blocks[#blocks + 1] = {name = blade .. " " .. side, mesh = mesh}
     local _, triangles = mesh:size()
     files[side] = {file = file, triangles = triangles}
   end
   if not hub_written then
     local mesh = part.hub:tessellate(10 * chord_tol)
     mesh:write_stl("hecc_hub.stl")
+    blocks[#blocks + 1] = {name = "hub", mesh = mesh}
     local _, triangles = mesh:size()
     report.hub = {file = "hecc_hub.stl", triangles = triangles, chord_tol_mm = 10 * chord_tol}
     hub_written = true
@@ -109,5 +113,15 @@ for _, blade in ipairs{"main", "splitter"} do
                       part.fit.left_out.max_mm * 1000, part.fit.left_out.rms_mm * 1000,
                       part.edges[#part.edges].leading.radius, part.edges[1].leading.radius,
                       files.pressure.triangles, files.suction.triangles))
+  fit_rows[#fit_rows + 1] = {blade, part.sections, 1e3 * part.fit.max_mm, 1e3 * part.fit.rms_mm, part.fit.points,
+                     1e3 * part.fit.left_out.max_mm, 1e3 * part.fit.left_out.rms_mm}
+  sections[#sections + 1] = {title = "Section fit, " .. blade .. " blade", svg = bliskrun.read_text(figure)}
 end
 bliskrun.write_json("hecc_impeller_model.json", report)
+table.insert(sections, 1, {title = "Fit of the lofted flanks to the given section points", table = {columns = {"blade",
+  "sections", "max (um)", "RMS (um)", "points", "left-out max (um)", "left-out RMS (um)"}, rows = fit_rows}})
+require("run_report").write{title = "NASA HECC impeller: main and splitter blades rebuilt",
+  settings = {set = set, chord_tol_mm = chord_tol, cols = cols}, sections = sections,
+  vtk = {path = "hecc_impeller_model.pvd", blocks = blocks},
+  files = {{"hecc_impeller_model.json", "the report"}, {"hecc_*.stl", "flanks and hub"},
+           {"hecc_*_section_fit.svg", "the section-fit charts above"}}}

@@ -16,9 +16,10 @@
 -- Writes
 --   impeller_camber.dat                      the camber data (paper's format)
 --   impeller_<main|splitter>_<plus|minus>.apt  APT/CL of blade 1's face (GOTO tip, axis)
---   impeller_<...>_residual.svg              residual map (eq. 33–36), + undercut, − overcut
+--   impeller_<...>_residual.png              residual map (eq. 33–36), + undercut, − overcut
 --   impeller_blade1_<...>.stl, impeller_hub.stl  the model
 --   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose
+--   impeller_flank_finish.pvd, report.html   faces, hub and cutter axes for ParaView; the run's page
 -- Options: --set chord_tol=0.005  --set mesh_tol=0.05  --set residual_points=40
 --          --set clearance=0.5  --set apt_blades=1 (blades written to APT, by rotation)
 --          --set balance=false (the paper's axes: no shift centring each axis's residual on zero)
@@ -56,6 +57,7 @@ local report = {part = "built-in impeller", blades = n, splitters = imp:has_spli
                 faces = {}}
 local totals = {poses = 0, refused = 0, tilted = 0, max_abs = 0}
 local hub_mesh = hub:tessellate(mesh_tol)
+local face_rows, pictures, blocks = {}, {}, {{name = "hub", mesh = hub_mesh}}  -- report.html, ParaView
 
 for _, kind in ipairs{"main", "splitter"} do
   for _, side in ipairs{"plus", "minus"} do
@@ -102,7 +104,19 @@ for _, kind in ipairs{"main", "splitter"} do
       apt[#apt + 1] = table.concat(lines, "\n") .. "\n"
     end
     bliskrun.write_text(name .. ".apt", table.concat(apt))
-    if plan.residual_svg then bliskrun.write_text(name .. "_residual.svg", plan.residual_svg) end
+    if plan.residual_map then
+      plan.residual_map:write_png(name .. "_residual.png",
+                                  {title = name .. ": flank-milling residual (mm), + undercut, - overcut"})
+      pictures[#pictures + 1] = {title = "Residual, " .. name, image = name .. "_residual.png",
+                                 caption = "Along each cutter axis (up, hub at the bottom), poses across; mm."}
+    end
+    local path = {}
+    for i, p in ipairs(plan.poses) do path[i] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1} end
+    blocks[#blocks + 1] = {name = name, mesh = face_mesh(1, side, kind)}
+    blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
+    face_rows[#face_rows + 1] = {name, plan.stations, #plan.poses, #plan.refusals, plan.tilted,
+                                 plan.residual.max, plan.residual.min, plan.residual_unbalanced.max,
+                                 plan.residual_unbalanced.min}
     local per_pose = {}
     for i, p in ipairs(plan.poses) do
       local r = plan.residual_per_pose[i]
@@ -126,3 +140,13 @@ for _, kind in ipairs{"main", "splitter"} do
 end
 report.totals = totals
 bliskrun.write_json("impeller_flank_finish.json", report)
+local sections = {{title = "Faces of blade 1", table = {columns = {"face", "stations", "poses", "refused", "tilted",
+  "residual max (mm)", "residual min (mm)", "paper's axes max (mm)", "paper's axes min (mm)"}, rows = face_rows}}}
+for _, p in ipairs(pictures) do sections[#sections + 1] = p end
+require("run_report").write{title = "Flank finishing of the built-in impeller",
+  settings = {chord_tol_mm = chord_tol, mesh_tol_mm = mesh_tol, clearance_mm = clearance, balance = balance,
+              residual_points = residual_points, tool = tool:description()},
+  sections = sections, vtk = {path = "impeller_flank_finish.pvd", blocks = blocks},
+  files = {{"impeller_flank_finish.json", "the report"}, {"impeller_*.apt", "APT/CL per face"},
+           {"impeller_*_residual.png", "the residual maps above"}, {"impeller_*.stl", "the model"},
+           {"impeller_camber.dat", "the camber data (paper's format)"}}}

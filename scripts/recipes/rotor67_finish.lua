@@ -9,7 +9,8 @@
 --      and the hub within C +-c_range;
 --   3. the undercut simulation measures what is left.
 -- Outputs: rotor67_finish.json, rotor67_blade1_<side>.apt,
--- rotor67_undercut_<side>.png, and the design's rotor67_finish_design_* files.
+-- rotor67_undercut_<side>.png, rotor67_finish.pvd (flank with its undercut and the
+-- toolpath, for ParaView), report.html, and the design's rotor67_finish_design_* files.
 --
 --   bliskrun scripts/recipes/rotor67_finish.lua --data ../shared/data --out out/
 --   options: --set side=pressure|suction --set residual=0.014 --set chord_tol=0.002
@@ -122,6 +123,18 @@ bliskrun.write_json("rotor67_finish.json", {
   settings = {residual_mm = residual, chord_tol_mm = chord_tol, c_range_deg = c_range},
   flank = r,
 })
+require("run_report").write{title = "NASA Rotor 67, blade 1 " .. side .. " flank: drum-wheel finish",
+  subtitle = r.verified and "verified: no pose refused, no overcut beyond the chord tolerance" or "NOT verified",
+  settings = {side = side, residual_mm = residual, chord_tol_mm = chord_tol, c_range_deg = c_range,
+              wheel = tool:description()},
+  sections = {{title = "Flank", table = {columns = {"rows", "poses", "refused", "max chord (um)", "undercut max (um)",
+                "mean (um)", "overcut (um)"}, rows = {{r.row_count, r.poses, r.refusals + r.refused_links,
+                1e3 * r.max_deviation, 1e3 * sim.undercut_max, 1e3 * sim.undercut_mean, 1e3 * sim.overcut}}}},
+              {title = "Undercut", image = picture, caption = "Material left over the trimmed flank, mm."}},
+  vtk = {path = "rotor67_finish.pvd", blocks = {{name = side .. " flank, undercut", surface = plan:trimmed(),
+           map = sim.map, samples_u = 150, samples_v = 300}, {name = "toolpath", moves = moves}}},
+  files = {{"rotor67_finish.json", "the report"}, {apt, "APT/CL"}, {picture, "the undercut map"},
+           {"rotor67_finish_design_*", "Tables 1-2 of the blade (wheel design)"}}}
 if not r.verified then
   error("verification failed: a pose or link was refused, or the simulation found an overcut beyond the chord "
         .. "tolerance; see rotor67_finish.json")

@@ -91,6 +91,7 @@ TEST(Rotor67Recipe, WheelDesignOnTheRealBlade) {
   const test::RecipeResult r = test::run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/rotor67_wheel_design.lua",
                                                    "--data", data, "--out", dir.path(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(test::has_run_report(dir.path(), "rotor67_wheel_design.pvd"));
   std::ifstream in(dir.path() + "/rotor67_wheel_design.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   // Passage at the hub: pitch 2 pi 96 mm / 22 = 27 mm less the blade's
@@ -99,7 +100,7 @@ TEST(Rotor67Recipe, WheelDesignOnTheRealBlade) {
   EXPECT_LT(j["part"]["narrowest_passage_mm"].get<double>(), 25.0);
   EXPECT_LE(j["table1"]["ke_max"].get<double>(), j["table1"]["k1_max"].get<double>() + 1e-12);
   EXPECT_GE(j["table2"]["extended"]["barrel_radius"].get<double>(), j["table2"]["traditional"]["barrel_radius"].get<double>());
-  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/rotor67_gaussian_curvature_pressure.svg"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/rotor67_gaussian_curvature_pressure.png"));
 }
 
 }  // namespace

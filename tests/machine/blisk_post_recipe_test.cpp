@@ -20,6 +20,7 @@ TEST(MachineRecipe, BliskPostWritesTheRealPlanWithNoRotaryRapids) {
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_post.lua",
                                        "--out", out, "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(out, "blisk_post.pvd"));
   for (const char* file : {"/blade_ac_fanuc.nc", "/blade_bc_heidenhain.h", "/blisk_post.json"}) {
     std::ifstream in(out + file);
     EXPECT_TRUE(in.good()) << file;

@@ -18,6 +18,7 @@ TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolera
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_belt_grinding.lua",
                                        "--out", dir.path(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(dir.path(), "blade_belt_grinding.pvd"));
   std::ifstream in(dir.path() + "/blade_belt_grinding.json");
   ASSERT_TRUE(in.good());
   const nlohmann::json j = nlohmann::json::parse(in);

@@ -20,6 +20,7 @@ TEST(BladeEdgesRecipe, LeadingEdgeBandPassesWithoutGouge) {
                                        out, "--quiet", "--set", "part=builtin", "--set", "edges=leading", "--set",
                                        "v0=0.45", "--set", "v1=0.55", "--set", "samples_u=80", "--set", "samples_v=60"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(out, "blade_edges.pvd"));
   std::ifstream in(out + "/blade_edges.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   const auto& e = j["edges"]["leading"];

@@ -37,6 +37,7 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
   TempDir dir;
   const RecipeResult r = run_bliskrun(finish_args(dir.path(), "2"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(dir.path(), "blisk_drum_finish.pvd"));
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_finish.json"));
   EXPECT_TRUE(j["verified"].get<bool>());
   EXPECT_EQ(j["wheel"]["rule"], "extended");
@@ -140,6 +141,7 @@ TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceed
   const RecipeResult r = run_bliskrun({recipe("blisk_drum_study.lua"), "--out", dir.path(), "--quiet", "--set",
                                        "samples_u=60", "--set", "samples_v=300"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(dir.path(), "blisk_drum_study.pvd"));
   EXPECT_NE(r.output.find("Table 4"), std::string::npos);
   EXPECT_NE(r.output.find("Table 5"), std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_study.json"));
@@ -188,6 +190,7 @@ TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
                                        dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300",
                                        "--set", "side=suction"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(dir.path(), "rotor67_finish.pvd"));
   const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "rotor67_finish.json"));
   EXPECT_EQ(j["part"]["blades"].get<int>(), 22);
   // Table 2 of Rotor 67: the extended wheel R_c 50, D_t 18 (d_min 20.13 mm).

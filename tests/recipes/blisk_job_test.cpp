@@ -22,6 +22,7 @@ TEST(BliskJobRecipe, BothFlanksOfABladeBecomeOneVerifiedProgramPerMachine) {
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_job.lua", "--out", out,
                                        "--quiet", "--set", "blades=1", "--set", "samples_u=40", "--set", "samples_v=200"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(out, "blisk_job.pvd"));
   std::ifstream in(out + "/blisk_job.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_EQ(j["flanks"].size(), 2u);

@@ -48,10 +48,13 @@ TEST(BliskWheelDesignRecipe, WritesTables1And2AndTheCurvaturePictures) {
   EXPECT_EQ(j["table2"]["extended"]["barrel_radius"].get<double>(), 50.0);
   EXPECT_EQ(j["table2"]["extended"]["max_diameter"].get<double>(), 8.0);
   for (const char* side : {"pressure", "suction"}) {
-    const fs::path svg = fs::path(dir.path()) / ("gaussian_curvature_" + std::string(side) + ".svg");
-    ASSERT_TRUE(fs::exists(svg)) << svg;
-    EXPECT_GT(fs::file_size(svg), 10000u);
+    const fs::path png = fs::path(dir.path()) / ("gaussian_curvature_" + std::string(side) + ".png");
+    ASSERT_TRUE(fs::exists(png)) << png;
+    EXPECT_GT(fs::file_size(png), 2000u);
   }
+  // The run's page and the ParaView collection (issue 19).
+  EXPECT_TRUE(fs::exists(fs::path(dir.path()) / "report.html"));
+  EXPECT_TRUE(fs::exists(fs::path(dir.path()) / "blisk_wheel_design.pvd"));
 }
 
 TEST(BliskWheelDesignRecipe, SameInputsGiveIdenticalBytes) {
@@ -63,7 +66,7 @@ TEST(BliskWheelDesignRecipe, SameInputsGiveIdenticalBytes) {
   args_b.insert(args_b.end(), small.begin(), small.end());
   ASSERT_EQ(run_bliskrun(args_a).exit_code, 0);
   ASSERT_EQ(run_bliskrun(args_b).exit_code, 0);
-  for (const char* f : {"blisk_wheel_design.json", "gaussian_curvature_pressure.svg", "gaussian_curvature_suction.svg"}) {
+  for (const char* f : {"blisk_wheel_design.json", "gaussian_curvature_pressure.png", "gaussian_curvature_suction.png", "report.html"}) {
     std::ifstream fa(a.path() + "/" + f, std::ios::binary), fb(b.path() + "/" + f, std::ios::binary);
     const std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
     EXPECT_FALSE(sa.empty());

@@ -39,6 +39,7 @@ TEST(ImpellerFlankFinishRecipe, RunsAndEveryEmittedPoseIsClearInAnIndependentChe
                                        "--out", dir.path(), "--quiet", "--set", "chord_tol=0.05", "--set",
                                        "mesh_tol=0.2", "--set", "residual_points=8", "--set", "apt_blades=2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(dir.path(), "impeller_flank_finish.pvd"));
   std::ifstream in(dir.path() + "/impeller_flank_finish.json");
   ASSERT_TRUE(in.good());
   const nlohmann::json j = nlohmann::json::parse(in);

@@ -32,6 +32,7 @@ TEST(Rotor37Recipe, WheelDesignOnTheRealBlade) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 37 recipe skipped";
   TempDir dir;
   const nlohmann::json j = run_recipe("rotor37_wheel_design.lua", dir, "rotor37_wheel_design.json");
+  EXPECT_TRUE(has_run_report(dir.path(), "rotor37_wheel_design.pvd"));
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["part"]["blades"].get<int>(), 36);
   EXPECT_EQ(j["part"]["sections"].get<int>(), 13);
@@ -49,9 +50,9 @@ TEST(Rotor37Recipe, WheelDesignOnTheRealBlade) {
   EXPECT_LT(j["fit"]["max_mm"].get<double>(), 1e-4);
   EXPECT_GT(j["fit"]["points"].get<int>(), 1000);
   for (const char* side : {"pressure", "suction"}) {
-    const fs::path svg = fs::path(dir.path()) / ("rotor37_gaussian_curvature_" + std::string(side) + ".svg");
-    ASSERT_TRUE(fs::exists(svg)) << svg;
-    EXPECT_GT(fs::file_size(svg), 10000u);
+    const fs::path png = fs::path(dir.path()) / ("rotor37_gaussian_curvature_" + std::string(side) + ".png");
+    ASSERT_TRUE(fs::exists(png)) << png;
+    EXPECT_GT(fs::file_size(png), 2000u);
   }
 }
 
@@ -70,6 +71,7 @@ TEST(HeccRecipe, RebuildsBothBladesWithTheirFit) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC recipe skipped";
   TempDir dir;
   const nlohmann::json j = run_recipe("hecc_impeller_model.lua", dir, "hecc_impeller_model.json", {"--set", "chord_tol=0.02"});
+  EXPECT_TRUE(has_run_report(dir.path(), "hecc_impeller_model.pvd"));
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["set"].get<std::string>(), "design");
   for (const char* blade : {"main", "splitter"}) {
@@ -114,6 +116,7 @@ TEST(HeccImpellerRecipe, RuledFitAndFlankFinish) {
   const nlohmann::json j = run_recipe("hecc_impeller_flank_finish.lua", dir, "hecc_impeller_flank_finish.json",
                                       {"--set", "chord_tol=0.05", "--set", "mesh_tol=0.2", "--set", "residual_points=8"});
   ASSERT_FALSE(j.is_null());
+  EXPECT_TRUE(has_run_report(dir.path(), "hecc_impeller_flank_finish.pvd"));
   EXPECT_EQ(j["blades"].get<int>(), 15);
   for (const char* face : {"hecc_main_pressure", "hecc_main_suction", "hecc_splitter_pressure", "hecc_splitter_suction"}) {
     const nlohmann::json& f = j["faces"][face];
