@@ -517,6 +517,8 @@ MachineDefinition check_machine_table(lua_State* L, int idx) {
   return {};
 }
 
+void run_script_file(lua_State* L, const std::string& path, int env_idx) { run_file(L, path, env_idx); }
+
 void load_machine_file(lua_State* L, const std::string& path, int params_idx,
                        const std::string& machines_dir) {
   if (params_idx != 0) params_idx = lua_absindex(L, params_idx);

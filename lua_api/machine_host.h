@@ -50,6 +50,16 @@ MachineDefinition check_machine_table(lua_State* L, int idx);
 // Loads a post file and pushes its module table.
 void load_post_file(lua_State* L, const std::string& path, const std::string& posts_dir);
 
+// The scripts folder (machines/, posts/, lib/): $BLISKRUN_SCRIPTS or the
+// source tree's. "name" -> scripts/<kind>/name.lua (an error naming the kind
+// if absent); anything with a '/' or ".lua" is a recipe path, resolved and
+// confined by the runner. (wrap_machine.cpp)
+std::string scripts_folder();
+std::string resolve_script(lua_State* L, const std::string& what, const std::string& kind);
+
+// Runs a Lua file with `env_idx` as its environment; leaves its one result.
+void run_script_file(lua_State* L, const std::string& path, int env_idx);
+
 struct PostTool {
   int number = 1;
   double length_mm = 0;

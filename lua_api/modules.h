@@ -22,6 +22,7 @@ void open_report(lua_State* L);     // wrap_report.cpp: report (one HTML page pe
 void open_vtk(lua_State* L);        // wrap_vtk.cpp: write_vtk (ParaView collection)
 void open_flank(lua_State* L);      // wrap_flank.cpp: flank_mill (ruled faces: impeller flank finishing)
 void open_belt(lua_State* L);       // wrap_belt.cpp: belt_paths (contact-wheel paths for robotic belt grinding)
+void open_robot(lua_State* L);      // wrap_robot.cpp: robot_cell, plan_grinding, robot programs (RAPID, KRL)
 void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish (blade LE/TE with a flat-end bottom)
 
 // Registers everything into a new global table `bliskrun`.

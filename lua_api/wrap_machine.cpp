@@ -38,9 +38,6 @@ struct TypeName<PostedProgram> {
 }  // namespace luax
 
 namespace lua_api {
-namespace {
-
-namespace fs = std::filesystem;
 
 std::string scripts_folder() {
   if (const char* env = std::getenv("BLISKRUN_SCRIPTS")) return env;
@@ -54,11 +51,15 @@ std::string resolve_script(lua_State* L, const std::string& what, const std::str
                        (what.size() < 4 || what.substr(what.size() - 4) != ".lua");
   if (is_name) {
     const std::string path = scripts_folder() + "/" + kind + "/" + what + ".lua";
-    if (!fs::exists(path)) luax::error(L, "no " + kind.substr(0, kind.size() - 1) + " named '" + what + "' in scripts/" + kind);
+    if (!std::filesystem::exists(path)) luax::error(L, "no " + kind.substr(0, kind.size() - 1) + " named '" + what + "' in scripts/" + kind);
     return path;
   }
   return context(L).resolve_read(L, what);
 }
+
+namespace {
+
+namespace fs = std::filesystem;
 
 MachineValue& check_machine(lua_State* L, int idx) {
   return *static_cast<MachineValue*>(luaL_checkudata(L, idx, kMachineType));

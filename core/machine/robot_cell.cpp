@@ -154,8 +154,14 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
         reasons += std::string(reasons.empty() ? "" : "; ") + (turned ? "turned: " : "as is: ") + trial.reason;
         continue;
       }
-      if (!best.ok || trial.branch_changes < best.branch_changes ||
-          (trial.branch_changes == best.branch_changes && trial.seconds < best.seconds))
+      // Keep the previous path's turn unless it cannot grind this path: a
+      // turn between paths swings the whole blade about the normal while it
+      // is only `retract` off the wheel.
+      const bool same_turn = plan.moves.empty() || plan.moves.back().turned == turned;
+      const bool best_same = best.ok && (plan.moves.empty() || plan.moves.back().turned == best.moves.front().turned);
+      if (!best.ok || (same_turn && !best_same) ||
+          (same_turn == best_same && (trial.branch_changes < best.branch_changes ||
+                                      (trial.branch_changes == best.branch_changes && trial.seconds < best.seconds))))
         best = std::move(trial);
     }
     if (!best.ok) {
@@ -164,6 +170,7 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
     }
     ++plan.paths;
     if (best.moves.front().turned) ++plan.turned_paths;
+    if (!plan.moves.empty() && plan.moves.back().turned != best.moves.front().turned) ++plan.turn_changes;
     for (RobotMove& m : best.moves) {
       // Joint speed for the move into m at its feed (contact distance over
       // the feed; the approach comes from wherever the last path ended).
@@ -177,7 +184,8 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
               m.joint_speed_ratio, std::abs(m.joints[j] - p.joints[j]) / dt / cell.arm.joints[j].max_speed_rad_s);
         if (m.branch != p.branch) ++plan.branch_changes;
       }
-      plan.max_joint_speed_ratio = std::max(plan.max_joint_speed_ratio, m.joint_speed_ratio);
+      double& worst = m.link ? plan.max_link_joint_speed_ratio : plan.max_joint_speed_ratio;
+      worst = std::max(worst, m.joint_speed_ratio);
       if (m.wrist_singular) ++plan.singular_moves;
       plan.moves.push_back(m);
     }

@@ -78,15 +78,21 @@ struct RobotGrindingPlan {
   std::vector<RobotMove> moves;
   int paths = 0;
   int turned_paths = 0;          // paths ground with the part turned 180° about the normal
+  int turn_changes = 0;          // between consecutive paths (kept unless a path needs it)
   int branch_changes = 0;        // between consecutive moves (0 is what a smooth program has)
   int singular_moves = 0;
-  double max_joint_speed_ratio = 0;  // > 1: a joint would have to move faster than it can
+  // > 1: a joint would have to move faster than it can. On grinding moves
+  // the contact speed would not be held; on links (lift-off, approach) the
+  // controller slows down, so only the time grows.
+  double max_joint_speed_ratio = 0;
+  double max_link_joint_speed_ratio = 0;
   std::vector<std::string> refusals;  // paths no choice could reach within the limits
 };
 
 // Every path of contacts (blade frame) on one station: per path the turn
-// that keeps every point within the joint limits with the least joint
-// motion and no branch change, solved point by point with continuity;
+// that keeps every point within the joint limits — the previous path's turn
+// unless it cannot, else the one with the fewest branch changes and least
+// joint motion — solved point by point with continuity;
 // between paths a retract along the normal, a traverse and an approach.
 // A path that no choice reaches is refused (named in `refusals`) and not
 // emitted.

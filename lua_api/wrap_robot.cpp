@@ -1,0 +1,535 @@
+// Belt-grinding robot cells (core/machine/robot*.h): bliskrun.robot_cell
+// loads a cell file from scripts/machines (arm, joints, home, belt stations),
+// cell:plan_grinding presents the blade held in the gripper to a station
+// along belt paths, plan:write_program posts it with a robot post
+// (scripts/posts/abb_rapid.lua, kuka_krl.lua), reads it back and replays it
+// through the arm's kinematics before anything is written.
+#include <memory>
+#include <string>
+
+#include "core/common/atomic_file.h"
+#include "core/common/error.h"
+#include "core/machine/robot_program.h"
+#include "lua_api/luax.h"
+#include "lua_api/machine_host.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+
+namespace bliskrun::lua_api {
+
+struct LuaRobotCell {
+  RobotCell cell;
+  std::string source;
+};
+
+struct LuaRobotPlan {
+  std::shared_ptr<const RobotCell> cell;
+  std::string station;
+  RobotGrindingPlan plan;
+  double feed_mm_s = 0;
+};
+
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <>
+struct TypeName<lua_api::LuaRobotCell> {
+  static constexpr const char* name = "bliskrun.RobotCell";
+};
+template <>
+struct TypeName<lua_api::LuaRobotPlan> {
+  static constexpr const char* name = "bliskrun.RobotGrindingPlan";
+};
+}  // namespace bliskrun::luax
+
+namespace bliskrun::lua_api {
+
+namespace {
+
+using luax::Field;
+using luax::Kind;
+
+Field num(const char* name, const char* doc, std::optional<double> min = std::nullopt,
+          std::optional<double> max = std::nullopt) {
+  return Field{name, Kind::Number, false, min, max, doc, {}};
+}
+
+Vec3 vec3_field(lua_State* L, int idx, const char* key, const std::string& where) {
+  lua_getfield(L, idx, key);
+  if (!lua_istable(L, -1)) luax::error(L, where + "." + key + ": expected {x, y, z}");
+  const Vec3 v = luax::check_vec3(L, -1, (where + "." + key).c_str());
+  lua_pop(L, 1);
+  return v;
+}
+
+// A frame given as {origin = {x,y,z}, x = {..}, z = {..}} (y = z × x); x and z
+// must be at right angles.
+Frame frame_field(lua_State* L, int idx, const std::string& where) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, where + ": expected {origin = {x,y,z}, x = {..}, z = {..}}");
+  const Vec3 o = vec3_field(L, idx, "origin", where), x = vec3_field(L, idx, "x", where),
+             z = vec3_field(L, idx, "z", where);
+  if (x.norm() < 1e-12 || z.norm() < 1e-12 || std::abs(x.normalized().dot(z.normalized())) > 1e-6)
+    luax::error(L, where + ": expected x and z of non-zero length at right angles");
+  Frame f = Frame::Identity();
+  f.linear().col(0) = x.normalized();
+  f.linear().col(2) = z.normalized();
+  f.linear().col(1) = f.linear().col(2).cross(f.linear().col(0));
+  f.translation() = o;
+  return f;
+}
+
+void push_frame(lua_State* L, const Frame& f) {
+  lua_createtable(L, 0, 4);
+  luax::set_vec3(L, "origin", f.translation());
+  luax::set_vec3(L, "x", f.linear().col(0));
+  luax::set_vec3(L, "y", f.linear().col(1));
+  luax::set_vec3(L, "z", f.linear().col(2));
+}
+
+JointAngles joints_arg(lua_State* L, int idx, const char* name) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx) || luaL_len(L, idx) != 6)
+    luax::error(L, std::string(name) + ": expected 6 joint values in degrees");
+  JointAngles q;
+  for (int i = 0; i < 6; ++i) {
+    lua_rawgeti(L, idx, i + 1);
+    if (!lua_isnumber(L, -1)) luax::error(L, std::string(name) + "[" + std::to_string(i + 1) + "]: expected a number");
+    q[i] = deg_to_rad(lua_tonumber(L, -1));
+    lua_pop(L, 1);
+  }
+  return q;
+}
+
+void push_joints(lua_State* L, const JointAngles& q) {
+  lua_createtable(L, 6, 0);
+  for (int i = 0; i < 6; ++i) {
+    lua_pushnumber(L, rad_to_deg(q[i]));
+    lua_rawseti(L, -2, i + 1);
+  }
+}
+
+// robot_cell{...} inside a cell file: validates and returns the cell.
+int l_robot_cell(lua_State* L) {
+  const luax::Options o(
+      L, 1, "robot_cell",
+      {Field{"name", Kind::String, true, std::nullopt, std::nullopt, "the cell's name", {}},
+       Field{"controller", Kind::String, false, std::nullopt, std::nullopt, "\"abb\" or \"kuka\"", {"abb", "kuka"}},
+       Field{"opw", Kind::Table, true, std::nullopt, std::nullopt,
+             "arm lengths {a1, a2, b, c1, c2, c3, c4}, mm (core/machine/robot.h)", {}},
+       Field{"joints", Kind::Table, true, std::nullopt, std::nullopt,
+             "6 x {zero = deg, sign = 1|-1, min = deg, max = deg, speed = deg/s}", {}},
+       Field{"home", Kind::Table, true, std::nullopt, std::nullopt, "6 joint values, deg", {}},
+       Field{"stations", Kind::Table, true, std::nullopt, std::nullopt,
+             "name = {contact = {x,y,z}, normal = {..}, axis = {..}, wheel = {radius, width}, belt, speed}", {}}});
+  LuaRobotCell c;
+  c.cell.name = o.string("name", "");
+  o.push_raw("opw");
+  {
+    const luax::Options g(L, lua_gettop(L), "robot_cell: opw",
+                          {num("a1", "mm"), num("a2", "mm"), num("b", "mm"), num("c1", "mm"), num("c2", "mm"),
+                           num("c3", "mm"), num("c4", "mm")});
+    OpwGeometry& a = c.cell.arm.geometry;
+    a = {g.number("a1", 0), g.number("a2", 0), g.number("b", 0), g.number("c1", 0),
+         g.number("c2", 0), g.number("c3", 0), g.number("c4", 0)};
+  }
+  lua_pop(L, 1);
+  o.push_raw("joints");
+  if (luaL_len(L, -1) != 6) luax::error(L, "robot_cell: joints: expected 6 joints");
+  for (int i = 0; i < 6; ++i) {
+    lua_rawgeti(L, -1, i + 1);
+    const std::string what = "robot_cell: joints[" + std::to_string(i + 1) + "]";
+    const luax::Options j(L, lua_gettop(L), what,
+                          {num("zero", "OPW angle at the controller's zero, deg"),
+                           Field{"sign", Kind::Integer, false, -1, 1, "1 or -1", {}},
+                           num("min", "deg"), num("max", "deg"), num("speed", "deg/s", 1e-6)});
+    if (!j.has("min") || !j.has("max") || !j.has("speed")) luax::error(L, what + ": expected min, max and speed");
+    RobotJoint& rj = c.cell.arm.joints[i];
+    rj.zero_rad = deg_to_rad(j.number("zero", 0));
+    rj.sign = static_cast<int>(j.integer("sign", 1));
+    rj.min_rad = deg_to_rad(j.number("min", 0));
+    rj.max_rad = deg_to_rad(j.number("max", 0));
+    rj.max_speed_rad_s = deg_to_rad(j.number("speed", 0));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  o.push_raw("home");
+  c.cell.home = joints_arg(L, -1, "robot_cell: home");
+  lua_pop(L, 1);
+  o.push_raw("stations");
+  const int st = lua_gettop(L);
+  lua_pushnil(L);
+  while (lua_next(L, st) != 0) {
+    if (lua_type(L, -2) != LUA_TSTRING) luax::error(L, "robot_cell: stations: expected name = {...} entries");
+    BeltStation s;
+    s.name = lua_tostring(L, -2);
+    const std::string what = "robot_cell: stations." + s.name;
+    const luax::Options so(L, lua_gettop(L), what,
+                           {Field{"contact", Kind::Vec3, true, std::nullopt, std::nullopt,
+                                  "where the wheel touches the part, base frame, mm", {}},
+                            Field{"normal", Kind::Vec3, true, std::nullopt, std::nullopt,
+                                  "the wheel's outward normal there (towards the part)", {}},
+                            Field{"axis", Kind::Vec3, true, std::nullopt, std::nullopt, "the wheel's axis", {}},
+                            Field{"wheel", Kind::Table, true, std::nullopt, std::nullopt, "{radius = mm, width = mm}", {}},
+                            Field{"belt", Kind::String, false, std::nullopt, std::nullopt, "belt, e.g. \"ceramic, 120 grit\"", {}},
+                            num("speed", "belt speed, m/s", 0)});
+    const Vec3 n = so.vec3("normal", Vec3::Zero()), a = so.vec3("axis", Vec3::Zero());
+    if (n.norm() < 1e-12 || a.norm() < 1e-12 || std::abs(n.normalized().dot(a.normalized())) > 1e-6)
+      luax::error(L, what + ": expected normal and axis of non-zero length at right angles");
+    s.contact.linear().col(0) = a.normalized();
+    s.contact.linear().col(2) = n.normalized();
+    s.contact.linear().col(1) = s.contact.linear().col(2).cross(s.contact.linear().col(0));
+    s.contact.translation() = so.vec3("contact", Vec3::Zero());
+    so.push_raw("wheel");
+    const luax::Options w(L, lua_gettop(L), what + ".wheel", {num("radius", "mm", 1e-3), num("width", "mm", 1e-3)});
+    if (!w.has("radius") || !w.has("width")) luax::error(L, what + ".wheel: expected {radius = mm, width = mm}");
+    s.wheel_radius_mm = w.number("radius", 0);
+    s.wheel_width_mm = w.number("width", 0);
+    lua_pop(L, 1);
+    s.belt = so.string("belt", "");
+    s.belt_speed_m_s = so.number("speed", 0);
+    c.cell.stations.push_back(s);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  std::sort(c.cell.stations.begin(), c.cell.stations.end(),
+            [](const BeltStation& x, const BeltStation& y) { return x.name < y.name; });
+  try {
+    c.cell.validate();
+  } catch (const ParameterError& e) {
+    luax::error(L, std::string("robot_cell: ") + e.what());
+  }
+  luax::push_new(L, std::move(c));
+  return 1;
+}
+
+// bliskrun.robot_cell(name_or_file) -> RobotCell
+int w_robot_cell(lua_State* L) {
+  const std::string what = luax::check_string(L, 1, "cell");
+  const std::string path = resolve_script(L, what, "machines");
+  lua_newtable(L);  // the file's environment: robot_cell and the safe libraries
+  lua_pushcfunction(L, l_robot_cell);
+  lua_setfield(L, -2, "robot_cell");
+  for (const char* lib : {"math", "string", "table"}) {
+    lua_getglobal(L, lib);
+    lua_setfield(L, -2, lib);
+  }
+  run_script_file(L, path, -1);
+  LuaRobotCell* c = luax::test<LuaRobotCell>(L, -1);
+  if (!c) luax::error(L, path + ": expected the file to return robot_cell { ... }");
+  c->source = path;
+  return 1;
+}
+
+LuaRobotCell& check_cell(lua_State* L) { return luax::check<LuaRobotCell>(L, 1); }
+
+int w_cell_name(lua_State* L) {
+  lua_pushstring(L, check_cell(L).cell.name.c_str());
+  return 1;
+}
+
+int w_cell_stations(lua_State* L) {
+  const RobotCell& cell = check_cell(L).cell;
+  lua_createtable(L, static_cast<int>(cell.stations.size()), 0);
+  for (size_t i = 0; i < cell.stations.size(); ++i) {
+    const BeltStation& s = cell.stations[i];
+    lua_createtable(L, 0, 6);
+    luax::set_string(L, "name", s.name);
+    luax::set_number(L, "radius", s.wheel_radius_mm);
+    luax::set_number(L, "width", s.wheel_width_mm);
+    luax::set_string(L, "belt", s.belt);
+    luax::set_number(L, "speed", s.belt_speed_m_s);
+    push_frame(L, s.contact);
+    lua_setfield(L, -2, "frame");
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  return 1;
+}
+
+// cell:forward(joints_deg) -> flange frame {origin, x, y, z}
+int w_cell_forward(lua_State* L) {
+  const RobotCell& cell = check_cell(L).cell;
+  push_frame(L, robot_forward(cell.arm, joints_arg(L, 2, "joints")));
+  return 1;
+}
+
+// cell:inverse(frame [, previous_joints_deg]) -> {{joints, branch, singular, within_limits}, ...}
+int w_cell_inverse(lua_State* L) {
+  const RobotCell& cell = check_cell(L).cell;
+  const Frame f = frame_field(L, 2, "frame");
+  RobotIkOptions ik;
+  if (!lua_isnoneornil(L, 3)) ik.previous = joints_arg(L, 3, "previous");
+  const auto solutions = robot_inverse(cell.arm, f, ik);
+  lua_createtable(L, static_cast<int>(solutions.size()), 0);
+  for (size_t i = 0; i < solutions.size(); ++i) {
+    lua_createtable(L, 0, 4);
+    push_joints(L, solutions[i].joints);
+    lua_setfield(L, -2, "joints");
+    luax::set_number(L, "branch", solutions[i].branch);
+    luax::set_bool(L, "singular", solutions[i].wrist_singular);
+    luax::set_bool(L, "within_limits", solutions[i].within_limits);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  return 1;
+}
+
+// cell:plan_grinding{station=, grip=, paths=, feed=, link_feed=, retract=} -> RobotGrindingPlan
+int w_cell_plan_grinding(lua_State* L) {
+  const LuaRobotCell& lc = check_cell(L);
+  const luax::Options o(
+      L, 2, "cell:plan_grinding",
+      {Field{"station", Kind::String, true, std::nullopt, std::nullopt, "station name (cell:stations())", {}},
+       Field{"grip", Kind::Table, true, std::nullopt, std::nullopt,
+             "the blade frame in the flange frame {origin, x, z}", {}},
+       Field{"paths", Kind::Table, true, std::nullopt, std::nullopt,
+             "belt paths (bliskrun.belt_paths(...).paths): points, normals, tangents", {}},
+       num("feed", "contact speed along the path, mm/s; default 20", 1e-3, 1e4),
+       num("link_feed", "speed off the wheel between paths, mm/s; default 200", 1e-3, 1e5),
+       num("retract", "lift-off along the normal between paths, mm; default 10", 1e-3, 1000)});
+  auto cell = std::make_shared<RobotCell>(lc.cell);
+  o.push_raw("grip");
+  cell->grip = frame_field(L, -1, "cell:plan_grinding: grip");
+  lua_pop(L, 1);
+  const std::string station = o.string("station", "");
+  std::vector<std::vector<BladeContact>> paths;
+  o.push_raw("paths");
+  const int pi = lua_gettop(L);
+  const lua_Integer np = luaL_len(L, pi);
+  for (lua_Integer j = 1; j <= np; ++j) {
+    lua_rawgeti(L, pi, j);
+    const int p = lua_gettop(L);
+    const std::string where = "cell:plan_grinding: paths[" + std::to_string(j) + "]";
+    std::vector<BladeContact> path;
+    lua_getfield(L, p, "points");
+    lua_getfield(L, p, "normals");
+    lua_getfield(L, p, "tangents");
+    if (!lua_istable(L, -3) || !lua_istable(L, -2) || !lua_istable(L, -1))
+      luax::error(L, where + ": expected points, normals and tangents");
+    const lua_Integer n = luaL_len(L, -3);
+    if (luaL_len(L, -2) != n || luaL_len(L, -1) != n) luax::error(L, where + ": points, normals and tangents differ in length");
+    for (lua_Integer i = 1; i <= n; ++i) {
+      BladeContact c;
+      lua_rawgeti(L, -3, i);
+      c.point = luax::check_vec3(L, -1, (where + ".points").c_str());
+      lua_pop(L, 1);
+      lua_rawgeti(L, -2, i);
+      c.normal = luax::check_vec3(L, -1, (where + ".normals").c_str());
+      lua_pop(L, 1);
+      lua_rawgeti(L, -1, i);
+      c.tangent = luax::check_vec3(L, -1, (where + ".tangents").c_str());
+      lua_pop(L, 1);
+      path.push_back(c);
+    }
+    lua_pop(L, 4);
+    paths.push_back(std::move(path));
+  }
+  lua_pop(L, 1);
+  RobotGrindingOptions go;
+  go.feed_mm_s = o.number("feed", go.feed_mm_s);
+  go.link_feed_mm_s = o.number("link_feed", go.link_feed_mm_s);
+  go.retract_mm = o.number("retract", go.retract_mm);
+  go.start = cell->home;
+  return luax::guarded(L, [&] {
+    LuaRobotPlan lp;
+    lp.plan = plan_robot_grinding(*cell, cell->station(station), paths, go);
+    lp.cell = cell;
+    lp.station = station;
+    lp.feed_mm_s = go.feed_mm_s;
+    luax::push_new(L, std::move(lp));
+    return 1;
+  });
+}
+
+LuaRobotPlan& check_robot_plan(lua_State* L) { return luax::check<LuaRobotPlan>(L, 1); }
+
+int w_robot_plan_report(lua_State* L) {
+  const RobotGrindingPlan& p = check_robot_plan(L).plan;
+  lua_createtable(L, 0, 8);
+  luax::set_number(L, "moves", static_cast<double>(p.moves.size()));
+  luax::set_number(L, "paths", p.paths);
+  luax::set_number(L, "turned_paths", p.turned_paths);
+  luax::set_number(L, "branch_changes", p.branch_changes);
+  luax::set_number(L, "singular_moves", p.singular_moves);
+  luax::set_number(L, "turn_changes", p.turn_changes);
+  luax::set_number(L, "max_joint_speed_ratio", p.max_joint_speed_ratio);
+  luax::set_number(L, "max_link_joint_speed_ratio", p.max_link_joint_speed_ratio);
+  lua_createtable(L, static_cast<int>(p.refusals.size()), 0);
+  for (size_t i = 0; i < p.refusals.size(); ++i) {
+    lua_pushstring(L, p.refusals[i].c_str());
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "refusals");
+  return 1;
+}
+
+int w_robot_plan_moves(lua_State* L) {
+  const RobotGrindingPlan& p = check_robot_plan(L).plan;
+  lua_createtable(L, static_cast<int>(p.moves.size()), 0);
+  for (size_t i = 0; i < p.moves.size(); ++i) {
+    const RobotMove& m = p.moves[i];
+    lua_createtable(L, 0, 8);
+    push_joints(L, m.joints);
+    lua_setfield(L, -2, "joints");
+    luax::set_number(L, "branch", m.branch);
+    luax::set_bool(L, "link", m.link);
+    luax::set_bool(L, "turned", m.turned);
+    luax::set_number(L, "path", m.path + 1);
+    luax::set_vec3(L, "point", m.contact.point);
+    luax::set_number(L, "offset", m.offset_mm);
+    luax::set_number(L, "joint_speed_ratio", m.joint_speed_ratio);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  return 1;
+}
+
+// The job a robot post writes from: cell, station and grip frames, and per
+// move the target (station in blade frame) with its configuration fields.
+void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& name) {
+  const RobotCell& cell = *lp.cell;
+  const BeltStation& st = cell.station(lp.station);
+  auto set_pose = [&](const Frame& f) {
+    luax::set_vec3(L, "origin", f.translation());
+    const Eigen::Quaterniond q(f.linear());
+    lua_createtable(L, 4, 0);
+    const double qv[4] = {q.w(), q.x(), q.y(), q.z()};
+    for (int i = 0; i < 4; ++i) {
+      lua_pushnumber(L, qv[i]);
+      lua_rawseti(L, -2, i + 1);
+    }
+    lua_setfield(L, -2, "quaternion");
+    // Z-Y-X angles (KUKA's A, B, C), deg.
+    const Vec3 e = f.linear().eulerAngles(2, 1, 0);
+    luax::set_number(L, "a", rad_to_deg(e[0]));
+    luax::set_number(L, "b", rad_to_deg(e[1]));
+    luax::set_number(L, "c", rad_to_deg(e[2]));
+  };
+  lua_createtable(L, 0, 6);
+  luax::set_string(L, "name", name);
+  lua_createtable(L, 0, 2);
+  luax::set_string(L, "name", cell.name);
+  push_joints(L, cell.home);
+  lua_setfield(L, -2, "home");
+  lua_setfield(L, -2, "cell");
+  lua_createtable(L, 0, 8);
+  luax::set_string(L, "name", st.name);
+  luax::set_string(L, "belt", st.belt);
+  luax::set_number(L, "speed", st.belt_speed_m_s);
+  set_pose(st.contact);
+  lua_setfield(L, -2, "station");
+  lua_createtable(L, 0, 6);
+  set_pose(cell.grip);
+  lua_setfield(L, -2, "grip");
+  lua_createtable(L, static_cast<int>(lp.plan.moves.size()), 0);
+  for (size_t i = 0; i < lp.plan.moves.size(); ++i) {
+    const RobotMove& m = lp.plan.moves[i];
+    lua_createtable(L, 0, 16);
+    set_pose(robot_target_frame(cell, st, m));
+    const auto quadrants = abb_quadrants(m.joints);
+    luax::set_number(L, "cf1", quadrants[0]);
+    luax::set_number(L, "cf4", quadrants[1]);
+    luax::set_number(L, "cf6", quadrants[2]);
+    luax::set_number(L, "cfx", m.branch);
+    // KUKA S: bit 0 wrist centre behind axis 1, bit 1 elbow, bit 2 axis 5 negative.
+    luax::set_number(L, "s", ((m.branch >> 2) & 1) | (m.branch & 2) | ((m.branch & 1) << 2));
+    luax::set_number(L, "t", kuka_turn_bits(m.joints));
+    luax::set_bool(L, "link", m.link);
+    luax::set_number(L, "path", m.path + 1);
+    luax::set_number(L, "feed", m.feed_mm_s);
+    push_joints(L, m.joints);
+    lua_setfield(L, -2, "joints");
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "moves");
+}
+
+// The `out` a post writes lines to; its text by out.text().
+const char* kOutChunk =
+    "local lines = {}\n"
+    "return {line = function(_, t) lines[#lines + 1] = t end,\n"
+    "        text = function() return table.concat(lines, '\\n') .. '\\n' end}\n";
+
+// plan:write_program{post = "abb_rapid"|"kuka_krl"|post table, file=, name=} -> report
+int w_robot_plan_write_program(lua_State* L) {
+  const LuaRobotPlan& lp = check_robot_plan(L);
+  const luax::Options o(
+      L, 2, "plan:write_program",
+      {Field{"post", Kind::Any, true, std::nullopt, std::nullopt, "\"abb_rapid\", \"kuka_krl\" or a post table", {}},
+       Field{"file", Kind::String, true, std::nullopt, std::nullopt, "program file in the out folder", {}},
+       Field{"name", Kind::String, false, std::nullopt, std::nullopt, "program / module name", {}},
+       num("position_tol", "read-back tolerance of the contact, mm; default 0.002", 1e-9, 10),
+       num("angle_tol", "read-back tolerance of the orientation, deg; default 0.001", 1e-9, 10)});
+  if (!lp.plan.refusals.empty())
+    luax::error(L, "plan:write_program: the plan refused " + std::to_string(lp.plan.refusals.size()) +
+                       " path(s) (first: " + lp.plan.refusals.front() + "); nothing written");
+  const std::string path = context(L).resolve_write(L, o.string("file", ""));
+  o.push_raw("post");
+  if (lua_type(L, -1) == LUA_TSTRING) {
+    const std::string name = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    load_post_file(L, resolve_script(L, name, "posts"), scripts_folder() + "/posts");
+  } else if (!lua_istable(L, -1)) {
+    luax::error(L, "plan:write_program: option 'post': expected a post name or table");
+  }
+  const int post = lua_gettop(L);
+  lua_getfield(L, post, "dialect");
+  const std::string dialect_name = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
+  lua_pop(L, 1);
+  if (dialect_name != "abb_rapid" && dialect_name != "kuka_krl")
+    luax::error(L, "plan:write_program: the post is not a robot post (dialect \"abb_rapid\" or \"kuka_krl\")");
+  const RobotDialect dialect = dialect_name == "abb_rapid" ? RobotDialect::AbbRapid : RobotDialect::KukaKrl;
+  if (luaL_loadstring(L, kOutChunk) != LUA_OK) lua_error(L);
+  lua_call(L, 0, 1);
+  const int out = lua_gettop(L);
+  lua_getfield(L, post, "write");
+  lua_pushvalue(L, post);
+  push_robot_job(L, lp, o.string("name", "blade_grinding"));
+  lua_pushvalue(L, out);
+  lua_call(L, 3, 0);
+  lua_getfield(L, out, "text");
+  lua_call(L, 0, 1);
+  const std::string text = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  const double position_tol = o.number("position_tol", 0.002), angle_tol = o.number("angle_tol", 0.001);
+  return luax::guarded(L, [&] {
+    const BeltStation& st = lp.cell->station(lp.station);
+    const auto targets = read_robot_program(text, dialect);
+    const RobotVerifyReport r = verify_robot_program(*lp.cell, st, lp.plan, targets, dialect, position_tol, angle_tol);
+    if (!r.problems.empty()) {
+      std::string msg = "plan:write_program: the program read back does not replay the plan (" +
+                        std::to_string(r.problems.size()) + " problem(s)); nothing written";
+      for (size_t i = 0; i < r.problems.size() && i < 5; ++i) msg += "\n  " + r.problems[i];
+      throw Error(msg);
+    }
+    write_file_atomic(path, text);
+    lua_createtable(L, 0, 8);
+    luax::set_string(L, "file", path);
+    luax::set_number(L, "moves", r.moves);
+    luax::set_number(L, "max_position", r.max_position_mm);
+    luax::set_number(L, "max_angle", r.max_angle_deg);
+    luax::set_number(L, "max_joint", r.max_joint_deg);
+    luax::set_number(L, "configuration_flips", r.configuration_flips);
+    luax::set_number(L, "bytes", static_cast<double>(text.size()));
+    return 1;
+  });
+}
+
+}  // namespace
+
+void open_robot(lua_State* L) {
+  static const luaL_Reg cell_methods[] = {{"name", w_cell_name},
+                                          {"stations", w_cell_stations},
+                                          {"forward", w_cell_forward},
+                                          {"inverse", w_cell_inverse},
+                                          {"plan_grinding", w_cell_plan_grinding},
+                                          {nullptr, nullptr}};
+  luax::register_type<LuaRobotCell>(L, cell_methods);
+  static const luaL_Reg plan_methods[] = {{"report", w_robot_plan_report},
+                                          {"moves", w_robot_plan_moves},
+                                          {"write_program", w_robot_plan_write_program},
+                                          {nullptr, nullptr}};
+  luax::register_type<LuaRobotPlan>(L, plan_methods);
+  static const luaL_Reg functions[] = {{"robot_cell", w_robot_cell}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api
