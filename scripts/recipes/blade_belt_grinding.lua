@@ -1,43 +1,56 @@
--- Robotic belt grinding of a blade's flanks: contact-wheel paths for the three
--- stations of the belt paper (papers/robot-belt-grinding-trajectory §2, SPEC
--- §6.3) — coarse and fine ceramic belts and a polishing belt — by the paper's
--- flow (first path on the edge, trimmed by half the wheel width, steps by the
--- chord error with eq. 6, step-over from the scallop height on convex and
--- concave regions, next path at the smallest step-over), with the chord error
--- and the scallop measured by sampled distances, not taken from the formulas.
---
+-- Robotic belt grinding of a blade's flanks (papers/robot-belt-grinding-trajectory,
+-- SPEC §6.3): the robot holds the blade against the contact wheels of three
+-- belt stations — coarse and fine ceramic belts and a polishing belt.
+--   1. Contact-wheel paths per station and flank by the paper's flow (§2):
+--      first path on the edge, trimmed by half the wheel width, steps by the
+--      chord error with eq. 6, step-over from the scallop height on convex
+--      and concave regions, next path at the smallest step-over; the chord
+--      error and the scallop measured by sampled distances (and guaranteed),
+--      not taken from the formulas.
+--   2. The blade in the gripper presented to each station along those paths
+--      by two cells — a KUKA KR 120 R2700-like arm and the paper's ABB IRB
+--      6650S-like arm (scripts/machines/*_belt_cell.lua) — every point solved
+--      through the arm's inverse kinematics with continuity, within the joint
+--      limits, lift-off and approach along the normal between paths.
+--   3. One program per station, flank and robot: KUKA KRL and ABB RAPID,
+--      each read back and replayed through the arm before it is written.
 -- The blade: blade 1 of the built-in blisk, ground as a separate blade
--- between its hub and tip curves; with --data ../shared/data, blade 1 of
--- NASA Rotor 67 (--set part=rotor67).
+-- between its hub and tip curves; with --data ../shared/data and
+-- --set part=rotor67, blade 1 of NASA Rotor 67.
 -- Outputs: blade_belt_grinding.json (per station and flank: paths, points,
--- measured chord and scallop maxima, the guarantee's corrections, and every
--- path's points, normals and wheel axes), blade_belt_grinding.pvd (flanks and
--- paths for ParaView), report.html.
+-- measured chord and scallop, the guarantee's corrections, every path's
+-- points, normals and wheel axes; per robot: moves, read-back figures),
+-- <robot>_<station>_<flank>.src / .mod (the programs), blade_belt_grinding.pvd
+-- (flanks and paths for ParaView), report.html. The run fails (after writing
+-- the report) if a path is refused or a grinding move asks a joint for more
+-- than its speed.
 --
 --   bliskrun scripts/recipes/blade_belt_grinding.lua --out out/
 --   options: --set part=builtin|rotor67  --set sides=both|pressure|suction
+--            --set feed=20 (mm/s along the path)  --set robots=both|kuka|abb
 --
--- Not yet here (issue 15): the robot holding the blade (six-axis inverse
--- kinematics is in core/machine/robot.h), scan registration and the RAPID /
--- KRL programs.
+-- Not yet here (issue 15): the wheel and belt as bodies in a collision check
+-- against the rest of the blade (item 3), scan registration (item 4).
 
+local run_report = require("run_report")
 local part_name = args.part or "builtin"
 assert(part_name == "builtin" or part_name == "rotor67", "--set part= expects 'builtin' or 'rotor67'")
 local sides = args.sides or "both"
 assert(sides == "both" or sides == "pressure" or sides == "suction",
        "--set sides= expects 'both', 'pressure' or 'suction'")
+local feed = args.feed or 20
+local robots = ({both = {"kuka", "abb"}, kuka = {"kuka"}, abb = {"abb"}})[args.robots or "both"]
+assert(robots, "--set robots= expects 'both', 'kuka' or 'abb'")
 
--- The stations (the paper: ceramic belts of 120 and 240 grit, a nylon
--- polishing belt; contact-wheel speeds 5.6 and 18.3 m/s). Chord error and
--- scallop tighten from station to station; the wheels are the shop's.
-local stations = {
-  {name = "coarse", belt = "ceramic, 120 grit", speed = 5.6, wheel = {radius = 25, width = 12},
-   chord_tol = 0.02, scallop = 0.01},
-  {name = "fine", belt = "ceramic, 240 grit", speed = 18.3, wheel = {radius = 20, width = 10},
-   chord_tol = 0.01, scallop = 0.005},
-  {name = "polish", belt = "nylon", speed = 18.3, wheel = {radius = 15, width = 8},
-   chord_tol = 0.005, scallop = 0.002},
+-- The cells (wheels, belts and stations are the cell's) and the process
+-- tolerances per station: chord error and scallop tighten station by station.
+local cells = {
+  kuka = {file = "kuka_kr120_belt_cell", post = "kuka_krl", ext = "src"},
+  abb = {file = "abb_irb6650s_belt_cell", post = "abb_rapid", ext = "mod"},
 }
+local tolerances = {coarse = {chord_tol = 0.02, scallop = 0.01}, fine = {chord_tol = 0.01, scallop = 0.005},
+                    polish = {chord_tol = 0.005, scallop = 0.002}}
+local station_order = {"coarse", "fine", "polish"}
 
 -- Each flank between the hub and tip curves; pu x pv points out of the
 -- material on both flanks of both parts (the wheel's side).
@@ -59,28 +72,48 @@ else
   add_faces(function(side) return part[side]:surface() end, part.hub, part.casing)
 end
 
-local report = {part = part_name, stations = {}}
-local station_rows, blocks = {}, {}  -- report.html, ParaView
+-- The grip: the blade's radial direction along the flange's z axis, the root
+-- 150 mm out from the flange, its axial direction along the flange's y (or,
+-- where the wrist cannot reach a path that way, along x or -x: the first
+-- grip that reaches every path is used and reported). On Rotor 67's twisted
+-- suction flank axial-along-x needs axis 5 beyond its limits on 31 / 54 paths.
+local foot = faces[1].surface:point(0, 0.5)
+local phi, r0 = math.atan(foot.y, foot.x), math.sqrt(foot.x ^ 2 + foot.y ^ 2)
+local grips = {
+  {name = "axial along y", origin = {0, 0, 150 - r0}, x = {-math.sin(phi), 0, math.cos(phi)}, z = {0, 1, 0}},
+  {name = "axial along x", origin = {0, 0, 150 - r0}, x = {0, -math.sin(phi), math.cos(phi)}, z = {1, 0, 0}},
+  {name = "axial along -x", origin = {0, 0, 150 - r0}, x = {0, math.sin(phi), math.cos(phi)}, z = {-1, 0, 0}},
+}
+
+local report = {part = part_name, feed_mm_s = feed, stations = {}, programs = {}}
+local station_rows, program_rows, blocks = {}, {}, {}  -- report.html, ParaView
 for _, f in ipairs(faces) do
   blocks[#blocks + 1] = {name = f.side .. " flank", surface = f.surface, samples_u = 40, samples_v = 150}
 end
+local loaded = {}
+for _, r in ipairs(robots) do loaded[r] = bliskrun.robot_cell(cells[r].file) end
+-- The wheels are the first cell's (both cells carry the same stations).
+local wheels = {}
+for _, s in ipairs(loaded[robots[1]]:stations()) do wheels[s.name] = s end
+
+local ok = true
 print(string.format("%-7s %-9s %6s %7s %12s %12s %9s %9s", "station", "flank", "paths", "points",
                     "chord max", "scallop max", "steps cut", "overs cut"))
-for _, st in ipairs(stations) do
-  st.contact_wheel = bliskrun.contact_wheel(st.wheel)
-  local entry = {name = st.name, belt = st.belt, speed = st.speed, wheel = st.wheel,
-                 chord_tol = st.chord_tol, scallop = st.scallop, flanks = {}}
+for _, name in ipairs(station_order) do
+  local w, tol = wheels[name], tolerances[name]
+  local wheel = bliskrun.contact_wheel{radius = w.radius, width = w.width}
+  local entry = {name = name, belt = w.belt, speed = w.speed, wheel = {radius = w.radius, width = w.width},
+                 chord_tol = tol.chord_tol, scallop = tol.scallop, flanks = {}}
   for _, f in ipairs(faces) do
-    local plan = bliskrun.belt_paths{face = f.surface, wheel = st.contact_wheel, chord_tol = st.chord_tol,
-                                     scallop = st.scallop}
+    local plan = bliskrun.belt_paths{face = f.surface, wheel = wheel, chord_tol = tol.chord_tol, scallop = tol.scallop}
     -- The measurement, not the formula, is what the recipe stands on.
-    if plan.chord_max > st.chord_tol * (1 + 1e-9) or plan.scallop_max > st.scallop * (1 + 1e-9) then
-      error(string.format("%s %s: measured chord %.4f / scallop %.4f mm beyond %.4f / %.4f", st.name, f.side,
-                          plan.chord_max, plan.scallop_max, st.chord_tol, st.scallop))
+    if plan.chord_max > tol.chord_tol * (1 + 1e-9) or plan.scallop_max > tol.scallop * (1 + 1e-9) then
+      error(string.format("%s %s: measured chord %.4f / scallop %.4f mm beyond %.4f / %.4f", name, f.side,
+                          plan.chord_max, plan.scallop_max, tol.chord_tol, tol.scallop))
     end
-    print(string.format("%-7s %-9s %6d %7d %9.2f µm %9.2f µm %9d %9d", st.name, f.side, #plan.paths, plan.points,
+    print(string.format("%-7s %-9s %6d %7d %9.2f µm %9.2f µm %9d %9d", name, f.side, #plan.paths, plan.points,
                         plan.chord_max * 1000, plan.scallop_max * 1000, plan.step_halvings, plan.step_over_shrinks))
-    station_rows[#station_rows + 1] = {st.name, f.side, #plan.paths, plan.points, 1e3 * plan.chord_max,
+    station_rows[#station_rows + 1] = {name, f.side, #plan.paths, plan.points, 1e3 * plan.chord_max,
                                        1e3 * plan.scallop_max, plan.step_halvings, plan.step_over_shrinks}
     -- The paths as polylines for ParaView: the contact points, the wheel axis as the "tool axis".
     local moves = {}
@@ -89,29 +122,75 @@ for _, st in ipairs(stations) do
         moves[#moves + 1] = {kind = i == 1 and "rapid" or "feed", tip = pt, axis = p.tangents[i], row = j}
       end
     end
-    blocks[#blocks + 1] = {name = st.name .. " " .. f.side .. " paths", moves = moves}
-    entry.flanks[f.side] = {paths = #plan.paths, points = plan.points, chord_max = plan.chord_max,
-                            scallop_max = plan.scallop_max, step_halvings = plan.step_halvings,
-                            step_over_shrinks = plan.step_over_shrinks, path = {}}
+    blocks[#blocks + 1] = {name = name .. " " .. f.side .. " paths", moves = moves}
+    local flank = {paths = #plan.paths, points = plan.points, chord_max = plan.chord_max,
+                   scallop_max = plan.scallop_max, step_halvings = plan.step_halvings,
+                   step_over_shrinks = plan.step_over_shrinks, path = {}}
+    local function xyz(list)
+      local out = {}
+      for i, v in ipairs(list) do out[i] = {v.x, v.y, v.z} end
+      return out
+    end
     for j, p in ipairs(plan.paths) do
-      local xyz = function(list)
-        local out = {}
-        for i, v in ipairs(list) do out[i] = {v.x, v.y, v.z} end
-        return out
+      flank.path[j] = {across = p.across, length = p.length, chord_max = p.chord_max, scallop_max = p.scallop_max,
+                       points = xyz(p.points), normals = xyz(p.normals), wheel_axes = xyz(p.tangents)}
+    end
+    entry.flanks[f.side] = flank
+
+    -- The robots: present the blade along these paths, post, read back.
+    for _, robot in ipairs(robots) do
+      local c = cells[robot]
+      local rp, rr, grip
+      for _, g in ipairs(grips) do
+        grip = g
+        rp = loaded[robot]:plan_grinding{station = name, grip = g, paths = plan.paths, feed = feed, link_feed = 100}
+        rr = rp:report()
+        if #rr.refusals == 0 then break end
       end
-      entry.flanks[f.side].path[j] = {across = p.across, length = p.length, chord_max = p.chord_max,
-                                      scallop_max = p.scallop_max, points = xyz(p.points),
-                                      normals = xyz(p.normals), wheel_axes = xyz(p.tangents)}
+      local prog = {robot = loaded[robot]:name(), station = name, flank = f.side, grip = grip.name, moves = rr.moves,
+                    turned_paths = rr.turned_paths, branch_changes = rr.branch_changes,
+                    singular_moves = rr.singular_moves, joint_speed_ratio = rr.max_joint_speed_ratio,
+                    link_joint_speed_ratio = rr.max_link_joint_speed_ratio, refusals = rr.refusals}
+      if #rr.refusals > 0 or rr.max_joint_speed_ratio > 1 then
+        ok = false
+        bliskrun.log(string.format("%s %s %s: %d refused paths (%s), joint speed ratio %.2f", robot, name, f.side,
+                                   #rr.refusals, rr.refusals[1] or "-", rr.max_joint_speed_ratio))
+      else
+        local file = string.format("%s_%s_%s.%s", robot, name, f.side, c.ext)
+        local wr = rp:write_program{post = c.post, file = file,
+                                    name = string.format("%s_%s_%s", part_name, name, f.side)}
+        prog.file, prog.max_position_mm, prog.max_angle_deg, prog.max_joint_deg =
+          file, wr.max_position, wr.max_angle, wr.max_joint
+        program_rows[#program_rows + 1] = {file, name, f.side, grip.name, rr.moves, rr.branch_changes, rr.singular_moves,
+                                           rr.max_joint_speed_ratio, 1e3 * wr.max_position, wr.max_angle}
+      end
+      report.programs[#report.programs + 1] = prog
     end
   end
   report.stations[#report.stations + 1] = entry
 end
+for _, p in ipairs(report.programs) do
+  print(string.format("%-46s %-7s %-9s %s, %5d moves, %d branch changes, joint speed %.2f of max%s", p.robot,
+                      p.station, p.flank, p.grip, p.moves, p.branch_changes, p.joint_speed_ratio,
+                      p.file and string.format(", %s read back within %.3f µm", p.file, 1e3 * p.max_position_mm)
+                        or ", NOT posted"))
+end
+report.verified = ok
 bliskrun.write_json("blade_belt_grinding.json", report)
-require("run_report").write{title = "Belt-grinding paths, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
-  subtitle = "chord error and scallop measured by sampled distances, every station within its tolerances",
-  settings = {part = part_name, sides = sides},
-  sections = {{title = "Stations", text = "Steps / step-overs cut: shortened where the measurement exceeded the tolerance.",
+run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
+  subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
+  settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = args.robots or "both"},
+  sections = {{title = "Stations", text = "Chord error and scallop measured by sampled distances; steps / "
+                                          .. "step-overs cut: shortened where the measurement exceeded the tolerance.",
                table = {columns = {"station", "flank", "paths", "points", "chord max (um)", "scallop max (um)",
-                                   "steps cut", "step-overs cut"}, rows = station_rows}}},
+                                   "steps cut", "step-overs cut"}, rows = station_rows}},
+              {title = "Robot programs", text = "Joint speed: the largest joint speed on a grinding move over "
+                                                .. "the joint's maximum (at the feed along the path).",
+               table = {columns = {"file", "station", "flank", "grip", "moves", "branch changes", "singular",
+                                   "joint speed / max", "read-back (um)", "read-back (deg)"}, rows = program_rows}}},
   vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
-  files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes"}}}
+  files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes, programs"},
+           {"kuka_*.src", "KUKA KRL programs"}, {"abb_*.mod", "ABB RAPID modules"}}}
+if not ok then
+  error("a path was refused or a grinding move needs a joint beyond its speed; see blade_belt_grinding.json")
+end

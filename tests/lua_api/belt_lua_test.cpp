@@ -2,10 +2,18 @@
 // was expected.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "test_support.h"
 
 namespace bliskrun::test {
 namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
 
 class LuaBeltErrors : public ::testing::TestWithParam<RecipeErrorCase> {};
 
@@ -36,6 +44,43 @@ INSTANTIATE_TEST_SUITE_P(
                         "bliskrun.belt_paths{face = " FACE ", wheel = bliskrun.contact_wheel{radius = 20, width = 80}}",
                         "not longer than the wheel width"}),
     error_case_name);
+
+// Robot programs through the shipped posts: what the header and the first
+// target say, and a post edited to move the part by 10 um is refused at the
+// read-back with nothing written.
+TEST(LuaRobotPrograms, PostsWriteReadableProgramsAndAnEditedPostIsRefused) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"(
+local pts = {}
+for i = 0, 2 do for j = 0, 6 do pts[#pts + 1] = {10 * j, 0, 60 + 10 * i} end end
+local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
+local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
+local cell = bliskrun.robot_cell("kuka_kr120_belt_cell")
+local plan = cell:plan_grinding{station = "fine", grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}, paths = paths}
+assert(#plan:report().refusals == 0)
+local k = plan:write_program{post = "kuka_krl", file = "p.src", name = "flat test"}
+assert(k.max_position < 1e-4 and k.moves == #plan:moves())
+local abb = bliskrun.robot_cell("abb_irb6650s_belt_cell")
+local aplan = abb:plan_grinding{station = "fine", grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}, paths = paths}
+assert(aplan:write_program{post = "abb_rapid", file = "p.mod"}.max_position < 1e-4)
+local bad = bliskrun.post.load("kuka_krl")
+local position = bad.position
+bad.position = function(self, v) return position(self, v + 0.01) end
+local ok, msg = pcall(plan.write_program, plan, {post = bad, file = "bad.src"})
+assert(not ok and msg:find("does not replay the plan"), msg)
+)");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string krl = read_file(dir.path() + "/out/p.src"), rapid = read_file(dir.path() + "/out/p.mod");
+  EXPECT_EQ(krl.substr(0, krl.find('\n')), "DEF flat_test()");
+  EXPECT_NE(krl.find("$IPO_MODE = #TCP"), std::string::npos);
+  EXPECT_NE(krl.find("$TOOL = {X 1700.0000,Y 0.0000,Z 900.0000,"), std::string::npos);
+  EXPECT_NE(krl.find("LIN {E6POS: X "), std::string::npos);
+  EXPECT_EQ(rapid.substr(0, rapid.find('\n')), "MODULE blade_grinding");
+  EXPECT_NE(rapid.find("PERS tooldata tWheel := [FALSE,[[2200.0000,0.0000,1000.0000],"), std::string::npos);
+  EXPECT_NE(rapid.find("PERS wobjdata wBlade := [TRUE,TRUE,"), std::string::npos);
+  EXPECT_NE(rapid.find(",tWheel\\WObj:=wBlade;"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() + "/out/bad.src"));
+}
 
 }  // namespace
 }  // namespace bliskrun::test

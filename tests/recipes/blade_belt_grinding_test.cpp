@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -41,6 +42,18 @@ TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolera
       EXPECT_GT(first["length"].get<double>(), 10.0);
     }
     for (double s : spans) EXPECT_NEAR(s, spans[1], 2.5) << side;  // ~31 mm of blade height
+  }
+  // One program per station, flank and robot, each read back and replayed
+  // through its arm within 2 um before it was written; no configuration
+  // change along a program; grinding moves within the joints' speeds.
+  ASSERT_EQ(j["programs"].size(), 12u);
+  for (const auto& p : j["programs"]) {
+    ASSERT_TRUE(p.contains("file")) << p.dump();
+    EXPECT_TRUE(std::filesystem::exists(dir.path() + "/" + p["file"].get<std::string>()));
+    EXPECT_LT(p["max_position_mm"].get<double>(), 0.002);
+    EXPECT_EQ(p["branch_changes"].get<int>(), 0);
+    EXPECT_LT(p["joint_speed_ratio"].get<double>(), 1.0);
+    EXPECT_TRUE(p["refusals"].empty());
   }
 }
 
