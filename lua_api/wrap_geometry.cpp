@@ -6,6 +6,7 @@
 #include "core/geometry/differential.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
+#include "core/geometry/registration.h"
 #include "core/geometry/revolution.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -327,6 +328,74 @@ int w_mesh_size(lua_State* L) {
 
 }  // namespace
 
+namespace {
+
+// bliskrun.register_scan{scan = {{x,y,z}, ...}, surfaces = {...}, samples = 300, ...}
+// -> {transform = {origin, x, y, z}, iterations, converged, inliers, outliers, rms, median}
+int w_register_scan(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.register_scan",
+      {luax::Field{"scan", luax::Kind::Table, true, std::nullopt, std::nullopt, "measured points {{x,y,z}, ...}, mm", {}},
+       luax::Field{"surfaces", luax::Kind::Table, true, std::nullopt, std::nullopt,
+                   "the model: a list of Surfaces in the frame the scan should land in", {}},
+       luax::Field{"samples", luax::Kind::Integer, false, 10, 4000, "model samples per surface and direction; default 300", {}},
+       luax::Field{"initial_reach", luax::Kind::Number, false, 1e-6, 1000,
+                   "pairs farther than this are ignored at first (the expected clamping error), mm; default 5", {}},
+       luax::Field{"outlier_factor", luax::Kind::Number, false, 1, 100, "later: this times the median pair distance; default 3", {}}});
+  std::vector<Vec3> scan;
+  o.push_raw("scan");
+  const lua_Integer n = luaL_len(L, -1);
+  scan.reserve(static_cast<size_t>(n));
+  for (lua_Integer i = 1; i <= n; ++i) {
+    lua_rawgeti(L, -1, i);
+    scan.push_back(luax::check_vec3(L, -1, "scan[i]"));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  std::vector<std::shared_ptr<const Surface>> surfaces;
+  o.push_raw("surfaces");
+  for (lua_Integer i = 1; i <= luaL_len(L, -1); ++i) {
+    lua_rawgeti(L, -1, i);
+    surfaces.push_back(luax::check<SurfaceHandle>(L, -1).surface);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  const int samples = static_cast<int>(o.integer("samples", 300));
+  RegistrationOptions ro;
+  ro.initial_reach_mm = o.number("initial_reach", ro.initial_reach_mm);
+  ro.outlier_factor = o.number("outlier_factor", ro.outlier_factor);
+  return luax::guarded(L, [&] {
+    ModelSample model;
+    for (const auto& s : surfaces)
+      for (int i = 0; i < samples; ++i)
+        for (int j = 0; j < samples; ++j) {
+          const SurfaceDerivs d = s->eval(static_cast<double>(i) / (samples - 1), static_cast<double>(j) / (samples - 1));
+          const Vec3 nrm = d.pu.cross(d.pv);
+          if (nrm.norm() < 1e-12) continue;
+          model.points.push_back(d.p);
+          model.normals.push_back(nrm.normalized());
+        }
+    const RegistrationResult r = register_points(scan, model, ro);
+    lua_createtable(L, 0, 8);
+    lua_createtable(L, 0, 4);
+    luax::set_vec3(L, "origin", r.transform.translation());
+    luax::set_vec3(L, "x", r.transform.linear().col(0));
+    luax::set_vec3(L, "y", r.transform.linear().col(1));
+    luax::set_vec3(L, "z", r.transform.linear().col(2));
+    lua_setfield(L, -2, "transform");
+    luax::set_number(L, "angle", rad_to_deg(Eigen::AngleAxisd(r.transform.linear()).angle()));
+    luax::set_number(L, "iterations", r.iterations);
+    luax::set_bool(L, "converged", r.converged);
+    luax::set_number(L, "inliers", r.inliers);
+    luax::set_number(L, "outliers", r.outliers);
+    luax::set_number(L, "rms", r.rms_mm);
+    luax::set_number(L, "median", r.median_mm);
+    return 1;
+  });
+}
+
+}  // namespace
+
 void open_geometry(lua_State* L) {
   static const luaL_Reg grid_methods[] = {{"size", w_grid_size}, {"point", w_grid_point},
                                           {"surface", w_interpolate_grid}, {"rotated", w_grid_rotated},
@@ -350,6 +419,7 @@ void open_geometry(lua_State* L) {
                                        {"interpolate_curve", w_interpolate_curve},
                                        {"surface_of_revolution", w_surface_of_revolution},
                                        {"intersect_revolution", w_intersect_revolution},
+                                       {"register_scan", w_register_scan},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
