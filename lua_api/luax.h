@@ -83,6 +83,12 @@ struct Field {
   std::vector<std::string> choices;  // allowed strings (Kind::String)
 };
 
+// An optional number field: the one-liner option tables are made of.
+inline Field number_field(const char* name, const char* doc, std::optional<double> min = std::nullopt,
+                          std::optional<double> max = std::nullopt) {
+  return Field{name, Kind::Number, false, min, max, doc, {}};
+}
+
 class Options {
  public:
   // Validates the table at `idx` (absent/nil = empty table) against `fields`.

@@ -21,6 +21,7 @@
 
 #include "core/machine/kinematics.h"
 #include "core/machine/motion.h"
+#include "lua_api/luax.h"
 
 namespace bliskrun::lua_api {
 
@@ -56,6 +57,11 @@ void load_post_file(lua_State* L, const std::string& path, const std::string& po
 // confined by the runner. (wrap_machine.cpp)
 std::string scripts_folder();
 std::string resolve_script(lua_State* L, const std::string& what, const std::string& kind);
+
+// Pushes the post an option table names: a post name (scripts/posts/<name>.lua,
+// loaded) or a post table (bliskrun.post.load, edited) left as it is.
+// Returns its stack index; raises a Lua error naming `what` otherwise.
+int push_post_option(lua_State* L, const luax::Options& o, const std::string& what);
 
 // Runs a Lua file with `env_idx` as its environment; leaves its one result.
 void run_script_file(lua_State* L, const std::string& path, int env_idx);

@@ -17,10 +17,7 @@ namespace {
 using luax::Field;
 using luax::Kind;
 
-Field num(const char* name, const char* doc, std::optional<double> min = std::nullopt,
-          std::optional<double> max = std::nullopt) {
-  return Field{name, Kind::Number, false, min, max, doc, {}};
-}
+using luax::number_field;
 
 void push_numbers(lua_State* L, const std::vector<double>& values) {
   lua_createtable(L, static_cast<int>(values.size()), 0);
@@ -45,8 +42,8 @@ int w_belt_paths(lua_State* L) {
       {Field{"face", Kind::Any, true, std::nullopt, std::nullopt, "the face to grind (Surface)", {}},
        Field{"wheel", Kind::Any, true, std::nullopt, std::nullopt,
              "contact wheel (bliskrun.contact_wheel{radius, width}); its width lies along the path", {}},
-       num("chord_tol", "chord error along a path (eq. 1-2), mm; default 0.01", 1e-6, 10),
-       num("scallop", "scallop height between paths (eq. 3-5), mm; default 0.005", 1e-6, 10),
+       number_field("chord_tol", "chord error along a path (eq. 1-2), mm; default 0.01", 1e-6, 10),
+       number_field("scallop", "scallop height between paths (eq. 3-5), mm; default 0.005", 1e-6, 10),
        Field{"along", Kind::String, false, std::nullopt, std::nullopt,
              "paths run along \"v\" (chord, at constant u) or \"u\"; default \"v\"", {"u", "v"}},
        Field{"normal", Kind::String, false, std::nullopt, std::nullopt,
@@ -55,7 +52,7 @@ int w_belt_paths(lua_State* L) {
              "the paper's eq. 6 (larger curvature of this and the predicted point); default true", {}},
        Field{"guarantee", Kind::Boolean, false, std::nullopt, std::nullopt,
              "shorten steps / step-overs whose measured chord / scallop exceeds the tolerance; default true", {}},
-       num("max_step", "longest step along a path, mm; default 20", 1e-3, 1000),
+       number_field("max_step", "longest step along a path, mm; default 20", 1e-3, 1000),
        Field{"scallop_samples", Kind::Integer, false, 4, 1000,
              "cross-section samples per point when measuring the scallop; default 24", {}}});
   o.push_raw("face");

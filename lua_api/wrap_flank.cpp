@@ -20,10 +20,7 @@ namespace {
 using luax::Field;
 using luax::Kind;
 
-Field num(const char* name, const char* doc, std::optional<double> min = std::nullopt,
-          std::optional<double> max = std::nullopt) {
-  return Field{name, Kind::Number, false, min, max, doc, {}};
-}
+using luax::number_field;
 
 void push_pose(lua_State* L, const ToolPose& p) {
   lua_createtable(L, 0, 2);
@@ -61,15 +58,15 @@ int w_flank_mill(lua_State* L) {
        Field{"hub", Kind::Any, false, std::nullopt, std::nullopt,
              "hub surface of revolution (impeller:hub()); without it the ball centre is at D2", {}},
        Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "ball-end or tapered ball-end mill", {}},
-       num("ball_radius", "radius of the tool's tip ball, mm (required)", 1e-6),
+       number_field("ball_radius", "radius of the tool's tip ball, mm (required)", 1e-6),
        Field{"world", Kind::Any, false, std::nullopt, std::nullopt,
              "CollisionWorld: neighbouring blades (all parts), this face and the hub (shank, holder)", {}},
-       num("chord_tol", "chord tolerance along both boundary curves, mm; default 0.005", 1e-6, 10),
-       num("max_step", "longest step along the chord, mm; default 5", 1e-3, 1000),
-       num("clearance", "clearance of the shank and holder, mm; default 0.5", 0, 100),
-       num("max_tilt", "largest tilt about the hub contact normal, degrees; default 10", 0, 60),
-       num("tilt_step", "tilt step, degrees; default 1", 0.01, 30),
-       num("lead_retract", "lead-in/out distance along the face normal, mm; default 5", 0.01, 1000),
+       number_field("chord_tol", "chord tolerance along both boundary curves, mm; default 0.005", 1e-6, 10),
+       number_field("max_step", "longest step along the chord, mm; default 5", 1e-3, 1000),
+       number_field("clearance", "clearance of the shank and holder, mm; default 0.5", 0, 100),
+       number_field("max_tilt", "largest tilt about the hub contact normal, degrees; default 10", 0, 60),
+       number_field("tilt_step", "tilt step, degrees; default 1", 0.01, 30),
+       number_field("lead_retract", "lead-in/out distance along the face normal, mm; default 5", 0.01, 1000),
        Field{"design", Kind::Any, false, std::nullopt, std::nullopt,
              "design face the residual is measured against (default: face), when face is a ruled fit of it", {}},
        Field{"balance", Kind::Boolean, false, std::nullopt, std::nullopt,

@@ -57,6 +57,18 @@ std::string resolve_script(lua_State* L, const std::string& what, const std::str
   return context(L).resolve_read(L, what);
 }
 
+int push_post_option(lua_State* L, const luax::Options& o, const std::string& what) {
+  o.push_raw("post");
+  if (lua_type(L, -1) == LUA_TSTRING) {
+    const std::string name = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    load_post_file(L, resolve_script(L, name, "posts"), scripts_folder() + "/posts");
+  } else if (!lua_istable(L, -1)) {
+    luax::error(L, what + ": expected a post name or a post table (bliskrun.post.load)");
+  }
+  return lua_gettop(L);
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -330,15 +342,7 @@ int w_post_write(lua_State* L) {
   const MachineValue& machine = check_machine(L, -1);
   lua_pop(L, 1);
 
-  o.push_raw("post");
-  if (lua_type(L, -1) == LUA_TSTRING) {
-    const std::string name = lua_tostring(L, -1);
-    lua_pop(L, 1);
-    load_post_file(L, resolve_script(L, name, "posts"), scripts_folder() + "/posts");
-  } else if (!lua_istable(L, -1)) {
-    luax::error(L, "post: expected a post name or a post table (bliskrun.post.load)");
-  }
-  const int post_idx = lua_gettop(L);
+  const int post_idx = push_post_option(L, o, "post");
   if (o.has("tcp")) {
     lua_pushboolean(L, o.boolean("tcp", false));
     lua_setfield(L, post_idx, "tcp");

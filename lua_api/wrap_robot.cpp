@@ -49,10 +49,7 @@ namespace {
 using luax::Field;
 using luax::Kind;
 
-Field num(const char* name, const char* doc, std::optional<double> min = std::nullopt,
-          std::optional<double> max = std::nullopt) {
-  return Field{name, Kind::Number, false, min, max, doc, {}};
-}
+using luax::number_field;
 
 Vec3 vec3_field(lua_State* L, int idx, const char* key, const std::string& where) {
   lua_getfield(L, idx, key);
@@ -127,8 +124,8 @@ int l_robot_cell(lua_State* L) {
   o.push_raw("opw");
   {
     const luax::Options g(L, lua_gettop(L), "robot_cell: opw",
-                          {num("a1", "mm"), num("a2", "mm"), num("b", "mm"), num("c1", "mm"), num("c2", "mm"),
-                           num("c3", "mm"), num("c4", "mm")});
+                          {number_field("a1", "mm"), number_field("a2", "mm"), number_field("b", "mm"), number_field("c1", "mm"), number_field("c2", "mm"),
+                           number_field("c3", "mm"), number_field("c4", "mm")});
     OpwGeometry& a = c.cell.arm.geometry;
     a = {g.number("a1", 0), g.number("a2", 0), g.number("b", 0), g.number("c1", 0),
          g.number("c2", 0), g.number("c3", 0), g.number("c4", 0)};
@@ -140,9 +137,9 @@ int l_robot_cell(lua_State* L) {
     lua_rawgeti(L, -1, i + 1);
     const std::string what = "robot_cell: joints[" + std::to_string(i + 1) + "]";
     const luax::Options j(L, lua_gettop(L), what,
-                          {num("zero", "OPW angle at the controller's zero, deg"),
+                          {number_field("zero", "OPW angle at the controller's zero, deg"),
                            Field{"sign", Kind::Integer, false, -1, 1, "1 or -1", {}},
-                           num("min", "deg"), num("max", "deg"), num("speed", "deg/s", 1e-6)});
+                           number_field("min", "deg"), number_field("max", "deg"), number_field("speed", "deg/s", 1e-6)});
     if (!j.has("min") || !j.has("max") || !j.has("speed")) luax::error(L, what + ": expected min, max and speed");
     RobotJoint& rj = c.cell.arm.joints[i];
     rj.zero_rad = deg_to_rad(j.number("zero", 0));
@@ -172,7 +169,7 @@ int l_robot_cell(lua_State* L) {
                             Field{"axis", Kind::Vec3, true, std::nullopt, std::nullopt, "the wheel's axis", {}},
                             Field{"wheel", Kind::Table, true, std::nullopt, std::nullopt, "{radius = mm, width = mm}", {}},
                             Field{"belt", Kind::String, false, std::nullopt, std::nullopt, "belt, e.g. \"ceramic, 120 grit\"", {}},
-                            num("speed", "belt speed, m/s", 0)});
+                            number_field("speed", "belt speed, m/s", 0)});
     const Vec3 n = so.vec3("normal", Vec3::Zero()), a = so.vec3("axis", Vec3::Zero());
     if (n.norm() < 1e-12 || a.norm() < 1e-12 || std::abs(n.normalized().dot(a.normalized())) > 1e-6)
       luax::error(L, what + ": expected normal and axis of non-zero length at right angles");
@@ -181,7 +178,7 @@ int l_robot_cell(lua_State* L) {
     s.contact.linear().col(1) = s.contact.linear().col(2).cross(s.contact.linear().col(0));
     s.contact.translation() = so.vec3("contact", Vec3::Zero());
     so.push_raw("wheel");
-    const luax::Options w(L, lua_gettop(L), what + ".wheel", {num("radius", "mm", 1e-3), num("width", "mm", 1e-3)});
+    const luax::Options w(L, lua_gettop(L), what + ".wheel", {number_field("radius", "mm", 1e-3), number_field("width", "mm", 1e-3)});
     if (!w.has("radius") || !w.has("width")) luax::error(L, what + ".wheel: expected {radius = mm, width = mm}");
     s.wheel_radius_mm = w.number("radius", 0);
     s.wheel_width_mm = w.number("width", 0);
@@ -283,9 +280,9 @@ int w_cell_plan_grinding(lua_State* L) {
              "the blade frame in the flange frame {origin, x, z}", {}},
        Field{"paths", Kind::Table, true, std::nullopt, std::nullopt,
              "belt paths (bliskrun.belt_paths(...).paths): points, normals, tangents", {}},
-       num("feed", "contact speed along the path, mm/s; default 20", 1e-3, 1e4),
-       num("link_feed", "speed off the wheel between paths, mm/s; default 200", 1e-3, 1e5),
-       num("retract", "lift-off along the normal between paths, mm; default 10", 1e-3, 1000)});
+       number_field("feed", "contact speed along the path, mm/s; default 20", 1e-3, 1e4),
+       number_field("link_feed", "speed off the wheel between paths, mm/s; default 200", 1e-3, 1e5),
+       number_field("retract", "lift-off along the normal between paths, mm; default 10", 1e-3, 1000)});
   auto cell = std::make_shared<RobotCell>(lc.cell);
   o.push_raw("grip");
   cell->grip = frame_field(L, -1, "cell:plan_grinding: grip");
@@ -456,21 +453,13 @@ int w_robot_plan_write_program(lua_State* L) {
       {Field{"post", Kind::Any, true, std::nullopt, std::nullopt, "\"abb_rapid\", \"kuka_krl\" or a post table", {}},
        Field{"file", Kind::String, true, std::nullopt, std::nullopt, "program file in the out folder", {}},
        Field{"name", Kind::String, false, std::nullopt, std::nullopt, "program / module name", {}},
-       num("position_tol", "read-back tolerance of the contact, mm; default 0.002", 1e-9, 10),
-       num("angle_tol", "read-back tolerance of the orientation, deg; default 0.001", 1e-9, 10)});
+       number_field("position_tol", "read-back tolerance of the contact, mm; default 0.002", 1e-9, 10),
+       number_field("angle_tol", "read-back tolerance of the orientation, deg; default 0.001", 1e-9, 10)});
   if (!lp.plan.refusals.empty())
     luax::error(L, "plan:write_program: the plan refused " + std::to_string(lp.plan.refusals.size()) +
                        " path(s) (first: " + lp.plan.refusals.front() + "); nothing written");
   const std::string path = context(L).resolve_write(L, o.string("file", ""));
-  o.push_raw("post");
-  if (lua_type(L, -1) == LUA_TSTRING) {
-    const std::string name = lua_tostring(L, -1);
-    lua_pop(L, 1);
-    load_post_file(L, resolve_script(L, name, "posts"), scripts_folder() + "/posts");
-  } else if (!lua_istable(L, -1)) {
-    luax::error(L, "plan:write_program: option 'post': expected a post name or table");
-  }
-  const int post = lua_gettop(L);
+  const int post = push_post_option(L, o, "plan:write_program: option 'post'");
   lua_getfield(L, post, "dialect");
   const std::string dialect_name = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
   lua_pop(L, 1);
