@@ -7,6 +7,7 @@
 
 #include "core/machine/robot.h"
 #include "core/machine/verify.h"
+#include "core/machine/wheel_clearance.h"
 #include "lua_api/machine_host.h"
 
 namespace bliskrun {
@@ -113,6 +114,47 @@ void BM_RobotInverseAllBranches(benchmark::State& state) {
   state.counters["solutions_per_pose"] = static_cast<double>(solutions) / state.iterations();
 }
 BENCHMARK(BM_RobotInverseAllBranches)->Unit(benchmark::kMicrosecond);
+
+// The wheel against the whole blade (issue 15 item 3): one pose of a
+// 25 mm wheel on a twisted 100 x 150 mm flank pair sampled every `spacing`
+// mm (0.5 mm: 120 000 points), the wheel swept across the face.
+class TwistedFlank : public Surface {
+ public:
+  explicit TwistedFlank(double thickness) : t_(thickness) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    const double x = 100 * v - 50, y = 150 * u;
+    d.p = Vec3(x, y, t_ + 0.002 * x * y * 0.1 - 0.004 * x * x);
+    return d;
+  }
+
+ private:
+  double t_;
+};
+
+void BM_WheelClearancePose(benchmark::State& state) {
+  const double spacing = state.range(0) / 10.0;
+  const BladeBody body = BladeBody::sample(
+      {{"pressure", std::make_shared<TwistedFlank>(0)}, {"suction", std::make_shared<TwistedFlank>(-3)}}, spacing);
+  BeltStation st;
+  st.wheel_radius_mm = 25;
+  st.wheel_width_mm = 8;
+  const WheelClearance check(body, st);
+  WheelContactReport report;
+  int k = 0;
+  for (auto _ : state) {
+    // The contact on the face at (x, y), normal +z, path along x, 0.1 mm off.
+    const double x = -40 + (k % 80), y = 5 + (k / 80) % 140;
+    ++k;
+    Frame f = Frame::Identity();
+    f.linear() = Vec3(1, -1, -1).asDiagonal();
+    f.translation() = Vec3(0, 0, 0.1) - f.linear() * Vec3(x, y, 0.0002 * x * y - 0.004 * x * x);
+    check.check_pose(f, report);
+  }
+  state.counters["points"] = static_cast<double>(body.points.size());
+  benchmark::DoNotOptimize(report);
+}
+BENCHMARK(BM_WheelClearancePose)->Arg(10)->Arg(5)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace bliskrun

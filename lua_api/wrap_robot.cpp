@@ -10,16 +10,22 @@
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
 #include "core/machine/robot_program.h"
+#include "core/machine/wheel_clearance.h"
 #include "lua_api/luax.h"
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
+#include "lua_api/wrap_geometry.h"
 
 namespace bliskrun::lua_api {
 
 struct LuaRobotCell {
   RobotCell cell;
   std::string source;
+};
+
+struct LuaBladeBody {
+  std::shared_ptr<const BladeBody> body;
 };
 
 struct LuaRobotPlan {
@@ -35,6 +41,10 @@ namespace bliskrun::luax {
 template <>
 struct TypeName<lua_api::LuaRobotCell> {
   static constexpr const char* name = "bliskrun.RobotCell";
+};
+template <>
+struct TypeName<lua_api::LuaBladeBody> {
+  static constexpr const char* name = "bliskrun.BladeBody";
 };
 template <>
 struct TypeName<lua_api::LuaRobotPlan> {
@@ -167,9 +177,11 @@ int l_robot_cell(lua_State* L) {
                             Field{"normal", Kind::Vec3, true, std::nullopt, std::nullopt,
                                   "the wheel's outward normal there (towards the part)", {}},
                             Field{"axis", Kind::Vec3, true, std::nullopt, std::nullopt, "the wheel's axis", {}},
-                            Field{"wheel", Kind::Table, true, std::nullopt, std::nullopt, "{radius = mm, width = mm}", {}},
+                            Field{"wheel", Kind::Table, true, std::nullopt, std::nullopt,
+                                  "{radius = mm, width = mm, compliance = mm}", {}},
                             Field{"belt", Kind::String, false, std::nullopt, std::nullopt, "belt, e.g. \"ceramic, 120 grit\"", {}},
-                            number_field("speed", "belt speed, m/s", 0)});
+                            number_field("speed", "belt speed, m/s", 0),
+                            number_field("belt_run", "the belt's strands behind the wheel's centre, mm; default 150", 0, 1e4)});
     const Vec3 n = so.vec3("normal", Vec3::Zero()), a = so.vec3("axis", Vec3::Zero());
     if (n.norm() < 1e-12 || a.norm() < 1e-12 || std::abs(n.normalized().dot(a.normalized())) > 1e-6)
       luax::error(L, what + ": expected normal and axis of non-zero length at right angles");
@@ -178,11 +190,15 @@ int l_robot_cell(lua_State* L) {
     s.contact.linear().col(1) = s.contact.linear().col(2).cross(s.contact.linear().col(0));
     s.contact.translation() = so.vec3("contact", Vec3::Zero());
     so.push_raw("wheel");
-    const luax::Options w(L, lua_gettop(L), what + ".wheel", {number_field("radius", "mm", 1e-3), number_field("width", "mm", 1e-3)});
+    const luax::Options w(L, lua_gettop(L), what + ".wheel",
+                          {number_field("radius", "mm", 1e-3), number_field("width", "mm", 1e-3),
+                           number_field("compliance", "how far the rubber and belt give under the grinding force, mm; default 0.5", 0, 100)});
     if (!w.has("radius") || !w.has("width")) luax::error(L, what + ".wheel: expected {radius = mm, width = mm}");
     s.wheel_radius_mm = w.number("radius", 0);
     s.wheel_width_mm = w.number("width", 0);
+    s.compliance_mm = w.number("compliance", s.compliance_mm);
     lua_pop(L, 1);
+    s.belt_run_mm = so.number("belt_run", s.belt_run_mm);
     s.belt = so.string("belt", "");
     s.belt_speed_m_s = so.number("speed", 0);
     c.cell.stations.push_back(s);
@@ -236,6 +252,8 @@ int w_cell_stations(lua_State* L) {
     luax::set_number(L, "width", s.wheel_width_mm);
     luax::set_string(L, "belt", s.belt);
     luax::set_number(L, "speed", s.belt_speed_m_s);
+    luax::set_number(L, "compliance", s.compliance_mm);
+    luax::set_number(L, "belt_run", s.belt_run_mm);
     push_frame(L, s.contact);
     lua_setfield(L, -2, "frame");
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
@@ -282,8 +300,15 @@ int w_cell_plan_grinding(lua_State* L) {
              "belt paths (bliskrun.belt_paths(...).paths): points, normals, tangents", {}},
        number_field("feed", "contact speed along the path, mm/s; default 20", 1e-3, 1e4),
        number_field("link_feed", "speed off the wheel between paths, mm/s; default 200", 1e-3, 1e5),
-       number_field("retract", "lift-off along the normal between paths, mm; default 10", 1e-3, 1000)});
+       number_field("retract", "lift-off along the normal between paths, mm; default 10", 1e-3, 1000),
+       Field{"blade", Kind::Any, true, std::nullopt, std::nullopt,
+             "the whole blade (bliskrun.blade_body{...}) the wheel and belt are checked against", {}}});
   auto cell = std::make_shared<RobotCell>(lc.cell);
+  o.push_raw("blade");
+  const LuaBladeBody* blade = luax::test<LuaBladeBody>(L, -1);
+  if (!blade) luax::error(L, "cell:plan_grinding: blade: expected bliskrun.blade_body{...}");
+  const std::shared_ptr<const BladeBody> body = blade->body;
+  lua_pop(L, 1);
   o.push_raw("grip");
   cell->grip = frame_field(L, -1, "cell:plan_grinding: grip");
   lua_pop(L, 1);
@@ -326,6 +351,7 @@ int w_cell_plan_grinding(lua_State* L) {
   go.link_feed_mm_s = o.number("link_feed", go.link_feed_mm_s);
   go.retract_mm = o.number("retract", go.retract_mm);
   go.start = cell->home;
+  go.blade = body.get();
   return luax::guarded(L, [&] {
     LuaRobotPlan lp;
     lp.plan = plan_robot_grinding(*cell, cell->station(station), paths, go);
@@ -356,6 +382,51 @@ int w_robot_plan_report(lua_State* L) {
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "refusals");
+  lua_createtable(L, 0, 5);
+  luax::set_number(L, "poses", static_cast<double>(p.wheel.poses));
+  luax::set_number(L, "max_conformity", p.wheel.max_conformity_mm);
+  luax::set_number(L, "rejected", static_cast<double>(p.wheel.collisions));
+  luax::set_number(L, "max_collision_depth", p.wheel.max_collision_depth_mm);
+  luax::set_string(L, "first_collision", p.wheel.first_collision);
+  lua_setfield(L, -2, "wheel");
+  return 1;
+}
+
+// bliskrun.blade_body{faces = {{name =, surface =}, ...}, spacing = 1} -> BladeBody
+int w_blade_body(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.blade_body",
+      {Field{"faces", Kind::Table, true, std::nullopt, std::nullopt,
+             "every face of the blade, blade frame: {{name = \"pressure\", surface = s}, ...}", {}},
+       number_field("spacing", "largest distance between samples, mm; default 1", 1e-3, 100)});
+  std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> faces;
+  o.push_raw("faces");
+  const int ft = lua_gettop(L);
+  for (lua_Integer i = 1; i <= luaL_len(L, ft); ++i) {
+    lua_rawgeti(L, ft, i);
+    const std::string where = "bliskrun.blade_body: faces[" + std::to_string(i) + "]";
+    if (!lua_istable(L, -1)) luax::error(L, where + ": expected {name = \"...\", surface = s}");
+    const luax::Options f(L, lua_gettop(L), where,
+                          {Field{"name", Kind::String, true, std::nullopt, std::nullopt, "the face's name in reports", {}},
+                           Field{"surface", Kind::Any, true, std::nullopt, std::nullopt, "a Surface", {}}});
+    f.push_raw("surface");
+    const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+    if (!h) luax::error(L, where + ".surface: expected a Surface");
+    faces.emplace_back(f.string("name", ""), h->surface);
+    lua_pop(L, 2);
+  }
+  lua_pop(L, 1);
+  const double spacing = o.number("spacing", 1.0);
+  return luax::guarded(L, [&] {
+    LuaBladeBody b;
+    b.body = std::make_shared<const BladeBody>(BladeBody::sample(faces, spacing));
+    luax::push_new(L, std::move(b));
+    return 1;
+  });
+}
+
+int w_blade_body_points(lua_State* L) {
+  lua_pushinteger(L, static_cast<lua_Integer>(luax::check<LuaBladeBody>(L, 1).body->points.size()));
   return 1;
 }
 
@@ -517,7 +588,9 @@ void open_robot(lua_State* L) {
                                           {"write_program", w_robot_plan_write_program},
                                           {nullptr, nullptr}};
   luax::register_type<LuaRobotPlan>(L, plan_methods);
-  static const luaL_Reg functions[] = {{"robot_cell", w_robot_cell}, {nullptr, nullptr}};
+  static const luaL_Reg body_methods[] = {{"points", w_blade_body_points}, {nullptr, nullptr}};
+  luax::register_type<LuaBladeBody>(L, body_methods);
+  static const luaL_Reg functions[] = {{"robot_cell", w_robot_cell}, {"blade_body", w_blade_body}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

@@ -1,9 +1,12 @@
 #include "core/machine/robot_cell.h"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "core/common/error.h"
+#include "core/machine/wheel_clearance.h"
 
 namespace bliskrun {
 
@@ -74,7 +77,9 @@ BladeContact contact_in_base(const RobotCell& cell, const Frame& flange, const B
 namespace {
 
 struct Trial {
-  std::vector<RobotMove> moves;
+  std::vector<RobotMove> moves;  // traverse back along the last path, approach, grinding moves, lift-off
+  size_t traverse = 0;           // how many of the moves are the traverse
+  bool turned = false;
   int branch_changes = 0;
   double seconds = 0;
   bool ok = true;
@@ -126,19 +131,46 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
   if (!(o.feed_mm_s > 0)) throw ParameterError("feed", "expected a contact speed > 0 in mm/s");
   if (!(o.link_feed_mm_s > 0)) throw ParameterError("link_feed", "expected a speed > 0 in mm/s");
   if (!(o.retract_mm > 0)) throw ParameterError("retract", "expected a lift-off > 0 in mm");
+  if (!(o.traverse_step_mm > 0)) throw ParameterError("traverse_step", "expected a step > 0 in mm");
   RobotGrindingPlan plan;
+  std::unique_ptr<WheelClearance> wheel;
+  if (o.blade) {
+    wheel = std::make_unique<WheelClearance>(*o.blade, station);
+    plan.wheel.checked = true;
+  }
   JointAngles q = o.start;
   int branch = -1;
+  const std::vector<BladeContact>* previous = nullptr;  // the last path emitted
+  bool previous_turned = false;
   for (size_t k = 0; k < paths.size(); ++k) {
     const std::vector<BladeContact>& path = paths[k];
     if (path.empty()) continue;
-    Trial best;
-    best.ok = false;
+    Trial trials[2];
     std::string reasons;
     for (bool turned : {false, true}) {
-      Trial trial;
+      Trial& trial = trials[turned ? 1 : 0];
+      trial.turned = turned;
       JointAngles tq = q;
       int tb = branch;
+      // Back from the previous path's lift-off: along that path, `retract`
+      // off it, at most traverse_step apart (a straight traverse across a
+      // convex face at the retract height would cut through the blade).
+      if (previous) {
+        const std::vector<BladeContact>& back = *previous;
+        double since = 0;
+        for (size_t i = back.size() - 1; i-- > 0 && trial.ok;) {
+          since += (back[i + 1].point - back[i].point).norm();
+          if (since < o.traverse_step_mm && i > 0) continue;
+          since = 0;
+          RobotMove m;
+          if (!solve_move(cell, station, back[i], o.retract_mm, previous_turned, tq, tb, trial, m)) break;
+          m.link = true;
+          m.path = static_cast<int>(k);
+          m.feed_mm_s = o.link_feed_mm_s;
+          trial.moves.push_back(m);
+        }
+      }
+      trial.traverse = trial.moves.size();
       // Approach the first point from off the wheel, grind, lift off.
       for (size_t i = 0; i <= path.size() + 1 && trial.ok; ++i) {
         const bool approach = i == 0, lift = i == path.size() + 1;
@@ -150,27 +182,64 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
         m.feed_mm_s = m.link ? o.link_feed_mm_s : o.feed_mm_s;
         trial.moves.push_back(m);
       }
-      if (!trial.ok) {
+      if (!trial.ok)
         reasons += std::string(reasons.empty() ? "" : "; ") + (turned ? "turned: " : "as is: ") + trial.reason;
-        continue;
-      }
-      // Keep the previous path's turn unless it cannot grind this path: a
-      // turn between paths swings the whole blade about the normal while it
-      // is only `retract` off the wheel.
-      const bool same_turn = plan.moves.empty() || plan.moves.back().turned == turned;
-      const bool best_same = best.ok && (plan.moves.empty() || plan.moves.back().turned == best.moves.front().turned);
-      if (!best.ok || (same_turn && !best_same) ||
-          (same_turn == best_same && (trial.branch_changes < best.branch_changes ||
-                                      (trial.branch_changes == best.branch_changes && trial.seconds < best.seconds))))
-        best = std::move(trial);
     }
-    if (!best.ok) {
+    // Keep the previous path's turn unless it cannot grind this path: a turn
+    // between paths swings the whole blade about the normal while it is only
+    // `retract` off the wheel. Then fewer branch changes, then less time.
+    const auto keeps_turn = [&](const Trial& t) {
+      return plan.moves.empty() || plan.moves.back().turned == t.turned;
+    };
+    const auto prefer = [&](const Trial& a, const Trial& b) {
+      if (keeps_turn(a) != keeps_turn(b)) return keeps_turn(a);
+      if (a.branch_changes != b.branch_changes) return a.branch_changes < b.branch_changes;
+      return a.seconds < b.seconds;
+    };
+    Trial* chosen = nullptr;
+    for (;;) {
+      chosen = nullptr;
+      for (Trial& t : trials)
+        if (t.ok && (!chosen || prefer(t, *chosen))) chosen = &t;
+      if (!chosen || !wheel) break;
+      // The wheel and belt against the whole blade: the link into the path
+      // (from the last lift-off), every move and the motion between them.
+      WheelContactReport r;
+      Frame prev = blade_in_station(cell, station, plan.moves.empty() ? chosen->moves.front() : plan.moves.back());
+      if (plan.moves.empty()) wheel->check_pose(prev, r);
+      std::string where = "at the first approach";
+      for (size_t i = 0; i < chosen->moves.size() && r.collisions == 0; ++i) {
+        const Frame next = blade_in_station(cell, station, chosen->moves[i]);
+        wheel->check_motion(prev, next, r);
+        prev = next;
+        const size_t a = chosen->traverse;  // the approach
+        where = i < a    ? "traversing back along path " + std::to_string(k)
+                : i == a ? "on the way to the approach"
+                : i + 1 == chosen->moves.size() ? "lifting off"
+                                                : "at point " + std::to_string(i - a);
+      }
+      if (r.collisions > 0) r.first_collision = where + ": " + r.first_collision;
+      plan.wheel.poses += r.poses;
+      if (r.collisions == 0) {
+        plan.wheel.max_conformity_mm = std::max(plan.wheel.max_conformity_mm, r.max_conformity_mm);
+        break;
+      }
+      chosen->ok = false;
+      reasons += std::string(reasons.empty() ? "" : "; ") + (chosen->turned ? "turned: " : "as is: ") +
+                 r.first_collision;
+      ++plan.wheel.collisions;
+      plan.wheel.max_collision_depth_mm = std::max(plan.wheel.max_collision_depth_mm, r.max_collision_depth_mm);
+      if (plan.wheel.first_collision.empty())
+        plan.wheel.first_collision = "path " + std::to_string(k + 1) + ": " + r.first_collision;
+    }
+    if (!chosen) {
       plan.refusals.push_back("path " + std::to_string(k + 1) + ": " + reasons);
       continue;
     }
+    Trial& best = *chosen;
     ++plan.paths;
-    if (best.moves.front().turned) ++plan.turned_paths;
-    if (!plan.moves.empty() && plan.moves.back().turned != best.moves.front().turned) ++plan.turn_changes;
+    if (best.turned) ++plan.turned_paths;
+    if (!plan.moves.empty() && plan.moves.back().turned != best.turned) ++plan.turn_changes;
     for (RobotMove& m : best.moves) {
       // Joint speed for the move into m at its feed (contact distance over
       // the feed; the approach comes from wherever the last path ended).
@@ -191,6 +260,8 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
     }
     q = plan.moves.back().joints;
     branch = plan.moves.back().branch;
+    previous = &path;
+    previous_turned = plan.moves.back().turned;
   }
   return plan;
 }

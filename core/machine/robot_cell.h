@@ -24,6 +24,11 @@ struct BeltStation {
   double wheel_width_mm = 0;
   std::string belt;            // "ceramic, 120 grit"
   double belt_speed_m_s = 0;
+  // How far the rubber of the wheel and the belt on it give under the
+  // grinding force: blade points this deep below the contact's tangent plane
+  // are contact, deeper ones collide (core/machine/wheel_clearance.h).
+  double compliance_mm = 0.5;
+  double belt_run_mm = 150;    // the belt's strands behind the wheel's centre
 };
 
 struct RobotCell {
@@ -67,11 +72,29 @@ struct RobotMove {
   double joint_speed_ratio = 0;  // largest |dq/dt| / max speed over the joints for the move into this one
 };
 
+struct BladeBody;
+
+// The wheel and belt against the whole blade over every move and the motion
+// between moves (core/machine/wheel_clearance.h).
+struct WheelContactReport {
+  bool checked = false;            // false: no blade body was given
+  long poses = 0;                  // poses checked (moves and the samples between them)
+  double max_conformity_mm = 0;    // deepest blade point within the contact cap
+  long collisions = 0;             // poses where a blade point is in the wheel below the cap, or in the belt
+  double max_collision_depth_mm = 0;
+  std::string first_collision;     // which face, where, how deep, in what
+};
+
 struct RobotGrindingOptions {
   double feed_mm_s = 20;        // contact speed along the path
   double link_feed_mm_s = 200;  // traverses between paths, away from the wheel
   double retract_mm = 10;       // lift off the wheel along the normal between paths
+  double traverse_step_mm = 10; // back along the last path, retract_mm off it, points this far apart
   JointAngles start{};          // joints before the first move (the cell's home)
+  // The whole blade, to check the wheel and belt against on every move and
+  // between moves; a path whose moves (or the link into it) collide is tried
+  // turned, then refused. nullptr: not checked (kinematics only).
+  const BladeBody* blade = nullptr;
 };
 
 struct RobotGrindingPlan {
@@ -86,14 +109,16 @@ struct RobotGrindingPlan {
   // controller slows down, so only the time grows.
   double max_joint_speed_ratio = 0;
   double max_link_joint_speed_ratio = 0;
-  std::vector<std::string> refusals;  // paths no choice could reach within the limits
+  std::vector<std::string> refusals;  // paths no choice could reach within the limits or clear of the wheel
+  WheelContactReport wheel;           // over every emitted move and the motion into it
 };
 
 // Every path of contacts (blade frame) on one station: per path the turn
 // that keeps every point within the joint limits — the previous path's turn
 // unless it cannot, else the one with the fewest branch changes and least
 // joint motion — solved point by point with continuity;
-// between paths a retract along the normal, a traverse and an approach.
+// between paths a retract along the normal, a traverse back along the last
+// path `retract_mm` off it, and an approach.
 // A path that no choice reaches is refused (named in `refusals`) and not
 // emitted.
 RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& station,

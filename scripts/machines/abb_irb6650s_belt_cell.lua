@@ -19,12 +19,18 @@ return robot_cell {
     { zero = 0,  sign = 1, min = -300, max = 300, speed = 190 },
   },
   home = { 0, 0, 0, 0, 30, 0 },
+  -- Wheels: rubber contact wheels. `compliance` is how far the rubber and the
+  -- belt give under the station's grinding force (assumed for this nominal
+  -- cell: more at the coarse station's higher force; measure your wheels).
+  -- Widths: on a face concave along the path a rigid wheel's ends would sit
+  -- (w/2)^2 k / 2 inside it; the built-in blade's pressure flank near the LE
+  -- (k up to ~0.04 1/mm) asks 0.3 mm of an 8 mm wheel, 0.8 mm of a 12 mm one.
   stations = {
     coarse = { contact = { 2000, -800, 1000 }, normal = { -0.928, 0.371, 0 }, axis = { 0, 0, 1 },
-               wheel = { radius = 25, width = 12 }, belt = "ceramic, 120 grit", speed = 5.6 },
+               wheel = { radius = 25, width = 8, compliance = 0.8 }, belt = "ceramic, 120 grit", speed = 5.6 },
     fine   = { contact = { 2200, 0, 1000 }, normal = { -1, 0, 0 }, axis = { 0, 0, 1 },
-               wheel = { radius = 20, width = 10 }, belt = "ceramic, 240 grit", speed = 18.3 },
+               wheel = { radius = 20, width = 8, compliance = 0.6 }, belt = "ceramic, 240 grit", speed = 18.3 },
     polish = { contact = { 2000, 800, 1000 }, normal = { -0.928, -0.371, 0 }, axis = { 0, 0, 1 },
-               wheel = { radius = 15, width = 8 }, belt = "nylon polishing belt", speed = 18.3 },
+               wheel = { radius = 15, width = 6, compliance = 0.5 }, belt = "nylon polishing belt", speed = 18.3 },
   },
 }

@@ -33,8 +33,12 @@
 --   0. Before planning, a simulated laser scan of the blade as clamped is
 --      registered to the model (point-to-plane ICP) and the measured clamping
 --      error corrects the grip.
--- Not yet here (issue 15): the wheel and belt as bodies in a collision check
--- against the rest of the blade (item 3).
+--   Every move, and the motion between moves as the controller makes it, is
+--   checked against the whole blade (both flanks and edges): the wheel may
+--   touch the blade only in the cap its rubber gives (the station's
+--   `compliance`), the belt not at all; a path that would collide is tried
+--   with the part turned, then refused. The report gives the poses checked
+--   and the deepest conformity each program asks of the wheel.
 
 local run_report = require("run_report")
 local part_name = args.part or "builtin"
@@ -59,22 +63,32 @@ local station_order = {"coarse", "fine", "polish"}
 -- Each flank between the hub and tip curves; pu x pv points out of the
 -- material on both flanks of both parts (the wheel's side).
 local faces = {}
+-- The whole blade as the wheels see it (bliskrun.blade_body): both flanks
+-- and both edges between the hub and tip curves, sampled every
+-- `body_spacing` mm; every move and the motion between moves is checked
+-- against it. (Below the hub curve the blade's root is not modelled.)
+local body_faces = {}
 local function add_faces(flank_of, hub, casing)
+  local trimmed = {}
   for _, side in ipairs{"pressure", "suction"} do
-    if sides == "both" or sides == side then
-      faces[#faces + 1] = {side = side,
-                           surface = bliskrun.trim_flank{flank = flank_of(side), hub = hub, casing = casing}}
-    end
+    trimmed[side] = bliskrun.trim_flank{flank = flank_of(side), hub = hub, casing = casing}
+    if sides == "both" or sides == side then faces[#faces + 1] = {side = side, surface = trimmed[side]} end
+    body_faces[#body_faces + 1] = {name = side .. " flank", surface = trimmed[side]}
   end
+  -- The edges: the round between the flank ends (the pressure flank's edge
+  -- end is at its v = 0 at the LE, the suction flank's at the TE).
+  local p, s = trimmed.pressure, trimmed.suction
+  body_faces[#body_faces + 1] = {name = "leading edge", surface = bliskrun.edge_region{first = p, second = s, overlap = 0}.surface}
+  body_faces[#body_faces + 1] = {name = "trailing edge", surface = bliskrun.edge_region{first = s, second = p, overlap = 0}.surface}
 end
 if part_name == "builtin" then
   local blisk = bliskrun.blisk{grid_rows = 100, grid_cols = 500}
-  add_faces(function(side) return bliskrun.interpolate_grid(blisk:flank_grid(1, side)) end,
-            blisk:hub(), blisk:casing())
+  add_faces(function(side) return bliskrun.interpolate_grid(blisk:flank_grid(1, side)) end, blisk:hub(), blisk:casing())
 else
   local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
   add_faces(function(side) return part[side]:surface() end, part.hub, part.casing)
 end
+local blade_body = bliskrun.blade_body{faces = body_faces, spacing = args.body_spacing or 1}
 
 -- The grip: the blade's radial direction along the flange's z axis, the root
 -- 150 mm out from the flange, its axial direction along the flange's y (or,
@@ -204,14 +218,17 @@ for _, name in ipairs(station_order) do
       local rp, rr, grip
       for _, g in ipairs(grips) do
         grip = g
-        rp = loaded[robot]:plan_grinding{station = name, grip = g, paths = plan.paths, feed = feed, link_feed = 100}
+        rp = loaded[robot]:plan_grinding{station = name, grip = g, paths = plan.paths, feed = feed, link_feed = 100,
+                                         blade = blade_body}
         rr = rp:report()
         if #rr.refusals == 0 then break end
       end
       local prog = {robot = loaded[robot]:name(), station = name, flank = f.side, grip = grip.name, moves = rr.moves,
                     turned_paths = rr.turned_paths, branch_changes = rr.branch_changes,
                     singular_moves = rr.singular_moves, joint_speed_ratio = rr.max_joint_speed_ratio,
-                    link_joint_speed_ratio = rr.max_link_joint_speed_ratio, refusals = rr.refusals}
+                    link_joint_speed_ratio = rr.max_link_joint_speed_ratio, refusals = rr.refusals,
+                    wheel_poses_checked = rr.wheel.poses, wheel_conformity_mm = rr.wheel.max_conformity,
+                    wheel_rejected = rr.wheel.rejected}
       if #rr.refusals > 0 or rr.max_joint_speed_ratio > 1 then
         ok = false
         bliskrun.log(string.format("%s %s %s: %d refused paths (%s), joint speed ratio %.2f", robot, name, f.side,
@@ -223,7 +240,8 @@ for _, name in ipairs(station_order) do
         prog.file, prog.max_position_mm, prog.max_angle_deg, prog.max_joint_deg =
           file, wr.max_position, wr.max_angle, wr.max_joint
         program_rows[#program_rows + 1] = {file, name, f.side, grip.name, rr.moves, rr.branch_changes, rr.singular_moves,
-                                           rr.max_joint_speed_ratio, 1e3 * wr.max_position, wr.max_angle}
+                                           rr.max_joint_speed_ratio, rr.wheel.poses, rr.wheel.max_conformity,
+                                           1e3 * wr.max_position, wr.max_angle}
       end
       report.programs[#report.programs + 1] = prog
     end
@@ -231,8 +249,10 @@ for _, name in ipairs(station_order) do
   report.stations[#report.stations + 1] = entry
 end
 for _, p in ipairs(report.programs) do
-  print(string.format("%-46s %-7s %-9s %s, %5d moves, %d branch changes, joint speed %.2f of max%s", p.robot,
+  print(string.format("%-46s %-7s %-9s %s, %5d moves, %d branch changes, joint speed %.2f of max, wheel clear "
+                      .. "over %d poses (conformity %.2f mm)%s", p.robot,
                       p.station, p.flank, p.grip, p.moves, p.branch_changes, p.joint_speed_ratio,
+                      p.wheel_poses_checked, p.wheel_conformity_mm,
                       p.file and string.format(", %s read back within %.3f µm", p.file, 1e3 * p.max_position_mm)
                         or ", NOT posted"))
 end
@@ -252,9 +272,13 @@ run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" an
                table = {columns = {"station", "flank", "paths", "points", "chord max (um)", "scallop max (um)",
                                    "steps cut", "step-overs cut"}, rows = station_rows}},
               {title = "Robot programs", text = "Joint speed: the largest joint speed on a grinding move over "
-                                                .. "the joint's maximum (at the feed along the path).",
+                                                .. "the joint's maximum (at the feed along the path). Wheel poses: "
+                                                .. "the moves and the samples between them checked against the whole "
+                                                .. "blade; conformity: the deepest the wheel's rubber must give (mm), "
+                                                .. "within each station's compliance.",
                table = {columns = {"file", "station", "flank", "grip", "moves", "branch changes", "singular",
-                                   "joint speed / max", "read-back (um)", "read-back (deg)"}, rows = program_rows}}},
+                                   "joint speed / max", "wheel poses", "conformity (mm)", "read-back (um)",
+                                   "read-back (deg)"}, rows = program_rows}}},
   vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
   files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes, programs"},
            {"kuka_*.src", "KUKA KRL programs"}, {"abb_*.mod", "ABB RAPID modules"}}}

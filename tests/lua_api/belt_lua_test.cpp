@@ -56,12 +56,17 @@ for i = 0, 2 do for j = 0, 6 do pts[#pts + 1] = {10 * j, 0, 60 + 10 * i} end end
 local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
 local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
 local cell = bliskrun.robot_cell("kuka_kr120_belt_cell")
-local plan = cell:plan_grinding{station = "fine", grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}, paths = paths}
-assert(#plan:report().refusals == 0)
+local body = bliskrun.blade_body{faces = {{name = "face", surface = face}}, spacing = 1}
+local grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}
+local ok, why = pcall(cell.plan_grinding, cell, {station = "fine", grip = grip, paths = paths})
+assert(not ok and why:find("blade"), why)  -- nothing is planned unchecked against the blade
+local plan = cell:plan_grinding{station = "fine", grip = grip, paths = paths, blade = body}
+local rep = plan:report()
+assert(#rep.refusals == 0 and rep.wheel.rejected == 0 and rep.wheel.poses > #plan:moves(), rep.wheel.first_collision)
 local k = plan:write_program{post = "kuka_krl", file = "p.src", name = "flat test"}
 assert(k.max_position < 1e-4 and k.moves == #plan:moves())
 local abb = bliskrun.robot_cell("abb_irb6650s_belt_cell")
-local aplan = abb:plan_grinding{station = "fine", grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}, paths = paths}
+local aplan = abb:plan_grinding{station = "fine", grip = grip, paths = paths, blade = body}
 assert(aplan:write_program{post = "abb_rapid", file = "p.mod"}.max_position < 1e-4)
 local bad = bliskrun.post.load("kuka_krl")
 local position = bad.position

@@ -4,6 +4,7 @@
 
 #include "core/common/error.h"
 #include "core/machine/robot_program.h"
+#include "core/machine/wheel_clearance.h"
 
 #include <cstdio>
 
@@ -70,7 +71,9 @@ TEST(RobotCell, EveryGrindingMovePutsItsContactOnTheWheelThroughTheArmsKinematic
   const RobotGrindingPlan plan = plan_robot_grinding(cell, st, {strip(20), strip(21), strip(22)}, o);
   ASSERT_TRUE(plan.refusals.empty()) << plan.refusals.front();
   EXPECT_EQ(plan.paths, 3);
-  ASSERT_EQ(plan.moves.size(), 3u * (31 + 2));
+  // Per path: approach, 31 points, lift-off; between paths the traverse
+  // back along the last path every 10 mm (points 25, 20, ..., 0 of 0..30).
+  ASSERT_EQ(plan.moves.size(), 3u * (31 + 2) + 2u * 6);
   EXPECT_EQ(plan.branch_changes, 0);
   for (const RobotMove& m : plan.moves) {
     // Forward kinematics of the planned joints, then the blade's contact:
@@ -98,6 +101,65 @@ TEST(RobotCell, AStationOutOfReachRefusesThePathsAndEmitsNothing) {
   EXPECT_TRUE(plan.moves.empty());
   ASSERT_EQ(plan.refusals.size(), 1u);
   EXPECT_NE(plan.refusals[0].find("out of the arm's reach"), std::string::npos) << plan.refusals[0];
+}
+
+// The strip's face, blade frame: the plane y = 0 (normal +y), x in
+// [-40, 40], z in [0, 40]; and optionally a wall across it at z = 30
+// standing 30 mm towards the wheel (a root platform beside the paths).
+class Plane : public Surface {
+ public:
+  Plane(Vec3 o, Vec3 a, Vec3 b) : o_(o), a_(a), b_(b) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = o_ + u * a_ + v * b_;
+    d.pu = a_;
+    d.pv = b_;
+    return d;
+  }
+
+ private:
+  Vec3 o_, a_, b_;
+};
+
+BladeBody strip_body(bool wall) {
+  std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> faces{
+      {"flank", std::make_shared<Plane>(Vec3(-40, 0, 0), Vec3(80, 0, 0), Vec3(0, 0, 40))}};
+  if (wall) faces.push_back({"platform", std::make_shared<Plane>(Vec3(-40, 0, 30), Vec3(80, 0, 0), Vec3(0, 30, 0))});
+  return BladeBody::sample(faces, 0.5);
+}
+
+TEST(RobotCell, TheWheelAndBeltAreCheckedAgainstTheWholeBladeOnEveryMoveAndBetween) {
+  const RobotCell cell = test_cell();
+  RobotGrindingOptions o;
+  o.start = cell.home;
+  const BladeBody clear = strip_body(false);
+  o.blade = &clear;
+  const RobotGrindingPlan plan = plan_robot_grinding(cell, cell.stations[0], {strip(20), strip(21), strip(22)}, o);
+  ASSERT_TRUE(plan.refusals.empty()) << plan.refusals.front();
+  EXPECT_TRUE(plan.wheel.checked);
+  // Every move and the motion between them: 2 mm steps and the 10 mm
+  // lift-offs sampled at 1 mm, so more poses than moves.
+  EXPECT_GT(plan.wheel.poses, static_cast<long>(plan.moves.size()) + 3 * 2 * 9);
+  EXPECT_EQ(plan.wheel.collisions, 0);
+  EXPECT_LT(plan.wheel.max_conformity_mm, 1e-6);  // a flat face: line contact
+
+  // A platform 8-10 mm beside the paths: the wheel (r = 20) reaches it, and
+  // turned the part is beyond axis 5, so every path is refused, each naming
+  // the face, and nothing is emitted.
+  const BladeBody walled = strip_body(true);
+  o.blade = &walled;
+  const RobotGrindingPlan refused = plan_robot_grinding(cell, cell.stations[0], {strip(20), strip(21), strip(22)}, o);
+  EXPECT_TRUE(refused.moves.empty());
+  ASSERT_EQ(refused.refusals.size(), 3u);
+  for (const std::string& why : refused.refusals) {
+    EXPECT_NE(why.find("as is: at the first approach: platform face point"), std::string::npos) << why;
+    EXPECT_NE(why.find("turned: joint 5"), std::string::npos) << why;
+  }
+  // The depth is the least way out of the wheel: 10 mm radially for the
+  // platform's edge on path 1 (z = 20, the wheel's centre 20 mm off the
+  // face), 5 mm sideways (half the width) — less the samples' offset from
+  // the wheel's mid-plane.
+  EXPECT_NEAR(refused.wheel.max_collision_depth_mm, 5, 0.5);
 }
 
 // A RAPID program written the way scripts/posts/abb_rapid.lua writes it (the
