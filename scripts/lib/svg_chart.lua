@@ -29,16 +29,22 @@ end
 
 -- spec: title, x_label, y_label, series = {{name, points = {{x, y}, ...}, bars = bool}},
 -- limit = {y =, name =} (a dashed horizontal line), width (720), height (360).
+-- A series may give `lines = {{{x, y}, ...}, ...}` instead of `points`:
+-- several polylines under one name (the paths on a face), and
+-- `y_from_zero = false` lets the y axis start at the data.
 function M.lines(spec)
   local W, H = spec.width or 720, spec.height or 360
   local left, top, right, bottom = 70, 40, 160, 50
-  local xmin, xmax, ymin, ymax = math.huge, -math.huge, 0, -math.huge
+  local xmin, xmax, ymin, ymax = math.huge, -math.huge, spec.y_from_zero == false and math.huge or 0, -math.huge
   for _, s in ipairs(spec.series) do
-    for _, p in ipairs(s.points) do
-      xmin, xmax = math.min(xmin, p[1]), math.max(xmax, p[1])
-      ymin, ymax = math.min(ymin, p[2]), math.max(ymax, p[2])
+    for _, line in ipairs(s.lines or {s.points}) do
+      for _, p in ipairs(line) do
+        xmin, xmax = math.min(xmin, p[1]), math.max(xmax, p[1])
+        ymin, ymax = math.min(ymin, p[2]), math.max(ymax, p[2])
+      end
     end
   end
+  if ymin == math.huge then ymin = 0 end
   if spec.limit then ymax = math.max(ymax, spec.limit.y) end
   if xmin == math.huge then xmin, xmax = 0, 1 end
   if xmax <= xmin then xmax = xmin + 1 end
@@ -79,10 +85,12 @@ function M.lines(spec)
                           f(X(p[1]) + (i - 1 - n / 2) * bw), f(Y(p[2])), f(bw), f(Y(ymin) - Y(p[2])), c))
       end
     else
-      local pts = {}
-      for _, p in ipairs(s.points) do pts[#pts + 1] = f(X(p[1])) .. "," .. f(Y(p[2])) end
-      add(string.format('<polyline fill="none" stroke="%s" stroke-width="1.5" points="%s"/>', c,
-                        table.concat(pts, " ")))
+      for _, line in ipairs(s.lines or {s.points}) do
+        local pts = {}
+        for _, p in ipairs(line) do pts[#pts + 1] = f(X(p[1])) .. "," .. f(Y(p[2])) end
+        add(string.format('<polyline fill="none" stroke="%s" stroke-width="1.5" points="%s"/>', c,
+                          table.concat(pts, " ")))
+      end
     end
     add(string.format('<rect x="%d" y="%d" width="12" height="12" fill="%s"/>', left + W + 12, top + 4 + 20 * (i - 1), c))
     add(string.format('<text x="%d" y="%d">%s</text>', left + W + 30, top + 14 + 20 * (i - 1), esc(s.name)))

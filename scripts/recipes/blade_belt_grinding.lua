@@ -41,6 +41,7 @@
 --   and the deepest conformity each program asks of the wheel.
 
 local run_report = require("run_report")
+local chart = require("svg_chart")
 local part_name = args.part or "builtin"
 assert(part_name == "builtin" or part_name == "rotor67", "--set part= expects 'builtin' or 'rotor67'")
 local sides = args.sides or "both"
@@ -162,6 +163,10 @@ end
 
 local report = {part = part_name, feed_mm_s = feed, scan = scan_report, stations = {}, programs = {}}
 local station_rows, program_rows, blocks = {}, {}, {}  -- report.html, ParaView
+-- Charts: the measured scallop of every path and the measured chord error
+-- along the middle path of each flank, over their tolerances; the coarse
+-- station's paths on each flank in its (v, u) parameters.
+local scallop_series, chord_series, path_pictures = {}, {}, {}
 for _, f in ipairs(faces) do
   blocks[#blocks + 1] = {name = f.side .. " flank", surface = f.surface, samples_u = 40, samples_v = 150}
 end
@@ -211,6 +216,30 @@ for _, name in ipairs(station_order) do
                        points = xyz(p.points), normals = xyz(p.normals), wheel_axes = xyz(p.tangents)}
     end
     entry.flanks[f.side] = flank
+    local scallops = {}
+    for j = 1, #plan.paths - 1 do scallops[j] = {j, plan.paths[j].scallop_max / tol.scallop} end
+    scallop_series[#scallop_series + 1] = {name = name .. " " .. f.side, points = scallops}
+    local mid, chords = plan.paths[(#plan.paths + 1) // 2], {}
+    local at = 0
+    for i, c in ipairs(mid.chord) do
+      at = at + (mid.points[i + 1] and math.sqrt((mid.points[i + 1].x - mid.points[i].x) ^ 2 + (mid.points[i + 1].y
+             - mid.points[i].y) ^ 2 + (mid.points[i + 1].z - mid.points[i].z) ^ 2) or 0)
+      chords[#chords + 1] = {at, c / tol.chord_tol}
+    end
+    chord_series[#chord_series + 1] = {name = name .. " " .. f.side, points = chords}
+    if name == "coarse" then
+      local lines = {}
+      for j, p in ipairs(plan.paths) do
+        local line = {}
+        for i, v in ipairs(p.along) do line[i] = {v, p.across} end
+        lines[j] = line
+      end
+      path_pictures[#path_pictures + 1] = {title = "Paths on the " .. f.side .. " flank, coarse station",
+        svg = chart.lines{title = string.format("%d paths on the %s flank (coarse wheel r %g / w %g mm)", #plan.paths,
+                                                 f.side, w.radius, w.width),
+                          x_label = "v (chord, LE to TE)", y_label = "u (span, hub to tip)",
+                          series = {{name = f.side, lines = lines}}}}
+    end
 
     -- The robots: present the blade along these paths, post, read back.
     for _, robot in ipairs(robots) do
@@ -258,10 +287,22 @@ for _, p in ipairs(report.programs) do
 end
 report.verified = ok
 bliskrun.write_json("blade_belt_grinding.json", report)
+local function with_pictures(sections)
+  for i, p in ipairs(path_pictures) do table.insert(sections, 2 + i, p) end
+  return sections
+end
 run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
   subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
   settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = args.robots or "both"},
-  sections = {{title = "Scan registration", text = string.format(
+  sections = with_pictures{{title = "Measured scallop per path", text = "The scallop between each path and the next, measured "
+                 .. "by sampled distances (the wheel as a cylinder through each contact), over the station's tolerance h.",
+               svg = chart.lines{title = "Measured scallop / h", x_label = "path", y_label = "scallop / h",
+                                 series = scallop_series, limit = {y = 1, name = "tolerance"}}},
+              {title = "Measured chord error along a path", text = "Along the middle path of each flank: every "
+                 .. "segment's measured chord error over the station's tolerance ε (eq. 6 with the measurement).",
+               svg = chart.lines{title = "Chord error / ε along the middle path", x_label = "arc length (mm)",
+                                 y_label = "chord error / ε", series = chord_series, limit = {y = 1, name = "tolerance"}}},
+              {title = "Scan registration", text = string.format(
                  "%d scan points; clamping error %.3f mm / %.3f deg, up to %.3f mm on the blade; ICP %d iterations, "
                  .. "rms %.2f um, %d stray points dropped; after the correction a blade point is at most %.2f um "
                  .. "from where the programs put it.", scan_report.points, scan_report.clamping.offset_mm,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "core/planning/belt_paths.h"
@@ -20,6 +21,17 @@ TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolera
                                        "--out", dir.path(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_run_report(dir.path(), "blade_belt_grinding.pvd"));
+  // The report's pictures: the paths on each flank (one polyline per coarse
+  // path, 23 + 23) and the measured scallop and chord charts (6 + 6).
+  {
+    std::ifstream page(dir.path() + "/report.html");
+    const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+    EXPECT_NE(html.find("Measured scallop per path"), std::string::npos);
+    EXPECT_NE(html.find("Paths on the pressure flank, coarse station"), std::string::npos);
+    size_t lines = 0;
+    for (size_t at = html.find("<polyline"); at != std::string::npos; at = html.find("<polyline", at + 1)) ++lines;
+    EXPECT_EQ(lines, 23u + 23u + 6u + 6u);
+  }
   std::ifstream in(dir.path() + "/blade_belt_grinding.json");
   ASSERT_TRUE(in.good());
   const nlohmann::json j = nlohmann::json::parse(in);
