@@ -5,6 +5,7 @@
 // (scripts/posts/abb_rapid.lua, kuka_krl.lua), reads it back and replays it
 // through the arm's kinematics before anything is written.
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "core/common/atomic_file.h"
@@ -561,6 +562,16 @@ int w_robot_plan_write_program(lua_State* L) {
       throw Error(msg);
     }
     write_file_atomic(path, text);
+    {
+      // --verify prints this line after the run.
+      const WheelContactReport& w = lp.plan.wheel;
+      std::ostringstream line;
+      line << path << ": " << r.moves << " moves replayed through the arm, max contact deviation "
+           << r.max_position_mm << " mm, max orientation deviation " << r.max_angle_deg << " deg, max joint deviation "
+           << r.max_joint_deg << " deg, " << r.configuration_flips << " configuration flips; wheel and belt clear of "
+           << "the blade over " << w.poses << " poses (rubber conformity " << w.max_conformity_mm << " mm)";
+      context(L).verified_programs.push_back(line.str());
+    }
     lua_createtable(L, 0, 8);
     luax::set_string(L, "file", path);
     luax::set_number(L, "moves", r.moves);

@@ -18,8 +18,11 @@ namespace {
 TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolerances) {
   TempDir dir;
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_belt_grinding.lua",
-                                       "--out", dir.path(), "--quiet"});
+                                       "--out", dir.path(), "--quiet", "--verify"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // --verify: every robot program's read-back, and its wheel check.
+  EXPECT_NE(r.output.find("read-back verification: 12 program(s)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" 0 configuration flips; wheel and belt clear of the blade over "), std::string::npos);
   EXPECT_TRUE(has_run_report(dir.path(), "blade_belt_grinding.pvd"));
   // The report's pictures: the paths on each flank (one polyline per coarse
   // path, 23 + 23) and the measured scallop and chord charts (6 + 6).
