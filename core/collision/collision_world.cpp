@@ -107,6 +107,14 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, Chec
       Object{name, std::move(model), static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options});
 }
 
+std::string describe(const PoseCheck& c, const CollisionWorld& world) {
+  if (c.worst < 0) return "collides";
+  const PartClearance& p = c.parts[static_cast<size_t>(c.worst)];
+  std::string what = std::string(to_string(p.part)) + " ";
+  what += p.object >= 0 ? "against " + world.name(p.object) : "against a check surface";
+  return what + " (margin " + std::to_string(c.min_margin_mm) + " mm)";
+}
+
 PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, const Clearances& clearances,
                                 double horizon_mm) const {
   validate(clearances);

@@ -161,4 +161,9 @@ class CollisionWorld {
   std::vector<Object> objects_;
 };
 
+// What a pose check found, for refusal messages: the tool part with the
+// smallest margin, the check surface it is nearest and the margin
+// ("holder against blade 2 suction (margin -0.31 mm)").
+std::string describe(const PoseCheck& check, const CollisionWorld& world);
+
 }  // namespace bliskrun

@@ -182,12 +182,6 @@ bool chosen_position(const EdgeFinishRequest& rq, const ContactPlan& c, int l_in
   return true;
 }
 
-std::string nearest_object(const CollisionWorld& world, const PoseCheck& pc) {
-  if (pc.worst < 0) return "?";
-  const PartClearance& p = pc.parts[pc.worst];
-  return std::string(to_string(p.part)) + " within clearance of " + (p.object >= 0 ? world.name(p.object) : "?");
-}
-
 // Links: retract up the tool axis, [via the edge's front when the axis turns
 // by more than 90° (one-way rows)], approach down the next axis. One place,
 // so it can switch to the shared link builder.
@@ -214,7 +208,7 @@ EdgeFinishLink plan_edge_link(const EdgeFinishRequest& rq, const ToolBody& body,
   for (size_t i = 1; i + 1 < seq.size(); ++i) {
     const PoseCheck pc = rq.world->check(body, seq[i], rq.clearances, 0);
     if (!pc.clear) {
-      link.reason = "link pose " + std::to_string(i) + ": " + nearest_object(*rq.world, pc);
+      link.reason = "link pose " + std::to_string(i) + ": " + describe(pc, *rq.world);
       return link;
     }
   }
@@ -234,7 +228,7 @@ EdgeFinishLink plan_edge_link(const EdgeFinishRequest& rq, const ToolBody& body,
   for (size_t i = 0; i + 1 < seq.size(); ++i) {
     const MotionCheck mc = rq.world->check_motion(body, seq[i], seq[i + 1], rq.clearances, rq.motion_tol_mm);
     if (!mc.clear) {
-      link.reason = "link leg " + std::to_string(i) + (mc.undecided ? ": undecided" : ": " + nearest_object(*rq.world, mc.at));
+      link.reason = "link leg " + std::to_string(i) + (mc.undecided ? ": undecided" : ": " + describe(mc.at, *rq.world));
       return link;
     }
   }
@@ -550,12 +544,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       }
       const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
       std::string reason;
-      if (!pc.clear) reason = nearest_object(*rq.world, pc);
+      if (!pc.clear) reason = describe(pc, *rq.world);
       else if (last >= 0) {
         const MotionCheck mc =
             rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm);
         if (!mc.clear) reason = "motion from the previous pose: " + (mc.undecided ? std::string("undecided")
-                                                                                   : nearest_object(*rq.world, mc.at));
+                                                                                   : describe(mc.at, *rq.world));
       }
       if (!reason.empty() &&
           clear_alternative(rq, body, p, last >= 0 ? &row.poses[last].pose : nullptr)) {

@@ -221,14 +221,6 @@ FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& 
   return b;
 }
 
-std::string describe(const PoseCheck& c, const CollisionWorld& world) {
-  if (c.worst < 0) return "collides";
-  const PartClearance& p = c.parts[c.worst];
-  std::string what = std::string(to_string(p.part)) + " ";
-  what += p.object >= 0 ? "against " + world.name(p.object) : "against a check surface";
-  return what + " (margin " + std::to_string(c.min_margin_mm) + " mm)";
-}
-
 }  // namespace
 
 FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
