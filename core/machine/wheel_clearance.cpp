@@ -43,7 +43,11 @@ BladeBody BladeBody::sample(const std::vector<std::pair<std::string, std::shared
   if (faces.empty()) throw ParameterError("faces", "expected at least one face of the blade");
   BladeBody body;
   body.spacing_mm = spacing_mm;
-  for (const auto& [name, surface] : faces) {
+  // Named members, not a structured binding: C++17 lambdas cannot capture
+  // structured bindings (clang refuses; gcc allows it as an extension).
+  for (const auto& named_face : faces) {
+    const std::string& name = named_face.first;
+    const std::shared_ptr<const Surface>& surface = named_face.second;
     if (!surface) throw ParameterError("faces." + name, "expected a surface");
     const int face = static_cast<int>(body.face_names.size());
     body.face_names.push_back(name);
