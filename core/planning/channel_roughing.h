@@ -1,0 +1,126 @@
+#pragma once
+// Notching and widening of an impeller channel (impeller paper §4.1–4.2,
+// eq. 12–14; SPEC §6.4): the channel between two blades is opened in its
+// middle (notching), then widened towards both blades along the hub, which
+// finishes the hub in the same passes.
+//
+// The channel lies between two blade faces, `left` and `right`, each in the
+// SPEC §2 orientation (u hub -> shroud along the rulings, v along the chord,
+// pu x pv out of the material, i.e. into the channel), over a hub of
+// revolution about Z. Stations t in [0, 1] run along the channel from the
+// inlet (LE) to the outlet (TE); a face's v at station t is t, or 1 - t when
+// its v runs TE -> LE; or a part of the chord (ChannelFace). At a station the channel's hub section
+// is the hub's parallel circle through the two faces' hub points (their
+// mean meridian parameter), between the faces' angles.
+//
+// Notching (§4.1, Fig. 3): the middle of the channel — halfway in angle
+// between the faces — with the axis the sum of the two faces' ruling
+// vectors there, so the tool leans with both blades. The ball centre goes
+// down in levels from the channel's middle at the shroud (the faces' shroud
+// points' midpoint: the blank is turned to the shroud contour) to `stock`
+// above the hub, no level more than `depth_step` deeper than the one before
+// at any station.
+//
+// Widening with hub finishing (§4.2): on the hub, from the notch towards
+// each blade. A ball of radius r leaves a scallop h between paths f apart:
+// f = 2√(2rh − h²) exactly (eq. 12, f ≈ 2√(Dh), is its first order and a
+// little too wide). Per side S is the hub arc at the outlet from the notch
+// to where the ball — grown by the stock — touches both the hub and the
+// face; N = ⌈S / f⌉ paths (eq. 13), at equal fractions of that side's width
+// at every station. Where the paper is loose: the inlet is narrower, so
+// the same N paths lie closer there than f (a smaller scallop, never a
+// larger one). The axis of path k = 1..N from the notch is
+// normalize(n_b + (n_s − n_b) k / N) — eq. 14 with i = N − k — n_b the
+// notch axis, n_s the finishing (swarf) axis of that side's face at the
+// station (flank_axis), so the last path leans like the finishing cut.
+//
+// The scallop between neighbouring paths (notch included) is measured on
+// the hub at every station (the hub circle between two contacts sampled,
+// each sample's distance to the nearest ball less r and the stock), not
+// taken from the formula.
+//
+// Every pose is checked with the whole tool against the world (the two
+// faces and the hub with `clearances`, at least the stock for the cutter)
+// and so is the motion from the previous pose. Passes alternate direction
+// (zigzag); a refused pose splits its pass and the next clear pose is
+// reached by a link. Links (between passes and around refusals) go up the
+// tool axis and back down (links.h), proved the same way; a link that
+// cannot be proved ends the plan there, with the reason.
+#include <string>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/geometry/revolution.h"
+#include "core/geometry/surface.h"
+#include "core/planning/flank_milling.h"
+#include "core/planning/links.h"
+#include "core/tools/pose.h"
+
+namespace bliskrun {
+
+// One side of the channel: a blade face and the part of its chord that
+// bounds the channel, v_inlet -> v_outlet (v_inlet > v_outlet when the
+// face's v runs outlet -> inlet). A splitter divides the outer part of a
+// channel: main face from where the splitter starts, splitter face whole.
+struct ChannelFace {
+  const Surface* face = nullptr;
+  double v_inlet = 0, v_outlet = 1;
+  double v_at(double t) const { return v_inlet + (v_outlet - v_inlet) * t; }
+};
+
+struct ChannelRequest {
+  ChannelFace left, right;
+  const SurfaceOfRevolution* hub = nullptr;
+  const FlankCutter* cutter = nullptr;     // ball or tapered ball end
+  const CollisionWorld* world = nullptr;   // may be null: no checks (geometry tests)
+  const ToolBody* body = nullptr;          // with world
+  Clearances clearances;                   // cutter: at least what the stock allows
+  int stations = 41;                       // along the channel, inlet to outlet
+  double stock_mm = 0.3;                   // left on the hub and the faces for finishing
+  double scallop_mm = 0.01;                // h on the hub (eq. 12)
+  double depth_step_mm = 5.0;              // notching: deepest step between levels
+  bool widen = true;                       // false: notching only
+  int scallop_samples = 16;                // hub samples between two neighbouring paths
+  double motion_tol_mm = 1e-3;
+  LinkOptions link = {RetractDirection::ToolAxis, 5.0, 0.1, 0, 0.002};
+};
+
+enum class ChannelPassKind { Notch, WidenLeft, WidenRight };
+const char* to_string(ChannelPassKind kind);
+
+struct ChannelPass {
+  ChannelPassKind kind = ChannelPassKind::Notch;
+  int index = 0;                  // notch level 1..L (deepest last) or widening path k = 1..N
+  std::vector<double> t;          // station of each pose
+  std::vector<ToolPose> poses;    // tip and axis; a refusal splits a pass into two
+};
+
+struct ChannelRefusal {
+  ChannelPassKind kind = ChannelPassKind::Notch;
+  int index = 0;
+  double t = 0;
+  std::string reason;
+};
+
+struct ChannelPlan {
+  std::vector<ChannelPass> passes;       // in cutting order
+  std::vector<PlannedLink> links;        // links[i]: from passes[i]'s last pose to passes[i + 1]'s first
+  std::vector<ChannelRefusal> refusals;
+  bool complete = true;                  // false: a link could not be proved; the plan stops there
+  std::string stopped;                   // why, when not complete
+  int notch_levels = 0;
+  int widen_left = 0, widen_right = 0;   // N per side
+  double step_over_mm = 0;               // f
+  double outlet_width_left_mm = 0, outlet_width_right_mm = 0;  // S per side (hub arc at the outlet)
+  double scallop_max_mm = 0;             // measured on the hub over every station
+  double scallop_outlet_mm = 0;          // measured at the outlet station
+  double deepest_step_mm = 0;            // largest depth between notch levels at any station
+  long poses = 0;
+};
+
+// Throws ParameterError naming the missing or impossible option, Error when
+// the channel's geometry cannot be found (a face not meeting the hub's
+// parallel circles, the ball not fitting the channel at a station).
+ChannelPlan plan_channel(const ChannelRequest& request);
+
+}  // namespace bliskrun

@@ -1,0 +1,179 @@
+#include "core/planning/channel_roughing.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+namespace {
+
+// A blade face in the plane through Z at angle theta, radii 50 -> 100 mm,
+// 20 mm high, its rulings leaning by `lean` rad towards +theta. v runs
+// inward when `reversed` (so the right face's normal also points into the
+// channel).
+class RadialFace : public Surface {
+ public:
+  RadialFace(double theta, double lean, bool reversed) : th_(theta), lean_(lean), rev_(reversed) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    const Vec3 radial(std::cos(th_), std::sin(th_), 0), tangential(-std::sin(th_), std::cos(th_), 0);
+    const Vec3 ruling = 20 * (std::cos(lean_) * Vec3::UnitZ() + std::sin(lean_) * tangential);
+    const double s = rev_ ? -50 : 50, r = rev_ ? 100 - 50 * v : 50 + 50 * v;
+    SurfaceDerivs d;
+    d.p = r * radial + u * ruling;
+    d.pu = ruling;
+    d.pv = s * radial;
+    return d;
+  }
+  // Distance from c to the face, the rectangle radii 50..100 by 20 mm up
+  // the ruling: radial and ruling are orthonormal, so its nearest point has
+  // the clamped in-plane coordinates.
+  double distance(const Vec3& c) const {
+    const Vec3 radial(std::cos(th_), std::sin(th_), 0);
+    const double a = std::clamp(c.dot(radial), 50.0, 100.0), b = std::clamp(c.dot(ruling()), 0.0, 20.0);
+    return (c - a * radial - b * ruling()).norm();
+  }
+  Vec3 ruling() const {
+    return (std::cos(lean_) * Vec3::UnitZ() + std::sin(lean_) * Vec3(-std::sin(th_), std::cos(th_), 0)).normalized();
+  }
+
+ private:
+  double th_, lean_;
+  bool rev_;
+};
+
+Tool ball_end(double radius) {
+  BallEndMillSpec s;
+  s.radius_mm = radius;
+  s.flute_length_mm = 40;
+  return Tool::ball_end_mill(s);
+}
+
+struct FlatChannel {
+  double alpha = deg_to_rad(10);
+  RadialFace left{-deg_to_rad(10), 0, false}, right{deg_to_rad(10), 0, true};
+  SurfaceOfRevolution hub{std::vector<Vec2>{{0, 40}, {0, 110}}};  // the flat disc z = 0
+  FlankCutter cutter{ball_end(3), 3};
+  ChannelRequest request() const {
+    ChannelRequest rq;
+    rq.left = {&left, 0, 1};
+    rq.right = {&right, 1, 0};
+    rq.hub = &hub;
+    rq.cutter = &cutter;
+    rq.stations = 11;
+    rq.stock_mm = 0.3;
+    rq.scallop_mm = 0.01;
+    rq.depth_step_mm = 5;
+    return rq;
+  }
+};
+
+TEST(ChannelRoughing, NotchAxesBisectTheChannelAndTheNotchRunsInItsMiddle) {
+  // Both blades lean 12 deg the same way (a backswept channel): the notch
+  // axis is the sum of the two rulings, at equal angles to each, and the
+  // deepest level's ball sits stock + r above the hub, equidistant from the
+  // two faces.
+  FlatChannel s;
+  s.left = RadialFace(-s.alpha, deg_to_rad(12), false);
+  s.right = RadialFace(s.alpha, deg_to_rad(12), true);
+  ChannelRequest rq = s.request();
+  rq.widen = false;
+  const ChannelPlan plan = plan_channel(rq);
+  EXPECT_EQ(plan.notch_levels, 4);  // 20 mm down to 3.3 mm, in steps <= 5 mm
+  EXPECT_LE(plan.deepest_step_mm, 5.0);
+  ASSERT_EQ(plan.passes.size(), 4u);
+  for (const ChannelPass& pass : plan.passes) {
+    ASSERT_EQ(pass.poses.size(), 11u);
+    for (const ToolPose& p : pass.poses) {
+      EXPECT_NEAR(std::acos(p.axis.dot(s.left.ruling())), std::acos(p.axis.dot(s.right.ruling())), 1e-9);
+      EXPECT_NEAR(p.axis.dot((s.left.ruling() + s.right.ruling()).normalized()), 1, 1e-12);
+    }
+  }
+  // Zigzag: level 2 runs outlet -> inlet.
+  EXPECT_GT(plan.passes[1].t.front(), plan.passes[1].t.back());
+  const ChannelPass& deepest = plan.passes.back();
+  for (size_t i = 0; i < deepest.poses.size(); ++i) {
+    const Vec3 c = deepest.poses[i].tip + 3 * deepest.poses[i].axis;  // ball centre
+    EXPECT_NEAR(c.z(), 3.3, 1e-9);
+    // Near the inlet the middle lies in front of the leading edges, and
+    // on the blade leaning over the channel the perpendicular foot falls
+    // below the hub: the distances are then to the faces' edges.
+    EXPECT_NEAR(s.left.distance(c), s.right.distance(c), 1e-6) << i;
+  }
+}
+
+TEST(ChannelRoughing, WideningSpacingMeetsTheResidualHeightFormulaOnAFlatHub) {
+  const FlatChannel s;
+  const ChannelPlan plan = plan_channel(s.request());
+  const double r = 3, h = 0.01, g = r + 0.3;
+  // Eq. 12 solved exactly: f = 2 sqrt(2 r h - h^2); eq. 12's 2 sqrt(D h) is its first order.
+  EXPECT_NEAR(plan.step_over_mm, 2 * std::sqrt(2 * r * h - h * h), 1e-12);
+  EXPECT_NEAR(plan.step_over_mm, 2 * std::sqrt(2 * r * h), 1e-3);
+  // S at the outlet (radius 100): from the middle to where the grown ball
+  // touches the face plane, theta = alpha - asin(g / 100).
+  const double limit = s.alpha - std::asin(g / 100);
+  EXPECT_NEAR(plan.outlet_width_left_mm, 100 * limit, 1e-6);
+  EXPECT_NEAR(plan.outlet_width_right_mm, 100 * limit, 1e-6);
+  const int n = static_cast<int>(std::ceil(100 * limit / plan.step_over_mm));
+  EXPECT_EQ(plan.widen_left, n);  // eq. 13
+  EXPECT_EQ(plan.widen_right, n);
+  // The measured scallop between neighbouring balls at the outlet: centres
+  // 2 * 100 sin(dtheta / 2) apart, cusp r - sqrt(r^2 - d^2 / 4) <= h.
+  const double d = 2 * 100 * std::sin(limit / n / 2);
+  // (Measured at the arc's midpoint on the hub circle, the formula at the
+  // chord's: they differ by O(r delta^4), here 1.5e-8 mm.)
+  EXPECT_NEAR(plan.scallop_outlet_mm, r - std::sqrt(r * r - d * d / 4), 1e-7);
+  EXPECT_LE(plan.scallop_outlet_mm, h);
+  EXPECT_GT(plan.scallop_outlet_mm, 0.9 * h);
+  // Inward the channel narrows and the same N paths close up: never more.
+  EXPECT_LE(plan.scallop_max_mm, plan.scallop_outlet_mm + 1e-12);
+  // Passes: the notch levels, then N per side; the last path of each side
+  // has the finishing axis (here the vertical ruling) and its ball at the
+  // limit, g from the face.
+  ASSERT_EQ(plan.passes.size(), static_cast<size_t>(plan.notch_levels + 2 * n));
+  const ChannelPass& last_left = plan.passes[static_cast<size_t>(plan.notch_levels + n - 1)];
+  EXPECT_EQ(last_left.kind, ChannelPassKind::WidenLeft);
+  EXPECT_EQ(last_left.index, n);
+  for (size_t i = 0; i < last_left.poses.size(); ++i) {
+    const ToolPose& p = last_left.poses[i];
+    EXPECT_NEAR(p.axis.z(), 1, 1e-6);
+    const Vec3 c = p.tip + r * p.axis;
+    EXPECT_NEAR(s.left.distance(c), g, 1e-6) << i;
+    if (last_left.t[i] == 1.0) {  // the outlet, in the open: the closed form of the plane
+      const Vec3 normal(std::sin(s.alpha), std::cos(s.alpha), 0);
+      EXPECT_NEAR(c.dot(normal), g, 1e-6);
+    }
+  }
+}
+
+TEST(ChannelRoughing, RefusesWhatCannotBePlanned) {
+  FlatChannel s;
+  ChannelRequest rq = s.request();
+  rq.scallop_mm = 0;
+  EXPECT_THROW(plan_channel(rq), ParameterError);
+  rq = s.request();
+  rq.hub = nullptr;
+  EXPECT_THROW(plan_channel(rq), ParameterError);
+  // A face whose normal points away from the channel (the far face of the
+  // blade): refused, naming the face.
+  rq = s.request();
+  const RadialFace away(-s.alpha, 0, true);  // at the left blade's place, the right blade's orientation
+  rq.left = {&away, 1, 0};
+  try {
+    plan_channel(rq);
+    ADD_FAILURE() << "a face facing away was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("left face does not face"), std::string::npos) << e.what();
+  }
+  // A ball wider than the inlet (2 * 50 sin 10 deg = 17 mm) does not fit.
+  const FlankCutter big(ball_end(9), 9);
+  rq = s.request();
+  rq.cutter = &big;
+  EXPECT_THROW(plan_channel(rq), Error);
+}
+
+}  // namespace
+}  // namespace bliskrun
