@@ -37,11 +37,17 @@ struct Station {
   Vec3 finishing_axis[2];             // left, right
   Vec3 top = Vec3::Zero();            // ball centre of the first notch level
   double sign = 1;                    // orients the hub normal into the channel
+  double v[2] = {0, 0};               // left, right face's chord parameter (hub point on this circle)
+  Vec3 finishing_centre[2];           // ball centre of the last widening path per side
+  bool swarf[2] = {false, false};     // that path is the grown cutter's flank pose
 };
 
 class Channel {
  public:
-  explicit Channel(const ChannelRequest& rq) : rq_(rq), r_(rq.cutter->ball_radius_mm()) {}
+  explicit Channel(const ChannelRequest& rq)
+      : rq_(rq), r_(rq.cutter->ball_radius_mm()), grown_cutter_(rq.cutter->grown(rq.stock_mm)) {
+    find_meridian_range();
+  }
 
   // Hub point and unit normal (into the channel) at angle theta of a station.
   void hub_at(const Station& s, double theta, Vec3& p, Vec3& n) const {
@@ -57,34 +63,88 @@ class Channel {
     return p + (r_ + rq_.stock_mm) * n;
   }
 
+  // The channel's stations are the hub's parallel circles from where both
+  // faces have begun to where the first ends (in the hub's meridian
+  // parameter), so at every station both faces' hub points lie on the
+  // station's circle: the two faces' chord parameters need not match.
+  void find_meridian_range() {
+    const ChannelFace* faces[2] = {&rq_.left, &rq_.right};
+    double in[2], out[2];
+    for (int i = 0; i < 2; ++i) {
+      in[i] = hub_u_of(*faces[i], faces[i]->v_inlet);
+      out[i] = hub_u_of(*faces[i], faces[i]->v_outlet);
+    }
+    const bool increasing = (out[0] - in[0]) + (out[1] - in[1]) > 0;
+    if ((out[0] > in[0]) != increasing || (out[1] > in[1]) != increasing)
+      throw Error("channel: the two faces run in opposite directions along the hub (check left_v and right_v: "
+                  "each is {v at the inlet, v at the outlet})");
+    u_in_ = increasing ? std::max(in[0], in[1]) : std::min(in[0], in[1]);
+    u_out_ = increasing ? std::min(out[0], out[1]) : std::max(out[0], out[1]);
+    if ((u_out_ > u_in_) != increasing) throw Error("channel: the two faces' parts do not overlap along the hub");
+  }
+
+  // The hub's meridian parameter under a face's hub point at chord v.
+  double hub_u_of(const ChannelFace& f, double v) const {
+    const SurfaceProjection pr = project_to_surface(*rq_.hub, f.face->point(0, v), ProjectionOptions{});
+    if (!pr.ok)
+      throw Error("channel: a face's hub point (v = " + std::to_string(v) + ") does not project onto the hub (" +
+                  pr.failure + ")");
+    return pr.u;
+  }
+
+  // The chord parameter of face f whose hub point lies on the hub circle u.
+  double v_on_circle(const ChannelFace& f, double u) const {
+    const auto g = [&](double v) { return hub_u_of(f, v) - u; };
+    const double a = f.v_inlet, b = f.v_outlet, ga = g(a), gb = g(b);
+    if (ga == 0) return a;
+    if (gb == 0) return b;
+    if ((ga > 0) == (gb > 0)) return std::abs(ga) < std::abs(gb) ? a : b;  // at an end, to rounding
+    return illinois_root(g, a, b, ga, gb, 1e-11);
+  }
+
+  // The hub point nearest x and its unit normal into the channel.
+  void hub_under(const Station& s, const Vec3& x, Vec3& p, Vec3& n) const {
+    // Newton from the station's circle at x's angle: the foot is near.
+    ProjectionOptions po;
+    double v = std::atan2(x.y(), x.x()) / (2 * kPi);
+    po.seed = Eigen::Vector2d(s.u_hub, v - std::floor(v));
+    const SurfaceProjection pr = project_to_surface(*rq_.hub, x, po);
+    if (!pr.ok) throw Error("channel at t = " + std::to_string(s.t) + ": a point does not project onto the hub (" + pr.failure + ")");
+    const SurfaceDerivs d = rq_.hub->eval(pr.u, pr.v);
+    p = d.p;
+    n = s.sign * d.pu.cross(d.pv).normalized();
+  }
+  // The ball centre over the hub under x (r + stock along the hub normal).
+  Vec3 ball_centre_over(const Station& s, const Vec3& x) const {
+    Vec3 p, n;
+    hub_under(s, x, p, n);
+    return p + (r_ + rq_.stock_mm) * n;
+  }
+
   Station station(double t) const {
     Station s;
     s.t = t;
+    s.u_hub = u_in_ + (u_out_ - u_in_) * t;
     Vec3 hub_pt[2], shroud_pt[2], ruling[2];
     const ChannelFace* faces[2] = {&rq_.left, &rq_.right};
-    double u_sum = 0, theta[2];
+    double theta[2];
     for (int i = 0; i < 2; ++i) {
-      const double v = faces[i]->v_at(t);
+      const double v = s.v[i] = v_on_circle(*faces[i], s.u_hub);
       hub_pt[i] = faces[i]->face->point(0, v);
       shroud_pt[i] = faces[i]->face->point(1, v);
       ruling[i] = (shroud_pt[i] - hub_pt[i]).normalized();
       theta[i] = std::atan2(hub_pt[i].y(), hub_pt[i].x());
-      ProjectionOptions po;
-      const SurfaceProjection pr = project_to_surface(*rq_.hub, hub_pt[i], po);
-      if (!pr.ok) throw Error("channel at t = " + std::to_string(t) + ": a face's hub point does not project onto the hub (" + pr.failure + ")");
-      u_sum += pr.u;
     }
     // Both faces must look into the channel (out of their material, towards
     // the other face): a swapped pair or a face of the wrong side would
     // otherwise give a "channel" through a blade.
     for (int i = 0; i < 2; ++i) {
-      const SurfaceDerivs d = faces[i]->face->eval(0, faces[i]->v_at(t));
+      const SurfaceDerivs d = faces[i]->face->eval(0, s.v[i]);
       if (d.pu.cross(d.pv).dot(hub_pt[1 - i] - hub_pt[i]) <= 0)
         throw Error(std::string("channel at t = ") + std::to_string(t) + ": the " + (i == 0 ? "left" : "right") +
                     " face does not face the " + (i == 0 ? "right" : "left") +
                     " one (its normal, out of the material, points away from the channel)");
     }
-    s.u_hub = 0.5 * u_sum;
     theta[1] = theta[0] + wrap_angle(theta[1] - theta[0]);
     s.notch_axis = (ruling[0] + ruling[1]).normalized();
     s.top = 0.5 * (shroud_pt[0] + shroud_pt[1]);
@@ -108,25 +168,32 @@ class Channel {
       const auto g = [&](double th) { return distance(0, th) - distance(1, th); };
       s.theta_mid = illinois_root(g, theta[0], theta[1], g(theta[0]), g(theta[1]), 1e-10);
     }
-    // Where the ball, grown by the stock, touches both hub and face: the
-    // root of dist(centre, face) - (r + stock) between the middle and the
-    // face's own hub point.
+    // The last widening path of each side is the finishing (swarf) pose of
+    // the cutter grown by the stock (flank_axis, §4.3): the real cutter on
+    // that axis leaves the stock on the face along the whole flute and on
+    // the hub, so the side ends where the finishing cut begins. Where
+    // flank_axis finds no axis, the ball alone: the angle where the grown
+    // ball touches hub and face (the root of dist - (r + stock) between the
+    // middle and the face), with the face's ruling as the axis.
     const double grown = r_ + rq_.stock_mm;
     for (int i = 0; i < 2; ++i) {
       const Surface& face = *faces[i]->face;
-      const auto g = [&](double th) { return distance(i, th) - grown; };
-      const double a = s.theta_mid, b = theta[i];
-      const double ga = g(a), gb = g(b);
-      if (!(ga > 0))
+      if (!(distance(i, s.theta_mid) > grown))
         throw Error("channel at t = " + std::to_string(t) + ": a ball of radius " + std::to_string(r_) +
                     " mm with " + std::to_string(rq_.stock_mm) + " mm stock does not fit between the blades");
-      s.theta_limit[i] = gb < 0 ? illinois_root(g, a, b, ga, gb, 1e-9) : b;
-      // The finishing axis of that face at this station (the swarf axis);
-      // the face's ruling where flank_axis finds none.
       try {
-        s.finishing_axis[i] = flank_axis(face, faces[i]->v_at(t), rq_.hub, *rq_.cutter).pose.axis;
+        const FlankAxis fa = flank_axis(face, s.v[i], rq_.hub, grown_cutter_);
+        s.finishing_axis[i] = fa.pose.axis;
+        s.finishing_centre[i] = fa.ball_centre;
+        s.theta_limit[i] = s.theta_mid + wrap_angle(std::atan2(fa.ball_centre.y(), fa.ball_centre.x()) - s.theta_mid);
+        s.swarf[i] = true;
       } catch (const Error&) {
+        const auto g = [&](double th) { return distance(i, th) - grown; };
+        const double a = s.theta_mid, b = theta[i], ga = g(a), gb = g(b);
+        s.theta_limit[i] = gb < 0 ? illinois_root(g, a, b, ga, gb, 1e-9) : b;
         s.finishing_axis[i] = ruling[i];
+        s.finishing_centre[i] = ball_centre(s, s.theta_limit[i]);
+        s.swarf[i] = false;
       }
     }
     return s;
@@ -134,6 +201,8 @@ class Channel {
 
   const ChannelRequest& rq_;
   double r_;
+  FlankCutter grown_cutter_;  // the cutter's offset by the stock
+  double u_in_ = 0, u_out_ = 1;  // the hub's meridian parameter at the inlet and outlet stations
 };
 
 // How far above the stock surface point q, along its normal n, the ball
@@ -148,10 +217,25 @@ double height_to_ball(const Vec3& q, const Vec3& n, const Vec3& c, double r) {
   return b - std::sqrt(disc);
 }
 
-double hub_arc(const Channel& ch, const Station& s, double a, double b) {
-  Vec3 p, n;
-  ch.hub_at(s, a, p, n);
-  return std::hypot(p.x(), p.y()) * std::abs(b - a);
+// The widening paths' ball centres of one side at a station, k = 0 (the
+// notch) .. n (the finishing pose): the straight line between the two
+// centres, each point put back over the hub (r + stock along its normal).
+std::vector<Vec3> widening_centres(const Channel& ch, const Station& s, int side, int n) {
+  std::vector<Vec3> c(static_cast<size_t>(n) + 1);
+  const Vec3 a = ch.ball_centre(s, s.theta_mid), b = s.finishing_centre[side];
+  c.front() = a;
+  c.back() = b;
+  for (int k = 1; k < n; ++k) c[static_cast<size_t>(k)] = ch.ball_centre_over(s, a + (b - a) * (static_cast<double>(k) / n));
+  return c;
+}
+
+// S of eq. 13: the length of that line over the hub, from the notch's
+// centre to the finishing pose's (as a polyline of 64 pieces).
+double side_width(const Channel& ch, const Station& s, int side) {
+  const std::vector<Vec3> c = widening_centres(ch, s, side, 64);
+  double length = 0;
+  for (size_t i = 1; i < c.size(); ++i) length += (c[i] - c[i - 1]).norm();
+  return length;
 }
 
 }  // namespace
@@ -179,8 +263,8 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   const double h = rq.scallop_mm;
   plan.step_over_mm = 2 * std::sqrt(2 * r * h - h * h);
   const Station& outlet = st.back();
-  plan.outlet_width_left_mm = hub_arc(ch, outlet, outlet.theta_mid, outlet.theta_limit[0]);
-  plan.outlet_width_right_mm = hub_arc(ch, outlet, outlet.theta_mid, outlet.theta_limit[1]);
+  plan.outlet_width_left_mm = side_width(ch, outlet, 0);
+  plan.outlet_width_right_mm = side_width(ch, outlet, 1);
   if (rq.widen) {
     plan.widen_left = std::max(1, static_cast<int>(std::ceil(plan.outlet_width_left_mm / plan.step_over_mm - 1e-9)));
     plan.widen_right = std::max(1, static_cast<int>(std::ceil(plan.outlet_width_right_mm / plan.step_over_mm - 1e-9)));
@@ -195,36 +279,43 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
     const Vec3 c = s.top + (ch.ball_centre(s, s.theta_mid) - s.top) * (static_cast<double>(level) / plan.notch_levels);
     return ToolPose{c - r * s.notch_axis, s.notch_axis};
   };
-  const auto widen_angle = [&](const Station& s, int side, int k, int n) {
-    return s.theta_mid + (s.theta_limit[side] - s.theta_mid) * (static_cast<double>(k) / n);
-  };
-  const auto widen_pose = [&](const Station& s, int side, int k, int n) {
-    const Vec3 axis = (s.notch_axis + (s.finishing_axis[side] - s.notch_axis) * (static_cast<double>(k) / n)).normalized();
-    return ToolPose{ch.ball_centre(s, widen_angle(s, side, k, n)) - r * axis, axis};
-  };
-
-  // Measured scallop on the hub (the stock surface) between neighbouring
-  // paths at every station: notch and the widening paths of both sides.
-  for (const Station& s : st) {
-    if (!rq.widen) break;
-    std::vector<double> angles{s.theta_mid};
-    for (int k = 1; k <= plan.widen_left; ++k) angles.push_back(widen_angle(s, 0, k, plan.widen_left));
-    for (int k = 1; k <= plan.widen_right; ++k) angles.push_back(widen_angle(s, 1, k, plan.widen_right));
-    std::sort(angles.begin(), angles.end());
-    double worst = 0;
-    for (size_t i = 0; i + 1 < angles.size(); ++i) {
-      const Vec3 ca = ch.ball_centre(s, angles[i]), cb = ch.ball_centre(s, angles[i + 1]);
-      for (int k = 1; k < rq.scallop_samples; ++k) {
-        const double th = angles[i] + (angles[i + 1] - angles[i]) * k / rq.scallop_samples;
-        Vec3 p, n;
-        ch.hub_at(s, th, p, n);
-        const Vec3 q = p + rq.stock_mm * n;
-        worst = std::max(worst, std::min(height_to_ball(q, n, ca, r), height_to_ball(q, n, cb, r)));
+  // Widening ball centres per station and side, k = 0..N, and the scallop
+  // they leave measured on the hub (the stock surface) at every station:
+  // along the line between two neighbouring ball centres, the stock surface
+  // under it sampled and the height each ball leaves there taken along the
+  // hub normal. Where a station's cusp exceeds h (the hub curves and the
+  // channel's width varies, so eq. 13's N at the outlet is not a proof),
+  // that side gets one more path, until none does.
+  std::vector<std::vector<Vec3>> centres[2];
+  std::vector<double> worst[2];  // per side and station
+  for (int side = 0; side < 2 && rq.widen; ++side) {
+    int& n = side == 0 ? plan.widen_left : plan.widen_right;
+    for (;; ++n) {
+      centres[side].clear();
+      worst[side].assign(st.size(), 0.0);
+      for (size_t i = 0; i < st.size(); ++i) {
+        centres[side].push_back(widening_centres(ch, st[i], side, n));
+        const std::vector<Vec3>& c = centres[side].back();
+        for (size_t k = 0; k + 1 < c.size(); ++k)
+          for (int j = 1; j < rq.scallop_samples; ++j) {
+            Vec3 p, nh;
+            ch.hub_under(st[i], c[k] + (c[k + 1] - c[k]) * (static_cast<double>(j) / rq.scallop_samples), p, nh);
+            const Vec3 q = p + rq.stock_mm * nh;
+            worst[side][i] = std::max(worst[side][i], std::min(height_to_ball(q, nh, c[k], r),
+                                                               height_to_ball(q, nh, c[k + 1], r)));
+          }
       }
+      if (*std::max_element(worst[side].begin(), worst[side].end()) <= h) break;
+      ++plan.paths_added;
     }
-    plan.scallop_max_mm = std::max(plan.scallop_max_mm, worst);
-    if (&s == &st.back()) plan.scallop_outlet_mm = worst;
+    for (size_t i = 0; i < st.size(); ++i) plan.scallop_max_mm = std::max(plan.scallop_max_mm, worst[side][i]);
+    plan.scallop_outlet_mm = std::max(plan.scallop_outlet_mm, worst[side].back());
   }
+  const auto widen_pose = [&](size_t station, int side, int k, int n) {
+    const Station& s = st[station];
+    const Vec3 axis = (s.notch_axis + (s.finishing_axis[side] - s.notch_axis) * (static_cast<double>(k) / n)).normalized();
+    return ToolPose{centres[side][station][static_cast<size_t>(k)] - r * axis, axis};
+  };
 
   // The passes in cutting order, alternating direction.
   struct Spec {
@@ -244,12 +335,31 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       current = ChannelPass{spec.kind, spec.index, {}, {}};
     };
     for (int q = 0; q < rq.stations; ++q) {
-      const Station& s = st[static_cast<size_t>(p % 2 == 0 ? q : rq.stations - 1 - q)];
-      const ToolPose pose = spec.kind == ChannelPassKind::Notch ? notch_pose(s, spec.index)
-                            : spec.kind == ChannelPassKind::WidenLeft ? widen_pose(s, 0, spec.index, plan.widen_left)
-                                                                      : widen_pose(s, 1, spec.index, plan.widen_right);
+      const size_t station = static_cast<size_t>(p % 2 == 0 ? q : rq.stations - 1 - q);
+      const Station& s = st[station];
+      const int side = spec.kind == ChannelPassKind::WidenRight ? 1 : 0;
+      const int n = side == 0 ? plan.widen_left : plan.widen_right;
+      ToolPose pose = spec.kind == ChannelPassKind::Notch ? notch_pose(s, spec.index) : widen_pose(station, side, spec.index, n);
       if (rq.world) {
-        const PoseCheck pc = rq.world->check(*rq.body, pose, rq.clearances, 0.0);
+        PoseCheck pc = rq.world->check(*rq.body, pose, rq.clearances, 0.0);
+        // A widening pose whose flute or shank meets the blade leaning over
+        // it: turn its axis further towards the finishing axis about the
+        // same ball centre (eq. 14's blend taken beyond k / N), in quarters
+        // of what is left, before refusing it.
+        if (!pc.clear && spec.kind != ChannelPassKind::Notch && spec.index < n) {
+          const Vec3 centre = pose.tip + r * pose.axis;
+          for (int j = 1; j <= 4 && !pc.clear; ++j) {
+            const double f = static_cast<double>(spec.index) / n, blend = f + (1 - f) * j / 4.0;
+            const Vec3 axis = (s.notch_axis + (s.finishing_axis[side] - s.notch_axis) * blend).normalized();
+            const ToolPose turned{centre - r * axis, axis};
+            const PoseCheck tc = rq.world->check(*rq.body, turned, rq.clearances, 0.0);
+            if (tc.clear) {
+              pose = turned;
+              pc = tc;
+              ++plan.turned;
+            }
+          }
+        }
         if (!pc.clear) {
           plan.refusals.push_back({spec.kind, spec.index, s.t, "pose: " + describe(pc, *rq.world)});
           close();
@@ -272,18 +382,41 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
     close();
   }
 
-  // Links up the tool axis between consecutive pieces; the plan stops at
-  // the first that cannot be proved.
+  // Between consecutive pieces: where the next starts at the station the
+  // last ended (the zigzag's turn), a straight step-over or step-down at
+  // the feed when that motion is proved clear — the way a zigzag runs, and
+  // through material this channel's earlier passes have cut or the next
+  // one cuts anyway. Otherwise a link up the tool axis. The plan stops at
+  // the first piece it cannot reach.
+  LinkChecks checks;
+  checks.world = rq.world;
+  checks.body = rq.body;
+  checks.clearances = rq.clearances;
+  checks.motion_tol_mm = rq.motion_tol_mm;
   for (size_t i = 0; i < passes.size(); ++i) {
     if (i > 0 && rq.world) {
-      LinkChecks checks;
-      checks.world = rq.world;
-      checks.body = rq.body;
-      checks.clearances = rq.clearances;
-      checks.motion_tol_mm = rq.motion_tol_mm;
-      const ToolPose& a = passes[i - 1].poses.back();
+      const ToolPose& a = plan.passes.back().poses.back();  // passes[i - 1], already moved into the plan
       const ToolPose& b = passes[i].poses.front();
-      PlannedLink link = plan_link({a, a.axis}, {b, b.axis}, checks, rq.link);
+      if (plan.passes.back().t.back() == passes[i].t.front()) {
+        const MotionCheck mc = rq.world->check_motion(*rq.body, a, b, rq.clearances, rq.motion_tol_mm);
+        if (mc.clear) {
+          PlannedLink step;  // no via poses: a direct step
+          step.clear = true;
+          plan.links.push_back(std::move(step));
+          plan.poses += static_cast<long>(passes[i].poses.size());
+          plan.passes.push_back(std::move(passes[i]));
+          continue;
+        }
+      }
+      // Up the axis by link.retract_mm, and where the traverse there is
+      // not clear (a splitter's leading edge, a leaning blade) twice, four
+      // and eight times as far: out of the channel rather than along it.
+      PlannedLink link;
+      LinkOptions up = rq.link;
+      for (int tries = 0; tries < 4 && !link.clear; ++tries, up.retract_mm *= 2) {
+        PlannedLink attempt = plan_link({a, a.axis}, {b, b.axis}, checks, up);
+        if (attempt.clear || tries == 0) link = std::move(attempt);
+      }
       if (!link.clear) {
         plan.complete = false;
         plan.stopped = std::string("link into ") + to_string(passes[i].kind) + " " + std::to_string(passes[i].index) +
@@ -295,7 +428,39 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
     plan.poses += static_cast<long>(passes[i].poses.size());
     plan.passes.push_back(std::move(passes[i]));
   }
+  if (rq.world && !plan.passes.empty()) {
+    const ToolPose& first = plan.passes.front().poses.front();
+    const ToolPose& last = plan.passes.back().poses.back();
+    plan.lead_in = plan_departure({first, first.axis}, checks, rq.link);
+    plan.lead_out = plan_departure({last, last.axis}, checks, rq.link);
+    if (!plan.lead_in.clear || !plan.lead_out.clear) {
+      plan.complete = false;
+      if (plan.stopped.empty())
+        plan.stopped = std::string("lead-") + (plan.lead_in.clear ? "out: " + plan.lead_out.reason : "in: " + plan.lead_in.reason);
+    }
+  }
   return plan;
+}
+
+std::vector<ChannelMove> channel_moves(const ChannelPlan& plan) {
+  std::vector<ChannelMove> moves;
+  if (plan.lead_in.clear) moves.push_back({false, plan.lead_in.away, 0, "start"});
+  for (size_t i = 0; i < plan.passes.size(); ++i) {
+    const int pass = static_cast<int>(i);
+    if (i > 0 && i - 1 < plan.links.size()) {
+      const PlannedLink& link = plan.links[i - 1];
+      for (size_t k = 0; k < link.via.size(); ++k) moves.push_back({false, link.via[k], pass, link_leg_name(link.legs[k])});
+    } else if (i > 0 && !plan.complete) {
+      break;  // an unproved link: nothing after it
+    }
+    const ChannelPass& p = plan.passes[i];
+    const bool step = i > 0 && i - 1 < plan.links.size() && plan.links[i - 1].via.empty();
+    for (size_t k = 0; k < p.poses.size(); ++k)
+      moves.push_back({true, p.poses[k], pass, k > 0 ? "cut" : step ? "step" : "approach"});
+  }
+  if (plan.lead_out.clear && plan.links.size() + 1 == plan.passes.size())
+    moves.push_back({false, plan.lead_out.away, static_cast<int>(plan.passes.size()) - 1, "retract"});
+  return moves;
 }
 
 }  // namespace bliskrun

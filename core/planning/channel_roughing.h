@@ -13,39 +13,51 @@
 // is the hub's parallel circle through the two faces' hub points (their
 // mean meridian parameter), between the faces' angles.
 //
-// Notching (§4.1, Fig. 3): the middle of the channel — halfway in angle
-// between the faces — with the axis the sum of the two faces' ruling
-// vectors there, so the tool leans with both blades. The ball centre goes
-// down in levels from the channel's middle at the shroud (the faces' shroud
-// points' midpoint: the blank is turned to the shroud contour) to `stock`
-// above the hub, no level more than `depth_step` deeper than the one before
-// at any station.
+// Stations are the hub's parallel circles from where both faces have
+// begun to where the first ends, so both faces' hub points lie on each
+// station's circle whatever their chord parametrisations.
+//
+// Notching (§4.1, Fig. 3): the middle of the channel — the ball centre
+// (stock + r over the hub) as far from one face as from the other — with
+// the axis the sum of the two faces' ruling vectors there, so the tool
+// leans with both blades. The ball centre goes down in levels from the
+// channel's middle at the shroud (the faces' shroud points' midpoint: the
+// blank is turned to the shroud contour) to `stock` above the hub, no
+// level more than `depth_step` deeper than the one before at any station.
 //
 // Widening with hub finishing (§4.2): on the hub, from the notch towards
 // each blade. A ball of radius r leaves a scallop h between paths f apart:
 // f = 2√(2rh − h²) exactly (eq. 12, f ≈ 2√(Dh), is its first order and a
-// little too wide). Per side S is the hub arc at the outlet from the notch
-// to where the ball — grown by the stock — touches both the hub and the
-// face; N = ⌈S / f⌉ paths (eq. 13), at equal fractions of that side's width
-// at every station. Where the paper is loose: the inlet is narrower, so
-// the same N paths lie closer there than f (a smaller scallop, never a
-// larger one). The axis of path k = 1..N from the notch is
+// little too wide). Each side ends with the finishing (swarf) pose of the
+// cutter grown by the stock (flank_axis with FlankCutter::grown): the
+// real cutter there leaves the stock along its whole flute, not only at
+// the ball. Per side S is the length over the hub at the outlet from the
+// notch's ball centre to that pose's; N = ⌈S / f⌉ paths (eq. 13), their
+// centres at equal steps along the line between the two, put back over
+// the hub, at every station. The axis of path k = 1..N from the notch is
 // normalize(n_b + (n_s − n_b) k / N) — eq. 14 with i = N − k — n_b the
-// notch axis, n_s the finishing (swarf) axis of that side's face at the
-// station (flank_axis), so the last path leans like the finishing cut.
+// notch axis, n_s the finishing axis of that side's face at the station.
 //
 // The scallop between neighbouring paths (notch included) is measured on
-// the hub at every station (the hub circle between two contacts sampled,
-// each sample's distance to the nearest ball less r and the stock), not
-// taken from the formula.
+// the hub at every station (the stock surface under the line between two
+// ball centres sampled, the height the nearer ball leaves there along the
+// hub normal), not taken from the formula; where it exceeds h anywhere,
+// that side gets one more path (eq. 13's N is a proof only on a flat hub
+// of constant width).
+//
+// A widening pose that is not clear is turned further towards the
+// finishing axis about its ball centre (in quarters of what is left)
+// before it is refused: near a blade leaning over the channel the flute
+// needs more of the blade's lean than the blend gives.
 //
 // Every pose is checked with the whole tool against the world (the two
 // faces and the hub with `clearances`, at least the stock for the cutter)
 // and so is the motion from the previous pose. Passes alternate direction
-// (zigzag); a refused pose splits its pass and the next clear pose is
-// reached by a link. Links (between passes and around refusals) go up the
-// tool axis and back down (links.h), proved the same way; a link that
-// cannot be proved ends the plan there, with the reason.
+// (zigzag); at a turn the next pass is reached by a direct step-over or
+// step-down where that motion is proved clear. A refused pose splits its
+// pass and the next clear pose is reached by a link; links go up the tool
+// axis and back down (links.h), proved the same way; a link that cannot
+// be proved ends the plan there, with the reason.
 #include <string>
 #include <vector>
 
@@ -104,19 +116,36 @@ struct ChannelRefusal {
 
 struct ChannelPlan {
   std::vector<ChannelPass> passes;       // in cutting order
-  std::vector<PlannedLink> links;        // links[i]: from passes[i]'s last pose to passes[i + 1]'s first
+  std::vector<PlannedLink> links;        // links[i]: from passes[i]'s last pose to passes[i + 1]'s first;
+                                         // no via poses: a direct step at the feed (zigzag turn)
   std::vector<ChannelRefusal> refusals;
+  PlannedDeparture lead_in, lead_out;    // up the tool axis at the first and last pose (with a world)
   bool complete = true;                  // false: a link could not be proved; the plan stops there
   std::string stopped;                   // why, when not complete
   int notch_levels = 0;
   int widen_left = 0, widen_right = 0;   // N per side
+  int paths_added = 0;                   // beyond eq. 13's N, where a station's measured cusp exceeded h
   double step_over_mm = 0;               // f
-  double outlet_width_left_mm = 0, outlet_width_right_mm = 0;  // S per side (hub arc at the outlet)
+  double outlet_width_left_mm = 0, outlet_width_right_mm = 0;  // S per side (over the hub at the outlet)
   double scallop_max_mm = 0;             // measured on the hub over every station
   double scallop_outlet_mm = 0;          // measured at the outlet station
   double deepest_step_mm = 0;            // largest depth between notch levels at any station
   long poses = 0;
+  long turned = 0;                       // widening poses whose axis was turned further to clear a blade
 };
+
+// The toolpath in cutting order: the lead-in's away pose (rapid), each
+// pass's poses (feed, "cut"; the first "approach", or "step" after a
+// direct step), the links' via poses
+// (rapid, named by their leg), the lead-out's away pose (rapid). Nothing
+// after a link that could not be proved.
+struct ChannelMove {
+  bool feed = true;
+  ToolPose pose;
+  int pass = 0;             // index into ChannelPlan::passes
+  const char* motion = "";  // "cut", "approach", "start", "retract", or a link leg
+};
+std::vector<ChannelMove> channel_moves(const ChannelPlan& plan);
 
 // Throws ParameterError naming the missing or impossible option, Error when
 // the channel's geometry cannot be found (a face not meeting the hub's

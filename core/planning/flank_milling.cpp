@@ -65,7 +65,18 @@ FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(too
 }
 
 double FlankCutter::radius_at(double s_mm) const {
-  return std::max(0.0, -tool_.signed_distance(Vec3(0, 0, r_ + s_mm), ToolPartId::Cutter));
+  // Heights are above the ball centre, which sits r_ - grow_ above the
+  // real tool's tip.
+  const double inside = -tool_.signed_distance(Vec3(0, 0, r_ - grow_ + s_mm), ToolPartId::Cutter);
+  return inside > 0 ? inside + grow_ : 0.0;
+}
+
+FlankCutter FlankCutter::grown(double by_mm) const {
+  if (!(by_mm >= 0)) throw ParameterError("stock", "expected a stock >= 0 in mm");
+  FlankCutter g = *this;
+  g.r_ += by_mm;
+  g.grow_ += by_mm;
+  return g;
 }
 
 FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* hub,

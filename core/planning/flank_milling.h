@@ -58,10 +58,16 @@ class FlankCutter {
   double radius_at(double s_mm) const;
   // Height above the ball centre where the cutting part ends.
   double flute_top_mm() const { return top_; }
+  // The cutter's offset surface at distance `by` >= 0: the same axis and
+  // ball centre, every radius (the ball's included) `by` larger. A pose of
+  // the grown cutter tangent to a face puts the real cutter `by` off it
+  // (stock left for finishing). Its tip is `by` below the real one.
+  FlankCutter grown(double by_mm) const;
 
  private:
   Tool tool_;
   double r_, top_;
+  double grow_ = 0;
 };
 
 struct FlankAxis {

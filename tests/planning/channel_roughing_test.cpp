@@ -6,7 +6,9 @@
 #include <cmath>
 #include <string>
 
+#include "core/collision/collision_world.h"
 #include "core/common/error.h"
+#include "core/geometry/mesh.h"
 
 namespace bliskrun {
 namespace {
@@ -112,27 +114,30 @@ TEST(ChannelRoughing, WideningSpacingMeetsTheResidualHeightFormulaOnAFlatHub) {
   // Eq. 12 solved exactly: f = 2 sqrt(2 r h - h^2); eq. 12's 2 sqrt(D h) is its first order.
   EXPECT_NEAR(plan.step_over_mm, 2 * std::sqrt(2 * r * h - h * h), 1e-12);
   EXPECT_NEAR(plan.step_over_mm, 2 * std::sqrt(2 * r * h), 1e-3);
-  // S at the outlet (radius 100): from the middle to where the grown ball
-  // touches the face plane, theta = alpha - asin(g / 100).
-  const double limit = s.alpha - std::asin(g / 100);
-  EXPECT_NEAR(plan.outlet_width_left_mm, 100 * limit, 1e-6);
-  EXPECT_NEAR(plan.outlet_width_right_mm, 100 * limit, 1e-6);
-  const int n = static_cast<int>(std::ceil(100 * limit / plan.step_over_mm));
+  // S at the outlet (radius 100): from the notch's ball centre (at angle
+  // 0) to the last path's, the finishing pose of the cutter grown by the
+  // stock: the face's hub point (radius 100) moved g along the plane's
+  // normal, at radius hypot(100, g) and angle -alpha + atan(g / 100). On
+  // the flat hub the line between them stays on the hub offset.
+  const double limit = s.alpha - std::atan(g / 100), outer = std::hypot(100.0, g);
+  const double width = std::sqrt(outer * outer + 100 * 100 - 2 * outer * 100 * std::cos(limit));
+  EXPECT_NEAR(plan.outlet_width_left_mm, width, 1e-9);
+  EXPECT_NEAR(plan.outlet_width_right_mm, width, 1e-9);
+  const int n = static_cast<int>(std::ceil(width / plan.step_over_mm));
   EXPECT_EQ(plan.widen_left, n);  // eq. 13
   EXPECT_EQ(plan.widen_right, n);
-  // The measured scallop between neighbouring balls at the outlet: centres
-  // 2 * 100 sin(dtheta / 2) apart, cusp r - sqrt(r^2 - d^2 / 4) <= h.
-  const double d = 2 * 100 * std::sin(limit / n / 2);
-  // (Measured at the arc's midpoint on the hub circle, the formula at the
-  // chord's: they differ by O(r delta^4), here 1.5e-8 mm.)
-  EXPECT_NEAR(plan.scallop_outlet_mm, r - std::sqrt(r * r - d * d / 4), 1e-7);
+  EXPECT_EQ(plan.paths_added, 0);  // on a flat hub widest at the outlet, eq. 13's N suffices
+  // The measured scallop: neighbouring centres S / N apart on a line at
+  // g above the hub, cusp r - sqrt(r^2 - d^2 / 4) <= h (the exact eq. 12).
+  const double d = width / n;
+  EXPECT_NEAR(plan.scallop_outlet_mm, r - std::sqrt(r * r - d * d / 4), 1e-12);
   EXPECT_LE(plan.scallop_outlet_mm, h);
   EXPECT_GT(plan.scallop_outlet_mm, 0.9 * h);
   // Inward the channel narrows and the same N paths close up: never more.
   EXPECT_LE(plan.scallop_max_mm, plan.scallop_outlet_mm + 1e-12);
   // Passes: the notch levels, then N per side; the last path of each side
-  // has the finishing axis (here the vertical ruling) and its ball at the
-  // limit, g from the face.
+  // is the grown cutter's finishing pose (here the vertical ruling), its
+  // ball g from the face and from the hub.
   ASSERT_EQ(plan.passes.size(), static_cast<size_t>(plan.notch_levels + 2 * n));
   const ChannelPass& last_left = plan.passes[static_cast<size_t>(plan.notch_levels + n - 1)];
   EXPECT_EQ(last_left.kind, ChannelPassKind::WidenLeft);
@@ -142,11 +147,85 @@ TEST(ChannelRoughing, WideningSpacingMeetsTheResidualHeightFormulaOnAFlatHub) {
     EXPECT_NEAR(p.axis.z(), 1, 1e-6);
     const Vec3 c = p.tip + r * p.axis;
     EXPECT_NEAR(s.left.distance(c), g, 1e-6) << i;
+    EXPECT_NEAR(c.z(), g, 1e-6) << i;  // the stock above the hub
     if (last_left.t[i] == 1.0) {  // the outlet, in the open: the closed form of the plane
       const Vec3 normal(std::sin(s.alpha), std::cos(s.alpha), 0);
       EXPECT_NEAR(c.dot(normal), g, 1e-6);
     }
   }
+}
+
+// A flat plate standing in the channel's middle: radii 73..77 at angle 0,
+// z from 12 to 20.
+class Plate : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = Vec3(73 + 4 * v, 0, 12 + 8 * u);
+    d.pu = Vec3(0, 0, 8);
+    d.pv = Vec3(4, 0, 0);
+    return d;
+  }
+};
+
+TEST(ChannelRoughing, WithAWorldEveryMoveIsClearAndObstaclesAreLinkedAround) {
+  FlatChannel s;
+  const Tool tool = ball_end(3);
+  const ToolBody body(tool);
+  CollisionWorld world;
+  world.add("left", tessellate(s.left, 0.02));
+  world.add("right", tessellate(s.right, 0.02));
+  world.add("hub", tessellate(s.hub, 0.02));
+  ChannelRequest rq = s.request();
+  // Few passes (the collision checks dominate, more so under ASan): 9
+  // stations (one at t = 0.5, the plate's), 2 notch levels, 0.5 mm cusps.
+  rq.stations = 9;
+  rq.depth_step_mm = 10;
+  rq.scallop_mm = 0.5;
+  rq.world = &world;
+  rq.body = &body;
+  rq.clearances.cutter_mm = 0.1;
+  const auto every_move_clear = [&](const ChannelPlan& plan, const CollisionWorld& w) {
+    const std::vector<ChannelMove> moves = channel_moves(plan);
+    for (size_t i = 0; i < moves.size(); ++i) {
+      EXPECT_TRUE(w.check(body, moves[i].pose, Clearances{}, 0.0).clear) << i;
+      if (i > 0) EXPECT_TRUE(w.check_motion(body, moves[i - 1].pose, moves[i].pose, Clearances{}, 1e-2).clear) << i;
+    }
+    return moves;
+  };
+
+  // The open channel: no refusals; every turn of the zigzag is a direct
+  // step (no via poses), so the moves are the poses plus the two leads.
+  const ChannelPlan open = plan_channel(rq);
+  EXPECT_TRUE(open.complete) << open.stopped;
+  EXPECT_TRUE(open.refusals.empty());
+  ASSERT_EQ(open.links.size() + 1, open.passes.size());
+  for (const PlannedLink& l : open.links) EXPECT_TRUE(l.via.empty());
+  EXPECT_TRUE(open.lead_in.clear && open.lead_out.clear);
+  const std::vector<ChannelMove> moves = every_move_clear(open, world);
+  EXPECT_EQ(static_cast<long>(moves.size()), open.poses + 2);
+  EXPECT_FALSE(moves.front().feed);  // the lead-in's away pose
+  EXPECT_FALSE(moves.back().feed);
+
+  // The plate: the poses where it stands are refused, each split pass
+  // resumes past it through a link up the tool axis, and still every move
+  // is clear.
+  const Plate plate;
+  world.add("plate", tessellate(plate, 0.02));
+  const ChannelPlan blocked = plan_channel(rq);
+  EXPECT_TRUE(blocked.complete) << blocked.stopped;
+  ASSERT_FALSE(blocked.refusals.empty());
+  for (const ChannelRefusal& r : blocked.refusals) {
+    // Where the plate stands (radii 73..77 are t = 0.46..0.54; the tool's
+    // body reaches a station either side), whichever part meets it.
+    EXPECT_NEAR(r.t, 0.5, 0.15) << r.reason;
+    EXPECT_NE(r.reason.find("plate"), std::string::npos) << r.reason;
+  }
+  EXPECT_GT(blocked.passes.size(), open.passes.size());
+  size_t linked = 0;
+  for (const PlannedLink& l : blocked.links) linked += !l.via.empty();
+  EXPECT_GE(linked, 1u);
+  every_move_clear(blocked, world);
 }
 
 TEST(ChannelRoughing, RefusesWhatCannotBePlanned) {

@@ -1,0 +1,156 @@
+-- Notching and widening of the built-in impeller's channels (impeller paper
+-- §4.1–4.2; issue 13 items 2–3): the channel between main blades 1 and 2 is
+-- opened in its middle in depth levels from the shroud contour to the stock
+-- above the hub (notching), then widened towards both faces along the hub
+-- (which roughs the hub to the scallop asked for).
+--   bliskrun scripts/recipes/impeller_channel_roughing.lua --out out/
+-- The splitter divides the channel's outer part, so it is three channels:
+--   inlet    main 1 (minus face) to main 2 (plus face), from the inlet to just
+--            before the splitter's leading edge;
+--   left     main 1 to the splitter, from the splitter's leading edge out;
+--   right    the splitter to main 2, the same.
+-- Every pose, every motion between poses, every link and the leads are proved
+-- with the whole tool against both main blades, the splitter and the hub
+-- (core/planning/channel_roughing.h); a pose that is not clear splits its
+-- pass and is reported, never written.
+-- Writes
+--   impeller_channel_<name>.apt       APT/CL per channel (GOTO tip, axis; RAPID before links and leads)
+--   impeller_channel_roughing.json    passes, widths, step-over, measured scallop, refusals per channel
+--   impeller_channel_roughing.pvd, report.html   faces, hub and toolpaths for ParaView; the run's page
+-- Options: --set stations=41  --set stock=0.5  --set min_stock=0.2  --set scallop=0.01  --set depth_step=5
+--          --set tip_radius=3  --set mesh_tol=0.05  --set channels=inlet,left,right  --set splitter_gap=20
+
+local stations = args.stations or 41
+local stock = args.stock or 0.5
+-- The least stock any move may leave on a face or the hub (the cutter's
+-- clearance): the last widening path is the finishing (swarf) pose of the
+-- cutter grown by the stock, which on these twisted faces cuts up to
+-- ~0.17 mm into the grown offset mid-ruling (the flank-milling residual).
+local min_stock = args.min_stock or 0.2
+local scallop = args.scallop or 0.01
+local depth_step = args.depth_step or 5
+local tip_radius, half_angle = args.tip_radius or 3, args.half_angle or 2
+local mesh_tol = args.mesh_tol or 0.05
+local wanted = {}
+for name in tostring(args.channels or "inlet,left,right"):gmatch("[^,]+") do wanted[name] = true end
+
+local imp = bliskrun.impeller{}
+local hub = imp:hub()
+local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle = half_angle, flute_length = 90,
+                                            shank = {diameter = 16, length = 60},
+                                            holder = {diameter = 50, length = 60}}
+
+-- The faces around the channel between main blades 1 and 2. The "minus" face
+-- of a blade looks towards the next blade (+θ), its v from inlet to outlet;
+-- the "plus" face looks back, its v from outlet to inlet.
+local left_main, right_main = imp:face(1, "minus", "main"), imp:face(2, "plus", "main")
+local split_plus, split_minus = imp:face(1, "plus", "splitter"), imp:face(1, "minus", "splitter")
+
+-- Where along a main face's hub curve the splitter starts: the v whose hub
+-- point lies `gap` mm (in the meridional plane) short of the splitter's
+-- leading edge at the hub — searched on the hub curve, then bisected.
+local function meridional(p) return math.sqrt(p[1] ^ 2 + p[2] ^ 2), p[3] end
+local function v_before(face, inlet_v, outlet_v, edge_point, gap)
+  local er, ez = meridional(edge_point)
+  local function distance(t)
+    local r, z = meridional(face:point(0, inlet_v + (outlet_v - inlet_v) * t))
+    return math.sqrt((r - er) ^ 2 + (z - ez) ^ 2)
+  end
+  local best, best_t = math.huge, 0
+  for i = 0, 400 do
+    local d = distance(i / 400)
+    if d < best then best, best_t = d, i / 400 end
+  end
+  local a, b = 0, best_t  -- distance falls from the inlet to the edge
+  if distance(a) < gap then error("the splitter starts within " .. gap .. " mm of the inlet", 0) end
+  for _ = 1, 60 do
+    local m = 0.5 * (a + b)
+    if distance(m) > gap then a = m else b = m end
+  end
+  return inlet_v + (outlet_v - inlet_v) * a, inlet_v + (outlet_v - inlet_v) * best_t
+end
+local gap = args.splitter_gap or 20  -- mm (meridional) the inlet channel stops short of the splitter's leading edge
+local left_end, left_split = v_before(left_main, 0, 1, split_minus:point(0, 0), gap)
+local right_end, right_split = v_before(right_main, 1, 0, split_plus:point(0, 1), gap)
+
+local channels = {
+  {name = "inlet", left = left_main, left_v = {0, left_end}, right = right_main, right_v = {1, right_end}},
+  {name = "left", left = left_main, left_v = {left_split, 1}, right = split_plus, right_v = {1, 0}},
+  {name = "right", left = split_minus, left_v = {0, 1}, right = right_main, right_v = {right_split, 0}},
+}
+
+-- What every channel is proved against: both faces of both main blades and
+-- of the splitter, and the hub, for every tool part.
+local meshes = {}
+local surfaces = {{name = "hub", mesh = hub:tessellate(mesh_tol), margin = mesh_tol}}
+for _, f in ipairs{{"main 1 minus", left_main}, {"main 1 plus", imp:face(1, "plus", "main")},
+                   {"main 2 plus", right_main}, {"main 2 minus", imp:face(2, "minus", "main")},
+                   {"splitter 1 plus", split_plus}, {"splitter 1 minus", split_minus}} do
+  meshes[f[1]] = f[2]:tessellate(mesh_tol)
+  surfaces[#surfaces + 1] = {name = f[1], mesh = meshes[f[1]], margin = mesh_tol}
+end
+local world = bliskrun.collision_world{surfaces = surfaces}
+
+local report = {part = "built-in impeller", tool = tool:description(), channels = {},
+                settings = {stations = stations, stock = stock, min_stock = min_stock, scallop = scallop,
+                            depth_step = depth_step, splitter_gap = gap,
+                            mesh_tol = mesh_tol}}
+local rows, blocks = {}, {{name = "hub", mesh = surfaces[1].mesh}}
+for name, mesh in pairs(meshes) do blocks[#blocks + 1] = {name = name, mesh = mesh} end
+local totals = {poses = 0, refused = 0, passes = 0}
+for _, c in ipairs(channels) do
+  if wanted[c.name] then
+    local plan = bliskrun.channel_rough{left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
+                                        hub = hub, tool = tool, ball_radius = tip_radius, world = world,
+                                        stations = stations, stock = stock, scallop = scallop,
+                                        depth_step = depth_step, cutter_clearance = min_stock}
+    for _, r in ipairs(plan.refusals) do
+      print(string.format("channel %s: refused %s %d at t = %.3f: %s", c.name, r.kind, r.index, r.t, r.reason))
+    end
+    if not plan.complete then
+      error(string.format("channel %s: the plan could not be completed: %s", c.name, plan.stopped), 0)
+    end
+    -- APT/CL: GOTO tip, axis; a RAPID before each link and lead move.
+    local apt = {"PARTNO/bliskrun impeller channel " .. c.name, "$$ " .. tool:description(), "MULTAX/ON"}
+    local moves = {}
+    for i, m in ipairs(plan.moves) do
+      if m.kind == "rapid" then apt[#apt + 1] = "RAPID" end
+      apt[#apt + 1] = string.format("GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", m.tip[1], m.tip[2], m.tip[3],
+                                    m.axis[1], m.axis[2], m.axis[3])
+      moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row}
+    end
+    apt[#apt + 1] = "FINI"
+    bliskrun.write_text("impeller_channel_" .. c.name .. ".apt", table.concat(apt, "\n") .. "\n")
+    blocks[#blocks + 1] = {name = "channel " .. c.name, moves = moves}
+    report.channels[c.name] = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
+                               widen_right = plan.widen_right, paths_added = plan.paths_added,
+                               turned = plan.turned, step_over = plan.step_over,
+                               outlet_width_left = plan.outlet_width_left, outlet_width_right = plan.outlet_width_right,
+                               scallop_max = plan.scallop_max, scallop_outlet = plan.scallop_outlet,
+                               deepest_step = plan.deepest_step, poses = plan.poses, passes = #plan.passes,
+                               links = plan.links, moves = #plan.moves, refusals = plan.refusals,
+                               left_v = c.left_v, right_v = c.right_v}
+    rows[#rows + 1] = {c.name, plan.notch_levels, plan.widen_left, plan.widen_right, plan.step_over,
+                       plan.outlet_width_left, plan.outlet_width_right, plan.scallop_max, #plan.passes, plan.poses,
+                       #plan.refusals}
+    totals.poses, totals.refused = totals.poses + plan.poses, totals.refused + #plan.refusals
+    totals.passes = totals.passes + #plan.passes
+    print(string.format("channel %-6s %d notch levels (step <= %.2f mm), %d + %d widening paths at %.3f mm "
+                        .. "(outlet %.2f / %.2f mm; %d added where a cusp exceeded h), scallop measured <= %.4f mm; "
+                        .. "%d passes, %d poses (%d turned), %d refused",
+                        c.name, plan.notch_levels, plan.deepest_step, plan.widen_left, plan.widen_right, plan.step_over,
+                        plan.outlet_width_left, plan.outlet_width_right, plan.paths_added, plan.scallop_max,
+                        #plan.passes, plan.poses, plan.turned, #plan.refusals))
+  end
+end
+report.totals = totals
+bliskrun.write_json("impeller_channel_roughing.json", report)
+require("run_report").write{title = "Notching and widening of the built-in impeller's channel",
+  settings = {stations = stations, stock_mm = stock, min_stock_mm = min_stock, scallop_mm = scallop,
+              depth_step_mm = depth_step, splitter_gap_mm = gap,
+              mesh_tol_mm = mesh_tol, tool = tool:description()},
+  sections = {{title = "Channels between main blades 1 and 2", table = {columns = {"channel", "notch levels",
+    "widen left", "widen right", "step-over (mm)", "outlet width left (mm)", "outlet width right (mm)",
+    "scallop measured (mm)", "passes", "poses", "refused"}, rows = rows}}},
+  vtk = {path = "impeller_channel_roughing.pvd", blocks = blocks},
+  files = {{"impeller_channel_roughing.json", "the report"}, {"impeller_channel_*.apt", "APT/CL per channel"}}}
