@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/collision/collision_world.h"
+#include "core/tools/pose.h"
 #include "core/tools/tool.h"
 #include "lua_api/luax.h"
 
@@ -20,6 +21,14 @@ struct LuaTool {
     return *body_cache;
   }
 };
+
+// A pose as the Lua tables every planner returns and the posts read:
+// {tip = {x, y, z}, axis = {x, y, z}} (mm, unit axis tip -> spindle).
+inline void push_pose(lua_State* L, const ToolPose& p) {
+  lua_createtable(L, 0, 2);
+  luax::set_vec3(L, "tip", p.tip);
+  luax::set_vec3(L, "axis", p.axis);
+}
 
 }  // namespace bliskrun::lua_api
 

@@ -50,12 +50,6 @@ std::shared_ptr<const Surface> surface_option(lua_State* L, const luax::Options&
   return s;
 }
 
-void push_pose(lua_State* L, const ToolPose& p) {
-  lua_createtable(L, 0, 2);
-  luax::set_vec3(L, "tip", p.tip);
-  luax::set_vec3(L, "axis", p.axis);
-}
-
 // bliskrun.channel_rough{left=, right=, hub=, tool=, ball_radius=, world=, ...} -> plan table
 int w_channel_rough(lua_State* L) {
   const luax::Options o(

@@ -22,12 +22,6 @@ using luax::Kind;
 
 using luax::number_field;
 
-void push_pose(lua_State* L, const ToolPose& p) {
-  lua_createtable(L, 0, 2);
-  luax::set_vec3(L, "tip", p.tip);
-  luax::set_vec3(L, "axis", p.axis);
-}
-
 void push_stats(lua_State* L, const ResidualStats& s) {
   lua_createtable(L, 0, 6);
   luax::set_number(L, "max", s.max_mm);

@@ -13,6 +13,7 @@
 #include "core/common/error.h"
 #include "core/machine/verify.h"
 #include <sstream>
+#include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
@@ -115,14 +116,6 @@ ToolPose check_pose(lua_State* L, int idx, const char* name) {
   p.axis = luax::check_vec3(L, -1, "axis");
   lua_pop(L, 2);
   return p;
-}
-
-void push_pose(lua_State* L, const ToolPose& p) {
-  lua_createtable(L, 0, 2);
-  luax::push(L, p.tip);
-  lua_setfield(L, -2, "tip");
-  luax::push(L, p.axis);
-  lua_setfield(L, -2, "axis");
 }
 
 // ---- bliskrun.machine ------------------------------------------------------

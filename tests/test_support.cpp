@@ -82,6 +82,27 @@ RecipeResult run_bliskrun(const std::vector<std::string>& args) {
   return r;
 }
 
+std::vector<AptMove> read_apt_moves(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<AptMove> moves;
+  std::string line;
+  bool rapid = false;
+  while (std::getline(in, line)) {
+    if (line == "RAPID") rapid = true;
+    if (line.rfind("GOTO/", 0) != 0) continue;
+    std::istringstream s(line.substr(5));
+    double x[6];
+    char comma;
+    for (int i = 0; i < 6; ++i) {
+      s >> x[i];
+      if (i < 5) s >> comma;
+    }
+    moves.push_back({Vec3(x[0], x[1], x[2]), Vec3(x[3], x[4], x[5]).normalized(), rapid});
+    rapid = false;
+  }
+  return moves;
+}
+
 std::string shared_data_dir() {
   if (const char* env = std::getenv("BLISKRUN_SHARED_DATA"))
     if (fs::is_directory(env)) return env;

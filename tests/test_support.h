@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/types.h"
+
 namespace bliskrun::test {
 
 // A fresh empty folder under the system temp folder, removed at destruction.
@@ -58,6 +60,14 @@ RecipeResult run_bliskrun(const std::vector<std::string>& args);
 // self-contained report.html in `out` (tables, no external src/href) and the
 // ParaView collection `pvd` whose every listed .vtp exists beside it.
 ::testing::AssertionResult has_run_report(const std::string& out, const std::string& pvd);
+
+// The moves of an APT/CL file as the recipes write it: each GOTO/x,y,z,i,j,k
+// line's tip and (normalised) axis, `rapid` when a RAPID line came before it.
+struct AptMove {
+  Vec3 tip = Vec3::Zero(), axis = Vec3::UnitZ();
+  bool rapid = false;
+};
+std::vector<AptMove> read_apt_moves(const std::string& path);
 
 // Folder of real part data (../shared/data beside the clone), or "" when absent.
 std::string shared_data_dir();

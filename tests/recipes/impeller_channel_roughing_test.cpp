@@ -9,7 +9,6 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "core/collision/collision_world.h"
 #include "core/geometry/mesh.h"
@@ -19,32 +18,6 @@
 
 namespace bliskrun::test {
 namespace {
-
-struct AptMove {
-  ToolPose pose;
-  bool rapid = false;  // reached by a RAPID
-};
-
-std::vector<AptMove> apt_moves(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<AptMove> moves;
-  std::string line;
-  bool rapid = false;
-  while (std::getline(in, line)) {
-    if (line == "RAPID") rapid = true;
-    if (line.rfind("GOTO/", 0) != 0) continue;
-    std::istringstream s(line.substr(5));
-    double x[6];
-    char comma;
-    for (int i = 0; i < 6; ++i) {
-      s >> x[i];
-      if (i < 5) s >> comma;
-    }
-    moves.push_back({{Vec3(x[0], x[1], x[2]), Vec3(x[3], x[4], x[5]).normalized()}, rapid});
-    rapid = false;
-  }
-  return moves;
-}
 
 TEST(ImpellerChannelRoughingRecipe, OneChannelRunsAndEveryMoveIsClearInAnIndependentCheck) {
 #ifdef BLISKRUN_SANITIZED
@@ -95,20 +68,21 @@ TEST(ImpellerChannelRoughingRecipe, OneChannelRunsAndEveryMoveIsClearInAnIndepen
               tessellate(*imp.face(BladeKind::kSplitter, 0, side), 0.05));
   }
   world.add("hub", tessellate(imp.hub(), 0.05));
-  const std::vector<AptMove> moves = apt_moves(dir.path() + "/impeller_channel_left.apt");
+  const std::vector<AptMove> moves = read_apt_moves(dir.path() + "/impeller_channel_left.apt");
   ASSERT_GT(moves.size(), 200u);
   int rapids = 0;
   for (size_t i = 0; i < moves.size(); ++i) {
-    const PoseCheck pc = world.check(body, moves[i].pose, Clearances{}, 0.0);
+    const ToolPose pose{moves[i].tip, moves[i].axis};
+    const PoseCheck pc = world.check(body, pose, Clearances{}, 0.0);
     EXPECT_TRUE(pc.clear) << "move " << i << ": " << describe(pc, world);
     if (i > 0) {
-      const MotionCheck mc = world.check_motion(body, moves[i - 1].pose, moves[i].pose, Clearances{}, 0.01);
+      const MotionCheck mc = world.check_motion(body, {moves[i - 1].tip, moves[i - 1].axis}, pose, Clearances{}, 0.01);
       EXPECT_TRUE(mc.clear) << "motion into move " << i << ": " << describe(mc.at, world);
     }
     rapids += moves[i].rapid;
     // The stock on the hub: every ball centre at least r + stock from it
     // (to the APT's 6 decimals).
-    const Vec3 centre = moves[i].pose.tip + tip * moves[i].pose.axis;
+    const Vec3 centre = pose.tip + tip * pose.axis;
     const SurfaceProjection pr = project_to_surface(imp.hub(), centre);
     ASSERT_TRUE(pr.ok);
     EXPECT_GE(pr.distance, tip + stock - 1e-5) << "move " << i;

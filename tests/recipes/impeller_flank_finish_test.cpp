@@ -16,20 +16,8 @@ namespace bliskrun::test {
 namespace {
 
 std::vector<ToolPose> apt_poses(const std::string& path) {
-  std::ifstream in(path);
   std::vector<ToolPose> poses;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("GOTO/", 0) != 0) continue;
-    std::istringstream s(line.substr(5));
-    double x[6];
-    char comma;
-    for (int i = 0; i < 6; ++i) {
-      s >> x[i];
-      if (i < 5) s >> comma;
-    }
-    poses.push_back({Vec3(x[0], x[1], x[2]), Vec3(x[3], x[4], x[5]).normalized()});
-  }
+  for (const AptMove& m : read_apt_moves(path)) poses.push_back({m.tip, m.axis});
   return poses;
 }
 
