@@ -1,10 +1,14 @@
 // Impeller flank finishing (issue 12 item 8): build the 17-blade built-in
 // model, plan one face with interference (neighbouring blades and splitters,
 // this face and the hub), and the residual map of one face at 100 x 400.
+// Channel roughing (issue 13 items 2-3): the channel between main blade 1
+// and splitter 1 notched and widened, geometry alone at 41 stations and
+// with every pose, motion and link checked at `stations` (the argument).
 #include <benchmark/benchmark.h>
 
 #include "core/geometry/mesh.h"
 #include "core/parts/impeller.h"
+#include "core/planning/channel_roughing.h"
 #include "core/planning/flank_milling.h"
 
 namespace bliskrun {
@@ -64,6 +68,60 @@ void BM_ImpellerPlanOneFace(benchmark::State& state) {
   state.counters["residual_min_um"] = plan.residual.stats.min_mm * 1000;
 }
 BENCHMARK(BM_ImpellerPlanOneFace)->Unit(benchmark::kMillisecond);
+
+// The outer channel on main 1's side of splitter 1, as the recipe plans it
+// (stock 0.5, least stock 0.2, h 0.01, 5 mm levels).
+ChannelRequest outer_channel(const Impeller& imp, const FlankCutter& cutter, const std::shared_ptr<const Surface>& left,
+                             const std::shared_ptr<const Surface>& right) {
+  ChannelRequest rq;
+  rq.left = {left.get(), 0.35, 1};  // roughly from the splitter's leading edge
+  rq.right = {right.get(), 1, 0};
+  rq.hub = &imp.hub();
+  rq.cutter = &cutter;
+  rq.stock_mm = 0.5;
+  rq.clearances.cutter_mm = 0.2;
+  rq.clearances.shank_mm = rq.clearances.holder_mm = 0.5;
+  return rq;
+}
+
+void BM_ImpellerChannelGeometry41Stations(benchmark::State& state) {
+  const Impeller imp(builtin_impeller_definition());
+  const auto left = imp.face(BladeKind::kMain, 0, CamberSide::kMinus);
+  const auto right = imp.face(BladeKind::kSplitter, 0, CamberSide::kPlus);
+  const FlankCutter cutter(cutter_tool(), 3);
+  const ChannelRequest rq = outer_channel(imp, cutter, left, right);
+  ChannelPlan plan;
+  for (auto _ : state) plan = plan_channel(rq);
+  state.counters["poses"] = static_cast<double>(plan.poses);
+  state.counters["paths"] = static_cast<double>(plan.widen_left + plan.widen_right);
+}
+BENCHMARK(BM_ImpellerChannelGeometry41Stations)->Unit(benchmark::kMillisecond);
+
+void BM_ImpellerChannelChecked(benchmark::State& state) {
+  const Impeller imp(builtin_impeller_definition());
+  const auto left = imp.face(BladeKind::kMain, 0, CamberSide::kMinus);
+  const auto right = imp.face(BladeKind::kSplitter, 0, CamberSide::kPlus);
+  const FlankCutter cutter(cutter_tool(), 3);
+  const ToolBody body(cutter.tool());
+  CollisionWorld world;
+  CheckSurfaceOptions all;
+  all.margin_mm = 0.05;
+  world.add("hub", tessellate(imp.hub(), 0.05), all);
+  for (auto [kind, k] : {std::pair{BladeKind::kMain, 0}, std::pair{BladeKind::kMain, 1}, std::pair{BladeKind::kSplitter, 0}})
+    for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus})
+      world.add(std::to_string(int(kind)) + std::to_string(k) + std::to_string(int(side)),
+                tessellate(*imp.face(kind, k, side), 0.05), all);
+  ChannelRequest rq = outer_channel(imp, cutter, left, right);
+  rq.world = &world;
+  rq.body = &body;
+  rq.stations = static_cast<int>(state.range(0));
+  ChannelPlan plan;
+  for (auto _ : state) plan = plan_channel(rq);
+  state.counters["poses"] = static_cast<double>(plan.poses);
+  state.counters["refused"] = static_cast<double>(plan.refusals.size());
+  state.counters["complete"] = plan.complete;
+}
+BENCHMARK(BM_ImpellerChannelChecked)->Arg(11)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 void BM_ImpellerResidualMap100x400(benchmark::State& state) {
   const Impeller imp(builtin_impeller_definition());
