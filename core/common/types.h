@@ -5,6 +5,7 @@
 // boundary converts degrees to radians (see lua_api/).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <vector>
 
 namespace bliskrun {
@@ -16,5 +17,10 @@ using Mat3 = Eigen::Matrix3d;
 constexpr double kPi = 3.14159265358979323846;
 inline double deg_to_rad(double deg) { return deg * kPi / 180.0; }
 inline double rad_to_deg(double rad) { return rad * 180.0 / kPi; }
+// An angle wrapped to (-pi, pi].
+inline double wrap_angle(double rad) {
+  const double a = std::remainder(rad, 2 * kPi);  // [-pi, pi]
+  return a <= -kPi ? a + 2 * kPi : a;
+}
 
 }  // namespace bliskrun

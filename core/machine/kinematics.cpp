@@ -58,11 +58,6 @@ Unwrapped unwrap(double raw, double previous, const RotaryAxis& axis) {
 
 }  // namespace
 
-double wrap_angle(double a) {
-  a = std::remainder(a, kTwoPi);  // [-pi, pi]
-  return a <= -kPi ? a + kTwoPi : a;
-}
-
 Kinematics::Kinematics(MachineDefinition machine, double tool_length_mm)
     : machine_(std::move(machine)), tool_length_mm_(tool_length_mm) {
   validate(machine_);

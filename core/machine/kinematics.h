@@ -101,7 +101,4 @@ class Kinematics {
   Vec3 gauge_local_ = Vec3::Zero();
 };
 
-// Wraps an angle to (-pi, pi].
-double wrap_angle(double angle_rad);
-
 }  // namespace bliskrun

@@ -268,12 +268,6 @@ Side make_side(const Loop& l, int from, int to, int step) {
   return s;
 }
 
-double wrap_angle(double a) {
-  while (a > kPi) a -= 2 * kPi;
-  while (a <= -kPi) a += 2 * kPi;
-  return a;
-}
-
 // In the blade-to-blade plane (conformal meridional coordinate m' = ∫dm/r
 // along side A's meridian trace, θ from the LE): whether A lies at larger θ
 // than B (+1/-1), and whether the camber line bulges towards A (A convex).

@@ -21,25 +21,17 @@ const char* to_string(ChannelPassKind kind) {
 
 namespace {
 
-double wrap_angle(double a) {  // to (-pi, pi]
-  while (a > kPi) a -= 2 * kPi;
-  while (a <= -kPi) a += 2 * kPi;
-  return a;
-}
-
 // The channel's hub section and axes at one station.
 struct Station {
   double t = 0;
   double u_hub = 0;                   // hub meridian parameter
-  double theta_mid = 0;               // notch angle
-  double theta_limit[2] = {0, 0};     // left, right: the ball (grown by the stock) touches hub and face
+  Vec3 notch_centre = Vec3::Zero();   // ball centre of the deepest notch level
   Vec3 notch_axis = Vec3::UnitZ();
   Vec3 finishing_axis[2];             // left, right
-  Vec3 top = Vec3::Zero();            // ball centre of the first notch level
+  Vec3 top = Vec3::Zero();            // where the notch starts: the faces' shroud points' midpoint (level 0)
   double sign = 1;                    // orients the hub normal into the channel
   double v[2] = {0, 0};               // left, right face's chord parameter (hub point on this circle)
   Vec3 finishing_centre[2];           // ball centre of the last widening path per side
-  bool swarf[2] = {false, false};     // that path is the grown cutter's flank pose
 };
 
 class Channel {
@@ -164,10 +156,9 @@ class Channel {
     };
     // The middle: the ball centre as far from one face as from the other
     // (on leaning blades not halfway in angle at the hub).
-    {
-      const auto g = [&](double th) { return distance(0, th) - distance(1, th); };
-      s.theta_mid = illinois_root(g, theta[0], theta[1], g(theta[0]), g(theta[1]), 1e-10);
-    }
+    const auto g = [&](double th) { return distance(0, th) - distance(1, th); };
+    const double theta_mid = illinois_root(g, theta[0], theta[1], g(theta[0]), g(theta[1]), 1e-10);
+    s.notch_centre = ball_centre(s, theta_mid);
     // The last widening path of each side is the finishing (swarf) pose of
     // the cutter grown by the stock (flank_axis, §4.3): the real cutter on
     // that axis leaves the stock on the face along the whole flute and on
@@ -178,22 +169,18 @@ class Channel {
     const double grown = r_ + rq_.stock_mm;
     for (int i = 0; i < 2; ++i) {
       const Surface& face = *faces[i]->face;
-      if (!(distance(i, s.theta_mid) > grown))
+      if (!(distance(i, theta_mid) > grown))
         throw Error("channel at t = " + std::to_string(t) + ": a ball of radius " + std::to_string(r_) +
                     " mm with " + std::to_string(rq_.stock_mm) + " mm stock does not fit between the blades");
       try {
         const FlankAxis fa = flank_axis(face, s.v[i], rq_.hub, grown_cutter_);
         s.finishing_axis[i] = fa.pose.axis;
         s.finishing_centre[i] = fa.ball_centre;
-        s.theta_limit[i] = s.theta_mid + wrap_angle(std::atan2(fa.ball_centre.y(), fa.ball_centre.x()) - s.theta_mid);
-        s.swarf[i] = true;
       } catch (const Error&) {
-        const auto g = [&](double th) { return distance(i, th) - grown; };
-        const double a = s.theta_mid, b = theta[i], ga = g(a), gb = g(b);
-        s.theta_limit[i] = gb < 0 ? illinois_root(g, a, b, ga, gb, 1e-9) : b;
+        const auto touch = [&](double th) { return distance(i, th) - grown; };
+        const double a = theta_mid, b = theta[i], ga = touch(a), gb = touch(b);
         s.finishing_axis[i] = ruling[i];
-        s.finishing_centre[i] = ball_centre(s, s.theta_limit[i]);
-        s.swarf[i] = false;
+        s.finishing_centre[i] = ball_centre(s, gb < 0 ? illinois_root(touch, a, b, ga, gb, 1e-9) : b);
       }
     }
     return s;
@@ -222,7 +209,7 @@ double height_to_ball(const Vec3& q, const Vec3& n, const Vec3& c, double r) {
 // centres, each point put back over the hub (r + stock along its normal).
 std::vector<Vec3> widening_centres(const Channel& ch, const Station& s, int side, int n) {
   std::vector<Vec3> c(static_cast<size_t>(n) + 1);
-  const Vec3 a = ch.ball_centre(s, s.theta_mid), b = s.finishing_centre[side];
+  const Vec3 a = s.notch_centre, b = s.finishing_centre[side];
   c.front() = a;
   c.back() = b;
   for (int k = 1; k < n; ++k) c[static_cast<size_t>(k)] = ch.ball_centre_over(s, a + (b - a) * (static_cast<double>(k) / n));
@@ -270,13 +257,13 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
     plan.widen_right = std::max(1, static_cast<int>(std::ceil(plan.outlet_width_right_mm / plan.step_over_mm - 1e-9)));
   }
   double deepest = 0;
-  for (const Station& s : st) deepest = std::max(deepest, (s.top - ch.ball_centre(s, s.theta_mid)).norm());
+  for (const Station& s : st) deepest = std::max(deepest, (s.top - s.notch_centre).norm());
   plan.notch_levels = std::max(1, static_cast<int>(std::ceil(deepest / rq.depth_step_mm - 1e-9)));
   plan.deepest_step_mm = deepest / plan.notch_levels;
 
   // The poses of a pass at a station.
   const auto notch_pose = [&](const Station& s, int level) {
-    const Vec3 c = s.top + (ch.ball_centre(s, s.theta_mid) - s.top) * (static_cast<double>(level) / plan.notch_levels);
+    const Vec3 c = s.top + (s.notch_centre - s.top) * (static_cast<double>(level) / plan.notch_levels);
     return ToolPose{c - r * s.notch_axis, s.notch_axis};
   };
   // Widening ball centres per station and side, k = 0..N, and the scallop
