@@ -75,53 +75,14 @@ WheelClearance::WheelClearance(const BladeBody& blade, const BeltStation& statio
       half_w_(0.5 * station.wheel_width_mm),
       cap_(station.compliance_mm),
       belt_run_(station.belt_run_mm),
-      options_(options) {
+      options_(options),
+      index_(blade.points, std::max({station.wheel_radius_mm / 3, 4 * blade.spacing_mm, 1e-3})) {
   if (!(r_ > 0) || !(half_w_ > 0)) throw ParameterError("wheel", "expected a wheel radius and width > 0");
   if (!(cap_ >= 0) || cap_ >= r_) throw ParameterError("compliance", "expected 0 <= compliance < the wheel radius, mm");
   if (!(belt_run_ >= 0)) throw ParameterError("belt_run", "expected a belt run >= 0 in mm");
   if (!(options_.step_mm > 0) || !(options_.step_deg > 0))
     throw ParameterError("step", "expected interpolation steps > 0");
   if (blade_.points.empty()) throw ParameterError("blade", "expected a sampled blade");
-  // A dense grid over the blade's box: cells about a third of the wheel's
-  // radius, so a wheel's box covers a few hundred cells at most.
-  Vec3 lo = blade_.points.front(), hi = lo;
-  for (const Vec3& p : blade_.points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  cell_ = std::max({r_ / 3, 4 * blade_.spacing_mm, 1e-3});
-  const Vec3 extent = hi - lo;
-  while ((extent.x() / cell_ + 1) * (extent.y() / cell_ + 1) * (extent.z() / cell_ + 1) > 4e6) cell_ *= 2;
-  lo_ = lo;
-  nx_ = static_cast<int>(extent.x() / cell_) + 1;
-  ny_ = static_cast<int>(extent.y() / cell_) + 1;
-  nz_ = static_cast<int>(extent.z() / cell_) + 1;
-  cells_.resize(static_cast<size_t>(nx_) * ny_ * nz_);
-  for (size_t k = 0; k < blade_.points.size(); ++k) {
-    const Vec3 c = (blade_.points[k] - lo_) / cell_;
-    const int i = std::min(nx_ - 1, static_cast<int>(c.x())), j = std::min(ny_ - 1, static_cast<int>(c.y())),
-              l = std::min(nz_ - 1, static_cast<int>(c.z()));
-    cells_[(static_cast<size_t>(i) * ny_ + j) * nz_ + l].push_back(static_cast<int>(k));
-  }
-}
-
-// Every blade point in the cells that meet the box [box_lo, box_hi] (blade
-// frame): a superset the caller filters exactly.
-template <class F>
-void WheelClearance::for_each_near(const Vec3& box_lo, const Vec3& box_hi, F&& f) const {
-  const auto range = [&](double a, double b, int n, int& first, int& last) {
-    first = std::max(0, static_cast<int>(std::floor(a / cell_)));
-    last = std::min(n - 1, static_cast<int>(std::floor(b / cell_)));
-  };
-  int i0, i1, j0, j1, l0, l1;
-  const Vec3 a = box_lo - lo_, b = box_hi - lo_;
-  range(a.x(), b.x(), nx_, i0, i1);
-  range(a.y(), b.y(), ny_, j0, j1);
-  range(a.z(), b.z(), nz_, l0, l1);
-  for (int i = i0; i <= i1; ++i)
-    for (int j = j0; j <= j1; ++j)
-      for (int l = l0; l <= l1; ++l)
-        for (int k : cells_[(static_cast<size_t>(i) * ny_ + j) * nz_ + l]) f(k);
 }
 
 void WheelClearance::check_wheel_in_blade(const Frame& wheel_in_blade, WheelContactReport& report) const {
@@ -151,7 +112,7 @@ void WheelClearance::check_wheel_in_blade(const Frame& wheel_in_blade, WheelCont
   };
   Vec3 lo, hi;
   box(Vec3(-half_w_, -r_, -2 * r_), Vec3(half_w_, r_, 0), lo, hi);
-  for_each_near(lo, hi, [&](int k) {
+  index_.for_each_in_box(lo, hi, [&](int k) {
     const Vec3 d = blade_.points[static_cast<size_t>(k)] - o;
     const double px = d.dot(x);
     if (std::abs(px) > half_w_) return;
@@ -167,7 +128,7 @@ void WheelClearance::check_wheel_in_blade(const Frame& wheel_in_blade, WheelCont
   });
   if (belt_run_ > 0) {
     box(Vec3(-half_w_, -r_, -r_ - belt_run_), Vec3(half_w_, r_, -r_), lo, hi);
-    for_each_near(lo, hi, [&](int k) {
+    index_.for_each_in_box(lo, hi, [&](int k) {
       const Vec3 d = blade_.points[static_cast<size_t>(k)] - o;
       const double px = d.dot(x), py = d.dot(y), pz = d.dot(z);
       if (std::abs(px) > half_w_ || std::abs(py) >= r_ || pz > -r_ || pz < -r_ - belt_run_) return;

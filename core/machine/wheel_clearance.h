@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/geometry/point_index.h"
 #include "core/geometry/surface.h"
 #include "core/machine/robot_cell.h"
 
@@ -66,18 +67,14 @@ class WheelClearance {
   void check_motion(const Frame& from, const Frame& to, WheelContactReport& report) const;
 
  private:
-  // Blade points in the grid cells meeting a box (blade frame).
-  template <class F>
-  void for_each_near(const Vec3& box_lo, const Vec3& box_hi, F&& f) const;
   void check_wheel_in_blade(const Frame& wheel_in_blade, WheelContactReport& report) const;
 
   const BladeBody& blade_;
   double r_, half_w_, cap_, belt_run_;
   WheelClearanceOptions options_;
-  Vec3 lo_;
-  double cell_;
-  int nx_, ny_, nz_;
-  std::vector<std::vector<int>> cells_;
+  // The blade's points in cells about a third of the wheel's radius, so a
+  // wheel's box covers a few hundred cells at most.
+  PointIndex index_;
 };
 
 // The blade in the station frame for a move of a plan (forward kinematics
