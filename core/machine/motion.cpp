@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -165,14 +166,19 @@ class Planner {
 // Continuity alone would pick the solution nearest the previous row's end,
 // which can run into travel mid-row and force a branch change inside a feed
 // move. So each solution within travel is followed along the feed moves that
-// come next, and the one that carries furthest without a jump wins; among
-// equals, the least rotary motion.
+// come next, and the one that carries furthest before travel forces a branch
+// change (the solution continuity reaches is not the nearest one) wins; among
+// equals, the least rotary motion. Not a fixed jump in the angles: where the
+// tool axis passes close to the primary axis (an impeller's outlet, the axis
+// along the part's) the secondary axis turns fast on the same branch.
 MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>& path, size_t i,
                           const MachineAxes& previous, Planner& planner, const MotionOptions& options) {
   const MachineAxes nearest = planner.inverse(path[i].pose, previous, path[i], static_cast<long>(i));
   const std::vector<RotarySolution> solutions = kin.rotary_solutions(path[i].pose.axis, previous.rotary_rad);
   if (solutions.size() < 2) return nearest;
-  constexpr double kJumpRad = 0.5;  // a step no smooth feed row makes
+  auto motion = [](const std::array<double, 2>& a, const std::array<double, 2>& b) {
+    return std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]);
+  };
   auto reach = [&](MachineAxes q) {
     size_t j = i + 1, end = std::min(path.size(), i + 1 + options.branch_lookahead);
     for (; j < end && path[j].kind == MoveKind::Feed; ++j) {
@@ -182,7 +188,10 @@ MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>&
       } catch (const ParameterError&) {
         break;
       }
-      if (std::abs(next.rotary_rad[0] - q.rotary_rad[0]) + std::abs(next.rotary_rad[1] - q.rotary_rad[1]) > kJumpRad) break;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const RotarySolution& s : kin.rotary_solutions(path[j].pose.axis, q.rotary_rad))
+        nearest = std::min(nearest, motion(s.rotary_rad, q.rotary_rad));
+      if (motion(next.rotary_rad, q.rotary_rad) > nearest + 1e-9) break;  // travel forced the other branch
       q = next;
     }
     return j;
