@@ -40,63 +40,23 @@ local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle 
                                             shank = {diameter = 16, length = 60},
                                             holder = {diameter = 50, length = 60}}
 
--- The faces around the channel between main blades 1 and 2. The "minus" face
--- of a blade looks towards the next blade (+θ), its v from inlet to outlet;
--- the "plus" face looks back, its v from outlet to inlet.
-local left_main, right_main = imp:face(1, "minus", "main"), imp:face(2, "plus", "main")
-local split_plus, split_minus = imp:face(1, "plus", "splitter"), imp:face(1, "minus", "splitter")
-
--- Where along a main face's hub curve the splitter starts: the v whose hub
--- point lies `gap` mm (in the meridional plane) short of the splitter's
--- leading edge at the hub — searched on the hub curve, then bisected.
-local function meridional(p) return math.sqrt(p[1] ^ 2 + p[2] ^ 2), p[3] end
-local function v_before(face, inlet_v, outlet_v, edge_point, gap)
-  local er, ez = meridional(edge_point)
-  local function distance(t)
-    local r, z = meridional(face:point(0, inlet_v + (outlet_v - inlet_v) * t))
-    return math.sqrt((r - er) ^ 2 + (z - ez) ^ 2)
-  end
-  local best, best_t = math.huge, 0
-  for i = 0, 400 do
-    local d = distance(i / 400)
-    if d < best then best, best_t = d, i / 400 end
-  end
-  local a, b = 0, best_t  -- distance falls from the inlet to the edge
-  if distance(a) < gap then error("the splitter starts within " .. gap .. " mm of the inlet", 0) end
-  for _ = 1, 60 do
-    local m = 0.5 * (a + b)
-    if distance(m) > gap then a = m else b = m end
-  end
-  return inlet_v + (outlet_v - inlet_v) * a, inlet_v + (outlet_v - inlet_v) * best_t
-end
+-- The channel between main blades 1 and 2, as three channels around the
+-- splitter, and what they are proved against (scripts/lib/impeller_world.lua).
+local iw = require("impeller_world")
 local gap = args.splitter_gap or 20  -- mm (meridional) the inlet channel stops short of the splitter's leading edge
-local left_end, left_split = v_before(left_main, 0, 1, split_minus:point(0, 0), gap)
-local right_end, right_split = v_before(right_main, 1, 0, split_plus:point(0, 1), gap)
-
-local channels = {
-  {name = "inlet", left = left_main, left_v = {0, left_end}, right = right_main, right_v = {1, right_end}},
-  {name = "left", left = left_main, left_v = {left_split, 1}, right = split_plus, right_v = {1, 0}},
-  {name = "right", left = split_minus, left_v = {0, 1}, right = right_main, right_v = {right_split, 0}},
-}
-
--- What every channel is proved against: both faces of both main blades and
--- of the splitter, and the hub, for every tool part.
-local meshes = {}
-local surfaces = {{name = "hub", mesh = hub:tessellate(mesh_tol), margin = mesh_tol}}
-for _, f in ipairs{{"main 1 minus", left_main}, {"main 1 plus", imp:face(1, "plus", "main")},
-                   {"main 2 plus", right_main}, {"main 2 minus", imp:face(2, "minus", "main")},
-                   {"splitter 1 plus", split_plus}, {"splitter 1 minus", split_minus}} do
-  meshes[f[1]] = f[2]:tessellate(mesh_tol)
-  surfaces[#surfaces + 1] = {name = f[1], mesh = meshes[f[1]], margin = mesh_tol}
-end
-local world = bliskrun.collision_world{surfaces = surfaces}
+local channels = iw.channels(imp, {gap = gap})
+local meshes = iw.meshes(imp, mesh_tol)
+local world = iw.channel_world(imp, meshes)
 
 local report = {part = "built-in impeller", tool = tool:description(), channels = {},
                 settings = {stations = stations, stock = stock, min_stock = min_stock, scallop = scallop,
                             depth_step = depth_step, splitter_gap = gap,
                             mesh_tol = mesh_tol}}
-local rows, blocks = {}, {{name = "hub", mesh = surfaces[1].mesh}}
-for name, mesh in pairs(meshes) do blocks[#blocks + 1] = {name = name, mesh = mesh} end
+local rows, blocks = {}, {{name = "hub", mesh = meshes.hub()}}
+for _, f in ipairs{{"main", 1, "minus"}, {"main", 1, "plus"}, {"main", 2, "plus"}, {"main", 2, "minus"},
+                   {"splitter", 1, "plus"}, {"splitter", 1, "minus"}} do
+  blocks[#blocks + 1] = {name = string.format("%s %d %s", f[1], f[2], f[3]), mesh = meshes.face(f[1], f[2], f[3])}
+end
 local totals = {poses = 0, refused = 0, passes = 0}
 for _, c in ipairs(channels) do
   if wanted[c.name] then

@@ -40,14 +40,11 @@ local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle 
                                             shank = {diameter = 16, length = 60},
                                             holder = {diameter = 50, length = 60}}
 
--- Check surfaces of blade 1 (index 1) and its neighbours, tessellated once.
+-- Check surfaces of blade 1 and its neighbours, tessellated once
+-- (scripts/lib/impeller_world.lua).
+local iw = require("impeller_world")
 local hub = imp:hub()
-local mesh = {}
-local function face_mesh(blade, side, kind)
-  local key = kind .. blade .. side
-  if not mesh[key] then mesh[key] = imp:face(blade, side, kind):tessellate(mesh_tol) end
-  return mesh[key]
-end
+local meshes = iw.meshes(imp, mesh_tol)
 hub:tessellate(10 * mesh_tol):write_stl("impeller_hub.stl")
 
 local report = {part = "built-in impeller", blades = n, splitters = imp:has_splitter(),
@@ -56,31 +53,14 @@ local report = {part = "built-in impeller", blades = n, splitters = imp:has_spli
                             residual_points = residual_points},
                 faces = {}}
 local totals = {poses = 0, refused = 0, tilted = 0, max_abs = 0}
-local hub_mesh = hub:tessellate(mesh_tol)
+local hub_mesh = meshes.hub()
 local face_rows, pictures, blocks = {}, {}, {{name = "hub", mesh = hub_mesh}}  -- report.html, ParaView
 
 for _, kind in ipairs{"main", "splitter"} do
   for _, side in ipairs{"plus", "minus"} do
     local face = imp:face(1, side, kind)
-    face_mesh(1, side, kind):write_stl(string.format("impeller_blade1_%s_%s.stl", kind, side))
-    -- Neighbours: the main blades either side and the splitters either side
-    -- (with every tool part); this face and the hub (shank, holder only).
-    local surfaces = {
-      {name = "this face", mesh = face_mesh(1, side, kind), parts = {"shank", "holder"}, margin = mesh_tol},
-      {name = "hub", mesh = hub_mesh, parts = {"shank", "holder"}, margin = mesh_tol}}
-    local other = side == "plus" and "minus" or "plus"
-    local neighbours = kind == "main"
-      and {{"main", 2}, {"main", n}, {"splitter", 1}, {"splitter", n}}
-      or {{"main", 1}, {"main", 2}, {"splitter", 2}, {"splitter", n}}
-    for _, nb in ipairs(neighbours) do
-      for _, s in ipairs{"plus", "minus"} do
-        surfaces[#surfaces + 1] = {name = string.format("%s %d %s", nb[1], nb[2], s),
-                                   mesh = face_mesh(nb[2], s, nb[1]), margin = mesh_tol}
-      end
-    end
-    surfaces[#surfaces + 1] = {name = "own other face", mesh = face_mesh(1, other, kind),
-                               parts = {"shank", "holder"}, margin = mesh_tol}
-    local world = bliskrun.collision_world{surfaces = surfaces}
+    meshes.face(kind, 1, side):write_stl(string.format("impeller_blade1_%s_%s.stl", kind, side))
+    local world = iw.face_world(imp, meshes, kind, side)
     local plan = bliskrun.flank_mill{face = face, hub = hub, tool = tool, ball_radius = tip_radius,
                                      world = world, chord_tol = chord_tol, clearance = clearance,
                                      residual_points = residual_points, balance = balance}
@@ -112,7 +92,7 @@ for _, kind in ipairs{"main", "splitter"} do
     end
     local path = {}
     for i, p in ipairs(plan.poses) do path[i] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1} end
-    blocks[#blocks + 1] = {name = name, mesh = face_mesh(1, side, kind)}
+    blocks[#blocks + 1] = {name = name, mesh = meshes.face(kind, 1, side)}
     blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
     face_rows[#face_rows + 1] = {name, plan.stations, #plan.poses, #plan.refusals, plan.tilted,
                                  plan.residual.max, plan.residual.min, plan.residual_unbalanced.max,

@@ -1,0 +1,277 @@
+-- The built-in impeller's channels and check surfaces (impeller paper §4),
+-- shared by the channel-roughing and flank-finishing recipes and the job.
+-- Everything is built for blade 1: the model is exactly symmetric under
+-- turns of 360°/N about Z, so blade k's plans are blade 1's turned and the
+-- proofs carry over (see turn()).
+--
+--   local iw = require("impeller_world")
+--   local meshes = iw.meshes(imp, 0.05)                -- tessellated once, shared
+--   for _, c in ipairs(iw.channels(imp, {gap = 20})) do ... end
+--   local world = iw.channel_world(imp, meshes)
+--   local world = iw.face_world(imp, meshes, "main", "plus")
+
+local M = {}
+
+-- A cache of the faces' and the hub's meshes at one tolerance:
+-- meshes.face(kind, blade, side), meshes.hub(); meshes.tol.
+function M.meshes(imp, tol)
+  local cache, n = {}, imp:blade_count()
+  local self = {tol = tol}
+  function self.face(kind, blade, side)
+    blade = (blade - 1) % n + 1
+    local key = kind .. blade .. side
+    if not cache[key] then cache[key] = imp:face(blade, side, kind):tessellate(tol) end
+    return cache[key]
+  end
+  function self.hub()
+    if not cache.hub then cache.hub = imp:hub():tessellate(tol) end
+    return cache.hub
+  end
+  return self
+end
+
+local function meridional(p) return math.sqrt(p[1] ^ 2 + p[2] ^ 2), p[3] end
+
+-- Where along a main face's hub curve the splitter starts: the v whose hub
+-- point lies `gap` mm (in the meridional plane) short of the splitter's
+-- leading edge at the hub — searched on the hub curve, then bisected.
+-- Returns that v and the v nearest the edge.
+local function v_before(face, inlet_v, outlet_v, edge_point, gap)
+  local er, ez = meridional(edge_point)
+  local function distance(t)
+    local r, z = meridional(face:point(0, inlet_v + (outlet_v - inlet_v) * t))
+    return math.sqrt((r - er) ^ 2 + (z - ez) ^ 2)
+  end
+  local best, best_t = math.huge, 0
+  for i = 0, 400 do
+    local d = distance(i / 400)
+    if d < best then best, best_t = d, i / 400 end
+  end
+  local a, b = 0, best_t  -- the distance falls from the inlet to the edge
+  if distance(a) < gap then error("the splitter starts within " .. gap .. " mm of the inlet", 0) end
+  for _ = 1, 60 do
+    local m = 0.5 * (a + b)
+    if distance(m) > gap then a = m else b = m end
+  end
+  return inlet_v + (outlet_v - inlet_v) * a, inlet_v + (outlet_v - inlet_v) * best_t
+end
+
+-- The channel between main blades 1 and 2 as the channel planner takes it
+-- (bliskrun.channel_rough's left/left_v/right/right_v). Without splitters it
+-- is one channel; with them, three: "inlet" (main 1 minus face to main 2 plus
+-- face, stopping o.gap mm of meridional length short of the splitter's
+-- leading edge at the hub — the edge leans forward above the hub), "left"
+-- (main 1 to the splitter) and "right" (the splitter to main 2). The "minus"
+-- face of a blade looks towards the next blade (+θ), its v from inlet to
+-- outlet; the "plus" face looks back, its v from outlet to inlet.
+function M.channels(imp, o)
+  o = o or {}
+  local left_main, right_main = imp:face(1, "minus", "main"), imp:face(2, "plus", "main")
+  if not imp:has_splitter() then
+    return {{name = "channel", left = left_main, left_v = {0, 1}, right = right_main, right_v = {1, 0}}}
+  end
+  local split_plus, split_minus = imp:face(1, "plus", "splitter"), imp:face(1, "minus", "splitter")
+  local gap = o.gap or 20
+  local left_end, left_split = v_before(left_main, 0, 1, split_minus:point(0, 0), gap)
+  local right_end, right_split = v_before(right_main, 1, 0, split_plus:point(0, 1), gap)
+  return {
+    {name = "inlet", left = left_main, left_v = {0, left_end}, right = right_main, right_v = {1, right_end}},
+    {name = "left", left = left_main, left_v = {left_split, 1}, right = split_plus, right_v = {1, 0}},
+    {name = "right", left = split_minus, left_v = {0, 1}, right = right_main, right_v = {right_split, 0}},
+  }
+end
+
+local function add_faces(surfaces, imp, meshes, list, parts)
+  for _, f in ipairs(list) do
+    local kind, blade = f[1], f[2]
+    if kind == "main" or imp:has_splitter() then
+      for _, side in ipairs{"plus", "minus"} do
+        surfaces[#surfaces + 1] = {name = string.format("%s %d %s", kind, blade, side),
+                                   mesh = meshes.face(kind, blade, side), parts = parts, margin = meshes.tol}
+      end
+    end
+  end
+end
+
+-- What the channel between main blades 1 and 2 is proved against: both faces
+-- of both main blades and of the splitter between them, and the hub, for
+-- every tool part (the tessellation tolerance added as margin).
+function M.channel_world(imp, meshes)
+  local surfaces = {{name = "hub", mesh = meshes.hub(), margin = meshes.tol}}
+  add_faces(surfaces, imp, meshes, {{"main", 1}, {"main", 2}, {"splitter", 1}})
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- What flank finishing of one face of blade 1 is proved against: the main
+-- blades and splitters either side (every tool part), this face, the
+-- blade's other face and the hub (shank and holder only: the cutter is meant
+-- to touch them).
+function M.face_world(imp, meshes, kind, side)
+  local n = imp:blade_count()
+  local other = side == "plus" and "minus" or "plus"
+  local surfaces = {
+    {name = "this face", mesh = meshes.face(kind, 1, side), parts = {"shank", "holder"}, margin = meshes.tol},
+    {name = "own other face", mesh = meshes.face(kind, 1, other), parts = {"shank", "holder"}, margin = meshes.tol},
+    {name = "hub", mesh = meshes.hub(), parts = {"shank", "holder"}, margin = meshes.tol}}
+  local neighbours = kind == "main" and {{"main", 2}, {"main", n}, {"splitter", 1}, {"splitter", n}}
+                                     or {{"main", 1}, {"main", 2}, {"splitter", 2}, {"splitter", n}}
+  add_faces(surfaces, imp, meshes, neighbours)
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- Everything near blade 1 — main blades and splitters N, 1 and 2 and the
+-- hub, every tool part: what a link's first and last leg (out of, or into,
+-- blade 1's channel or faces) is proved against.
+function M.neighbourhood(imp, meshes)
+  local n = imp:blade_count()
+  local surfaces = {{name = "hub", mesh = meshes.hub(), margin = meshes.tol}}
+  add_faces(surfaces, imp, meshes, {{"main", n}, {"main", 1}, {"main", 2}, {"splitter", n}, {"splitter", 1},
+                                    {"splitter", 2}})
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- Every blade and the hub: what a link's travel over the part is proved
+-- against (coarse meshes; their tolerance is added as margin).
+function M.whole(imp, meshes)
+  local surfaces = {{name = "hub", mesh = meshes.hub(), margin = meshes.tol}}
+  local list = {}
+  for b = 1, imp:blade_count() do
+    list[#list + 1] = {"main", b}
+    list[#list + 1] = {"splitter", b}
+  end
+  add_faces(surfaces, imp, meshes, list)
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- The clearance surface over an impeller: the surface of revolution `margin`
+-- mm above the part's meridional outline (hub, shroud edges and leading
+-- edges of main blades and splitters) — the upper envelope of discs of that
+-- radius about the outline's points, profile z(r) sampled every 1 mm of r,
+-- constant towards the axis inside the hub's nose, and a wall at the
+-- outermost radius. A tool backed out along its axis meets it close above
+-- the channel, not on a sphere round the whole part: at the inlet, where the
+-- axes lie nearly horizontal, a sphere would put the gauge point out of a
+-- trunnion machine's Z travel. Links travel over it (job.lua).
+--   env.back_out(pose) -> the pose moved up its axis onto the surface, or nil
+--   env.travel(out, into) -> points over the surface from out to into, into last
+function M.envelope(imp, margin)
+  local pts = {}
+  local function keep(p) pts[#pts + 1] = {math.sqrt(p[1] ^ 2 + p[2] ^ 2), p[3]} end
+  for _, q in ipairs(imp:hub_meridian()) do pts[#pts + 1] = {q[2], q[1]} end
+  for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
+    for _, side in ipairs{"plus", "minus"} do
+      local face = imp:face(1, side, kind)
+      for i = 0, 200 do keep(face:point(1, i / 200)) end               -- the shroud edge
+      for i = 0, 50 do keep(face:point(i / 50, 0)); keep(face:point(i / 50, 1)) end  -- both blade ends
+    end
+  end
+  local r_max, z_min = 0, math.huge
+  for _, q in ipairs(pts) do r_max, z_min = math.max(r_max, q[1]), math.min(z_min, q[2]) end
+  local wall = r_max + margin           -- outside this radius everything is clear
+  local n = math.ceil(wall)
+  local zs = {}                          -- zs[i + 1] = z of the surface at r = i * wall / n
+  for i = 0, n do
+    local r, z = i * wall / n, -math.huge
+    for _, q in ipairs(pts) do
+      local d = math.abs(q[1] - r)
+      if d <= margin then z = math.max(z, q[2] + math.sqrt(margin * margin - d * d)) end
+    end
+    zs[i + 1] = z
+  end
+  local first = 1                        -- inside the hub's nose no points: constant towards the axis
+  while zs[first] == -math.huge do first = first + 1 end
+  for i = 1, first - 1 do zs[i] = zs[first] end
+  for i = 2, n + 1 do if zs[i] == -math.huge then zs[i] = zs[i - 1] end end
+  local function z_at(r)
+    local x = r / wall * n
+    local i = math.min(n - 1, math.floor(x))
+    local f = x - i
+    return zs[i + 1] * (1 - f) + zs[i + 2] * f
+  end
+  local function outside(p)
+    local r = math.sqrt(p[1] ^ 2 + p[2] ^ 2)
+    return r >= wall or p[3] >= z_at(r)
+  end
+  -- The profile as a polyline with arc length: over the top from the axis
+  -- to the wall, then down the wall to below the part.
+  local prof = {}
+  for i = 0, n do prof[#prof + 1] = {i * wall / n, zs[i + 1]} end
+  prof[#prof + 1] = {wall, z_min - margin}
+  local arc = {0}
+  for i = 2, #prof do
+    arc[i] = arc[i - 1] + math.sqrt((prof[i][1] - prof[i - 1][1]) ^ 2 + (prof[i][2] - prof[i - 1][2]) ^ 2)
+  end
+  local function s_of(r, z)  -- arc length of the profile point nearest (r, z)
+    local best, best_s = math.huge, 0
+    for i = 2, #prof do
+      local a, b = prof[i - 1], prof[i]
+      local dr, dz = b[1] - a[1], b[2] - a[2]
+      local t = math.max(0, math.min(1, ((r - a[1]) * dr + (z - a[2]) * dz) / (dr * dr + dz * dz)))
+      local d = (a[1] + t * dr - r) ^ 2 + (a[2] + t * dz - z) ^ 2
+      if d < best then best, best_s = d, arc[i - 1] + t * (arc[i] - arc[i - 1]) end
+    end
+    return best_s
+  end
+  local function at_s(s)
+    for i = 2, #prof do
+      if s <= arc[i] or i == #prof then
+        local t = math.max(0, math.min(1, (s - arc[i - 1]) / (arc[i] - arc[i - 1])))
+        return prof[i - 1][1] + t * (prof[i][1] - prof[i - 1][1]), prof[i - 1][2] + t * (prof[i][2] - prof[i - 1][2])
+      end
+    end
+  end
+  local env = {margin = margin, wall = wall, top = zs[1], outside = outside}
+  function env.back_out(pose)
+    local p, a = pose.tip, pose.axis
+    local function at(t) return {p[1] + t * a[1], p[2] + t * a[2], p[3] + t * a[3]} end
+    local lo, hi = 0, nil
+    if outside(p) then return {tip = p, axis = a} end
+    for t = 0.5, 2000, 0.5 do
+      if outside(at(t)) then hi = t; break end
+      lo = t
+    end
+    if not hi then return nil end
+    for _ = 1, 30 do
+      local m = 0.5 * (lo + hi)
+      if outside(at(m)) then hi = m else lo = m end
+    end
+    return {tip = at(hi), axis = a}
+  end
+  function env.travel(out, into)
+    local function polar(p) return math.atan(p[2], p[1]), s_of(math.sqrt(p[1] ^ 2 + p[2] ^ 2), p[3]) end
+    local t1, s1 = polar(out.tip)
+    local t2, s2 = polar(into.tip)
+    local dt = t2 - t1
+    while dt > math.pi do dt = dt - 2 * math.pi end
+    while dt < -math.pi do dt = dt + 2 * math.pi end
+    -- Steps of at most 5 mm along the surface (round at the larger radius).
+    local r1, r2 = math.sqrt(out.tip[1] ^ 2 + out.tip[2] ^ 2), math.sqrt(into.tip[1] ^ 2 + into.tip[2] ^ 2)
+    local length = math.abs(s2 - s1) + math.abs(dt) * math.max(r1, r2)
+    local steps = math.max(1, math.ceil(length / 5))
+    local points = {}
+    for i = 1, steps do
+      local f = i / steps
+      if i == steps then
+        points[i] = into.tip
+      else
+        local r, z = at_s(s1 + f * (s2 - s1))
+        local t = t1 + f * dt
+        points[i] = {r * math.cos(t), r * math.sin(t), z}
+      end
+    end
+    return points
+  end
+  return env
+end
+
+-- A pose (or point, with axis nil) turned by `angle` radians about Z.
+function M.turn(pose, angle)
+  local c, s = math.cos(angle), math.sin(angle)
+  local function rot(v) return {c * v[1] - s * v[2], s * v[1] + c * v[2], v[3]} end
+  return {tip = rot(pose.tip), axis = rot(pose.axis)}
+end
+
+-- The angle that turns blade 1 onto blade k.
+function M.pitch_angle(imp, k) return 2 * math.pi * (k - 1) / imp:blade_count() end
+
+return M
