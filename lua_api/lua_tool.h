@@ -3,6 +3,7 @@
 // first use by a collision query and shared after. Shared by wrap_tools.cpp
 // (constructors, methods) and wrap_collision.cpp (queries).
 #include <memory>
+#include <string>
 
 #include "core/collision/collision_world.h"
 #include "core/tools/pose.h"
@@ -28,6 +29,23 @@ inline void push_pose(lua_State* L, const ToolPose& p) {
   lua_createtable(L, 0, 2);
   luax::set_vec3(L, "tip", p.tip);
   luax::set_vec3(L, "axis", p.axis);
+}
+
+// The pose of a table that holds {tip = {x, y, z}, axis = {x, y, z}} among
+// other fields (a job move, a plan's pose); the axis is normalised.
+inline ToolPose pose_from_table(lua_State* L, int idx, const char* name) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, std::string(name) + ": expected {tip = {x, y, z}, axis = {x, y, z}}");
+  ToolPose p;
+  lua_getfield(L, idx, "tip");
+  p.tip = luax::check_vec3(L, -1, (std::string(name) + ".tip").c_str());
+  lua_getfield(L, idx, "axis");
+  p.axis = luax::check_vec3(L, -1, (std::string(name) + ".axis").c_str());
+  lua_pop(L, 2);
+  const double n = p.axis.norm();
+  if (!(n > 1e-12)) luax::error(L, std::string(name) + ".axis: expected a non-zero vector");
+  p.axis /= n;
+  return p;
 }
 
 }  // namespace bliskrun::lua_api

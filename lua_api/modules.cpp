@@ -19,6 +19,7 @@ void open_all(lua_State* L) {
   open_machine(L);
   open_edges(L);
   open_channel(L);
+  open_sim(L);
   open_flank(L);
   open_belt(L);
   open_robot(L);

@@ -106,18 +106,6 @@ void push_axes(lua_State* L, const MachineAxes& q, const MachineDefinition& m) {
   }
 }
 
-ToolPose check_pose(lua_State* L, int idx, const char* name) {
-  idx = lua_absindex(L, idx);
-  if (!lua_istable(L, idx)) luax::error(L, std::string(name) + ": expected {tip = {x, y, z}, axis = {x, y, z}}");
-  ToolPose p;
-  lua_getfield(L, idx, "tip");
-  p.tip = luax::check_vec3(L, -1, "tip");
-  lua_getfield(L, idx, "axis");
-  p.axis = luax::check_vec3(L, -1, "axis");
-  lua_pop(L, 2);
-  return p;
-}
-
 // ---- bliskrun.machine ------------------------------------------------------
 
 int w_machine_load(lua_State* L) {
@@ -136,6 +124,23 @@ int w_machine_define(lua_State* L) {
 
 int w_machine_name(lua_State* L) {
   luax::push(L, check_machine(L, 1).definition.name);
+  return 1;
+}
+
+// machine:placed{part_origin = {x, y, z}} -> a copy of the machine with the
+// part frame's origin elsewhere in its program zero: the setup's work offset
+// (a different fixture), without a second machine file.
+int w_machine_placed(lua_State* L) {
+  const MachineValue& m = check_machine(L, 1);
+  const luax::Options o(L, 2, "machine:placed",
+                        {luax::Field{"part_origin", luax::Kind::Table, true, std::nullopt, std::nullopt,
+                                     "the part frame's origin in the machine's program zero, {x, y, z} mm", {}}});
+  o.push_raw("part_origin");
+  const Vec3 origin = luax::check_vec3(L, -1, "machine:placed: option 'part_origin'");
+  lua_pop(L, 1);
+  MachineValue copy = m;
+  copy.definition.part_origin_mm = origin;
+  push_machine(L, std::move(copy));
   return 1;
 }
 
@@ -183,7 +188,7 @@ const std::vector<luax::Field>& kinematics_fields() {
 // m:solve(pose, {tool_length =, previous =}) -> axes
 int w_machine_solve(lua_State* L) {
   const MachineValue& m = check_machine(L, 1);
-  const ToolPose pose = check_pose(L, 2, "pose");
+  const ToolPose pose = pose_from_table(L, 2, "pose");
   const luax::Options o(L, 3, "machine:solve", kinematics_fields());
   MachineAxes previous;
   if (o.has("previous")) {
@@ -475,7 +480,7 @@ void open_machine(lua_State* L) {
       {"name", w_machine_name},       {"configuration", w_machine_configuration},
       {"axes", w_machine_axes},       {"travel", w_machine_travel},
       {"solve", w_machine_solve},     {"forward", w_machine_forward},
-      {"reachable", w_machine_reachable}, {nullptr, nullptr}};
+      {"reachable", w_machine_reachable}, {"placed", w_machine_placed}, {nullptr, nullptr}};
   lua_newtable(L);
   luaL_setfuncs(L, methods, 0);
   lua_setfield(L, -2, "__index");

@@ -91,11 +91,13 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
 struct Positions {
   std::vector<Eigen::Isometry3d> frames;
   std::vector<std::pair<int, long>> origin;  // (pass, pose)
+  std::vector<int> run;                      // which run's cutter
 };
-Positions tool_positions(const std::vector<ToolPass>& passes, double reach_mm, double step_mm) {
-  Positions out;
-  for (size_t p = 0; p < passes.size(); ++p) {
-    const ToolPass& pass = passes[p];
+void add_positions(Positions& out, const std::vector<ToolPass>& passes, int first_pass, int run, double reach_mm,
+                   double step_mm) {
+  for (size_t q = 0; q < passes.size(); ++q) {
+    const ToolPass& pass = passes[q];
+    const size_t p = first_pass + q;
     for (size_t k = 0; k + 1 < pass.size(); ++k) {
       const PoseMotion motion(pass[k], pass[k + 1]);
       const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(reach_mm) / step_mm)));
@@ -111,7 +113,7 @@ Positions tool_positions(const std::vector<ToolPass>& passes, double reach_mm, d
       out.origin.emplace_back(static_cast<int>(p), static_cast<long>(pass.size() - 1));
     }
   }
-  return out;
+  out.run.resize(out.frames.size(), run);
 }
 
 // Lowest s in [-below, limit] where p + s n is inside the cutter, or +inf.
@@ -176,6 +178,11 @@ void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const Sam
 UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
                                  const std::vector<ToolPass>& passes,
                                  const UndercutOptions& o, Progress& progress) {
+  return simulate_undercut(design, std::vector<ToolRun>{ToolRun{&tool, &passes}}, o, progress);
+}
+
+UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRun>& runs,
+                                 const UndercutOptions& o, Progress& progress) {
   if (o.samples_u < 2 || o.samples_v < 2)
     throw ParameterError("samples", "need at least 2 x 2 samples");
   if (!(o.search_above_mm > 0) || !(o.search_below_mm > 0))
@@ -184,8 +191,16 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
   if (o.threads < 1) throw ParameterError("threads", "must be >= 1");
 
   const SampleIndex idx = build_index(design, o);
-  const Profile& cutter = tool.cutter();
-  const Positions swept = tool_positions(passes, cutter.reach(), o.sweep_step_mm);
+  std::vector<const Profile*> cutters;
+  Positions swept;
+  int first_pass = 0;
+  for (const ToolRun& run : runs) {
+    if (!run.tool || !run.passes) throw ParameterError("runs", "a run without its tool or passes");
+    cutters.push_back(&run.tool->cutter());
+    add_positions(swept, *run.passes, first_pass, static_cast<int>(cutters.size()) - 1, cutters.back()->reach(),
+                  o.sweep_step_mm);
+    first_pass += static_cast<int>(run.passes->size());
+  }
   const std::vector<Eigen::Isometry3d>& positions = swept.frames;
 
   // The workers share one residual array (atomic minimum) and take chunks
@@ -209,7 +224,8 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
       if (w == 0) progress.step(static_cast<long>(begin));
       else progress.check();
       const size_t end = std::min(positions.size(), begin + kChunk);
-      for (size_t k = begin; k < end; ++k) cut_with(cutter, positions[k], idx, o, residual, evaluations[w]);
+      for (size_t k = begin; k < end; ++k)
+        cut_with(*cutters[swept.run[k]], positions[k], idx, o, residual, evaluations[w]);
     }
   };
   if (workers == 1) {
@@ -262,7 +278,8 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
     for (size_t k = 0; k < positions.size(); ++k) {
       if ((k & 1023) == 0) cancellation_point();
       const Eigen::Isometry3d to_tool = positions[k].inverse();
-      const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, r.overcut_mm + 1e-9);
+      const double s =
+          first_entry(*cutters[swept.run[k]], to_tool * smp.p, to_tool.linear() * smp.n, o, r.overcut_mm + 1e-9);
       if (s <= r.overcut_mm + 1e-9) {
         r.overcut_pass = swept.origin[k].first;
         r.overcut_pose = swept.origin[k].second;

@@ -86,6 +86,18 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
                                  const UndercutOptions& options,
                                  Progress& progress = Progress::none());
 
+// Passes one tool cuts (borrowed: both must outlive the call).
+struct ToolRun {
+  const Tool* tool = nullptr;
+  const std::vector<ToolPass>* passes = nullptr;
+};
+// Several tools in turn — a job's roughing, then its finishing: the material
+// left is the lowest any of them reached. overcut_pass counts the passes of
+// all runs in order (run 0's first).
+UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRun>& runs,
+                                 const UndercutOptions& options,
+                                 Progress& progress = Progress::none());
+
 // The design surface sampled once for many gouge queries of single motions —
 // a planner's proof that a non-cutting move (retract, traverse, approach)
 // does not cut below the finished surface. Same samples, normal lines,

@@ -93,5 +93,28 @@ TEST(MachineLua, PostWriteOptionsAreValidated) {
   EXPECT_NE(r.output.find("chord_tolerance"), std::string::npos) << r.output;
 }
 
+// machine:placed moves the part's origin in the program zero: at home
+// orientation the same part point is reached 10 mm further along X, the
+// rotary axes unchanged; the original machine keeps its origin.
+TEST(MachineLua, PlacedMovesThePartOriginAndLeavesTheOriginalAlone) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local m = bliskrun.machine.load(\"table_table_bc\")\n"
+      "local moved = m:placed{part_origin = {10, 0, 0}}\n"
+      "local pose = {tip = {5, -3, 20}, axis = {0, 0, 1}}\n"
+      "local a = m:solve(pose, {tool_length = 100})\n"
+      "local b = moved:solve(pose, {tool_length = 100})\n"
+      "assert(math.abs(math.abs(b.X - a.X) - 10) < 1e-9, b.X - a.X)\n"
+      "assert(math.abs(b.Y - a.Y) < 1e-9 and math.abs(b.Z - a.Z) < 1e-9)\n"
+      "assert(math.abs(b.B - a.B) < 1e-9 and math.abs(b.C - a.C) < 1e-9)\n"
+      "local again = m:solve(pose, {tool_length = 100})\n"
+      "assert(again.X == a.X)\n"
+      "local ok, err = pcall(m.placed, m, {part_origin = {1, 2}})\n"
+      "assert(not ok and err:find(\"part_origin\"), err)\n"
+      "ok, err = pcall(m.placed, m, {origin = {1, 2, 3}})\n"
+      "assert(not ok and err:find(\"unknown option 'origin'\"), err)\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test

@@ -113,6 +113,32 @@ TEST(Undercut, MotionBetweenPosesIsSwept) {
   for (int i = 0; i < 41; ++i) EXPECT_NEAR(res.residual_mm[i * 101 + 50], 0.0, 2e-5) << i;
 }
 
+// Two tools in turn (a rougher, then a finisher): the material left is the
+// lower of the two balls' profiles at every sample, and the overcut is found
+// in the second run's pass, numbered after the first run's.
+TEST(Undercut, SeveralToolsLeaveTheLowerOfTheirProfiles) {
+  const Tool big = ball(5), small = ball(2);
+  const std::vector<ToolPass> rough = {{at(-12, -1, 0.2), at(12, -1, 0.2)}, {at(-12, 3, 0.2), at(12, 3, 0.2)}};
+  const std::vector<ToolPass> finish = {{at(-12, 1, -0.01), at(12, 1, -0.01)}};
+  const UndercutOptions o = plane_options();
+  const UndercutResult res = simulate_undercut(Plane(), {ToolRun{&big, &rough}, ToolRun{&small, &finish}}, o);
+  for (int j = 0; j < o.samples_v; ++j) {
+    const double y = -5 + 10.0 * j / (o.samples_v - 1);
+    double expected = std::numeric_limits<double>::infinity();
+    for (double yk : {-1.0, 3.0})
+      if (std::abs(y - yk) < 5) expected = std::min(expected, 0.2 + 5 - std::sqrt(25 - (y - yk) * (y - yk)));
+    if (std::abs(y - 1) < 2) expected = std::min(expected, -0.01 + 2 - std::sqrt(4 - (y - 1) * (y - 1)));
+    if (expected > o.search_above_mm) continue;
+    EXPECT_NEAR(res.residual_mm[20 * 101 + j], expected, 2e-5) << "y=" << y;
+  }
+  EXPECT_NEAR(res.overcut_mm, -0.01, 2e-5);
+  EXPECT_EQ(res.overcut_pass, 2);  // the finisher's pass, after the rougher's two
+  // One run of the same passes gives what the single-tool call gives.
+  const UndercutResult one = simulate_undercut(Plane(), {ToolRun{&big, &rough}}, o);
+  const UndercutResult same = simulate_undercut(Plane(), big, rough, o);
+  EXPECT_EQ(one.residual_mm, same.residual_mm);
+}
+
 TEST(Undercut, GougeIsNegative) {
   const std::vector<ToolPass> passes = {{at(-12, 0, -0.03), at(12, 0, -0.03)}};
   const UndercutResult res = simulate_undercut(Plane(), ball(4), passes, plane_options());

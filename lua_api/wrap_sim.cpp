@@ -1,0 +1,183 @@
+// bliskrun.simulate: the undercut simulation (core/sim) of any surface under
+// any toolpath, each pass with its own tool — what a job needs to measure
+// the material its operations leave on a part that no planner's own
+// simulation covers (an impeller's hub and faces after notching, widening
+// and flank finishing).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/sim/undercut.h"
+#include "lua_api/lua_tool.h"
+#include "lua_api/luax.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+#include "lua_api/undercut_map.h"
+#include "lua_api/wrap_geometry.h"
+
+namespace bliskrun::lua_api {
+
+namespace {
+
+using luax::Field;
+using luax::Kind;
+using luax::number_field;
+
+// A {lo, hi} parameter window inside [0, 1].
+void read_window(lua_State* L, const luax::Options& o, const char* key, double& lo, double& hi) {
+  if (!o.has(key)) return;
+  o.push_raw(key);
+  const int t = lua_gettop(L);
+  const std::string what = std::string("bliskrun.simulate: option '") + key + "'";
+  if (luaL_len(L, t) != 2) luax::error(L, what + ": expected {lo, hi} with 0 <= lo < hi <= 1");
+  lua_rawgeti(L, t, 1);
+  lua_rawgeti(L, t, 2);
+  if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) luax::error(L, what + ": expected two numbers");
+  lo = lua_tonumber(L, -2);
+  hi = lua_tonumber(L, -1);
+  if (!(lo >= 0 && lo < hi && hi <= 1)) luax::error(L, what + ": expected {lo, hi} with 0 <= lo < hi <= 1");
+  lua_pop(L, 3);
+}
+
+// bliskrun.simulate{surface=, passes = {{tool=, poses = {...}}, ...}, ...}
+int w_simulate(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.simulate",
+      {Field{"surface", Kind::Any, true, std::nullopt, std::nullopt, "design surface (Surface)", {}},
+       Field{"passes", Kind::Table, true, std::nullopt, std::nullopt,
+             "list of {tool = Tool, poses = {{tip=, axis=}, ...}}: each pass moves pose to pose as the machine does", {}},
+       Field{"samples_u", Kind::Integer, false, 2, 5000, "design samples along u (default 100)", {}},
+       Field{"samples_v", Kind::Integer, false, 2, 20000, "design samples along v (default 400)", {}},
+       Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "sampled u window {lo, hi} (default {0, 1})", {}},
+       Field{"v", Kind::Table, false, std::nullopt, std::nullopt, "sampled v window {lo, hi} (default {0, 1})", {}},
+       Field{"flip_normal", Kind::Boolean, false, std::nullopt, std::nullopt,
+             "the normal out of the material is -(pu x pv) (default false)", {}},
+       number_field("search_above", "how far above the surface material is tracked, mm (default 1)", 1e-4, 100),
+       number_field("search_below", "how deep a gouge is measured, mm (default 0.5)", 1e-4, 100),
+       number_field("sweep_step", "largest cutter-point motion between positions, mm (default 0.05)", 1e-4, 10),
+       Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+  o.push_raw("surface");
+  const SurfaceHandle* surface = luax::test<SurfaceHandle>(L, -1);
+  if (!surface) luax::error(L, "bliskrun.simulate: option 'surface': expected a bliskrun.Surface");
+  const std::shared_ptr<const Surface> design = surface->surface;
+  lua_pop(L, 1);
+
+  // Consecutive passes with the same tool form one run.
+  std::vector<std::vector<ToolPass>> run_passes;
+  std::vector<const Tool*> run_tools;
+  o.push_raw("passes");
+  const int passes = lua_gettop(L);
+  const lua_Integer n = luaL_len(L, passes);
+  long poses_total = 0;
+  for (lua_Integer i = 1; i <= n; ++i) {
+    const std::string what = "bliskrun.simulate: passes[" + std::to_string(i) + "]";
+    lua_rawgeti(L, passes, i);
+    const int pass = lua_gettop(L);
+    if (!lua_istable(L, pass)) luax::error(L, what + ": expected {tool = Tool, poses = {...}}");
+    lua_getfield(L, pass, "tool");
+    const LuaTool* tool = luax::test<LuaTool>(L, -1);
+    if (!tool) luax::error(L, what + ".tool: expected a bliskrun.Tool");
+    lua_pop(L, 1);
+    lua_getfield(L, pass, "poses");
+    const int poses = lua_gettop(L);
+    if (!lua_istable(L, poses)) luax::error(L, what + ".poses: expected a list of poses");
+    ToolPass p;
+    const lua_Integer m = luaL_len(L, poses);
+    p.reserve(static_cast<size_t>(m));
+    for (lua_Integer k = 1; k <= m; ++k) {
+      lua_rawgeti(L, poses, k);
+      p.push_back(pose_from_table(L, -1, (what + ".poses[" + std::to_string(k) + "]").c_str()));
+      lua_pop(L, 1);
+    }
+    poses_total += static_cast<long>(m);
+    if (run_tools.empty() || run_tools.back() != &tool->tool) {
+      run_tools.push_back(&tool->tool);
+      run_passes.emplace_back();
+    }
+    run_passes.back().push_back(std::move(p));
+    lua_pop(L, 2);
+  }
+  lua_pop(L, 1);
+
+  UndercutOptions so;
+  so.samples_u = static_cast<int>(o.integer("samples_u", 100));
+  so.samples_v = static_cast<int>(o.integer("samples_v", 400));
+  read_window(L, o, "u", so.u0, so.u1);
+  read_window(L, o, "v", so.v0, so.v1);
+  so.flip_normal = o.boolean("flip_normal", false);
+  so.search_above_mm = o.number("search_above", 1.0);
+  so.search_below_mm = o.number("search_below", 0.5);
+  so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
+  so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  return luax::guarded(L, [&] {
+    std::vector<ToolRun> runs;
+    for (size_t r = 0; r < run_tools.size(); ++r) runs.push_back(ToolRun{run_tools[r], &run_passes[r]});
+    const auto t0 = std::chrono::steady_clock::now();
+    UndercutResult u = simulate_undercut(*design, runs, so, context(L).progress);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+    for (double x : u.residual_mm)
+      if (std::isfinite(x)) lowest = std::min(lowest, x), highest = std::max(highest, x);
+    lua_createtable(L, 0, 16);
+    luax::set_number(L, "undercut_max", u.undercut_max_mm);
+    luax::set_number(L, "undercut_mean", u.undercut_mean_mm);
+    luax::set_number(L, "undercut_median", u.undercut_median_mm);
+    luax::set_number(L, "undercut_std", u.undercut_std_mm);
+    luax::set_number(L, "overcut", u.overcut_mm);
+    // The material left over the samples the tools reached (nil if none).
+    if (std::isfinite(lowest)) {
+      luax::set_number(L, "residual_min", lowest);
+      luax::set_number(L, "residual_max", highest);
+    }
+    if (u.overcut_sample >= 0) {
+      // Which motion cut deepest: pass (1-based, in the order given) and the
+      // pose its motion ends at (1-based; the motion from pose k - 1 to k).
+      lua_pushinteger(L, u.overcut_pass + 1);
+      lua_setfield(L, -2, "overcut_pass");
+      lua_pushinteger(L, u.overcut_pose + 1);
+      lua_setfield(L, -2, "overcut_pose");
+      const long row = u.overcut_sample / so.samples_v, col = u.overcut_sample % so.samples_v;
+      const double su = so.u0 + (so.u1 - so.u0) * static_cast<double>(row) / (so.samples_u - 1);
+      const double sv = so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1);
+      luax::set_number(L, "overcut_u", su);
+      luax::set_number(L, "overcut_v", sv);
+      luax::set_vec3(L, "overcut_point", design->point(su, sv));
+    }
+    lua_pushinteger(L, u.untouched);
+    lua_setfield(L, -2, "untouched");
+    lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
+    lua_setfield(L, -2, "samples");
+    lua_pushinteger(L, u.tool_positions);
+    lua_setfield(L, -2, "tool_positions");
+    lua_pushinteger(L, poses_total);
+    lua_setfield(L, -2, "poses");
+    luax::set_number(L, "seconds", seconds);
+    LuaUndercutMap map;
+    map.map.rows = u.samples_u;
+    map.map.cols = u.samples_v;
+    map.map.values = std::move(u.residual_mm);
+    char footer[240];
+    std::snprintf(footer, sizeof footer,
+                  "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
+                  "overcut %.1f um; untouched %d",
+                  map.map.rows, map.map.cols, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
+                  1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
+    map.footer = footer;
+    luax::push_new(L, std::move(map));
+    lua_setfield(L, -2, "map");
+    return 1;
+  });
+}
+
+}  // namespace
+
+void open_sim(lua_State* L) {
+  static const luaL_Reg functions[] = {{"simulate", w_simulate}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api
