@@ -48,6 +48,26 @@ double hub_parameter(const Surface& face, double v, const SurfaceOfRevolution& h
   return illinois_root(g, a, b, ga, gb, 1e-14);
 }
 
+// A lead leaves the hub at this angle over its tangent plane.
+constexpr double kLeadRiseRad = 45 * 3.14159265358979323846 / 180;
+// How far the ball may come closer to the hub than its radius on a lead:
+// the centre rides the hub offset to the root finder's precision.
+constexpr double kHubToleranceMm = 1e-4;
+
+// Unit normal of the hub's offset surfaces at q, pointing the way the
+// signed radial offset grows, scaled to the channel side (where q is).
+Vec3 hub_normal(const SurfaceOfRevolution& hub, const Vec3& q) {
+  constexpr double h = 1e-4;
+  Vec3 g;
+  for (int i = 0; i < 3; ++i) {
+    Vec3 e = Vec3::Zero();
+    e[i] = h;
+    g[i] = (hub.radial_offset(q + e) - hub.radial_offset(q - e)) / (2 * h);
+  }
+  const double channel = hub.radial_offset(q) >= 0 ? 1.0 : -1.0;
+  return channel * g.normalized();
+}
+
 }  // namespace
 
 FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(tool)), r_(ball_radius_mm) {
@@ -219,8 +239,12 @@ FlankAxis tilted(const FlankAxis& ax, double angle_rad, double ball_radius) {
   return t;
 }
 
-// The axis moved along the mean face normal to centre its residual band.
-FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& cutter, int points) {
+// The axis moved along the mean face normal to centre its residual band;
+// with a hub, the ball then slides along the moved axis back onto the hub
+// offset (the shift has a part along the hub normal on a leaning blade,
+// which would press the ball a few um into the hub or lift it off).
+FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& cutter, int points,
+                   const SurfaceOfRevolution* hub) {
   const ResidualStats st = flank_residual(face, {ax}, cutter, points).stats;
   const Vec3 m = (ax.n1 + ax.n2).normalized();
   const Vec3 shift = -0.5 * (st.max_mm + st.min_mm) * m;
@@ -229,6 +253,17 @@ FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& 
   b.ball_centre += shift;
   b.d1 += shift;
   b.d2 += shift;
+  if (hub) {
+    const double r = cutter.ball_radius_mm();
+    const Vec3 a = b.pose.axis;
+    const double channel = hub->radial_offset(ax.ball_centre) >= 0 ? 1.0 : -1.0;
+    if (const std::optional<double> s = meet_hub_offset(*hub, channel * r, b.ball_centre, a, 4 * r)) {
+      b.ball_centre += *s * a;
+      b.pose.tip += *s * a;
+      b.s1 = (b.d1 - b.ball_centre).dot(a);
+      b.s2 = (b.d2 - b.ball_centre).dot(a);
+    }
+  }
   return b;
 }
 
@@ -258,7 +293,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     if (!rq.world) {
       unbalanced.push_back(ax);
       if (rq.balance_residual) {
-        ax = balanced(design, ax, *rq.cutter, rq.residual_points);
+        ax = balanced(design, ax, *rq.cutter, rq.residual_points, rq.hub);
         ++plan.balanced;
       }
       plan.axes.push_back(ax);
@@ -273,7 +308,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
       const double angle = (i == 0 ? 0.0 : ((i + 1) / 2) * rq.tilt_step_rad * (i % 2 ? 1.0 : -1.0));
       const FlankAxis plain = angle == 0 ? ax : tilted(ax, angle, r);
       std::vector<FlankAxis> tries;
-      if (rq.balance_residual) tries.push_back(balanced(design, plain, *rq.cutter, rq.residual_points));
+      if (rq.balance_residual) tries.push_back(balanced(design, plain, *rq.cutter, rq.residual_points, rq.hub));
       tries.push_back(plain);
       for (size_t k = 0; k < tries.size() && !done; ++k) {
         const FlankAxis& cand = tries[k];
@@ -316,13 +351,42 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     checks.body = rq.body;
     checks.clearances = rq.clearances;
     checks.motion_tol_mm = rq.motion_tol_mm;
+    const double r = rq.cutter->ball_radius_mm();
     auto end_normal = [&](const FlankAxis& a) {
-      // Out of the material at mid-span of the ruling.
+      // Out of the material at mid-span of the ruling, and off the hub: a
+      // leaning blade's normal points partly into the hub, and the ball that
+      // rides the hub would follow it in (found by simulating the job:
+      // 0.5 mm deep at the built-in impeller's splitter). Its part into the
+      // hub is dropped and the lead rises at kLeadRiseRad over the hub, more
+      // than a concave meridian's sag over the lead's length.
       const SurfaceDerivs d = rq.face->eval(0.5, a.v);
-      return Vec3(d.pu.cross(d.pv).normalized());
+      Vec3 n = d.pu.cross(d.pv).normalized();
+      if (!rq.hub) return n;
+      const Vec3 up = hub_normal(*rq.hub, a.ball_centre);
+      n -= std::min(0.0, n.dot(up)) * up;
+      const Vec3 along = (n - n.dot(up) * up).normalized();
+      return Vec3((along + std::tan(kLeadRiseRad) * up).normalized());
+    };
+    // The collision world holds the hub for the shank and holder only (the
+    // ball rides it): the ball's own clearance of the hub over a lead is
+    // proved here, its centre at least r from the hub all along.
+    auto prove_off_hub = [&](PlannedDeparture& lead, const FlankAxis& a) {
+      if (!rq.hub || !lead.clear) return;
+      const double channel = rq.hub->radial_offset(a.ball_centre) >= 0 ? 1.0 : -1.0;
+      const Vec3 from = a.ball_centre, to = lead.away.tip + r * lead.away.axis.normalized();
+      const int n = std::max(2, static_cast<int>(std::ceil((to - from).norm() / 0.05)));
+      double deepest = 0;
+      for (int k = 1; k <= n; ++k)
+        deepest = std::min(deepest, channel * rq.hub->radial_offset(from + (to - from) * (double(k) / n)) - r);
+      if (deepest < -kHubToleranceMm) {
+        lead.clear = false;
+        lead.reason = "the ball would dip " + num(-deepest) + " mm into the hub";
+      }
     };
     plan.lead_in = plan_departure({plan.axes.front().pose, end_normal(plan.axes.front())}, checks, rq.lead);
     plan.lead_out = plan_departure({plan.axes.back().pose, end_normal(plan.axes.back())}, checks, rq.lead);
+    prove_off_hub(plan.lead_in, plan.axes.front());
+    prove_off_hub(plan.lead_out, plan.axes.back());
   } else {
     plan.min_margin_mm = 0;
   }

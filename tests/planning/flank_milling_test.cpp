@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/collision/collision_world.h"
 #include "core/common/error.h"
 #include "core/parts/impeller.h"
 
@@ -152,6 +153,46 @@ namespace {
 // poses near mid-chord. Those poses tilt (about the hub contact normal, so
 // the holder swings along the chord) until the holder clears it, or are
 // refused; nothing emitted collides, and every station is accounted for.
+// The ball rides the hub: on every face of the built-in impeller, with the
+// axes balanced (a shift along the face normal, which on a leaning blade
+// has a part along the hub normal), every pose's ball centre stays on the
+// hub offset, and each lead keeps it there or above all along — simulating
+// the impeller job found the splitter's lead-in following the leaning face's
+// normal 0.5 mm into the hub, and balanced poses pressing 6 um into it.
+TEST(FlankMilling, BalancedPosesAndTheirLeadsKeepTheBallOnOrOverTheHub) {
+  const Impeller imp(builtin_impeller_definition());
+  const FlankCutter cutter(tapered(3, 2, 90), 3);
+  const ToolBody body(cutter.tool());
+  CollisionWorld nothing;
+  for (BladeKind kind : {BladeKind::kMain, BladeKind::kSplitter}) {
+    for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+      const auto face = imp.face(kind, 0, side);
+      FlankFaceRequest rq;
+      rq.face = face.get();
+      rq.hub = &imp.hub();
+      rq.cutter = &cutter;
+      rq.world = &nothing;
+      rq.body = &body;
+      rq.steps.chord_tol_mm = 0.05;
+      rq.residual_points = 10;
+      rq.balance_residual = true;
+      const FlankFacePlan plan = plan_flank_face(rq);
+      ASSERT_GT(plan.axes.size(), 3u);
+      EXPECT_EQ(plan.balanced, static_cast<int>(plan.axes.size()));
+      for (const FlankAxis& a : plan.axes) EXPECT_NEAR(imp.hub().radial_offset(a.ball_centre), 3.0, 1e-7);
+      for (const auto& [lead, at] : {std::pair{plan.lead_in, plan.axes.front()}, std::pair{plan.lead_out, plan.axes.back()}}) {
+        ASSERT_TRUE(lead.clear) << lead.reason;
+        const Vec3 to = lead.away.tip + 3 * lead.away.axis;
+        double lowest = std::numeric_limits<double>::infinity();
+        for (int k = 0; k <= 200; ++k)
+          lowest = std::min(lowest, imp.hub().radial_offset(at.ball_centre + (to - at.ball_centre) * (k / 200.0)));
+        EXPECT_GT(lowest, 3.0 - 1e-4);
+        EXPECT_GT(imp.hub().radial_offset(to), 3.0 + 1.0);  // it rises off the hub
+      }
+    }
+  }
+}
+
 TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
   BladeCamber c;
   for (int i = 0; i <= 30; ++i) {
