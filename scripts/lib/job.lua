@@ -1,8 +1,16 @@
 -- A machining job (issue 13 item 1, issue 18 item 3): one part, a tool
 -- table and an ordered list of operations, planned into one toolpath that
--- carries the operation, tool, blade and flank of every move, linked safely
--- from one operation (or flank) to the next through a clearance cylinder
--- about the part axis, and posted as one program per machine.
+-- carries the operation, tool, blade and flank (or channel) of every move,
+-- linked safely from one operation (or flank) to the next through a
+-- clearance surface, and posted as one program per machine.
+--
+-- Parts: a blisk (bliskrun.blisk: drum_finish) or an impeller
+-- (bliskrun.impeller: notch, widen, flank_finish). The clearance surface is
+-- a cylinder of radius clearance_radius about Z for a blisk (outside the
+-- casing); for an impeller, the surface of revolution `clearance` mm above
+-- its meridional outline (impeller_world.envelope): its channels open upward
+-- and outward, so a tool backed out along its axis meets it just above the
+-- channel.
 --
 --   local job = require("job")
 --   local j = job.new{
@@ -55,6 +63,13 @@ local function check_options(what, t, spec, level)
 end
 
 local function positive(v) if not (v > 0) or v ~= v or v == math.huge then return "expected a finite value > 0" end end
+
+local function add(a, b, s) return {a[1] + s * b[1], a[2] + s * b[2], a[3] + s * b[3]} end
+local function dot(a, b) return a[1] * b[1] + a[2] * b[2] + a[3] * b[3] end
+local function unit(a)
+  local n = math.sqrt(dot(a, a))
+  return {a[1] / n, a[2] / n, a[3] / n}
+end
 
 -- ---- operations ------------------------------------------------------------
 
@@ -109,11 +124,251 @@ function M.drum_finish(o)
         error(string.format("job.drum_finish: blade %d %s flank: %d poses and %d links refused; nothing of it is "
                             .. "emitted (see plan:report().refusal_reasons)", k, side, r.refusals, r.refused_links), 0)
       end
-      flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed}
+      flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed,
+                             moves_list = plan:moves()}
     end
     return flanks
   end
   return op
+end
+
+-- ---- impeller operations (impeller paper §4) -------------------------------
+
+local function blade_list(v)
+  if #v == 0 then return "expected a list of blade numbers" end
+  for _, b in ipairs(v) do if math.type(b) ~= "integer" or b < 1 then return "expected blade numbers 1, 2, ..." end end
+end
+
+local function require_impeller(j, what)
+  if j.part_kind ~= "impeller" then error(what .. ": this operation machines an impeller; the job's part is a blisk", 0) end
+end
+
+local function check_blades(j, blades, what)
+  local n = j.part:blade_count()
+  for _, k in ipairs(blades) do
+    if k > n then error(string.format("%s: blade %d does not exist; the part has %d", what, k, n), 0) end
+  end
+end
+
+-- Blade 1's units turned onto each blade of the operation: the model is
+-- symmetric under turns of the blade pitch about Z, so the proofs carry over.
+local function per_blade(j, units, blades, feed_of)
+  local iw = require("impeller_world")
+  local out = {}
+  for _, k in ipairs(blades) do
+    local angle = iw.pitch_angle(j.part, k)
+    for _, u in ipairs(units) do
+      local moves = {}
+      for i, m in ipairs(u.moves) do
+        local p = iw.turn(m, angle)
+        moves[i] = {kind = m.kind, tip = p.tip, axis = p.axis, row = m.row, motion = m.motion,
+                    operation = m.operation}
+      end
+      out[#out + 1] = {blade = k, side = u.name, moves_list = moves, report = u.report, feed = feed_of}
+    end
+  end
+  return out
+end
+
+-- Notching (§4.1): the channel's middle opened in depth levels from the
+-- shroud contour to the stock above the hub (bliskrun.channel_rough). When a
+-- job.widen follows it (same tool, same blades), each channel is notched and
+-- widened in one plan, its passes linked inside the channel.
+function M.notch(o)
+  check_options("job.notch", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    stock = {type = "number", check = function(v) if not (v > 0 and v < 10) then return "expected 0 < stock < 10 mm" end end},
+    min_stock = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    depth_step = {type = "number", check = positive},
+    stations = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    splitter_gap = {type = "number", check = positive},
+    channels = {type = "table", check = function(v)
+      if #v == 0 then return "expected a list of channel names" end
+      for _, c in ipairs(v) do
+        if c ~= "inlet" and c ~= "left" and c ~= "right" and c ~= "channel" then
+          return "expected 'inlet', 'left', 'right' (with splitters) or 'channel' (without)"
+        end
+      end
+    end},
+    mesh_tol = {type = "number", check = positive},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "notch", channels = o.channels, tool = o.tool, blades = o.blades, stock = o.stock or 0.5, depth_step = o.depth_step or 5,
+              stations = o.stations or 41, splitter_gap = o.splitter_gap or 20, mesh_tol = o.mesh_tol or 0.05,
+              feed = o.feed or 800}
+  op.min_stock = o.min_stock or math.min(0.2, op.stock / 2)
+  if op.min_stock > op.stock then error("job.notch: option 'min_stock': expected at most the stock", 2) end
+  function op.plan_flanks(self, j, index)
+    require_impeller(j, "job.notch")
+    check_blades(j, self.blades, "job.notch")
+    local iw = require("impeller_world")
+    local widen = self.widen_op
+    local meshes = j:impeller_meshes(self.mesh_tol)
+    local world = iw.channel_world(j.part, meshes)
+    local tool = j.tools[self.tool]
+    local units = {}
+    local wanted = {}
+    for _, name in ipairs(self.channels or {}) do wanted[name] = true end
+    for _, c in ipairs(iw.channels(j.part, {gap = self.splitter_gap})) do
+      if self.channels and not wanted[c.name] then goto next_channel end
+      local plan = bliskrun.channel_rough{left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
+                                          hub = j.part:hub(), tool = tool.tool, ball_radius = tool.ball_radius,
+                                          world = world, stations = self.stations, stock = self.stock,
+                                          scallop = widen and widen.scallop or nil, widen = widen ~= nil,
+                                          depth_step = self.depth_step, cutter_clearance = self.min_stock}
+      if #plan.refusals > 0 or not plan.complete then
+        local first = plan.refusals[1]
+        error(string.format("job.notch: channel %s: %d poses refused%s%s; nothing of it is emitted", c.name,
+                            #plan.refusals, first and string.format(" (first: %s %d at t = %.3f: %s)", first.kind,
+                                                                     first.index, first.t, first.reason) or "",
+                            plan.complete and "" or ", stopped: " .. plan.stopped), 0)
+      end
+      -- A move belongs to the widening operation where its pass widens.
+      local moves = {}
+      for i, m in ipairs(plan.moves) do
+        moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion,
+                    operation = widen and plan.passes[m.row].kind ~= "notch" and index + 1 or index}
+      end
+      units[#units + 1] = {name = c.name, moves = moves,
+                           report = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
+                                     widen_right = plan.widen_right, step_over = plan.step_over,
+                                     scallop_max = plan.scallop_max, paths_added = plan.paths_added,
+                                     poses = plan.poses, passes = #plan.passes, turned = plan.turned}}
+      ::next_channel::
+    end
+    if #units == 0 then error("job.notch: none of the channels asked for is in this impeller", 0) end
+    return per_blade(j, units, self.blades, self.feed)
+  end
+  return op
+end
+
+-- Widening with hub roughing (§4.2, eq. 12–14): from the notch towards both
+-- faces along the hub, paths f = 2 sqrt(2rh - h^2) apart for the scallop h,
+-- the last on each side the finishing pose of the cutter grown by the stock.
+-- Planned with the job.notch it must directly follow (same tool and blades).
+function M.widen(o)
+  check_options("job.widen", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    scallop = {type = "number", check = positive},
+    feed = {type = "number", check = positive},
+  }, 2)
+  return {kind = "widen", tool = o.tool, blades = o.blades, scallop = o.scallop or 0.01, feed = o.feed or 1000,
+          plan_flanks = function() return {} end}  -- its moves come with the notch's plan
+end
+
+-- Flank finishing (§4.3) of blade faces with the side of a (tapered)
+-- ball-end mill (bliskrun.flank_mill): faces = list of "main plus", "main
+-- minus", "splitter plus", "splitter minus" (default all four).
+function M.flank_finish(o)
+  local face_names = {["main plus"] = true, ["main minus"] = true, ["splitter plus"] = true,
+                      ["splitter minus"] = true}
+  check_options("job.flank_finish", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    faces = {type = "table", check = function(v)
+      if #v == 0 then return "expected a list of faces" end
+      for _, f in ipairs(v) do
+        if not face_names[f] then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
+      end
+    end},
+    chord_tol = {type = "number", check = positive},
+    clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    mesh_tol = {type = "number", check = positive},
+    balance = {type = "boolean"},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "flank_finish", tool = o.tool, blades = o.blades,
+              faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
+              chord_tol = o.chord_tol or 0.005, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
+              balance = o.balance ~= false, feed = o.feed or 600, lift = 5}
+  function op.plan_flanks(self, j, index)
+    require_impeller(j, "job.flank_finish")
+    check_blades(j, self.blades, "job.flank_finish")
+    local iw = require("impeller_world")
+    local meshes = j:impeller_meshes(self.mesh_tol)
+    local tool = j.tools[self.tool]
+    local units = {}
+    for _, name in ipairs(self.faces) do
+      local kind, side = name:match("^(%a+) (%a+)$")
+      if kind == "splitter" and not j.part:has_splitter() then
+        error("job.flank_finish: the impeller has no splitters; faces = {'" .. name .. "'}", 0)
+      end
+      local world = iw.face_world(j.part, meshes, kind, side)
+      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), hub = j.part:hub(), tool = tool.tool,
+                                       ball_radius = tool.ball_radius, world = world,
+                                       chord_tol = self.chord_tol, clearance = self.clearance, balance = self.balance,
+                                       residual_points = 10}
+      if #plan.refusals > 0 or not plan.lead_in.clear or not plan.lead_out.clear then
+        error(string.format("job.flank_finish: %s face: %d poses refused%s; nothing of it is emitted", name,
+                            #plan.refusals, (plan.lead_in.clear and plan.lead_out.clear) and ""
+                              or ", lead not clear: " .. (plan.lead_in.reason or "") .. (plan.lead_out.reason or "")), 0)
+      end
+      -- The plan's leads slide the ball along the hub, off the face; the
+      -- unit starts and ends up the tool axis from there, off the hub, so
+      -- the job's links never touch the finished surfaces. Those two motions
+      -- are proved here like the plan's own.
+      local function lifted(pose) return {tip = add(pose.tip, pose.axis, self.lift), axis = pose.axis} end
+      local start, finish = lifted(plan.lead_in.away), lifted(plan.lead_out.away)
+      for _, leg in ipairs{{start, plan.lead_in.away}, {plan.lead_out.away, finish}} do
+        local m = world:check_motion(tool.tool, leg[1], leg[2],
+                                     {clearance = {cutter = 0, shank = self.clearance, holder = self.clearance}})
+        if not m.clear then
+          error(string.format("job.flank_finish: %s face: the lift of %.1f mm off the hub at the %s is not clear "
+                              .. "(margin %.3f mm)", name, self.lift, leg[1] == start and "lead-in" or "lead-out",
+                              m.min_margin or 0 / 0), 0)
+        end
+      end
+      local moves = {{kind = "rapid", tip = start.tip, axis = start.axis, row = 1, motion = "start", operation = index},
+                     {kind = "feed", tip = plan.lead_in.away.tip, axis = plan.lead_in.away.axis, row = 1,
+                      motion = "approach", operation = index}}
+      for _, p in ipairs(plan.poses) do
+        moves[#moves + 1] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1,
+                             motion = #moves == 2 and "approach" or "cut", operation = index}
+      end
+      moves[#moves + 1] = {kind = "feed", tip = plan.lead_out.away.tip, axis = plan.lead_out.away.axis, row = 1,
+                           motion = "retract", operation = index}
+      moves[#moves + 1] = {kind = "feed", tip = finish.tip, axis = finish.axis, row = 1, motion = "retract",
+                           operation = index}
+      units[#units + 1] = {name = name, moves = moves,
+                           report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
+                                     residual_max = plan.residual.max, residual_min = plan.residual.min}}
+    end
+    return per_blade(j, units, self.blades, self.feed)
+  end
+  return op
+end
+
+-- The blisk's clearance surface: the cylinder of radius R about Z.
+--   back_out(pose) -> the tool backed out along its axis until the tip is on
+--   the cylinder (nil when the axis points along Z); travel(out, into) ->
+--   points round the cylinder, into last, in steps short enough that every
+--   chord stays within 0.5 mm of it.
+function M.cylinder(R)
+  local c = {description = string.format("the clearance cylinder (r = %g mm)", R)}
+  function c.back_out(pose)
+    local p, a = pose.tip, pose.axis
+    -- |xy(p + t a)| = R: (a.a) t^2 + 2 (p.a) t + (p.p - R^2) = 0 in xy.
+    local A, B, C = a[1] ^ 2 + a[2] ^ 2, p[1] * a[1] + p[2] * a[2], p[1] ^ 2 + p[2] ^ 2 - R * R
+    local disc = B * B - A * C
+    if A < 0.04 or disc < 0 then return nil end
+    return {tip = add(p, a, math.max(0, (-B + math.sqrt(disc)) / A)), axis = a}
+  end
+  function c.travel(out, into)
+    local t1, t2 = math.atan(out.tip[2], out.tip[1]), math.atan(into.tip[2], into.tip[1])
+    local dt = t2 - t1
+    while dt > math.pi do dt = dt - 2 * math.pi end
+    while dt < -math.pi do dt = dt + 2 * math.pi end
+    local n = math.max(1, math.ceil(math.abs(dt) / (2 * math.acos((R - 0.5) / R))))
+    local points = {}
+    for i = 1, n do
+      local s, t = i / n, t1 + i / n * dt
+      points[i] = i == n and into.tip or {R * math.cos(t), R * math.sin(t), out.tip[3] + s * (into.tip[3] - out.tip[3])}
+    end
+    return points
+  end
+  return c
 end
 
 -- ---- the job -------------------------------------------------------------
@@ -125,16 +380,29 @@ function M.new(spec)
   check_options("job.new", spec, {
     name = {type = "string", required = true},
     part = {type = "userdata", required = true},
-    clearance_radius = {type = "number", required = true, check = positive},
+    clearance_radius = {type = "number", check = positive},
+    clearance = {type = "number", check = positive},
     link_clearance = {type = "table"},
     tools = {type = "table", required = true},
     operations = {type = "table", required = true, check = function(v) if #v == 0 then return "expected at least one operation" end end},
   }, 2)
-  local casing = 0
-  for _, p in ipairs(spec.part:casing_meridian()) do casing = math.max(casing, p[2]) end
-  if spec.clearance_radius <= casing + 1 then
-    error(string.format("job.new: option 'clearance_radius': %.3f mm is not outside the casing (radius up to %.3f mm) "
-                        .. "by at least 1 mm", spec.clearance_radius, casing), 2)
+  local part_kind = spec.part.face and "impeller" or "blisk"
+  local clearance_surface
+  if part_kind == "blisk" then
+    if not spec.clearance_radius then error("job.new: missing option 'clearance_radius' (a blisk's links run on a "
+                                            .. "cylinder about its axis outside the casing)", 2) end
+    local casing = 0
+    for _, p in ipairs(spec.part:casing_meridian()) do casing = math.max(casing, p[2]) end
+    if spec.clearance_radius <= casing + 1 then
+      error(string.format("job.new: option 'clearance_radius': %.3f mm is not outside the casing (radius up to %.3f mm) "
+                          .. "by at least 1 mm", spec.clearance_radius, casing), 2)
+    end
+    clearance_surface = M.cylinder(spec.clearance_radius)
+  else
+    if not spec.clearance then error("job.new: missing option 'clearance' (an impeller's links run this many mm "
+                                     .. "over its outline)", 2) end
+    clearance_surface = require("impeller_world").envelope(spec.part, spec.clearance)
+    clearance_surface.description = string.format("the clearance surface %g mm over the impeller", spec.clearance)
   end
   local numbers = {}
   for name, t in pairs(spec.tools) do
@@ -143,6 +411,7 @@ function M.new(spec)
       length = {type = "number", required = true, check = positive},
       spindle_rpm = {type = "number"},
       tool = {type = "userdata", required = true},
+      ball_radius = {type = "number", check = positive},
       life_mm = {type = "number", check = positive},
       sisters = {type = "table", check = function(v)
         for _, n in ipairs(v) do if math.type(n) ~= "integer" or n < 0 then return "expected a list of tool numbers" end end
@@ -153,18 +422,56 @@ function M.new(spec)
       numbers[n] = name
     end
   end
+  local blisk_ops, impeller_ops = {drum_finish = true}, {notch = true, widen = true, flank_finish = true}
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
-      error(string.format("job.new: operations[%d]: expected an operation (job.drum_finish{...})", i), 2)
+      error(string.format("job.new: operations[%d]: expected an operation (job.drum_finish{...}, job.notch{...}, ...)",
+                          i), 2)
     end
-    if not spec.tools[op.tool] then
+    if not (part_kind == "blisk" and blisk_ops or impeller_ops)[op.kind] then
+      error(string.format("job.new: operations[%d] (%s) does not machine a%s %s", i, op.kind,
+                          part_kind == "impeller" and "n" or "", part_kind), 2)
+    end
+    local t = spec.tools[op.tool]
+    if not t then
       error(string.format("job.new: operations[%d] (%s) uses tool '%s', which the tools table does not list", i, op.kind,
                           tostring(op.tool)), 2)
     end
+    for _, k in ipairs(op.blades or {}) do
+      if k > spec.part:blade_count() then
+        error(string.format("job.new: operations[%d] (%s): blade %d does not exist; the part has %d", i, op.kind, k,
+                            spec.part:blade_count()), 2)
+      end
+    end
+    if impeller_ops[op.kind] and op.kind ~= "widen" and not t.ball_radius then
+      error(string.format("job.new: operations[%d] (%s): tool '%s' needs ball_radius (the radius of its tip ball, mm)",
+                          i, op.kind, op.tool), 2)
+    end
+    if op.kind == "widen" then
+      -- Widening starts from the notch: it is planned with the notch it
+      -- follows, each channel's passes linked inside the channel.
+      local notch = spec.operations[i - 1]
+      local same = notch and notch.kind == "notch" and notch.tool == op.tool and #notch.blades == #op.blades
+      for b = 1, same and #op.blades or 0 do same = same and notch.blades[b] == op.blades[b] end
+      if not same then
+        error(string.format("job.new: operations[%d] (widen) must directly follow the job.notch it widens, with the "
+                            .. "same tool and blades: widening starts from the notch", i), 2)
+      end
+      notch.widen_op = op
+    end
   end
-  return setmetatable({name = spec.name, part = spec.part, clearance_radius = spec.clearance_radius,
+  return setmetatable({name = spec.name, part = spec.part, part_kind = part_kind,
+                       clearance_radius = spec.clearance_radius, clearance_surface = clearance_surface,
                        link_clearance = spec.link_clearance or {cutter = 0, shank = 0.1, holder = 1},
                        tools = spec.tools, operations = spec.operations, worlds = {}}, Job)
+end
+
+-- The impeller's faces and hub tessellated once per tolerance, shared by
+-- every operation and the links.
+function Job:impeller_meshes(tol)
+  self.meshes = self.meshes or {}
+  if not self.meshes[tol] then self.meshes[tol] = require("impeller_world").meshes(self.part, tol) end
+  return self.meshes[tol]
 end
 
 -- The check surfaces around blade k (neighbours, hub, the blade itself for
@@ -238,59 +545,55 @@ function Job:part_world()
   return self.whole
 end
 
-local function radius(p) return math.sqrt(p[1] ^ 2 + p[2] ^ 2) end
-local function add(a, b, s) return {a[1] + s * b[1], a[2] + s * b[2], a[3] + s * b[3]} end
-local function unit(a)
-  local n = math.sqrt(a[1] ^ 2 + a[2] ^ 2 + a[3] ^ 2)
-  return {a[1] / n, a[2] / n, a[3] / n}
-end
 
--- The point where the tool, backed out along its axis from `pose`, has its
--- tip on the clearance cylinder (radius R about Z).
-local function backed_out(pose, R, what)
-  local p, a = pose.tip, pose.axis
-  -- |xy(p + t a)| = R: (a.a) t^2 + 2 (p.a) t + (p.p - R^2) = 0 in xy.
-  local A = a[1] ^ 2 + a[2] ^ 2
-  local B = p[1] * a[1] + p[2] * a[2]
-  local C = p[1] ^ 2 + p[2] ^ 2 - R * R
-  local disc = B * B - A * C
-  if A < 0.04 or disc < 0 then
-    error(string.format("job: %s: the tool axis (%.3f, %.3f, %.3f) points along the part axis; backing out along it "
-                        .. "does not reach the clearance radius", what, a[1], a[2], a[3]), 0)
+-- Where a link leg is proved, and the turn that brings it there: the first
+-- leg leaves blade a, the last reaches blade b, the ones between travel over
+-- the part. An impeller's legs near blade k are turned back onto blade 1
+-- (its model is symmetric under the blade pitch) and proved against blade
+-- 1's neighbourhood.
+function Job:leg_world(leg, legs, blade_a, blade_b)
+  if self.part_kind == "blisk" then
+    return leg == 1 and self:link_world(blade_a) or leg == legs and self:link_world(blade_b) or self:part_world(), 0
   end
-  local t = (-B + math.sqrt(disc)) / A
-  if t < 0 then t = 0 end
-  return {tip = add(p, a, t), axis = a}
+  local iw = require("impeller_world")
+  if leg == 1 or leg == legs then
+    self.neighbourhood = self.neighbourhood or iw.neighbourhood(self.part, self:impeller_meshes(0.05))
+    return self.neighbourhood, -iw.pitch_angle(self.part, leg == 1 and blade_a or blade_b)
+  end
+  self.impeller_whole = self.impeller_whole or iw.whole(self.part, self:impeller_meshes(0.5))
+  return self.impeller_whole, 0
 end
 
--- Link from pose `a` to pose `b` through the clearance cylinder: back out
--- along a's axis, travel round the cylinder in steps short enough that every
--- chord stays within 0.5 mm of it (axis turning from a's to b's), then in
--- along b's axis. Each motion is proved clear of the whole part.
+-- Link from pose `a` to pose `b` through the clearance surface: back out
+-- along a's axis, travel over the surface (the axis turning from a's to
+-- b's), then in along b's axis. Each motion is proved clear of the part with
+-- the whole tool.
 function Job:link(a, b, tool, what, blade_a, blade_b)
-  local R = self.clearance_radius
-  local out, into = backed_out(a, R, what .. " (back out)"), backed_out(b, R, what .. " (approach)")
-  local t1, t2 = math.atan(out.tip[2], out.tip[1]), math.atan(into.tip[2], into.tip[1])
-  local dt = t2 - t1
-  while dt > math.pi do dt = dt - 2 * math.pi end
-  while dt < -math.pi do dt = dt + 2 * math.pi end
-  local step = 2 * math.acos((R - 0.5) / R)
-  local n = math.max(1, math.ceil(math.abs(dt) / step))
+  local surface = self.clearance_surface
+  local function back_out(pose, which)
+    local p = surface.back_out(pose)
+    if not p then
+      error(string.format("job: %s (%s): backed out along its axis (%.3f, %.3f, %.3f) the tool does not reach %s",
+                          what, which, pose.axis[1], pose.axis[2], pose.axis[3], surface.description), 0)
+    end
+    return p
+  end
+  local out, into = back_out(a, "back out"), back_out(b, "approach")
+  local travel = surface.travel(out, into)
   local poses = {out}
-  for i = 1, n do
-    local s = i / n
-    local t = t1 + s * dt
-    local z = out.tip[3] + s * (into.tip[3] - out.tip[3])
+  for i, tip in ipairs(travel) do
+    local s = i / #travel
     local axis = unit(add(out.axis, {into.axis[1] - out.axis[1], into.axis[2] - out.axis[2], into.axis[3] - out.axis[3]}, s))
-    poses[#poses + 1] = {tip = {R * math.cos(t), R * math.sin(t), z}, axis = i == n and into.axis or axis}
+    poses[#poses + 1] = {tip = tip, axis = i == #travel and into.axis or axis}
   end
   poses[#poses + 1] = b
   local from = a
+  local iw = require("impeller_world")
   for i, to in ipairs(poses) do
-    -- The first motion leaves blade a, the last reaches blade b; the ones
-    -- between run on the clearance cylinder, past any blade.
-    local world = i == 1 and self:link_world(blade_a) or i == #poses and self:link_world(blade_b) or self:part_world()
-    local m = world:check_motion(tool, from, to, {clearance = self.link_clearance})
+    local world, angle = self:leg_world(i, #poses, blade_a, blade_b)
+    local f, t = from, to
+    if angle ~= 0 then f, t = iw.turn(from, angle), iw.turn(to, angle) end
+    local m = world:check_motion(tool, f, t, {clearance = self.link_clearance})
     if not m.clear then
       error(string.format("job: %s: link motion %d of %d is not proved clear of the part (margin %.3f mm at t = %.3f)",
                           what, i, #poses, m.min_margin or 0 / 0, m.t or 0 / 0), 0)
@@ -302,34 +605,53 @@ function Job:link(a, b, tool, what, blade_a, blade_b)
 end
 
 -- Tool life (the impeller paper's grouping of blades per tool, §4): whole
--- blades in order, as many per tool as its life allows, the next group on the
--- next sister tool. lengths[i] = cutting length of the i-th blade (mm);
--- numbers = the tool and its sisters. Returns the tool number of each blade
--- and the groups {{tool =, first =, last =, length_mm =}, ...}; an error when
--- one blade alone outlasts the life or the sisters run out.
+-- blades in order, each tool's group within its life, the next group on the
+-- next sister tool. As few tools as whole blades allow (filled greedily),
+-- then the blades spread evenly over them, larger groups first — 17 blades
+-- on 4 tools are 5, 4, 4, 4 as in the paper, not 5, 5, 5, 2 — where the
+-- even spread keeps every group within the life (blades of unequal length
+-- may not: then the greedy groups stand). lengths[i] = cutting length of the
+-- i-th blade (mm); numbers = the tool and its sisters. Returns the tool
+-- number of each blade and the groups {{tool =, first =, last =, length_mm
+-- =}, ...}; an error when one blade alone outlasts the life or the sisters
+-- run out.
 function M.group_by_life(lengths, life_mm, numbers, what)
-  local of, groups = {}, {}
-  local current, used = 1, 0
+  local sizes = {}  -- greedy
+  local used = 0
   for i, length in ipairs(lengths) do
     if life_mm and length > life_mm then
       error(string.format("%s: one blade cuts %.0f mm, more than the tool's life of %.0f mm", what, length, life_mm), 0)
     end
-    if life_mm and used + length > life_mm and used > 0 then
-      current, used = current + 1, 0
-      if not numbers[current] then
+    if #sizes == 0 or (life_mm and used + length > life_mm) then
+      if #sizes > 0 and not numbers[#sizes + 1] then
         error(string.format("%s: the tool's life of %.0f mm is used up after blade %d of %d and no sister tool is left "
                             .. "(tools.<name>.sisters)", what, life_mm, i - 1, #lengths), 0)
       end
+      sizes[#sizes + 1], used = 0, 0
     end
+    sizes[#sizes] = sizes[#sizes] + 1
     used = used + length
-    of[i] = numbers[current]
-    local g = groups[#groups]
-    if not g or g.tool ~= numbers[current] then
-      g = {tool = numbers[current], first = i, last = i, length_mm = 0}
-      groups[#groups + 1] = g
+  end
+  local g, n = #sizes, #lengths
+  if g > 1 then
+    local even, first, fits = {}, 1, true
+    for k = 1, g do
+      even[k] = n // g + (k <= n % g and 1 or 0)
+      local sum = 0
+      for i = first, first + even[k] - 1 do sum = sum + lengths[i] end
+      fits = fits and sum <= life_mm
+      first = first + even[k]
     end
-    g.last = i
-    g.length_mm = g.length_mm + length
+    if fits then sizes = even end
+  end
+  local of, groups, first = {}, {}, 1
+  for k, size in ipairs(sizes) do
+    local group = {tool = numbers[k], first = first, last = first + size - 1, length_mm = 0}
+    for i = group.first, group.last do
+      of[i] = numbers[k]
+      group.length_mm = group.length_mm + lengths[i]
+    end
+    groups[k], first = group, first + size
   end
   return of, groups
 end
@@ -355,11 +677,10 @@ function Job:plan()
   local groups = {}
   for i, op in ipairs(self.operations) do
     local t = self.tools[op.tool]
-    local planned_flanks = op:plan_flanks(self)
+    local planned_flanks = op:plan_flanks(self, i)
     -- Blades in order with their cutting length, then the tool of each.
     local blade_order, blade_length, index_of = {}, {}, {}
     for _, f in ipairs(planned_flanks) do
-      f.moves_list = f.plan:moves()
       if not index_of[f.blade] then
         blade_order[#blade_order + 1] = f.blade
         index_of[f.blade] = #blade_order
@@ -391,9 +712,12 @@ function Job:plan()
       end
       local first_move = #moves + 1
       for _, m in ipairs(plan_moves) do
+        -- A notch's plan carries the widening that follows it: its moves
+        -- say which operation they belong to.
+        local o = m.operation or i
         moves[#moves + 1] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion,
-                             feed = m.kind == "feed" and f.feed or nil, tool = number, operation = i,
-                             operation_kind = op.kind, blade = f.blade, side = f.side}
+                             feed = m.kind == "feed" and self.operations[o].feed or nil, tool = number, operation = o,
+                             operation_kind = self.operations[o].kind, blade = f.blade, side = f.side}
       end
       last = {pose = {tip = plan_moves[#plan_moves].tip, axis = plan_moves[#plan_moves].axis}, blade = f.blade,
               tool = number}
@@ -410,14 +734,18 @@ end
 -- {operation, blade, side, undercut_max, undercut_mean, overcut, overcut_move
 -- (index in the job's moves), overcut_motion} and the totals (undercut_max,
 -- overcut, where). Link moves stay 0.05 mm or more off every surface
--- (proved in plan()), so they remove nothing and need no sweep.
+-- (proved in plan()), so they remove nothing and need no sweep. An
+-- impeller job is simulated on its surfaces instead (simulate_impeller;
+-- sweep_step applies there).
 function Job:simulate(o)
   o = o or {}
   check_options("job:simulate", o, {
     samples_u = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    sweep_step = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
+  if self.part_kind == "impeller" then return self:simulate_impeller(o) end
   local out = {flanks = {}, undercut_max = 0, overcut = 0}
   for _, f in ipairs(self.planned.flanks) do
     local sim = f.plan:simulate{samples_u = o.samples_u or 200, samples_v = o.samples_v or 1000}
@@ -432,6 +760,144 @@ function Job:simulate(o)
     end
   end
   return out
+end
+
+-- The tool (bliskrun.Tool) of a tool number, sisters included.
+function Job:tool_of_number(n)
+  for _, t in pairs(self.tools) do
+    for _, k in ipairs({t.number, table.unpack(t.sisters or {})}) do
+      if k == n then return t.tool end
+    end
+  end
+end
+
+-- An impeller job simulated (core/sim, bliskrun.simulate) on blade 1's faces
+-- and one pitch of the hub — every other blade's moves are blade 1's turned,
+-- so blade 1's surfaces see what every blade sees — under the moves of each
+-- operation alone, of the links, and of the whole job in order (the material
+-- left after everything; a motion between two moves of different tools, the
+-- tool change on the clearance surface, is not a cut). Motions that never
+-- come within the cutter's reach of a surface are left out of its sweep.
+-- Returns {surfaces = {{name, groups = {{name, operation, undercut_max,
+-- residual_min, residual_max, overcut, overcut_move, overcut_operation,
+-- untouched, seconds, map}, ...}, total = <the "job" group>}, ...},
+-- overcut, overcut_at = {surface, move, operation}, seconds}.
+function Job:simulate_impeller(o)
+  local imp, moves = self.part, self.planned.moves
+  local surfaces = {}
+  for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
+    for _, side in ipairs({"plus", "minus"}) do
+      surfaces[#surfaces + 1] = {name = kind .. " " .. side, surface = imp:face(1, side, kind)}
+    end
+  end
+  -- One pitch of the hub: every channel's floor once (blade feet untouched).
+  local hub = imp:hub()
+  local d = hub:eval(0.5, 0)
+  local radial = {d.point.x, d.point.y, 0}
+  local out = d.normal.x * radial[1] + d.normal.y * radial[2] + d.normal.z * math.sqrt(radial[1] ^ 2 + radial[2] ^ 2)
+  surfaces[#surfaces + 1] = {name = "hub", surface = hub, v = {0, 1 / imp:blade_count()}, flip = out < 0,
+                             search_above = 2}
+  -- The cutter's reach per tool number (the sweep only uses the cutter).
+  local reach = {}
+  local function cutter_reach(n)
+    if not reach[n] then
+      local r = 0
+      for _, seg in ipairs(self:tool_of_number(n):profile("cutter")) do
+        for _, q in ipairs({seg.from, seg.to}) do r = math.max(r, math.sqrt(q[1] ^ 2 + q[2] ^ 2)) end
+      end
+      reach[n] = r
+    end
+    return reach[n]
+  end
+  local function group_of(i)
+    local a, b = moves[i - 1], moves[i]
+    if a.tool ~= b.tool then return nil end  -- the tool change, off the part
+    if a.operation_kind == "link" or b.operation_kind == "link" then return "links" end
+    return b.operation
+  end
+  local function segment_distance(c, p, q)
+    local d = {q[1] - p[1], q[2] - p[2], q[3] - p[3]}
+    local dd = d[1] ^ 2 + d[2] ^ 2 + d[3] ^ 2
+    local t = dd > 0 and math.max(0, math.min(1, ((c[1] - p[1]) * d[1] + (c[2] - p[2]) * d[2] + (c[3] - p[3]) * d[3]) / dd)) or 0
+    return math.sqrt((p[1] + t * d[1] - c[1]) ^ 2 + (p[2] + t * d[2] - c[2]) ^ 2 + (p[3] + t * d[3] - c[3]) ^ 2)
+  end
+  local result = {surfaces = {}, overcut = 0}
+  local t0 = os.clock()
+  for _, sfc in ipairs(surfaces) do
+    -- Bounding sphere of the sampled window.
+    local pts, c = {}, {0, 0, 0}
+    local v0, v1 = sfc.v and sfc.v[1] or 0, sfc.v and sfc.v[2] or 1
+    for a = 0, 10 do
+      for b = 0, 10 do
+        local p = sfc.surface:point(a / 10, v0 + (v1 - v0) * b / 10)
+        pts[#pts + 1] = {p.x, p.y, p.z}
+        c = {c[1] + p.x, c[2] + p.y, c[3] + p.z}
+      end
+    end
+    c = {c[1] / #pts, c[2] / #pts, c[3] / #pts}
+    local radius = 0
+    for _, p in ipairs(pts) do
+      radius = math.max(radius, math.sqrt((p[1] - c[1]) ^ 2 + (p[2] - c[2]) ^ 2 + (p[3] - c[3]) ^ 2))
+    end
+    local search_above = sfc.search_above or 1
+    -- Passes per group: runs of consecutive motions of the group near the surface.
+    local groups, order = {}, {}
+    local function add(key, i)
+      local g = groups[key]
+      if not g then
+        g = {passes = {}, first = {}, last_motion = -1}
+        groups[key] = g
+        order[#order + 1] = key
+      end
+      if g.last_motion ~= i - 1 then
+        g.passes[#g.passes + 1] = {tool = self:tool_of_number(moves[i].tool), poses = {moves[i - 1]}}
+        g.first[#g.passes] = i - 1
+      end
+      local pass = g.passes[#g.passes]
+      pass.poses[#pass.poses + 1] = moves[i]
+      g.last_motion = i
+    end
+    for i = 2, #moves do
+      local key = group_of(i)
+      if key and segment_distance(c, moves[i - 1].tip, moves[i].tip) <= radius + cutter_reach(moves[i].tool) + search_above then
+        add(key, i)
+        add("job", i)
+      end
+    end
+    local rs = {name = sfc.name, groups = {}}
+    table.sort(order, function(a, b)
+      local ka = a == "job" and 1e9 or a == "links" and 1e8 or a
+      local kb = b == "job" and 1e9 or b == "links" and 1e8 or b
+      return ka < kb
+    end)
+    for _, key in ipairs(order) do
+      local g = groups[key]
+      local sim = bliskrun.simulate{surface = sfc.surface, passes = g.passes, samples_u = o.samples_u or 60,
+                                    samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip,
+                                    search_above = search_above, search_below = 0.5, sweep_step = o.sweep_step or 0.1}
+      local r = {name = key == "job" and "job" or key == "links" and "links" or self.operations[key].kind,
+                 operation = type(key) == "number" and key or nil, undercut_max = sim.undercut_max,
+                 undercut_mean = sim.undercut_mean, residual_min = sim.residual_min, residual_max = sim.residual_max,
+                 overcut = sim.overcut, untouched = sim.untouched, samples = sim.samples, seconds = sim.seconds,
+                 map = sim.map}
+      if sim.overcut_pass then
+        r.overcut_move = g.first[sim.overcut_pass] + sim.overcut_pose - 1
+        r.overcut_operation = moves[r.overcut_move].operation_kind
+        r.overcut_point = sim.overcut_point
+      end
+      rs.groups[#rs.groups + 1] = r
+      if key == "job" then
+        rs.total = r
+        if r.overcut < result.overcut then
+          result.overcut = r.overcut
+          result.overcut_at = {surface = sfc.name, move = r.overcut_move, operation = r.overcut_operation}
+        end
+      end
+    end
+    result.surfaces[#result.surfaces + 1] = rs
+  end
+  result.seconds = os.clock() - t0
+  return result
 end
 
 -- Posts the planned job for one machine: o = {machine = name or Machine,
