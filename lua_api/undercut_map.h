@@ -1,7 +1,10 @@
 #pragma once
-// The Lua UndercutMap (sim.map of a simulation): shared by the planning
-// wrapper that makes it and the VTK writer that paints it on a surface.
+// The Lua UndercutMap (sim.map of a simulation): shared by the wrappers that
+// make one (planning, flank milling, bliskrun.simulate) and the VTK writer
+// that paints it on a surface.
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/analysis/heat_map.h"
 #include "lua_api/luax.h"
@@ -22,3 +25,17 @@ struct TypeName<lua_api::LuaUndercutMap> {
   static constexpr const char* name = "bliskrun.UndercutMap";
 };
 }  // namespace bliskrun::luax
+
+namespace bliskrun::lua_api {
+
+// Pushes a new UndercutMap of rows x cols values (row-major).
+inline void push_undercut_map(lua_State* L, int rows, int cols, std::vector<double> values, std::string footer) {
+  LuaUndercutMap m;
+  m.map.rows = rows;
+  m.map.cols = cols;
+  m.map.values = std::move(values);
+  m.footer = std::move(footer);
+  luax::push_new(L, std::move(m));
+}
+
+}  // namespace bliskrun::lua_api

@@ -3,6 +3,7 @@
 // checks, lead-in/out, the residual along every axis (§5) and its map.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/planning/flank_milling.h"
 #include "lua_api/lua_tool.h"
@@ -161,16 +162,13 @@ int w_flank_mill(lua_State* L) {
     luax::set_string(L, "apt", flank_face_apt(plan, "bliskrun flank finish", tool.tool.description()));
     // The residual map (map:write_png): chord across, hub at the bottom.
     if (plan.residual.axes > 0) {
-      LuaUndercutMap m;
-      m.map.rows = plan.residual.points;
-      m.map.cols = plan.residual.axes;
-      m.map.values.resize(static_cast<size_t>(m.map.rows) * m.map.cols);
-      for (int a = 0; a < m.map.cols; ++a)
-        for (int k = 0; k < m.map.rows; ++k)
-          m.map.values[static_cast<size_t>(k) * m.map.cols + a] = plan.residual.at(a, k);
-      m.footer = "flank-milling residual (eq. 33-36), + undercut, - overcut; poses across (" +
-                 std::to_string(m.map.cols) + "), points along each axis up (hub at the bottom)";
-      luax::push_new(L, std::move(m));
+      const int rows = plan.residual.points, cols = plan.residual.axes;
+      std::vector<double> values(static_cast<size_t>(rows) * cols);
+      for (int a = 0; a < cols; ++a)
+        for (int k = 0; k < rows; ++k) values[static_cast<size_t>(k) * cols + a] = plan.residual.at(a, k);
+      push_undercut_map(L, rows, cols, std::move(values),
+                        "flank-milling residual (eq. 33-36), + undercut, - overcut; poses across (" +
+                            std::to_string(cols) + "), points along each axis up (hub at the bottom)");
       lua_setfield(L, -2, "residual_map");
     }
     return 1;

@@ -508,18 +508,13 @@ int w_plan_simulate(lua_State* L) {
     lua_pushinteger(L, sim.first_machined_row);
     lua_setfield(L, -2, "first_machined_row");
     set_number(L, "seconds", seconds);
-    LuaUndercutMap m;
-    m.map.rows = u.samples_u;
-    m.map.cols = u.samples_v;
-    m.map.values = std::move(u.residual_mm);
     char footer[240];
     std::snprintf(footer, sizeof footer,
                   "%d x %d samples of u' in [0, 1], machined from %.4f; undercut max %.2f, mean %.2f, median %.2f, "
                   "std %.2f um; overcut %.2f um (every move); untouched %d",
-                  m.map.rows, m.map.cols, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
+                  u.samples_u, u.samples_v, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
                   1e3 * u.undercut_median_mm, 1e3 * u.undercut_std_mm, 1e3 * u.overcut_mm, u.untouched);
-    m.footer = footer;
-    luax::push_new(L, std::move(m));
+    push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
     lua_setfield(L, -2, "map");
     return 1;
   });

@@ -156,18 +156,13 @@ int w_simulate(lua_State* L) {
     lua_pushinteger(L, poses_total);
     lua_setfield(L, -2, "poses");
     luax::set_number(L, "seconds", seconds);
-    LuaUndercutMap map;
-    map.map.rows = u.samples_u;
-    map.map.cols = u.samples_v;
-    map.map.values = std::move(u.residual_mm);
     char footer[240];
     std::snprintf(footer, sizeof footer,
                   "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
                   "overcut %.1f um; untouched %d",
-                  map.map.rows, map.map.cols, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
+                  u.samples_u, u.samples_v, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
                   1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
-    map.footer = footer;
-    luax::push_new(L, std::move(map));
+    push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
     lua_setfield(L, -2, "map");
     return 1;
   });

@@ -900,6 +900,17 @@ function Job:simulate_impeller(o)
   return result
 end
 
+-- Posts for one machine (j:post) and prints the one-line summary; returns
+-- the program's entry for a run's JSON report. m = {machine = name or
+-- Machine, name = (how the report calls a Machine), post =, file =}.
+function Job:post_program(m)
+  local r = self:post{machine = m.machine, post = m.post, file = m.file}
+  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan", m.file, r.moves,
+                      r.positioning, r.max_position))
+  return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
+          max_position_mm = r.max_position, max_angle_deg = r.max_angle}
+end
+
 -- Posts the planned job for one machine: o = {machine = name or Machine,
 -- post = name or post table, file =, chord_tol = 0.002}. Returns the
 -- post.write report (the program read back and replayed).

@@ -74,12 +74,7 @@ end
 
 for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
                     {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}}) do
-  local r = j:post(m)
-  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan", m.file, r.moves,
-                      r.positioning, r.max_position))
-  report.programs[#report.programs + 1] = {file = m.file, machine = m.machine, post = m.post, blocks = r.moves,
-                                           positioning = r.positioning, max_position_mm = r.max_position,
-                                           max_angle_deg = r.max_angle}
+  report.programs[#report.programs + 1] = j:post_program(m)
 end
 bliskrun.write_json("blisk_job.json", report)
 

@@ -133,13 +133,7 @@ print(string.format("  simulation: %.1f s CPU", sim.seconds))
 local fanuc_bc = bliskrun.machine.load("table_table_bc", {name = "B/C trunnion 600 (Fanuc)"})
 for _, m in ipairs({{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "impeller_job_bc_heidenhain.h"},
                     {machine = fanuc_bc, name = "table_table_bc", post = "fanuc", file = "impeller_job_bc_fanuc.nc"}}) do
-  local r = j:post{machine = m.machine, post = m.post, file = m.file}
-  m.machine = m.name or m.machine
-  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan", m.file, r.moves,
-                      r.positioning, r.max_position))
-  report.programs[#report.programs + 1] = {file = m.file, machine = m.machine, post = m.post, blocks = r.moves,
-                                           positioning = r.positioning, max_position_mm = r.max_position,
-                                           max_angle_deg = r.max_angle}
+  report.programs[#report.programs + 1] = j:post_program(m)
 end
 bliskrun.write_json("impeller_job.json", report)
 
