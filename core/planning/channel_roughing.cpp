@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/geometry/projection.h"
 #include "core/geometry/root_find.h"
 
@@ -448,6 +449,13 @@ std::vector<ChannelMove> channel_moves(const ChannelPlan& plan) {
   if (plan.lead_out.clear && plan.links.size() + 1 == plan.passes.size())
     moves.push_back({false, plan.lead_out.away, static_cast<int>(plan.passes.size()) - 1, "retract"});
   return moves;
+}
+
+std::vector<ChannelPlan> plan_channels(const std::vector<ChannelRequest>& requests, int threads, Progress& progress) {
+  std::vector<ChannelPlan> plans(requests.size());
+  run_parallel(requests.size(), threads, progress, "channel roughing, channels",
+               [&](size_t k, Progress&) { plans[k] = plan_channel(requests[k]); });
+  return plans;
 }
 
 }  // namespace bliskrun

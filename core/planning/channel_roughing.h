@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/common/progress.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
 #include "core/planning/flank_milling.h"
@@ -151,5 +152,11 @@ std::vector<ChannelMove> channel_moves(const ChannelPlan& plan);
 // the channel's geometry cannot be found (a face not meeting the hub's
 // parallel circles, the ball not fitting the channel at a station).
 ChannelPlan plan_channel(const ChannelRequest& request);
+
+// Several channels (a blade's three around its splitter) on `threads`
+// workers: plans in request order, the same for any thread count. The
+// requests may share their world, faces, hub and cutter (read only).
+std::vector<ChannelPlan> plan_channels(const std::vector<ChannelRequest>& requests, int threads,
+                                       Progress& progress = Progress::none());
 
 }  // namespace bliskrun

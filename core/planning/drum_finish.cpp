@@ -4,15 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <atomic>
-#include <exception>
 #include <map>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/geometry/differential.h"
 
 namespace bliskrun {
@@ -556,40 +553,9 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
 
 std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
                                                    Progress& progress) {
-  if (threads < 1) throw ParameterError("threads", "must be >= 1");
   std::vector<DrumFinishResult> results(requests.size());
-  const int workers = std::max(1, std::min<int>(threads, static_cast<int>(requests.size())));
-  std::atomic<size_t> next{0};
-  std::atomic<long> done{0};
-  std::mutex report_mutex;  // the reporter is not thread-safe
-  std::exception_ptr failure;
-  progress.begin("drum finish, flanks", static_cast<long>(requests.size()));
-  auto work = [&] {
-    Progress own(&progress);  // cancelled with the caller's
-    for (;;) {
-      const size_t k = next.fetch_add(1);
-      if (k >= requests.size()) return;
-      try {
-        results[k] = plan_drum_finish(requests[k], own);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(report_mutex);
-        if (!failure) failure = std::current_exception();
-        next.store(requests.size());  // stop handing out work
-        return;
-      }
-      std::lock_guard<std::mutex> lock(report_mutex);
-      progress.step(++done);
-    }
-  };
-  if (workers == 1) {
-    work();
-  } else {
-    std::vector<std::thread> pool;
-    for (int w = 0; w < workers; ++w) pool.emplace_back(work);
-    for (auto& t : pool) t.join();
-  }
-  if (failure) std::rethrow_exception(failure);
-  progress.end();
+  run_parallel(requests.size(), threads, progress, "drum finish, flanks",
+               [&](size_t k, Progress& own) { results[k] = plan_drum_finish(requests[k], own); });
   return results;
 }
 

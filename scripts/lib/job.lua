@@ -207,16 +207,24 @@ function M.notch(o)
     local meshes = j:impeller_meshes(self.mesh_tol)
     local world = iw.channel_world(j.part, meshes)
     local tool = j.tools[self.tool]
-    local units = {}
-    local wanted = {}
+    local wanted, chosen, requests = {}, {}, {}
     for _, name in ipairs(self.channels or {}) do wanted[name] = true end
     for _, c in ipairs(iw.channels(j.part, {gap = self.splitter_gap})) do
-      if self.channels and not wanted[c.name] then goto next_channel end
-      local plan = bliskrun.channel_rough{left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
-                                          hub = j.part:hub(), tool = tool.tool, ball_radius = tool.ball_radius,
-                                          world = world, stations = self.stations, stock = self.stock,
-                                          scallop = widen and widen.scallop or nil, widen = widen ~= nil,
-                                          depth_step = self.depth_step, cutter_clearance = self.min_stock}
+      if not self.channels or wanted[c.name] then
+        chosen[#chosen + 1] = c
+        requests[#requests + 1] = {left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
+                                   hub = j.part:hub(), tool = tool.tool, ball_radius = tool.ball_radius,
+                                   world = world, stations = self.stations, stock = self.stock,
+                                   scallop = widen and widen.scallop or nil, widen = widen ~= nil,
+                                   depth_step = self.depth_step, cutter_clearance = self.min_stock}
+      end
+    end
+    if #chosen == 0 then error("job.notch: none of the channels asked for is in this impeller", 0) end
+    -- The channels are independent: planned side by side on --threads.
+    local plans = bliskrun.channel_rough_all{channels = requests}
+    local units = {}
+    for k, c in ipairs(chosen) do
+      local plan = plans[k]
       if #plan.refusals > 0 or not plan.complete then
         local first = plan.refusals[1]
         error(string.format("job.notch: channel %s: %d poses refused%s%s; nothing of it is emitted", c.name,
@@ -235,9 +243,7 @@ function M.notch(o)
                                      widen_right = plan.widen_right, step_over = plan.step_over,
                                      scallop_max = plan.scallop_max, paths_added = plan.paths_added,
                                      poses = plan.poses, passes = #plan.passes, turned = plan.turned}}
-      ::next_channel::
     end
-    if #units == 0 then error("job.notch: none of the channels asked for is in this impeller", 0) end
     return per_blade(j, units, self.blades, self.feed)
   end
   return op

@@ -58,50 +58,57 @@ for _, f in ipairs{{"main", 1, "minus"}, {"main", 1, "plus"}, {"main", 2, "plus"
   blocks[#blocks + 1] = {name = string.format("%s %d %s", f[1], f[2], f[3]), mesh = meshes.face(f[1], f[2], f[3])}
 end
 local totals = {poses = 0, refused = 0, passes = 0}
+-- The chosen channels, planned side by side on --threads.
+local chosen, requests = {}, {}
 for _, c in ipairs(channels) do
   if wanted[c.name] then
-    local plan = bliskrun.channel_rough{left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
-                                        hub = hub, tool = tool, ball_radius = tip_radius, world = world,
-                                        stations = stations, stock = stock, scallop = scallop,
-                                        depth_step = depth_step, cutter_clearance = min_stock}
-    for _, r in ipairs(plan.refusals) do
-      print(string.format("channel %s: refused %s %d at t = %.3f: %s", c.name, r.kind, r.index, r.t, r.reason))
-    end
-    if not plan.complete then
-      error(string.format("channel %s: the plan could not be completed: %s", c.name, plan.stopped), 0)
-    end
-    -- APT/CL: GOTO tip, axis; a RAPID before each link and lead move.
-    local apt = {"PARTNO/bliskrun impeller channel " .. c.name, "$$ " .. tool:description(), "MULTAX/ON"}
-    local moves = {}
-    for i, m in ipairs(plan.moves) do
-      if m.kind == "rapid" then apt[#apt + 1] = "RAPID" end
-      apt[#apt + 1] = string.format("GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", m.tip[1], m.tip[2], m.tip[3],
-                                    m.axis[1], m.axis[2], m.axis[3])
-      moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row}
-    end
-    apt[#apt + 1] = "FINI"
-    bliskrun.write_text("impeller_channel_" .. c.name .. ".apt", table.concat(apt, "\n") .. "\n")
-    blocks[#blocks + 1] = {name = "channel " .. c.name, moves = moves}
-    report.channels[c.name] = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
-                               widen_right = plan.widen_right, paths_added = plan.paths_added,
-                               turned = plan.turned, step_over = plan.step_over,
-                               outlet_width_left = plan.outlet_width_left, outlet_width_right = plan.outlet_width_right,
-                               scallop_max = plan.scallop_max, scallop_outlet = plan.scallop_outlet,
-                               deepest_step = plan.deepest_step, poses = plan.poses, passes = #plan.passes,
-                               links = plan.links, moves = #plan.moves, refusals = plan.refusals,
-                               left_v = c.left_v, right_v = c.right_v}
-    rows[#rows + 1] = {c.name, plan.notch_levels, plan.widen_left, plan.widen_right, plan.step_over,
-                       plan.outlet_width_left, plan.outlet_width_right, plan.scallop_max, #plan.passes, plan.poses,
-                       #plan.refusals}
-    totals.poses, totals.refused = totals.poses + plan.poses, totals.refused + #plan.refusals
-    totals.passes = totals.passes + #plan.passes
-    print(string.format("channel %-6s %d notch levels (step <= %.2f mm), %d + %d widening paths at %.3f mm "
-                        .. "(outlet %.2f / %.2f mm; %d added where a cusp exceeded h), scallop measured <= %.4f mm; "
-                        .. "%d passes, %d poses (%d turned), %d refused",
-                        c.name, plan.notch_levels, plan.deepest_step, plan.widen_left, plan.widen_right, plan.step_over,
-                        plan.outlet_width_left, plan.outlet_width_right, plan.paths_added, plan.scallop_max,
-                        #plan.passes, plan.poses, plan.turned, #plan.refusals))
+    chosen[#chosen + 1] = c
+    requests[#requests + 1] = {left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
+                               hub = hub, tool = tool, ball_radius = tip_radius, world = world,
+                               stations = stations, stock = stock, scallop = scallop,
+                               depth_step = depth_step, cutter_clearance = min_stock}
   end
+end
+local plans = #requests > 0 and bliskrun.channel_rough_all{channels = requests} or {}
+for k, c in ipairs(chosen) do
+  local plan = plans[k]
+  for _, r in ipairs(plan.refusals) do
+    print(string.format("channel %s: refused %s %d at t = %.3f: %s", c.name, r.kind, r.index, r.t, r.reason))
+  end
+  if not plan.complete then
+    error(string.format("channel %s: the plan could not be completed: %s", c.name, plan.stopped), 0)
+  end
+  -- APT/CL: GOTO tip, axis; a RAPID before each link and lead move.
+  local apt = {"PARTNO/bliskrun impeller channel " .. c.name, "$$ " .. tool:description(), "MULTAX/ON"}
+  local moves = {}
+  for i, m in ipairs(plan.moves) do
+    if m.kind == "rapid" then apt[#apt + 1] = "RAPID" end
+    apt[#apt + 1] = string.format("GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", m.tip[1], m.tip[2], m.tip[3],
+                                  m.axis[1], m.axis[2], m.axis[3])
+    moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row}
+  end
+  apt[#apt + 1] = "FINI"
+  bliskrun.write_text("impeller_channel_" .. c.name .. ".apt", table.concat(apt, "\n") .. "\n")
+  blocks[#blocks + 1] = {name = "channel " .. c.name, moves = moves}
+  report.channels[c.name] = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
+                             widen_right = plan.widen_right, paths_added = plan.paths_added,
+                             turned = plan.turned, step_over = plan.step_over,
+                             outlet_width_left = plan.outlet_width_left, outlet_width_right = plan.outlet_width_right,
+                             scallop_max = plan.scallop_max, scallop_outlet = plan.scallop_outlet,
+                             deepest_step = plan.deepest_step, poses = plan.poses, passes = #plan.passes,
+                             links = plan.links, moves = #plan.moves, refusals = plan.refusals,
+                             left_v = c.left_v, right_v = c.right_v}
+  rows[#rows + 1] = {c.name, plan.notch_levels, plan.widen_left, plan.widen_right, plan.step_over,
+                     plan.outlet_width_left, plan.outlet_width_right, plan.scallop_max, #plan.passes, plan.poses,
+                     #plan.refusals}
+  totals.poses, totals.refused = totals.poses + plan.poses, totals.refused + #plan.refusals
+  totals.passes = totals.passes + #plan.passes
+  print(string.format("channel %-6s %d notch levels (step <= %.2f mm), %d + %d widening paths at %.3f mm "
+                      .. "(outlet %.2f / %.2f mm; %d added where a cusp exceeded h), scallop measured <= %.4f mm; "
+                      .. "%d passes, %d poses (%d turned), %d refused",
+                      c.name, plan.notch_levels, plan.deepest_step, plan.widen_left, plan.widen_right, plan.step_over,
+                      plan.outlet_width_left, plan.outlet_width_right, plan.paths_added, plan.scallop_max,
+                      #plan.passes, plan.poses, plan.turned, #plan.refusals))
 end
 report.totals = totals
 bliskrun.write_json("impeller_channel_roughing.json", report)

@@ -228,6 +228,31 @@ TEST(ChannelRoughing, WithAWorldEveryMoveIsClearAndObstaclesAreLinkedAround) {
   every_move_clear(blocked, world);
 }
 
+// Several channels on two threads are the channels planned one by one
+// (the requests share the cutter and the hub): the same moves, in order.
+TEST(ChannelRoughing, ChannelsOnTwoThreadsMatchOneByOne) {
+  FlatChannel s;
+  std::vector<ChannelRequest> requests;
+  for (double scallop : {0.01, 0.05, 0.2}) {
+    ChannelRequest rq = s.request();
+    rq.scallop_mm = scallop;
+    requests.push_back(rq);
+  }
+  const std::vector<ChannelPlan> both = plan_channels(requests, 2);
+  ASSERT_EQ(both.size(), requests.size());
+  for (size_t k = 0; k < requests.size(); ++k) {
+    const std::vector<ChannelMove> a = channel_moves(plan_channel(requests[k])), b = channel_moves(both[k]);
+    ASSERT_EQ(a.size(), b.size()) << k;
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].pose.tip, b[i].pose.tip) << k << " " << i;
+      EXPECT_EQ(a[i].pose.axis, b[i].pose.axis) << k << " " << i;
+    }
+  }
+  // Different scallops give different plans: the order is the requests'.
+  EXPECT_GT(channel_moves(both[0]).size(), channel_moves(both[2]).size());
+  EXPECT_THROW(plan_channels(requests, 0), ParameterError);
+}
+
 TEST(ChannelRoughing, RefusesWhatCannotBePlanned) {
   FlatChannel s;
   ChannelRequest rq = s.request();
