@@ -43,13 +43,73 @@ void read_window(lua_State* L, const luax::Options& o, const char* key, double& 
   lua_pop(L, 3);
 }
 
-// bliskrun.simulate{surface=, passes = {{tool=, poses = {...}}, ...}, ...}
+// The passes of one group: consecutive passes with the same tool form one
+// run; `global` maps the group's pass numbers to the order given.
+struct PassGroup {
+  std::string name;
+  std::vector<std::vector<ToolPass>> run_passes;
+  std::vector<const Tool*> run_tools;
+  std::vector<int> global;
+};
+
+// Pushes a result table (the figures, where the deepest overcut is, the map).
+void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, const Surface& design, long poses,
+                 double seconds) {
+  double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+  for (double x : u.residual_mm)
+    if (std::isfinite(x)) lowest = std::min(lowest, x), highest = std::max(highest, x);
+  lua_createtable(L, 0, 20);
+  luax::set_number(L, "undercut_max", u.undercut_max_mm);
+  luax::set_number(L, "undercut_mean", u.undercut_mean_mm);
+  luax::set_number(L, "undercut_median", u.undercut_median_mm);
+  luax::set_number(L, "undercut_std", u.undercut_std_mm);
+  luax::set_number(L, "overcut", u.overcut_mm);
+  // The material left over the samples the tools reached (nil if none).
+  if (std::isfinite(lowest)) {
+    luax::set_number(L, "residual_min", lowest);
+    luax::set_number(L, "residual_max", highest);
+  }
+  if (u.overcut_sample >= 0) {
+    // Which motion cut deepest: pass (1-based, in the order given) and the
+    // pose its motion ends at (1-based; the motion from pose k - 1 to k).
+    lua_pushinteger(L, u.overcut_pass + 1);
+    lua_setfield(L, -2, "overcut_pass");
+    lua_pushinteger(L, u.overcut_pose + 1);
+    lua_setfield(L, -2, "overcut_pose");
+    const long row = u.overcut_sample / so.samples_v, col = u.overcut_sample % so.samples_v;
+    const double su = so.u0 + (so.u1 - so.u0) * static_cast<double>(row) / (so.samples_u - 1);
+    const double sv = so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1);
+    luax::set_number(L, "overcut_u", su);
+    luax::set_number(L, "overcut_v", sv);
+    luax::set_vec3(L, "overcut_point", design.point(su, sv));
+  }
+  lua_pushinteger(L, u.untouched);
+  lua_setfield(L, -2, "untouched");
+  lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
+  lua_setfield(L, -2, "samples");
+  lua_pushinteger(L, u.tool_positions);
+  lua_setfield(L, -2, "tool_positions");
+  lua_pushinteger(L, poses);
+  lua_setfield(L, -2, "poses");
+  luax::set_number(L, "seconds", seconds);
+  char footer[240];
+  std::snprintf(footer, sizeof footer,
+                "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
+                "overcut %.1f um; untouched %d",
+                u.samples_u, u.samples_v, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
+                1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
+  push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
+  lua_setfield(L, -2, "map");
+}
+
+// bliskrun.simulate{surface=, passes = {{tool=, poses = {...}, group=}, ...}, ...}
 int w_simulate(lua_State* L) {
   const luax::Options o(
       L, 1, "bliskrun.simulate",
       {Field{"surface", Kind::Any, true, std::nullopt, std::nullopt, "design surface (Surface)", {}},
        Field{"passes", Kind::Table, true, std::nullopt, std::nullopt,
-             "list of {tool = Tool, poses = {{tip=, axis=}, ...}}: each pass moves pose to pose as the machine does", {}},
+             "list of {tool = Tool, poses = {{tip=, axis=}, ...}, group = name}: each pass moves pose to pose as "
+             "the machine does", {}},
        Field{"samples_u", Kind::Integer, false, 2, 5000, "design samples along u (default 100)", {}},
        Field{"samples_v", Kind::Integer, false, 2, 20000, "design samples along v (default 400)", {}},
        Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "sampled u window {lo, hi} (default {0, 1})", {}},
@@ -66,13 +126,13 @@ int w_simulate(lua_State* L) {
   const std::shared_ptr<const Surface> design = surface->surface;
   lua_pop(L, 1);
 
-  // Consecutive passes with the same tool form one run.
-  std::vector<std::vector<ToolPass>> run_passes;
-  std::vector<const Tool*> run_tools;
+  std::vector<PassGroup> groups;
+  bool labelled = false;
   o.push_raw("passes");
   const int passes = lua_gettop(L);
   const lua_Integer n = luaL_len(L, passes);
   long poses_total = 0;
+  std::vector<long> group_poses;
   for (lua_Integer i = 1; i <= n; ++i) {
     const std::string what = "bliskrun.simulate: passes[" + std::to_string(i) + "]";
     lua_rawgeti(L, passes, i);
@@ -81,6 +141,13 @@ int w_simulate(lua_State* L) {
     lua_getfield(L, pass, "tool");
     const LuaTool* tool = luax::test<LuaTool>(L, -1);
     if (!tool) luax::error(L, what + ".tool: expected a bliskrun.Tool");
+    lua_pop(L, 1);
+    lua_getfield(L, pass, "group");
+    const bool has_group = !lua_isnil(L, -1);
+    if (has_group && !lua_isstring(L, -1)) luax::error(L, what + ".group: expected a name");
+    if (i > 1 && has_group != labelled) luax::error(L, what + ".group: every pass or none has a group");
+    labelled = has_group;
+    const std::string name = has_group ? lua_tostring(L, -1) : "";
     lua_pop(L, 1);
     lua_getfield(L, pass, "poses");
     const int poses = lua_gettop(L);
@@ -94,14 +161,25 @@ int w_simulate(lua_State* L) {
       lua_pop(L, 1);
     }
     poses_total += static_cast<long>(m);
-    if (run_tools.empty() || run_tools.back() != &tool->tool) {
-      run_tools.push_back(&tool->tool);
-      run_passes.emplace_back();
+    size_t g = 0;
+    while (g < groups.size() && groups[g].name != name) ++g;
+    if (g == groups.size()) {
+      groups.push_back(PassGroup{name, {}, {}, {}});
+      group_poses.push_back(0);
     }
-    run_passes.back().push_back(std::move(p));
+    PassGroup& group = groups[g];
+    group_poses[g] += static_cast<long>(m);
+    if (group.run_tools.empty() || group.run_tools.back() != &tool->tool) {
+      group.run_tools.push_back(&tool->tool);
+      group.run_passes.emplace_back();
+    }
+    group.run_passes.back().push_back(std::move(p));
+    group.global.push_back(static_cast<int>(i - 1));
     lua_pop(L, 2);
   }
   lua_pop(L, 1);
+  if (groups.empty()) groups.push_back(PassGroup{});
+  group_poses.resize(groups.size(), 0);
 
   UndercutOptions so;
   so.samples_u = static_cast<int>(o.integer("samples_u", 100));
@@ -114,56 +192,48 @@ int w_simulate(lua_State* L) {
   so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
   so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
-    std::vector<ToolRun> runs;
-    for (size_t r = 0; r < run_tools.size(); ++r) runs.push_back(ToolRun{run_tools[r], &run_passes[r]});
-    const auto t0 = std::chrono::steady_clock::now();
-    UndercutResult u = simulate_undercut(*design, runs, so, context(L).progress);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-    for (double x : u.residual_mm)
-      if (std::isfinite(x)) lowest = std::min(lowest, x), highest = std::max(highest, x);
-    lua_createtable(L, 0, 16);
-    luax::set_number(L, "undercut_max", u.undercut_max_mm);
-    luax::set_number(L, "undercut_mean", u.undercut_mean_mm);
-    luax::set_number(L, "undercut_median", u.undercut_median_mm);
-    luax::set_number(L, "undercut_std", u.undercut_std_mm);
-    luax::set_number(L, "overcut", u.overcut_mm);
-    // The material left over the samples the tools reached (nil if none).
-    if (std::isfinite(lowest)) {
-      luax::set_number(L, "residual_min", lowest);
-      luax::set_number(L, "residual_max", highest);
+    // Each group swept on its own; the whole is the lowest of the groups'
+    // maps (every motion belongs to one group), not a second sweep.
+    std::vector<UndercutResult> results;
+    std::vector<double> seconds;
+    for (const PassGroup& g : groups) {
+      std::vector<ToolRun> runs;
+      for (size_t r = 0; r < g.run_tools.size(); ++r) runs.push_back(ToolRun{g.run_tools[r], &g.run_passes[r]});
+      const auto t0 = std::chrono::steady_clock::now();
+      results.push_back(simulate_undercut(*design, runs, so, context(L).progress));
+      seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      if (results.back().overcut_pass >= 0) results.back().overcut_pass = g.global[results.back().overcut_pass];
     }
-    if (u.overcut_sample >= 0) {
-      // Which motion cut deepest: pass (1-based, in the order given) and the
-      // pose its motion ends at (1-based; the motion from pose k - 1 to k).
-      lua_pushinteger(L, u.overcut_pass + 1);
-      lua_setfield(L, -2, "overcut_pass");
-      lua_pushinteger(L, u.overcut_pose + 1);
-      lua_setfield(L, -2, "overcut_pose");
-      const long row = u.overcut_sample / so.samples_v, col = u.overcut_sample % so.samples_v;
-      const double su = so.u0 + (so.u1 - so.u0) * static_cast<double>(row) / (so.samples_u - 1);
-      const double sv = so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1);
-      luax::set_number(L, "overcut_u", su);
-      luax::set_number(L, "overcut_v", sv);
-      luax::set_vec3(L, "overcut_point", design->point(su, sv));
+    UndercutResult whole = results.front();
+    double whole_seconds = seconds.front();
+    for (size_t k = 1; k < results.size(); ++k) {
+      for (size_t i = 0; i < whole.residual_mm.size(); ++i)
+        whole.residual_mm[i] = std::min(whole.residual_mm[i], results[k].residual_mm[i]);
+      whole.tool_positions += results[k].tool_positions;
+      whole.line_evaluations += results[k].line_evaluations;
+      whole_seconds += seconds[k];
     }
-    lua_pushinteger(L, u.untouched);
-    lua_setfield(L, -2, "untouched");
-    lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
-    lua_setfield(L, -2, "samples");
-    lua_pushinteger(L, u.tool_positions);
-    lua_setfield(L, -2, "tool_positions");
-    lua_pushinteger(L, poses_total);
-    lua_setfield(L, -2, "poses");
-    luax::set_number(L, "seconds", seconds);
-    char footer[240];
-    std::snprintf(footer, sizeof footer,
-                  "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
-                  "overcut %.1f um; untouched %d",
-                  u.samples_u, u.samples_v, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
-                  1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
-    push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
-    lua_setfield(L, -2, "map");
+    if (results.size() > 1) {
+      summarise_residual(whole, so);
+      whole.overcut_pass = whole.overcut_pose = -1;
+      for (const UndercutResult& r : results)  // the first group (in the order given) that cut that deep there
+        if (whole.overcut_sample >= 0 && r.overcut_sample >= 0 &&
+            r.residual_mm[whole.overcut_sample] <= whole.overcut_mm) {
+          whole.overcut_pass = r.overcut_pass;
+          whole.overcut_pose = r.overcut_pose;
+          break;
+        }
+    }
+    push_result(L, std::move(whole), so, *design, poses_total, whole_seconds);
+    if (labelled) {
+      lua_createtable(L, static_cast<int>(groups.size()), 0);
+      for (size_t k = 0; k < groups.size(); ++k) {
+        push_result(L, std::move(results[k]), so, *design, group_poses[k], seconds[k]);
+        luax::set_string(L, "name", groups[k].name);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+      }
+      lua_setfield(L, -2, "groups");
+    }
     return 1;
   });
 }

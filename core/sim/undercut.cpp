@@ -175,6 +175,42 @@ void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const Sam
 
 }  // namespace
 
+void summarise_residual(UndercutResult& r, const UndercutOptions& o) {
+  r.untouched = 0;
+  r.undercut_max_mm = r.undercut_mean_mm = r.undercut_median_mm = r.undercut_std_mm = 0;
+  r.overcut_mm = 0;
+  r.overcut_sample = -1;
+  std::vector<double> under;
+  under.reserve(r.residual_mm.size());
+  for (size_t i = 0; i < r.residual_mm.size(); ++i) {
+    const double res = r.residual_mm[i];
+    const double u = o.u0 + (o.u1 - o.u0) * static_cast<double>(i / o.samples_v) / (o.samples_u - 1);
+    const bool machined = u >= o.machined_u0 && u <= o.machined_u1;
+    if (!std::isfinite(res)) {
+      if (machined) ++r.untouched;
+      continue;
+    }
+    if (res < r.overcut_mm) {
+      r.overcut_mm = res;
+      r.overcut_sample = static_cast<long>(i);
+    }
+    if (machined) under.push_back(std::max(res, 0.0));
+  }
+  if (!under.empty()) {
+    double sum = 0;
+    for (double x : under) sum += x;
+    r.undercut_mean_mm = sum / under.size();
+    double var = 0;
+    for (double x : under) var += (x - r.undercut_mean_mm) * (x - r.undercut_mean_mm);
+    r.undercut_std_mm = std::sqrt(var / under.size());
+    cancellation_point();
+    std::sort(under.begin(), under.end());
+    r.undercut_max_mm = under.back();
+    const size_t n = under.size();
+    r.undercut_median_mm = n % 2 ? under[n / 2] : 0.5 * (under[n / 2 - 1] + under[n / 2]);
+  }
+}
+
 UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
                                  const std::vector<ToolPass>& passes,
                                  const UndercutOptions& o, Progress& progress) {
@@ -255,22 +291,7 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
   r.residual_mm.resize(idx.samples.size());
   for (size_t i = 0; i < idx.samples.size(); ++i) r.residual_mm[i] = residual[i].load(std::memory_order_relaxed);
   for (int w = 0; w < workers; ++w) r.line_evaluations += evaluations[w];
-  std::vector<double> under;
-  under.reserve(r.residual_mm.size());
-  for (size_t i = 0; i < r.residual_mm.size(); ++i) {
-    const double res = r.residual_mm[i];
-    const double u = o.u0 + (o.u1 - o.u0) * static_cast<double>(i / o.samples_v) / (o.samples_u - 1);
-    const bool machined = u >= o.machined_u0 && u <= o.machined_u1;
-    if (!std::isfinite(res)) {
-      if (machined) ++r.untouched;
-      continue;
-    }
-    if (res < r.overcut_mm) {
-      r.overcut_mm = res;
-      r.overcut_sample = static_cast<long>(i);
-    }
-    if (machined) under.push_back(std::max(res, 0.0));
-  }
+  summarise_residual(r, o);
   if (r.overcut_sample >= 0) {
     // Which motion cut it: the first position (in program order) whose
     // trace reaches the final residual there.
@@ -286,19 +307,6 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
         break;
       }
     }
-  }
-  if (!under.empty()) {
-    double sum = 0;
-    for (double x : under) sum += x;
-    r.undercut_mean_mm = sum / under.size();
-    double var = 0;
-    for (double x : under) var += (x - r.undercut_mean_mm) * (x - r.undercut_mean_mm);
-    r.undercut_std_mm = std::sqrt(var / under.size());
-    cancellation_point();
-    std::sort(under.begin(), under.end());
-    r.undercut_max_mm = under.back();
-    const size_t n = under.size();
-    r.undercut_median_mm = n % 2 ? under[n / 2] : 0.5 * (under[n / 2 - 1] + under[n / 2]);
   }
   return r;
 }

@@ -86,6 +86,12 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
                                  const UndercutOptions& options,
                                  Progress& progress = Progress::none());
 
+// The statistics of a residual map (untouched, the undercut figures, the
+// deepest overcut and its sample) from r.residual_mm, r.samples_u/v and the
+// options' windows — e.g. of the lowest of several simulations' maps over
+// the same samples. Leaves overcut_pass and overcut_pose alone.
+void summarise_residual(UndercutResult& r, const UndercutOptions& options);
+
 // Passes one tool cuts (borrowed: both must outlive the call).
 struct ToolRun {
   const Tool* tool = nullptr;

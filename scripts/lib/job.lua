@@ -846,58 +846,53 @@ function Job:simulate_impeller(o)
       radius = math.max(radius, math.sqrt((p[1] - c[1]) ^ 2 + (p[2] - c[2]) ^ 2 + (p[3] - c[3]) ^ 2))
     end
     local search_above = sfc.search_above or 1
-    -- Passes per group: runs of consecutive motions of the group near the surface.
-    local groups, order = {}, {}
-    local function add(key, i)
-      local g = groups[key]
-      if not g then
-        g = {passes = {}, first = {}, last_motion = -1}
-        groups[key] = g
-        order[#order + 1] = key
-      end
-      if g.last_motion ~= i - 1 then
-        g.passes[#g.passes + 1] = {tool = self:tool_of_number(moves[i].tool), poses = {moves[i - 1]}}
-        g.first[#g.passes] = i - 1
-      end
-      local pass = g.passes[#g.passes]
-      pass.poses[#pass.poses + 1] = moves[i]
-      g.last_motion = i
-    end
+    -- Passes: runs of consecutive motions of one group (an operation, or the
+    -- links) near the surface. One sweep per group; the job's is the lowest
+    -- of them (every motion is in one group), computed by bliskrun.simulate.
+    local passes, first, names, last = {}, {}, {}, {}
     for i = 2, #moves do
       local key = group_of(i)
       if key and segment_distance(c, moves[i - 1].tip, moves[i].tip) <= radius + cutter_reach(moves[i].tool) + search_above then
-        add(key, i)
-        add("job", i)
+        local name = key == "links" and "links" or tostring(key)
+        if last[name] ~= i - 1 then
+          passes[#passes + 1] = {tool = self:tool_of_number(moves[i].tool), poses = {moves[i - 1]}, group = name}
+          first[#passes] = i - 1
+          names[name] = #passes
+        end
+        local pass = passes[names[name]]
+        pass.poses[#pass.poses + 1] = moves[i]
+        last[name] = i
       end
     end
     local rs = {name = sfc.name, groups = {}}
-    table.sort(order, function(a, b)
-      local ka = a == "job" and 1e9 or a == "links" and 1e8 or a
-      local kb = b == "job" and 1e9 or b == "links" and 1e8 or b
-      return ka < kb
-    end)
-    for _, key in ipairs(order) do
-      local g = groups[key]
-      local sim = bliskrun.simulate{surface = sfc.surface, passes = g.passes, samples_u = o.samples_u or 60,
+    if #passes > 0 then
+      local sim = bliskrun.simulate{surface = sfc.surface, passes = passes, samples_u = o.samples_u or 60,
                                     samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip,
                                     search_above = search_above, search_below = 0.5, sweep_step = o.sweep_step or 0.1}
-      local r = {name = key == "job" and "job" or key == "links" and "links" or self.operations[key].kind,
-                 operation = type(key) == "number" and key or nil, undercut_max = sim.undercut_max,
-                 undercut_mean = sim.undercut_mean, residual_min = sim.residual_min, residual_max = sim.residual_max,
-                 overcut = sim.overcut, untouched = sim.untouched, samples = sim.samples, seconds = sim.seconds,
-                 map = sim.map}
-      if sim.overcut_pass then
-        r.overcut_move = g.first[sim.overcut_pass] + sim.overcut_pose - 1
-        r.overcut_operation = moves[r.overcut_move].operation_kind
-        r.overcut_point = sim.overcut_point
-      end
-      rs.groups[#rs.groups + 1] = r
-      if key == "job" then
-        rs.total = r
-        if r.overcut < result.overcut then
-          result.overcut = r.overcut
-          result.overcut_at = {surface = sfc.name, move = r.overcut_move, operation = r.overcut_operation}
+      local function entry(r, key)
+        local e = {name = key == "job" and "job" or key == "links" and "links" or self.operations[tonumber(key)].kind,
+                   operation = tonumber(key), undercut_max = r.undercut_max, undercut_mean = r.undercut_mean,
+                   residual_min = r.residual_min, residual_max = r.residual_max, overcut = r.overcut,
+                   untouched = r.untouched, samples = r.samples, seconds = r.seconds, map = r.map}
+        if r.overcut_pass then
+          e.overcut_move = first[r.overcut_pass] + r.overcut_pose - 1
+          e.overcut_operation = moves[e.overcut_move].operation_kind
+          e.overcut_point = r.overcut_point
         end
+        return e
+      end
+      local order = {}
+      for k, g in ipairs(sim.groups) do order[k] = g end
+      table.sort(order, function(a, b)
+        local ka, kb = a.name == "links" and 1e9 or tonumber(a.name), b.name == "links" and 1e9 or tonumber(b.name)
+        return ka < kb
+      end)
+      for _, g in ipairs(order) do rs.groups[#rs.groups + 1] = entry(g, g.name) end
+      rs.total = entry(sim, "job")
+      rs.groups[#rs.groups + 1] = rs.total
+      if rs.total.overcut < result.overcut then
+        result.overcut = rs.total.overcut
+        result.overcut_at = {surface = sfc.name, move = rs.total.overcut_move, operation = rs.total.overcut_operation}
       end
     end
     result.surfaces[#result.surfaces + 1] = rs
