@@ -845,6 +845,8 @@ function Job:simulate_impeller(o)
     for _, p in ipairs(pts) do
       radius = math.max(radius, math.sqrt((p[1] - c[1]) ^ 2 + (p[2] - c[2]) ^ 2 + (p[3] - c[3]) ^ 2))
     end
+    -- 11 x 11 samples can miss a little of the window's extent: 2 % and 5 mm more.
+    radius = 1.02 * radius + 5
     local search_above = sfc.search_above or 1
     -- Passes: runs of consecutive motions of one group (an operation, or the
     -- links) near the surface. One sweep per group; the job's is the lowest
