@@ -143,16 +143,9 @@ local function require_impeller(j, what)
   if j.part_kind ~= "impeller" then error(what .. ": this operation machines an impeller; the job's part is a blisk", 0) end
 end
 
-local function check_blades(j, blades, what)
-  local n = j.part:blade_count()
-  for _, k in ipairs(blades) do
-    if k > n then error(string.format("%s: blade %d does not exist; the part has %d", what, k, n), 0) end
-  end
-end
-
 -- Blade 1's units turned onto each blade of the operation: the model is
 -- symmetric under turns of the blade pitch about Z, so the proofs carry over.
-local function per_blade(j, units, blades, feed_of)
+local function per_blade(j, units, blades)
   local iw = require("impeller_world")
   local out = {}
   for _, k in ipairs(blades) do
@@ -164,7 +157,7 @@ local function per_blade(j, units, blades, feed_of)
         moves[i] = {kind = m.kind, tip = p.tip, axis = p.axis, row = m.row, motion = m.motion,
                     operation = m.operation}
       end
-      out[#out + 1] = {blade = k, side = u.name, moves_list = moves, report = u.report, feed = feed_of}
+      out[#out + 1] = {blade = k, side = u.name, moves_list = moves, report = u.report}
     end
   end
   return out
@@ -201,7 +194,6 @@ function M.notch(o)
   if op.min_stock > op.stock then error("job.notch: option 'min_stock': expected at most the stock", 2) end
   function op.plan_flanks(self, j, index)
     require_impeller(j, "job.notch")
-    check_blades(j, self.blades, "job.notch")
     local iw = require("impeller_world")
     local widen = self.widen_op
     local meshes = j:impeller_meshes(self.mesh_tol)
@@ -244,7 +236,7 @@ function M.notch(o)
                                      scallop_max = plan.scallop_max, paths_added = plan.paths_added,
                                      poses = plan.poses, passes = #plan.passes, turned = plan.turned}}
     end
-    return per_blade(j, units, self.blades, self.feed)
+    return per_blade(j, units, self.blades)
   end
   return op
 end
@@ -291,7 +283,6 @@ function M.flank_finish(o)
               balance = o.balance ~= false, feed = o.feed or 600, lift = 5}
   function op.plan_flanks(self, j, index)
     require_impeller(j, "job.flank_finish")
-    check_blades(j, self.blades, "job.flank_finish")
     local iw = require("impeller_world")
     local meshes = j:impeller_meshes(self.mesh_tol)
     local tool = j.tools[self.tool]
@@ -341,7 +332,7 @@ function M.flank_finish(o)
                            report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
                                      residual_max = plan.residual.max, residual_min = plan.residual.min}}
     end
-    return per_blade(j, units, self.blades, self.feed)
+    return per_blade(j, units, self.blades)
   end
   return op
 end
@@ -768,11 +759,12 @@ function Job:simulate(o)
   return out
 end
 
--- The tool (bliskrun.Tool) of a tool number, sisters included.
-function Job:tool_of_number(n)
+-- The tools-table entry of a tool number, sisters included (a sister has
+-- its tool's form, length and speed).
+function Job:tool_entry(n)
   for _, t in pairs(self.tools) do
     for _, k in ipairs({t.number, table.unpack(t.sisters or {})}) do
-      if k == n then return t.tool end
+      if k == n then return t end
     end
   end
 end
@@ -808,7 +800,7 @@ function Job:simulate_impeller(o)
   local function cutter_reach(n)
     if not reach[n] then
       local r = 0
-      for _, seg in ipairs(self:tool_of_number(n):profile("cutter")) do
+      for _, seg in ipairs(self:tool_entry(n).tool:profile("cutter")) do
         for _, q in ipairs({seg.from, seg.to}) do r = math.max(r, math.sqrt(q[1] ^ 2 + q[2] ^ 2)) end
       end
       reach[n] = r
@@ -857,7 +849,7 @@ function Job:simulate_impeller(o)
       if key and segment_distance(c, moves[i - 1].tip, moves[i].tip) <= radius + cutter_reach(moves[i].tool) + search_above then
         local name = key == "links" and "links" or tostring(key)
         if last[name] ~= i - 1 then
-          passes[#passes + 1] = {tool = self:tool_of_number(moves[i].tool), poses = {moves[i - 1]}, group = name}
+          passes[#passes + 1] = {tool = self:tool_entry(moves[i].tool).tool, poses = {moves[i - 1]}, group = name}
           first[#passes] = i - 1
           names[name] = #passes
         end
@@ -929,11 +921,8 @@ function Job:post(o)
   for _, m in ipairs(self.planned.moves) do
     if not order[m.tool] then
       order[m.tool] = true
-      for _, t in pairs(self.tools) do
-        for _, n in ipairs({t.number, table.unpack(t.sisters or {})}) do
-          if n == m.tool then tools[#tools + 1] = {number = n, length = t.length, spindle_rpm = t.spindle_rpm} end
-        end
-      end
+      local t = self:tool_entry(m.tool)
+      tools[#tools + 1] = {number = m.tool, length = t.length, spindle_rpm = t.spindle_rpm}
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
