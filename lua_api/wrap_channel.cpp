@@ -66,7 +66,16 @@ std::vector<Field> channel_fields() {
           Field{"world", Kind::Any, true, std::nullopt, std::nullopt,
                 "CollisionWorld: both faces, the hub and every other surface the tool may reach", {}},
           Field{"stations", Kind::Integer, false, 2, 100000, "stations along the channel, inlet to outlet; default 41", {}},
-          number_field("stock", "stock left on the hub and the faces, mm; default 0.3", 0, 100),
+          number_field("stock", "stock left on the faces (and the hub, unless hub_stock), mm; default 0.3", 0, 100),
+          number_field("hub_stock",
+                       "stock left on the hub, mm, at most the stock; default the stock. 0: the passes on the hub "
+                       "finish it (the world must then hold the hub for the shank and holder only, and for the "
+                       "cutter a surface inside it)",
+                       0, 100),
+          number_field("hub_chord_tol",
+                       "how far the ball centre may leave the hub's offset between stations on the hub, mm; "
+                       "default 0.005 + hub_stock / 2 (poses are inserted)",
+                       1e-6, 100),
           number_field("scallop", "scallop height on the hub between widening paths, mm; default 0.01", 1e-6),
           number_field("depth_step", "deepest step between notch levels, mm; default 5", 1e-3, 1000),
           Field{"widen", Kind::Boolean, false, std::nullopt, std::nullopt, "widen after notching; default true", {}},
@@ -115,6 +124,12 @@ std::unique_ptr<ChannelCall> read_channel(lua_State* L, int idx, const std::stri
   rq.body = &tool.body();  // built here, on the Lua thread, before any worker reads it
   rq.stations = static_cast<int>(o.integer("stations", 41));
   rq.stock_mm = o.number("stock", 0.3);
+  rq.hub_stock_mm = o.number("hub_stock", rq.stock_mm);
+  if (rq.hub_stock_mm > rq.stock_mm) luax::error(L, what + ": option 'hub_stock': expected at most the stock");
+  // A roughing pass's ball may dip into half the stock it leaves on the hub
+  // (the cutter's clearance in the world still holds); a finishing pass
+  // keeps to 5 um.
+  rq.hub_chord_tol_mm = o.number("hub_chord_tol", 0.005 + 0.5 * rq.hub_stock_mm);
   rq.scallop_mm = o.number("scallop", 0.01);
   rq.depth_step_mm = o.number("depth_step", 5);
   rq.widen = o.boolean("widen", true);
@@ -135,6 +150,8 @@ void push_channel_plan(lua_State* L, const ChannelPlan& plan) {
   luax::set_number(L, "widen_left", plan.widen_left);
   luax::set_number(L, "widen_right", plan.widen_right);
   luax::set_number(L, "paths_added", plan.paths_added);
+  luax::set_number(L, "inserted", plan.inserted);
+  luax::set_number(L, "hub_stock", plan.hub_stock_mm);
   luax::set_number(L, "step_over", plan.step_over_mm);
   luax::set_number(L, "outlet_width_left", plan.outlet_width_left_mm);
   luax::set_number(L, "outlet_width_right", plan.outlet_width_right_mm);

@@ -277,6 +277,18 @@ int w_surface_of_revolution(lua_State* L) {
   });
 }
 
+// bliskrun.offset_revolution(revolution, d) -> the surface of revolution d mm
+// along its normal (the normal eval returns; d < 0 the other way).
+int w_offset_revolution(lua_State* L) {
+  const auto* rev = dynamic_cast<const SurfaceOfRevolution*>(luax::check<SurfaceHandle>(L, 1).surface.get());
+  if (!rev) luax::error(L, "bliskrun.offset_revolution: argument 1: expected a surface of revolution");
+  const double d = luaL_checknumber(L, 2);
+  return luax::guarded(L, [&] {
+    push_surface(L, std::make_shared<SurfaceOfRevolution>(rev->offset(d)));
+    return 1;
+  });
+}
+
 // bliskrun.intersect_revolution(flank, revolution [, {samples=200}])
 int w_intersect_revolution(lua_State* L) {
   const Surface& s = *luax::check<SurfaceHandle>(L, 1).surface;
@@ -419,6 +431,7 @@ void open_geometry(lua_State* L) {
                                        {"interpolate_curve", w_interpolate_curve},
                                        {"surface_of_revolution", w_surface_of_revolution},
                                        {"intersect_revolution", w_intersect_revolution},
+                                       {"offset_revolution", w_offset_revolution},
                                        {"register_scan", w_register_scan},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);

@@ -51,6 +51,30 @@ SurfaceDerivs SurfaceOfRevolution::eval(double u, double v) const {
   return d;
 }
 
+SurfaceOfRevolution SurfaceOfRevolution::offset(double d, int samples) const {
+  if (!std::isfinite(d)) throw ParameterError("offset", "expected a finite distance in mm");
+  if (samples < 8) throw ParameterError("samples", "expected at least 8 profile samples");
+  std::vector<Vec2> m;
+  m.reserve(static_cast<size_t>(samples));
+  for (int i = 0; i < samples; ++i) {
+    const double f = static_cast<double>(i) / (samples - 1);
+    const CurveDerivs c = meridian_.eval(meridian_.t_min() + f * (meridian_.t_max() - meridian_.t_min()));  // (z, r, 0)
+    const Vec2 t(c.dt.x(), c.dt.y());
+    const double speed = t.norm();
+    if (!(speed > 0)) throw Error("offset: the hub profile has a zero tangent");
+    // eval's pu x pv at angle 0 is 2 pi r (-z', 0, r'): in (z, r), (r', -z').
+    const Vec2 n = Vec2(t.y(), -t.x()) / speed;
+    // Signed curvature of the profile towards n; the offset folds where
+    // 1 - d * kappa <= 0.
+    const double kappa = (c.dtt.x() * n.x() + c.dtt.y() * n.y()) / (speed * speed);
+    if (1 - d * kappa <= 0)
+      throw ParameterError("offset", "the profile turns tighter than " + std::to_string(std::abs(d)) +
+                                         " mm on that side: the offset surface would fold");
+    m.emplace_back(Vec2(c.p.x(), c.p.y()) + d * n);
+  }
+  return SurfaceOfRevolution(m);
+}
+
 double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
   // Work in q's meridian plane: (z, r) of q against the profile curve.
   const Vec3 qzr(q.z(), std::hypot(q.x(), q.y()), 0.0);

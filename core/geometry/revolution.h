@@ -22,6 +22,13 @@ class SurfaceOfRevolution : public Surface {
   // r of the profile at axial position z (profile must be single-valued in z
   // there); throws Error if z is outside the profile.
   double radius_at(double z) const;
+  // The surface `d` mm away along the normal pu x pv (d < 0: the other
+  // side), its profile interpolated through `samples` points of this one's
+  // offset. Used to check a cutter that is meant to touch this surface
+  // against the surface a little inside it. Throws ParameterError when the
+  // profile's curvature radius somewhere is below |d| on the side it moves
+  // to (the offset would fold) or samples < 8.
+  SurfaceOfRevolution offset(double d, int samples = 400) const;
 
  private:
   BSplineCurve meridian_;  // points (z, r, 0)

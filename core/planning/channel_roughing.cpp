@@ -38,7 +38,10 @@ struct Station {
 class Channel {
  public:
   explicit Channel(const ChannelRequest& rq)
-      : rq_(rq), r_(rq.cutter->ball_radius_mm()), grown_cutter_(rq.cutter->grown(rq.stock_mm)) {
+      : rq_(rq),
+        r_(rq.cutter->ball_radius_mm()),
+        hub_stock_(rq.hub_stock_mm < 0 ? rq.stock_mm : rq.hub_stock_mm),
+        grown_cutter_(rq.cutter->grown(rq.stock_mm)) {
     find_meridian_range();
   }
 
@@ -53,8 +56,9 @@ class Channel {
   Vec3 ball_centre(const Station& s, double theta) const {
     Vec3 p, n;
     hub_at(s, theta, p, n);
-    return p + (r_ + rq_.stock_mm) * n;
+    return p + (r_ + hub_stock_) * n;
   }
+  double hub_stock() const { return hub_stock_; }
 
   // The channel's stations are the hub's parallel circles from where both
   // faces have begun to where the first ends (in the hub's meridian
@@ -107,11 +111,26 @@ class Channel {
     p = d.p;
     n = s.sign * d.pu.cross(d.pv).normalized();
   }
-  // The ball centre over the hub under x (r + stock along the hub normal).
+  // The ball centre over the hub under x (r + hub stock along the hub normal).
   Vec3 ball_centre_over(const Station& s, const Vec3& x) const {
     Vec3 p, n;
     hub_under(s, x, p, n);
-    return p + (r_ + rq_.stock_mm) * n;
+    return p + (r_ + hub_stock_) * n;
+  }
+  // The ball centre c moved along `axis` until it is r + hub stock over the
+  // hub (Newton on the height along the hub normal).
+  Vec3 slide_onto_hub_offset(const Station& s, Vec3 c, const Vec3& axis) const {
+    for (int it = 0; it < 20; ++it) {
+      Vec3 p, n;
+      hub_under(s, c, p, n);
+      const double error = (c - p).dot(n) - (r_ + hub_stock_), along = axis.dot(n);
+      if (std::abs(error) < 1e-10) return c;
+      if (std::abs(along) < 0.1)
+        throw Error("channel at t = " + std::to_string(s.t) + ": the finishing axis lies along the hub; its ball "
+                    "cannot be slid onto the hub stock");
+      c -= axis * (error / along);
+    }
+    return c;
   }
 
   Station station(double t) const {
@@ -176,7 +195,8 @@ class Channel {
       try {
         const FlankAxis fa = flank_axis(face, s.v[i], rq_.hub, grown_cutter_);
         s.finishing_axis[i] = fa.pose.axis;
-        s.finishing_centre[i] = fa.ball_centre;
+        s.finishing_centre[i] =
+            hub_stock_ == rq_.stock_mm ? fa.ball_centre : slide_onto_hub_offset(s, fa.ball_centre, fa.pose.axis);
       } catch (const Error&) {
         const auto touch = [&](double th) { return distance(i, th) - grown; };
         const double a = theta_mid, b = theta[i], ga = touch(a), gb = touch(b);
@@ -189,7 +209,8 @@ class Channel {
 
   const ChannelRequest& rq_;
   double r_;
-  FlankCutter grown_cutter_;  // the cutter's offset by the stock
+  double hub_stock_;          // the request's hub stock, or the faces'
+  FlankCutter grown_cutter_;  // the cutter's offset by the faces' stock
   double u_in_ = 0, u_out_ = 1;  // the hub's meridian parameter at the inlet and outlet stations
 };
 
@@ -226,6 +247,24 @@ double side_width(const Channel& ch, const Station& s, int side) {
   return length;
 }
 
+// Poses between two poses of a pass on the hub, ball centres ca -> cb: the
+// straight move's middle put back onto the hub's offset where it is more
+// than `tol` off it (axis the two axes' mean), halving both parts until
+// every middle is within tol (at most 2^10 pieces). In cutting order, with
+// their stations t.
+void hub_chord_poses(const Channel& ch, const Station& s, const ToolPose& a, double ta, const ToolPose& b, double tb,
+                     double r, double tol, int depth, std::vector<std::pair<double, ToolPose>>& out) {
+  const Vec3 mid = 0.5 * ((a.tip + r * a.axis) + (b.tip + r * b.axis));
+  const Vec3 on = ch.ball_centre_over(s, mid);
+  if (depth >= 10 || (on - mid).norm() <= tol) return;
+  const Vec3 axis = (a.axis + b.axis).normalized();
+  const ToolPose m{on - r * axis, axis};
+  const double tm = 0.5 * (ta + tb);
+  hub_chord_poses(ch, s, a, ta, m, tm, r, tol, depth + 1, out);
+  out.emplace_back(tm, m);
+  hub_chord_poses(ch, s, m, tm, b, tb, r, tol, depth + 1, out);
+}
+
 }  // namespace
 
 ChannelPlan plan_channel(const ChannelRequest& rq) {
@@ -235,6 +274,9 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   if (rq.world && !rq.body) throw ParameterError("world", "a collision world needs the tool's body");
   if (rq.stations < 2) throw ParameterError("stations", "expected at least 2 stations along the channel");
   if (!(rq.stock_mm >= 0)) throw ParameterError("stock", "expected a stock >= 0 in mm");
+  if (std::isnan(rq.hub_stock_mm) || rq.hub_stock_mm > rq.stock_mm)
+    throw ParameterError("hub_stock", "expected a hub stock from 0 up to the faces' stock, mm");
+  if (!(rq.hub_chord_tol_mm > 0)) throw ParameterError("hub_chord_tol", "expected a chord tolerance > 0 in mm");
   if (!(rq.depth_step_mm > 0)) throw ParameterError("depth_step", "expected a depth step > 0 in mm");
   const double r = rq.cutter->ball_radius_mm();
   if (!(rq.scallop_mm > 0) || rq.scallop_mm >= r)
@@ -247,6 +289,7 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   for (int i = 0; i < rq.stations; ++i) st.push_back(ch.station(static_cast<double>(i) / (rq.stations - 1)));
 
   ChannelPlan plan;
+  plan.hub_stock_mm = ch.hub_stock();
   // Eq. 12 solved exactly, eq. 13 per side at the outlet.
   const double h = rq.scallop_mm;
   plan.step_over_mm = 2 * std::sqrt(2 * r * h - h * h);
@@ -288,7 +331,7 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
           for (int j = 1; j < rq.scallop_samples; ++j) {
             Vec3 p, nh;
             ch.hub_under(st[i], c[k] + (c[k + 1] - c[k]) * (static_cast<double>(j) / rq.scallop_samples), p, nh);
-            const Vec3 q = p + rq.stock_mm * nh;
+            const Vec3 q = p + ch.hub_stock() * nh;
             worst[side][i] = std::max(worst[side][i], std::min(height_to_ball(q, nh, c[k], r),
                                                                height_to_ball(q, nh, c[k + 1], r)));
           }
@@ -315,6 +358,31 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   for (int k = 1; k <= plan.widen_left; ++k) specs.push_back({ChannelPassKind::WidenLeft, k});
   for (int k = 1; k <= plan.widen_right; ++k) specs.push_back({ChannelPassKind::WidenRight, k});
   std::vector<ChannelPass> passes;
+  // Takes a pose into the pass being built: refused (the pass split) when
+  // it is not clear, a new piece when the motion into it is not.
+  const auto accept = [&](const Spec& spec, const ToolPose& pose, double t, const PoseCheck* checked,
+                          ChannelPass& current, const auto& close) {
+    if (rq.world) {
+      const PoseCheck pc = checked ? *checked : rq.world->check(*rq.body, pose, rq.clearances, 0.0);
+      if (!pc.clear) {
+        plan.refusals.push_back({spec.kind, spec.index, t, "pose: " + describe(pc, *rq.world)});
+        close();
+        return;
+      }
+      if (!current.poses.empty()) {
+        const MotionCheck mc =
+            rq.world->check_motion(*rq.body, current.poses.back(), pose, rq.clearances, rq.motion_tol_mm);
+        if (!mc.clear) {
+          plan.refusals.push_back({spec.kind, spec.index, t,
+                                   "motion from the previous pose: " + describe(mc.at, *rq.world) +
+                                       (mc.undecided ? " (undecided)" : "")});
+          close();  // this pose starts a new piece, reached by a link
+        }
+      }
+    }
+    current.t.push_back(t);
+    current.poses.push_back(pose);
+  };
   for (size_t p = 0; p < specs.size(); ++p) {
     const Spec& spec = specs[p];
     ChannelPass current{spec.kind, spec.index, {}, {}};
@@ -328,8 +396,9 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       const int side = spec.kind == ChannelPassKind::WidenRight ? 1 : 0;
       const int n = side == 0 ? plan.widen_left : plan.widen_right;
       ToolPose pose = spec.kind == ChannelPassKind::Notch ? notch_pose(s, spec.index) : widen_pose(station, side, spec.index, n);
+      PoseCheck pc;
       if (rq.world) {
-        PoseCheck pc = rq.world->check(*rq.body, pose, rq.clearances, 0.0);
+        pc = rq.world->check(*rq.body, pose, rq.clearances, 0.0);
         // A widening pose whose flute or shank meets the blade leaning over
         // it: turn its axis further towards the finishing axis about the
         // same ball centre (eq. 14's blend taken beyond k / N), in quarters
@@ -348,24 +417,17 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
             }
           }
         }
-        if (!pc.clear) {
-          plan.refusals.push_back({spec.kind, spec.index, s.t, "pose: " + describe(pc, *rq.world)});
-          close();
-          continue;
-        }
-        if (!current.poses.empty()) {
-          const MotionCheck mc = rq.world->check_motion(*rq.body, current.poses.back(), pose, rq.clearances,
-                                                        rq.motion_tol_mm);
-          if (!mc.clear) {
-            plan.refusals.push_back({spec.kind, spec.index, s.t,
-                                     "motion from the previous pose: " + describe(mc.at, *rq.world) +
-                                         (mc.undecided ? " (undecided)" : "")});
-            close();  // this pose starts a new piece, reached by a link
-          }
-        }
       }
-      current.t.push_back(s.t);
-      current.poses.push_back(pose);
+      // On the hub, the poses the chord tolerance needs between the last
+      // pose and this one first; each is checked like a station's.
+      const bool on_hub = spec.kind != ChannelPassKind::Notch || spec.index == plan.notch_levels;
+      if (on_hub && !current.poses.empty()) {
+        std::vector<std::pair<double, ToolPose>> between;
+        hub_chord_poses(ch, s, current.poses.back(), current.t.back(), pose, s.t, r, rq.hub_chord_tol_mm, 0, between);
+        plan.inserted += static_cast<long>(between.size());
+        for (const auto& tp : between) accept(spec, tp.second, tp.first, nullptr, current, close);
+      }
+      accept(spec, pose, s.t, rq.world ? &pc : nullptr, current, close);
     }
     close();
   }

@@ -50,6 +50,16 @@
 // before it is refused: near a blade leaning over the channel the flute
 // needs more of the blade's lean than the blend gives.
 //
+// Hub stock apart from the faces' (hub_stock_mm): the paper finishes the
+// hub in the widening passes while the faces keep their stock for flank
+// finishing. The deepest notch level and every widening path then run with
+// the ball r + hub stock over the hub, and each side's last path is the
+// grown cutter's finishing pose slid down its own axis onto that offset (the
+// flute keeps its line along the face). Between stations a straight move
+// of the ball centre leaves the hub's curved offset (above it on a convex
+// hub, below on a concave one): poses are inserted, halving, until the
+// middle of every move is within hub_chord_tol_mm of the offset.
+//
 // Every pose is checked with the whole tool against the world (the two
 // faces and the hub with `clearances`, at least the stock for the cutter)
 // and so is the motion from the previous pose. Passes alternate direction
@@ -89,7 +99,12 @@ struct ChannelRequest {
   const ToolBody* body = nullptr;          // with world
   Clearances clearances;                   // cutter: at least what the stock allows
   int stations = 41;                       // along the channel, inlet to outlet
-  double stock_mm = 0.3;                   // left on the hub and the faces for finishing
+  double stock_mm = 0.3;                   // left on the faces for finishing
+  double hub_stock_mm = -1;                // left on the hub; < 0: stock_mm. 0: the passes on the hub
+                                           // finish it (§4.2) — the world must then not hold the hub for
+                                           // the cutter itself (see hub_finishing_world in impeller_world.lua)
+  double hub_chord_tol_mm = 0.005;         // ball centres of the passes on the hub keep to the hub's offset
+                                           // within this between stations (poses inserted)
   double scallop_mm = 0.01;                // h on the hub (eq. 12)
   double depth_step_mm = 5.0;              // notching: deepest step between levels
   bool widen = true;                       // false: notching only
@@ -133,6 +148,8 @@ struct ChannelPlan {
   double deepest_step_mm = 0;            // largest depth between notch levels at any station
   long poses = 0;
   long turned = 0;                       // widening poses whose axis was turned further to clear a blade
+  long inserted = 0;                     // poses inserted between stations on the hub (hub_chord_tol_mm)
+  double hub_stock_mm = 0;               // as planned (the request's, or the stock)
 };
 
 // The toolpath in cutting order: the lead-in's away pose (rapid), each

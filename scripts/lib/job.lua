@@ -197,7 +197,11 @@ function M.notch(o)
     local iw = require("impeller_world")
     local widen = self.widen_op
     local meshes = j:impeller_meshes(self.mesh_tol)
-    local world = iw.channel_world(j.part, meshes)
+    -- Where the widening leaves less on the hub than the cutter's clearance
+    -- (the paper finishes it), the ball is meant to touch the hub.
+    local hub_stock = widen and widen.hub_stock or self.stock
+    local world = iw.channel_world(j.part, meshes, hub_stock < self.min_stock
+                                   and {hub_finish = {cutter_clearance = self.min_stock - hub_stock}} or nil)
     local tool = j.tools[self.tool]
     local wanted, chosen, requests = {}, {}, {}
     for _, name in ipairs(self.channels or {}) do wanted[name] = true end
@@ -206,7 +210,7 @@ function M.notch(o)
         chosen[#chosen + 1] = c
         requests[#requests + 1] = {left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
                                    hub = j.part:hub(), tool = tool.tool, ball_radius = tool.ball_radius,
-                                   world = world, stations = self.stations, stock = self.stock,
+                                   world = world, stations = self.stations, stock = self.stock, hub_stock = hub_stock,
                                    scallop = widen and widen.scallop or nil, widen = widen ~= nil,
                                    depth_step = self.depth_step, cutter_clearance = self.min_stock}
       end
@@ -234,26 +238,31 @@ function M.notch(o)
                            report = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
                                      widen_right = plan.widen_right, step_over = plan.step_over,
                                      scallop_max = plan.scallop_max, paths_added = plan.paths_added,
-                                     poses = plan.poses, passes = #plan.passes, turned = plan.turned}}
+                                     poses = plan.poses, passes = #plan.passes, turned = plan.turned,
+                                     inserted = plan.inserted, hub_stock = plan.hub_stock}}
     end
     return per_blade(j, units, self.blades)
   end
   return op
 end
 
--- Widening with hub roughing (§4.2, eq. 12–14): from the notch towards both
+-- Widening with hub finishing (§4.2, eq. 12–14): from the notch towards both
 -- faces along the hub, paths f = 2 sqrt(2rh - h^2) apart for the scallop h,
--- the last on each side the finishing pose of the cutter grown by the stock.
--- Planned with the job.notch it must directly follow (same tool and blades).
+-- the last on each side the finishing pose of the cutter grown by the
+-- faces' stock. As in the paper the widening finishes the hub in the same
+-- passes: hub_stock (default 0) is what it leaves there, the faces keep the
+-- notch's stock for flank finishing. Planned with the job.notch it must
+-- directly follow (same tool and blades).
 function M.widen(o)
   check_options("job.widen", o, {
     tool = {type = "string", required = true},
     blades = {type = "table", required = true, check = blade_list},
     scallop = {type = "number", check = positive},
+    hub_stock = {type = "number", check = function(v) if not (v >= 0 and v < 10) then return "expected 0 <= hub_stock < 10 mm" end end},
     feed = {type = "number", check = positive},
   }, 2)
-  return {kind = "widen", tool = o.tool, blades = o.blades, scallop = o.scallop or 0.01, feed = o.feed or 1000,
-          plan_flanks = function() return {} end}  -- its moves come with the notch's plan
+  return {kind = "widen", tool = o.tool, blades = o.blades, scallop = o.scallop or 0.01, hub_stock = o.hub_stock or 0,
+          feed = o.feed or 1000, plan_flanks = function() return {} end}  -- its moves come with the notch's plan
 end
 
 -- Flank finishing (§4.3) of blade faces with the side of a (tapered)
@@ -453,6 +462,10 @@ function M.new(spec)
       if not same then
         error(string.format("job.new: operations[%d] (widen) must directly follow the job.notch it widens, with the "
                             .. "same tool and blades: widening starts from the notch", i), 2)
+      end
+      if op.hub_stock > notch.stock then
+        error(string.format("job.new: operations[%d] (widen): option 'hub_stock': expected at most the notch's "
+                            .. "stock (%g mm)", i, notch.stock), 2)
       end
       notch.widen_op = op
     end

@@ -1,12 +1,14 @@
 -- The built-in impeller machined as one job and posted as one verified
 -- program per machine (impeller paper §4; issue 13): every channel notched
--- and widened (roughing the hub), then both faces of every main blade and
+-- and widened, the widening finishing the hub as in the paper (the faces
+-- keep the stock), then both faces of every main blade and
 -- splitter flank-finished, the finishing cutters grouped per blade by tool
 -- life as in the paper (17 blades: 5, 4, 4, 4 per cutter).
 --
 --   bliskrun scripts/recipes/impeller_job.lua --out out [--set blades=17] [--set stations=41]
 --            [--set finish_life=MM] [--set rough_life=MM]   (cutting length per cutter; sisters follow)
 --            [--set scallop=0.01] [--set depth_step=5] [--set stock=0.5] [--set chord_tol=0.005]
+--            [--set hub_stock=0]   (left on the hub by the widening; the faces keep the stock)
 --            [--set channels=inlet,left,right] [--set "faces=main plus,main minus,splitter plus,splitter minus"]
 --            [--set sim_u=60] [--set sim_v=300] [--set simulate=false]   (samples of the simulated surfaces)
 --
@@ -60,7 +62,8 @@ local j = job.new{
   operations = {
     job.notch{tool = "rougher", blades = blades, stock = args.stock or 0.5, depth_step = args.depth_step or 5,
               stations = args.stations or 41, channels = list(args.channels), feed = 800},
-    job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, feed = 1000},
+    job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, hub_stock = args.hub_stock or 0,
+              feed = 1000},
     job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005, faces = list(args.faces),
                      feed = 600},
   },

@@ -59,6 +59,39 @@ class RadialSheet : public Surface {
   }
 };
 
+TEST(SurfaceOfRevolution, OffsetOfATorusIsTheConcentricTorus) {
+  // A quarter circle of radius 20 about (z, r) = (0, 100) swept about Z
+  // (a torus' inner quarter, like an impeller hub's bend). Offset along
+  // eval's normal by +-2: points of the offset lie 20 -+ 2 from the
+  // circle's centre in their meridian plane — or 20 +- 2, whichever side
+  // the normal points; both offsets together must give both.
+  std::vector<Vec2> m;
+  for (int i = 0; i <= 96; ++i) {  // dense: the interpolated profile within 1e-7 of the circle
+    const double a = 0.5 * kPi * i / 96;
+    m.emplace_back(20 * std::sin(a), 100 - 20 * std::cos(a));
+  }
+  const SurfaceOfRevolution torus(m);
+  const SurfaceDerivs d = torus.eval(0.5, 0);
+  const Vec3 n = d.pu.cross(d.pv).normalized();
+  const Vec3 centre(100, 0, 0);  // the profile circle's centre in the plane at angle 0
+  const double toward = n.dot(centre - d.p) > 0 ? 1 : -1;  // +1: the normal points at the centre
+  for (const double off : {2.0, -2.0}) {
+    const SurfaceOfRevolution o = torus.offset(off);
+    double worst = 0;
+    for (int i = 0; i <= 50; ++i) {
+      const Vec3 p = o.point(i / 50.0, 0.0);
+      const double rho = std::hypot(p.x() - 100, p.z());
+      worst = std::max(worst, std::abs(rho - (20 - toward * off)));
+      EXPECT_NEAR(p.y(), 0, 1e-12);
+    }
+    EXPECT_LT(worst, 1e-6) << off;
+  }
+  // Towards the centre by more than the radius the offset would fold.
+  EXPECT_THROW(torus.offset(toward * 21), ParameterError);
+  EXPECT_NO_THROW(torus.offset(toward * 19));
+  EXPECT_THROW(torus.offset(std::nan("")), ParameterError);
+}
+
 TEST(IntersectWithRevolution, SheetMeetsConeOnTheAnalyticLine) {
   const SurfaceCurveOnSurface curve = intersect_with_revolution(RadialSheet(), cone(), 50);
   ASSERT_EQ(curve.u.size(), 50u);

@@ -9,6 +9,7 @@
 #include "core/collision/collision_world.h"
 #include "core/common/error.h"
 #include "core/geometry/mesh.h"
+#include "core/geometry/projection.h"
 
 namespace bliskrun {
 namespace {
@@ -153,6 +154,86 @@ TEST(ChannelRoughing, WideningSpacingMeetsTheResidualHeightFormulaOnAFlatHub) {
       EXPECT_NEAR(c.dot(normal), g, 1e-6);
     }
   }
+}
+
+TEST(ChannelRoughing, TheWideningFinishesTheHubWhileTheFacesKeepTheStock) {
+  // hub_stock 0 (the paper's hub finish in the widening passes): the
+  // deepest notch level and every widening path run with the ball r over
+  // the flat hub; each side's last path is the grown cutter's finishing
+  // pose (vertical ruling) slid down its axis, still g = r + stock from the
+  // face. The widths and N are those of the same line r lower.
+  const FlatChannel s;
+  ChannelRequest rq = s.request();
+  rq.hub_stock_mm = 0;
+  const ChannelPlan plan = plan_channel(rq);
+  const double r = 3, h = 0.01, g = r + 0.3;
+  EXPECT_EQ(plan.hub_stock_mm, 0);
+  EXPECT_EQ(plan.inserted, 0);  // a flat hub: the straight moves stay on its offset
+  const double limit = s.alpha - std::atan(g / 100), outer = std::hypot(100.0, g);
+  const double width = std::sqrt(outer * outer + 100 * 100 - 2 * outer * 100 * std::cos(limit));
+  EXPECT_NEAR(plan.outlet_width_left_mm, width, 1e-9);
+  const int n = static_cast<int>(std::ceil(width / plan.step_over_mm));
+  EXPECT_EQ(plan.widen_left, n);
+  EXPECT_LE(plan.scallop_max_mm, h);  // measured on the hub itself now
+  for (const ChannelPass& pass : plan.passes) {
+    const bool on_hub = pass.kind != ChannelPassKind::Notch || pass.index == plan.notch_levels;
+    for (const ToolPose& p : pass.poses) {
+      const Vec3 c = p.tip + r * p.axis;
+      if (on_hub) EXPECT_NEAR(c.z(), r, 1e-9);
+      else EXPECT_GT(c.z(), r + 1);
+    }
+  }
+  const ChannelPass& last_left = plan.passes[static_cast<size_t>(plan.notch_levels + n - 1)];
+  ASSERT_EQ(last_left.index, n);
+  for (const ToolPose& p : last_left.poses) {
+    EXPECT_NEAR(p.axis.z(), 1, 1e-6);
+    EXPECT_NEAR(s.left.distance(p.tip + r * p.axis), g, 1e-6);
+  }
+  // More on the hub than on the faces is refused.
+  rq.hub_stock_mm = 0.5;
+  EXPECT_THROW(plan_channel(rq), ParameterError);
+}
+
+TEST(ChannelRoughing, OnACurvedHubPosesAreInsertedSoTheBallKeepsToTheHubOffset) {
+  // A hub bulging 2 mm over the channel's middle (meridian z = 2 - (r -
+  // 75)^2 / 400, curvature radius ~200 mm): between stations 5 mm apart a
+  // straight move of the ball centre dips (5^2 / 8 / 203 = 15 um) into the
+  // ball's offset — into the hub, once the hub is finished. With the chord
+  // tolerance every move's middle keeps to the offset within it.
+  FlatChannel s;
+  std::vector<Vec2> m;
+  for (int i = 0; i <= 70; ++i) {
+    const double rad = 40 + i;
+    m.emplace_back(2 - (rad - 75) * (rad - 75) / 400, rad);
+  }
+  s.hub = SurfaceOfRevolution(m);
+  const double r = 3;
+  const auto worst_middle = [&](double tol, long& inserted) {
+    ChannelRequest rq = s.request();
+    rq.hub_stock_mm = 0;
+    rq.scallop_mm = 0.2;  // few paths
+    rq.hub_chord_tol_mm = tol;
+    const ChannelPlan plan = plan_channel(rq);
+    inserted = plan.inserted;
+    double worst = 0;
+    for (const ChannelPass& pass : plan.passes) {
+      if (pass.kind == ChannelPassKind::Notch && pass.index < plan.notch_levels) continue;
+      for (size_t i = 0; i < pass.poses.size(); ++i) {
+        const Vec3 c = pass.poses[i].tip + r * pass.poses[i].axis;
+        const double on = project_to_surface(s.hub, c, ProjectionOptions{}).distance;
+        EXPECT_NEAR(on, r, 1e-6) << i;  // every pose's ball on the hub's offset
+        if (i == 0) continue;
+        const Vec3 mid = 0.5 * (c + pass.poses[i - 1].tip + r * pass.poses[i - 1].axis);
+        worst = std::max(worst, std::abs(project_to_surface(s.hub, mid, ProjectionOptions{}).distance - r));
+      }
+    }
+    return worst;
+  };
+  long inserted = 0;
+  EXPECT_GT(worst_middle(1.0, inserted), 0.012);  // stations alone: the dip
+  EXPECT_EQ(inserted, 0);
+  EXPECT_LE(worst_middle(0.005, inserted), 0.005);
+  EXPECT_GT(inserted, 0);
 }
 
 // A flat plate standing in the channel's middle: radii 73..77 at angle 0,
