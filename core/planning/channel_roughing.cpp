@@ -250,13 +250,17 @@ double side_width(const Channel& ch, const Station& s, int side) {
 // Poses between two poses of a pass on the hub, ball centres ca -> cb: the
 // straight move's middle put back onto the hub's offset where it is more
 // than `tol` off it (axis the two axes' mean), halving both parts until
-// every middle is within tol (at most 2^10 pieces). In cutting order, with
+// every middle is within tol (an error beyond 2^10 pieces). In cutting order, with
 // their stations t.
 void hub_chord_poses(const Channel& ch, const Station& s, const ToolPose& a, double ta, const ToolPose& b, double tb,
                      double r, double tol, int depth, std::vector<std::pair<double, ToolPose>>& out) {
   const Vec3 mid = 0.5 * ((a.tip + r * a.axis) + (b.tip + r * b.axis));
   const Vec3 on = ch.ball_centre_over(s, mid);
-  if (depth >= 10 || (on - mid).norm() <= tol) return;
+  if ((on - mid).norm() <= tol) return;
+  if (depth >= 10)
+    throw Error("channel at t = " + std::to_string(ta) + ".." + std::to_string(tb) +
+                ": the ball centre cannot be kept within " + std::to_string(tol) +
+                " mm of the hub's offset (1024 poses between two stations)");
   const Vec3 axis = (a.axis + b.axis).normalized();
   const ToolPose m{on - r * axis, axis};
   const double tm = 0.5 * (ta + tb);
