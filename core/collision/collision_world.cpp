@@ -119,26 +119,27 @@ PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, cons
                                 double horizon_mm) const {
   validate(clearances);
   if (std::isnan(horizon_mm) || horizon_mm < 0) throw ParameterError("horizon", "must be a non-negative length");
-  std::vector<double> bound;
-  for (const FclToolPart& part : body.parts()) bound.push_back(clearances.of(part.id) + horizon_mm);
-  return check_bounded(body, tool_to_part(pose), clearances, bound);
+  std::vector<std::vector<double>> bound;
+  for (const FclToolPart& part : body.parts())
+    bound.emplace_back(part.pieces.size(), clearances.of(part.id) + horizon_mm);
+  return check_bounded(body, tool_to_part(pose), clearances, bound, nullptr);
 }
 
 PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isometry3d& frame,
-                                        const Clearances& clearances, const std::vector<double>& bound) const {
+                                        const Clearances& clearances, const std::vector<std::vector<double>>& bound,
+                                        std::vector<std::vector<double>>* piece_distance) const {
   PoseCheck out;
   out.min_margin_mm = std::numeric_limits<double>::infinity();
   fcl::DistanceRequestd request;
   request.enable_nearest_points = true;
   const fcl::Transform3d identity = fcl::Transform3d::Identity();
   const Eigen::Isometry3d to_tool = frame.inverse();
+  if (piece_distance) piece_distance->assign(body.parts().size(), {});
   for (size_t p = 0; p < body.parts().size(); ++p) {
     const FclToolPart& part = body.parts()[p];
     PartClearance pc;
     pc.part = part.id;
-    // Never seed FCL with 0: an overlap reports distance 0, which would not
-    // beat a zero seed and would pass as "clear" (clearance 0, horizon 0).
-    pc.distance_mm = std::max(bound[p], 1e-6);
+    pc.distance_mm = std::numeric_limits<double>::infinity();
     pc.resolved = false;
     // A piece wholly inside the part crosses no face: test one vertex each.
     for (int i = 0; i < size() && !pc.collides; ++i) {
@@ -153,28 +154,45 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
         }
       }
     }
-    for (int i = 0; i < size() && !pc.collides; ++i) {
-      if (!objects_[i].options.parts.has(part.id)) continue;
-      // A surface with a margin counts as that much nearer than its mesh.
-      const double margin = objects_[i].options.margin_mm;
-      fcl::DistanceResultd result;
-      // Seeded with the best bound so far: FCL prunes every bounding volume
-      // farther than that.
-      const double seed = pc.distance_mm + margin;
-      result.min_distance = seed;
-      // Mesh first, tool second: nearest_points follow the argument order.
-      fcl::distance(objects_[i].model.get(), identity, part.geometry.get(), frame, request, result);
-      // Compared with the seed itself: (d + m) - m can round below d.
-      if (result.min_distance < seed) {
-        pc.resolved = true;
-        pc.object = i;
-        pc.on_object = result.nearest_points[0];
-        pc.on_tool = result.nearest_points[1];
-        pc.distance_mm = std::min(pc.distance_mm, std::max(0.0, result.min_distance - margin));
-        if (pc.distance_mm <= 0) {
-          pc.collides = true;
-          pc.distance_mm = 0;
+    // Each piece resolved up to its own bound: a motion check steps by each
+    // piece's distance over its own speed.
+    for (size_t k = 0; k < part.pieces.size() && !pc.collides; ++k) {
+      // Never seed FCL with 0: an overlap reports distance 0, which would
+      // not beat a zero seed and would pass as "clear" (clearance 0,
+      // horizon 0).
+      double best = std::max(bound[p][k], 1e-6);
+      bool resolved = false;
+      for (int i = 0; i < size(); ++i) {
+        if (!objects_[i].options.parts.has(part.id)) continue;
+        // A surface with a margin counts as that much nearer than its mesh.
+        const double margin = objects_[i].options.margin_mm;
+        fcl::DistanceResultd result;
+        // Seeded with the best bound so far: FCL prunes every bounding
+        // volume farther than that.
+        const double seed = best + margin;
+        result.min_distance = seed;
+        // Mesh first, tool second: nearest_points follow the argument order.
+        fcl::distance(objects_[i].model.get(), identity, part.pieces[k].geometry.get(), frame, request, result);
+        // Compared with the seed itself: (d + m) - m can round below d.
+        if (result.min_distance < seed) {
+          resolved = true;
+          best = std::max(0.0, result.min_distance - margin);
+          if (best < pc.distance_mm) {
+            pc.object = i;
+            pc.on_object = result.nearest_points[0];
+            pc.on_tool = result.nearest_points[1];
+          }
+          if (best <= 0) break;
         }
+      }
+      if (piece_distance) (*piece_distance)[p].push_back(best);
+      if (best < pc.distance_mm || (best == pc.distance_mm && resolved)) {
+        pc.distance_mm = best;
+        pc.resolved = resolved;
+      }
+      if (best <= 0) {
+        pc.collides = true;
+        pc.distance_mm = 0;
       }
     }
     const double margin = pc.distance_mm - clearances.of(part.id);
@@ -195,8 +213,12 @@ MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& f
   if (!(tol_mm > 0) || !std::isfinite(tol_mm)) throw ParameterError("tol_mm", "must be a positive length");
   if (max_samples < 1) throw ParameterError("max_samples", "must be at least 1");
   const PoseMotion motion(from, to);
-  std::vector<double> speed, bound(body.parts().size());
-  for (const FclToolPart& part : body.parts()) speed.push_back(motion.max_point_speed(part.reach_mm));
+  std::vector<std::vector<double>> speed, bound, distance;
+  for (const FclToolPart& part : body.parts()) {
+    speed.emplace_back();
+    for (const FclPiece& piece : part.pieces) speed.back().push_back(motion.max_point_speed(piece.reach_mm));
+    bound.emplace_back(part.pieces.size(), 0.0);
+  }
   MotionCheck out;
   out.min_margin_mm = std::numeric_limits<double>::infinity();
   double t = 0;
@@ -204,9 +226,10 @@ MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& f
     // Resolve each distance only as far as it could matter: up to what
     // would carry the proof to t = 1 in one step.
     for (size_t p = 0; p < bound.size(); ++p) {
-      bound[p] = clearances.of(body.parts()[p].id) + std::max(0.0, speed[p] * (1 - t) - tol_mm);
+      const double c = clearances.of(body.parts()[p].id);
+      for (size_t k = 0; k < bound[p].size(); ++k) bound[p][k] = c + std::max(0.0, speed[p][k] * (1 - t) - tol_mm);
     }
-    const PoseCheck here = check_bounded(body, motion.frame_at(t), clearances, bound);
+    const PoseCheck here = check_bounded(body, motion.frame_at(t), clearances, bound, &distance);
     ++out.samples;
     out.min_margin_mm = std::min(out.min_margin_mm, here.min_margin_mm);
     if (!here.clear) {
@@ -215,11 +238,15 @@ MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& f
       out.at = here;
       return out;
     }
+    // Every piece may advance until it could have come within its part's
+    // clearance (less tol_mm): its distance over its speed.
     double step = std::numeric_limits<double>::infinity();
-    for (size_t p = 0; p < here.parts.size(); ++p) {
-      if (speed[p] <= 0) continue;
-      const PartClearance& pc = here.parts[p];
-      step = std::min(step, (pc.distance_mm - clearances.of(pc.part) + tol_mm) / speed[p]);
+    for (size_t p = 0; p < distance.size(); ++p) {
+      const double c = clearances.of(body.parts()[p].id);
+      for (size_t k = 0; k < distance[p].size(); ++k) {
+        if (speed[p][k] <= 0) continue;
+        step = std::min(step, (distance[p][k] - c + tol_mm) / speed[p][k]);
+      }
     }
     if (t + step >= 1 - 1e-12) return out;
     if (out.samples >= max_samples) {

@@ -134,10 +134,11 @@ class CollisionWorld {
 
   // The motion from `from` to `to` (PoseMotion: straight tip, axis turning
   // in one plane), checked by conservative advancement: at a sample t the
-  // FCL distances d_p of each part bound how far the motion may go before a
-  // part could come within its clearance c_p — every point of part p moves
-  // at most V_p = |Δtip| + θ·reach_p per unit t — so the next sample is
-  // t + min_p (d_p − c_p + tol_mm) / V_p. "clear" is therefore a proof that
+  // FCL distances d_k of each piece of a part (tool_fcl.h) bound how far
+  // the motion may go before the piece could come within its part's
+  // clearance c — every point of piece k moves at most V_k = |Δtip| +
+  // θ·reach_k per unit t — so the next sample is t + min_k (d_k − c +
+  // tol_mm) / V_k. "clear" is therefore a proof that
   // every part stays at least c_p − tol_mm from every check surface over the
   // whole motion (tol_mm > 0 bounds the number of samples by ~V/tol_mm).
   // A sample closer than its clearance stops the check: not clear, with t
@@ -155,9 +156,11 @@ class CollisionWorld {
     std::vector<Vec3> piece_vertices;  // one vertex of every connected piece
     CheckSurfaceOptions options;
   };
-  // bound_mm[i]: resolve part i's distance up to this.
+  // bound_mm[i][k]: resolve piece k of part i up to this; each piece's
+  // distance (or its bound, when farther) into piece_distance when given.
   PoseCheck check_bounded(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,
-                          const Clearances& clearances, const std::vector<double>& bound_mm) const;
+                          const Clearances& clearances, const std::vector<std::vector<double>>& bound_mm,
+                          std::vector<std::vector<double>>* piece_distance) const;
   std::vector<Object> objects_;
 };
 

@@ -162,6 +162,32 @@ Profile::Profile(std::vector<ProfileElement> elements) : elements_(std::move(ele
   }
 }
 
+std::pair<Profile, Profile> Profile::split_at(double z) const {
+  if (!(z > z_min_ && z < z_max_)) throw ParameterError("split", "expected a height strictly inside the profile");
+  const double r = radius_at(z);
+  std::vector<ProfileElement> below, above;
+  for (const ProfileElement& e : elements_) {
+    if (e.end.y() <= z) {
+      below.push_back(e);
+    } else if (e.start.y() >= z) {
+      above.push_back(e);
+    } else if (e.kind == ProfileElement::Kind::Segment) {
+      const Vec2 p = e.start + (e.end - e.start) * ((z - e.start.y()) / (e.end.y() - e.start.y()));
+      below.push_back(ProfileElement::segment(e.start, p));
+      above.push_back(ProfileElement::segment(p, e.end));
+    } else {
+      // Arcs lie in the half of their circle facing +r.
+      const double dz = z - e.centre.y();
+      const Vec2 p(e.centre.x() + std::sqrt(std::max(0.0, e.radius * e.radius - dz * dz)), z);
+      below.push_back(ProfileElement::arc(e.centre, e.radius, e.start, p));
+      above.push_back(ProfileElement::arc(e.centre, e.radius, p, e.end));
+    }
+  }
+  below.push_back(ProfileElement::segment({r, z}, {0, z}));
+  above.insert(above.begin(), ProfileElement::segment({0, z}, {r, z}));
+  return {Profile(std::move(below)), Profile(std::move(above))};
+}
+
 double Profile::radius_at(double z) const {
   if (z < z_min_ || z > z_max_) return 0;
   double r = 0;

@@ -10,6 +10,7 @@
 // flat-end mills with corner radius, ball and tapered ball ends, contact
 // wheels), and the profile requires it: that makes R(z) single-valued, the
 // contact point for a given normal unique, and the FCL body a convex hull.
+#include <utility>
 #include <vector>
 
 #include "core/common/types.h"
@@ -64,6 +65,10 @@ class Profile {
   // reference point): bounds how far a point moves when the tool turns.
   double reach() const { return reach_; }
 
+  // The solid cut by the plane at height z: the part below and the part
+  // above, each closed by a segment along the cut. Throws ParameterError
+  // unless z_min < z < z_max.
+  std::pair<Profile, Profile> split_at(double z) const;
   // R(z): radius of the solid at height z; 0 outside [z_min, z_max].
   double radius_at(double z) const;
 

@@ -71,6 +71,27 @@ RevolvedPolytope circumscribed_polytope(const Profile& profile, double tol_mm) {
 
 constexpr double kShankTolMm = 0.02;
 
+namespace {
+
+FclPiece fcl_piece(const Profile& profile, double tol_mm, double& overestimate_mm) {
+  const RevolvedPolytope poly = circumscribed_polytope(profile, tol_mm);
+  overestimate_mm = std::max(overestimate_mm, poly.overestimate_mm);
+  FclPiece piece;
+  piece.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  piece.geometry->beginModel();
+  for (const auto& f : poly.faces) {
+    for (size_t k = 1; k + 1 < f.size(); ++k) {
+      piece.geometry->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
+    }
+  }
+  piece.geometry->endModel();
+  piece.geometry->computeLocalAABB();
+  for (const Vec3& v : poly.vertices) piece.reach_mm = std::max(piece.reach_mm, v.norm());
+  return piece;
+}
+
+}  // namespace
+
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
   std::vector<FclToolPart> parts;
   for (int i = 0; i < kToolPartCount; ++i) {
@@ -80,20 +101,18 @@ std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
     // coarser body (at most 0.02 mm larger) keeps their queries cheap where
     // they run close along a blade.
     const double part_tol = id == ToolPartId::Cutter ? tol_mm : std::max(tol_mm, kShankTolMm);
-    const RevolvedPolytope poly = circumscribed_polytope(tool.profile(id), part_tol);
+    const Profile& profile = tool.profile(id);
     FclToolPart part;
     part.id = id;
-    part.overestimate_mm = poly.overestimate_mm;
-    part.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-    part.geometry->beginModel();
-    for (const auto& f : poly.faces) {
-      for (size_t k = 1; k + 1 < f.size(); ++k) {
-        part.geometry->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
-      }
+    const double height = profile.z_max() - profile.z_min();
+    if (id == ToolPartId::Cutter && height > 4 * profile.max_radius()) {
+      const auto [bottom, top] = profile.split_at(profile.z_min() + 2 * profile.max_radius());
+      part.pieces.push_back(fcl_piece(bottom, part_tol, part.overestimate_mm));
+      part.pieces.push_back(fcl_piece(top, part_tol, part.overestimate_mm));
+    } else {
+      part.pieces.push_back(fcl_piece(profile, part_tol, part.overestimate_mm));
     }
-    part.geometry->endModel();
-    part.geometry->computeLocalAABB();
-    for (const Vec3& v : poly.vertices) part.reach_mm = std::max(part.reach_mm, v.norm());
+    for (const FclPiece& piece : part.pieces) part.reach_mm = std::max(part.reach_mm, piece.reach_mm);
     parts.push_back(std::move(part));
   }
   return parts;

@@ -23,15 +23,26 @@
 
 namespace bliskrun {
 
-struct FclToolPart {
-  ToolPartId id = ToolPartId::Cutter;
+// A part's body is one or more pieces stacked along the axis. A motion
+// check steps by how fast a piece can move (|Δtip| + θ·reach), so a long
+// cutter is cut in two: its bottom — the ball that runs close along a hub —
+// moves far slower when the axis turns than its 90 mm flute's top, and
+// proving the bottom clear no longer takes the top's small steps.
+struct FclPiece {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> geometry;  // in the tool frame
-  double overestimate_mm = 0;  // how far the FCL body may stand outside the part
-  double reach_mm = 0;         // largest distance of a body point from the reference point
+  double reach_mm = 0;  // largest distance of a piece point from the reference point
 };
 
-// The present parts of `tool`, cutter first. Throws ParameterError("tol_mm")
-// unless 0 < tol_mm.
+struct FclToolPart {
+  ToolPartId id = ToolPartId::Cutter;
+  std::vector<FclPiece> pieces;  // bottom first; together the whole part
+  double overestimate_mm = 0;    // how far the FCL body may stand outside the part
+  double reach_mm = 0;           // largest distance of a body point from the reference point
+};
+
+// The present parts of `tool`, cutter first. A cutter more than four of its
+// largest radii long is cut at two radii above its bottom. Throws
+// ParameterError("tol_mm") unless 0 < tol_mm.
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm);
 
 // The circumscribed polygonal solid of revolution as vertices and convex

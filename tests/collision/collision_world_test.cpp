@@ -273,6 +273,39 @@ TEST(CollisionWorld, MotionThatOnlyTurnsTheAxisIsChecked) {
   EXPECT_GE(ok.min_margin_mm, 0);
 }
 
+TEST(CollisionWorld, ALongCutterGlidingOverAPlaneStepsByItsBottomPiece) {
+  // The impeller's tapered ball end (r 3, 90 mm flute) 0.1 mm over a plane,
+  // moving 10 mm while its axis tilts 5 deg about the tip: the ball's lowest
+  // point dips to 0.1 - r (1 - cos 5 deg) = 0.0886 mm, the rest stays far.
+  // Every step advances (margin + tol) / V of the piece nearest the plane —
+  // the bottom piece, V = 10 + theta * its reach — where one body would step
+  // by the whole cutter's reach (~96 mm: over 180 samples).
+  const Tool tool = Tool::tapered_ball_end_mill({3, deg_to_rad(2), 90, {16, 60}, {}});
+  const ToolBody body(tool, 1e-3);
+  CollisionWorld world;
+  world.add("hub", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 4, 4));
+  const double theta = deg_to_rad(5);
+  const ToolPose from{Vec3(-5, 0, 0.1), Vec3::UnitZ()}, to{Vec3(5, 0, 0.1), Vec3(std::sin(theta), 0, std::cos(theta))};
+  const MotionCheck m = world.check_motion(body, from, to, Clearances{}, 1e-3);
+  EXPECT_TRUE(m.clear);
+  const double oe = body.parts().front().overestimate_mm;  // the cutter's
+  EXPECT_GE(m.min_margin_mm, 0);
+  const double v_bottom = 10 + theta * body.parts().front().pieces.front().reach_mm;
+  const double v_whole = 10 + theta * body.parts().front().reach_mm;
+  const double least = 0.1 - 3 * (1 - std::cos(theta)) - oe;
+  EXPECT_LE(m.samples, static_cast<int>(v_bottom / least) + 2);
+  EXPECT_LT(static_cast<int>(v_bottom / least) + 2, static_cast<int>(v_whole / 0.101));
+  // Through a fin standing at x = 0 (z up to 3) the ball is caught: the
+  // bottom piece's larger steps still stop where it comes too close.
+  world.add("fin", grid_mesh(Vec3(0, -20, -10), Vec3(0, 40, 0), Vec3(0, 0, 13), 4, 4));
+  const MotionCheck fin = world.check_motion(body, {Vec3(-6, 0, 1), Vec3::UnitZ()}, {Vec3(6, 0, 1), Vec3::UnitZ()},
+                                             Clearances{0.2, 0, 0}, 1e-3);
+  EXPECT_FALSE(fin.clear);
+  EXPECT_GT(fin.t, 0.1);
+  EXPECT_LT(fin.t, 0.5);
+  EXPECT_EQ(world.name(fin.at.parts[fin.at.worst].object), "fin");
+}
+
 TEST(CollisionWorld, MotionRejectsBadSettings) {
   CollisionWorld world;
   world.add("floor", grid_mesh(Vec3(-10, -10, 0), Vec3(20, 0, 0), Vec3(0, 20, 0)));

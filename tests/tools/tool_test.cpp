@@ -322,5 +322,46 @@ TEST(ToolFcl, CircumscribedPolytopeContainsTheSolid) {
   }
 }
 
+TEST(Profile, SplitAtAHeightGivesTheSolidBelowAndAbove) {
+  // Through the tapered ball's arc, its cone, and a ball end's flute.
+  for (const auto& [tool, z] : {std::pair<Tool, double>{Tool::tapered_ball_end_mill({1.5, deg_to_rad(4), 25, {8, 30}, {}}), 1.0},
+                                {Tool::tapered_ball_end_mill({1.5, deg_to_rad(4), 25, {8, 30}, {}}), 6.0},
+                                {Tool::ball_end_mill({3, 15, {6, 30}, {}}), 9.0}}) {
+    const Profile& whole = tool.cutter();
+    const auto [below, above] = whole.split_at(z);
+    EXPECT_EQ(below.z_min(), whole.z_min());
+    EXPECT_NEAR(below.z_max(), z, 1e-12);
+    EXPECT_NEAR(above.z_min(), z, 1e-12);
+    EXPECT_EQ(above.z_max(), whole.z_max());
+    for (int i = 1; i < 200; ++i) {
+      const double h = whole.z_min() + (whole.z_max() - whole.z_min()) * i / 200;
+      if (std::abs(h - z) < 1e-9) continue;  // on the cut
+      const Profile& piece = h < z ? below : above;
+      EXPECT_NEAR(piece.radius_at(h), whole.radius_at(h), 1e-9) << h;
+      // A point just inside the whole solid is inside the piece of its height.
+      const Vec2 inside(0.9 * whole.radius_at(h), h);
+      EXPECT_LT(piece.signed_distance(inside), 0) << h;
+      EXPECT_GT((h < z ? above : below).signed_distance(inside), 0) << h;
+    }
+  }
+  EXPECT_THROW(Tool::ball_end_mill({3, 15, {}, {}}).cutter().split_at(0), ParameterError);
+}
+
+TEST(ToolFcl, ALongCutterIsTwoPiecesWhoseBottomReachesLess) {
+  // The impeller's tapered ball end (r 3, 2 deg, 90 mm flute): cut at two
+  // of its largest radii; the bottom's reach is that height's corner.
+  const Tool long_cutter = Tool::tapered_ball_end_mill({3, deg_to_rad(2), 90, {16, 60}, {}});
+  const std::vector<FclToolPart> parts = fcl_parts(long_cutter, 0.01);
+  ASSERT_EQ(parts.front().id, ToolPartId::Cutter);
+  ASSERT_EQ(parts.front().pieces.size(), 2u);
+  const double rmax = long_cutter.cutter().max_radius(), cut = 2 * rmax;
+  EXPECT_NEAR(parts.front().pieces[0].reach_mm, std::hypot(cut, long_cutter.cutter().radius_at(cut)), 0.03);
+  EXPECT_GT(parts.front().pieces[1].reach_mm, 90);
+  EXPECT_EQ(parts.front().reach_mm, parts.front().pieces[1].reach_mm);
+  // The shank, and a short cutter, stay whole.
+  EXPECT_EQ(parts[1].pieces.size(), 1u);
+  EXPECT_EQ(fcl_parts(paper_wheel(), 0.01).front().pieces.size(), 1u);
+}
+
 }  // namespace
 }  // namespace bliskrun
