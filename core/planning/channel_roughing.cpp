@@ -362,6 +362,11 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   for (int k = 1; k <= plan.widen_left; ++k) specs.push_back({ChannelPassKind::WidenLeft, k});
   for (int k = 1; k <= plan.widen_right; ++k) specs.push_back({ChannelPassKind::WidenRight, k});
   std::vector<ChannelPass> passes;
+  // The passes whose ball runs on the hub: the deepest notch level and
+  // every widening path.
+  const auto on_hub = [&](const ChannelPass& pass) {
+    return pass.kind != ChannelPassKind::Notch || pass.index == plan.notch_levels;
+  };
   // Takes a pose into the pass being built: refused (the pass split) when
   // it is not clear, a new piece when the motion into it is not.
   const auto accept = [&](const Spec& spec, const ToolPose& pose, double t, const PoseCheck* checked,
@@ -424,8 +429,7 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       }
       // On the hub, the poses the chord tolerance needs between the last
       // pose and this one first; each is checked like a station's.
-      const bool on_hub = spec.kind != ChannelPassKind::Notch || spec.index == plan.notch_levels;
-      if (on_hub && !current.poses.empty()) {
+      if (on_hub(current) && !current.poses.empty()) {
         std::vector<std::pair<double, ToolPose>> between;
         hub_chord_poses(ch, s, current.poses.back(), current.t.back(), pose, s.t, r, rq.hub_chord_tol_mm, 0, between);
         plan.inserted += static_cast<long>(between.size());
@@ -452,11 +456,33 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       const ToolPose& a = plan.passes.back().poses.back();  // passes[i - 1], already moved into the plan
       const ToolPose& b = passes[i].poses.front();
       if (plan.passes.back().t.back() == passes[i].t.front()) {
-        const MotionCheck mc = rq.world->check_motion(*rq.body, a, b, rq.clearances, rq.motion_tol_mm);
-        if (mc.clear) {
-          PlannedLink step;  // no via poses: a direct step
+        // On the hub the step keeps the ball on the hub's offset too: a
+        // straight step across the channel (from one side's last path to
+        // the other side's first) cuts a chord into the convex hub —
+        // 72 um on the built-in impeller's inlet before these poses.
+        std::vector<std::pair<double, ToolPose>> between;
+        if (on_hub(plan.passes.back()) && on_hub(passes[i])) {
+          const double t = passes[i].t.front();
+          const Station& s = st[static_cast<size_t>(std::lround(t * (rq.stations - 1)))];
+          hub_chord_poses(ch, s, a, t, b, t, r, rq.hub_chord_tol_mm, 0, between);
+        }
+        bool clear = true;
+        const ToolPose* previous = &a;
+        for (const auto& tp : between) {
+          clear = rq.world->check(*rq.body, tp.second, rq.clearances, 0.0).clear &&
+                  rq.world->check_motion(*rq.body, *previous, tp.second, rq.clearances, rq.motion_tol_mm).clear;
+          if (!clear) break;
+          previous = &tp.second;
+        }
+        if (clear && rq.world->check_motion(*rq.body, *previous, b, rq.clearances, rq.motion_tol_mm).clear) {
+          PlannedLink step;  // no via poses: a direct step (along the hub where it follows it)
           step.clear = true;
           plan.links.push_back(std::move(step));
+          for (auto it = between.rbegin(); it != between.rend(); ++it) {
+            passes[i].t.insert(passes[i].t.begin(), it->first);
+            passes[i].poses.insert(passes[i].poses.begin(), it->second);
+          }
+          plan.inserted += static_cast<long>(between.size());
           plan.poses += static_cast<long>(passes[i].poses.size());
           plan.passes.push_back(std::move(passes[i]));
           continue;

@@ -236,6 +236,51 @@ TEST(ChannelRoughing, OnACurvedHubPosesAreInsertedSoTheBallKeepsToTheHubOffset) 
   EXPECT_GT(inserted, 0);
 }
 
+TEST(ChannelRoughing, StepsAcrossAConicalHubFollowItToo) {
+  // A conical hub falling 0.1 mm per mm of radius: across the channel at
+  // one radius a straight step between two ball centres runs inside their
+  // circle, where the hub stands higher — from one side's last widening
+  // path to the other side's first that chord dips ~50 um into the hub's
+  // offset. With the hub finished (hub_stock 0) every move of the emitted
+  // toolpath on the hub, steps included, keeps to the offset within the
+  // chord tolerance.
+  FlatChannel s;
+  s.hub = SurfaceOfRevolution(std::vector<Vec2>{{6, 40}, {0, 100}, {-1, 110}});
+  const Tool tool = ball_end(3);
+  const ToolBody body(tool);
+  CollisionWorld world;
+  world.add("left", tessellate(s.left, 0.02));
+  world.add("right", tessellate(s.right, 0.02));
+  CheckSurfaceOptions shank_only;
+  shank_only.parts.cutter = false;
+  world.add("hub", tessellate(s.hub, 0.02), shank_only);
+  ChannelRequest rq = s.request();
+  rq.stations = 5;
+  rq.depth_step_mm = 30;
+  rq.scallop_mm = 0.5;
+  rq.hub_stock_mm = 0;
+  rq.world = &world;
+  rq.body = &body;
+  rq.clearances.cutter_mm = 0.1;
+  const ChannelPlan plan = plan_channel(rq);
+  ASSERT_TRUE(plan.complete) << plan.stopped;
+  EXPECT_TRUE(plan.refusals.empty());
+  const std::vector<ChannelMove> moves = channel_moves(plan);
+  double worst = 0;
+  int steps = 0;
+  for (size_t i = 1; i < moves.size(); ++i) {
+    if (!moves[i].feed || !moves[i - 1].feed) continue;
+    const ChannelPass& pass = plan.passes[static_cast<size_t>(moves[i].pass)];
+    if (pass.kind == ChannelPassKind::Notch && pass.index < plan.notch_levels) continue;
+    steps += std::string(moves[i].motion) == "step";
+    const Vec3 mid = 0.5 * ((moves[i].pose.tip + 3 * moves[i].pose.axis) + (moves[i - 1].pose.tip + 3 * moves[i - 1].pose.axis));
+    worst = std::max(worst, std::abs(project_to_surface(s.hub, mid, ProjectionOptions{}).distance - 3));
+  }
+  EXPECT_GT(steps, 0);
+  EXPECT_LE(worst, 0.005 + 1e-6);
+  EXPECT_GT(plan.inserted, 0);
+}
+
 // A flat plate standing in the channel's middle: radii 73..77 at angle 0,
 // z from 12 to 20.
 class Plate : public Surface {
