@@ -113,7 +113,10 @@ CurvatureProfile curvature_profile(const ClosedCurve& curve, int samples) {
     for (int it = 0; it < 6; ++it) {
       const double speed = spline.eval(u).dt.norm();
       if (!(speed > 0)) break;
-      u = std::clamp(u - (at_knot[k] + arc_length(spline, a, u) - s) / speed, a, b);
+      const double next = std::clamp(u - (at_knot[k] + arc_length(spline, a, u) - s) / speed, a, b);
+      const bool settled = std::abs(next - u) < 1e-12 * period;
+      u = next;
+      if (settled) break;
     }
     double t = u;
     while (t < curve.t_min()) t += period;

@@ -278,38 +278,42 @@ using Window = std::vector<int>;  // offsets from the point along the loop
 // curve and divided by sqrt(1 + leverage) there, so that a point predicted
 // by extrapolation is not called an outlier for the fit's own uncertainty;
 // -1 for fewer than 3 points.
-double deviation_from(const Vec3& point, Window window, const std::function<const Vec3&(int)>& at) {
+template <class At>
+double deviation_from(const Vec3& point, Window window, const At& at) {
   const int count = static_cast<int>(window.size());
   if (count < 3) return -1;
   std::sort(window.begin(), window.end());
   // All on one side: a line, since a quadratic extrapolated from noisy
   // points can bend to meet a stray.
   const bool one_sided = window.front() > 0 || window.back() < 0;
-  std::vector<double> s(count, 0.0);
+  double s[8] = {0};
   for (int r = 1; r < count; ++r) s[r] = s[r - 1] + (at(window[r]) - at(window[r - 1])).norm();
-  const double mid = 0.5 * s.back(), scale = 0.5 * s.back();
+  const double mid = 0.5 * s[count - 1], scale = 0.5 * s[count - 1];
   if (!(scale > 0)) return -1;
-  Eigen::MatrixXd X(count, 3), P(count, 3);
+  // Normal equations by accumulation (at most 8 points: no allocation).
+  Mat3 M = Mat3::Zero(), B = Mat3::Zero();
   int nearest = 0;
   for (int r = 0; r < count; ++r) {
     const double t = (s[r] - mid) / scale;
-    X.row(r) << 1, t, one_sided ? 0.0 : t * t;
-    P.row(r) = at(window[r]).transpose();
+    const Eigen::Vector3d x(1, t, one_sided ? 0.0 : t * t);
+    M += x * x.transpose();
+    B += x * at(window[r]).transpose();
     if ((at(window[r]) - point).norm() < (at(window[nearest]) - point).norm()) nearest = r;
   }
-  Mat3 M = X.transpose() * X;
   if (one_sided) M(2, 2) = 1;  // the unused term: decoupled, its coefficient 0
   const Eigen::FullPivLU<Mat3> lu(M);
   if (!lu.isInvertible()) return -1;
   const Mat3 Minv = lu.inverse();
-  const Mat3 beta = Minv * X.transpose() * P;  // C(t) = beta_0 + beta_1 t + beta_2 t^2
+  const Mat3 beta = Minv * B;  // C(t) = beta_0 + beta_1 t + beta_2 t^2
   const Vec3 c0 = beta.row(0).transpose(), c1 = beta.row(1).transpose(), c2 = beta.row(2).transpose();
-  double t = X(nearest, 1);
+  double t = (s[nearest] - mid) / scale;
   for (int it = 0; it < 8; ++it) {
     const Vec3 r = c0 + t * c1 + t * t * c2 - point, d1 = c1 + 2 * t * c2;
     const double g = r.dot(d1), dg = d1.squaredNorm() + 2 * r.dot(c2);
     if (!(dg > 0)) break;
-    t = std::clamp(t - g / dg, -3.0, 3.0);
+    const double next = std::clamp(t - g / dg, -3.0, 3.0);
+    if (std::abs(next - t) < 1e-12) break;
+    t = next;
   }
   const Eigen::Vector3d x(1, t, one_sided ? 0.0 : t * t);
   return (c0 + t * c1 + t * t * c2 - point).norm() / std::sqrt(1 + x.dot(Minv * x));
@@ -328,7 +332,7 @@ std::vector<double> local_deviations(const std::vector<Vec3>& p, const std::vect
   const int m = static_cast<int>(loop.size());
   std::vector<double> out(m, -1.0);
   for (int i = 0; i < m; ++i) {
-    const std::function<const Vec3&(int)> at = [&](int k) -> const Vec3& { return p[loop[(((i + k) % m) + m) % m]]; };
+    const auto at = [&](int k) -> const Vec3& { return p[loop[(((i + k) % m) + m) % m]]; };
     const auto link_gap = [&](int k) { return gap[(((i + k) % m) + m) % m] != kNone; };  // link i+k -> i+k+1
     Window left, right;  // up to 4 each way, not across a gap
     for (int k = 1; k <= 4 && k < m && !link_gap(-k); ++k) left.push_back(-k);
