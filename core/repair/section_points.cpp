@@ -523,6 +523,9 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
     for (int e = 0; e < m; ++e) {
       merged.at.push_back(loop.at[e]);
       merged.gap.push_back(loop.gap[e]);
+      // The pieces of a turn gap stay turn gaps while they still turn back
+      // (mark_gaps): the tip points of a coarse edge close it, a stray does not.
+      const char pieces = loop.gap[e] == kTurn ? kTurn : kNone;
       std::sort(onto[e].begin(), onto[e].end());
       for (const auto& along : onto[e]) {
         const int u = along.second;
@@ -530,9 +533,9 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
           rejected.push_back(u);
           continue;
         }
-        merged.gap.back() = kNone;  // a link that got points back is walked by them
+        merged.gap.back() = pieces;
         merged.at.push_back(u);
-        merged.gap.push_back(kNone);
+        merged.gap.push_back(pieces);
       }
     }
     mark_gaps(points, merged, rule);

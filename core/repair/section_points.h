@@ -96,7 +96,7 @@ struct OrderedSection {
   std::vector<int> order;          // indices into the input, around the loop
   std::vector<int> rejected;       // indices of rejected points, ascending
   std::vector<SectionGap> gaps;    // in loop order
-  int chains = 0;                  // walks joined; 1: the first walk closed the loop
+  int chains = 0;                  // walks joined (1: the walks both ways from the first seed took every point)
   double spacing_mm = 0;           // median nearest-neighbour distance
   double max_step_mm = 0;          // the ones used
   double outlier_mm = 0;
