@@ -1,6 +1,7 @@
 #include "core/geometry/closed_curve.h"
 
 #include <Eigen/Sparse>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -21,6 +22,18 @@ double wrap_into(double t, double lo, double period) {
 
 ClosedCurve::ClosedCurve(BSplineCurve periodic, double start) : spline_(std::move(periodic)) {
   if (spline_.degree() != 3) throw ParameterError("periodic", "expected a cubic B-spline");
+  const std::vector<Vec3>& c = spline_.control_points();
+  const std::vector<double>& u = spline_.knots();
+  const size_t n = c.size() - 3;  // spans of one period
+  double size = 0;
+  for (const Vec3& p : c) size = std::max(size, p.norm());
+  for (size_t j = 0; j < 3; ++j)
+    if ((c[j] - c[n + j]).norm() > 1e-9 * (1 + size))
+      throw ParameterError("periodic", "the first three control points must repeat as the last three");
+  for (size_t j = 0; j + 1 < 7; ++j)  // the knot spacing repeats across the seam
+    if (std::abs((u[j + 1] - u[j]) - (u[n + j + 1] - u[n + j])) > 1e-9 * (1 + period()))
+      throw ParameterError("periodic", "the knot spacing must repeat with the period");
+  if (!std::isfinite(start)) throw ParameterError("start", "expected a finite parameter");
   start_ = wrap_into(start, spline_.t_min(), period());
 }
 

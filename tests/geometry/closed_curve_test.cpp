@@ -65,6 +65,17 @@ TEST(ClosedCurve, ACircleThroughSixtyPointsIsACircleToAMicron) {
   EXPECT_LT(worst_k, 0.02);
 }
 
+TEST(ClosedCurve, RejectsASplineThatIsNotPeriodic) {
+  const ClosedCurve c = interpolate_closed_cubic(uneven_loop(12));
+  std::vector<Vec3> ctrl = c.spline().control_points();
+  ctrl.back() += Vec3(0.1, 0, 0);
+  EXPECT_THROW(ClosedCurve(BSplineCurve(3, c.spline().knots(), ctrl), 0), ParameterError);
+  std::vector<double> knots = c.spline().knots();
+  knots[1] -= 0.5;
+  EXPECT_THROW(ClosedCurve(BSplineCurve(3, knots, c.spline().control_points()), 0), ParameterError);
+  EXPECT_THROW(c.started_at(NAN), ParameterError);
+}
+
 TEST(ClosedCurve, RejectsTooFewRepeatedOrNonFinitePoints) {
   EXPECT_THROW(interpolate_closed_cubic({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}), ParameterError);
   std::vector<Vec3> loop = uneven_loop(10);
