@@ -94,7 +94,10 @@ struct AlignedSections {
 
 // The paper's sweep: section k+1 aligned to the aligned section k, from the
 // first (the hub or root) to the last. Sections must already run the same
-// way (orient_sections, section_points.h).
+// way (orient_sections, section_points.h) and be complete: a section with a
+// gap (OrderedSection::gaps) has a shorter profile whose samples do not
+// correspond to its neighbour's; the paper rebuilds those from the loft of
+// the complete ones (§1.4).
 AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples = 2048);
 
 }  // namespace bliskrun
