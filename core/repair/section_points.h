@@ -38,9 +38,11 @@
 //    edge, a stray) are put back where they lengthen the loop least, if a
 //    loop point is within max_step (farther ones are rejected), and tested
 //    the same way.
-// Sampling as coarse as the edges themselves has a limit no ordering
-// removes: the one point on the tip of an edge of radius below the spacing
-// is, to every local test, a stray.
+// Limits no local test removes: the one point on the tip of an edge of
+// radius below the spacing is, to every such test, a stray; and four or more
+// stray points on a smooth curve of their own (a fixture edge probed along)
+// are a stretch of profile to them — joined in where it costs least, with a
+// gap reported either side.
 // Cost: O(n) grid look-ups (core/geometry/point_index.h) for the walk and the
 // tests, each rejection pass O(n) (passes: the largest cluster of strays),
 // n log n for sorting. Measured: ~9 ms for a 2000-point section, ~15 ms of
