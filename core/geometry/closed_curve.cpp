@@ -43,21 +43,20 @@ CurveDerivs ClosedCurve::eval(double t) const {
 
 ClosedCurve ClosedCurve::started_at(double t) const { return ClosedCurve(spline_, t); }
 
-ClosedCurve interpolate_closed_cubic(const std::vector<Vec3>& loop) {
+namespace {
+
+void check_loop(const std::vector<Vec3>& loop) {
   const int n = static_cast<int>(loop.size());
   if (n < 4) throw ParameterError("loop", "a closed cubic needs at least 4 points, got " + std::to_string(n));
   for (int i = 0; i < n; ++i)
     if (!loop[i].allFinite()) throw ParameterError("loop", "point " + std::to_string(i) + " is not finite");
-  // Knots u_0 .. u_n at cumulative chord lengths; u_n = period T.
-  std::vector<double> u(n + 1, 0.0);
-  for (int i = 0; i < n; ++i) {
-    const double h = (loop[(i + 1) % n] - loop[i]).norm();
-    if (!(h > 0))
-      throw ParameterError("loop", "points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
-                                       " coincide");
-    u[i + 1] = u[i] + h;
-  }
-  const double period = u[n];
+}
+
+// The periodic cubic through loop[k] at knot u[k], u[n] closing the loop
+// (period u[n] - u[0]).
+BSplineCurve closed_cubic_at(const std::vector<Vec3>& loop, const std::vector<double>& u) {
+  const int n = static_cast<int>(loop.size());
+  const double period = u[n] - u[0];
   const auto knot = [&](int j) {  // u_j extended periodically
     const int q = (j >= 0 ? j / n : -((-j + n - 1) / n));
     return u[j - q * n] + q * period;
@@ -88,7 +87,35 @@ ClosedCurve interpolate_closed_cubic(const std::vector<Vec3>& loop) {
   std::vector<double> knots;
   knots.reserve(n + 7);
   for (int j = -3; j <= n + 3; ++j) knots.push_back(knot(j));
-  return ClosedCurve(BSplineCurve(3, std::move(knots), std::move(ctrl)), 0.0);
+  return BSplineCurve(3, std::move(knots), std::move(ctrl));
+}
+
+}  // namespace
+
+ClosedCurve interpolate_closed_cubic(const std::vector<Vec3>& loop) {
+  check_loop(loop);
+  const int n = static_cast<int>(loop.size());
+  // Knots u_0 .. u_n at cumulative chord lengths; u_n = period T.
+  std::vector<double> u(n + 1, 0.0);
+  for (int i = 0; i < n; ++i) {
+    const double h = (loop[(i + 1) % n] - loop[i]).norm();
+    if (!(h > 0))
+      throw ParameterError("loop", "points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
+                                       " coincide");
+    u[i + 1] = u[i] + h;
+  }
+  return ClosedCurve(closed_cubic_at(loop, u), 0.0);
+}
+
+BSplineCurve interpolate_closed_cubic(const std::vector<Vec3>& loop, const std::vector<double>& knots) {
+  check_loop(loop);
+  if (knots.size() != loop.size() + 1)
+    throw ParameterError("knots", "need one knot per point and one closing the loop (" +
+                                      std::to_string(loop.size() + 1) + "), got " + std::to_string(knots.size()));
+  for (size_t i = 0; i < knots.size(); ++i)
+    if (!std::isfinite(knots[i]) || (i > 0 && !(knots[i] > knots[i - 1])))
+      throw ParameterError("knots", "must be finite and increase strictly (knot " + std::to_string(i) + ")");
+  return closed_cubic_at(loop, knots);
 }
 
 }  // namespace bliskrun

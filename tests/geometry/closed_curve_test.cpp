@@ -89,5 +89,39 @@ TEST(ClosedCurve, RejectsTooFewRepeatedOrNonFinitePoints) {
   EXPECT_THROW(interpolate_closed_cubic(loop), ParameterError);
 }
 
+TEST(ClosedCurve, AtGivenKnotsPassesThroughItsPointsThereAndClosesC2) {
+  // Uniform knots from 2 to 5 (not the chord lengths, not from 0): what a
+  // loft gives every section so that they share one basis.
+  const std::vector<Vec3> loop = uneven_loop(40);
+  std::vector<double> knots;
+  for (int k = 0; k <= 40; ++k) knots.push_back(2 + 3.0 * k / 40);
+  const BSplineCurve c = interpolate_closed_cubic(loop, knots);
+  EXPECT_DOUBLE_EQ(c.t_min(), 2);
+  EXPECT_DOUBLE_EQ(c.t_max(), 5);
+  for (int k = 0; k < 40; ++k) EXPECT_LT((c.point(knots[k]) - loop[k]).norm(), 1e-10) << k;
+  const CurveDerivs a = c.eval(2), b = c.eval(5);
+  EXPECT_LT((a.p - b.p).norm(), 1e-10);
+  EXPECT_LT((a.dt - b.dt).norm(), 1e-8);
+  EXPECT_LT((a.dtt - b.dtt).norm(), 1e-6);
+  // At the chord-length knots it is the chord-length curve.
+  std::vector<double> chord{0};
+  for (int k = 0; k < 40; ++k) chord.push_back(chord.back() + (loop[(k + 1) % 40] - loop[k]).norm());
+  const ClosedCurve ref = interpolate_closed_cubic(loop);
+  const BSplineCurve same = interpolate_closed_cubic(loop, chord);
+  for (double t = 0; t < ref.period(); t += 0.37) EXPECT_LT((same.point(t) - ref.point(t)).norm(), 1e-10);
+  EXPECT_NO_THROW(ClosedCurve(same, 0));
+}
+
+TEST(ClosedCurve, AtGivenKnotsRejectsAWrongCountOrKnotsNotIncreasing) {
+  const std::vector<Vec3> loop = uneven_loop(10);
+  std::vector<double> knots;
+  for (int k = 0; k <= 10; ++k) knots.push_back(k);
+  EXPECT_THROW(interpolate_closed_cubic(loop, std::vector<double>(knots.begin(), knots.end() - 1)), ParameterError);
+  knots[4] = knots[3];
+  EXPECT_THROW(interpolate_closed_cubic(loop, knots), ParameterError);
+  knots[4] = NAN;
+  EXPECT_THROW(interpolate_closed_cubic(loop, knots), ParameterError);
+}
+
 }  // namespace
 }  // namespace bliskrun
