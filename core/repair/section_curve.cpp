@@ -1,0 +1,203 @@
+#include "core/repair/section_curve.h"
+
+#include <Eigen/Sparse>
+#include <unsupported/Eigen/FFT>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/common/progress.h"
+#include "core/repair/section_points.h"
+
+namespace bliskrun {
+
+namespace {
+
+// 5-point Gauss–Legendre on [-1, 1].
+constexpr double kGaussX[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
+constexpr double kGaussW[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+                               0.2369268850561891};
+
+double arc_length(const BSplineCurve& c, double a, double b) {
+  double sum = 0;
+  for (int g = 0; g < 5; ++g) sum += kGaussW[g] * c.eval(0.5 * (a + b) + 0.5 * (b - a) * kGaussX[g]).dt.norm();
+  return 0.5 * (b - a) * sum;
+}
+
+}  // namespace
+
+SmoothedSection smooth_section(const std::vector<Vec3>& loop, double smoothing_length_mm) {
+  if (!(smoothing_length_mm >= 0 && std::isfinite(smoothing_length_mm)))
+    throw ParameterError("smoothing_length", "expected a length >= 0 mm");
+  const int n = static_cast<int>(loop.size());
+  if (n < 5) throw ParameterError("loop", "smoothing a closed loop needs at least 5 points, got " + std::to_string(n));
+  for (int i = 0; i < n; ++i)
+    if (!loop[i].allFinite()) throw ParameterError("loop", "point " + std::to_string(i) + " is not finite");
+  std::vector<double> h(n);
+  for (int i = 0; i < n; ++i) {
+    h[i] = (loop[(i + 1) % n] - loop[i]).norm();
+    if (!(h[i] > 0))
+      throw ParameterError("loop", "points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) +
+                                       " coincide");
+  }
+  const auto prev = [n](int i) { return (i + n - 1) % n; };
+  std::vector<Eigen::Triplet<double>> w_entries, d_entries;
+  for (int i = 0; i < n; ++i) {
+    const double hp = h[prev(i)], hn = h[i];
+    w_entries.emplace_back(i, i, 0.5 * (hp + hn));
+    const double f = 2 / (hp + hn);
+    d_entries.emplace_back(i, prev(i), f / hp);
+    d_entries.emplace_back(i, i, -f * (1 / hp + 1 / hn));
+    d_entries.emplace_back(i, (i + 1) % n, f / hn);
+  }
+  Eigen::SparseMatrix<double> W(n, n), D(n, n);
+  W.setFromTriplets(w_entries.begin(), w_entries.end());
+  D.setFromTriplets(d_entries.begin(), d_entries.end());
+  const double L4 = std::pow(smoothing_length_mm, 4);
+  const Eigen::SparseMatrix<double> A = W + L4 * Eigen::SparseMatrix<double>(D.transpose() * W * D);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success) throw Error("smooth_section: the smoothing system could not be factorised");
+  Eigen::MatrixXd P(n, 3);
+  for (int i = 0; i < n; ++i) P.row(i) = loop[i].transpose();
+  const Eigen::MatrixXd Q = solver.solve(Eigen::MatrixXd(W * P));
+
+  SmoothedSection out;
+  out.points.reserve(n);
+  double sum2 = 0;
+  for (int i = 0; i < n; ++i) {
+    out.points.push_back(Q.row(i).transpose());
+    const double d = (out.points.back() - loop[i]).norm();
+    out.max_shift_mm = std::max(out.max_shift_mm, d);
+    sum2 += d * d;
+  }
+  out.rms_shift_mm = std::sqrt(sum2 / n);
+  out.curve = interpolate_closed_cubic(out.points);
+  return out;
+}
+
+CurvatureProfile curvature_profile(const ClosedCurve& curve, int samples) {
+  if (samples < 16) throw ParameterError("samples", "expected at least 16 samples, got " + std::to_string(samples));
+  const BSplineCurve& spline = curve.spline();
+  const std::vector<double>& knots = spline.knots();
+  const double u0 = spline.t_min(), period = curve.period();
+  // Cumulative arc length at the knots of one period, from u0.
+  const int spans = static_cast<int>(spline.control_points().size()) - 3;
+  std::vector<double> at_knot(spans + 1, 0.0);
+  for (int k = 0; k < spans; ++k) at_knot[k + 1] = at_knot[k] + arc_length(spline, knots[k + 3], knots[k + 4]);
+  const double length = at_knot.back();
+  // Arc length from u0 to u (u in [u0, u0 + period]).
+  const auto span_of = [&](double s) {
+    const auto it = std::upper_bound(at_knot.begin(), at_knot.end(), s);
+    return std::clamp(static_cast<int>(it - at_knot.begin()) - 1, 0, spans - 1);
+  };
+  const double start_u = u0 + std::fmod(curve.t_min() - u0, period);
+  const double start_s = [&] {
+    const auto it = std::upper_bound(knots.begin() + 3, knots.begin() + 3 + spans + 1, start_u);
+    const int k = std::clamp(static_cast<int>(it - (knots.begin() + 3)) - 1, 0, spans - 1);
+    return at_knot[k] + arc_length(spline, knots[k + 3], start_u);
+  }();
+
+  CurvatureProfile out;
+  out.length_mm = length;
+  out.period = period;
+  std::vector<CurveDerivs> d(samples);
+  for (int j = 0; j < samples; ++j) {
+    const double s = std::fmod(start_s + length * j / samples, length);
+    const int k = span_of(s);
+    const double a = knots[k + 3], b = knots[k + 4];
+    // Newton on the arc length within the span, from the linear guess.
+    double u = a + (b - a) * (s - at_knot[k]) / std::max(at_knot[k + 1] - at_knot[k], 1e-300);
+    for (int it = 0; it < 6; ++it) {
+      const double speed = spline.eval(u).dt.norm();
+      if (!(speed > 0)) break;
+      const double next = std::clamp(u - (at_knot[k] + arc_length(spline, a, u) - s) / speed, a, b);
+      const bool settled = std::abs(next - u) < 1e-12 * period;
+      u = next;
+      if (settled) break;
+    }
+    double t = u;
+    while (t < curve.t_min()) t += period;
+    while (t >= curve.t_max()) t -= period;
+    out.t.push_back(t);
+    d[j] = spline.eval(u);
+  }
+  std::vector<Vec3> points(samples);
+  for (int j = 0; j < samples; ++j) points[j] = d[j].p;
+  const Vec3 area = vector_area(points);
+  const Vec3 normal = area.norm() > 0 ? Vec3(area.normalized()) : Vec3::Zero();
+  out.curvature.reserve(samples);
+  for (int j = 0; j < samples; ++j) {
+    const double speed = d[j].dt.norm();
+    out.curvature.push_back(speed > 0 ? d[j].dt.cross(d[j].dtt).dot(normal) / (speed * speed * speed) : 0.0);
+  }
+  return out;
+}
+
+StartAlignment align_start(const CurvatureProfile& reference, const CurvatureProfile& section) {
+  const int n = static_cast<int>(section.curvature.size());
+  if (n < 16 || reference.curvature.size() != section.curvature.size() || section.t.size() != section.curvature.size())
+    throw ParameterError("profiles", "expected two curvature profiles of the same number (>= 16) of samples, got " +
+                                         std::to_string(reference.curvature.size()) + " and " + std::to_string(n));
+  const auto centred = [n](const std::vector<double>& y) {
+    double mean = 0;
+    for (double v : y) mean += v / n;
+    std::vector<std::complex<double>> out(n);
+    for (int i = 0; i < n; ++i) out[i] = y[i] - mean;
+    return out;
+  };
+  const std::vector<std::complex<double>> ya = centred(reference.curvature), yb = centred(section.curvature);
+  double var_a = 0, var_b = 0, size_a = 0, size_b = 0;
+  for (int i = 0; i < n; ++i) {
+    var_a += std::norm(ya[i]), var_b += std::norm(yb[i]);
+    size_a += reference.curvature[i] * reference.curvature[i], size_b += section.curvature[i] * section.curvature[i];
+  }
+  StartAlignment out;
+  out.t_start = section.t[0];
+  // Constant curvature (to rounding and the spline's ripple): nothing to align by.
+  if (!(var_a > 1e-10 * size_a && var_b > 1e-10 * size_b)) return out;
+  // c(s) = Σ_i ya_i yb_{i+s} = IFFT(conj(FFT ya) · FFT yb).
+  Eigen::FFT<double> fft;
+  std::vector<std::complex<double>> fa, fb, c;
+  fft.fwd(fa, ya);
+  fft.fwd(fb, yb);
+  for (int k = 0; k < n; ++k) fa[k] = std::conj(fa[k]) * fb[k];
+  fft.inv(c, fa);
+  int best = 0;
+  for (int s = 1; s < n; ++s)
+    if (c[s].real() > c[best].real()) best = s;
+  const double cm = c[(best + n - 1) % n].real(), c0 = c[best].real(), cp = c[(best + 1) % n].real();
+  const double curve2 = cm - 2 * c0 + cp;
+  const double delta = curve2 < 0 ? std::clamp(0.5 * (cm - cp) / curve2, -0.5, 0.5) : 0.0;
+  out.correlation = c0 / std::sqrt(var_a * var_b);
+  out.shift_samples = std::fmod(best + delta + n, static_cast<double>(n));
+  out.shift_mm = out.shift_samples * section.length_mm / n;
+  // The new start's parameter, between the samples it falls between.
+  const int j = static_cast<int>(std::floor(out.shift_samples));
+  const double f = out.shift_samples - j;
+  const double t0 = section.t[j];
+  double t1 = j + 1 < n ? section.t[j + 1] : section.t[0] + section.period;
+  if (t1 < t0) t1 += section.period;  // the samples wrapped past the parameter seam
+  out.t_start = t0 + f * (t1 - t0);
+  return out;
+}
+
+AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples) {
+  AlignedSections out;
+  if (sections.empty()) return out;
+  out.curves.push_back(sections[0]);
+  out.alignments.emplace_back();
+  CurvatureProfile reference = curvature_profile(sections[0], samples);
+  for (size_t k = 1; k < sections.size(); ++k) {
+    cancellation_point();
+    const StartAlignment a = align_start(reference, curvature_profile(sections[k], samples));
+    out.curves.push_back(sections[k].started_at(a.t_start));
+    out.alignments.push_back(a);
+    reference = curvature_profile(out.curves.back(), samples);
+  }
+  return out;
+}
+
+}  // namespace bliskrun
