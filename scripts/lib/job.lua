@@ -293,7 +293,8 @@ function M.flank_finish(o)
         error("job.flank_finish: the impeller has no splitters; faces = {'" .. name .. "'}", 0)
       end
       local world = iw.face_world(j.part, meshes, kind, side)
-      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), hub = j.part:hub(), tool = tool.tool,
+      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), design = iw.design_face(j.part, 1, side, kind),
+                                       hub = j.part:hub(), tool = tool.tool,
                                        ball_radius = tool.ball_radius, world = world,
                                        chord_tol = self.chord_tol, clearance = self.clearance, balance = self.balance,
                                        residual_points = 10}
@@ -376,7 +377,9 @@ Job.__index = Job
 function M.new(spec)
   check_options("job.new", spec, {
     name = {type = "string", required = true},
-    part = {type = "userdata", required = true},
+    part = {type = "any", required = true, check = function(v)
+      if type(v) ~= "userdata" and type(v) ~= "table" then return "expected a part (bliskrun.blisk, bliskrun.impeller, ...)" end
+    end},
     clearance_radius = {type = "number", check = positive},
     clearance = {type = "number", check = positive},
     link_clearance = {type = "table"},
@@ -770,7 +773,7 @@ function Job:tool_entry(n)
 end
 
 -- An impeller job simulated (core/sim, bliskrun.simulate) on blade 1's faces
--- and one pitch of the hub — every other blade's moves are blade 1's turned,
+-- (as designed: impeller_world.design_face) and one pitch of the hub — every other blade's moves are blade 1's turned,
 -- so blade 1's surfaces see what every blade sees — under the moves of each
 -- operation alone, of the links, and of the whole job in order (the material
 -- left after everything; a motion between two moves of different tools, the
@@ -785,7 +788,8 @@ function Job:simulate_impeller(o)
   local surfaces = {}
   for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
     for _, side in ipairs({"plus", "minus"}) do
-      surfaces[#surfaces + 1] = {name = kind .. " " .. side, surface = imp:face(1, side, kind)}
+      surfaces[#surfaces + 1] = {name = kind .. " " .. side,
+                                 surface = require("impeller_world").design_face(imp, 1, side, kind)}
     end
   end
   -- One pitch of the hub: every channel's floor once (blade feet untouched).
