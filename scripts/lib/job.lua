@@ -736,13 +736,14 @@ end
 -- overcut, where). Link moves stay 0.05 mm or more off every surface
 -- (proved in plan()), so they remove nothing and need no sweep. An
 -- impeller job is simulated on its surfaces instead (simulate_impeller;
--- sweep_step applies there).
+-- sweep_step and search_above apply there).
 function Job:simulate(o)
   o = o or {}
   check_options("job:simulate", o, {
     samples_u = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     sweep_step = {type = "number", check = positive},
+    search_above = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then return self:simulate_impeller(o) end
@@ -843,7 +844,9 @@ function Job:simulate_impeller(o)
     end
     -- 11 x 11 samples can miss a little of the window's extent: 2 % and 5 mm more.
     radius = 1.02 * radius + 5
-    local search_above = sfc.search_above or 1
+    -- o.search_above: deeper stock than the default window (1 mm over a
+    -- face, 2 over the hub) is tracked, not counted untouched.
+    local search_above = math.max(sfc.search_above or 1, o.search_above or 0)
     -- Passes: runs of consecutive motions of one group (an operation, or the
     -- links) near the surface. One sweep per group; the job's is the lowest
     -- of them (every motion is in one group), computed by bliskrun.simulate.
