@@ -27,8 +27,9 @@
 -- then turns towards -θ. Its pressure faces look along the rotation, i.e.
 -- back towards -θ: they are the "plus" faces (v TE -> LE, as the built-in
 -- impeller's), the suction faces the "minus" faces (v LE -> TE).
--- Blade k is blade 1 turned by (k - 1) · 360°/N about Z; splitter k the
--- splitter between main blades k and k + 1.
+-- Then it is turned about Z to put blade 1 where the job's simulation looks
+-- (below). Blade k is blade 1 turned by (k - 1) · 360°/N about Z; splitter k
+-- the splitter between main blades k and k + 1.
 
 local M = {}
 
@@ -131,6 +132,15 @@ function M.load(o)
     grids[kind] = {}
     for side, name in pairs(side_of) do grids[kind][side] = turned_grid(data[kind][name], z0) end
   end
+  -- Blade 1 is set where the job simulates one pitch of the hub (angles 0
+  -- to 360°/N about Z): its suction ("minus") face meets the hub at θ = 0
+  -- at mid-chord, so blade 1's channels lie in that window there (the blade
+  -- wraps about two pitches from leading to trailing edge).
+  local mid_hub = grids.main.minus:surface():point(0, 0.5)
+  local phi = -math.deg(polar_angle(mid_hub))
+  for _, kind in ipairs{"main", "splitter"} do
+    for _, side in ipairs{"plus", "minus"} do grids[kind][side] = grids[kind][side]:rotated(phi) end
+  end
   local pitch_deg = 360 / n
   -- Where splitter 1 sits: between main 1 and main 2 (+θ) unless the data
   -- put it on the other side of main 1, then the next one over is.
@@ -184,7 +194,8 @@ function M.load(o)
     return r
   end
   -- The turn from the data's frame into the job's (for a report).
-  part.frame = string.format("HECC (flow towards +Z) turned half round X: (x, y, z) -> (x, -y, %.3f - z) mm", z0)
+  part.frame = string.format("HECC (flow towards +Z) turned half round X, (x, y, z) -> (x, -y, %.3f - z) mm, "
+                             .. "then %.3f deg about Z", z0, phi)
   return setmetatable(part, {__tostring = function()
     return string.format("NASA HECC impeller (%s set): %d main + %d splitter blades, ruled fits of the lofted faces",
                          set, n, n)
