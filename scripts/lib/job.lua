@@ -736,7 +736,7 @@ end
 -- overcut, where). Link moves stay 0.05 mm or more off every surface
 -- (proved in plan()), so they remove nothing and need no sweep. An
 -- impeller job is simulated on its surfaces instead (simulate_impeller;
--- sweep_step and search_above apply there).
+-- sweep_step, search_above and search_below apply there).
 function Job:simulate(o)
   o = o or {}
   check_options("job:simulate", o, {
@@ -744,6 +744,7 @@ function Job:simulate(o)
     samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     sweep_step = {type = "number", check = positive},
     search_above = {type = "number", check = positive},
+    search_below = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then return self:simulate_impeller(o) end
@@ -845,7 +846,8 @@ function Job:simulate_impeller(o)
     -- 11 x 11 samples can miss a little of the window's extent: 2 % and 5 mm more.
     radius = 1.02 * radius + 5
     -- o.search_above: deeper stock than the default window (1 mm over a
-    -- face, 2 over the hub) is tracked, not counted untouched.
+    -- face, 2 over the hub) is tracked, not counted untouched; o.search_below
+    -- (0.5 mm): how deep an overcut is measured (a deeper one reads as that).
     local search_above = math.max(sfc.search_above or 1, o.search_above or 0)
     -- Passes: runs of consecutive motions of one group (an operation, or the
     -- links) near the surface. One sweep per group; the job's is the lowest
@@ -869,7 +871,7 @@ function Job:simulate_impeller(o)
     if #passes > 0 then
       local sim = bliskrun.simulate{surface = sfc.surface, passes = passes, samples_u = o.samples_u or 60,
                                     samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip,
-                                    search_above = search_above, search_below = 0.5, sweep_step = o.sweep_step or 0.1}
+                                    search_above = search_above, search_below = o.search_below or 0.5, sweep_step = o.sweep_step or 0.1}
       local function entry(r, key)
         local e = {name = key == "job" and "job" or key == "links" and "links" or self.operations[tonumber(key)].kind,
                    operation = tonumber(key), undercut_max = r.undercut_max, undercut_mean = r.undercut_mean,

@@ -134,10 +134,11 @@ for _, f in ipairs(planned.flanks) do
 end
 
 -- The material left (core/sim) on blade 1's lofted faces and one pitch of the hub.
--- The stock left on a face is up to the roughing stock plus the fit error:
--- tracked that high, so it is measured, not counted untouched.
+-- The stock left on a face is up to the roughing stock plus the fit error,
+-- and flank finishing on the fit can cut up to the fit error into it: both
+-- tracked that far, so they are measured (not counted untouched, not clipped).
 local sim = args.simulate ~= false and j:simulate{samples_u = args.sim_u or 60, samples_v = args.sim_v or 300,
-                                                  search_above = stock + fit_max + 0.5}
+                                                  search_above = stock + fit_max + 0.5, search_below = fit_max + 0.5}
   or {surfaces = {}, seconds = 0}
 report.simulation = {surfaces = {}, seconds = sim.seconds}
 local sim_rows, pictures = {}, {}
