@@ -134,11 +134,26 @@ for _, f in ipairs(planned.flanks) do
 end
 
 -- The material left (core/sim) on blade 1's lofted faces and one pitch of the hub.
--- The stock left on a face is up to the roughing stock plus the fit error,
--- and flank finishing on the fit can cut up to the fit error into it: both
--- tracked that far, so they are measured (not counted untouched, not clipped).
+-- The stock left on a face is up to the roughing stock plus the fit error:
+-- tracked that high, so it is measured, not counted untouched. Flank
+-- finishing on the fit cuts into the face (the plan says how far); an
+-- overcut is measured down to half the thinnest blade (deeper, the sweep
+-- would meet the cutter finishing the blade's other face), so one deeper
+-- than that reads as that.
+local thinnest = math.huge
+for _, kind in ipairs{"main", "splitter"} do
+  local a, b = part:design_face(1, "plus", kind), part:design_face(1, "minus", kind)
+  for i = 0, 30 do
+    for k = 0, 60 do
+      local foot = b:project(a:point(i / 30, k / 60))
+      if foot then thinnest = math.min(thinnest, foot.distance) end
+    end
+  end
+end
+local search_below = math.min(fit_max + 0.5, thinnest / 2)
+report.blade_thickness_min_mm, report.simulation_search_below_mm = thinnest, search_below
 local sim = args.simulate ~= false and j:simulate{samples_u = args.sim_u or 60, samples_v = args.sim_v or 300,
-                                                  search_above = stock + fit_max + 0.5, search_below = fit_max + 0.5}
+                                                  search_above = stock + fit_max + 0.5, search_below = search_below}
   or {surfaces = {}, seconds = 0}
 report.simulation = {surfaces = {}, seconds = sim.seconds}
 local sim_rows, pictures = {}, {}
@@ -165,7 +180,8 @@ for _, s in ipairs(sim.surfaces) do
     pictures[#pictures + 1] = {title = "Material left, " .. s.name, image = picture}
   end
 end
-print(string.format("  simulation: %.1f s CPU", sim.seconds))
+print(string.format("  simulation: %.1f s CPU (overcut measured down to %.3f mm, half the thinnest blade, %.3f mm)",
+                    sim.seconds, search_below, thinnest))
 
 local fanuc_bc = bliskrun.machine.load("table_table_bc", {name = "B/C trunnion 600 (Fanuc)"})
 for _, m in ipairs({{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "hecc_impeller_job_bc_heidenhain.h"},

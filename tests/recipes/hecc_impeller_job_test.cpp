@@ -116,6 +116,9 @@ TEST(HeccImpellerJobRecipe, RoughingAndFlankFinishOfTwoBladesPlanSimulateAndPost
   EXPECT_GT(sim["hub"]["job"]["overcut_mm"].get<double>(), -0.001);
   // The face's overcut is the flank finish's, as the plan states it against
   // the lofted face, and no deeper than the ruled fit's error.
+  // (Measured down to half the thinnest blade, deeper than this overcut.)
+  EXPECT_GT(j["simulation_search_below_mm"].get<double>(), -finish["residual_min_mm"].get<double>());
+  EXPECT_LT(j["simulation_search_below_mm"].get<double>(), j["blade_thickness_min_mm"].get<double>());
   const double overcut = sim["main minus"]["job"]["overcut_mm"].get<double>();
   EXPECT_EQ(sim["main minus"]["job"]["overcut_operation"], "flank_finish");
   EXPECT_NEAR(overcut, finish["residual_min_mm"].get<double>(), 0.01);
