@@ -171,9 +171,12 @@ for _, s in ipairs(sim.surfaces) do
   report.simulation.surfaces[#report.simulation.surfaces + 1] = entry
   local t = s.total
   if t then
-    print(string.format("  simulated %-14s after the job: %s, overcut %.1f um%s", s.name,
+    -- An overcut at the measured depth may be deeper: said so.
+    entry.overcut_at_window_depth = t.overcut <= -search_below + 1e-9
+    print(string.format("  simulated %-14s after the job: %s, overcut %s%.1f um%s", s.name,
                         t.residual_min and string.format("material left %.3f..%.3f mm", t.residual_min, t.residual_max)
-                          or "not reached by this job", -1e3 * t.overcut,
+                          or "not reached by this job", entry.overcut_at_window_depth and "AT LEAST " or "",
+                        -1e3 * t.overcut,
                         t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
     local picture = "hecc_impeller_job_left_" .. s.name:gsub(" ", "_") .. ".png"
     t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
