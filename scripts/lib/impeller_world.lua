@@ -12,7 +12,17 @@
 
 local M = {}
 
--- A cache of the faces' and the hub's meshes at one tolerance:
+-- A blade face as designed. A part whose blades are not ruled is planned on
+-- ruled fits of its faces (face) and gives the faces themselves as
+-- design_face (scripts/lib/hecc_impeller_part.lua): what the tool is proved
+-- against, what is simulated and what flank finishing's residual is measured
+-- on. The built-in impeller's faces are the design.
+function M.design_face(imp, blade, side, kind)
+  if type(imp) == "table" and imp.design_face then return imp:design_face(blade, side, kind) end
+  return imp:face(blade, side, kind)
+end
+
+-- A cache of the faces' (as designed) and the hub's meshes at one tolerance:
 -- meshes.face(kind, blade, side), meshes.hub(); meshes.tol.
 function M.meshes(imp, tol)
   local cache, n = {}, imp:blade_count()
@@ -20,7 +30,7 @@ function M.meshes(imp, tol)
   function self.face(kind, blade, side)
     blade = (blade - 1) % n + 1
     local key = kind .. blade .. side
-    if not cache[key] then cache[key] = imp:face(blade, side, kind):tessellate(tol) end
+    if not cache[key] then cache[key] = M.design_face(imp, blade, side, kind):tessellate(tol) end
     return cache[key]
   end
   function self.hub()
@@ -200,7 +210,7 @@ function M.envelope(imp, margin)
   for _, q in ipairs(imp:hub_meridian()) do pts[#pts + 1] = {q[2], q[1]} end
   for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
     for _, side in ipairs{"plus", "minus"} do
-      local face = imp:face(1, side, kind)
+      local face = M.design_face(imp, 1, side, kind)
       for i = 0, 200 do keep(face:point(1, i / 200)) end               -- the shroud edge
       for i = 0, 50 do keep(face:point(i / 50, 0)); keep(face:point(i / 50, 1)) end  -- both blade ends
     end

@@ -302,7 +302,8 @@ function M.flank_finish(o)
         error("job.flank_finish: the impeller has no splitters; faces = {'" .. name .. "'}", 0)
       end
       local world = iw.face_world(j.part, meshes, kind, side)
-      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), hub = j.part:hub(), tool = tool.tool,
+      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), design = iw.design_face(j.part, 1, side, kind),
+                                       hub = j.part:hub(), tool = tool.tool,
                                        ball_radius = tool.ball_radius, world = world,
                                        chord_tol = self.chord_tol, clearance = self.clearance, balance = self.balance,
                                        residual_points = 10}
@@ -385,7 +386,9 @@ Job.__index = Job
 function M.new(spec)
   check_options("job.new", spec, {
     name = {type = "string", required = true},
-    part = {type = "userdata", required = true},
+    part = {type = "any", required = true, check = function(v)
+      if type(v) ~= "userdata" and type(v) ~= "table" then return "expected a part (bliskrun.blisk, bliskrun.impeller, ...)" end
+    end},
     clearance_radius = {type = "number", check = positive},
     clearance = {type = "number", check = positive},
     link_clearance = {type = "table"},
@@ -746,13 +749,15 @@ end
 -- overcut, where). Link moves stay 0.05 mm or more off every surface
 -- (proved in plan()), so they remove nothing and need no sweep. An
 -- impeller job is simulated on its surfaces instead (simulate_impeller;
--- sweep_step applies there).
+-- sweep_step, search_above and search_below apply there).
 function Job:simulate(o)
   o = o or {}
   check_options("job:simulate", o, {
     samples_u = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     sweep_step = {type = "number", check = positive},
+    search_above = {type = "number", check = positive},
+    search_below = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then return self:simulate_impeller(o) end
@@ -783,7 +788,7 @@ function Job:tool_entry(n)
 end
 
 -- An impeller job simulated (core/sim, bliskrun.simulate) on blade 1's faces
--- and one pitch of the hub — every other blade's moves are blade 1's turned,
+-- (as designed: impeller_world.design_face) and one pitch of the hub — every other blade's moves are blade 1's turned,
 -- so blade 1's surfaces see what every blade sees — under the moves of each
 -- operation alone, of the links, and of the whole job in order (the material
 -- left after everything; a motion between two moves of different tools, the
@@ -798,7 +803,8 @@ function Job:simulate_impeller(o)
   local surfaces = {}
   for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
     for _, side in ipairs({"plus", "minus"}) do
-      surfaces[#surfaces + 1] = {name = kind .. " " .. side, surface = imp:face(1, side, kind)}
+      surfaces[#surfaces + 1] = {name = kind .. " " .. side,
+                                 surface = require("impeller_world").design_face(imp, 1, side, kind)}
     end
   end
   -- One pitch of the hub: every channel's floor once (blade feet untouched).
@@ -852,7 +858,10 @@ function Job:simulate_impeller(o)
     end
     -- 11 x 11 samples can miss a little of the window's extent: 2 % and 5 mm more.
     radius = 1.02 * radius + 5
-    local search_above = sfc.search_above or 1
+    -- o.search_above: deeper stock than the default window (1 mm over a
+    -- face, 2 over the hub) is tracked, not counted untouched; o.search_below
+    -- (0.5 mm): how deep an overcut is measured (a deeper one reads as that).
+    local search_above = math.max(sfc.search_above or 1, o.search_above or 0)
     -- Passes: runs of consecutive motions of one group (an operation, or the
     -- links) near the surface. One sweep per group; the job's is the lowest
     -- of them (every motion is in one group), computed by bliskrun.simulate.
@@ -875,7 +884,7 @@ function Job:simulate_impeller(o)
     if #passes > 0 then
       local sim = bliskrun.simulate{surface = sfc.surface, passes = passes, samples_u = o.samples_u or 60,
                                     samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip,
-                                    search_above = search_above, search_below = 0.5, sweep_step = o.sweep_step or 0.1}
+                                    search_above = search_above, search_below = o.search_below or 0.5, sweep_step = o.sweep_step or 0.1}
       local function entry(r, key)
         local e = {name = key == "job" and "job" or key == "links" and "links" or self.operations[tonumber(key)].kind,
                    operation = tonumber(key), undercut_max = r.undercut_max, undercut_mean = r.undercut_mean,
@@ -906,6 +915,26 @@ function Job:simulate_impeller(o)
   end
   result.seconds = os.clock() - t0
   return result
+end
+
+-- The stop after an impeller job's simulation (j:simulate): a face may be
+-- overcut by its own flank finish's planned residual (units: the plan's
+-- {operation, name, report} of blade 1, `slack` mm for the simulation's
+-- sampling), nothing else anywhere beyond the sweep's 2 um. An error names
+-- the surface, the depth and the job move that cut it.
+function Job:check_overcut(sim, units, slack)
+  local allowed = {}
+  for _, u in ipairs(units) do
+    if u.operation == "flank_finish" then allowed[u.name] = math.min(0, u.report.residual_min) - slack end
+  end
+  for _, s in ipairs(sim.surfaces) do
+    local t, floor = s.total, allowed[s.name] or -0.002
+    if t and t.overcut < floor then
+      error(string.format("simulation: blade 1 %s is overcut %.1f um at job move %d (%s), beyond the %.1f um its "
+                          .. "operations allow; nothing is posted", s.name, -1e3 * t.overcut, t.overcut_move or -1,
+                          t.overcut_operation or "?", -1e3 * floor), 0)
+    end
+  end
 end
 
 -- Posts for one machine (j:post) and prints the one-line summary; returns

@@ -125,21 +125,8 @@ for _, s in ipairs(sim.surfaces) do
   end
 end
 print(string.format("  simulation: %.1f s CPU", sim.seconds))
--- The stop: a face may be overcut by its own flank finish's planned
--- residual (5 um for the sweep and samples), nothing else anywhere beyond
--- the sweep's 2 um. Nothing is posted after a failed simulation.
-local allowed = {}
-for _, u in ipairs(report.units) do
-  if u.operation == "flank_finish" then allowed[u.name] = math.min(0, u.report.residual_min) - 0.005 end
-end
-for _, s in ipairs(sim.surfaces) do
-  local t, floor = s.total, allowed[s.name] or -0.002
-  if t and t.overcut < floor then
-    error(string.format("simulation: blade 1 %s is overcut %.1f um at job move %d (%s), beyond the %.1f um its "
-                        .. "operations allow; nothing is posted", s.name, -1e3 * t.overcut, t.overcut_move or -1,
-                        t.overcut_operation or "?", -1e3 * floor), 0)
-  end
-end
+-- Nothing is posted after a simulated overcut the operations do not allow.
+j:check_overcut(sim, report.units, 0.005)
 
 -- The machines: B/C trunnions, whose cradle swivels both ways. At the
 -- outlet the finishing axis lies along the part axis, so widening passes

@@ -1,0 +1,139 @@
+// scripts/recipes/hecc_impeller_job.lua through the executable with
+// --data ../shared/data: a part of the NASA HECC impeller job (two blades,
+// the channel between main blade and splitter, one face, coarse settings)
+// planned on the ruled fits of the lofted faces, proved against and simulated
+// on the lofted faces, posted for two B/C trunnions and read back. Skipped
+// without the data.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(HeccImpellerJobRecipe, RoughingAndFlankFinishOfTwoBladesPlanSimulateAndPostOnTheLoftedFaces) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC impeller job recipe skipped";
+#ifdef BLISKRUN_SANITIZED
+  // ~30 s CPU in Release; the job model runs under the sanitizers through
+  // impeller_job_test.cpp's error cases.
+  GTEST_SKIP() << "HECC impeller job recipe skipped under the sanitizers (runs in the Release suite)";
+#endif
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  // The channel between main blade 1 and its splitter and main blade 1's
+  // suction face, on blades 1 and 2, coarse.
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/hecc_impeller_job.lua",
+                                       "--data", shared_data_dir(), "--out", out, "--quiet", "--set", "blades=2",
+                                       "--set", "stations=9", "--set", "scallop=0.05", "--set", "depth_step=10",
+                                       "--set", "channels=left", "--set", "faces=main minus", "--set", "sim_u=30",
+                                       "--set", "sim_v=120"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has_run_report(out, "hecc_impeller_job.pvd"));
+  std::ifstream in(out + "/hecc_impeller_job.json");
+  ASSERT_TRUE(in.good());
+  const nlohmann::json j = nlohmann::json::parse(in);
+
+  // The blades are not ruled (0.7-1 mm), and the roughing stock covers the
+  // worst fit with 0.5 mm to spare.
+  double fit_max = 0;
+  for (const char* face : {"main plus", "main minus", "splitter plus", "splitter minus"}) {
+    const double f = j["ruled_fit"][face]["max_mm"].get<double>();
+    EXPECT_GT(f, 0.1) << face;
+    EXPECT_LT(f, 3.0) << face;
+    fit_max = std::max(fit_max, f);
+  }
+  const double stock = j["roughing_stock_mm"].get<double>();
+  const double min_stock = j["min_stock_mm"].get<double>();
+  EXPECT_GE(stock, fit_max + 0.5 - 1e-9);
+
+  // Every move belongs to an operation or a link; blade 1's channel, then
+  // blade 2's, then the two faces: three links between the four units.
+  const nlohmann::json& by_op = j["moves_by_operation"];
+  for (const char* op : {"notch", "widen", "flank_finish", "link"}) EXPECT_GT(by_op.value(op, 0L), 0) << op;
+  EXPECT_EQ(by_op.value("notch", 0L) + by_op.value("widen", 0L) + by_op.value("flank_finish", 0L) +
+                by_op.value("link", 0L),
+            j["moves"].get<long>());
+  EXPECT_EQ(j["links"].get<int>(), 3);
+  EXPECT_EQ(j["refusals"].get<int>(), 0);
+  // The flank finish has a pose at every station (none refused).
+  bool finish_seen = false;
+  for (const auto& u : j["units"]) {
+    EXPECT_GT(u["report"]["poses"].get<double>(), 0) << u["name"];
+    if (u["operation"] == "flank_finish") {
+      finish_seen = true;
+      EXPECT_EQ(u["report"]["poses"].get<int>(), u["report"]["stations"].get<int>());
+    }
+  }
+  EXPECT_TRUE(finish_seen);
+  // Tool groups: the rougher and the finisher (4000 mm of life covers one
+  // face of two blades) each take both blades.
+  ASSERT_EQ(j["tool_groups"].size(), 2u);
+  EXPECT_EQ(j["tool_groups"][0]["tool"].get<int>(), 1);
+  EXPECT_EQ(j["tool_groups"][1]["tool"].get<int>(), 2);
+  for (const auto& g : j["tool_groups"]) EXPECT_EQ(g["blades"].size(), 2u);
+
+  // Flank finishing on the ruled fit against the lofted face: flagged, with
+  // a residual both ways no larger than the fit's error.
+  const nlohmann::json& finish = j["finish"]["main minus"];
+  const double face_fit = j["ruled_fit"]["main minus"]["max_mm"].get<double>();
+  EXPECT_FALSE(finish["within_tolerance"].get<bool>());
+  EXPECT_LT(finish["residual_min_mm"].get<double>(), -0.05);
+  EXPECT_GT(finish["residual_max_mm"].get<double>(), 0.05);
+  EXPECT_GT(finish["residual_min_mm"].get<double>(), -face_fit);
+  EXPECT_LT(finish["residual_max_mm"].get<double>(), face_fit);
+
+  // The simulation (core/sim) of blade 1's lofted faces and one pitch of the hub.
+  std::map<std::string, std::map<std::string, nlohmann::json>> sim;
+  for (const auto& surface : j["simulation"]["surfaces"])
+    for (const auto& g : surface["groups"]) sim[surface["name"].get<std::string>()][g["name"].get<std::string>()] = g;
+  // The widening finishes the hub (a true surface of revolution here) while
+  // the faces keep the stock: the simulated hub is cut down to the design
+  // (sweep and samples to 2 um) and never below it.
+  for (const char* op : {"notch", "widen"}) {
+    ASSERT_TRUE(sim["hub"][op].contains("residual_min_mm")) << op;
+    EXPECT_GE(sim["hub"][op]["residual_min_mm"].get<double>(), -0.002) << op;
+    EXPECT_LT(sim["hub"][op]["residual_min_mm"].get<double>(), 0.002) << op;
+  }
+  // On the lofted faces of the channel the widening leaves at least the
+  // least stock every pose was proved with, although it was planned on the fits.
+  for (const char* face : {"main minus", "splitter plus"}) {
+    ASSERT_TRUE(sim[face]["widen"].contains("residual_min_mm")) << face;
+    EXPECT_GT(sim[face]["widen"]["residual_min_mm"].get<double>(), min_stock - 0.002) << face;
+  }
+  // Roughing and links cut nothing below any surface; the finishing ball
+  // rides the hub without cutting into it.
+  for (const auto& [surface, groups] : sim)
+    for (const char* op : {"notch", "widen", "links"})
+      if (groups.count(op)) EXPECT_GE(groups.at(op)["overcut_mm"].get<double>(), -0.002) << surface << " " << op;
+  EXPECT_GT(sim["hub"]["job"]["overcut_mm"].get<double>(), -0.001);
+  // The face's overcut is the flank finish's, as the plan states it against
+  // the lofted face, and no deeper than the ruled fit's error.
+  // (Measured down to half the thinnest blade, deeper than this overcut.)
+  EXPECT_GT(j["simulation_search_below_mm"].get<double>(), -finish["residual_min_mm"].get<double>());
+  EXPECT_LT(j["simulation_search_below_mm"].get<double>(), j["blade_thickness_min_mm"].get<double>());
+  const double overcut = sim["main minus"]["job"]["overcut_mm"].get<double>();
+  EXPECT_EQ(sim["main minus"]["job"]["overcut_operation"], "flank_finish");
+  EXPECT_NEAR(overcut, finish["residual_min_mm"].get<double>(), 0.01);
+  EXPECT_GT(overcut, -face_fit);
+
+  // Both programs read back and replayed within 5 um of the plan.
+  ASSERT_EQ(j["programs"].size(), 2u);
+  for (const auto& p : j["programs"]) {
+    EXPECT_GE(p["blocks"].get<long>(), j["moves"].get<long>());
+    EXPECT_LT(p["max_position_mm"].get<double>(), 0.005) << p["file"];
+    EXPECT_GT(p["positioning"].get<long>(), 0);
+    EXPECT_TRUE(fs::exists(out + "/" + p["file"].get<std::string>()));
+  }
+}
+
+}  // namespace
+}  // namespace bliskrun::test
