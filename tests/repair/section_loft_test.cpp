@@ -8,11 +8,11 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "core/common/error.h"
-#include "core/repair/section_curve.h"
 #include "core/repair/section_loft.h"
-#include "core/repair/section_points.h"
+#include "core/repair/rebuild.h"
 #include "repair/section_shapes.h"
 
 namespace bliskrun {
@@ -44,14 +44,15 @@ struct Rebuilt {
 };
 
 // `sections` sections of `per_section` points at angles evenly spread with
-// jitter, noise sigma in the section plane, 4 strays every third section;
-// ordered, oriented, smoothed over `smoothing_mm`, aligned, lofted.
+// jitter, noise sigma in the section plane, 4 strays every third section,
+// every other section clockwise, shuffled; rebuilt (rebuild_blade: ordered,
+// oriented, smoothed over `smoothing_mm`, aligned, lofted, measured).
 Rebuilt rebuild(int sections, int per_section, double sigma, double smoothing_mm, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
   std::normal_distribution<double> noise(0, 1);
-  std::vector<std::vector<Vec3>> loops;
-  std::vector<std::vector<Vec3>> kept;
+  std::vector<std::vector<Vec3>> measured(0);
+  std::vector<std::vector<bool>> stray_flags(sections);
   Rebuilt r;
   // Expected mean distance of a kept point from the loft: the point's normal
   // noise n_0 less what the smoothing keeps of it and its neighbours. A
@@ -83,35 +84,39 @@ Rebuilt rebuild(int sections, int per_section, double sigma, double smoothing_mm
         const Vec3 along = true_blade(s, th + 1e-6) - true_blade(s, th - 1e-6);  // counter-clockwise
         p.push_back(true_blade(s, th) + (0.3 + 0.1 * t) * Vec3(along.y(), -along.x(), 0).normalized());
       }
-    if (k % 2) std::reverse(p.begin(), p.end());
+    std::vector<bool> is_stray(p.size(), false);
+    for (size_t i = genuine; i < p.size(); ++i) is_stray[i] = true;
+    if (k % 2) {
+      std::reverse(p.begin(), p.end());
+      std::reverse(is_stray.begin(), is_stray.end());
+    }
     std::vector<int> index(p.size());
     for (size_t i = 0; i < p.size(); ++i) index[i] = static_cast<int>(i);
     std::shuffle(index.begin(), index.end(), rng);
     std::vector<Vec3> shuffled;
-    for (int i : index) shuffled.push_back(p[i]);
-    const OrderedSection o = order_section(shuffled);
-    for (int i : o.order) {
-      const int original = index[i];
-      const bool stray = (k % 2 ? static_cast<int>(p.size()) - 1 - original : original) >= genuine;
-      r.strays_kept += stray;
+    for (int i : index) {
+      shuffled.push_back(p[i]);
+      stray_flags[k].push_back(is_stray[i]);
     }
-    r.kept += static_cast<int>(o.order.size());
-    loops.push_back(pick(shuffled, o.order));
+    measured.push_back(std::move(shuffled));
   }
   r.expected_mean_mm = counted ? sigma * std::sqrt(2 / kPi) * expected / counted : 0;
   r.expected_truth_mm = counted ? sigma * std::sqrt(2 / kPi) * expected_truth / counted : 0;
-  const std::vector<OrientedSection> oriented = orient_sections(loops, Vec3::UnitZ());
-  std::vector<ClosedCurve> curves;
-  std::vector<Vec3> measured;
-  for (const OrientedSection& o : oriented) {
-    curves.push_back(smooth_section(o.loop, smoothing_mm).curve);
-    measured.insert(measured.end(), o.loop.begin(), o.loop.end());
+  RebuildOptions o;
+  o.smoothing_mm = smoothing_mm;
+  o.align_samples = 1024;
+  const RebuiltBlade blade = rebuild_blade(measured, o);
+  for (int k = 0; k < sections; ++k) {
+    const RebuiltSection& rs = blade.sections[k];
+    int strays = 0;
+    for (bool f : stray_flags[k]) strays += f;
+    for (int i : rs.rejected) strays -= stray_flags[k][i];
+    r.strays_kept += strays;
+    r.kept += rs.kept;
+    if (k > 0) r.least_correlation = std::min(r.least_correlation, rs.start_correlation);
   }
-  const AlignedSections aligned = align_section_starts(curves, 1024);
-  for (size_t k = 1; k < aligned.alignments.size(); ++k)
-    r.least_correlation = std::min(r.least_correlation, aligned.alignments[k].correlation);
-  r.loft = loft_sections(aligned.curves);
-  r.measured = loft_deviation(r.loft, measured);
+  r.loft = blade.loft;
+  r.measured = blade.deviation;
   // The true surface over the measured span, between the sections too.
   std::vector<Vec3> truth;
   const int heights = 2 * (sections - 1) + 1;
@@ -242,6 +247,31 @@ TEST(SectionLoft, RejectsTooFewSectionsOrSamplesCoincidentSectionsAndBadPoints) 
   EXPECT_THROW(loft_deviation(l, {Vec3(0, 0, NAN)}), ParameterError);
   const LoftDeviation d = loft_deviation(l, {true_blade(0.5, 1.0), true_blade(0.25, 3.0) + Vec3(0, 0, 0)});
   EXPECT_EQ(d.points, 2);
+}
+
+TEST(SectionLoft, RebuildRejectsASectionWithAGapTooFewSectionsAndABadSmoothing) {
+  std::vector<std::vector<Vec3>> sections;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<Vec3> p;
+    for (int i = 0; i < 300; ++i) p.push_back(true_blade(k / 2.0, 2 * kPi * (i + 0.5) / 300));
+    sections.push_back(p);
+  }
+  RebuildOptions o;
+  EXPECT_NO_THROW(rebuild_blade(sections, o));
+  EXPECT_THROW(rebuild_blade({sections[0]}, o), ParameterError);
+  o.smoothing_mm = -0.1;
+  EXPECT_THROW(rebuild_blade(sections, o), ParameterError);
+  o.smoothing_mm = 0.1;
+  // Section 2 without its leading edge (x < -10 mm): a gap, named.
+  std::vector<std::vector<Vec3>> damaged = sections;
+  damaged[1].erase(std::remove_if(damaged[1].begin(), damaged[1].end(), [](const Vec3& q) { return q.x() < -10; }),
+                   damaged[1].end());
+  try {
+    rebuild_blade(damaged, o);
+    ADD_FAILURE() << "no error for a section with a gap";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("section 2 has a gap"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
