@@ -26,6 +26,7 @@ void open_robot(lua_State* L);      // wrap_robot.cpp: robot_cell, plan_grinding
 void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish (blade LE/TE with a flat-end bottom)
 void open_channel(lua_State* L);    // wrap_channel.cpp: channel_rough (impeller notching and widening)
 void open_sim(lua_State* L);        // wrap_sim.cpp: simulate (undercut of any surface, passes with their tools)
+void open_repair(lua_State* L);     // wrap_repair.cpp: rebuild_sections (a blade lofted through measured sections)
 
 // Registers everything into a new global table `bliskrun`.
 void open_all(lua_State* L);

@@ -1,0 +1,65 @@
+#include "core/repair/rebuild.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/common/error.h"
+#include "core/common/progress.h"
+#include "core/repair/section_curve.h"
+
+namespace bliskrun {
+
+RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const RebuildOptions& o) {
+  const int n = static_cast<int>(sections.size());
+  if (n < 2) throw ParameterError("sections", "a blade needs at least 2 sections, got " + std::to_string(n));
+  if (!(o.smoothing_mm >= 0 && std::isfinite(o.smoothing_mm)))
+    throw ParameterError("smoothing", "must be a finite length >= 0 mm");
+
+  RebuiltBlade out;
+  out.sections.resize(n);
+  std::vector<std::vector<Vec3>> loops(n);
+  for (int k = 0; k < n; ++k) {
+    cancellation_point();
+    const std::string what = "section " + std::to_string(k + 1);
+    OrderedSection s;
+    try {
+      s = order_section(sections[k], o.order);
+    } catch (const ParameterError& e) {
+      throw ParameterError(what, e.what());
+    }
+    if (!s.gaps.empty()) {
+      char len[32];
+      std::snprintf(len, sizeof len, "%.3f", s.gaps.front().length_mm);
+      throw ParameterError("sections", what + " has a gap of " + len +
+                                           " mm (a damaged section: it does not correspond to its neighbours "
+                                           "sample by sample; leave it out)");
+    }
+    RebuiltSection& r = out.sections[k];
+    r.kept = static_cast<int>(s.order.size());
+    r.rejected = s.rejected;
+    r.chains = s.chains;
+    r.spacing_mm = s.spacing_mm;
+    loops[k] = pick(sections[k], s.order);
+  }
+  const std::vector<OrientedSection> oriented = orient_sections(loops, o.axis);
+  std::vector<ClosedCurve> curves;
+  std::vector<Vec3> kept;
+  for (int k = 0; k < n; ++k) {
+    cancellation_point();
+    const SmoothedSection s = smooth_section(oriented[k].loop, o.smoothing_mm);
+    out.sections[k].smoothing_shift_mm = s.rms_shift_mm;
+    curves.push_back(s.curve);
+    kept.insert(kept.end(), oriented[k].loop.begin(), oriented[k].loop.end());
+  }
+  const AlignedSections aligned = align_section_starts(curves, o.align_samples);
+  for (int k = 0; k < n; ++k) {
+    out.sections[k].start_shift_mm = aligned.alignments[k].shift_mm;
+    out.sections[k].start_correlation = aligned.alignments[k].correlation;
+  }
+  out.loft = loft_sections(aligned.curves, o.loft);
+  out.deviation = loft_deviation(out.loft, kept);
+  return out;
+}
+
+}  // namespace bliskrun
