@@ -917,6 +917,42 @@ function Job:simulate_impeller(o)
   return result
 end
 
+-- An impeller job's simulation (j:simulate) for a run's report: prints each
+-- surface's state after the job, writes its map (o.pictures .. name ..
+-- ".png") and returns {json = {surfaces, seconds}, rows = (the report
+-- table's rows), pictures = {{title, image}, ...}}. o.search_below: the
+-- depth an overcut was measured to — one reaching it is printed "AT LEAST"
+-- and flagged overcut_at_window_depth.
+function Job:report_simulation(sim, o)
+  local out = {json = {surfaces = {}, seconds = sim.seconds}, rows = {}, pictures = {}}
+  for _, s in ipairs(sim.surfaces) do
+    local entry = {name = s.name, groups = {}}
+    for _, g in ipairs(s.groups) do
+      entry.groups[#entry.groups + 1] = {name = g.name, operation = g.operation, residual_min_mm = g.residual_min,
+        residual_max_mm = g.residual_max, undercut_mean_mm = g.undercut_mean, overcut_mm = g.overcut,
+        overcut_move = g.overcut_move, overcut_operation = g.overcut_operation, untouched = g.untouched,
+        samples = g.samples, seconds = g.seconds}
+      out.rows[#out.rows + 1] = {s.name, g.name, g.residual_min and 1e3 * g.residual_min or "-",
+                                 g.residual_max and 1e3 * g.residual_max or "-", 1e3 * g.undercut_mean, 1e3 * g.overcut,
+                                 g.overcut_move or "-", g.untouched}
+    end
+    out.json.surfaces[#out.json.surfaces + 1] = entry
+    local t = s.total
+    if t then
+      entry.overcut_at_window_depth = o.search_below and t.overcut <= -o.search_below + 1e-9 or nil
+      print(string.format("  simulated %-14s after the job: %s, overcut %s%.1f um%s", s.name,
+                          t.residual_min and string.format("material left %.3f..%.3f mm", t.residual_min, t.residual_max)
+                            or "not reached by this job", entry.overcut_at_window_depth and "AT LEAST " or "",
+                          -1e3 * t.overcut,
+                          t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
+      local picture = o.pictures .. s.name:gsub(" ", "_") .. ".png"
+      t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
+      out.pictures[#out.pictures + 1] = {title = "Material left, " .. s.name, image = picture}
+    end
+  end
+  return out
+end
+
 -- The stop after an impeller job's simulation (j:simulate): a face may be
 -- overcut by its own flank finish's planned residual (units: the plan's
 -- {operation, name, report} of blade 1, `slack` mm for the simulation's

@@ -157,34 +157,9 @@ report.blade_thickness_min_mm, report.simulation_search_below_mm = thinnest, sea
 local sim = args.simulate ~= false and j:simulate{samples_u = args.sim_u or 60, samples_v = args.sim_v or 300,
                                                   search_above = stock + fit_max + 0.5, search_below = search_below}
   or {surfaces = {}, seconds = 0}
-report.simulation = {surfaces = {}, seconds = sim.seconds}
-local sim_rows, pictures = {}, {}
-for _, s in ipairs(sim.surfaces) do
-  local entry = {name = s.name, groups = {}}
-  for _, g in ipairs(s.groups) do
-    entry.groups[#entry.groups + 1] = {name = g.name, operation = g.operation, residual_min_mm = g.residual_min,
-      residual_max_mm = g.residual_max, undercut_mean_mm = g.undercut_mean, overcut_mm = g.overcut,
-      overcut_move = g.overcut_move, overcut_operation = g.overcut_operation, untouched = g.untouched,
-      samples = g.samples, seconds = g.seconds}
-    sim_rows[#sim_rows + 1] = {s.name, g.name, g.residual_min and 1e3 * g.residual_min or "-",
-                               g.residual_max and 1e3 * g.residual_max or "-", 1e3 * g.undercut_mean, 1e3 * g.overcut,
-                               g.overcut_move or "-", g.untouched}
-  end
-  report.simulation.surfaces[#report.simulation.surfaces + 1] = entry
-  local t = s.total
-  if t then
-    -- An overcut at the measured depth may be deeper: said so.
-    entry.overcut_at_window_depth = t.overcut <= -search_below + 1e-9
-    print(string.format("  simulated %-14s after the job: %s, overcut %s%.1f um%s", s.name,
-                        t.residual_min and string.format("material left %.3f..%.3f mm", t.residual_min, t.residual_max)
-                          or "not reached by this job", entry.overcut_at_window_depth and "AT LEAST " or "",
-                        -1e3 * t.overcut,
-                        t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
-    local picture = "hecc_impeller_job_left_" .. s.name:gsub(" ", "_") .. ".png"
-    t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
-    pictures[#pictures + 1] = {title = "Material left, " .. s.name, image = picture}
-  end
-end
+local simulated = j:report_simulation(sim, {pictures = "hecc_impeller_job_left_", search_below = search_below})
+report.simulation = simulated.json
+local sim_rows, pictures = simulated.rows, simulated.pictures
 print(string.format("  simulation: %.1f s CPU (overcut measured down to %.3f mm, half the thinnest blade, %.3f mm)",
                     sim.seconds, search_below, thinnest))
 -- Nothing is posted after an overcut the operations do not allow: the hub

@@ -99,31 +99,9 @@ end
 -- the sweep's resolution.
 local sim = args.simulate ~= false and j:simulate{samples_u = args.sim_u or 60, samples_v = args.sim_v or 300}
   or {surfaces = {}, seconds = 0}
-report.simulation = {surfaces = {}, seconds = sim.seconds}
-local sim_rows, pictures = {}, {}
-for _, s in ipairs(sim.surfaces) do
-  local entry = {name = s.name, groups = {}}
-  for _, g in ipairs(s.groups) do
-    entry.groups[#entry.groups + 1] = {name = g.name, operation = g.operation, residual_min_mm = g.residual_min,
-      residual_max_mm = g.residual_max, undercut_mean_mm = g.undercut_mean, overcut_mm = g.overcut,
-      overcut_move = g.overcut_move, overcut_operation = g.overcut_operation, untouched = g.untouched,
-      samples = g.samples, seconds = g.seconds}
-    sim_rows[#sim_rows + 1] = {s.name, g.name, g.residual_min and 1e3 * g.residual_min or "-",
-                               g.residual_max and 1e3 * g.residual_max or "-", 1e3 * g.undercut_mean, 1e3 * g.overcut,
-                               g.overcut_move or "-", g.untouched}
-  end
-  report.simulation.surfaces[#report.simulation.surfaces + 1] = entry
-  local t = s.total
-  if t then
-    print(string.format("  simulated %-14s after the job: %s, overcut %.1f um%s", s.name,
-                        t.residual_min and string.format("material left %.3f..%.3f mm", t.residual_min, t.residual_max)
-                          or "not reached by this job", -1e3 * t.overcut,
-                        t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
-    local picture = "impeller_job_left_" .. s.name:gsub(" ", "_") .. ".png"
-    t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
-    pictures[#pictures + 1] = {title = "Material left, " .. s.name, image = picture}
-  end
-end
+local simulated = j:report_simulation(sim, {pictures = "impeller_job_left_"})
+report.simulation = simulated.json
+local sim_rows, pictures = simulated.rows, simulated.pictures
 print(string.format("  simulation: %.1f s CPU", sim.seconds))
 -- Nothing is posted after a simulated overcut the operations do not allow.
 j:check_overcut(sim, report.units, 0.005)
