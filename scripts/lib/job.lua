@@ -163,6 +163,27 @@ local function per_blade(j, units, blades)
   return out
 end
 
+-- A recipe's --set blades=N as the blade list {1, ..., N} (all the part's
+-- blades when N is nil); an error names the range.
+function M.first_blades(part, count)
+  local n = part:blade_count()
+  count = count or n
+  if math.type(count) ~= "integer" or count < 1 or count > n then
+    error(string.format("--set blades= expects 1..%d", n), 0)
+  end
+  local blades = {}
+  for k = 1, count do blades[k] = k end
+  return blades
+end
+
+-- A recipe's comma-separated --set value as a list ("left,right"); nil stays nil.
+function M.split_list(text)
+  if not text then return nil end
+  local out = {}
+  for item in tostring(text):gmatch("[^,]+") do out[#out + 1] = item end
+  return out
+end
+
 -- Notching (§4.1): the channel's middle opened in depth levels from the
 -- shroud contour to the stock above the hub (bliskrun.channel_rough). When a
 -- job.widen follows it (same tool, same blades), each channel is notched and

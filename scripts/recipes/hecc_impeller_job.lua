@@ -37,18 +37,8 @@ local hecc = require("hecc_impeller_part")
 
 local part = hecc.load{set = args.set or "design"}
 local n = part:blade_count()
-local count = args.blades or n
-if math.type(count) ~= "integer" or count < 1 or count > n then
-  error(string.format("--set blades= expects 1..%d", n), 0)
-end
-local blades = {}
-for k = 1, count do blades[k] = k end
-local function list(text)
-  if not text then return nil end
-  local out = {}
-  for item in tostring(text):gmatch("[^,]+") do out[#out + 1] = item end
-  return out
-end
+local blades = job.first_blades(part, args.blades)
+local count = #blades
 local tolerance = args.tolerance or 0.05
 
 -- The ruled fits, blade 1 (every blade is blade 1 turned).
@@ -83,11 +73,11 @@ local j = job.new{
   },
   operations = {
     job.notch{tool = "rougher", blades = blades, stock = stock, min_stock = min_stock,
-              depth_step = args.depth_step or 5, stations = args.stations or 41, channels = list(args.channels),
+              depth_step = args.depth_step or 5, stations = args.stations or 41, channels = job.split_list(args.channels),
               feed = 800},
     job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, hub_stock = args.hub_stock or 0,
               feed = 1000},
-    job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005, faces = list(args.faces),
+    job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005, faces = job.split_list(args.faces),
                      feed = 600},
   },
 }
