@@ -76,30 +76,9 @@ function M.load(o)
   -- built-in impeller's) of meridional length before the blades' leading
   -- edges to as far past their trailing edges.
   local flow = data.main.hub_meridian        -- {{z, r}, ...} inlet -> outlet
-  local arc = {0}
-  for i = 2, #flow do
-    arc[i] = arc[i - 1] + math.sqrt((flow[i][1] - flow[i - 1][1]) ^ 2 + (flow[i][2] - flow[i - 1][2]) ^ 2)
-  end
-  local function arc_of(z, r)                -- arc length of the flow-path point nearest (z, r)
-    local best, best_s = math.huge, 0
-    for i = 2, #flow do
-      local a, b = flow[i - 1], flow[i]
-      local dz, dr = b[1] - a[1], b[2] - a[2]
-      local t = math.max(0, math.min(1, ((z - a[1]) * dz + (r - a[2]) * dr) / (dz * dz + dr * dr)))
-      local d = (a[1] + t * dz - z) ^ 2 + (a[2] + t * dr - r) ^ 2
-      if d < best then best, best_s = d, arc[i - 1] + t * (arc[i] - arc[i - 1]) end
-    end
-    return best_s
-  end
-  local function at_arc(s)
-    for i = 2, #flow do
-      if s <= arc[i] then
-        local t = (s - arc[i - 1]) / (arc[i] - arc[i - 1])
-        return {flow[i - 1][1] + t * (flow[i][1] - flow[i - 1][1]), flow[i - 1][2] + t * (flow[i][2] - flow[i - 1][2])}
-      end
-    end
-    return flow[#flow]
-  end
+  local line = require("impeller_world").polyline(flow)
+  local arc, arc_of = line.arc, line.arc_of
+  local function at_arc(s) return {line.at_arc(s)} end
   local s_le, s_te = math.huge, -math.huge
   for _, kind in ipairs{"main", "splitter"} do
     for _, side in ipairs{"pressure", "suction"} do

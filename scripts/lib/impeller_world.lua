@@ -193,6 +193,38 @@ function M.whole(imp, meshes)
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
+-- A 2-D polyline {{x, y}, ...} with its arc length: line.arc[i] at point
+-- i, line.arc_of(x, y) the arc length of the polyline point nearest (x, y),
+-- line.at_arc(s) -> x, y (clamped to the ends). Meridian profiles of the
+-- clearance surface and of a part's flow path.
+function M.polyline(points)
+  local arc = {0}
+  for i = 2, #points do
+    arc[i] = arc[i - 1] + math.sqrt((points[i][1] - points[i - 1][1]) ^ 2 + (points[i][2] - points[i - 1][2]) ^ 2)
+  end
+  local line = {arc = arc}
+  function line.arc_of(x, y)
+    local best, best_s = math.huge, 0
+    for i = 2, #points do
+      local a, b = points[i - 1], points[i]
+      local dx, dy = b[1] - a[1], b[2] - a[2]
+      local t = math.max(0, math.min(1, ((x - a[1]) * dx + (y - a[2]) * dy) / (dx * dx + dy * dy)))
+      local d = (a[1] + t * dx - x) ^ 2 + (a[2] + t * dy - y) ^ 2
+      if d < best then best, best_s = d, arc[i - 1] + t * (arc[i] - arc[i - 1]) end
+    end
+    return best_s
+  end
+  function line.at_arc(s)
+    for i = 2, #points do
+      if s <= arc[i] or i == #points then
+        local t = math.max(0, math.min(1, (s - arc[i - 1]) / (arc[i] - arc[i - 1])))
+        return points[i - 1][1] + t * (points[i][1] - points[i - 1][1]), points[i - 1][2] + t * (points[i][2] - points[i - 1][2])
+      end
+    end
+  end
+  return line
+end
+
 -- The clearance surface over an impeller: the surface of revolution `margin`
 -- mm above the part's meridional outline (hub, shroud edges and leading
 -- edges of main blades and splitters) — the upper envelope of discs of that
@@ -247,29 +279,8 @@ function M.envelope(imp, margin)
   local prof = {}
   for i = 0, n do prof[#prof + 1] = {i * wall / n, zs[i + 1]} end
   prof[#prof + 1] = {wall, z_min - margin}
-  local arc = {0}
-  for i = 2, #prof do
-    arc[i] = arc[i - 1] + math.sqrt((prof[i][1] - prof[i - 1][1]) ^ 2 + (prof[i][2] - prof[i - 1][2]) ^ 2)
-  end
-  local function s_of(r, z)  -- arc length of the profile point nearest (r, z)
-    local best, best_s = math.huge, 0
-    for i = 2, #prof do
-      local a, b = prof[i - 1], prof[i]
-      local dr, dz = b[1] - a[1], b[2] - a[2]
-      local t = math.max(0, math.min(1, ((r - a[1]) * dr + (z - a[2]) * dz) / (dr * dr + dz * dz)))
-      local d = (a[1] + t * dr - r) ^ 2 + (a[2] + t * dz - z) ^ 2
-      if d < best then best, best_s = d, arc[i - 1] + t * (arc[i] - arc[i - 1]) end
-    end
-    return best_s
-  end
-  local function at_s(s)
-    for i = 2, #prof do
-      if s <= arc[i] or i == #prof then
-        local t = math.max(0, math.min(1, (s - arc[i - 1]) / (arc[i] - arc[i - 1])))
-        return prof[i - 1][1] + t * (prof[i][1] - prof[i - 1][1]), prof[i - 1][2] + t * (prof[i][2] - prof[i - 1][2])
-      end
-    end
-  end
+  local line = M.polyline(prof)
+  local s_of, at_s = line.arc_of, line.at_arc
   local env = {margin = margin, wall = wall, top = zs[1], outside = outside}
   function env.back_out(pose)
     local p, a = pose.tip, pose.axis
