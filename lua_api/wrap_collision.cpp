@@ -224,7 +224,7 @@ int w_collision_world(lua_State* L) {
   return luax::guarded(L, [&] {
     const luax::Options o(L, 1, "bliskrun.collision_world",
                           {Field{"surfaces", Kind::Table, true, std::nullopt, std::nullopt,
-                                 "list of {name=, mesh=} or {name=, surface=, chord_tol=}", {}}});
+                                 "list of {name=, mesh=}, {name=, surface=, chord_tol=} or {name=, revolution=}", {}}});
     auto world = std::make_shared<CollisionWorld>();
     o.push_raw("surfaces");
     const lua_Integer n = luaL_len(L, -1);
@@ -237,6 +237,9 @@ int w_collision_world(lua_State* L) {
            Field{"mesh", Kind::Any, false, std::nullopt, std::nullopt,
                  "bliskrun.Mesh or {vertices={{x,y,z},...}, triangles={{i,j,k},...}} (1-based)", {}},
            Field{"surface", Kind::Any, false, std::nullopt, std::nullopt, "bliskrun.Surface to tessellate", {}},
+           Field{"revolution", Kind::Any, false, std::nullopt, std::nullopt,
+                 "a surface of revolution measured analytically (no mesh): each tool part by spheres "
+                 "covering it, against the meridian polyline within chord_tol (default 0.001)", {}},
            Field{"chord_tol", Kind::Number, false, 1e-6, std::nullopt, "tessellation tolerance, mm", {}},
            Field{"margin", Kind::Number, false, 0.0, 100.0,
                  "extra clearance against this surface, mm (default 0); give a coarse mesh its chord_tol", {}},
@@ -264,7 +267,20 @@ int w_collision_world(lua_State* L) {
       CheckSurfaceOptions options;
       options.parts = mask;
       options.margin_mm = s.number("margin", 0.0);
-      world->add(s.string("name", ""), check_surface_entry(L, s, what), options);
+      if (s.has("revolution")) {
+        if (s.has("mesh") || s.has("surface"))
+          luax::error(L, what + ": give one of 'mesh', 'surface' and 'revolution'");
+        s.push_raw("revolution");
+        const std::shared_ptr<const Surface> surface = luax::check<SurfaceHandle>(L, -1).surface;
+        lua_pop(L, 1);
+        const auto* rev = dynamic_cast<const SurfaceOfRevolution*>(surface.get());
+        if (!rev) luax::error(L, what + ".revolution: expected a surface of revolution (impeller:hub(), "
+                                        "bliskrun.surface_of_revolution, bliskrun.offset_revolution)");
+        world->add(s.string("name", ""), std::make_shared<RevolutionDistance>(*rev, s.number("chord_tol", 1e-3)),
+                   options);
+      } else {
+        world->add(s.string("name", ""), check_surface_entry(L, s, what), options);
+      }
       lua_pop(L, 1);
     }
     lua_pop(L, 1);

@@ -64,6 +64,33 @@ std::vector<Vec3> piece_vertices(const TriangleMesh& mesh) {
   return out;
 }
 
+// Distance of a tool piece (its sphere cover, placed by `frame`) from a
+// surface of revolution, resolved below `bound` (returned when farther).
+// Groups whose bounding sphere is beyond the bound are skipped whole.
+double cover_distance(const RevolutionDistance& surface, const SphereCover& cover, const Eigen::Isometry3d& frame,
+                      double bound, Vec3* on_object, Vec3* on_tool) {
+  const Vec3 origin = frame.translation();
+  const Vec3 axis = frame.linear().col(2);
+  double best = bound;
+  for (const SphereCover::Group& g : cover.groups) {
+    const double r = g.bound.radius;
+    if (surface.distance(origin + g.bound.z * axis, best + r) - r >= best) continue;
+    for (int j = g.first; j < g.first + g.count; ++j) {
+      const AxisSphere& s = cover.spheres[static_cast<size_t>(j)];
+      const Vec3 c = origin + s.z * axis;
+      Vec3 foot;
+      const double d = surface.distance(c, best + s.radius, &foot) - s.radius;
+      if (d < best) {
+        best = d;
+        *on_object = foot;
+        const Vec3 to = foot - c;
+        *on_tool = to.norm() > 0 ? Vec3(c + to.normalized() * s.radius) : c;
+      }
+    }
+  }
+  return best;
+}
+
 }  // namespace
 
 bool PartMask::has(ToolPartId part) const {
@@ -75,7 +102,7 @@ bool PartMask::has(ToolPartId part) const {
   return true;
 }
 
-void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
+void CollisionWorld::check_name(const std::string& name, const CheckSurfaceOptions& options) const {
   const PartMask& parts = options.parts;
   if (!parts.cutter && !parts.shank && !parts.holder)
     throw ParameterError(name, "a check surface must be checked against at least one tool part");
@@ -85,6 +112,21 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, Chec
   for (const Object& o : objects_) {
     if (o.name == name) throw ParameterError("name", "check surface '" + name + "' is already in the world");
   }
+}
+
+void CollisionWorld::add(const std::string& name, std::shared_ptr<const RevolutionDistance> surface,
+                         CheckSurfaceOptions options) {
+  check_name(name, options);
+  if (!surface) throw ParameterError(name, "no surface of revolution given");
+  Object o;
+  o.name = name;
+  o.revolution = std::move(surface);
+  o.options = options;
+  objects_.push_back(std::move(o));
+}
+
+void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
+  check_name(name, options);
   if (mesh.triangles.empty()) throw ParameterError(name, "check surface mesh has no triangles");
   const int n = static_cast<int>(mesh.vertices.size());
   for (const Vec3& v : mesh.vertices) {
@@ -104,7 +146,7 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, Chec
   model->endModel();
   model->computeLocalAABB();
   objects_.push_back(
-      Object{name, std::move(model), static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options});
+      Object{name, std::move(model), nullptr, static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options});
 }
 
 std::string describe(const PoseCheck& c, const CollisionWorld& world) {
@@ -145,7 +187,9 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
     for (int i = 0; i < size() && !pc.collides; ++i) {
       if (!objects_[i].options.parts.has(part.id)) continue;
       for (const Vec3& v : objects_[i].piece_vertices) {
-        if (body.tool().signed_distance(to_tool * v, part.id) < part.overestimate_mm + objects_[i].options.margin_mm) {
+        const Vec3 in_tool = to_tool * v;
+        if (body.tool().signed_distance(in_tool, part.id) <
+            part.overestimate_at(in_tool.z()) + objects_[i].options.margin_mm) {
           pc.collides = pc.resolved = true;
           pc.distance_mm = 0;
           pc.object = i;
@@ -166,6 +210,23 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
         if (!objects_[i].options.parts.has(part.id)) continue;
         // A surface with a margin counts as that much nearer than its mesh.
         const double margin = objects_[i].options.margin_mm;
+        if (objects_[i].revolution) {
+          const double seed = best + margin;
+          Vec3 on_object = Vec3::Zero(), on_tool = Vec3::Zero();
+          const double d = cover_distance(*objects_[i].revolution, part.pieces[k].cover, frame, seed, &on_object,
+                                          &on_tool);
+          if (d < seed) {
+            resolved = true;
+            best = std::max(0.0, d - margin);
+            if (best < pc.distance_mm) {
+              pc.object = i;
+              pc.on_object = on_object;
+              pc.on_tool = on_tool;
+            }
+            if (best <= 0) break;
+          }
+          continue;
+        }
         fcl::DistanceResultd result;
         // Seeded with the best bound so far: FCL prunes every bounding
         // volume farther than that.

@@ -31,6 +31,7 @@
 #include <fcl/fcl.h>
 
 #include "core/geometry/mesh.h"
+#include "core/geometry/revolution_distance.h"
 #include "core/tools/pose.h"
 #include "core/tools/tool_fcl.h"
 
@@ -121,6 +122,14 @@ class CollisionWorld {
   // checks one vertex per connected piece, so a triangle soup makes it
   // linear in the triangle count per query.
   void add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options = {});
+  // Adds a surface of revolution measured analytically: each tool piece by
+  // its sphere cover (tool_fcl.h) against the meridian's distance
+  // (revolution_distance.h), never more than the true distance. For a
+  // check surface a tool part runs close along — a hub the ball finishes —
+  // where a mesh fine enough would make every step of a motion proof an FCL
+  // traversal of a few hundred thousand triangles. Same name rules as add.
+  void add(const std::string& name, std::shared_ptr<const RevolutionDistance> surface,
+           CheckSurfaceOptions options = {});
 
   int size() const { return static_cast<int>(objects_.size()); }
   const std::string& name(int index) const { return objects_.at(index).name; }
@@ -151,7 +160,8 @@ class CollisionWorld {
  private:
   struct Object {
     std::string name;
-    std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;
+    std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> model;  // null for a revolution
+    std::shared_ptr<const RevolutionDistance> revolution;
     int triangles = 0;
     std::vector<Vec3> piece_vertices;  // one vertex of every connected piece
     CheckSurfaceOptions options;
@@ -161,6 +171,7 @@ class CollisionWorld {
   PoseCheck check_bounded(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,
                           const Clearances& clearances, const std::vector<std::vector<double>>& bound_mm,
                           std::vector<std::vector<double>>* piece_distance) const;
+  void check_name(const std::string& name, const CheckSurfaceOptions& options) const;
   std::vector<Object> objects_;
 };
 

@@ -77,6 +77,8 @@ FclPiece fcl_piece(const Profile& profile, double tol_mm, double& overestimate_m
   const RevolvedPolytope poly = circumscribed_polytope(profile, tol_mm);
   overestimate_mm = std::max(overestimate_mm, poly.overestimate_mm);
   FclPiece piece;
+  piece.z_max = profile.z_max();
+  piece.overestimate_mm = poly.overestimate_mm;
   piece.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
   piece.geometry->beginModel();
   for (const auto& f : poly.faces) {
@@ -87,10 +89,17 @@ FclPiece fcl_piece(const Profile& profile, double tol_mm, double& overestimate_m
   piece.geometry->endModel();
   piece.geometry->computeLocalAABB();
   for (const Vec3& v : poly.vertices) piece.reach_mm = std::max(piece.reach_mm, v.norm());
+  piece.cover = sphere_cover(profile, kCoverExcessMm, tol_mm);
   return piece;
 }
 
 }  // namespace
+
+double FclToolPart::overestimate_at(double z) const {
+  for (const FclPiece& piece : pieces)
+    if (z <= piece.z_max) return piece.overestimate_mm;
+  return pieces.empty() ? overestimate_mm : pieces.back().overestimate_mm;
+}
 
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
   std::vector<FclToolPart> parts;
@@ -108,7 +117,13 @@ std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm) {
     if (id == ToolPartId::Cutter && height > 4 * profile.max_radius()) {
       const auto [bottom, top] = profile.split_at(profile.z_min() + 2 * profile.max_radius());
       part.pieces.push_back(fcl_piece(bottom, part_tol, part.overestimate_mm));
-      part.pieces.push_back(fcl_piece(top, part_tol, part.overestimate_mm));
+      // The top piece is meshed coarser (kFluteTopTolMm): it runs along
+      // faces with stock or neighbours, never along a surface a check lets
+      // it touch to the micrometre, and a long finely meshed flute parallel
+      // to a blade face made each query the impeller job's largest cost
+      // (planning the right channel and one face: 21-22 s CPU at 1 um,
+      // 10-12 s at 0.05 mm).
+      part.pieces.push_back(fcl_piece(top, std::max(part_tol, kFluteTopTolMm), part.overestimate_mm));
     } else {
       part.pieces.push_back(fcl_piece(profile, part_tol, part.overestimate_mm));
     }

@@ -19,6 +19,7 @@
 
 #include <fcl/fcl.h>
 
+#include "core/tools/sphere_cover.h"
 #include "core/tools/tool.h"
 
 namespace bliskrun {
@@ -31,17 +32,32 @@ namespace bliskrun {
 struct FclPiece {
   std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> geometry;  // in the tool frame
   double reach_mm = 0;  // largest distance of a piece point from the reference point
+  double z_max = 0;          // top of the piece along the axis, tool frame
+  double overestimate_mm = 0;  // how far its body may stand outside the part
+  // The piece covered by spheres on its axis (within kCoverExcessMm), for
+  // check surfaces measured analytically (a surface of revolution).
+  SphereCover cover;
 };
+
+// How much wider than the tool its sphere cover may be, mm.
+constexpr double kCoverExcessMm = 0.01;
 
 struct FclToolPart {
   ToolPartId id = ToolPartId::Cutter;
   std::vector<FclPiece> pieces;  // bottom first; together the whole part
-  double overestimate_mm = 0;    // how far the FCL body may stand outside the part
+  double overestimate_mm = 0;    // how far the FCL body may stand outside the part (largest over the pieces)
+  // The overestimate of the piece at height z (tool frame) of the axis.
+  double overestimate_at(double z) const;
   double reach_mm = 0;           // largest distance of a body point from the reference point
 };
 
+// How coarsely the top piece of a long cutter is meshed, mm (its
+// overestimate; see fcl_parts).
+constexpr double kFluteTopTolMm = 0.05;
+
 // The present parts of `tool`, cutter first. A cutter more than four of its
-// largest radii long is cut at two radii above its bottom. Throws
+// largest radii long is cut at two radii above its bottom, and its top
+// piece meshed to kFluteTopTolMm (the bottom to tol_mm). Throws
 // ParameterError("tol_mm") unless 0 < tol_mm.
 std::vector<FclToolPart> fcl_parts(const Tool& tool, double tol_mm);
 

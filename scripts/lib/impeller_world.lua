@@ -37,10 +37,10 @@ function M.meshes(imp, tol)
     if not cache.hub then cache.hub = imp:hub():tessellate(tol) end
     return cache.hub
   end
-  -- The hub surface `depth` mm inside the hub (into its material),
-  -- tessellated to `mesh_tol`.
-  function self.hub_inside(depth, mesh_tol)
-    local key = string.format("hub_inside %.6g %.6g", depth, mesh_tol)
+  -- The hub surface `depth` mm inside the hub (into its material): the
+  -- surface of revolution.
+  function self.hub_inside(depth)
+    local key = string.format("hub_inside %.6g", depth)
     if not cache[key] then
       local hub = imp:hub()
       -- Which way the hub's normal points: towards the blades (the channel)
@@ -49,7 +49,7 @@ function M.meshes(imp, tol)
       local foot = hub:project(q)
       local n = hub:eval(foot.u, foot.v).normal
       local up = (q[1] - foot.point[1]) * n[1] + (q[2] - foot.point[2]) * n[2] + (q[3] - foot.point[3]) * n[3]
-      cache[key] = bliskrun.offset_revolution(hub, up > 0 and -depth or depth):tessellate(mesh_tol)
+      cache[key] = bliskrun.offset_revolution(hub, up > 0 and -depth or depth)
     end
     return cache[key]
   end
@@ -127,24 +127,24 @@ end
 -- finish it (bliskrun.channel_rough's hub_stock = 0), so the ball touches
 -- the hub. The hub then stands for the shank and holder only, and for the
 -- cutter the hub less (c + allowance) — the surface of revolution that far
--- inside it, tessellated to 0.02 mm: a cutter kept c + 0.02 from that mesh
--- is proved to reach no deeper than `allowance` (0.3 mm) into the hub, on
+-- inside it, measured analytically (no mesh: the cutter's sphere cover
+-- against the meridian, core/geometry/revolution_distance.h): a cutter kept
+-- c from it is proved to reach no deeper than `allowance` into the hub, on
 -- every pose, motion, step, link and lead: a guard against gross errors (a
 -- flute, step or link dipping into the hub), as the roughing's 0.2 mm
 -- clearance was. What the ball really takes (its centre kept within 0.005
 -- mm of the hub's offset by the planner) the job's simulation measures,
 -- and the job fails on any overcut of the hub. The allowance is the slack
--- conservative advancement steps by; planning the right channel at 41
--- stations and one face took 111 s CPU at 0.1 mm (mesh 0.01), 43 s at
--- 0.3 mm, 18 s without the cutter checked against the hub at all.
+-- conservative advancement steps by: each step of a motion proof still
+-- queries the faces' meshes.
 M.hub_finish_allowance = 0.3
 function M.channel_world(imp, meshes, o)
   local surfaces = {}
   if o and o.hub_finish then
     surfaces[1] = {name = "hub", mesh = meshes.hub(), parts = {"shank", "holder"}, margin = meshes.tol}
     surfaces[2] = {name = "hub (cutter, less the allowance)",
-                   mesh = meshes.hub_inside(o.hub_finish.cutter_clearance + M.hub_finish_allowance, 0.02),
-                   parts = {"cutter"}, margin = 0.02}
+                   revolution = meshes.hub_inside(o.hub_finish.cutter_clearance + M.hub_finish_allowance),
+                   parts = {"cutter"}}
   else
     surfaces[1] = {name = "hub", mesh = meshes.hub(), margin = meshes.tol}
   end

@@ -288,7 +288,7 @@ TEST(CollisionWorld, ALongCutterGlidingOverAPlaneStepsByItsBottomPiece) {
   const ToolPose from{Vec3(-5, 0, 0.1), Vec3::UnitZ()}, to{Vec3(5, 0, 0.1), Vec3(std::sin(theta), 0, std::cos(theta))};
   const MotionCheck m = world.check_motion(body, from, to, Clearances{}, 1e-3);
   EXPECT_TRUE(m.clear);
-  const double oe = body.parts().front().overestimate_mm;  // the cutter's
+  const double oe = body.parts().front().pieces.front().overestimate_mm;  // the bottom piece's
   EXPECT_GE(m.min_margin_mm, 0);
   const double v_bottom = 10 + theta * body.parts().front().pieces.front().reach_mm;
   const double v_whole = 10 + theta * body.parts().front().reach_mm;
@@ -336,6 +336,76 @@ TEST(CollisionWorld, OverlapIsNotClearWithZeroClearanceAndHorizon) {
   EXPECT_TRUE(c.parts.front().collides);
   const ToolPose above{Vec3(0.3, 0.2, 0.5), Vec3::UnitZ()};
   EXPECT_TRUE(world.check(body, above, Clearances{}, 0.0).clear);
+}
+
+}  // namespace
+}  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// A hub-like cylinder r = 40 about Z, measured analytically (no mesh).
+CollisionWorld cylinder_hub_world() {
+  CollisionWorld world;
+  CheckSurfaceOptions cutter_only;
+  cutter_only.parts = {true, false, false};
+  world.add("hub", std::make_shared<RevolutionDistance>(std::vector<Vec2>{Vec2(-50, 40), Vec2(50, 40)}, 0.0),
+            cutter_only);
+  return world;
+}
+
+TEST(CollisionWorld, RevolutionMeasuresTheBallAsItIs) {
+  const CollisionWorld world = cylinder_hub_world();
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  for (double deg : {0.0, 20.0, 50.0}) {
+    for (double d : {0.05, 0.5, 2.0}) {
+      // Axis leaning away from the radial direction by `deg`, the ball's
+      // centre 43 + d from the axis: the ball d from the hub, the flute
+      // farther.
+      const double a = deg_to_rad(deg);
+      const Vec3 axis(std::cos(a), 0, std::sin(a));
+      const ToolPose pose{Vec3(43 + d, 0, 0) - 3 * axis, axis};
+      const double expected = d;
+      const PoseCheck c = world.check(body, pose, Clearances{});
+      ASSERT_EQ(c.parts.size(), 2u);
+      EXPECT_LE(c.parts[0].distance_mm, expected + 1e-9) << deg << " " << d;
+      EXPECT_GE(c.parts[0].distance_mm, expected - body.parts()[0].pieces[0].cover.overestimate_mm - 1e-9)
+          << deg << " " << d;
+      EXPECT_EQ(c.parts[0].object, 0);
+      EXPECT_NEAR(std::hypot(c.parts[0].on_object.x(), c.parts[0].on_object.y()), 40, 1e-9);
+      // The shank is not checked against it.
+      EXPECT_FALSE(c.parts[1].resolved);
+    }
+  }
+  // Sunk 0.2 mm into the hub: a collision.
+  const PoseCheck sunk = world.check(body, ToolPose{Vec3(39.8, 0, 0), Vec3::UnitX()}, Clearances{});
+  EXPECT_FALSE(sunk.clear);
+  EXPECT_TRUE(sunk.parts[0].collides);
+}
+
+TEST(CollisionWorld, RevolutionProvesAMotionAlongTheHubOrFindsItsDip) {
+  // The tip 0.5 mm off the hub at -phi and +phi, the axis radial at both:
+  // the straight move's middle puts the ball centre (40.5) cos(phi) + 3 from
+  // the axis, into the hub when (40.5) cos(phi) < 40, i.e. phi > 8.99 deg.
+  const CollisionWorld world = cylinder_hub_world();
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  auto radial = [](double deg) {
+    const double a = deg_to_rad(deg);
+    const Vec3 n(std::cos(a), std::sin(a), 0);
+    return ToolPose{40.5 * n, n};
+  };
+  Clearances c;
+  c.cutter_mm = 0.05;
+  const MotionCheck shallow = world.check_motion(body, radial(-8), radial(8), c, 1e-3);
+  EXPECT_TRUE(shallow.clear);  // dips to 40.5 cos 8 deg - 40 = 0.106 mm
+  // The proof's smallest margin is what it resolved: no more than the truth.
+  EXPECT_GT(shallow.min_margin_mm, 0);
+  EXPECT_LE(shallow.min_margin_mm, 40.5 * std::cos(deg_to_rad(8)) - 40 - 0.05 + 1e-9);
+  const MotionCheck deep = world.check_motion(body, radial(-10), radial(10), c, 1e-3);
+  EXPECT_FALSE(deep.clear);  // would reach 40.5 cos 10 deg - 40 = -0.115 mm
+  EXPECT_GT(deep.t, 0.2);
+  EXPECT_LT(deep.t, 0.5);
+  EXPECT_EQ(world.name(deep.at.parts[deep.at.worst].object), "hub");
 }
 
 }  // namespace
