@@ -1,6 +1,7 @@
 #include "lua_api/machine_host.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -460,8 +461,28 @@ int l_moves_next(lua_State* L) {
   lua_setfield(L, -2, "positioning");
   lua_pushinteger(L, m.tool + 1);
   lua_setfield(L, -2, "tool");  // index into job.tools
+  // tip and axis are made when a post reads them (none of ours does, and
+  // two tables a block were a tenth of the post's time on a million blocks).
+  lua_pushvalue(L, lua_upvalueindex(3));
+  lua_setmetatable(L, -2);
+  return 1;
+}
+
+// A move's __index: upvalue 1 = context. Makes move.tip and move.axis from
+// the move's index, once.
+int l_move_index(lua_State* L) {
+  PostContext& c = context_at(L, lua_upvalueindex(1));
+  const char* key = lua_tostring(L, 2);
+  if (!key || (std::strcmp(key, "tip") != 0 && std::strcmp(key, "axis") != 0)) return 0;
+  lua_getfield(L, 1, "index");
+  const lua_Integer i = lua_tointeger(L, -1) - 1;
+  lua_pop(L, 1);
+  if (i < 0 || i >= static_cast<lua_Integer>(c.program->moves.size())) return 0;
+  const MachineMove& m = c.program->moves[static_cast<size_t>(i)];
+  lua_pushvalue(L, 1);
   set_vec3(L, m.pose.tip, "tip");
   set_vec3(L, m.pose.axis, "axis");
+  lua_getfield(L, -1, key);
   return 1;
 }
 
@@ -470,7 +491,11 @@ int l_job_moves(lua_State* L) {
   context_at(L, lua_upvalueindex(1));
   lua_pushvalue(L, lua_upvalueindex(1));
   lua_pushinteger(L, 0);
-  lua_pushcclosure(L, l_moves_next, 2);
+  lua_createtable(L, 0, 1);  // the moves' metatable
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_pushcclosure(L, l_move_index, 1);
+  lua_setfield(L, -2, "__index");
+  lua_pushcclosure(L, l_moves_next, 3);
   return 1;
 }
 

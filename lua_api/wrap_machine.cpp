@@ -2,6 +2,7 @@
 // posting a toolpath with a Lua post and proving the program by read-back.
 // Degrees and mm at this boundary; core works in radians.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -281,6 +282,13 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* too
   return path;
 }
 
+// Wall seconds of post.write's stages: reading the path from Lua, the
+// machine motion (inverse kinematics, splitting), the Lua post, the
+// read-back and replay, writing the file.
+struct PostSeconds {
+  double read = 0, motion = 0, post = 0, verify = 0, write = 0;
+};
+
 void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_createtable(L, 0, 8);
   lua_pushinteger(L, r.moves);
@@ -380,9 +388,15 @@ int w_post_write(lua_State* L) {
     lua_pop(L, 1);
   }
 
+  // Where the time goes (seconds, wall): reported as `seconds`.
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  PostSeconds seconds;
+  auto t0 = Clock::now();
   o.push_raw("path");
   std::vector<int> move_tools;
   const std::vector<PlannedMove> path = check_path(L, -1, &move_tools);
+  seconds.read = since(t0);
   lua_pop(L, 1);
   // Each move's tool index; a move without `tool` keeps the one before.
   std::vector<int> tool_of(path.size(), 0);
@@ -420,6 +434,7 @@ int w_post_write(lua_State* L) {
     lua_pop(L, 1);
   }
   std::vector<Kinematics> kins;
+  t0 = Clock::now();
   luax::guarded(L, [&] {
     for (const PostTool& t : job.tools) kins.emplace_back(machine.definition, t.length_mm);
     std::vector<const Kinematics*> pointers;
@@ -427,13 +442,20 @@ int w_post_write(lua_State* L) {
     posted.plan = plan_machine_motion_tools(pointers, path, tool_of, motion, context(L).progress);
     return 0;
   });
+  seconds.motion = since(t0);
+  t0 = Clock::now();
   const std::string text = run_post(L, post_idx, kins.front(), posted.plan, job);
+  seconds.post = since(t0);
   // Prove the program before it replaces anything on disk.
+  t0 = Clock::now();
   const VerifyReport report = verify_posted(L, posted, text, o.number("verify_tol", 0.001), 0.001);
+  seconds.verify = since(t0);
+  t0 = Clock::now();
   luax::guarded(L, [&] {
     write_file_atomic(target, text);
     return 0;
   });
+  seconds.write = since(t0);
   {
     std::ostringstream line;
     line << target << ": " << report.moves << " moves, max tip deviation " << report.max_position_mm
@@ -442,6 +464,13 @@ int w_post_write(lua_State* L) {
     context(L).verified_programs.push_back(line.str());
   }
   push_report(L, report, posted);
+  lua_createtable(L, 0, 5);
+  for (const auto& [name, value] : {std::pair<const char*, double>{"read", seconds.read}, {"motion", seconds.motion},
+                                    {"post", seconds.post}, {"verify", seconds.verify}, {"write", seconds.write}}) {
+    lua_pushnumber(L, value);
+    lua_setfield(L, -2, name);
+  }
+  lua_setfield(L, -2, "seconds");
   luax::push_new(L, std::move(posted));
   lua_setfield(L, -2, "program");
   return 1;

@@ -999,8 +999,11 @@ end
 -- Machine, name = (how the report calls a Machine), post =, file =}.
 function Job:post_program(m)
   local r = self:post{machine = m.machine, post = m.post, file = m.file}
-  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan", m.file, r.moves,
-                      r.positioning, r.max_position))
+  local s = r.seconds
+  print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan; %.1f s (path %.1f, "
+                      .. "machine motion %.1f, post %.1f, read back %.1f, write %.1f)", m.file, r.moves, r.positioning,
+                      r.max_position, s.read + s.motion + s.post + s.verify + s.write, s.read, s.motion, s.post,
+                      s.verify, s.write))
   return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
           max_position_mm = r.max_position, max_angle_deg = r.max_angle}
 end

@@ -47,10 +47,16 @@ function P.check(self, job) end
 
 -- ---- formatting --------------------------------------------------------
 
--- Fixed decimals, never "-0.000".
+-- Fixed decimals, never "-0.000". (Called five times a block: the format
+-- strings are made once, and only a text starting with "-" is looked at.)
+local formats = setmetatable({}, {__index = function(t, decimals)
+  local f = "%." .. decimals .. "f"
+  t[decimals] = f
+  return f
+end})
 function P.number(self, value, decimals)
-  local text = string.format("%." .. decimals .. "f", value)
-  if text:match("^%-0%.?0*$") then text = text:sub(2) end
+  local text = string.format(formats[decimals], value)
+  if text:byte(1) == 45 and tonumber(text) == 0 then text = text:sub(2) end
   return text
 end
 
@@ -75,18 +81,27 @@ end
 -- output). A move below the output resolution still gets a block: the
 -- program has one block per planned move, which read-back relies on.
 function P.axis_words(self, job, move)
-  local words, all = {}, {}
-  local function add(name, decimals)
-    local text = self:word(name, move[name], decimals)
-    all[#all + 1] = text
-    if self.last[name] ~= text then
-      words[#words + 1] = text
-      self.last[name] = text
+  local words, n, last = {}, 0, self.last
+  local function add(names, decimals)
+    for i = 1, #names do
+      local name = names[i]
+      local text = self:word(name, move[name], decimals)
+      if last[name] ~= text then
+        n = n + 1
+        words[n] = text
+        last[name] = text
+      end
     end
   end
-  for _, name in ipairs(job.machine.linear) do add(name, job.decimals.linear) end
-  for _, name in ipairs(job.machine.rotary) do add(name, job.decimals.rotary) end
-  if #words == 0 then words = all end
+  local machine, decimals = job.machine, job.decimals
+  add(machine.linear, decimals.linear)
+  add(machine.rotary, decimals.rotary)
+  if n == 0 then
+    -- Nothing changed: every word again (they are the last ones written).
+    for _, names in ipairs({machine.linear, machine.rotary}) do
+      for i = 1, #names do words[#words + 1] = last[names[i]] end
+    end
+  end
   return words
 end
 
