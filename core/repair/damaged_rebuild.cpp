@@ -289,7 +289,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     kept.insert(kept.end(), work[k].kept.begin(), work[k].kept.end());
     out.sections.push_back(work[k].report);
   }
-  out.deviation = loft_deviation(out.loft, kept);
+  out.deviation = loft_deviation(out.loft, kept, &out.point_deviations);
   return out;
 }
 

@@ -106,6 +106,7 @@ struct DamagedRebuild {
   SectionLoft loft;
   BladeFrame frame;
   LoftDeviation deviation;  // of the kept measured points
+  std::vector<PointDeviation> point_deviations;  // each of them, in section order
   std::vector<DamagedSection> sections;  // bottom to top, one per loft section
   std::vector<SectionGapFill> fills;
   double top_measured_mm = 0;  // height of the highest measured section
