@@ -206,6 +206,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       const int a = g.after, b = (g.after + 1) % static_cast<int>(w.kept.size());
       const Vec2 pa = frame.in_plane(w.kept[a]), pb = frame.in_plane(w.kept[b]);
       const int ia = model_index.nearest(lift(pa), far), ib = model_index.nearest(lift(pb), far);
+      if (ia < 0 || ib < 0 || ia == ib) continue;  // a gap narrower than the model's spacing: nothing to put in
       // Of the two arcs from ia to ib, the one whose middle no measured point is near.
       const int forward = ((ib - ia) % m + m) % m;
       const Vec2 mid_f = model[(ia + forward / 2) % m];
