@@ -255,7 +255,7 @@ int w_blade_measure(lua_State* L) {
        Field{"points", Kind::Integer, false, 16, 10000000, "points per section before the damage's gaps (default 2000)", {}},
        number_field("noise", "sigma of the probe's noise along the normal, mm (default 0.002)", 0, 0.1),
        number_field("outliers", "fraction of stray points (default 0.005)", 0, 0.1),
-       number_field("unseen_arc", "an arc of the pressure side the probe misses, mm (default 0)", 0, 1000),
+       number_field("unseen_arc", "an arc the probe misses, centred at the section's extreme along -e2, mm (default 0)", 0, 1000),
        Field{"face_points", Kind::Integer, false, 0, 100000, "points on a broken tip's fracture face (default 60)", {}},
        Field{"seed", Kind::Integer, false, 0, 1e15, "random seed (default 1)", {}},
        number_field("span_from", "lowest plane, span fraction (default 0.03)", 0, 1),

@@ -37,8 +37,8 @@
 // moved along the profile by up to a quarter step at random, none where material
 // is missing (the probe finds no surface there) nor in an optional unseen
 // arc (a stretch the probe cannot reach), each moved along the profile's
-// normal by Gaussian noise σ; a fraction of outliers moved by 10σ..0.3 mm
-// either way; shuffled. A section left with less than half its points is not
+// normal by Gaussian noise σ; a fraction of outliers moved by 10σ (at least
+// 20 um) plus up to 0.3 mm, either way; shuffled. A section left with less than half its points is not
 // reported (the probe finds no section above a broken tip). Points on the
 // fracture face of a broken tip ("face" points: a CMM touches it to find the
 // break) are sampled on a grid inside the damaged section just below the
@@ -141,7 +141,7 @@ struct MeasurementOptions {
   int points = 2000;               // per section, before the missing material and the unseen arc
   double noise_mm = 0.002;         // σ along the profile normal
   double outlier_fraction = 0.005;
-  double unseen_arc_mm = 0;        // an arc on the trailing half of the pressure side the probe misses
+  double unseen_arc_mm = 0;        // an arc the probe misses, centred at the section's extreme along -e2
   int face_points = 60;            // on the fracture face of a broken tip (0: none)
   std::uint64_t seed = 1;
 };
