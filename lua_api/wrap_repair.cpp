@@ -1,16 +1,52 @@
 // Blade repair (repair paper, SPEC §6.5): bliskrun.rebuild_sections, the
 // blade lofted through measured sections and the measured points' deviation
-// from it (core/repair/rebuild.h).
+// from it (core/repair/rebuild.h); the damaged blade, its measurement files,
+// the rebuild of damaged sections and the damaged region
+// (core/repair/damaged_blade.h, damaged_rebuild.h, damaged_region.h).
 #include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <cstdio>
+#include <filesystem>
+
+#include "core/analysis/heat_map.h"
+#include "core/io/rotor37_reader.h"
+#include "core/parts/builtin_blisk.h"
+#include "core/repair/damaged_blade.h"
+#include "core/repair/damaged_rebuild.h"
+#include "core/repair/damaged_region.h"
 #include "core/repair/rebuild.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
+#include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
+
+namespace bliskrun::lua_api {
+struct DamagedBladeHandle {
+  std::shared_ptr<const DamagedBlade> blade;
+};
+struct MeasurementHandle {
+  std::shared_ptr<const SectionMeasurement> measurement;
+};
+struct RebuildHandle {
+  std::shared_ptr<const DamagedRebuild> rebuild;
+};
+struct RegionHandle {
+  std::shared_ptr<const DamagedRebuild> rebuild;  // the face refers to it
+  std::shared_ptr<const DamageFace> face;
+  std::shared_ptr<const DamagedRegion> region;
+};
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <> struct TypeName<lua_api::DamagedBladeHandle> { static constexpr const char* name = "bliskrun.DamagedBlade"; };
+template <> struct TypeName<lua_api::MeasurementHandle> { static constexpr const char* name = "bliskrun.SectionMeasurement"; };
+template <> struct TypeName<lua_api::RebuildHandle> { static constexpr const char* name = "bliskrun.DamagedRebuild"; };
+template <> struct TypeName<lua_api::RegionHandle> { static constexpr const char* name = "bliskrun.DamagedRegion"; };
+}  // namespace bliskrun::luax
 
 namespace bliskrun::lua_api {
 
@@ -133,10 +169,440 @@ int w_rebuild_sections(lua_State* L) {
   });
 }
 
+
+// ---- damaged blade, measurement, rebuild, region ----
+
+// bliskrun.damaged_blade{rotor37 = path, design_sections = 25, twist = deg, bend = mm,
+// deform_from = s, tip_span = s, tip_tilt = deg, edge_from = s, edge_to = s, edge_depth = mm}
+int w_damaged_blade(lua_State* L) {
+  static const char* what = "bliskrun.damaged_blade";
+  const luax::Options o(
+      L, 1, what,
+      {Field{"rotor37", Kind::String, false, std::nullopt, std::nullopt,
+             "Rotor 37 rotor37geometry.dat (or its folder): the blade to damage instead of the built-in blisk's blade 1", {}},
+       Field{"design_sections", Kind::Integer, false, 4, 400, "built-in blade: section loops of its design loft (default 25)", {}},
+       number_field("twist", "twist of the tip section about the stacking axis, degrees (default 0)", -20, 20),
+       number_field("bend", "bend of the tip section across the chord, mm (default 0)", -50, 50),
+       number_field("deform_from", "span fraction where the twist and bend start (default 0.3)", 0, 0.99),
+       number_field("tip_span", "tip broken off above this span fraction (no tip damage without it)", 0, 1),
+       number_field("tip_tilt", "tilt of the break plane towards the flow, degrees (default 0)", -45, 45),
+       number_field("edge_from", "leading-edge nick from this span fraction (default 0.4)", 0, 1),
+       number_field("edge_to", "... to this one (default 0.65)", 0, 1),
+       number_field("edge_depth", "nick depth along the chord, mm (no edge damage without it)", 0, 100)});
+  BladeDamage d;
+  d.twist_rad = deg_to_rad(o.number("twist", 0));
+  d.bend_mm = o.number("bend", 0);
+  d.deform_from = o.number("deform_from", d.deform_from);
+  d.tip = o.has("tip_span");
+  d.tip_span = o.number("tip_span", d.tip_span);
+  d.tip_tilt_rad = deg_to_rad(o.number("tip_tilt", 0));
+  d.edge = o.has("edge_depth");
+  d.edge_from = o.number("edge_from", d.edge_from);
+  d.edge_to = o.number("edge_to", d.edge_to);
+  d.edge_depth_mm = o.number("edge_depth", d.edge_depth_mm);
+  std::string rotor37;
+  if (o.has("rotor37")) {
+    namespace fs = std::filesystem;
+    rotor37 = context(L).resolve_read(L, o.string("rotor37", ""));
+    if (fs::is_directory(rotor37)) {
+      for (const std::string& c : {rotor37 + "/rotor37geometry.dat", rotor37 + "/agard_table/rotor37geometry.dat",
+                                  rotor37 + "/nasa_rotor37/agard_table/rotor37geometry.dat"})
+        if (fs::is_regular_file(c)) rotor37 = c;
+      if (fs::is_directory(rotor37)) luax::error(L, std::string(what) + ": option 'rotor37': no rotor37geometry.dat in '" + rotor37 + "'");
+    }
+  }
+  const int design_sections = static_cast<int>(o.integer("design_sections", 25));
+  return luax::guarded(L, [&] {
+    DesignBlade design;
+    if (rotor37.empty()) {
+      design = builtin_design_blade(BuiltinBlisk(), 0, design_sections);
+    } else {
+      const std::string folder = std::filesystem::path(rotor37).parent_path().string();
+      design = design_blade(read_rotor37(rotor37, folder + "/rotor37hub-shroud.dat"));
+    }
+    luax::push_new(L, DamagedBladeHandle{std::make_shared<DamagedBlade>(std::move(design), d)});
+    return 1;
+  });
+}
+
+// blade:design() -> Surface (the design loft, u hub -> tip, v around)
+int w_blade_design(lua_State* L) {
+  const auto& h = luax::check<DamagedBladeHandle>(L, 1);
+  push_surface(L, std::shared_ptr<const Surface>(h.blade, &h.blade->design().loft.surface));
+  return 1;
+}
+
+// blade:info() -> {h_lo, h_hi, origin, axis, e1, e2}
+int w_blade_info(lua_State* L) {
+  const DesignBlade& d = luax::check<DamagedBladeHandle>(L, 1).blade->design();
+  lua_createtable(L, 0, 6);
+  luax::set_number(L, "h_lo", d.h_lo);
+  luax::set_number(L, "h_hi", d.h_hi);
+  luax::set_vec3(L, "origin", d.frame.origin);
+  luax::set_vec3(L, "axis", d.frame.axis);
+  luax::set_vec3(L, "e1", d.frame.e1);
+  luax::set_vec3(L, "e2", d.frame.e2);
+  return 1;
+}
+
+// blade:measure{sections = 30, points = 2000, noise = 0.002, outliers = 0.005,
+// unseen_arc = 0, face_points = 60, seed = 1, span_from = 0.03, span_to = 0.97}
+int w_blade_measure(lua_State* L) {
+  const auto& h = luax::check<DamagedBladeHandle>(L, 1);
+  const luax::Options o(
+      L, 2, "blade:measure",
+      {Field{"sections", Kind::Integer, false, 2, 10000, "measurement planes (default 30)", {}},
+       Field{"points", Kind::Integer, false, 16, 10000000, "points per section before the damage's gaps (default 2000)", {}},
+       number_field("noise", "sigma of the probe's noise along the normal, mm (default 0.002)", 0, 0.1),
+       number_field("outliers", "fraction of stray points (default 0.005)", 0, 0.1),
+       number_field("unseen_arc", "an arc the probe misses, centred at the section's extreme along -e2, mm (default 0)", 0, 1000),
+       Field{"face_points", Kind::Integer, false, 0, 100000, "points on a broken tip's fracture face (default 60)", {}},
+       Field{"seed", Kind::Integer, false, 0, 1e15, "random seed (default 1)", {}},
+       number_field("span_from", "lowest plane, span fraction (default 0.03)", 0, 1),
+       number_field("span_to", "highest plane, span fraction (default 0.97)", 0, 1)});
+  MeasurementOptions mo;
+  mo.sections = static_cast<int>(o.integer("sections", mo.sections));
+  mo.points = static_cast<int>(o.integer("points", mo.points));
+  mo.noise_mm = o.number("noise", mo.noise_mm);
+  mo.outlier_fraction = o.number("outliers", mo.outlier_fraction);
+  mo.unseen_arc_mm = o.number("unseen_arc", mo.unseen_arc_mm);
+  mo.face_points = static_cast<int>(o.integer("face_points", mo.face_points));
+  mo.seed = static_cast<std::uint64_t>(o.integer("seed", 1));
+  mo.span_from = o.number("span_from", mo.span_from);
+  mo.span_to = o.number("span_to", mo.span_to);
+  return luax::guarded(L, [&] {
+    luax::push_new(L, MeasurementHandle{std::make_shared<SectionMeasurement>(measure_sections(*h.blade, mo))});
+    return 1;
+  });
+}
+
+// measurement:summary() -> {sections, points, face, heights = {...}, counts = {...}}
+int w_measurement_summary(lua_State* L) {
+  const SectionMeasurement& m = *luax::check<MeasurementHandle>(L, 1).measurement;
+  lua_createtable(L, 0, 5);
+  size_t points = 0;
+  lua_createtable(L, static_cast<int>(m.sections.size()), 0);
+  lua_createtable(L, static_cast<int>(m.sections.size()), 0);
+  for (size_t k = 0; k < m.sections.size(); ++k) {
+    points += m.sections[k].points.size();
+    lua_pushnumber(L, m.sections[k].height_mm);
+    lua_rawseti(L, -3, static_cast<lua_Integer>(k + 1));
+    lua_pushinteger(L, static_cast<lua_Integer>(m.sections[k].points.size()));
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -3, "counts");
+  lua_setfield(L, -2, "heights");
+  luax::set_number(L, "sections", static_cast<double>(m.sections.size()));
+  luax::set_number(L, "points", static_cast<double>(points));
+  luax::set_number(L, "face", static_cast<double>(m.face.size()));
+  return 1;
+}
+
+// bliskrun.read_sections(path) -> SectionMeasurement
+int w_read_sections(lua_State* L) {
+  const std::string path = context(L).resolve_read(L, luax::check_string(L, 1, "path"));
+  return luax::guarded(L, [&] {
+    luax::push_new(L, MeasurementHandle{std::make_shared<SectionMeasurement>(read_section_measurement(path))});
+    return 1;
+  });
+}
+
+// bliskrun.write_sections(path, measurement) -> full path
+int w_write_sections(lua_State* L) {
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 1, "path"));
+  const auto& m = luax::check<MeasurementHandle>(L, 2);
+  return luax::guarded(L, [&] {
+    write_section_measurement(path, *m.measurement);
+    lua_pushstring(L, path.c_str());
+    return 1;
+  });
+}
+
+const char* source_name(SectionSource s) {
+  switch (s) {
+    case SectionSource::measured: return "measured";
+    case SectionSource::completed: return "completed";
+    case SectionSource::extended: return "extended";
+  }
+  return "?";
+}
+
+// bliskrun.rebuild_damaged{measurement=, blade=, smoothing = 0.1, samples = 512,
+// align_samples = 2048, design_samples = 1024, max_step=, outlier=}
+// -> Surface, report, DamagedRebuild
+int w_rebuild_damaged(lua_State* L) {
+  static const char* what = "bliskrun.rebuild_damaged";
+  const luax::Options o(
+      L, 1, what,
+      {Field{"measurement", Kind::Any, true, std::nullopt, std::nullopt, "the SectionMeasurement (blade:measure, bliskrun.read_sections)", {}},
+       Field{"blade", Kind::Any, true, std::nullopt, std::nullopt, "the DamagedBlade whose design fills the damage", {}},
+       number_field("smoothing", "smoothing length, mm (default 0.1)", 0, 100),
+       Field{"samples", Kind::Integer, false, 16, 100000, "loft samples per section (default 512)", {}},
+       Field{"align_samples", Kind::Integer, false, 16, 1 << 20, "curvature samples for the start alignment (default 2048)", {}},
+       Field{"design_samples", Kind::Integer, false, 16, 1 << 20, "points of a design plane section for the ICP (default 1024)", {}},
+       number_field("max_step", "longest step between neighbouring points of a section, mm (default: from the spacing)", 0, 1e4),
+       number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4)});
+  o.push_raw("measurement");
+  const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
+  lua_pop(L, 1);
+  o.push_raw("blade");
+  const auto b = luax::check<DamagedBladeHandle>(L, -1).blade;
+  lua_pop(L, 1);
+  DamagedRebuildOptions ro;
+  ro.rebuild.smoothing_mm = o.number("smoothing", ro.rebuild.smoothing_mm);
+  ro.rebuild.loft.samples = static_cast<int>(o.integer("samples", ro.rebuild.loft.samples));
+  ro.rebuild.align_samples = static_cast<int>(o.integer("align_samples", ro.rebuild.align_samples));
+  ro.design_samples = static_cast<int>(o.integer("design_samples", ro.design_samples));
+  ro.rebuild.order.max_step_mm = o.number("max_step", 0);
+  ro.rebuild.order.outlier_mm = o.number("outlier", 0);
+  return luax::guarded(L, [&] {
+    auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
+    push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
+    const LoftDeviation& d = r->deviation;
+    lua_createtable(L, 0, 10);
+    luax::set_number(L, "mean", d.mean_mm);
+    luax::set_number(L, "rms", d.rms_mm);
+    luax::set_number(L, "max", d.max_mm);
+    luax::set_number(L, "points", d.points);
+    luax::set_bool(L, "tip_extended", r->tip_extended);
+    luax::set_number(L, "top_measured", r->top_measured_mm);
+    lua_createtable(L, static_cast<int>(r->sections.size()), 0);
+    for (size_t k = 0; k < r->sections.size(); ++k) {
+      const DamagedSection& s = r->sections[k];
+      lua_createtable(L, 0, 12);
+      luax::set_number(L, "height", s.height_mm);
+      luax::set_string(L, "source", source_name(s.source));
+      luax::set_number(L, "index", s.index);
+      luax::set_number(L, "kept", s.kept);
+      luax::set_number(L, "rejected", s.rejected);
+      luax::set_number(L, "gaps", s.gaps);
+      luax::set_number(L, "gap", s.gap_mm);
+      luax::set_bool(L, "registered", s.registered);
+      luax::set_number(L, "angle", rad_to_deg(s.motion.angle_rad));
+      luax::set_vec3(L, "shift", Vec3(s.motion.shift.x(), s.motion.shift.y(), 0));
+      luax::set_number(L, "registration_rms", s.registration_rms_mm);
+      luax::set_number(L, "start_correlation", s.start_correlation);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "sections");
+    luax::push_new(L, RebuildHandle{r});
+    return 3;
+  });
+}
+
+// rebuild:write_deviation_png(path [, {rows = 60, cols = 240, scale = mm}]):
+// the measured points' signed deviation from the rebuilt surface, averaged
+// per (u, v) cell (grey: no point).
+int w_rebuild_deviation_png(lua_State* L) {
+  const auto r = luax::check<RebuildHandle>(L, 1).rebuild;
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  const luax::Options o(L, 3, "rebuild:write_deviation_png",
+                        {Field{"rows", Kind::Integer, false, 2, 4000, "cells along u (span), default 60", {}},
+                         Field{"cols", Kind::Integer, false, 2, 4000, "cells along v (around), default 240", {}},
+                         number_field("scale", "colour scale half range, mm (default: the largest |mean|)", 0, 100)});
+  HeatMap map;
+  map.rows = static_cast<int>(o.integer("rows", 60));
+  map.cols = static_cast<int>(o.integer("cols", 240));
+  const double scale = o.number("scale", 0);
+  return luax::guarded(L, [&] {
+    std::vector<double> sum(static_cast<size_t>(map.rows) * map.cols, 0.0);
+    std::vector<int> count(sum.size(), 0);
+    for (const PointDeviation& p : r->point_deviations) {
+      const int i = std::clamp(static_cast<int>(p.u * map.rows), 0, map.rows - 1);
+      const int j = std::clamp(static_cast<int>(p.v * map.cols), 0, map.cols - 1);
+      sum[static_cast<size_t>(i) * map.cols + j] += p.signed_mm * 1e3;
+      ++count[static_cast<size_t>(i) * map.cols + j];
+    }
+    map.values.resize(sum.size());
+    for (size_t c = 0; c < sum.size(); ++c) map.values[c] = count[c] ? sum[c] / count[c] : std::nan("");
+    HeatMapOptions h;
+    h.title = "Measured points - rebuilt blade: signed deviation (um), u span up, v around the section";
+    h.value_label = "um";
+    char footer[200];
+    std::snprintf(footer, sizeof footer, "%d points: mean |d| %.2f um, rms %.2f um, max %.2f um; %d x %d cells",
+                  r->deviation.points, 1e3 * r->deviation.mean_mm, 1e3 * r->deviation.rms_mm, 1e3 * r->deviation.max_mm,
+                  map.rows, map.cols);
+    h.footer = footer;
+    h.scale_max = scale * 1e3;
+    write_heat_map_png(map, path, h);
+    lua_pushstring(L, path.c_str());
+    return 1;
+  });
+}
+
+// bliskrun.damaged_region{rebuild=, measurement=, layer = 0.2, layers = 3,
+// samples_u = 150, samples_v = 1200, slices = 200, min_gap = 0.3} -> report, DamagedRegion
+int w_damaged_region(lua_State* L) {
+  static const char* what = "bliskrun.damaged_region";
+  const luax::Options o(
+      L, 1, what,
+      {Field{"rebuild", Kind::Any, true, std::nullopt, std::nullopt, "the DamagedRebuild (third result of rebuild_damaged)", {}},
+       Field{"measurement", Kind::Any, true, std::nullopt, std::nullopt, "the SectionMeasurement it was rebuilt from", {}},
+       number_field("layer", "offset layer thickness, mm (default 0.2)", 1e-6, 100),
+       Field{"layers", Kind::Integer, false, 0, 1000, "offset layers (default 3)", {}},
+       Field{"samples_u", Kind::Integer, false, 4, 100000, "thickness map rows along u (default 150)", {}},
+       Field{"samples_v", Kind::Integer, false, 8, 100000, "thickness map columns along v (default 1200)", {}},
+       Field{"slices", Kind::Integer, false, 4, 100000, "slices through a broken tip for its volume (default 200)", {}},
+       number_field("min_gap", "shorter section gaps are not damage, mm (default 0.3)", 0, 1000)});
+  o.push_raw("rebuild");
+  const auto r = luax::check<RebuildHandle>(L, -1).rebuild;
+  lua_pop(L, 1);
+  o.push_raw("measurement");
+  const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
+  lua_pop(L, 1);
+  DamagedRegionOptions ro;
+  ro.layer_mm = o.number("layer", ro.layer_mm);
+  ro.layers = static_cast<int>(o.integer("layers", ro.layers));
+  ro.samples_u = static_cast<int>(o.integer("samples_u", ro.samples_u));
+  ro.samples_v = static_cast<int>(o.integer("samples_v", ro.samples_v));
+  ro.slices = static_cast<int>(o.integer("slices", ro.slices));
+  ro.min_gap_mm = o.number("min_gap", ro.min_gap_mm);
+  return luax::guarded(L, [&] {
+    auto region = std::make_shared<DamagedRegion>(damaged_region(*r, *m, ro));
+    auto face = std::make_shared<DamageFace>(*r, *m, ro.min_gap_mm);
+    const DamagedRegion& g = *region;
+    lua_createtable(L, 0, 24);
+    luax::set_bool(L, "empty", g.empty);
+    luax::set_bool(L, "tip", g.tip);
+    luax::set_vec3(L, "break_normal", g.break_normal);
+    luax::set_number(L, "break_offset", g.break_offset);
+    luax::set_number(L, "face_points", g.face_points);
+    luax::set_number(L, "face_rms", g.face_rms_mm);
+    luax::set_number(L, "tip_volume", g.tip_volume_mm3);
+    luax::set_number(L, "nicked_sections", g.nicked_sections);
+    luax::set_number(L, "edge_volume", g.edge_volume_mm3);
+    luax::set_number(L, "volume", g.volume_mm3);
+    luax::set_number(L, "max_thickness", g.max_thickness_mm);
+    luax::set_number(L, "area", g.area_mm2);
+    luax::set_number(L, "u_from", g.u_from);
+    luax::set_number(L, "u_to", g.u_to);
+    luax::set_number(L, "v_from", g.v_from);
+    luax::set_number(L, "v_to", g.v_to);
+    luax::set_number(L, "height_from", g.height_from_mm);
+    luax::set_number(L, "height_to", g.height_to_mm);
+    lua_createtable(L, static_cast<int>(g.layers.size()), 0);
+    for (size_t k = 0; k < g.layers.size(); ++k) {
+      lua_createtable(L, 0, 2);
+      luax::set_number(L, "offset", g.layers[k].offset_mm);
+      luax::set_number(L, "points", static_cast<double>(g.layers[k].points.size()));
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "layers");
+    luax::push_new(L, RegionHandle{r, face, region});
+    return 2;
+  });
+}
+
+// region:thickness(u, v) -> mm beyond the damage face at the rebuilt surface's (u, v)
+int w_region_thickness(lua_State* L) {
+  const auto& h = luax::check<RegionHandle>(L, 1);
+  const double u = luax::check_number(L, 2, "u"), v = luax::check_number(L, 3, "v");
+  if (!(u >= 0 && u <= 1 && std::isfinite(v))) luax::error(L, "region:thickness: expected u in [0, 1] and a finite v");
+  lua_pushnumber(L, h.face->thickness(h.rebuild->loft.surface.point(u, v - std::floor(v))));
+  return 1;
+}
+
+// The rebuilt surface over the region's (u, v) box, reparametrised to [0, 1]^2.
+class RegionPatch : public Surface {
+ public:
+  RegionPatch(std::shared_ptr<const DamagedRebuild> r, double u0, double u1, double v0, double v1)
+      : r_(std::move(r)), u0_(u0), du_(u1 - u0), v0_(v0), dv_(v1 >= v0 ? v1 - v0 : v1 + 1 - v0) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    double vv = v0_ + v * dv_;
+    vv -= std::floor(vv);
+    SurfaceDerivs d = r_->loft.surface.eval(u0_ + u * du_, vv);
+    d.pu *= du_;
+    d.pv *= dv_;
+    d.puu *= du_ * du_;
+    d.puv *= du_ * dv_;
+    d.pvv *= dv_ * dv_;
+    return d;
+  }
+
+ private:
+  std::shared_ptr<const DamagedRebuild> r_;
+  double u0_, du_, v0_, dv_;
+};
+
+// region:surface() -> Surface: the rebuilt blade over the region's (u, v) box
+int w_region_surface(lua_State* L) {
+  const auto& h = luax::check<RegionHandle>(L, 1);
+  const DamagedRegion& g = *h.region;
+  if (g.empty) luax::error(L, "region:surface: the region is empty");
+  push_surface(L, std::make_shared<RegionPatch>(h.rebuild, g.u_from, g.u_to, g.v_from, g.v_to));
+  return 1;
+}
+
+// region:layer(k) -> {offset = mm, points = {{x, y, z}, ...}, uv = {{u, v}, ...}}
+int w_region_layer(lua_State* L) {
+  const auto& h = luax::check<RegionHandle>(L, 1);
+  const long long k = luax::check_integer(L, 2, "layer");
+  if (k < 1 || k > static_cast<long long>(h.region->layers.size()))
+    luax::error(L, "region:layer: expected a layer in [1, " + std::to_string(h.region->layers.size()) + "]");
+  const OffsetLayer& l = h.region->layers[k - 1];
+  lua_createtable(L, 0, 3);
+  luax::set_number(L, "offset", l.offset_mm);
+  lua_createtable(L, static_cast<int>(l.points.size()), 0);
+  for (size_t i = 0; i < l.points.size(); ++i) {
+    luax::push(L, l.points[i]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "points");
+  lua_createtable(L, static_cast<int>(l.uv.size()), 0);
+  for (size_t i = 0; i < l.uv.size(); ++i) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, l.uv[i].x());
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, l.uv[i].y());
+    lua_rawseti(L, -2, 2);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "uv");
+  return 1;
+}
+
+// region:write_png(path) -> full path: the thickness map over the rebuilt surface
+int w_region_png(lua_State* L) {
+  const auto& h = luax::check<RegionHandle>(L, 1);
+  const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
+  const DamagedRegion& g = *h.region;
+  return luax::guarded(L, [&] {
+    HeatMap map;
+    map.rows = g.map_u;
+    map.cols = g.map_v;
+    map.values = g.thickness_map;
+    HeatMapOptions o;
+    o.title = "Damaged region: material to deposit and machine (mm), u span up, v around the section";
+    o.value_label = "mm";
+    char footer[200];
+    std::snprintf(footer, sizeof footer, "volume %.2f mm3, max thickness %.3f mm, u %.3f..%.3f, v %.3f..%.3f",
+                  g.volume_mm3, g.max_thickness_mm, g.u_from, g.u_to, g.v_from, g.v_to);
+    o.footer = footer;
+    write_heat_map_png(map, path, o);
+    lua_pushstring(L, path.c_str());
+    return 1;
+  });
+}
 }  // namespace
 
 void open_repair(lua_State* L) {
-  static const luaL_Reg functions[] = {{"rebuild_sections", w_rebuild_sections}, {nullptr, nullptr}};
+  static const luaL_Reg blade_methods[] = {{"design", w_blade_design}, {"measure", w_blade_measure},
+                                           {"info", w_blade_info}, {nullptr, nullptr}};
+  luax::register_type<DamagedBladeHandle>(L, blade_methods);
+  static const luaL_Reg measurement_methods[] = {{"summary", w_measurement_summary}, {nullptr, nullptr}};
+  luax::register_type<MeasurementHandle>(L, measurement_methods);
+  static const luaL_Reg rebuild_methods[] = {{"write_deviation_png", w_rebuild_deviation_png}, {nullptr, nullptr}};
+  luax::register_type<RebuildHandle>(L, rebuild_methods);
+  static const luaL_Reg region_methods[] = {{"thickness", w_region_thickness}, {"surface", w_region_surface},
+                                            {"layer", w_region_layer}, {"write_png", w_region_png}, {nullptr, nullptr}};
+  luax::register_type<RegionHandle>(L, region_methods);
+  static const luaL_Reg functions[] = {{"rebuild_sections", w_rebuild_sections},
+                                       {"damaged_blade", w_damaged_blade},
+                                       {"read_sections", w_read_sections},
+                                       {"write_sections", w_write_sections},
+                                       {"rebuild_damaged", w_rebuild_damaged},
+                                       {"damaged_region", w_damaged_region},
+                                       {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

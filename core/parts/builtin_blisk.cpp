@@ -121,39 +121,89 @@ std::vector<Vec2> BuiltinBlisk::casing_meridian() const {
           Vec2(p.z_outlet_mm, p.casing_radius_outlet_mm)};
 }
 
-// Blade 0's flank point at radius r and chord fraction t (0 at the LE circle's
-// tangent point, 1 at the TE circle's), see the header for the construction.
+// The section of blade 0 at radius r in the unrolled (z, s = r theta) plane,
+// see the header for the construction: the camber arc (radius R, angle phi
+// from -camber/2 at the LE to +camber/2 at the TE, chord along local x centred
+// at 0, bulging towards +y), the half thickness, the stagger.
+struct BuiltinBlisk::Section {
+  double R = 0, camber = 0, arc = 0, stagger = 0, t_max = 0, r_le = 0, r_te = 0;
+
+  Section(const BliskParams& p, double r) {
+    const double r_hub = 0.5 * (p.hub_radius_inlet_mm + p.hub_radius_outlet_mm);
+    const double r_tip = 0.5 * (p.casing_radius_inlet_mm + p.casing_radius_outlet_mm);
+    const double w = (r - r_hub) / (r_tip - r_hub);
+    stagger = lerp(p.stagger_hub_rad, p.stagger_tip_rad, w);
+    camber = lerp(p.camber_hub_rad, p.camber_tip_rad, w);
+    t_max = lerp(p.max_thickness_hub_mm, p.max_thickness_tip_mm, w);
+    R = p.chord_mm / (2 * std::sin(0.5 * camber));
+    arc = R * camber;
+    r_le = p.le_radius_mm;
+    r_te = p.te_radius_mm;
+  }
+  // Camber point at arc length a from the LE end, its unit normal n (towards
+  // +y, the suction side) and unit tangent d (LE -> TE).
+  void camber_at(double a, Vec2& c, Vec2& n, Vec2& d) const {
+    const double phi = -0.5 * camber + a / R;
+    n = Vec2(std::sin(phi), std::cos(phi));
+    d = Vec2(std::cos(phi), -std::sin(phi));
+    c = Vec2(R * n.x(), R * n.y() - R * std::cos(0.5 * camber));
+  }
+  // Flank point at chord fraction t (0 at the LE circle's tangent point, 1 at
+  // the TE circle's).
+  Vec2 flank(FlankSide side, double t) const {
+    Vec2 c, n, d;
+    camber_at(r_le + t * (arc - r_le - r_te), c, n, d);
+    const double smooth = t * t * (3 - 2 * t);
+    const double bump = std::sin(kPi * t);
+    const double h = r_le * (1 - smooth) + r_te * smooth + (0.5 * t_max - 0.5 * (r_le + r_te)) * bump * bump;
+    return c + (side == FlankSide::kSuction ? h : -h) * n;
+  }
+  // Stagger in the unrolled plane, then wrap on the cylinder of radius r.
+  Vec3 wrap(const Vec2& q, double r) const {
+    const double cg = std::cos(stagger), sg = std::sin(stagger);
+    const double z = q.x() * cg - q.y() * sg;
+    const double s = q.x() * sg + q.y() * cg;
+    return Vec3(r * std::cos(s / r), r * std::sin(s / r), z);
+  }
+};
+
 Vec3 BuiltinBlisk::flank_point(FlankSide side, double r, double t) const {
-  const BliskParams& p = params_;
-  const double r_hub = 0.5 * (p.hub_radius_inlet_mm + p.hub_radius_outlet_mm);
-  const double r_tip = 0.5 * (p.casing_radius_inlet_mm + p.casing_radius_outlet_mm);
-  const double w = (r - r_hub) / (r_tip - r_hub);
-  const double stagger = lerp(p.stagger_hub_rad, p.stagger_tip_rad, w);
-  const double camber = lerp(p.camber_hub_rad, p.camber_tip_rad, w);
-  const double t_max = lerp(p.max_thickness_hub_mm, p.max_thickness_tip_mm, w);
+  const Section s(params_, r);
+  return s.wrap(s.flank(side, t), r);
+}
 
-  // Camber arc: radius R, angle phi from -camber/2 (LE) to +camber/2 (TE),
-  // chord along local x centred at 0, bulging towards +y.
-  const double R = p.chord_mm / (2 * std::sin(0.5 * camber));
-  const double arc = R * camber;
-  const double a = p.le_radius_mm + t * (arc - p.le_radius_mm - p.te_radius_mm);
-  const double phi = -0.5 * camber + a / R;
-  const double nx = std::sin(phi), ny = std::cos(phi);
-  const double cx = R * nx, cy = R * ny - R * std::cos(0.5 * camber);
-
-  const double smooth = t * t * (3 - 2 * t);
-  const double bump = std::sin(kPi * t);
-  const double h = p.le_radius_mm * (1 - smooth) + p.te_radius_mm * smooth +
-                   (0.5 * t_max - 0.5 * (p.le_radius_mm + p.te_radius_mm)) * bump * bump;
-  const double sign = side == FlankSide::kSuction ? 1.0 : -1.0;
-  const double x = cx + sign * h * nx, y = cy + sign * h * ny;
-
-  // Stagger in the unrolled (z, s = r theta) plane, then wrap on the cylinder.
-  const double cg = std::cos(stagger), sg = std::sin(stagger);
-  const double z = x * cg - y * sg;
-  const double s = x * sg + y * cg;
-  const double theta = s / r;
-  return Vec3(r * std::cos(theta), r * std::sin(theta), z);
+std::vector<Vec3> BuiltinBlisk::section_loop(int blade, double r, int points_per_flank) const {
+  if (blade < 0 || blade >= blade_count())
+    throw ParameterError("blade", "expected an index in [0, " + std::to_string(blade_count() - 1) +
+                                      "], got " + std::to_string(blade));
+  if (!(r > 0.5 * params_.chord_mm && std::isfinite(r)))
+    throw ParameterError("radius", "expected a radius above half the chord, got " + num(r));
+  if (points_per_flank < 8) throw ParameterError("points", "expected at least 8 per flank");
+  const Section s(params_, r);
+  const double angle = 2 * kPi * blade / blade_count();
+  // Points per edge half circle: about the flanks' spacing, at least 8.
+  const double spacing = s.arc / points_per_flank;
+  const int le_n = std::max(8, static_cast<int>(std::ceil(kPi * s.r_le / spacing)));
+  const int te_n = std::max(8, static_cast<int>(std::ceil(kPi * s.r_te / spacing)));
+  std::vector<Vec2> loop;
+  Vec2 c, n, d;
+  // Pressure flank LE -> TE, TE half circle, suction flank TE -> LE, LE half circle.
+  for (int i = 0; i < points_per_flank; ++i) loop.push_back(s.flank(FlankSide::kPressure, static_cast<double>(i) / points_per_flank));
+  s.camber_at(s.arc - s.r_te, c, n, d);
+  for (int i = 0; i < te_n; ++i) {
+    const double psi = kPi * i / te_n;  // from the pressure side (-n) through +d to the suction side (+n)
+    loop.push_back(c + s.r_te * (-std::cos(psi) * n + std::sin(psi) * d));
+  }
+  for (int i = 0; i < points_per_flank; ++i) loop.push_back(s.flank(FlankSide::kSuction, 1 - static_cast<double>(i) / points_per_flank));
+  s.camber_at(s.r_le, c, n, d);
+  for (int i = 0; i < le_n; ++i) {
+    const double psi = kPi * i / le_n;  // from the suction side (+n) through -d to the pressure side (-n)
+    loop.push_back(c + s.r_le * (std::cos(psi) * n - std::sin(psi) * d));
+  }
+  std::vector<Vec3> out;
+  out.reserve(loop.size());
+  for (const Vec2& q : loop) out.push_back(rotate_z(s.wrap(q, r), angle));
+  return out;
 }
 
 class FlankSurface : public Surface {

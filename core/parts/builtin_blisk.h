@@ -93,6 +93,15 @@ class BuiltinBlisk {
   // v = j/(cols-1).
   PointGrid flank_grid(int blade, FlankSide side) const;
 
+  // The closed section of blade k at radius r (on the cylinder of that
+  // radius), edge circles included: the pressure flank LE -> TE at
+  // `points_per_flank` chord fractions, the TE half circle, the suction flank
+  // TE -> LE, the LE half circle (edge points about as far apart as the
+  // flanks', at least 8 per half circle); first point not repeated. The exact
+  // blade a repair measures (core/repair/damaged_blade.h). Throws
+  // ParameterError ("blade", "radius", "points").
+  std::vector<Vec3> section_loop(int blade, double r, int points_per_flank = 400) const;
+
   // Meridian lines (z, r) from inlet to outlet, for SurfaceOfRevolution.
   std::vector<Vec2> hub_meridian() const;
   std::vector<Vec2> casing_meridian() const;

@@ -95,7 +95,8 @@ SectionLoft loft_sections(const std::vector<ClosedCurve>& sections, const Sectio
   return out;
 }
 
-LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points) {
+LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points,
+                             std::vector<PointDeviation>* each) {
   if (points.empty()) throw ParameterError("points", "no point to measure");
   for (size_t i = 0; i < points.size(); ++i)
     if (!points[i].allFinite()) throw ParameterError("points", "point " + std::to_string(i) + " is not finite");
@@ -112,6 +113,7 @@ LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& p
   const HalfTurned turned(loft.surface);
 
   LoftDeviation out;
+  if (each) each->clear();
   double sum = 0, sum2 = 0;
   for (size_t i = 0; i < points.size(); ++i) {
     if (i % 1024 == 0) cancellation_point();
@@ -125,6 +127,12 @@ LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& p
     const SurfaceProjection pr = project_to_surface(near_seam ? static_cast<const Surface&>(turned) : loft.surface, q, po);
     if (!pr.ok)
       throw Error("loft deviation: point " + std::to_string(i) + " does not project onto the loft: " + pr.failure);
+    if (each) {
+      const double v_on = near_seam ? wrap01(pr.v + 0.5) : pr.v;
+      const SurfaceDerivs d = loft.surface.eval(pr.u, v_on);
+      const double side = (q - pr.point).dot(d.pu.cross(d.pv)) >= 0 ? 1.0 : -1.0;
+      each->push_back(PointDeviation{pr.u, v_on, side * pr.distance});
+    }
     sum += pr.distance;
     sum2 += pr.distance * pr.distance;
     if (pr.distance > out.max_mm || out.worst < 0) {

@@ -64,8 +64,17 @@ struct LoftDeviation {
   int worst = -1;      // index of the point at max_mm
 };
 
+// Where one point projects and how far it is, signed: positive outside the
+// material (along pu x pv).
+struct PointDeviation {
+  double u = 0, v = 0;
+  double signed_mm = 0;
+};
+
 // Throws ParameterError ("points") for no point or a non-finite one, Error if
-// a point does not project (the projection's reason given).
-LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points);
+// a point does not project (the projection's reason given). With `each`, the
+// points' deviations one by one (for a deviation map).
+LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points,
+                             std::vector<PointDeviation>* each = nullptr);
 
 }  // namespace bliskrun

@@ -1,4 +1,4 @@
-// bliskrun.rebuild_sections{...}: bad options, sections and points land on
+// bliskrun.rebuild_sections{...}, damaged_blade, measure, rebuild_damaged: bad options, sections and points land on
 // the recipe line and say what was expected. (What it rebuilds is measured in
 // tests/repair/section_loft_test.cpp; docs/lua_api.md runs an example.)
 #include <gtest/gtest.h>
@@ -42,7 +42,14 @@ INSTANTIATE_TEST_SUITE_P(
                         "bliskrun.rebuild_sections{sections = {{points = {{1, 2}}, z = 0}}, smoothing = 0.1}",
                         "at least 2 sections"},
         RecipeErrorCase{"damaged_section", "bliskrun.rebuild_sections{sections = " DAMAGED ", smoothing = 0.1}",
-                        "section 2 has a gap"}),
+                        "section 2 has a gap"},
+        RecipeErrorCase{"damaged_blade_unknown_key", "bliskrun.damaged_blade{twst = 1}", "unknown option 'twst'"},
+        RecipeErrorCase{"damaged_blade_twist", "bliskrun.damaged_blade{twist = 30}", "option 'twist'"},
+        RecipeErrorCase{"damaged_blade_edge_span",
+                        "bliskrun.damaged_blade{edge_depth = 1, edge_from = 0.6, edge_to = 0.5}",
+                        "edge_to: expected a span above edge_from"},
+        RecipeErrorCase{"measure_noise", "bliskrun.damaged_blade{}:measure{noise = 1}", "option 'noise'"},
+        RecipeErrorCase{"rebuild_damaged_missing", "bliskrun.rebuild_damaged{blade = 1}", "option 'measurement'"}),
     error_case_name);
 
 }  // namespace

@@ -1,0 +1,415 @@
+#include "core/repair/damaged_blade.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "core/common/atomic_file.h"
+#include "core/common/error.h"
+#include "core/common/progress.h"
+#include "core/geometry/closed_curve.h"
+#include "core/io/data_lines.h"
+#include "core/parts/builtin_blisk.h"
+#include "core/repair/section_points.h"
+
+namespace bliskrun {
+
+namespace {
+
+Vec3 centroid(const std::vector<Vec3>& loop) {
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : loop) c += p;
+  return c / static_cast<double>(loop.size());
+}
+
+std::string num(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+Vec2 rotate(const Vec2& p, double a) {
+  const double c = std::cos(a), s = std::sin(a);
+  return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
+}
+
+}  // namespace
+
+BladeFrame blade_frame(const Vec3& origin, const Vec3& axis) {
+  if (!(axis.norm() > 1e-12) || !axis.allFinite()) throw ParameterError("axis", "expected a non-zero stacking axis");
+  BladeFrame f;
+  f.origin = origin;
+  f.axis = axis.normalized();
+  Vec3 e1 = Vec3::UnitZ() - Vec3::UnitZ().dot(f.axis) * f.axis;
+  if (e1.norm() < 1e-6) e1 = Vec3::UnitX() - Vec3::UnitX().dot(f.axis) * f.axis;
+  f.e1 = e1.normalized();
+  f.e2 = f.axis.cross(f.e1);
+  return f;
+}
+
+DesignBlade design_blade(const std::vector<std::vector<Vec3>>& loops, int samples) {
+  if (loops.size() < 2) throw ParameterError("loops", "a blade needs at least 2 section loops");
+  const Vec3 first = centroid(loops.front()), last = centroid(loops.back());
+  DesignBlade d;
+  d.frame = blade_frame(first, last - first);
+  const std::vector<OrientedSection> oriented = orient_sections(loops, d.frame.axis);
+  std::vector<ClosedCurve> curves;
+  for (const OrientedSection& o : oriented) curves.push_back(interpolate_closed_cubic(o.loop));
+  SectionLoftOptions lo;
+  lo.samples = samples;
+  d.loft = loft_sections(curves, lo);
+  // Every plane between the highest point of the first row and the lowest of
+  // the last cuts each v line once (the loft rises along u).
+  const PointGrid& g = d.loft.grid;
+  d.h_lo = -1e300;
+  d.h_hi = 1e300;
+  for (int j = 0; j < g.cols; ++j) {
+    d.h_lo = std::max(d.h_lo, d.frame.height(g.at(0, j)));
+    d.h_hi = std::min(d.h_hi, d.frame.height(g.at(g.rows - 1, j)));
+  }
+  const double margin = 1e-3 * (d.h_hi - d.h_lo);
+  d.h_lo += margin;
+  d.h_hi -= margin;
+  if (!(d.h_hi > d.h_lo))
+    throw ParameterError("loops", "the sections do not stack along the axis from the first centroid to the last");
+  return d;
+}
+
+DesignBlade builtin_design_blade(const BuiltinBlisk& blisk, int blade, int sections) {
+  if (sections < 4) throw ParameterError("sections", "expected at least 4 design sections");
+  std::vector<std::vector<Vec3>> loops;
+  for (int k = 0; k < sections; ++k) {
+    const double r = blisk.grid_radius_min_mm() +
+                     (blisk.grid_radius_max_mm() - blisk.grid_radius_min_mm()) * k / (sections - 1);
+    loops.push_back(blisk.section_loop(blade, r, 300));
+  }
+  return design_blade(loops);
+}
+
+DesignBlade design_blade(const BladeSections& blade, int samples) { return design_blade(blade.sections, samples); }
+
+std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+  if (samples < 16) throw ParameterError("samples", "expected at least 16 points per plane section");
+  std::vector<Vec2> out(samples);
+  for (int j = 0; j < samples; ++j) {
+    const double v = static_cast<double>(j) / samples;
+    double lo = 0, hi = 1;
+    double g_lo = frame.height(loft.surface.point(lo, v)) - h;
+    const double g_hi = frame.height(loft.surface.point(hi, v)) - h;
+    if (g_lo > 0 || g_hi < 0)
+      throw ParameterError("height", "the plane at height " + num(h) + " mm does not cut the blade all round (v = " +
+                                         num(v) + ")");
+    // Newton on u, kept inside the bracket (bisection where it leaves it).
+    double u = g_lo / (g_lo - g_hi);
+    SurfaceDerivs d;
+    for (int it = 0; it < 60; ++it) {
+      d = loft.surface.eval(u, v);
+      const double g = frame.height(d.p) - h;
+      if (std::abs(g) < 1e-11) break;
+      if (g < 0) {
+        lo = u;
+        g_lo = g;
+      } else {
+        hi = u;
+      }
+      const double slope = d.pu.dot(frame.axis);
+      double next = slope > 0 ? u - g / slope : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      u = next;
+    }
+    out[j] = frame.in_plane(d.p);
+  }
+  return out;
+}
+
+DamagedBlade::DamagedBlade(DesignBlade design, const BladeDamage& d) : design_(std::move(design)), damage_(d) {
+  auto fraction = [](double x, const char* name) {
+    if (!(x >= 0 && x <= 1)) throw ParameterError(name, "expected a span fraction in [0, 1], got " + num(x));
+  };
+  fraction(d.deform_from, "deform_from");
+  if (d.deform_from >= 1) throw ParameterError("deform_from", "expected a span below 1");
+  if (!std::isfinite(d.twist_rad) || std::abs(d.twist_rad) > deg_to_rad(20))
+    throw ParameterError("twist", "expected a twist within +-20 degrees");
+  if (!std::isfinite(d.bend_mm) || std::abs(d.bend_mm) > 0.2 * (design_.h_hi - design_.h_lo))
+    throw ParameterError("bend", "expected a bend within a fifth of the blade height");
+  if (d.tip) {
+    fraction(d.tip_span, "tip_span");
+    if (!(std::abs(d.tip_tilt_rad) < deg_to_rad(45))) throw ParameterError("tip_tilt", "expected a tilt within +-45 degrees");
+  }
+  if (d.edge) {
+    fraction(d.edge_from, "edge_from");
+    fraction(d.edge_to, "edge_to");
+    if (!(d.edge_to > d.edge_from)) throw ParameterError("edge_to", "expected a span above edge_from");
+    if (!(d.edge_depth_mm > 0 && std::isfinite(d.edge_depth_mm)))
+      throw ParameterError("edge_depth", "expected a positive depth, mm");
+  }
+}
+
+Vec2 DamagedBlade::deform(double h, const Vec2& xy) const {
+  const double s = (h - design_.h_lo) / (design_.h_hi - design_.h_lo);
+  const double w = std::clamp((s - damage_.deform_from) / (1 - damage_.deform_from), 0.0, 1.0);
+  return rotate(xy, damage_.twist_rad * w * w) + Vec2(0, damage_.bend_mm * w * w);
+}
+
+std::vector<Vec2> DamagedBlade::deformed_section(double h, int samples) const {
+  std::vector<Vec2> s = plane_section(design_.loft, design_.frame, h, samples);
+  for (Vec2& p : s) p = deform(h, p);
+  return s;
+}
+
+Vec3 DamagedBlade::break_normal() const {
+  const BladeFrame& f = design_.frame;
+  return std::cos(damage_.tip_tilt_rad) * f.axis + std::sin(damage_.tip_tilt_rad) * f.e1;
+}
+
+double DamagedBlade::break_offset() const {
+  return break_normal().dot(design_.frame.point(design_.span_height(damage_.tip_span), Vec2::Zero()));
+}
+
+bool DamagedBlade::removed(double h, const Vec2& xy, const std::vector<Vec2>& section) const {
+  if (damage_.tip && break_normal().dot(design_.frame.point(h, xy)) > break_offset()) return true;
+  if (damage_.edge) {
+    const double s = (h - design_.h_lo) / (design_.h_hi - design_.h_lo);
+    if (s > damage_.edge_from && s < damage_.edge_to) {
+      const auto [le, te] = std::minmax_element(section.begin(), section.end(),
+                                                [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
+      const Vec2 chord = (*te - *le).normalized();
+      const double depth =
+          damage_.edge_depth_mm * std::sin(kPi * (s - damage_.edge_from) / (damage_.edge_to - damage_.edge_from));
+      if ((xy - *le).dot(chord) < depth) return true;
+    }
+  }
+  return false;
+}
+
+SectionMeasurement measure_sections(const DamagedBlade& blade, const MeasurementOptions& o) {
+  if (o.sections < 2) throw ParameterError("sections", "expected at least 2 measured sections");
+  if (!(o.span_from >= 0 && o.span_to <= 1 && o.span_to > o.span_from))
+    throw ParameterError("span_from", "expected 0 <= span_from < span_to <= 1");
+  if (o.points < 16) throw ParameterError("points", "expected at least 16 points per section");
+  if (!(o.noise_mm >= 0 && o.noise_mm < 0.1)) throw ParameterError("noise", "expected a sigma in [0, 0.1) mm");
+  if (!(o.outlier_fraction >= 0 && o.outlier_fraction <= 0.1))
+    throw ParameterError("outliers", "expected a fraction in [0, 0.1]");
+  if (!(o.unseen_arc_mm >= 0 && std::isfinite(o.unseen_arc_mm))) throw ParameterError("unseen_arc", "expected a length >= 0 mm");
+  if (o.face_points < 0) throw ParameterError("face_points", "expected a count >= 0");
+
+  const DesignBlade& design = blade.design();
+  SectionMeasurement m;
+  m.frame = design.frame;
+  m.has_frame = true;
+  std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::normal_distribution<double> gauss(0, 1);
+
+  for (int k = 0; k < o.sections; ++k) {
+    cancellation_point();
+    const double s = o.span_from + (o.span_to - o.span_from) * k / (o.sections - 1);
+    const double h = design.span_height(s);
+    const std::vector<Vec2> section = blade.deformed_section(h, 2048);
+    std::vector<Vec3> loop3;
+    for (const Vec2& p : section) loop3.emplace_back(p.x(), p.y(), 0);
+    const ClosedCurve curve = interpolate_closed_cubic(loop3);
+    // The unseen arc: centred where the section reaches furthest along -e2.
+    double unseen_t = 0;
+    {
+      int lowest = 0;
+      for (int j = 1; j < static_cast<int>(section.size()); ++j)
+        if (section[j].y() < section[lowest].y()) lowest = j;
+      unseen_t = curve.t_min() + curve.period() * lowest / section.size();
+    }
+    MeasuredSection ms;
+    ms.index = k + 1;
+    ms.height_mm = h;
+    const double offset = unit(rng);
+    for (int i = 0; i < o.points; ++i) {
+      const double t = curve.t_min() + (i + offset + 0.5 * (unit(rng) - 0.5)) / o.points * curve.period();
+      const double noise = gauss(rng);
+      const bool outlier = unit(rng) < o.outlier_fraction;
+      const double side = unit(rng) < 0.5 ? -1 : 1;
+      const double stray = std::max(10 * o.noise_mm, 0.02) + unit(rng) * 0.3;
+      double dt = std::abs(t - unseen_t);
+      dt = std::min(dt, curve.period() - dt);
+      if (o.unseen_arc_mm > 0 && dt < 0.5 * o.unseen_arc_mm) continue;
+      const CurveDerivs c = curve.eval(t);
+      const Vec2 at(c.p.x(), c.p.y());
+      if (blade.removed(h, at, section)) continue;
+      const Vec2 normal = Vec2(c.dt.y(), -c.dt.x()).normalized();
+      const Vec2 q = at + normal * (outlier ? side * stray : o.noise_mm * noise);
+      ms.points.push_back(design.frame.point(h, q));
+    }
+    if (static_cast<int>(ms.points.size()) * 2 < o.points) continue;  // the probe finds no section here
+    std::shuffle(ms.points.begin(), ms.points.end(), rng);
+    m.sections.push_back(std::move(ms));
+  }
+
+  const BladeDamage& dmg = blade.damage();
+  if (dmg.tip && o.face_points > 0) {
+    // On the break plane, inside the deformed blade: along the e1 extent of
+    // the section at the break's axis point, each point's height where the
+    // plane meets that x, then a y inside that height's section.
+    const double H = design.span_height(dmg.tip_span);
+    const std::vector<Vec2> at_break = blade.deformed_section(std::min(H, design.h_hi), 512);
+    double x_lo = 1e300, x_hi = -1e300;
+    for (const Vec2& p : at_break) {
+      x_lo = std::min(x_lo, p.x());
+      x_hi = std::max(x_hi, p.x());
+    }
+    const Vec3 n = blade.break_normal();
+    const double tan_tilt = std::tan(dmg.tip_tilt_rad);
+    for (int i = 0; i < o.face_points; ++i) {
+      const double x = x_lo + (0.1 + 0.8 * (i + 0.5) / o.face_points) * (x_hi - x_lo);
+      const double h = H - tan_tilt * x;
+      if (h < design.h_lo || h > design.h_hi) continue;
+      const std::vector<Vec2> sec = blade.deformed_section(h, 256);
+      // The section's extent in y at this x (its two crossings of the line).
+      double y_lo = 1e300, y_hi = -1e300;
+      for (size_t j = 0; j < sec.size(); ++j) {
+        const Vec2& a = sec[j];
+        const Vec2& b = sec[(j + 1) % sec.size()];
+        if ((a.x() - x) * (b.x() - x) > 0 || a.x() == b.x()) continue;
+        const double y = a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+        y_lo = std::min(y_lo, y);
+        y_hi = std::max(y_hi, y);
+      }
+      if (!(y_hi > y_lo)) continue;
+      const double y = y_lo + (0.15 + 0.7 * unit(rng)) * (y_hi - y_lo);
+      m.face.push_back(design.frame.point(h, Vec2(x, y)) + n * (o.noise_mm * gauss(rng)));
+    }
+  }
+  return m;
+}
+
+// ---- files ----
+
+SectionMeasurement parse_section_measurement(const std::string& text, const std::string& file) {
+  using io_detail::DataLines;
+  DataLines lines(text, file);
+  SectionMeasurement m;
+  double scale = 1;
+  enum { kNone, kSection, kFace } block = kNone;
+  bool csv = false, first = true;
+  std::map<long, size_t> csv_sections;  // section key -> index in m.sections
+  auto csv_section = [&](long key, double height) -> MeasuredSection& {
+    auto it = csv_sections.find(key);
+    if (it == csv_sections.end()) {
+      it = csv_sections.emplace(key, m.sections.size()).first;
+      MeasuredSection s;
+      s.index = static_cast<int>(key);
+      s.height_mm = height;
+      m.sections.push_back(s);
+    }
+    return m.sections[it->second];
+  };
+  while (!lines.at_end()) {
+    const std::string& line = lines.take("a line");
+    const size_t hash = line.find('#');
+    const std::string body = hash == std::string::npos ? line : line.substr(0, hash);
+    std::vector<std::string> f = DataLines::fields(body);
+    if (f.empty()) continue;
+    if (first) {
+      first = false;
+      csv = body.find(',') != std::string::npos;
+      if (csv) {
+        const std::vector<std::string> c = DataLines::fields(body, ',');
+        char* end = nullptr;
+        std::strtod(c[0].c_str(), &end);
+        if (end == c[0].c_str()) continue;  // a header line of column names
+      }
+    }
+    if (csv) {
+      const std::vector<double> v = lines.numbers(body, -1, "x,y,z or x,y,z,section", ',');
+      if (v.size() != 3 && v.size() != 4)
+        lines.fail("expected 3 or 4 comma-separated numbers (x,y,z or x,y,z,section), got " + std::to_string(v.size()));
+      if (v.size() == 4 && v[3] != std::floor(v[3])) lines.fail("expected a whole section number in column 4, got " + num(v[3]));
+      const long key = v.size() == 4 ? static_cast<long>(v[3]) : std::lround(v[2] * 1000);
+      csv_section(key, v[2]).points.emplace_back(v[0], v[1], v[2]);
+      continue;
+    }
+    const std::string& key = f[0];
+    if (key == "units") {
+      if (f.size() != 2 || (f[1] != "mm" && f[1] != "inch")) lines.fail("expected 'units mm' or 'units inch'");
+      if (!m.sections.empty() || !m.face.empty()) lines.fail("expected the units before the first point");
+      scale = f[1] == "inch" ? 25.4 : 1;
+      m.units = "mm";
+    } else if (key == "axis") {
+      const std::vector<double> v = lines.numbers(body.substr(body.find("axis") + 4), 6, "axis ox oy oz ax ay az");
+      const Vec3 axis(v[3], v[4], v[5]);
+      if (!(axis.norm() > 1e-12)) lines.fail("expected a non-zero axis direction");
+      m.frame = blade_frame(scale * Vec3(v[0], v[1], v[2]), axis);
+      m.has_frame = true;
+    } else if (key == "section") {
+      const std::vector<double> v = lines.numbers(body.substr(body.find("section") + 7), 2, "section <number> <height>");
+      if (v[0] != std::floor(v[0]) || v[0] < 1) lines.fail("expected a section number >= 1, got " + num(v[0]));
+      MeasuredSection s;
+      s.index = static_cast<int>(v[0]);
+      s.height_mm = scale * v[1];
+      if (!m.sections.empty() && s.height_mm <= m.sections.back().height_mm)
+        lines.fail("expected sections in increasing height, section " + num(v[0]) + " at " + num(s.height_mm) +
+                   " mm is not above the previous one");
+      m.sections.push_back(s);
+      block = kSection;
+    } else if (key == "face") {
+      if (f.size() != 1) lines.fail("expected 'face' alone on its line");
+      block = kFace;
+    } else {
+      const std::vector<double> v = lines.numbers(body, 3, "x y z of a point");
+      const Vec3 p = scale * Vec3(v[0], v[1], v[2]);
+      if (block == kSection)
+        m.sections.back().points.push_back(p);
+      else if (block == kFace)
+        m.face.push_back(p);
+      else
+        lines.fail("expected 'section <number> <height>' or 'face' before the first point");
+    }
+  }
+  if (csv) {
+    // Heights: mean z of each section (a CMM export measures at constant Z).
+    for (MeasuredSection& s : m.sections) {
+      double z = 0;
+      for (const Vec3& p : s.points) z += p.z();
+      s.height_mm = z / s.points.size();
+    }
+    std::sort(m.sections.begin(), m.sections.end(),
+              [](const MeasuredSection& a, const MeasuredSection& b) { return a.height_mm < b.height_mm; });
+  }
+  if (m.sections.empty()) throw DataError(file, lines.line(), "expected at least one section of points, found none");
+  for (const MeasuredSection& s : m.sections)
+    if (s.points.empty()) throw DataError(file, lines.line(), "section " + std::to_string(s.index) + " has no point");
+  if (!m.has_frame) m.frame = blade_frame(Vec3::Zero(), Vec3::UnitZ());
+  return m;
+}
+
+SectionMeasurement read_section_measurement(const std::string& path) {
+  return parse_section_measurement(io_detail::read_text_file(path), path);
+}
+
+std::string format_section_measurement(const SectionMeasurement& m) {
+  std::ostringstream s;
+  s << std::setprecision(17);
+  s << "# bliskrun section measurement: 'section <number> <height>' then 'x y z' per point; 'face' then\n"
+       "# points on a broken tip's fracture face. Heights along the axis from its origin.\n";
+  s << "units mm\n";
+  if (m.has_frame) {
+    const Vec3& o = m.frame.origin;
+    const Vec3& a = m.frame.axis;
+    s << "axis " << o.x() << ' ' << o.y() << ' ' << o.z() << ' ' << a.x() << ' ' << a.y() << ' ' << a.z() << '\n';
+  }
+  for (const MeasuredSection& sec : m.sections) {
+    s << "section " << sec.index << ' ' << sec.height_mm << '\n';
+    for (const Vec3& p : sec.points) s << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  if (!m.face.empty()) {
+    s << "face\n";
+    for (const Vec3& p : m.face) s << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  return s.str();
+}
+
+void write_section_measurement(const std::string& path, const SectionMeasurement& m) {
+  write_file_atomic(path, format_section_measurement(m));
+}
+
+}  // namespace bliskrun

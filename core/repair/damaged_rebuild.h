@@ -1,0 +1,121 @@
+#pragma once
+// A damaged blade rebuilt from its measured sections and its design (repair
+// paper §1.4): the blade as it is — twisted, bent — made complete where
+// material is missing, for the damaged region (damaged_region.h) and the
+// repair toolpaths.
+//
+// Every section is ordered (section_points.h). A section with gaps (edge
+// damage, or a stretch the probe could not reach) is completed from the
+// design: the design's plane section at its height is registered to the
+// section's measured points by 2-D ICP in the plane (register_section,
+// point-to-line), and the registered design's arc across each gap is put in
+// the gap. The paper (§1.4.1) registers the section of a first loft through
+// the complete sections instead; the design is used here because the
+// missing stretch — a nicked leading edge — is where a loft between distant
+// complete sections is least like the blade, and the registered design is
+// the blade there when the damage is a rigid in-plane motion of the section
+// (twist, bend), as the test asserts.
+// A broken tip (the heights above the last measured section up to the
+// design's tip) is extended by design sections moved by the in-plane motion
+// extrapolated from the registrations of the top measured sections: a
+// least-squares quadratic in height of the angle and shift over the top six
+// (a line over fewer than four). The paper extends its first loft and
+// registers the design section to that extension (§1.4.2); extrapolating the
+// registrations is the same with the extrapolation made explicit, and exact
+// for a deformation quadratic in height.
+// Then all sections — measured, completed, extended — are oriented, smoothed,
+// start-aligned and lofted as rebuild_blade does (rebuild.h), and the kept
+// measured points are measured against the loft.
+#include <vector>
+
+#include "core/common/types.h"
+#include "core/repair/damaged_blade.h"
+#include "core/repair/rebuild.h"
+
+namespace bliskrun {
+
+// In-plane rigid motion p -> R(angle) p + shift.
+struct Rigid2 {
+  double angle_rad = 0;
+  Vec2 shift = Vec2::Zero();
+  Vec2 apply(const Vec2& p) const;
+};
+
+struct SectionRegistrationOptions {
+  int max_iterations = 60;
+  double initial_reach_mm = 2;  // pairs farther apart are ignored at first
+  double outlier_factor = 3;    // later: this times the median pair distance...
+  double min_reach_mm = 0.02;   // ... but never below this
+  double converged_mm = 1e-8;   // stop when an update moves no point more than this
+};
+
+struct SectionRegistration {
+  Rigid2 motion;         // model -> measured
+  int iterations = 0;
+  bool converged = false;
+  int inliers = 0;
+  double rms_mm = 0;     // point-to-line distance of the inliers
+};
+
+// Registers a closed model polygon (dense, in order) to measured points in
+// the same plane: the motion of the model that minimises the sum of squared
+// distances of the measured points from the moved model's lines (each point
+// paired with its nearest model vertex, the line through it along the
+// polygon), pairs beyond the reach dropped as in register_points
+// (core/geometry/registration.h, whose 6-DOF problem a planar section leaves
+// singular). Throws ParameterError ("model") for fewer than 8 model points,
+// ("points") for fewer than 3, Error if no pair is within reach or the pairs
+// do not fix the rotation.
+SectionRegistration register_section(const std::vector<Vec2>& points, const std::vector<Vec2>& model,
+                                     const SectionRegistrationOptions& options = {}, const Rigid2& initial = {});
+
+struct DamagedRebuildOptions {
+  RebuildOptions rebuild;  // ordering, smoothing, start alignment, loft (its axis is ignored: the design's)
+  int design_samples = 1024;  // points of a design plane section
+  SectionRegistrationOptions registration;
+};
+
+enum class SectionSource { measured, completed, extended };
+
+struct DamagedSection {
+  double height_mm = 0;
+  SectionSource source = SectionSource::measured;
+  int index = 0;           // the measurement's section number (0 for an extended one)
+  int kept = 0;            // measured points used
+  int rejected = 0;
+  int gaps = 0;
+  double gap_mm = 0;       // total length of the gaps
+  bool registered = false; // the design was registered here (or, extended, moved by the extrapolation)
+  Rigid2 motion;           // design -> as-is
+  double registration_rms_mm = 0;
+  double smoothing_shift_mm = 0;
+  double start_correlation = 0;
+};
+
+// A gap of a completed section: its two ends (measured points) and the
+// middle of the design arc put in it, in the plane's coordinates; the
+// material beyond the line through the ends, on the arc's side, is what the
+// damage took (damaged_region.h).
+struct SectionGapFill {
+  double height_mm = 0;
+  Vec2 end_a = Vec2::Zero(), end_b = Vec2::Zero(), arc_middle = Vec2::Zero();
+  double length_mm = 0;
+};
+
+struct DamagedRebuild {
+  SectionLoft loft;
+  BladeFrame frame;
+  LoftDeviation deviation;  // of the kept measured points
+  std::vector<PointDeviation> point_deviations;  // each of them, in section order
+  std::vector<DamagedSection> sections;  // bottom to top, one per loft section
+  std::vector<SectionGapFill> fills;
+  double top_measured_mm = 0;  // height of the highest measured section
+  bool tip_extended = false;
+};
+
+// Throws ParameterError ("sections") for fewer than 2 measured sections or
+// one outside the design's height range, and what the stages throw.
+DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const DesignBlade& design,
+                               const DamagedRebuildOptions& options = {});
+
+}  // namespace bliskrun
