@@ -37,6 +37,9 @@ double ball_step_over(double scallop_mm, double ball_radius_mm, double curvature
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Sweep step of the cutting segments' gouge check (see plan_curve).
+constexpr double kCutSweepMm = 0.15;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 Vec3 outward(const SurfaceDerivs& d, bool flip) {
@@ -205,7 +208,12 @@ struct Planner {
           // far below it; around an edge both are large.
           const double theta = axis_angle_rad(lp[i].axis, lp[i + 1].axis);
           if (chord_of(ts[i], ts[i + 1]) + ball_r * theta * theta / 8 < 0.5 * rq.steps.chord_tol_mm) continue;
-          if (guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, 0.05).depth_mm < 0) {
+          // The sweep step bounds the motion of the fastest tool point, the
+          // flutes' top when the axis turns round an edge; near the design
+          // only the ball cuts, whose points move a third of that or less:
+          // 0.15 mm leaves the ball at most 0.05 mm between positions, a
+          // miss below (0.05)^2 / 8R.
+          if (guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
             const double tm = 0.5 * (ts[i] + ts[i + 1]);
             RepairPose rp;
             ToolPose p;
@@ -260,7 +268,7 @@ struct Planner {
       // segment is swept again, and where it now dips below the design the
       // pass is split (the pieces are joined by a proved link).
       if (finishing && prev && (rp.tilted || cur.poses.back().tilted) &&
-          guard.deepest_cut(tool, *prev, rp.pose, pose_allowed, false, false, 0.05).depth_mm < 0) {
+          guard.deepest_cut(tool, *prev, rp.pose, pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
         close_piece();
         res.refusals.push_back({layer, rp.u, rp.v, rp.contact,
                                 "the tilted motion from the previous contact cuts into the design: pass split"});
