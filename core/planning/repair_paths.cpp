@@ -103,9 +103,18 @@ AcrossStep across_step(const Surface& s, bool flip, double u, double v0, double 
     // the step-over's convention.
     double k = -normal_curvature(d, d.pu);
     if (flip) k = -k;
+    // A concave round tighter than the ball: no step leaves h there, and
+    // the ball cannot touch it without cutting its sides — the gouge guard
+    // refuses those contacts; the step is set where the ball fits.
+    if (!(1 + r * k > 1e-6)) continue;
     const double step = ball_step_over(h, r, k);
     out.step_mm = std::min(out.step_mm, step);
     out.du = std::min(out.du, step / d.pu.norm());
+  }
+  if (out.du > 1e299) {  // nowhere: the flat's step
+    const double step = ball_step_over(h, r, 0);
+    out.step_mm = step;
+    out.du = step / s.eval(u, 0.5 * (v0 + v1)).pu.norm();
   }
   return out;
 }

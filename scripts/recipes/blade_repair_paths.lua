@@ -86,15 +86,17 @@ local tool = bliskrun.ball_end_mill{radius = ball, flute_length = 4 * ball, shan
 local perimeter = closed.perimeter
 local region_of = {
   tip = {pattern = "spiral", u = {span_u(tip_span), 1}, v = {0, 1},
-         band = {u = {span_u(math.max(0, tip_span - 0.1)), span_u(tip_span)}, v = {0, 1}}},
+         -- the band of undamaged blade below it: 1 mm of span (the ball,
+         -- R 3, leaves the design 1 mm from its contact by 0.17 mm)
+         band = {u = {span_u(math.max(0, tip_span - 1 / 30)), span_u(tip_span)}, v = {0, 1}}},
   edge = {pattern = "zigzag", u = {span_u(edge_span[1]), span_u(edge_span[2])},
           v = {closed.le_v - edge_width / perimeter, closed.le_v + edge_width / perimeter}},
 }
 do
   local e = region_of.edge
   assert(e.v[1] > 0 and e.v[2] < 1, "the edge region crosses the seam of the closed blade")
-  -- The band around the edge region: 2 mm of span and 3 mm around on every side.
-  local du, dv = span_u(0.0667) - span_u(0), 3 / perimeter
+  -- The band around the edge region: 1 mm of span and 1.5 mm around on every side.
+  local du, dv = span_u(1 / 30) - span_u(0), 1.5 / perimeter
   e.band = {u = {math.max(0, e.u[1] - du), math.min(1, e.u[2] + du)}, v = {e.v[1] - dv, e.v[2] + dv}}
 end
 

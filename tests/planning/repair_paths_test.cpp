@@ -135,7 +135,7 @@ RepairPathRequest finishing_only(std::shared_ptr<const Surface> s, const Tool& t
 double scallop_closed_form(double s, double r, double rho) {
   if (std::isinf(rho)) return r - std::sqrt(r * r - 0.25 * s * s);
   const double half = 0.5 * s / rho, big = rho + r;
-  const double d = big * std::cos(half) + std::sqrt(r * r - std::pow(big * std::sin(half), 2));
+  const double d = big * std::cos(half) - std::sqrt(r * r - std::pow(big * std::sin(half), 2));
   return d - rho;
 }
 
@@ -187,12 +187,13 @@ TEST(RepairPaths, ZigzagScallopOnAFlatAndACylinderMatchesTheClosedFormAndBruteFo
       const double ua = r.passes[k].u, ub = r.passes[k + 1].u;
       const double arc = std::isinf(rho) ? 6 * (ub - ua) : rho * 0.3 * (ub - ua);
       const double brute = scallop_brute(*s, ua, ub, 0.5, 3);
-      EXPECT_NEAR(brute, scallop_closed_form(arc, 3, rho), 2e-7) << "pass " << k;
-      EXPECT_LE(brute, h + 2e-7);
-      if (k + 2 < r.passes.size()) EXPECT_NEAR(brute, h, 2e-7) << "pass " << k;
+      // (the brute force samples the cusp 1.5e-4 mm apart: within 1e-5 mm)
+      EXPECT_NEAR(brute, scallop_closed_form(arc, 3, rho), 1e-5) << "pass " << k;
+      EXPECT_LE(brute, h + 1e-9);
+      if (k + 2 < r.passes.size()) EXPECT_NEAR(brute, h, 1e-5) << "pass " << k;
     }
-    // The convex cylinder lets the passes stand further apart than the flat.
-    if (!std::isinf(rho)) EXPECT_GT(s_expected, 2 * std::sqrt(2 * 3 * h - h * h));
+    // The convex cylinder needs the passes closer than the flat.
+    if (!std::isinf(rho)) EXPECT_LT(s_expected, 2 * std::sqrt(2 * 3 * h - h * h));
   }
 }
 
@@ -208,6 +209,7 @@ TEST(RepairPaths, ChordErrorOfEveryPassWithinToleranceByBruteForce) {
   rq.v0 = 0.1;
   rq.v1 = 0.6;
   rq.steps.chord_tol_mm = 0.002;
+  rq.guard_spacing_mm = 0.03;
   const RepairPathResult r = plan_repair_paths(rq);
   ASSERT_FALSE(r.passes.empty());
   double worst = 0;
@@ -226,7 +228,9 @@ TEST(RepairPaths, ChordErrorOfEveryPassWithinToleranceByBruteForce) {
   }
   EXPECT_GT(segments, 50);
   EXPECT_LE(worst, 0.002 * (1 + 1e-6));
-  EXPECT_GT(worst, 0.5 * 0.002);  // steps as long as the tolerance allows
+  // On this convex pass the chord's sag is a gouge of the ball: segments
+  // whose swept ball the guard finds below the surface were halved.
+  EXPECT_GT(r.gouge_splits, 0);
   EXPECT_LE(worst, r.max_deviation_mm * (1 + 1e-6));
 }
 
@@ -240,6 +244,7 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
   rq.u0 = 0.2;
   rq.u1 = 0.8;
   rq.scallop_mm = 0.01;
+  rq.steps.chord_tol_mm = 0.005;
   const RepairPathResult r = plan_repair_paths(rq);
   ASSERT_EQ(r.passes.size(), 1u);  // one spiral, no pass-to-pass link
   EXPECT_EQ(r.links + r.bridges, 0);
