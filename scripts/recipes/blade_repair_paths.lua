@@ -149,13 +149,17 @@ for _, name in ipairs(regions) do
     local span_mm = math.sqrt((b.x - a.x) ^ 2 + (b.y - a.y) ^ 2 + (b.z - a.z) ^ 2)
     return math.max(8, math.ceil(span_mm / 0.04)), math.max(8, math.ceil((w.v[2] - w.v[1]) * perimeter / 0.25))
   end
+  -- sweep_step bounds the fastest cutter point, the flutes' top 12 mm up
+  -- when the axis turns round an edge; the ball's points move a third of
+  -- it, 0.05 mm at 0.15, missing < 0.05^2 / (8 * 3) = 0.1 um between positions.
   local su, sv = window_samples(region)
   t0 = os.clock()
   local sim = bliskrun.simulate{surface = blade, passes = passes, u = region.u, v = region.v, samples_u = su,
-                                samples_v = sv, search_above = 0.05, search_below = 0.05}
+                                samples_v = sv, search_above = 0.05, search_below = 0.05, sweep_step = 0.15}
   local bu, bv = window_samples(region.band)
   local band = bliskrun.simulate{surface = blade, passes = passes, u = region.band.u, v = region.band.v,
-                                 samples_u = bu, samples_v = bv, search_above = 0.05, search_below = 0.05}
+                                 samples_u = bu, samples_v = bv, search_above = 0.05, search_below = 0.05,
+                                 sweep_step = 0.15}
   bliskrun.log(string.format("  %s simulated in %.1f s CPU", name, os.clock() - t0))
   local picture = "repair_" .. name .. "_material_left.png"
   sim.map:write_png(picture, {title = "Material left after the " .. name .. " finishing layer (mm)"})
@@ -183,6 +187,14 @@ for _, name in ipairs(regions) do
                       .. "untouched %d of %d; overcut %.2f um in the region, %.2f um in the band around it",
                       1e3 * (sim.residual_min or 0), 1e3 * (sim.residual_max or 0), 1e3 * (scallop + chord_tol),
                       sim.untouched, sim.samples, -1e3 * sim.overcut, -1e3 * band.overcut))
+  -- The design restored within scallop + chord (the simulation's samples
+  -- add nothing: they read the material at points), and no gouge beyond a
+  -- few um into the region or the undamaged blade around it.
+  assert(#plan.refused == 0, name .. ": refused connections: " .. table.concat(plan.refused, "; "))
+  assert(sim.untouched == 0 and sim.residual_max <= scallop + chord_tol + 1e-4,
+         string.format("%s: material left up to %.2f um on the design", name, 1e3 * (sim.residual_max or -1)))
+  assert(sim.overcut > -0.003 and band.overcut > -0.003,
+         string.format("%s: overcut %.2f / %.2f um", name, -1e3 * sim.overcut, -1e3 * band.overcut))
   rows[#rows + 1] = {name, plan.pattern, #plan.layers, plan.passes, plan.poses, plan.bridges, plan.links,
                      #plan.refusals + plan.refused_connections, 1e3 * plan.max_deviation,
                      1e3 * (sim.residual_max or 0), 1e3 * math.min(sim.overcut, band.overcut)}
