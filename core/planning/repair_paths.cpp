@@ -219,9 +219,11 @@ struct Planner {
           if (chord_of(ts[i], ts[i + 1]) + ball_r * theta * theta / 8 < 0.5 * rq.steps.chord_tol_mm) continue;
           // The sweep step bounds the motion of the fastest tool point, the
           // flutes' top when the axis turns round an edge; near the design
-          // only the ball cuts, whose points move a third of that or less:
-          // 0.15 mm leaves the ball at most 0.05 mm between positions, a
-          // miss below (0.05)^2 / 8R.
+          // only the ball cuts, whose points move about a third of that.
+          // 0.15 mm (three times faster than 0.05) can miss a few tenths of
+          // a um between positions (the recipe's simulation read 0.26 um
+          // more material left at 0.15 than at 0.05); the independent
+          // simulation of the program, at 0.05, measures what is left.
           if (guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
             const double tm = 0.5 * (ts[i] + ts[i + 1]);
             RepairPose rp;
