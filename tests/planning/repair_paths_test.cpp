@@ -238,11 +238,11 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
   const Tool tool = ball_mill(2);
   const CollisionWorld world = far_world();
   const double height = 5;
-  auto s = std::make_shared<Tube>(8.0, height);
+  auto s = std::make_shared<Tube>(4.0, height);
   RepairPathRequest rq = finishing_only(s, tool, world);
   rq.pattern = RepairPattern::Spiral;
   rq.u0 = 0.2;
-  rq.u1 = 0.8;
+  rq.u1 = 0.6;
   rq.scallop_mm = 0.01;
   rq.steps.chord_tol_mm = 0.005;
   const RepairPathResult r = plan_repair_paths(rq);
@@ -254,7 +254,7 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
   EXPECT_NEAR(r.layers[0].step_over_max_mm, step, 1e-9);
   const double du = step / height;
   const int turns = r.layers[0].turns;
-  EXPECT_EQ(turns, static_cast<int>(std::ceil(0.6 / du - 1e-9)) + 2);
+  EXPECT_EQ(turns, static_cast<int>(std::ceil(0.4 / du - 1e-9)) + 2);
   // Every contact sits on the slanted line of its turn: u = u0 + (t - 1) du
   // over the full turns, u0 on the first (flat) turn, u1 on the last; the
   // height gained per turn (the pitch) is the step-over.
@@ -264,7 +264,7 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
     const double z = p.contact.z();
     if (p.t > turns - 2 && p.t < turns - 1) continue;  // the last, shorter slanted turn
     const double expected = p.t <= 1 ? 0.2 * height
-                            : p.t >= turns - 1 ? 0.8 * height
+                            : p.t >= turns - 1 ? 0.6 * height
                                                : 0.2 * height + (p.t - 1) * step;
     EXPECT_NEAR(z, expected, 1e-9) << "t = " << p.t;
     if (p.t > 1 && p.t < turns - 3) {
