@@ -33,22 +33,6 @@ std::shared_ptr<const Surface> surface_option(lua_State* L, const luax::Options&
   return s;
 }
 
-// A {lo, hi} window inside [0, 1].
-void read_window(lua_State* L, const luax::Options& o, const char* what, const char* key, double& lo, double& hi) {
-  if (!o.has(key)) return;
-  o.push_raw(key);
-  const int t = lua_gettop(L);
-  const std::string where = std::string(what) + ": option '" + key + "'";
-  if (luaL_len(L, t) != 2) luax::error(L, where + ": expected {lo, hi} with 0 <= lo < hi <= 1");
-  lua_rawgeti(L, t, 1);
-  lua_rawgeti(L, t, 2);
-  if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) luax::error(L, where + ": expected two numbers");
-  lo = lua_tonumber(L, -2);
-  hi = lua_tonumber(L, -1);
-  if (!(lo >= 0 && lo < hi && hi <= 1)) luax::error(L, where + ": expected {lo, hi} with 0 <= lo < hi <= 1");
-  lua_pop(L, 3);
-}
-
 // bliskrun.close_blade{pressure=, suction=, u = {u0, u1}, sections=, face_samples=, edge_samples=, samples=}
 // -> Surface, {le_v, te_v, perimeter, section_u = {...}}
 int w_close_blade(lua_State* L) {
@@ -68,7 +52,7 @@ int w_close_blade(lua_State* L) {
   ClosedBladeOptions co;
   const std::shared_ptr<const Surface> pressure = surface_option(L, o, what, "pressure");
   const std::shared_ptr<const Surface> suction = surface_option(L, o, what, "suction");
-  read_window(L, o, what, "u", co.u0, co.u1);
+  read_unit_window(L, o, what, "u", co.u0, co.u1);
   co.sections = static_cast<int>(o.integer("sections", co.sections));
   co.face_samples = static_cast<int>(o.integer("face_samples", co.face_samples));
   co.edge_samples = static_cast<int>(o.integer("edge_samples", co.edge_samples));
@@ -254,8 +238,8 @@ int w_repair_paths(lua_State* L) {
   rq.tool = &lt->tool;
   rq.world = world.get();
   rq.pattern = o.string("pattern", "zigzag") == "spiral" ? RepairPattern::Spiral : RepairPattern::Zigzag;
-  read_window(L, o, what, "u", rq.u0, rq.u1);
-  read_window(L, o, what, "v", rq.v0, rq.v1);
+  read_unit_window(L, o, what, "u", rq.u0, rq.u1);
+  read_unit_window(L, o, what, "v", rq.v0, rq.v1);
   rq.flip_normal = o.boolean("flip_normal", false);
   rq.deposit_mm = o.number("deposit", rq.deposit_mm);
   rq.layer_mm = o.number("layer", rq.layer_mm);
