@@ -27,6 +27,7 @@ void open_edges(lua_State* L);      // wrap_edges.cpp: edge_region, edge_finish 
 void open_channel(lua_State* L);    // wrap_channel.cpp: channel_rough (impeller notching and widening)
 void open_sim(lua_State* L);        // wrap_sim.cpp: simulate (undercut of any surface, passes with their tools)
 void open_repair(lua_State* L);     // wrap_repair.cpp: rebuild_sections (a blade lofted through measured sections)
+void open_repair_paths(lua_State* L);  // wrap_repair_paths.cpp: close_blade, repair_paths (repair zigzag / spiral, offset layers)
 
 // Registers everything into a new global table `bliskrun`.
 void open_all(lua_State* L);

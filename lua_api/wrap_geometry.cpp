@@ -29,6 +29,22 @@ void push_meridian(lua_State* L, const std::vector<Vec2>& meridian) {
   }
 }
 
+void read_unit_window(lua_State* L, const luax::Options& o, const std::string& what, const char* key, double& lo,
+                      double& hi) {
+  if (!o.has(key)) return;
+  o.push_raw(key);
+  const int t = lua_gettop(L);
+  const std::string where = what + ": option '" + key + "'";
+  if (luaL_len(L, t) != 2) luax::error(L, where + ": expected {lo, hi} with 0 <= lo < hi <= 1");
+  lua_rawgeti(L, t, 1);
+  lua_rawgeti(L, t, 2);
+  if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) luax::error(L, where + ": expected two numbers");
+  lo = lua_tonumber(L, -2);
+  hi = lua_tonumber(L, -1);
+  if (!(lo >= 0 && lo < hi && hi <= 1)) luax::error(L, where + ": expected {lo, hi} with 0 <= lo < hi <= 1");
+  lua_pop(L, 3);
+}
+
 namespace {
 
 double check_param(lua_State* L, int idx, const char* name) {

@@ -2,6 +2,7 @@
 // Lua handles of geometry values, shared by the wrappers of other subsystems
 // (parts, analysis, planning) that take or return surfaces and grids.
 #include <memory>
+#include <string>
 
 #include "core/geometry/curve.h"
 #include "core/geometry/mesh.h"
@@ -30,6 +31,10 @@ void push_grid(lua_State* L, std::shared_ptr<const PointGrid> g);
 void push_mesh(lua_State* L, std::shared_ptr<const TriangleMesh> m);
 // A meridian line as {{z, r}, ...}.
 void push_meridian(lua_State* L, const std::vector<Vec2>& meridian);
+// The option `key` of `o`, when given, as a parameter window {lo, hi} with
+// 0 <= lo < hi <= 1 (a surface's u or v range); errors name `what` and key.
+void read_unit_window(lua_State* L, const luax::Options& o, const std::string& what, const char* key, double& lo,
+                      double& hi);
 
 }  // namespace bliskrun::lua_api
 

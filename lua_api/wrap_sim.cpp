@@ -27,22 +27,6 @@ using luax::Field;
 using luax::Kind;
 using luax::number_field;
 
-// A {lo, hi} parameter window inside [0, 1].
-void read_window(lua_State* L, const luax::Options& o, const char* key, double& lo, double& hi) {
-  if (!o.has(key)) return;
-  o.push_raw(key);
-  const int t = lua_gettop(L);
-  const std::string what = std::string("bliskrun.simulate: option '") + key + "'";
-  if (luaL_len(L, t) != 2) luax::error(L, what + ": expected {lo, hi} with 0 <= lo < hi <= 1");
-  lua_rawgeti(L, t, 1);
-  lua_rawgeti(L, t, 2);
-  if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) luax::error(L, what + ": expected two numbers");
-  lo = lua_tonumber(L, -2);
-  hi = lua_tonumber(L, -1);
-  if (!(lo >= 0 && lo < hi && hi <= 1)) luax::error(L, what + ": expected {lo, hi} with 0 <= lo < hi <= 1");
-  lua_pop(L, 3);
-}
-
 // The passes of one group: consecutive passes with the same tool form one
 // run; `global` maps the group's pass numbers to the order given.
 struct PassGroup {
@@ -184,8 +168,8 @@ int w_simulate(lua_State* L) {
   UndercutOptions so;
   so.samples_u = static_cast<int>(o.integer("samples_u", 100));
   so.samples_v = static_cast<int>(o.integer("samples_v", 400));
-  read_window(L, o, "u", so.u0, so.u1);
-  read_window(L, o, "v", so.v0, so.v1);
+  read_unit_window(L, o, "bliskrun.simulate", "u", so.u0, so.u1);
+  read_unit_window(L, o, "bliskrun.simulate", "v", so.v0, so.v1);
   so.flip_normal = o.boolean("flip_normal", false);
   so.search_above_mm = o.number("search_above", 1.0);
   so.search_below_mm = o.number("search_below", 0.5);

@@ -25,6 +25,41 @@ struct Attempt {
   std::string reason;
 };
 
+// One motion from -> to, proved against the world and the guard; `name`
+// names it in the reason. include_from/include_to: whether the end poses'
+// own cut counts (not for a pose that belongs to a cutting pass).
+bool prove_motion(const ToolPose& from, const ToolPose& to, const LinkChecks& checks, double allowed_mm,
+                  bool include_from, bool include_to, const std::string& name, Attempt& out) {
+  std::ostringstream why;
+  const MotionCheck mc = checks.world->check_motion(*checks.body, from, to, checks.clearances, checks.motion_tol_mm);
+  if (!mc.clear) {
+    why << name << " not clear at t = " << mc.t << (mc.undecided ? " (undecided)" : "") << ", margin "
+        << mc.min_margin_mm << " mm";
+    if (mc.at.worst >= 0) {
+      const PartClearance& pc = mc.at.parts[mc.at.worst];
+      why << " (" << to_string(pc.part);
+      if (pc.object >= 0) why << " vs " << checks.world->name(pc.object);
+      why << ")";
+    }
+    out.clear = false;
+    out.reason = why.str();
+    return false;
+  }
+  if (checks.guard) {
+    const GougeGuard::Cut cut =
+        checks.guard->deepest_cut(checks.body->tool(), from, to, allowed_mm, include_from, include_to);
+    out.deepest_cut_mm = std::min(out.deepest_cut_mm, cut.depth_mm);
+    if (cut.depth_mm < 0) {
+      why << name << " cuts " << -cut.depth_mm * 1000 << " um below the finished surface at t = " << cut.t
+          << " (allowed " << allowed_mm * 1000 << " um)";
+      out.clear = false;
+      out.reason = why.str();
+      return false;
+    }
+  }
+  return true;
+}
+
 // Proves the chain of poses a, via..., b segment by segment. `b_cuts`: b
 // is a cutting pose (the next pass's first), whose own cut is its pass's.
 Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::vector<LinkLeg>& legs,
@@ -35,36 +70,11 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
   chain.push_back(&b);
   for (size_t s = 0; s + 1 < chain.size(); ++s) {
     const LinkLeg leg = s < legs.size() ? legs[s] : LinkLeg::Approach;
-    std::ostringstream why;
-    const MotionCheck mc =
-        checks.world->check_motion(*checks.body, *chain[s], *chain[s + 1], checks.clearances, checks.motion_tol_mm);
-    if (!mc.clear) {
-      why << link_leg_name(leg) << " not clear at t = " << mc.t << (mc.undecided ? " (undecided)" : "")
-          << ", margin " << mc.min_margin_mm << " mm";
-      if (mc.at.worst >= 0) {
-        const PartClearance& pc = mc.at.parts[mc.at.worst];
-        why << " (" << to_string(pc.part);
-        if (pc.object >= 0) why << " vs " << checks.world->name(pc.object);
-        why << ")";
-      }
-      out.clear = false;
-      out.reason = why.str();
+    // The link leaves the cutting pose a and reaches the cutting pose b:
+    // their own cut belongs to their passes.
+    if (!prove_motion(*chain[s], *chain[s + 1], checks, allowed_mm, s > 0, s + 2 < chain.size() || !b_cuts,
+                      link_leg_name(leg), out))
       return out;
-    }
-    if (checks.guard) {
-      // The link leaves the cutting pose a and reaches the cutting pose b:
-      // their own cut belongs to their passes.
-      const GougeGuard::Cut cut = checks.guard->deepest_cut(checks.body->tool(), *chain[s], *chain[s + 1],
-                                                            allowed_mm, s > 0, s + 2 < chain.size() || !b_cuts);
-      out.deepest_cut_mm = std::min(out.deepest_cut_mm, cut.depth_mm);
-      if (cut.depth_mm < 0) {
-        why << link_leg_name(leg) << " cuts " << -cut.depth_mm * 1000 << " um below the finished surface at t = "
-            << cut.t << " (allowed " << allowed_mm * 1000 << " um)";
-        out.clear = false;
-        out.reason = why.str();
-        return out;
-      }
-    }
   }
   return out;
 }
@@ -184,6 +194,25 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
     add_reason(best.reason, c, o, at.reason);
   }
   return best;
+}
+
+ChainProof prove_chain(const std::vector<ToolPose>& chain, const LinkChecks& checks, double allowed_mm,
+                       bool first_cuts, bool last_cuts) {
+  if (!checks.world) throw ParameterError("world", "a collision world is required");
+  if (!checks.body) throw ParameterError("body", "the tool body is required");
+  ChainProof out;
+  Attempt a;
+  for (size_t s = 0; s + 1 < chain.size(); ++s) {
+    if (!prove_motion(chain[s], chain[s + 1], checks, allowed_mm, s > 0 || !first_cuts,
+                      s + 2 < chain.size() || !last_cuts, "motion " + std::to_string(s + 1), a)) {
+      out.clear = false;
+      out.segment = static_cast<int>(s);
+      break;
+    }
+  }
+  out.deepest_cut_mm = a.deepest_cut_mm;
+  out.reason = a.reason;
+  return out;
 }
 
 }  // namespace bliskrun

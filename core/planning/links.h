@@ -100,4 +100,19 @@ PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, con
 PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks,
                       const LinkOptions& options);
 
+// Any other non-cutting motion through `chain` (PoseMotion between
+// consecutive poses) proved as a link's legs are: every motion against the
+// world, and against the guard (when given) with `allowed_mm`. The first
+// and last pose's own cut is left to their passes when first_cuts /
+// last_cuts (a lead arc or bridge that leaves or reaches a cutting pose).
+// Stops at the first motion that does not prove (segment: its index).
+struct ChainProof {
+  bool clear = true;
+  int segment = -1;
+  double deepest_cut_mm = 0;
+  std::string reason;
+};
+ChainProof prove_chain(const std::vector<ToolPose>& chain, const LinkChecks& checks, double allowed_mm,
+                       bool first_cuts, bool last_cuts);
+
 }  // namespace bliskrun

@@ -40,11 +40,14 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 double parameter_at_chord(const Curve& c, double t0, double length) {
   const Vec3 p0 = c.point(t0);
   const double t_end = c.t_max();
-  if ((c.point(t_end) - p0).norm() <= length) return t_end;
-  // Bracket: grow the parameter step from a first-order guess.
+  // Bracket: grow the parameter step from a first-order guess. The end is
+  // taken only when the bracket reaches it: a curve that comes back to
+  // where it was (a closed loop, a spiral's last turn) has its end near p0
+  // without the curve between being within `length`.
   const double speed = std::max(c.eval(t0).dt.norm(), 1e-12);
   double lo = t0, hi = std::min(t_end, t0 + length / speed);
   while ((c.point(hi) - p0).norm() < length) {
+    if (hi >= t_end) return t_end;
     lo = hi;
     hi = std::min(t_end, t0 + 2 * (hi - t0));
   }
