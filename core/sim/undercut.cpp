@@ -129,7 +129,8 @@ double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool
   double s = -o.search_below_mm;
   for (int iter = 0; iter < 400; ++iter) {
     const Vec3 q = p_tool + s * n_tool;
-    const double bound = std::max(std::hypot(q.x(), q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
+    const double bound =
+        std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
     const double f = bound > 0.02 ? bound : cutter.signed_distance(q);
     if (f <= o.tol_mm) return s;
     s += f;

@@ -12,13 +12,18 @@
 --      (e1, e2); rows spaced by the row's smallest strip;
 --   3. every pose and the motion between poses proved clear of the
 --      neighbouring blades, the hub and (shank, holder) the blade itself;
---      links retract up the tool axis; refusals reported, never emitted;
+--      a pose that is not is tilted clear (corner lead up to 80°, side-slip
+--      all round) or refused; links (the shared link builder) retract up
+--      the tool axis, every leg proved against the world and the edge and
+--      flanks; refusals reported, never emitted;
 --   4. the paper's comparison: the same rows with the conventional side-edge
 --      positioning (corner contact, φ = 0, smallest gouge-free lead >=
 --      side_min_lead): strip widths along one row (Fig. 8) and row counts
 --      (Fig. 9, paper: 31 vs 48);
 --   5. the independent simulation (core/sim) of every move on the edge
---      region (undercut/overcut map) and the overcut on both flanks.
+--      region (undercut/overcut map) and the overcut on both flanks, and
+--      the edge's thickness after machining against the design at three
+--      spans (from the simulation's material left).
 -- Part: the built-in blisk's blade 1, or NASA Rotor 67 blade 1 when its data
 -- is found (--data ../shared/data) or with --set part=rotor67.
 -- Tool: the paper's R = 5, r = 1 does not fit the built-in blisk: on the
@@ -115,8 +120,16 @@ for _, edge in ipairs(edges) do
   local rep = plan:report()
   local stem = string.format("%s_%s", part_name, edge)
   plan:write_apt(stem .. ".apt")
+  -- The edge's thickness after machining against the design (issue 14
+  -- item 7) at a quarter, half and three quarters of the machined span
+  -- window, 0.05 mm behind the front up to the round's radius and past it
+  -- onto the overlap.
+  local spans = {}
+  for _, f in ipairs{0.25, 0.5, 0.75} do spans[#spans + 1] = settings.v0 + f * (settings.v1 - settings.v0) end
+  local behind = {0.05, 0.1, 0.2, 0.4, 0.6}
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 400,
-                            flanks = {pressure, suction}, picture = stem .. "_undercut.png"}
+                            flanks = {pressure, suction}, picture = stem .. "_undercut.png",
+                            thickness = {spans = spans, behind = behind}}
   local cmp = plan:comparison()
   local series = {{name = "bottom, paper (φ averaged)", points = {}}, {name = "bottom, joint optimum", points = {}},
                   {name = "side edge (corner, φ = 0)", points = {}}}
@@ -154,6 +167,19 @@ for _, edge in ipairs(edges) do
                     flank_overcut_mm = sim.flank_overcut, untouched = sim.untouched, samples = sim.samples,
                     picture = stem .. "_undercut.png"}
   rep.apt = stem .. ".apt"
+  rep.thickness = sim.thickness
+  print(string.format("            thickness after machining vs design (mm) at distances behind the %s edge's front:", edge))
+  for _, v in ipairs(spans) do
+    local cells = {}
+    for _, t in ipairs(sim.thickness) do
+      if t.v == v then
+        cells[#cells + 1] = t.measured and string.format("%.2f: %.4f / %.4f (%+.1f um)", t.behind, t.machined, t.design,
+                                                         1e3 * (t.machined - t.design))
+                                        or string.format("%.2f: not measured", t.behind)
+      end
+    end
+    print(string.format("              v %.3f  %s", v, table.concat(cells, ", ")))
+  end
   -- No gouge anywhere (edge region and flanks) beyond e1 plus what the
   -- simulation's sampling can miss; refusals are reported, not hidden.
   local verified = sim.overcut >= settings.e1 - 1e-3 and sim.flank_overcut >= settings.e1 - 1e-3
