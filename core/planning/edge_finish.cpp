@@ -34,6 +34,32 @@ void validate(const EdgeFinishRequest& rq) {
   if (!(rq.tilt_slip_step_rad > 0)) throw ParameterError("tilt_slip_step", "must be > 0");
 }
 
+// Gouge-guard samples over [u0, u1] x [v0, v1] of `s`, about spacing_mm
+// apart in both directions (the longest of 9 iso-lines each way, measured
+// as 64-segment polylines).
+UndercutOptions guard_sampling(const Surface& s, double u0, double u1, double v0, double v1, double spacing_mm) {
+  double len_u = 0, len_v = 0;
+  for (int i = 0; i <= 8; ++i) {
+    double lu = 0, lv = 0;
+    const double a = static_cast<double>(i) / 8;
+    for (int k = 0; k < 64; ++k) {
+      const double t0 = static_cast<double>(k) / 64, t1 = static_cast<double>(k + 1) / 64;
+      lu += (s.point(u0 + (u1 - u0) * t1, v0 + (v1 - v0) * a) - s.point(u0 + (u1 - u0) * t0, v0 + (v1 - v0) * a)).norm();
+      lv += (s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t1) - s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t0)).norm();
+    }
+    len_u = std::max(len_u, lu);
+    len_v = std::max(len_v, lv);
+  }
+  UndercutOptions o;
+  o.u0 = u0;
+  o.u1 = u1;
+  o.v0 = v0;
+  o.v1 = v1;
+  o.samples_u = std::clamp(static_cast<int>(std::ceil(len_u / spacing_mm)) + 1, 8, 5000);
+  o.samples_v = std::clamp(static_cast<int>(std::ceil(len_v / spacing_mm)) + 1, 8, 5000);
+  return o;
+}
+
 // Everything one contact contributes to its row.
 struct ContactPlan {
   double u = 0;
@@ -59,23 +85,32 @@ std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
   return l;
 }
 
-std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
-                                               double v) {
-  StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
-  (void)frame;
+// The flanks' condition-① samples of a row: they depend on the row's span
+// alone (the flank u of its v, the flanks' edge ends), not on the contact,
+// so a row samples them once for all its contacts.
+StripSamples flank_samples(const EdgeFinishRequest& rq, double v) {
+  StripSamples out;
   const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
-  if (rq.first) add_flank_samples(samples, *rq.first, u_f, 0.0, rq.sampling);
-  if (rq.second) add_flank_samples(samples, *rq.second, u_f, 1.0, rq.sampling);
+  if (rq.first) add_flank_samples(out, *rq.first, u_f, 0.0, rq.sampling);
+  if (rq.second) add_flank_samples(out, *rq.second, u_f, 1.0, rq.sampling);
+  return out;
+}
+
+std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
+                                               double v, const StripSamples& flanks) {
+  StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
+  samples.gouge_p.insert(samples.gouge_p.end(), flanks.gouge_p.begin(), flanks.gouge_p.end());
+  samples.gouge_n.insert(samples.gouge_n.end(), flanks.gouge_n.begin(), flanks.gouge_n.end());
   return std::make_shared<const ContactStrip>(*rq.tool, frame, std::move(samples), rq.band);
 }
 
 ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const std::vector<double>& ls,
-                         bool side_only) {
+                         bool side_only, const StripSamples& flanks) {
   ContactPlan c;
   c.u = u;
   const SurfaceDerivs d = rq.edge->eval(u, v);
   c.frame = edge_frame(d);
-  c.strip = make_strip(rq, c.frame, u, v);
+  c.strip = make_strip(rq, c.frame, u, v, flanks);
   const ContactStrip& strip = *c.strip;
   const CornerPosition side = corner_min_lead(strip, rq.side_min_lead_rad);
   c.side_w = side.feasible ? side.width.width_mm : 0.0;
@@ -143,6 +178,7 @@ BalancedRow balance(const std::vector<ContactPlan>& cs, bool paper, size_t nl) {
 
 struct PlannedRow {
   EdgeFinishRow row;
+  StripSamples flanks;  // the row's flank samples (flank_samples)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
 };
@@ -157,9 +193,11 @@ PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<dou
   // The contacts of a row are independent (each its own samples and
   // searches): on rq.threads workers, each writing its own slot.
   pr.contacts.resize(steps.t.size());
+  pr.flanks = flank_samples(rq, v);
+  const StripSamples& flanks = pr.flanks;
   Progress quiet(&progress);  // cancelled with the caller's, its own bar
   run_parallel(steps.t.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
-    pr.contacts[k] = plan_contact(rq, steps.t[k], v, ls, side_only);
+    pr.contacts[k] = plan_contact(rq, steps.t[k], v, ls, side_only, flanks);
   });
   for (const ContactPlan& c : pr.contacts) pr.row.strip_evaluations += c.evaluations;
   // Over the contacts where the side-edge positioning has a gouge-free
@@ -268,7 +306,7 @@ double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const Co
 // contacts' samples, dips below e1, a contact is inserted half-way with the
 // blended position (same family: l, θ, φ averaged) until it does not; a
 // switch between bottom and corner cannot be blended and becomes a link.
-void refine_row(const EdgeFinishRequest& rq, double v, std::vector<EdgeFinishPose>& poses,
+void refine_row(const EdgeFinishRequest& rq, double v, const StripSamples& flanks, std::vector<EdgeFinishPose>& poses,
                 std::vector<std::shared_ptr<const ContactStrip>>& strips, int& inserted) {
   size_t i = 0;
   while (i + 1 < poses.size()) {
@@ -291,7 +329,7 @@ void refine_row(const EdgeFinishRequest& rq, double v, std::vector<EdgeFinishPos
                   0.5 * (a.position.lead_rad + b.position.lead_rad),
                   0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)};
     const EdgeFrame f = edge_frame(rq.edge->eval(m.u, v));
-    auto strip = make_strip(rq, f, m.u, v);
+    auto strip = make_strip(rq, f, m.u, v, flanks);
     const StripWidth w = strip->width(m.position);
     m.pose = strip->pose(m.position);
     m.contact = f.point;
@@ -368,7 +406,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       if (pos.contact == EdgeContact::Bottom) ++pr.row.bottom_contacts;
       else ++pr.row.corner_contacts;
     }
-    refine_row(rq, v, pr.row.poses, strips, pr.row.inserted_contacts);
+    refine_row(rq, v, pr.flanks, pr.row.poses, strips, pr.row.inserted_contacts);
     pr.row.left_min_mm = std::isfinite(left) ? left : 0;
     pr.row.right_min_mm = std::isfinite(right) ? right : 0;
     // §3.2: rows spaced by the smallest strip along the row. The strips are
@@ -455,26 +493,29 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   // swept tool): the contact strips see only samples near each contact, and
   // a motion into a tilted pose was found cutting 4.4 um into the round
   // between them. Allowed: the band's overcut less what the samples can miss.
-  UndercutOptions guard_options;
-  guard_options.samples_u = 200;
-  guard_options.samples_v = 500;
-  guard_options.v0 = rq.v0;
-  guard_options.v1 = rq.v1;
-  const GougeGuard edge_guard(*rq.edge, guard_options);
+  // Samples h apart miss at most h² / (8 r) for the corner radius r: h is
+  // chosen so that is a quarter of |e1| (0.032 mm for r 0.5, e1 -1 um), the
+  // counts from the window's longest parameter lines in mm — the allowance
+  // keeps three quarters of e1, wherever the window and however long the
+  // blade.
+  const double corner_r = std::max(fe.corner_mm, 1e-3);
+  const double spacing = std::sqrt(2 * corner_r * std::max(-rq.band.e1_mm, 1e-3));
+  const GougeGuard edge_guard(*rq.edge, guard_sampling(*rq.edge, 0, 1, rq.v0, rq.v1, spacing));
   // The flanks near their edge ends (first: v = 0, second: v = 1), where the
-  // flat bottom of a pose reaches over them: 12 % of the chord, densely.
+  // flat bottom of a pose reaches over them: 12 % of the chord, over the
+  // machined span window and a tool radius + 1 mm either side of it.
   std::vector<std::unique_ptr<GougeGuard>> flank_guards;
   for (int k = 0; k < 2; ++k) {
     const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
     if (!flank) continue;
-    UndercutOptions fo;
-    fo.samples_u = 500;
-    fo.samples_v = 150;
-    fo.u0 = rq.span_u0;
-    fo.u1 = rq.span_u1;
-    fo.v0 = k == 0 ? 0.0 : 0.88;
-    fo.v1 = k == 0 ? 0.12 : 1.0;
-    flank_guards.push_back(std::make_unique<GougeGuard>(*flank, fo));
+    const double fu0 = rq.span_u0 + rq.v0 * (rq.span_u1 - rq.span_u0);
+    const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
+    const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
+    const double margin = (fe.radius_mm + 1.0) / per_u;
+    flank_guards.push_back(std::make_unique<GougeGuard>(
+        *flank, guard_sampling(*flank, std::max(0.0, std::min(fu0, fu1) - margin),
+                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0,
+                               spacing)));
   }
   // Swept only where the contact strips' view is least to be trusted: a
   // change of contact family (bottom <-> corner), a tilted pose, or an axis
@@ -513,8 +554,19 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     }
     int segment = 0;
     long last = -1;  // index in row.poses of the previous emitted pose of this pass
+    long last_candidate = -1;  // ... and in candidates
     progress.step(static_cast<long>(r));
-    for (EdgeFinishPose& p : candidates) {
+    // The guards' sweep of every consecutive pair as planned, on rq.threads
+    // workers (the guards are read-only); the pass below takes it where the
+    // pose before is the candidate before and neither was tilted.
+    std::vector<char> pair_gouges(candidates.size(), 0);
+    {
+      Progress quiet(&progress);
+      run_parallel(candidates.empty() ? 0 : candidates.size() - 1, rq.threads, quiet, "edge finish sweeps",
+                   [&](size_t k, Progress&) { pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]); });
+    }
+    for (size_t ci = 0; ci < candidates.size(); ++ci) {
+      EdgeFinishPose& p = candidates[ci];
       progress.check();
       if (p.break_before && last >= 0) {
         ++segment;
@@ -553,14 +605,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       }
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
       // pose after a refused one): otherwise reach this pose by a link.
+      const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !p.tilted &&
+                              !candidates[static_cast<size_t>(last_candidate)].tilted;
       if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-                        motion_gouges(row.poses[last], p))) {
+                        (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
         ++out.gouge_breaks;
       }
       p.segment = segment;
       row.poses.push_back(p);
       last = static_cast<long>(row.poses.size()) - 1;
+      last_candidate = static_cast<long>(ci);
     }
     // Rows whose contacts had no feasible position at all.
     for (size_t i = 0; i < planned[r].contacts.size(); ++i) {
@@ -584,7 +639,6 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   link_checks.body = &body;
   link_checks.clearances = rq.clearances;
   link_checks.motion_tol_mm = rq.motion_tol_mm;
-  const double corner_r = std::max(fe.corner_mm, 1e-3);
   link_checks.guard = &edge_guard;
   link_checks.guard_margin_mm = edge_guard.between_samples_mm(corner_r);
   for (const auto& g : flank_guards) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(corner_r)});
