@@ -252,10 +252,9 @@ std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFin
 // from 90° − tilt_lead_step in tilt_lead_step steps down to 90° −
 // tilt_lead_max, the side-slip w = φ − 90° all round from the optimum's in
 // tilt_slip_step steps; an axis must be within the machine's range
-// (axis_limit), keep condition ① and ② on the contact's samples, clear the
-// world with the whole tool and, from `previous`, in the motion.
-TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
-                              const ToolPose* previous) {
+// (axis_limit), keep condition ① and ② on the contact's samples and clear
+// the world with the whole tool (the motion into it is the caller's).
+TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p) {
   const ContactFrame frame{p.contact, p.strip->frame().x, p.strip->frame().z};
   TiltSettings s;
   s.lead0_rad = kPi / 2 - rq.tilt_lead_step_rad;
@@ -275,7 +274,7 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body,
     if (!w.touches) return "leaves more than e2 at the contact";
     return "";
   };
-  const TiltOutcome o = tilt_until_clear(*rq.world, body, frame, 0, s, previous);
+  const TiltOutcome o = tilt_until_clear(*rq.world, body, frame, 0, s);
   if (o.accepted) {
     const StripWidth w = strip.width(o.pose.pose);
     p.position = {EdgeContact::Corner, 0, kPi / 2 - o.pose.lead_rad, o.pose.tilt_rad + kPi / 2};
@@ -575,24 +574,33 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
       std::string reason;
       if (!pc.clear) reason = describe(pc, *rq.world);
-      else if (last >= 0) {
-        const MotionCheck mc =
-            rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm);
-        if (!mc.clear) reason = "motion from the previous pose: " + (mc.undecided ? std::string("undecided")
-                                                                                   : describe(mc.at, *rq.world));
+      else if (last >= 0 &&
+               !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
+        // The pose is clear, the cutting motion into it is not: a new pass,
+        // reached by a proved link.
+        ++segment;
+        last = -1;
       }
       TiltOutcome tilt;
       if (!reason.empty()) {
-        tilt = clear_alternative(rq, body, p, last >= 0 ? &row.poses[last].pose : nullptr);
+        // The pose alone must clear (the interference loop's cheap query);
+        // the motion from the previous pose is asked once below, and a
+        // pose it cannot reach by cutting is reached by a link — asking it
+        // of every candidate axis cost a swept FCL query each, minutes per
+        // edge beside the neighbouring blade.
+        tilt = clear_alternative(rq, body, p);
         if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
       }
       if (tilt.accepted) {
         reason.clear();
         ++row.tilted_contacts;
         // A tilted pose is a different family from its neighbours: reach it
-        // by a link unless the motion is proved within e1 of the blade.
-        if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-                          motion_gouges(row.poses[last], p))) {
+        // by a link unless the motion is proved clear of the world and
+        // within e1 of the blade.
+        if (last >= 0 &&
+            (!rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear ||
+             motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+             motion_gouges(row.poses[last], p))) {
           ++segment;
           last = -1;
         }

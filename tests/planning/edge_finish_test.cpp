@@ -144,7 +144,7 @@ TEST(EdgeThicknessTest, MatchesTheRoundAndItsOffsetBehindTheFront) {
   // r1 on the -Y side (u < 1/2), r2 on the +Y side.
   for (int i = 0; i < o.samples_u; ++i)
     for (int j = 0; j < o.samples_v; ++j) sim.residual_mm.push_back(2 * i < o.samples_u - 1 ? r1 : r2);
-  const std::vector<double> behind{0.0, 0.05, 0.2, 0.4, 0.9, 1.5};
+  const std::vector<double> behind{0.01, 0.05, 0.2, 0.4, 0.9, 1.5};
   const std::vector<EdgeThickness> th = edge_thickness(edge, sim, o, {0.3, 0.45}, behind);
   ASSERT_EQ(th.size(), 12u);
   auto half = [](double radius, double x) { return x >= 0 ? std::sqrt(radius * radius - x * x) : radius; };
