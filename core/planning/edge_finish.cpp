@@ -655,33 +655,41 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   link_options.retract_mm = rq.retract_mm;
   link_options.min_retract_mm = std::min(0.1, rq.retract_mm);
   link_options.allowed_overcut_mm = -rq.band.e1_mm;
+  // The passes' ends in cutting order, then every link on rq.threads
+  // workers: each is proved on its own (the world and the guards are
+  // read-only), so the plan does not depend on the thread count.
+  struct LinkEnds {
+    const EdgeFinishPose *from, *to;
+    int from_row, to_row;
+  };
+  std::vector<LinkEnds> ends;
   const EdgeFinishPose* prev = nullptr;
   int prev_row = -1;
   for (size_t r = 0; r < out.rows.size(); ++r) {
     const std::vector<EdgeFinishPose>& poses = out.rows[r].poses;
     for (size_t i = 0; i < poses.size(); ++i) {
       const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
-      if (starts_pass && prev) {
-        progress.check();
-        const PlannedLink pl = plan_link({prev->pose, prev->normal}, {poses[i].pose, poses[i].normal}, link_checks,
-                                         link_options, round_the_front(rq, *prev, poses[i]));
-        EdgeFinishLink link;
-        link.from_row = prev_row;
-        link.to_row = static_cast<int>(r);
-        link.clear = pl.clear;
-        link.moves = pl.via;
-        link.legs = pl.legs;
-        link.offset_mm = pl.offset_mm;
-        if (!pl.clear) {
-          link.reason = "link from row " + std::to_string(prev_row) + " to row " + std::to_string(r) + ": " + pl.reason;
-          ++out.refused_links;
-        }
-        out.links.push_back(std::move(link));
-      }
+      if (starts_pass && prev) ends.push_back({prev, &poses[i], prev_row, static_cast<int>(r)});
       prev = &poses[i];
       prev_row = static_cast<int>(r);
     }
   }
+  out.links.resize(ends.size());
+  run_parallel(ends.size(), rq.threads, progress, "edge finish links", [&](size_t k, Progress&) {
+    const LinkEnds& e = ends[k];
+    const PlannedLink pl = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal}, link_checks,
+                                     link_options, round_the_front(rq, *e.from, *e.to));
+    EdgeFinishLink& link = out.links[k];
+    link.from_row = e.from_row;
+    link.to_row = e.to_row;
+    link.clear = pl.clear;
+    link.moves = pl.via;
+    link.legs = pl.legs;
+    link.offset_mm = pl.offset_mm;
+    if (!pl.clear)
+      link.reason = "link from row " + std::to_string(e.from_row) + " to row " + std::to_string(e.to_row) + ": " + pl.reason;
+  });
+  for (const EdgeFinishLink& link : out.links) out.refused_links += link.clear ? 0 : 1;
   progress.end();
   out.checks_seconds = seconds_since(t_checks);
   return out;
