@@ -268,7 +268,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "gouge_breaks", r.gouge_breaks);
   set_number(L, "max_deviation", r.max_deviation_mm);
   double wmin = std::numeric_limits<double>::infinity(), wmax = 0, smin = wmin, smax = 0;
-  long bottom = 0, corner = 0, evals = 0;
+  long bottom = 0, corner = 0, evals = 0, tilted = 0;
   lua_createtable(L, static_cast<int>(r.rows.size()), 0);
   for (size_t i = 0; i < r.rows.size(); ++i) {
     const EdgeFinishRow& row = r.rows[i];
@@ -279,6 +279,7 @@ int w_plan_report(lua_State* L) {
     bottom += row.bottom_contacts;
     corner += row.corner_contacts;
     evals += row.strip_evaluations;
+    tilted += row.tilted_contacts;
     lua_createtable(L, 0, 14);
     set_number(L, "v", row.v);
     set_number(L, "width", row.width_mm);
@@ -304,6 +305,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "bottom_contacts", bottom);
   set_integer(L, "corner_contacts", corner);
   set_integer(L, "strip_evaluations", evals);
+  set_integer(L, "tilted_contacts", tilted);
   std::set<std::string> reasons;
   for (const EdgeFinishRow& row : r.rows)
     for (const EdgeContactRefusal& f : row.refusals)

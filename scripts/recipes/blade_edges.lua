@@ -194,8 +194,10 @@ for _, edge in ipairs(edges) do
                       rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.side_width_min,
                       rep.side_width_max, rep.poses, rep.refusals + rep.refused_links, 1e3 * sim.undercut_max,
                       1e3 * sim.overcut, 1e3 * sim.flank_overcut))
-  print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts",
-                      region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts))
+  print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts, "
+                      .. "%d tilted clear of the world, %d refused contacts, %d refused links",
+                      region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts,
+                      rep.tilted_contacts, rep.refusals, rep.refused_links))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links, 1e3 * sim.undercut_max, 1e3 * sim.overcut,
