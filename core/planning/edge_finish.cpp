@@ -254,7 +254,12 @@ std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFin
 // tilt_slip_step steps; an axis must be within the machine's range
 // (axis_limit), keep condition ① and ② on the contact's samples and clear
 // the world with the whole tool (the motion into it is the caller's).
-TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p) {
+// `hint` (may be null): the (λ, w) the row's last tilted contact took, tried
+// first — ours: neighbouring contacts keep one axis where it clears, so the
+// row turns its axis less and breaks into fewer passes, and a contact
+// beside the neighbouring blade asks one axis instead of dozens.
+TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
+                              const TiltAccepted* hint) {
   const ContactFrame frame{p.contact, p.strip->frame().x, p.strip->frame().z};
   TiltSettings s;
   s.lead0_rad = kPi / 2 - rq.tilt_lead_step_rad;
@@ -274,7 +279,15 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body,
     if (!w.touches) return "leaves more than e2 at the contact";
     return "";
   };
-  const TiltOutcome o = tilt_until_clear(*rq.world, body, frame, 0, s);
+  TiltOutcome o;
+  if (hint) {
+    TiltSettings one = s;
+    one.lead0_rad = one.lead_max_rad = hint->lead_rad;
+    one.tilt0_rad = hint->tilt_rad;
+    one.allow_tilt = false;
+    o = tilt_until_clear(*rq.world, body, frame, 0, one);
+  }
+  if (!o.accepted) o = tilt_until_clear(*rq.world, body, frame, 0, s);
   if (o.accepted) {
     const StripWidth w = strip.width(o.pose.pose);
     p.position = {EdgeContact::Corner, 0, kPi / 2 - o.pose.lead_rad, o.pose.tilt_rad + kPi / 2};
@@ -554,6 +567,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     int segment = 0;
     long last = -1;  // index in row.poses of the previous emitted pose of this pass
     long last_candidate = -1;  // ... and in candidates
+    TiltAccepted last_tilt;    // the row's last tilted contact's axis (index -1: none yet)
+    last_tilt.index = -1;
     progress.step(static_cast<long>(r));
     // The guards' sweep of every consecutive pair as planned, on rq.threads
     // workers (the guards are read-only); the pass below takes it where the
@@ -588,12 +603,13 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
         // pose it cannot reach by cutting is reached by a link — asking it
         // of every candidate axis cost a swept FCL query each, minutes per
         // edge beside the neighbouring blade.
-        tilt = clear_alternative(rq, body, p);
+        tilt = clear_alternative(rq, body, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
         if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
       }
       if (tilt.accepted) {
         reason.clear();
         ++row.tilted_contacts;
+        last_tilt = tilt.pose;
         // A tilted pose is a different family from its neighbours: reach it
         // by a link unless the motion is proved clear of the world and
         // within e1 of the blade.
