@@ -15,6 +15,7 @@
 #include "core/parts/edge_region.h"
 #include "core/planning/edge_finish.h"
 #include "core/sim/undercut.h"
+#include "lua_api/finish_moves.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -161,7 +162,12 @@ int w_edge_finish(lua_State* L) {
          Field{"cutter_clearance", Kind::Number, false, 0.0, 100.0, "cutter to check surfaces, mm (default 0)", {}},
          Field{"shank_clearance", Kind::Number, false, 0.0, 100.0, "shank to check surfaces, mm (default 0.1)", {}},
          Field{"holder_clearance", Kind::Number, false, 0.0, 100.0, "holder to check surfaces, mm (default 0.5)", {}},
-         Field{"comparison_row", Kind::Integer, false, 1, 100000, "row of the strip-width comparison (default: middle)", {}}});
+         Field{"comparison_row", Kind::Integer, false, 1, 100000, "row of the strip-width comparison (default: middle)", {}},
+         Field{"threads", Kind::Integer, false, 1, 256, "workers for a row's contacts (default: the run's --threads)", {}},
+         Field{"tilt_lead_max", Kind::Number, false, 5.0, 89.0,
+               "tilting clear of the world: largest corner lead θ, degrees (default 80)", {}},
+         Field{"axis_limit", Kind::Table, false, std::nullopt, std::nullopt,
+               "the machine's range for tilted axes {name=, rotary_axis=, reference=, min=, max=} degrees; default none", {}}});
     LuaEdgePlan p;
     p.name = o.string("name", "");
     p.edge = surface_option(L, o, "edge", what);
@@ -220,6 +226,13 @@ int w_edge_finish(lua_State* L) {
     rq.clearances.shank_mm = o.number("shank_clearance", 0.1);
     rq.clearances.holder_mm = o.number("holder_clearance", 0.5);
     rq.comparison_row = static_cast<int>(o.integer("comparison_row", 0)) - 1;
+    rq.tilt_lead_max_rad = deg_to_rad(o.number("tilt_lead_max", 80));
+    rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+    if (o.has("axis_limit")) {
+      o.push_raw("axis_limit");
+      rq.axis_limit = read_axis_limit(L, lua_gettop(L), what + ".axis_limit");
+      lua_pop(L, 1);
+    }
     p.result = std::make_shared<const EdgeFinishResult>(plan_edge_finish(rq, context(L).progress));
     luax::push_new(L, std::move(p));
     return 1;
@@ -255,7 +268,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "gouge_breaks", r.gouge_breaks);
   set_number(L, "max_deviation", r.max_deviation_mm);
   double wmin = std::numeric_limits<double>::infinity(), wmax = 0, smin = wmin, smax = 0;
-  long bottom = 0, corner = 0, evals = 0;
+  long bottom = 0, corner = 0, evals = 0, tilted = 0;
   lua_createtable(L, static_cast<int>(r.rows.size()), 0);
   for (size_t i = 0; i < r.rows.size(); ++i) {
     const EdgeFinishRow& row = r.rows[i];
@@ -266,6 +279,7 @@ int w_plan_report(lua_State* L) {
     bottom += row.bottom_contacts;
     corner += row.corner_contacts;
     evals += row.strip_evaluations;
+    tilted += row.tilted_contacts;
     lua_createtable(L, 0, 14);
     set_number(L, "v", row.v);
     set_number(L, "width", row.width_mm);
@@ -291,6 +305,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "bottom_contacts", bottom);
   set_integer(L, "corner_contacts", corner);
   set_integer(L, "strip_evaluations", evals);
+  set_integer(L, "tilted_contacts", tilted);
   std::set<std::string> reasons;
   for (const EdgeFinishRow& row : r.rows)
     for (const EdgeContactRefusal& f : row.refusals)
@@ -334,22 +349,9 @@ int w_plan_comparison(lua_State* L) {
   return 1;
 }
 
-// plan:moves() -> {{kind = "feed"|"rapid", tip =, axis =, row =}, ...} as
-// post.write takes; the list ends at the first refused contact or link.
+// plan:moves(): as the drum finish's (lua_api/finish_moves.h).
 int w_plan_moves(lua_State* L) {
-  const LuaEdgePlan& p = check_plan(L);
-  lua_newtable(L);
-  lua_Integer n = 0;
-  for (const DrumFinishMove& m : edge_finish_moves(*p.result)) {
-    if (m.kind == DrumFinishMove::Kind::Stop) break;
-    lua_createtable(L, 0, 4);
-    set_string(L, "kind", m.kind == DrumFinishMove::Kind::Feed ? "feed" : "rapid");
-    luax::set_vec3(L, "tip", m.pose.tip);
-    luax::set_vec3(L, "axis", m.pose.axis);
-    lua_pushinteger(L, m.row + 1);
-    lua_setfield(L, -2, "row");
-    lua_rawseti(L, -2, ++n);
-  }
+  push_finish_moves(L, edge_finish_moves(*check_plan(L).result));
   return 1;
 }
 
@@ -363,34 +365,19 @@ int w_plan_write_apt(lua_State* L) {
 }
 
 // The move (1-based, in edge_finish_moves order) a simulation's (pass, pose)
-// is, with its motion and row: passes are the moves split at stops.
+// is, with its motion and row.
 struct LocatedMove {
   long move = 0;
   std::string motion;
   int row = -1;
 };
-LocatedMove locate(const EdgeFinishResult& r, int pass, long pose) {
+LocatedMove locate(const std::vector<DrumFinishMove>& moves, const DrumFinishPasses& passes, int pass, long pose) {
   LocatedMove out;
   if (pass < 0 || pose < 0) return out;
-  const std::vector<DrumFinishMove> moves = edge_finish_moves(r);
-  int p = 0;
-  long k = 0;
-  bool open = false;
-  for (size_t i = 0; i < moves.size(); ++i) {
-    if (moves[i].kind == DrumFinishMove::Kind::Stop) {
-      if (open) ++p, k = 0;
-      open = false;
-      continue;
-    }
-    open = true;
-    if (p == pass && k == pose) {
-      out.move = static_cast<long>(i) + 1;
-      out.motion = moves[i].motion;
-      out.row = moves[i].row;
-      return out;
-    }
-    ++k;
-  }
+  const long i = passes.first_move.at(static_cast<size_t>(pass)) + pose;
+  out.move = i + 1;
+  out.motion = moves.at(static_cast<size_t>(i)).motion;
+  out.row = moves.at(static_cast<size_t>(i)).row;
   return out;
 }
 
@@ -407,7 +394,9 @@ int w_plan_simulate(lua_State* L) {
          Field{"sweep_step", Kind::Number, false, 1e-4, 10.0, "largest cutter-point motion between positions, mm (default 0.05)", {}},
          Field{"picture", Kind::String, false, std::nullopt, std::nullopt, "undercut map SVG file", {}},
          Field{"flanks", Kind::Table, false, std::nullopt, std::nullopt, "the blade's flank surfaces: overcut measured on them too", {}},
-         Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+         Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}},
+         Field{"thickness", Kind::Table, false, std::nullopt, std::nullopt,
+               "{spans = {v...}, behind = {mm...}}: the edge's thickness after machining vs design", {}}});
     const EdgeFinishResult& r = *p.result;
     UndercutOptions so;
     so.samples_u = static_cast<int>(o.integer("samples_u", 200));
@@ -416,7 +405,9 @@ int w_plan_simulate(lua_State* L) {
     so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
     so.v0 = p.request.v0;
     so.v1 = p.request.v1;
-    const std::vector<ToolPass> passes = edge_finish_passes(r);
+    const std::vector<DrumFinishMove> moves = edge_finish_moves(r);
+    const DrumFinishPasses split = passes_of_moves(moves);
+    const std::vector<ToolPass>& passes = split.passes;
     const auto t0 = std::chrono::steady_clock::now();
     UndercutResult u = simulate_undercut(*p.edge, *p.tool, passes, so, context(L).progress);
     double flank_overcut = 0;
@@ -439,7 +430,7 @@ int w_plan_simulate(lua_State* L) {
         const UndercutResult f = simulate_undercut(*h->surface, *p.tool, passes, fo, context(L).progress);
         if (f.overcut_mm < flank_overcut) {
           flank_overcut = f.overcut_mm;
-          flank_at = locate(r, f.overcut_pass, f.overcut_pose);
+          flank_at = locate(moves, split, f.overcut_pass, f.overcut_pose);
           flank_index = static_cast<int>(i);
           flank_u = static_cast<double>(f.overcut_sample / fo.samples_v) / (fo.samples_u - 1);
           flank_v = static_cast<double>(f.overcut_sample % fo.samples_v) / (fo.samples_v - 1);
@@ -458,7 +449,7 @@ int w_plan_simulate(lua_State* L) {
     set_number(L, "flank_overcut", flank_overcut);
     // Where the deepest overcut is and which move cut it (edge_finish_moves
     // order, as plan:moves() lists them).
-    const LocatedMove at = locate(r, u.overcut_pass, u.overcut_pose);
+    const LocatedMove at = locate(moves, split, u.overcut_pass, u.overcut_pose);
     if (at.move > 0) {
       set_integer(L, "overcut_move", at.move);
       set_string(L, "overcut_motion", at.motion);
@@ -474,6 +465,44 @@ int w_plan_simulate(lua_State* L) {
       set_integer(L, "flank_overcut_flank", flank_index);
       set_number(L, "flank_overcut_u", flank_u);
       set_number(L, "flank_overcut_v", flank_v);
+    }
+    if (o.has("thickness")) {
+      // {spans = {...}, behind = {...}}: both lists of numbers.
+      o.push_raw("thickness");
+      const int t = lua_gettop(L);
+      auto numbers = [&](const char* key) {
+        std::vector<double> xs;
+        lua_getfield(L, t, key);
+        if (!lua_istable(L, -1))
+          luax::error(L, std::string("EdgeFinishPlan:simulate: option 'thickness': expected a list '") + key + "'");
+        const lua_Integer n = luaL_len(L, -1);
+        for (lua_Integer i = 1; i <= n; ++i) {
+          lua_rawgeti(L, -1, i);
+          if (!lua_isnumber(L, -1))
+            luax::error(L, std::string("EdgeFinishPlan:simulate: thickness.") + key + "[" + std::to_string(i) +
+                               "]: expected a number");
+          xs.push_back(lua_tonumber(L, -1));
+          lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+        return xs;
+      };
+      const std::vector<double> spans = numbers("spans"), behind = numbers("behind");
+      lua_pop(L, 1);
+      const std::vector<EdgeThickness> th = edge_thickness(*p.edge, u, so, spans, behind);
+      lua_createtable(L, static_cast<int>(th.size()), 0);
+      for (size_t i = 0; i < th.size(); ++i) {
+        lua_createtable(L, 0, 5);
+        set_number(L, "v", th[i].v);
+        set_number(L, "behind", th[i].behind_mm);
+        set_bool(L, "measured", th[i].measured);
+        if (th[i].measured) {
+          set_number(L, "design", th[i].design_mm);
+          set_number(L, "machined", th[i].machined_mm);
+        }
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+      lua_setfield(L, -2, "thickness");
     }
     set_integer(L, "untouched", u.untouched);
     set_integer(L, "samples", static_cast<long long>(u.samples_u) * u.samples_v);

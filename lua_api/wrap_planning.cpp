@@ -11,6 +11,7 @@
 #include "core/analysis/heat_map.h"
 #include "core/planning/drum_finish.h"
 #include "core/sim/undercut.h"
+#include "lua_api/finish_moves.h"
 #include "lua_api/undercut_map.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
@@ -427,21 +428,7 @@ int w_plan_row(lua_State* L) {
 // approach moves, in the form bliskrun.post.write takes. A refused link ends
 // the list there: nothing unproven is implied.
 int w_plan_moves(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
-  const DrumFinishResult& r = *p.result;
-  lua_newtable(L);
-  lua_Integer n = 0;
-  for (const DrumFinishMove& m : drum_finish_moves(r)) {
-    if (m.kind == DrumFinishMove::Kind::Stop) break;
-    lua_createtable(L, 0, 4);
-    set_string(L, "kind", m.kind == DrumFinishMove::Kind::Feed ? "feed" : "rapid");
-    set_string(L, "motion", m.motion);
-    luax::set_vec3(L, "tip", m.pose.tip);
-    luax::set_vec3(L, "axis", m.pose.axis);
-    lua_pushinteger(L, m.row + 1);
-    lua_setfield(L, -2, "row");
-    lua_rawseti(L, -2, ++n);
-  }
+  push_finish_moves(L, drum_finish_moves(*check_plan(L).result));
   return 1;
 }
 

@@ -83,9 +83,11 @@ ToolPose place_tool(const Tool& tool, const ContactFrame& frame, const Vec3& axi
 
 TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, const ContactFrame& contact,
                              int index, const TiltSettings& s, const ToolPose* previous) {
-  if (!(s.lead_step_rad > 0)) throw ParameterError("lead_step", "must be a positive angle");
+  if (!(s.lead_step_rad != 0)) throw ParameterError("lead_step", "must be a non-zero angle");
   if (s.allow_tilt && !(s.tilt_step_rad > 0)) throw ParameterError("tilt_step", "must be a positive angle");
-  if (!(s.lead_max_rad >= s.lead0_rad)) throw ParameterError("lead_max", "must not be below the initial lead");
+  if (!((s.lead_max_rad - s.lead0_rad) * s.lead_step_rad >= 0))
+    throw ParameterError("lead_max", s.lead_step_rad > 0 ? "must not be below the initial lead"
+                                                         : "must not be above the initial lead (lead_step < 0)");
   if (s.allow_tilt && !(s.tilt_range_rad >= 0)) throw ParameterError("tilt_range", "must be a non-negative angle");
 
   std::vector<double> tilts{s.tilt0_rad};
@@ -97,10 +99,10 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
   }
   const int lead_count = static_cast<int>(std::floor((s.lead_max_rad - s.lead0_rad) / s.lead_step_rad + 1e-9)) + 1;
 
-  int tries = 0, beyond_limit = 0, interfering = 0, motion_blocked = 0;
+  int tries = 0, beyond_limit = 0, filtered = 0, interfering = 0, motion_blocked = 0;
   // The refusal names the last interference found and the first axis the
   // machine cannot reach: together they say what would have to change.
-  std::string last_interference, first_beyond_limit;
+  std::string last_interference, first_beyond_limit, last_filtered;
   for (int i = 0; i < lead_count; ++i) {
     const double lead = s.lead0_rad + i * s.lead_step_rad;
     for (double tilt : tilts) {
@@ -115,6 +117,14 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
         }
       }
       const ToolPose pose = place_tool(body.tool(), contact, axis);
+      if (s.pose_filter) {
+        const std::string why = s.pose_filter(pose);
+        if (!why.empty()) {
+          ++filtered;
+          last_filtered = at + why;
+          continue;
+        }
+      }
       // Horizon 0: only clear / not clear matters here (fastest query).
       const PoseCheck check = world.check(body, pose, s.clearances, 0);
       if (!check.clear) {
@@ -147,10 +157,13 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
   os << "no axis clears: lead " << deg_text(s.lead0_rad) << " to " << deg_text(s.lead_max_rad) << " in "
      << deg_text(s.lead_step_rad) << " steps";
   if (s.allow_tilt) os << ", tilt " << deg_text(s.tilt0_rad) << " ± " << deg_text(s.tilt_range_rad);
-  os << "; of " << tries << " axes " << beyond_limit << " beyond the axis limit, " << interfering
+  os << "; of " << tries << " axes " << beyond_limit << " beyond the axis limit, ";
+  if (s.pose_filter) os << filtered << " refused by the operation, ";
+  os << interfering
      << " interfere at the pose, " << motion_blocked << " interfere in the motion";
   if (!last_interference.empty()) os << "; last interference " << last_interference;
   if (!first_beyond_limit.empty()) os << "; first beyond the limit " << first_beyond_limit;
+  if (!last_filtered.empty()) os << "; last refused by the operation " << last_filtered;
   TiltOutcome out;
   out.refusal = TiltRefusal{index, contact.point, os.str()};
   return out;

@@ -64,6 +64,9 @@ ToolPose place_tool(const Tool& tool, const ContactFrame& frame, const Vec3& axi
 struct TiltSettings {
   double lead0_rad = 0;                  // initial λ (paper: 0)
   double tilt0_rad = 0;                  // initial w (paper: 0)
+  // λ steps from lead0 towards lead_max. Negative: λ falls — a bottom-
+  // cutting tool (λ = 90° puts the axis along the normal) leaning further
+  // from the normal to clear.
   double lead_step_rad = deg_to_rad(0.5);
   double lead_max_rad = deg_to_rad(45);
   bool allow_tilt = false;               // also vary w by ± steps around w0
@@ -72,6 +75,10 @@ struct TiltSettings {
   Clearances clearances;
   double motion_tol_mm = 1e-3;           // CollisionWorld::check_motion
   AxisLimit axis_limit;                  // empty: none
+  // What the operation itself requires of a pose, checked before the world
+  // (cheaper): "" accepts, else why not (e.g. the cutter would gouge the
+  // finished surface). Empty: every pose.
+  std::function<std::string(const ToolPose& pose)> pose_filter;
 };
 
 struct TiltAccepted {

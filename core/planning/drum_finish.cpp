@@ -560,8 +560,11 @@ std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishR
 }
 
 DrumFinishPasses drum_finish_passes(const DrumFinishResult& result) {
+  return passes_of_moves(drum_finish_moves(result));
+}
+
+DrumFinishPasses passes_of_moves(const std::vector<DrumFinishMove>& moves) {
   DrumFinishPasses out;
-  const std::vector<DrumFinishMove> moves = drum_finish_moves(result);
   std::vector<ToolPose> pass;
   auto close = [&] {
     if (!pass.empty()) out.passes.push_back(std::move(pass));

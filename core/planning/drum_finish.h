@@ -165,6 +165,8 @@ struct DrumFinishPasses {
   std::vector<long> first_move;
 };
 DrumFinishPasses drum_finish_passes(const DrumFinishResult& result);
+// The same for any such move list (the edge finish's too).
+DrumFinishPasses passes_of_moves(const std::vector<DrumFinishMove>& moves);
 
 // The undercut simulation (core/sim) of the whole program against its
 // design flank: the whole trimmed flank u' in [0, 1] is sampled and swept

@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
+#include "core/planning/links.h"
 
 namespace bliskrun {
 namespace {
@@ -26,6 +28,36 @@ void validate(const EdgeFinishRequest& rq) {
   if (!(rq.band.e2_mm > rq.band.e1_mm)) throw ParameterError("e2", "the undercut limit must exceed e1");
   if (rq.l_count < 1) throw ParameterError("l_count", "must be >= 1");
   if (!(rq.retract_mm > 0)) throw ParameterError("retract", "must be > 0");
+  if (rq.threads < 1) throw ParameterError("threads", "must be >= 1");
+  if (!(rq.tilt_lead_step_rad > 0 && rq.tilt_lead_max_rad >= rq.tilt_lead_step_rad && rq.tilt_lead_max_rad < kPi / 2))
+    throw ParameterError("tilt_lead_max", "expected tilt_lead_step <= tilt_lead_max < 90 deg");
+  if (!(rq.tilt_slip_step_rad > 0)) throw ParameterError("tilt_slip_step", "must be > 0");
+}
+
+// Gouge-guard samples over [u0, u1] x [v0, v1] of `s`, about spacing_mm
+// apart in both directions (the longest of 9 iso-lines each way, measured
+// as 64-segment polylines).
+UndercutOptions guard_sampling(const Surface& s, double u0, double u1, double v0, double v1, double spacing_mm) {
+  double len_u = 0, len_v = 0;
+  for (int i = 0; i <= 8; ++i) {
+    double lu = 0, lv = 0;
+    const double a = static_cast<double>(i) / 8;
+    for (int k = 0; k < 64; ++k) {
+      const double t0 = static_cast<double>(k) / 64, t1 = static_cast<double>(k + 1) / 64;
+      lu += (s.point(u0 + (u1 - u0) * t1, v0 + (v1 - v0) * a) - s.point(u0 + (u1 - u0) * t0, v0 + (v1 - v0) * a)).norm();
+      lv += (s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t1) - s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t0)).norm();
+    }
+    len_u = std::max(len_u, lu);
+    len_v = std::max(len_v, lv);
+  }
+  UndercutOptions o;
+  o.u0 = u0;
+  o.u1 = u1;
+  o.v0 = v0;
+  o.v1 = v1;
+  o.samples_u = std::clamp(static_cast<int>(std::ceil(len_u / spacing_mm)) + 1, 8, 5000);
+  o.samples_v = std::clamp(static_cast<int>(std::ceil(len_v / spacing_mm)) + 1, 8, 5000);
+  return o;
 }
 
 // Everything one contact contributes to its row.
@@ -53,23 +85,32 @@ std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
   return l;
 }
 
-std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
-                                               double v) {
-  StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
-  (void)frame;
+// The flanks' condition-① samples of a row: they depend on the row's span
+// alone (the flank u of its v, the flanks' edge ends), not on the contact,
+// so a row samples them once for all its contacts.
+StripSamples flank_samples(const EdgeFinishRequest& rq, double v) {
+  StripSamples out;
   const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
-  if (rq.first) add_flank_samples(samples, *rq.first, u_f, 0.0, rq.sampling);
-  if (rq.second) add_flank_samples(samples, *rq.second, u_f, 1.0, rq.sampling);
+  if (rq.first) add_flank_samples(out, *rq.first, u_f, 0.0, rq.sampling);
+  if (rq.second) add_flank_samples(out, *rq.second, u_f, 1.0, rq.sampling);
+  return out;
+}
+
+std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
+                                               double v, const StripSamples& flanks) {
+  StripSamples samples = sample_strip(*rq.edge, u, v, rq.sampling);
+  samples.gouge_p.insert(samples.gouge_p.end(), flanks.gouge_p.begin(), flanks.gouge_p.end());
+  samples.gouge_n.insert(samples.gouge_n.end(), flanks.gouge_n.begin(), flanks.gouge_n.end());
   return std::make_shared<const ContactStrip>(*rq.tool, frame, std::move(samples), rq.band);
 }
 
 ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const std::vector<double>& ls,
-                         bool side_only) {
+                         bool side_only, const StripSamples& flanks) {
   ContactPlan c;
   c.u = u;
   const SurfaceDerivs d = rq.edge->eval(u, v);
   c.frame = edge_frame(d);
-  c.strip = make_strip(rq, c.frame, u, v);
+  c.strip = make_strip(rq, c.frame, u, v, flanks);
   const ContactStrip& strip = *c.strip;
   const CornerPosition side = corner_min_lead(strip, rq.side_min_lead_rad);
   c.side_w = side.feasible ? side.width.width_mm : 0.0;
@@ -137,20 +178,28 @@ BalancedRow balance(const std::vector<ContactPlan>& cs, bool paper, size_t nl) {
 
 struct PlannedRow {
   EdgeFinishRow row;
+  StripSamples flanks;  // the row's flank samples (flank_samples)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
 };
 
-PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, bool side_only) {
+PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, bool side_only,
+                    Progress& progress) {
   PlannedRow pr;
   pr.row.v = v;
   const IsoVCurve curve(*rq.edge, v);
   const RowSteps steps = plan_row_steps(curve, rq.steps);
   pr.row.max_deviation_mm = steps.max_deviation_mm;
-  for (double u : steps.t) {
-    pr.contacts.push_back(plan_contact(rq, u, v, ls, side_only));
-    pr.row.strip_evaluations += pr.contacts.back().evaluations;
-  }
+  // The contacts of a row are independent (each its own samples and
+  // searches): on rq.threads workers, each writing its own slot.
+  pr.contacts.resize(steps.t.size());
+  pr.flanks = flank_samples(rq, v);
+  const StripSamples& flanks = pr.flanks;
+  Progress quiet(&progress);  // cancelled with the caller's, its own bar
+  run_parallel(steps.t.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
+    pr.contacts[k] = plan_contact(rq, steps.t[k], v, ls, side_only, flanks);
+  });
+  for (const ContactPlan& c : pr.contacts) pr.row.strip_evaluations += c.evaluations;
   // Over the contacts where the side-edge positioning has a gouge-free
   // position (a contact where it has none does not bound its rows; the
   // count of such contacts is left to the width table of the comparison).
@@ -182,94 +231,73 @@ bool chosen_position(const EdgeFinishRequest& rq, const ContactPlan& c, int l_in
   return true;
 }
 
-// Links: retract up the tool axis, [via the edge's front when the axis turns
-// by more than 90° (one-way rows)], approach down the next axis. One place,
-// so it can switch to the shared link builder.
-EdgeFinishLink plan_edge_link(const EdgeFinishRequest& rq, const ToolBody& body, const EdgeFinishPose& a,
-                              const EdgeFinishPose& b, int from_row, int to_row) {
-  EdgeFinishLink link;
-  link.from_row = from_row;
-  link.to_row = to_row;
-  const ToolPose ra{a.pose.tip + rq.retract_mm * a.pose.axis, a.pose.axis};
-  const ToolPose rb{b.pose.tip + rq.retract_mm * b.pose.axis, b.pose.axis};
-  std::vector<ToolPose> seq = {a.pose, ra};
-  if (a.pose.axis.dot(b.pose.axis) < 0) {
-    // Round the edge's front: the mean of the two normals points off the
-    // edge; go there at the retract distance plus the tool radius.
-    Vec3 front = (a.normal + b.normal);
-    if (front.norm() < 1e-6) front = a.normal.cross(b.contact - a.contact).cross(a.normal);
-    front.normalize();
-    const Vec3 mid = 0.5 * (a.contact + b.contact) + (rq.retract_mm + flat_end_of(*rq.tool).radius_mm) * front;
-    seq.push_back({mid, front});
-  }
-  seq.push_back(rb);
-  seq.push_back(b.pose);
-  for (size_t i = 1; i + 1 < seq.size(); ++i) link.moves.push_back(seq[i]);
-  for (size_t i = 1; i + 1 < seq.size(); ++i) {
-    const PoseCheck pc = rq.world->check(body, seq[i], rq.clearances, 0);
-    if (!pc.clear) {
-      link.reason = "link pose " + std::to_string(i) + ": " + describe(pc, *rq.world);
-      return link;
-    }
-  }
-  // Against the machined blade itself: every leg sampled (t = 1/16 ...
-  // 15/16) against both end contacts' samples (edge region and flanks).
-  for (size_t i = 0; i + 1 < seq.size(); ++i) {
-    const PoseMotion m(seq[i], seq[i + 1]);
-    for (int k = 1; k < 16; ++k) {
-      const ToolPose p = m.pose_at(k / 16.0);
-      const double d = std::min(a.strip->deepest(p), b.strip->deepest(p));
-      if (d < rq.band.e1_mm) {
-        link.reason = "link leg " + std::to_string(i) + ": cuts the blade itself (" + std::to_string(1e3 * d) + " um)";
-        return link;
-      }
-    }
-  }
-  for (size_t i = 0; i + 1 < seq.size(); ++i) {
-    const MotionCheck mc = rq.world->check_motion(body, seq[i], seq[i + 1], rq.clearances, rq.motion_tol_mm);
-    if (!mc.clear) {
-      link.reason = "link leg " + std::to_string(i) + (mc.undecided ? ": undecided" : ": " + describe(mc.at, *rq.world));
-      return link;
-    }
-  }
-  link.clear = true;
-  return link;
+// The traverse's waypoint round the edge's front, for a link between passes
+// whose axes turn by more than 90 degrees (one-way rows: the passes lie on
+// either side of the edge): the mean of the two normals points off the
+// edge; the tool goes there at the retract distance plus its radius. None
+// otherwise.
+std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFinishPose& a, const EdgeFinishPose& b) {
+  if (a.pose.axis.dot(b.pose.axis) >= 0) return {};
+  Vec3 front = a.normal + b.normal;
+  if (front.norm() < 1e-6) front = a.normal.cross(b.contact - a.contact).cross(a.normal);
+  front.normalize();
+  return {{0.5 * (a.contact + b.contact) + (rq.retract_mm + flat_end_of(*rq.tool).radius_mm) * front, front}};
 }
 
 // Where the optimum's tool is not clear of the world (on the sides of an
 // edge in a narrow passage the surface normal points at the neighbour), the
-// contact moves to the corner with more lead — the paper's §1.2(a)
-// positioning, which turns the axis off the normal — trying leads up to 60°
-// and side-slips all round, the widest gouge-free clear one at the smallest
-// lead winning. The motion from `previous` must be clear too.
-bool clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
-                       const ToolPose* previous) {
-  for (int lead_deg = 5; lead_deg <= 60; lead_deg += 5) {
-    bool found = false;
-    EdgePosition best;
-    StripWidth best_w;
-    for (int phi_deg = -180; phi_deg < 180; phi_deg += 30) {
-      const EdgePosition pos{EdgeContact::Corner, 0, lead_deg * kPi / 180, phi_deg * kPi / 180};
-      const StripWidth w = p.strip->width(pos);
-      if (w.gouges || !w.touches || (found && w.width_mm <= best_w.width_mm)) continue;
-      const ToolPose pose = p.strip->pose(pos);
-      if (!rq.world->check(body, pose, rq.clearances, 0).clear) continue;
-      if (previous && !rq.world->check_motion(body, *previous, pose, rq.clearances, rq.motion_tol_mm).clear) continue;
-      found = true;
-      best = pos;
-      best_w = w;
-    }
-    if (found) {
-      p.position = best;
-      p.pose = p.strip->pose(best);
-      p.width_mm = best_w.width_mm;
-      p.left_mm = best_w.left_mm;
-      p.right_mm = best_w.right_mm;
-      p.tilted = true;
-      return true;
-    }
+// contact moves to the corner torus with the axis leaning further from the
+// normal — the paper's §1.2(a) positioning — found by the drum finish's
+// interference loop (core/collision tilt_until_clear): λ = 90° − θ falls
+// from 90° − tilt_lead_step in tilt_lead_step steps down to 90° −
+// tilt_lead_max, the side-slip w = φ − 90° all round from the optimum's in
+// tilt_slip_step steps; an axis must be within the machine's range
+// (axis_limit), keep condition ① and ② on the contact's samples and clear
+// the world with the whole tool (the motion into it is the caller's).
+// `hint` (may be null): the (λ, w) the row's last tilted contact took, tried
+// first — ours: neighbouring contacts keep one axis where it clears, so the
+// row turns its axis less and breaks into fewer passes, and a contact
+// beside the neighbouring blade asks one axis instead of dozens.
+TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
+                              const TiltAccepted* hint) {
+  const ContactFrame frame{p.contact, p.strip->frame().x, p.strip->frame().z};
+  TiltSettings s;
+  s.lead0_rad = kPi / 2 - rq.tilt_lead_step_rad;
+  s.lead_step_rad = -rq.tilt_lead_step_rad;
+  s.lead_max_rad = kPi / 2 - rq.tilt_lead_max_rad;
+  s.tilt0_rad = p.position.side_slip_rad - kPi / 2;
+  s.allow_tilt = true;
+  s.tilt_step_rad = rq.tilt_slip_step_rad;
+  s.tilt_range_rad = kPi - 0.5 * rq.tilt_slip_step_rad;  // all round, w0 + 180° once
+  s.clearances = rq.clearances;
+  s.motion_tol_mm = rq.motion_tol_mm;
+  s.axis_limit = rq.axis_limit;
+  const ContactStrip& strip = *p.strip;
+  s.pose_filter = [&](const ToolPose& pose) -> std::string {
+    const StripWidth w = strip.width(pose);
+    if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um)";
+    if (!w.touches) return "leaves more than e2 at the contact";
+    return "";
+  };
+  TiltOutcome o;
+  if (hint) {
+    TiltSettings one = s;
+    one.lead0_rad = one.lead_max_rad = hint->lead_rad;
+    one.tilt0_rad = hint->tilt_rad;
+    one.allow_tilt = false;
+    o = tilt_until_clear(*rq.world, body, frame, 0, one);
   }
-  return false;
+  if (!o.accepted) o = tilt_until_clear(*rq.world, body, frame, 0, s);
+  if (o.accepted) {
+    const StripWidth w = strip.width(o.pose.pose);
+    p.position = {EdgeContact::Corner, 0, kPi / 2 - o.pose.lead_rad, o.pose.tilt_rad + kPi / 2};
+    p.pose = o.pose.pose;
+    p.width_mm = w.width_mm;
+    p.left_mm = w.left_mm;
+    p.right_mm = w.right_mm;
+    p.tilted = true;
+  }
+  return o;
 }
 
 double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const ContactStrip& sa, const ContactStrip& sb) {
@@ -290,7 +318,7 @@ double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const Co
 // contacts' samples, dips below e1, a contact is inserted half-way with the
 // blended position (same family: l, θ, φ averaged) until it does not; a
 // switch between bottom and corner cannot be blended and becomes a link.
-void refine_row(const EdgeFinishRequest& rq, double v, std::vector<EdgeFinishPose>& poses,
+void refine_row(const EdgeFinishRequest& rq, double v, const StripSamples& flanks, std::vector<EdgeFinishPose>& poses,
                 std::vector<std::shared_ptr<const ContactStrip>>& strips, int& inserted) {
   size_t i = 0;
   while (i + 1 < poses.size()) {
@@ -313,7 +341,7 @@ void refine_row(const EdgeFinishRequest& rq, double v, std::vector<EdgeFinishPos
                   0.5 * (a.position.lead_rad + b.position.lead_rad),
                   0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)};
     const EdgeFrame f = edge_frame(rq.edge->eval(m.u, v));
-    auto strip = make_strip(rq, f, m.u, v);
+    auto strip = make_strip(rq, f, m.u, v, flanks);
     const StripWidth w = strip->width(m.position);
     m.pose = strip->pose(m.position);
     m.contact = f.point;
@@ -361,7 +389,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   progress.begin("edge finish rows", 0);
   while (true) {
     progress.step(static_cast<long>(planned.size()));
-    PlannedRow pr = plan_row(rq, v, ls, false);
+    PlannedRow pr = plan_row(rq, v, ls, false, progress);
     // Strip sides over the emitted positions, for the spacing.
     double left = std::numeric_limits<double>::infinity(), right = left, narrowest = left;
     std::vector<std::shared_ptr<const ContactStrip>> strips;
@@ -390,7 +418,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       if (pos.contact == EdgeContact::Bottom) ++pr.row.bottom_contacts;
       else ++pr.row.corner_contacts;
     }
-    refine_row(rq, v, pr.row.poses, strips, pr.row.inserted_contacts);
+    refine_row(rq, v, pr.flanks, pr.row.poses, strips, pr.row.inserted_contacts);
     pr.row.left_min_mm = std::isfinite(left) ? left : 0;
     pr.row.right_min_mm = std::isfinite(right) ? right : 0;
     // §3.2: rows spaced by the smallest strip along the row. The strips are
@@ -452,7 +480,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     while (true) {
       progress.step(rows);
       ++rows;
-      const PlannedRow pr = plan_row(rq, vs, ls, true);
+      const PlannedRow pr = plan_row(rq, vs, ls, true, progress);
       // The side contact is symmetric across the feed (φ = 0): half each way.
       const double w = pr.row.side_width_mm;
       if (!(w > 1e-6)) throw Error("edge finish: side-edge positioning has no strip at v = " + std::to_string(vs));
@@ -477,26 +505,29 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   // swept tool): the contact strips see only samples near each contact, and
   // a motion into a tilted pose was found cutting 4.4 um into the round
   // between them. Allowed: the band's overcut less what the samples can miss.
-  UndercutOptions guard_options;
-  guard_options.samples_u = 200;
-  guard_options.samples_v = 500;
-  guard_options.v0 = rq.v0;
-  guard_options.v1 = rq.v1;
-  const GougeGuard edge_guard(*rq.edge, guard_options);
+  // Samples h apart miss at most h² / (8 r) for the corner radius r: h is
+  // chosen so that is a quarter of |e1| (0.032 mm for r 0.5, e1 -1 um), the
+  // counts from the window's longest parameter lines in mm — the allowance
+  // keeps three quarters of e1, wherever the window and however long the
+  // blade.
+  const double corner_r = std::max(fe.corner_mm, 1e-3);
+  const double spacing = std::sqrt(2 * corner_r * std::max(-rq.band.e1_mm, 1e-3));
+  const GougeGuard edge_guard(*rq.edge, guard_sampling(*rq.edge, 0, 1, rq.v0, rq.v1, spacing));
   // The flanks near their edge ends (first: v = 0, second: v = 1), where the
-  // flat bottom of a pose reaches over them: 12 % of the chord, densely.
+  // flat bottom of a pose reaches over them: 12 % of the chord, over the
+  // machined span window and a tool radius + 1 mm either side of it.
   std::vector<std::unique_ptr<GougeGuard>> flank_guards;
   for (int k = 0; k < 2; ++k) {
     const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
     if (!flank) continue;
-    UndercutOptions fo;
-    fo.samples_u = 500;
-    fo.samples_v = 150;
-    fo.u0 = rq.span_u0;
-    fo.u1 = rq.span_u1;
-    fo.v0 = k == 0 ? 0.0 : 0.88;
-    fo.v1 = k == 0 ? 0.12 : 1.0;
-    flank_guards.push_back(std::make_unique<GougeGuard>(*flank, fo));
+    const double fu0 = rq.span_u0 + rq.v0 * (rq.span_u1 - rq.span_u0);
+    const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
+    const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
+    const double margin = (fe.radius_mm + 1.0) / per_u;
+    flank_guards.push_back(std::make_unique<GougeGuard>(
+        *flank, guard_sampling(*flank, std::max(0.0, std::min(fu0, fu1) - margin),
+                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0,
+                               spacing)));
   }
   // Swept only where the contact strips' view is least to be trusted: a
   // change of contact family (bottom <-> corner), a tilted pose, or an axis
@@ -535,8 +566,21 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     }
     int segment = 0;
     long last = -1;  // index in row.poses of the previous emitted pose of this pass
+    long last_candidate = -1;  // ... and in candidates
+    TiltAccepted last_tilt;    // the row's last tilted contact's axis (index -1: none yet)
+    last_tilt.index = -1;
     progress.step(static_cast<long>(r));
-    for (EdgeFinishPose& p : candidates) {
+    // The guards' sweep of every consecutive pair as planned, on rq.threads
+    // workers (the guards are read-only); the pass below takes it where the
+    // pose before is the candidate before and neither was tilted.
+    std::vector<char> pair_gouges(candidates.size(), 0);
+    {
+      Progress quiet(&progress);
+      run_parallel(candidates.empty() ? 0 : candidates.size() - 1, rq.threads, quiet, "edge finish sweeps",
+                   [&](size_t k, Progress&) { pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]); });
+    }
+    for (size_t ci = 0; ci < candidates.size(); ++ci) {
+      EdgeFinishPose& p = candidates[ci];
       progress.check();
       if (p.break_before && last >= 0) {
         ++segment;
@@ -545,20 +589,34 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
       std::string reason;
       if (!pc.clear) reason = describe(pc, *rq.world);
-      else if (last >= 0) {
-        const MotionCheck mc =
-            rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm);
-        if (!mc.clear) reason = "motion from the previous pose: " + (mc.undecided ? std::string("undecided")
-                                                                                   : describe(mc.at, *rq.world));
+      else if (last >= 0 &&
+               !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
+        // The pose is clear, the cutting motion into it is not: a new pass,
+        // reached by a proved link.
+        ++segment;
+        last = -1;
       }
-      if (!reason.empty() &&
-          clear_alternative(rq, body, p, last >= 0 ? &row.poses[last].pose : nullptr)) {
+      TiltOutcome tilt;
+      if (!reason.empty()) {
+        // The pose alone must clear (the interference loop's cheap query);
+        // the motion from the previous pose is asked once below, and a
+        // pose it cannot reach by cutting is reached by a link — asking it
+        // of every candidate axis cost a swept FCL query each, minutes per
+        // edge beside the neighbouring blade.
+        tilt = clear_alternative(rq, body, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
+        if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
+      }
+      if (tilt.accepted) {
         reason.clear();
         ++row.tilted_contacts;
+        last_tilt = tilt.pose;
         // A tilted pose is a different family from its neighbours: reach it
-        // by a link unless the motion is proved within e1 of the blade.
-        if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-                          motion_gouges(row.poses[last], p))) {
+        // by a link unless the motion is proved clear of the world and
+        // within e1 of the blade.
+        if (last >= 0 &&
+            (!rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear ||
+             motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+             motion_gouges(row.poses[last], p))) {
           ++segment;
           last = -1;
         }
@@ -571,14 +629,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
       }
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
       // pose after a refused one): otherwise reach this pose by a link.
+      const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !p.tilted &&
+                              !candidates[static_cast<size_t>(last_candidate)].tilted;
       if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-                        motion_gouges(row.poses[last], p))) {
+                        (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
         ++out.gouge_breaks;
       }
       p.segment = segment;
       row.poses.push_back(p);
       last = static_cast<long>(row.poses.size()) - 1;
+      last_candidate = static_cast<long>(ci);
     }
     // Rows whose contacts had no feasible position at all.
     for (size_t i = 0; i < planned[r].contacts.size(); ++i) {
@@ -592,21 +653,59 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
     out.rows.push_back(std::move(row));
   }
-  // Links between consecutive passes, in cutting order.
+  // Links between consecutive passes, in cutting order: the shared link
+  // builder (core/planning/links.h), up the tool axis — a bottom-cutting
+  // tool leaves along its axis — every leg proved against the world with
+  // the whole tool and, by the gouge guards, against the edge region and
+  // both flanks within e1 (less what the guards' samples can miss).
+  LinkChecks link_checks;
+  link_checks.world = rq.world;
+  link_checks.body = &body;
+  link_checks.clearances = rq.clearances;
+  link_checks.motion_tol_mm = rq.motion_tol_mm;
+  link_checks.guard = &edge_guard;
+  link_checks.guard_margin_mm = edge_guard.between_samples_mm(corner_r);
+  for (const auto& g : flank_guards) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(corner_r)});
+  LinkOptions link_options;
+  link_options.direction = RetractDirection::ToolAxis;
+  link_options.retract_mm = rq.retract_mm;
+  link_options.min_retract_mm = std::min(0.1, rq.retract_mm);
+  link_options.allowed_overcut_mm = -rq.band.e1_mm;
+  // The passes' ends in cutting order, then every link on rq.threads
+  // workers: each is proved on its own (the world and the guards are
+  // read-only), so the plan does not depend on the thread count.
+  struct LinkEnds {
+    const EdgeFinishPose *from, *to;
+    int from_row, to_row;
+  };
+  std::vector<LinkEnds> ends;
   const EdgeFinishPose* prev = nullptr;
   int prev_row = -1;
   for (size_t r = 0; r < out.rows.size(); ++r) {
     const std::vector<EdgeFinishPose>& poses = out.rows[r].poses;
     for (size_t i = 0; i < poses.size(); ++i) {
       const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
-      if (starts_pass && prev) {
-        out.links.push_back(plan_edge_link(rq, body, *prev, poses[i], prev_row, static_cast<int>(r)));
-        if (!out.links.back().clear) ++out.refused_links;
-      }
+      if (starts_pass && prev) ends.push_back({prev, &poses[i], prev_row, static_cast<int>(r)});
       prev = &poses[i];
       prev_row = static_cast<int>(r);
     }
   }
+  out.links.resize(ends.size());
+  run_parallel(ends.size(), rq.threads, progress, "edge finish links", [&](size_t k, Progress&) {
+    const LinkEnds& e = ends[k];
+    const PlannedLink pl = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal}, link_checks,
+                                     link_options, round_the_front(rq, *e.from, *e.to));
+    EdgeFinishLink& link = out.links[k];
+    link.from_row = e.from_row;
+    link.to_row = e.to_row;
+    link.clear = pl.clear;
+    link.moves = pl.via;
+    link.legs = pl.legs;
+    link.offset_mm = pl.offset_mm;
+    if (!pl.clear)
+      link.reason = "link from row " + std::to_string(e.from_row) + " to row " + std::to_string(e.to_row) + ": " + pl.reason;
+  });
+  for (const EdgeFinishLink& link : out.links) out.refused_links += link.clear ? 0 : 1;
   progress.end();
   out.checks_seconds = seconds_since(t_checks);
   return out;
@@ -626,7 +725,7 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
         if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
         else
           for (size_t k = 0; k < l.moves.size(); ++k)
-            moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, k == 0 ? "retract" : "traverse", {}});
+            moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
       const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
       const char* motion = !starts_pass ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
@@ -637,17 +736,8 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
   return moves;
 }
 
-std::vector<ToolPass> edge_finish_passes(const EdgeFinishResult& result) {
-  std::vector<ToolPass> passes(1);
-  for (const DrumFinishMove& m : edge_finish_moves(result)) {
-    if (m.kind == DrumFinishMove::Kind::Stop) {
-      if (!passes.back().empty()) passes.emplace_back();
-      continue;
-    }
-    passes.back().push_back(m.pose);
-  }
-  if (passes.back().empty()) passes.pop_back();
-  return passes;
+DrumFinishPasses edge_finish_passes(const EdgeFinishResult& result) {
+  return passes_of_moves(edge_finish_moves(result));
 }
 
 std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& rq, const std::string& name) {
@@ -686,6 +776,85 @@ std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequ
   }
   os << "FINI\n";
   return os.str();
+}
+
+}  // namespace bliskrun
+
+namespace bliskrun {
+namespace {
+
+// Where the polyline pts[from], pts[from + step], ... first falls to height
+// h along t, walking out from the front; false if it does not, or an
+// unknown point comes first.
+bool crossing(const std::vector<Vec3>& pts, const std::vector<bool>& known, const Vec3& t, double h, int from,
+              int step, Vec3& at) {
+  const int n = static_cast<int>(pts.size());
+  if (!known[from] || pts[from].dot(t) < h) return false;
+  for (int i = from; i + step >= 0 && i + step < n; i += step) {
+    if (!known[i + step]) return false;
+    const double a = pts[i].dot(t) - h, b = pts[i + step].dot(t) - h;
+    if (b <= 0) {
+      const double f = a / (a - b);
+      at = pts[i] + f * (pts[i + step] - pts[i]);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<EdgeThickness> edge_thickness(const Surface& edge, const UndercutResult& sim, const UndercutOptions& o,
+                                          const std::vector<double>& spans_v, const std::vector<double>& behind_mm) {
+  const int nu = sim.samples_u, nv = sim.samples_v;
+  if (nu < 3 || nv < 2 || sim.residual_mm.size() != static_cast<size_t>(nu) * nv || nu != o.samples_u ||
+      nv != o.samples_v)
+    throw ParameterError("simulation", "a residual map of options.samples_u x samples_v (>= 3 x 2) samples");
+  for (double d : behind_mm)
+    if (!(d >= 0)) throw ParameterError("behind", "distances behind the front must be >= 0 mm");
+  std::vector<EdgeThickness> out;
+  for (double v : spans_v) {
+    if (!(v >= o.v0 - 1e-12 && v <= o.v1 + 1e-12))
+      throw ParameterError("spans", "span v = " + std::to_string(v) + " outside the simulated window [" +
+                                        std::to_string(o.v0) + ", " + std::to_string(o.v1) + "]");
+    const double fv = o.v1 > o.v0 ? (v - o.v0) / (o.v1 - o.v0) * (nv - 1) : 0.0;
+    const int j0 = std::clamp(static_cast<int>(std::floor(fv)), 0, nv - 2);
+    const double f = std::clamp(fv - j0, 0.0, 1.0);
+    std::vector<Vec3> design(nu), machined(nu);
+    std::vector<bool> all(nu, true), known(nu, true);
+    for (int i = 0; i < nu; ++i) {
+      const SurfaceDerivs d = edge.eval(o.u0 + (o.u1 - o.u0) * i / (nu - 1), v);
+      Vec3 n = d.pu.cross(d.pv).normalized();
+      if (o.flip_normal) n = -n;
+      const double r0 = sim.residual_mm[static_cast<size_t>(i) * nv + j0];
+      const double r1 = sim.residual_mm[static_cast<size_t>(i) * nv + j0 + 1];
+      design[i] = d.p;
+      known[i] = std::isfinite(r0) && std::isfinite(r1);
+      machined[i] = known[i] ? Vec3(d.p + ((1 - f) * r0 + f * r1) * n) : d.p;
+    }
+    const Vec3 mid = 0.5 * (design.front() + design.back());
+    int front = 0;
+    for (int i = 1; i < nu; ++i)
+      if ((design[i] - mid).norm() > (design[front] - mid).norm()) front = i;
+    const Vec3 t = (design[front] - mid).normalized();
+    for (int i = 0; i < nu; ++i)
+      if (design[i].dot(t) > design[front].dot(t)) front = i;
+    const double top = design[front].dot(t);
+    for (double d : behind_mm) {
+      EdgeThickness th;
+      th.v = v;
+      th.behind_mm = d;
+      Vec3 a, b, ma, mb;
+      if (crossing(design, all, t, top - d, front, -1, a) && crossing(design, all, t, top - d, front, +1, b) &&
+          crossing(machined, known, t, top - d, front, -1, ma) && crossing(machined, known, t, top - d, front, +1, mb)) {
+        th.measured = true;
+        th.design_mm = (a - b).norm();
+        th.machined_mm = (ma - mb).norm();
+      }
+      out.push_back(th);
+    }
+  }
+  return out;
 }
 
 }  // namespace bliskrun

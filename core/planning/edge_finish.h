@@ -21,10 +21,12 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/collision/tilt.h"
 #include "core/common/progress.h"
 #include "core/geometry/surface.h"
 #include "core/planning/drum_finish.h"
 #include "core/planning/edge_strip.h"
+#include "core/planning/links.h"
 #include "core/planning/row_steps.h"
 #include "core/sim/undercut.h"
 #include "core/tools/tool.h"
@@ -79,10 +81,19 @@ struct EdgeFinishRequest {
   StepOptions steps{ChordMethod::Constant, 0.001, true, 0.5, 1e-4};
   bool zigzag = true;                   // one-way links go round the edge
   double side_min_lead_rad = 3.0 * kPi / 180.0;  // conventional side-edge positioning
+  // Tilting a contact clear of the world (the drum finish's interference
+  // loop, core/collision/tilt.h): corner leads θ from tilt_lead_step up to
+  // tilt_lead_max, side-slips all round in tilt_slip_step steps, axes within
+  // the machine's range (empty: no limit).
+  double tilt_lead_step_rad = 5.0 * kPi / 180.0;
+  double tilt_lead_max_rad = 80.0 * kPi / 180.0;
+  double tilt_slip_step_rad = 15.0 * kPi / 180.0;
+  AxisLimit axis_limit;
   Clearances clearances;
   double motion_tol_mm = 1e-3;
   double retract_mm = 3.0;              // links: up the tool axis
   double tool_tol_mm = 1e-3;            // ToolBody meshing tolerance
+  int threads = 1;                      // workers for a row's contacts; results do not depend on it
   int comparison_row = -1;              // row whose widths are reported in full (-1: the middle one)
 };
 
@@ -124,9 +135,12 @@ struct EdgeFinishRow {
 
 // Between consecutive passes: rows, and the pieces of a row split by a
 // refused contact or a bottom <-> corner switch.
+// Planned by the shared plan_link (core/planning/links.h).
 struct EdgeFinishLink {
   int from_row = 0, to_row = 0;
   std::vector<ToolPose> moves;  // via poses (rapid)
+  std::vector<LinkLeg> legs;    // legs[k]: the motion into moves[k] (then one more into the next pass)
+  double offset_mm = 0;         // retract distance up the axis that proved
   bool clear = false;
   std::string reason;
 };
@@ -161,8 +175,32 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
 // refused — the same move list as drum_finish_moves.
 std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result);
 
-// Every move as simulation passes (a Stop ends a pass), rows and links.
-std::vector<ToolPass> edge_finish_passes(const EdgeFinishResult& result);
+// Every move as simulation passes (a Stop ends a pass), rows and links,
+// with the index of each pass's first move (passes_of_moves).
+DrumFinishPasses edge_finish_passes(const EdgeFinishResult& result);
+
+// The edge's thickness after machining against the design (issue 14 item
+// 7), from the simulation's material left on the edge region. At span v the
+// section u -> S(u, v) is a U round the edge; its camber direction t runs
+// from the middle of its two ends to its farthest point (the front). The
+// thickness `behind_mm` behind the front is measured in the plane
+// perpendicular to t there, between the section's two sides: the design's
+// points S(u_i, v) and the machined ones S + r n (r the material left,
+// interpolated between the simulation's sample rows, n out of the
+// material), each side's polyline cut by the plane. Not measured where a
+// side does not reach that far or the tool left a sample on the way
+// untouched (r = +infinity).
+struct EdgeThickness {
+  double v = 0, behind_mm = 0;
+  bool measured = false;
+  double design_mm = 0, machined_mm = 0;
+};
+// `simulation` with `options` as simulate_undercut ran them on `edge`.
+// Throws ParameterError for a residual map of another size, a span outside
+// [options.v0, options.v1] or a negative distance.
+std::vector<EdgeThickness> edge_thickness(const Surface& edge, const UndercutResult& simulation,
+                                          const UndercutOptions& options, const std::vector<double>& spans_v,
+                                          const std::vector<double>& behind_mm);
 
 // APT/CL text (header, GOTO/x,y,z,i,j,k, RAPID before link moves).
 std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& request,

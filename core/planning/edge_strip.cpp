@@ -238,9 +238,9 @@ ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSample
 
 ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }
 
-StripWidth ContactStrip::width(const EdgePosition& pos) const {
-  return strip_width(tool_, pose(pos), samples_, band_);
-}
+StripWidth ContactStrip::width(const EdgePosition& pos) const { return width(pose(pos)); }
+
+StripWidth ContactStrip::width(const ToolPose& pose) const { return strip_width(tool_, pose, samples_, band_); }
 
 namespace {
 

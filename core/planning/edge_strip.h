@@ -170,6 +170,7 @@ class ContactStrip {
  public:
   ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band);
   StripWidth width(const EdgePosition& pos) const;
+  StripWidth width(const ToolPose& pose) const;  // any pose (e.g. one tilted clear of the world)
   ToolPose pose(const EdgePosition& pos) const;
   const EdgeFrame& frame() const { return frame_; }
   const FlatEnd& flat_end() const { return flat_; }

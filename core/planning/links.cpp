@@ -1,5 +1,6 @@
 #include "core/planning/links.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -45,13 +46,18 @@ bool prove_motion(const ToolPose& from, const ToolPose& to, const LinkChecks& ch
     out.reason = why.str();
     return false;
   }
-  if (checks.guard) {
+  std::vector<LinkChecks::Guard> guards;
+  if (checks.guard) guards.push_back({checks.guard, checks.guard_margin_mm});
+  guards.insert(guards.end(), checks.more_guards.begin(), checks.more_guards.end());
+  for (const LinkChecks::Guard& g : guards) {
+    // Each guard takes off the allowance what its samples can miss.
+    const double allowed = std::max(0.0, allowed_mm - g.margin_mm);
     const GougeGuard::Cut cut =
-        checks.guard->deepest_cut(checks.body->tool(), from, to, allowed_mm, include_from, include_to);
+        g.guard->deepest_cut(checks.body->tool(), from, to, allowed, include_from, include_to);
     out.deepest_cut_mm = std::min(out.deepest_cut_mm, cut.depth_mm);
     if (cut.depth_mm < 0) {
       why << name << " cuts " << -cut.depth_mm * 1000 << " um below the finished surface at t = " << cut.t
-          << " (allowed " << allowed_mm * 1000 << " um)";
+          << " (allowed " << allowed * 1000 << " um)";
       out.clear = false;
       out.reason = why.str();
       return false;
@@ -89,9 +95,8 @@ void check_options(const LinkChecks& checks, const LinkOptions& o) {
   if (!(o.allowed_overcut_mm >= 0)) throw ParameterError("allowed_overcut_mm", "must be >= 0");
 }
 
-double allowance(const LinkChecks& checks, const LinkOptions& o) {
-  return std::max(0.0, o.allowed_overcut_mm - checks.guard_margin_mm);
-}
+// The allowed overcut; each guard takes its own margin off it (prove).
+double allowance(const LinkChecks&, const LinkOptions& o) { return o.allowed_overcut_mm; }
 
 // Directions tried, in order: the normal itself, then turned towards the
 // tool axis by 30 and 60 degrees — where leaving straight along the normal
@@ -159,7 +164,8 @@ PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, con
   return out;
 }
 
-PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks, const LinkOptions& o) {
+PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks, const LinkOptions& o,
+                      const std::vector<ToolPose>& traverse_via) {
   check_options(checks, o);
   const double allowed = allowance(checks, o);
   PlannedLink best;
@@ -178,6 +184,10 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
     } else {
       legs.push_back(LinkLeg::Traverse);  // up_a -> up_b
     }
+    // Through the caller's waypoints: up_a [-> high_a] -> via... -> [high_b ->] up_b.
+    const size_t insert_at = o.axis_retract_mm > 0 ? 2 : 1;
+    via.insert(via.begin() + static_cast<long>(insert_at), traverse_via.begin(), traverse_via.end());
+    legs.insert(legs.begin() + static_cast<long>(insert_at), traverse_via.size(), LinkLeg::Traverse);
     via.push_back(up_b);
     legs.push_back(LinkLeg::Approach);  // up_b -> b
     const Attempt at = prove(from.pose, via, legs, to.pose, checks, allowed);

@@ -64,6 +64,13 @@ struct LinkChecks {
   // Subtracted from the allowed overcut for what the guard's samples can
   // miss (GougeGuard::between_samples_mm).
   double guard_margin_mm = 0;
+  // Further finished surfaces proved the same way, each with its own margin
+  // (an edge region and the two flanks beside it).
+  struct Guard {
+    const GougeGuard* guard = nullptr;
+    double margin_mm = 0;
+  };
+  std::vector<Guard> more_guards;
 };
 
 enum class LinkLeg { Retract, Traverse, Approach };
@@ -97,12 +104,16 @@ PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, con
 // Throws ParameterError for missing world/body, non-positive retract_mm,
 // min_retract_mm outside (0, retract_mm], negative axis_retract_mm or
 // allowed_overcut_mm.
+// `traverse_via`: poses the traverse passes through between the two
+// retracted poses (e.g. round the front of a blade edge when the tool axis
+// turns by more than 90 degrees between the passes); each leg is proved.
 PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& checks,
-                      const LinkOptions& options);
+                      const LinkOptions& options, const std::vector<ToolPose>& traverse_via = {});
 
 // Any other non-cutting motion through `chain` (PoseMotion between
 // consecutive poses) proved as a link's legs are: every motion against the
-// world, and against the guard (when given) with `allowed_mm`. The first
+// world, and against each guard (when given) with `allowed_mm` less the
+// guard's margin (what its samples can miss). The first
 // and last pose's own cut is left to their passes when first_cuts /
 // last_cuts (a lead arc or bridge that leaves or reaches a cutting pose).
 // Stops at the first motion that does not prove (segment: its index).

@@ -487,7 +487,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   checks.motion_tol_mm = rq.tilt.motion_tol_mm;
   checks.guard = &guard;
   checks.guard_margin_mm = margin;
-  const double link_allowed = std::max(0.0, rq.links.allowed_overcut_mm - margin);
+  const double link_allowed = rq.links.allowed_overcut_mm;  // the guard's margin comes off in the proof
   auto end_of = [](const RepairPose& p) { return LinkEnd{p.pose, p.normal}; };
   auto link = [&](int from, int to) {
     RepairConnection c;

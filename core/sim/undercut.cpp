@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/common/progress.h"
 
 namespace bliskrun {
@@ -53,7 +54,10 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
   SampleIndex idx;
   const int nu = o.samples_u, nv = o.samples_v;
   idx.samples.resize(static_cast<size_t>(nu) * nv);
-  for (int i = 0; i < nu; ++i) {
+  // Rows of samples on o.threads workers (each writes its own row).
+  Progress quiet;
+  run_parallel(static_cast<size_t>(nu), std::max(1, o.threads), quiet, "design samples", [&](size_t row, Progress&) {
+    const int i = static_cast<int>(row);
     cancellation_point();
     const double u = o.u0 + (o.u1 - o.u0) * i / (nu - 1);
     for (int j = 0; j < nv; ++j) {
@@ -65,7 +69,7 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
                     std::to_string(u) + ", " + std::to_string(v) + ")");
       idx.samples[static_cast<size_t>(i) * nv + j] = {d.p, n.normalized()};
     }
-  }
+  });
   const int tu = (nu + kTile - 1) / kTile, tv = (nv + kTile - 1) / kTile;
   idx.tiles.resize(static_cast<size_t>(tu) * tv);
   for (int i = 0; i < nu; ++i) {
@@ -129,7 +133,8 @@ double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool
   double s = -o.search_below_mm;
   for (int iter = 0; iter < 400; ++iter) {
     const Vec3 q = p_tool + s * n_tool;
-    const double bound = std::max(std::hypot(q.x(), q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
+    const double bound =
+        std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
     const double f = bound > 0.02 ? bound : cutter.signed_distance(q);
     if (f <= o.tol_mm) return s;
     s += f;

@@ -222,14 +222,40 @@ ProfilePoint Profile::closest_point(const Vec2& rz) const {
   return best;
 }
 
+// The distance alone, as closest_point finds it, without its angles: the
+// simulation and the gouge guards trace every sample's normal line on it,
+// millions of times a plan. A point lies in an arc's span (less than a half
+// turn, counter-clockwise from start to end) when it is left of the start
+// radius and right of the end radius — two cross products where
+// closest_point takes four arc tangents and two fmods; squared distances,
+// one square root.
 double Profile::signed_distance(const Vec2& rz) const {
-  const double d = (closest_point(rz).point - rz).norm();
+  double best2 = std::numeric_limits<double>::infinity();
+  for (const ProfileElement& e : elements_) {
+    double d2;
+    if (e.kind == ProfileElement::Kind::Segment) {
+      const Vec2 d = e.end - e.start;
+      const double len2 = d.squaredNorm();
+      const double u = len2 > 0 ? std::clamp((rz - e.start).dot(d) / len2, 0.0, 1.0) : 0.0;
+      d2 = (rz - (e.start + u * d)).squaredNorm();
+    } else {
+      const Vec2 rel = rz - e.centre;
+      if (cross2(e.start - e.centre, rel) >= 0 && cross2(rel, e.end - e.centre) >= 0) {
+        const double g = rel.norm() - e.radius;
+        d2 = g * g;
+      } else {
+        d2 = std::min((rz - e.start).squaredNorm(), (rz - e.end).squaredNorm());
+      }
+    }
+    best2 = std::min(best2, d2);
+  }
+  const double d = std::sqrt(best2);
   const bool inside = rz.y() > z_min_ && rz.y() < z_max_ && rz.x() < radius_at(rz.y());
   return inside ? -d : d;
 }
 
 double Profile::signed_distance(const Vec3& p) const {
-  return signed_distance(Vec2(std::hypot(p.x(), p.y()), p.z()));
+  return signed_distance(Vec2(std::sqrt(p.x() * p.x() + p.y() * p.y()), p.z()));
 }
 
 ProfilePoint Profile::point_with_normal(const Vec2& n_in) const {

@@ -12,13 +12,18 @@
 --      (e1, e2); rows spaced by the row's smallest strip;
 --   3. every pose and the motion between poses proved clear of the
 --      neighbouring blades, the hub and (shank, holder) the blade itself;
---      links retract up the tool axis; refusals reported, never emitted;
+--      a pose that is not is tilted clear (corner lead up to 80°, side-slip
+--      all round) or refused; links (the shared link builder) retract up
+--      the tool axis, every leg proved against the world and the edge and
+--      flanks; refusals reported, never emitted;
 --   4. the paper's comparison: the same rows with the conventional side-edge
 --      positioning (corner contact, φ = 0, smallest gouge-free lead >=
 --      side_min_lead): strip widths along one row (Fig. 8) and row counts
 --      (Fig. 9, paper: 31 vs 48);
 --   5. the independent simulation (core/sim) of every move on the edge
---      region (undercut/overcut map) and the overcut on both flanks.
+--      region (undercut/overcut map) and the overcut on both flanks, and
+--      the edge's thickness after machining against the design at three
+--      spans (from the simulation's material left).
 -- Part: the built-in blisk's blade 1, or NASA Rotor 67 blade 1 when its data
 -- is found (--data ../shared/data) or with --set part=rotor67.
 -- Tool: the paper's R = 5, r = 1 does not fit the built-in blisk: on the
@@ -108,15 +113,26 @@ for _, edge in ipairs(edges) do
   local region = bliskrun.edge_region{first = first, second = second, overlap = settings.overlap}
   -- The flanks too, a tool radius from their edge ends, where the flat
   -- bottom of a pose near a flank can reach: condition ① is checked there.
+  local cpu0 = os.clock()  -- process CPU seconds (every thread): on a shared machine wall time says little
   local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
                                     span = {settings.v0, settings.v1}, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
                                     side_min_lead = settings.side_min_lead}
+  local cpu_plan = os.clock() - cpu0
   local rep = plan:report()
   local stem = string.format("%s_%s", part_name, edge)
   plan:write_apt(stem .. ".apt")
+  -- The edge's thickness after machining against the design (issue 14
+  -- item 7) at a quarter, half and three quarters of the machined span
+  -- window, 0.05 mm behind the front up to the round's radius and past it
+  -- onto the overlap.
+  local spans = {}
+  for _, f in ipairs{0.25, 0.5, 0.75} do spans[#spans + 1] = settings.v0 + f * (settings.v1 - settings.v0) end
+  local behind = {0.05, 0.1, 0.2, 0.4, 0.6}
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 400,
-                            flanks = {pressure, suction}, picture = stem .. "_undercut.png"}
+                            flanks = {pressure, suction}, picture = stem .. "_undercut.png",
+                            thickness = {spans = spans, behind = behind}}
+  local cpu_sim = os.clock() - cpu0 - cpu_plan
   local cmp = plan:comparison()
   local series = {{name = "bottom, paper (φ averaged)", points = {}}, {name = "bottom, joint optimum", points = {}},
                   {name = "side edge (corner, φ = 0)", points = {}}}
@@ -130,8 +146,9 @@ for _, edge in ipairs(edges) do
                                                         cmp.v, label, edge),
                                   x_label = "u around the edge (pressure/suction overlap at the ends)",
                                   y_label = "strip width, mm", series = series})
-  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, checks %.2f s, simulation %.2f s", edge,
-                             rep.seconds.rows, rep.seconds.side, rep.seconds.checks, sim.seconds))
+  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, checks %.2f s, simulation %.2f s (wall); CPU: plan %.2f s, "
+                             .. "simulation %.2f s", edge, rep.seconds.rows, rep.seconds.side, rep.seconds.checks,
+                             sim.seconds, cpu_plan, cpu_sim))
   rep.seconds = nil
   rep.region = {round_u0 = region.round_u0, round_u1 = region.round_u1, overlap_mm = region.overlap,
                 radius_min_mm = region.radius_min, radius_max_mm = region.radius_max,
@@ -154,6 +171,19 @@ for _, edge in ipairs(edges) do
                     flank_overcut_mm = sim.flank_overcut, untouched = sim.untouched, samples = sim.samples,
                     picture = stem .. "_undercut.png"}
   rep.apt = stem .. ".apt"
+  rep.thickness = sim.thickness
+  print(string.format("            thickness after machining vs design (mm) at distances behind the %s edge's front:", edge))
+  for _, v in ipairs(spans) do
+    local cells = {}
+    for _, t in ipairs(sim.thickness) do
+      if t.v == v then
+        cells[#cells + 1] = t.measured and string.format("%.2f: %.4f / %.4f (%+.1f um)", t.behind, t.machined, t.design,
+                                                         1e3 * (t.machined - t.design))
+                                        or string.format("%.2f: not measured", t.behind)
+      end
+    end
+    print(string.format("              v %.3f  %s", v, table.concat(cells, ", ")))
+  end
   -- No gouge anywhere (edge region and flanks) beyond e1 plus what the
   -- simulation's sampling can miss; refusals are reported, not hidden.
   local verified = sim.overcut >= settings.e1 - 1e-3 and sim.flank_overcut >= settings.e1 - 1e-3
@@ -164,8 +194,10 @@ for _, edge in ipairs(edges) do
                       rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.side_width_min,
                       rep.side_width_max, rep.poses, rep.refusals + rep.refused_links, 1e3 * sim.undercut_max,
                       1e3 * sim.overcut, 1e3 * sim.flank_overcut))
-  print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts",
-                      region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts))
+  print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts, "
+                      .. "%d tilted clear of the world, %d refused contacts, %d refused links",
+                      region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts,
+                      rep.tilted_contacts, rep.refusals, rep.refused_links))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links, 1e3 * sim.undercut_max, 1e3 * sim.overcut,

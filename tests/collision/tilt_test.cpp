@@ -172,6 +172,51 @@ TEST(Tilt, RefusesWhatTheAxisLimitForbidsAndSaysWhy) {
   EXPECT_FALSE(tilt_until_clear(world, body, contact, 3, s).accepted);
 }
 
+// A bottom-cutting tool starts with its axis near the normal (λ near 90°)
+// and leans away from it (lead_step < 0) under a plate over the contact; the
+// loop takes the first lead, stepping down, whose pose the world finds
+// clear (brute force over the same leads), and a pose filter (the
+// operation's own test) refuses the leads it names before the world is asked.
+TEST(Tilt, LeansABottomCuttingToolDownFromTheNormalPastAFilter) {
+  const ToolBody body(Tool::flat_end_mill({3, 0.5, 9, {6, 50}, {12, 40}}));
+  CollisionWorld world;
+  world.add("plate", grid_mesh(Vec3(-100, -20, 40), Vec3(200, 0, 0), Vec3(0, 120, 0), 2, 2));
+  TiltSettings s;
+  s.clearances = Clearances{0, 0.1, 0.5};
+  s.lead0_rad = deg_to_rad(85);
+  s.lead_step_rad = -deg_to_rad(5);
+  s.lead_max_rad = deg_to_rad(10);
+  s.tilt0_rad = kPi;  // leaning towards -y, out from under the plate
+  double expected = -1;
+  for (double lead = s.lead0_rad; lead >= s.lead_max_rad - 1e-9; lead += s.lead_step_rad) {
+    const ToolPose pose = place_tool(body.tool(), kFlat, axis_from_lead_tilt(kFlat, lead, s.tilt0_rad));
+    if (world.check(body, pose, s.clearances, 0).clear) {
+      expected = lead;
+      break;
+    }
+  }
+  ASSERT_GT(expected, deg_to_rad(20)) << "the plate must be clearable above the filter's ceiling";
+  ASSERT_LT(expected, deg_to_rad(80)) << "the plate must force some leaning";
+  const TiltOutcome o = tilt_until_clear(world, body, kFlat, 0, s);
+  ASSERT_TRUE(o.accepted) << o.refusal.reason;
+  EXPECT_NEAR(o.pose.lead_rad, expected, 1e-9);
+  // The operation allows nothing steeper than 20° from the tangent plane.
+  s.pose_filter = [](const ToolPose& pose) {
+    return pose.axis.z() > std::sin(deg_to_rad(20)) + 1e-9 ? std::string("too steep") : std::string();
+  };
+  const TiltOutcome f = tilt_until_clear(world, body, kFlat, 0, s);
+  ASSERT_TRUE(f.accepted) << f.refusal.reason;
+  EXPECT_NEAR(f.pose.lead_rad, deg_to_rad(20), 1e-9);
+  s.lead_max_rad = deg_to_rad(25);
+  const TiltOutcome none = tilt_until_clear(world, body, kFlat, 0, s);
+  ASSERT_FALSE(none.accepted);
+  EXPECT_NE(none.refusal.reason.find("13 refused by the operation"), std::string::npos) << none.refusal.reason;
+  EXPECT_NE(none.refusal.reason.find("too steep"), std::string::npos) << none.refusal.reason;
+  // A step away from lead_max is an error.
+  s.lead_step_rad = deg_to_rad(5);
+  EXPECT_THROW(tilt_until_clear(world, body, kFlat, 0, s), ParameterError);
+}
+
 TEST(Tilt, PathRefusesPosesAndMotionsItCannotClear) {
   // A high, narrow plate at x in [-5, 5]: the middle contact cannot lift its
   // shank over it within A ±10°, and the motion from the first accepted pose

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "core/geometry/mesh.h"
 #include "core/geometry/revolution.h"
 #include "core/parts/builtin_blisk.h"
 #include "core/parts/edge_region.h"
+#include "core/common/error.h"
 #include "core/planning/edge_finish.h"
 #include "core/tools/pose.h"
 
@@ -88,6 +90,82 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   long feeds = 0;
   for (const DrumFinishMove& m : moves) feeds += m.kind == DrumFinishMove::Kind::Feed;
   EXPECT_EQ(feeds, res.total_poses);
+}
+
+
+// A stadium-shaped edge: a round of radius rho (centre on the Z axis, front
+// at +X) between two flat flanks `flank` mm long, straight along Z over
+// [0, height]; u by arc length from the -Y flank round to the +Y flank, so
+// pu x pv points out of the material.
+class StadiumEdge : public Surface {
+ public:
+  StadiumEdge(double rho, double flank, double height) : rho_(rho), flank_(flank), h_(height) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    const double total = 2 * flank_ + kPi * rho_;
+    const double s = u * total;
+    SurfaceDerivs d;
+    Vec2 p, t;
+    if (s < flank_) {
+      p = Vec2(-flank_ + s, -rho_);
+      t = Vec2(1, 0);
+    } else if (s < flank_ + kPi * rho_) {
+      const double a = -kPi / 2 + (s - flank_) / rho_;
+      p = rho_ * Vec2(std::cos(a), std::sin(a));
+      t = Vec2(-std::sin(a), std::cos(a));
+    } else {
+      p = Vec2(-(s - flank_ - kPi * rho_), rho_);
+      t = Vec2(-1, 0);
+    }
+    d.p = Vec3(p.x(), p.y(), h_ * v);
+    d.pu = total * Vec3(t.x(), t.y(), 0);
+    d.pv = Vec3(0, 0, h_);
+    return d;
+  }
+
+ private:
+  double rho_, flank_, h_;
+};
+
+// The edge's thickness behind its front, design and machined (material r
+// left along the normal), against the circle and its offset: at x = rho - d
+// the round is 2 sqrt(rho^2 - x^2) thick, the machined round 2 sqrt((rho +
+// r)^2 - x^2), behind the round 2 rho and 2 (rho + r).
+TEST(EdgeThicknessTest, MatchesTheRoundAndItsOffsetBehindTheFront) {
+  const double rho = 0.4, r1 = 0.012, r2 = -0.003;
+  const StadiumEdge edge(rho, 1.0, 10.0);
+  UndercutOptions o;
+  o.samples_u = 801;
+  o.samples_v = 5;
+  o.v0 = 0.2;
+  o.v1 = 0.6;
+  UndercutResult sim;
+  sim.samples_u = o.samples_u;
+  sim.samples_v = o.samples_v;
+  // r1 on the -Y side (u < 1/2), r2 on the +Y side.
+  for (int i = 0; i < o.samples_u; ++i)
+    for (int j = 0; j < o.samples_v; ++j) sim.residual_mm.push_back(2 * i < o.samples_u - 1 ? r1 : r2);
+  const std::vector<double> behind{0.01, 0.05, 0.2, 0.4, 0.9, 1.5};
+  const std::vector<EdgeThickness> th = edge_thickness(edge, sim, o, {0.3, 0.45}, behind);
+  ASSERT_EQ(th.size(), 12u);
+  auto half = [](double radius, double x) { return x >= 0 ? std::sqrt(radius * radius - x * x) : radius; };
+  for (const EdgeThickness& t : th) {
+    SCOPED_TRACE("v " + std::to_string(t.v) + " behind " + std::to_string(t.behind_mm));
+    if (t.behind_mm > rho + 1.0) {  // beyond the flanks: the section does not reach
+      EXPECT_FALSE(t.measured);
+      continue;
+    }
+    ASSERT_TRUE(t.measured);
+    const double x = rho - t.behind_mm;
+    EXPECT_NEAR(t.design_mm, 2 * half(rho, x), 2e-4);
+    EXPECT_NEAR(t.machined_mm, half(rho + r1, x) + half(rho + r2, x), 2e-4);
+  }
+  // A sample the tool never reached on the way out from the front: not measured.
+  sim.residual_mm[static_cast<size_t>(o.samples_u / 2 + 60) * o.samples_v + 2] = std::numeric_limits<double>::infinity();
+  const std::vector<EdgeThickness> gap = edge_thickness(edge, sim, o, {0.4}, {0.01, 0.3});
+  EXPECT_TRUE(gap[0].measured);   // the plane 0.01 mm behind the front comes before the gap
+  EXPECT_FALSE(gap[1].measured);  // 0.3 mm behind it does not
+  EXPECT_THROW(edge_thickness(edge, sim, o, {0.7}, behind), ParameterError);
+  EXPECT_THROW(edge_thickness(edge, sim, o, {0.4}, {-0.1}), ParameterError);
 }
 
 }  // namespace

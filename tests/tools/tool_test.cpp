@@ -194,6 +194,27 @@ TEST(Tools, SignedDistanceMatchesBruteForceOnSampledSurface) {
   }
 }
 
+// The distance-only signed distance (wedge tests instead of angles) is the
+// distance to the closest point, for every tool, near and far, on and off
+// the axis and at the arcs' centres.
+TEST(Profile, SignedDistanceIsTheDistanceToTheClosestPoint) {
+  std::mt19937 rng(11);
+  for (const Tool& tool : every_tool()) {
+    const Profile& p = tool.cutter();
+    std::uniform_real_distribution<double> ur(0, 1.4 * p.max_radius());
+    std::uniform_real_distribution<double> uz(p.z_min() - 2, p.z_max() + 2);
+    std::vector<Vec2> points;
+    for (int k = 0; k < 4000; ++k) points.emplace_back(ur(rng), uz(rng));
+    for (const ProfileElement& e : p.elements())
+      if (e.kind == ProfileElement::Kind::Arc) points.push_back(e.centre);
+    for (const Vec2& q : points) {
+      const double expected = (p.closest_point(q).point - q).norm();
+      EXPECT_NEAR(std::abs(p.signed_distance(q)), expected, 1e-12 * std::max(1.0, expected))
+          << tool.description() << " at r " << q.x() << " z " << q.y();
+    }
+  }
+}
+
 TEST(Tools, InvalidParametersNameTheParameter) {
   auto name_of = [](auto&& make) -> std::string {
     try {
