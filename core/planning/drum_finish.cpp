@@ -272,22 +272,9 @@ bool split_gouging_segments(const TrimmedSurface& ts, double u, RowSteps& st, co
 }
 
 // Samples of the whole trimmed flank for the links' gouge guard, about
-// rq.guard_spacing_mm apart (lengths measured along the middle iso-lines).
-UndercutOptions guard_sampling(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
-  double span = 0, chord = 0;
-  constexpr int kN = 64;
-  for (double w : {0.0, 0.5, 1.0}) {
-    double su = 0, sv = 0;
-    for (int i = 0; i < kN; ++i) {
-      su += (ts.point((i + 1.0) / kN, w) - ts.point(static_cast<double>(i) / kN, w)).norm();
-      sv += (ts.point(w, (i + 1.0) / kN) - ts.point(w, static_cast<double>(i) / kN)).norm();
-    }
-    span = std::max(span, su);
-    chord = std::max(chord, sv);
-  }
-  UndercutOptions o;
-  o.samples_u = std::clamp(static_cast<int>(std::ceil(span / rq.guard_spacing_mm)) + 1, 2, 4000);
-  o.samples_v = std::clamp(static_cast<int>(std::ceil(chord / rq.guard_spacing_mm)) + 1, 2, 8000);
+// rq.guard_spacing_mm apart.
+UndercutOptions drum_guard_sampling(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
+  UndercutOptions o = guard_sampling(ts, rq.guard_spacing_mm);
   o.flip_normal = rq.flip_normal;
   // Only dips below the allowance matter; deeper ones read as 20 um, still
   // far beyond it (a shorter trace per sample).
@@ -374,7 +361,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   // The finished flank, sampled once, for proving the cutting moves and the
   // links against it (core/sim GougeGuard).
   const auto guard_t0 = Clock::now();
-  const GougeGuard guard(ts, guard_sampling(ts, rq));
+  const GougeGuard guard(ts, drum_guard_sampling(ts, rq));
   res.guard_spacing_mm = guard.spacing_mm();
   res.link_seconds += seconds_since(guard_t0);
   Progress per_row(&progress);

@@ -34,32 +34,6 @@ void validate(const EdgeFinishRequest& rq) {
   if (!(rq.tilt_slip_step_rad > 0)) throw ParameterError("tilt_slip_step", "must be > 0");
 }
 
-// Gouge-guard samples over [u0, u1] x [v0, v1] of `s`, about spacing_mm
-// apart in both directions (the longest of 9 iso-lines each way, measured
-// as 64-segment polylines).
-UndercutOptions guard_sampling(const Surface& s, double u0, double u1, double v0, double v1, double spacing_mm) {
-  double len_u = 0, len_v = 0;
-  for (int i = 0; i <= 8; ++i) {
-    double lu = 0, lv = 0;
-    const double a = static_cast<double>(i) / 8;
-    for (int k = 0; k < 64; ++k) {
-      const double t0 = static_cast<double>(k) / 64, t1 = static_cast<double>(k + 1) / 64;
-      lu += (s.point(u0 + (u1 - u0) * t1, v0 + (v1 - v0) * a) - s.point(u0 + (u1 - u0) * t0, v0 + (v1 - v0) * a)).norm();
-      lv += (s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t1) - s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t0)).norm();
-    }
-    len_u = std::max(len_u, lu);
-    len_v = std::max(len_v, lv);
-  }
-  UndercutOptions o;
-  o.u0 = u0;
-  o.u1 = u1;
-  o.v0 = v0;
-  o.v1 = v1;
-  o.samples_u = std::clamp(static_cast<int>(std::ceil(len_u / spacing_mm)) + 1, 8, 5000);
-  o.samples_v = std::clamp(static_cast<int>(std::ceil(len_v / spacing_mm)) + 1, 8, 5000);
-  return o;
-}
-
 // Everything one contact contributes to its row.
 struct ContactPlan {
   double u = 0;
@@ -512,7 +486,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
   // blade.
   const double corner_r = std::max(fe.corner_mm, 1e-3);
   const double spacing = std::sqrt(2 * corner_r * std::max(-rq.band.e1_mm, 1e-3));
-  const GougeGuard edge_guard(*rq.edge, guard_sampling(*rq.edge, 0, 1, rq.v0, rq.v1, spacing));
+  const GougeGuard edge_guard(*rq.edge, guard_sampling(*rq.edge, spacing, 0, 1, rq.v0, rq.v1));
   // The flanks near their edge ends (first: v = 0, second: v = 1), where the
   // flat bottom of a pose reaches over them: 12 % of the chord, over the
   // machined span window and a tool radius + 1 mm either side of it.
@@ -525,9 +499,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& rq, Progress& progres
     const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
     const double margin = (fe.radius_mm + 1.0) / per_u;
     flank_guards.push_back(std::make_unique<GougeGuard>(
-        *flank, guard_sampling(*flank, std::max(0.0, std::min(fu0, fu1) - margin),
-                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0,
-                               spacing)));
+        *flank, guard_sampling(*flank, spacing, std::max(0.0, std::min(fu0, fu1) - margin),
+                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0)));
   }
   // Swept only where the contact strips' view is least to be trusted: a
   // change of contact family (bottom <-> corner), a tilted pose, or an axis

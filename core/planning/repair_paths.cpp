@@ -352,23 +352,9 @@ void validate(const RepairPathRequest& rq) {
   if (rq.across_samples < 2) throw ParameterError("across_samples", "expected >= 2");
 }
 
-// Samples of the whole design for the gouge guard, about spacing_mm apart
-// (lengths along the middle and edge iso-lines).
-UndercutOptions guard_sampling(const Surface& s, bool flip, double spacing_mm) {
-  double span = 0, around = 0;
-  constexpr int kN = 128;
-  for (double w : {0.0, 0.5, 1.0}) {
-    double su = 0, sv = 0;
-    for (int i = 0; i < kN; ++i) {
-      su += (s.point((i + 1.0) / kN, w) - s.point(static_cast<double>(i) / kN, w)).norm();
-      sv += (s.point(w, (i + 1.0) / kN) - s.point(w, static_cast<double>(i) / kN)).norm();
-    }
-    span = std::max(span, su);
-    around = std::max(around, sv);
-  }
-  UndercutOptions o;
-  o.samples_u = std::clamp(static_cast<int>(std::ceil(span / spacing_mm)) + 1, 2, 4000);
-  o.samples_v = std::clamp(static_cast<int>(std::ceil(around / spacing_mm)) + 1, 2, 8000);
+// Samples of the whole design for the gouge guard, about spacing_mm apart.
+UndercutOptions repair_guard_sampling(const Surface& s, bool flip, double spacing_mm) {
+  UndercutOptions o = guard_sampling(s, spacing_mm);
   o.flip_normal = flip;
   o.search_below_mm = 0.02;
   o.sweep_step_mm = 0.02;
@@ -387,7 +373,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   const double ball_r = tool.cutter().max_radius();
   const ToolBody body(tool, rq.tool_tol_mm);
   auto t0 = Clock::now();
-  const GougeGuard guard(s, guard_sampling(s, rq.flip_normal, rq.guard_spacing_mm));
+  const GougeGuard guard(s, repair_guard_sampling(s, rq.flip_normal, rq.guard_spacing_mm));
   res.guard_spacing_mm = guard.spacing_mm();
   const double margin = guard.between_samples_mm(ball_r);
   Planner planner{rq, body, guard, tool, ball_r, std::max(0.0, rq.steps.chord_tol_mm - margin), res, progress};

@@ -374,4 +374,28 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
   return cut;
 }
 
+UndercutOptions guard_sampling(const Surface& s, double spacing_mm, double u0, double u1, double v0, double v1) {
+  if (!(spacing_mm > 0)) throw ParameterError("guard_spacing", "expected a positive length in mm");
+  double len_u = 0, len_v = 0;
+  for (int i = 0; i <= 8; ++i) {
+    double lu = 0, lv = 0;
+    const double a = static_cast<double>(i) / 8;
+    for (int k = 0; k < 64; ++k) {
+      const double t0 = static_cast<double>(k) / 64, t1 = static_cast<double>(k + 1) / 64;
+      lu += (s.point(u0 + (u1 - u0) * t1, v0 + (v1 - v0) * a) - s.point(u0 + (u1 - u0) * t0, v0 + (v1 - v0) * a)).norm();
+      lv += (s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t1) - s.point(u0 + (u1 - u0) * a, v0 + (v1 - v0) * t0)).norm();
+    }
+    len_u = std::max(len_u, lu);
+    len_v = std::max(len_v, lv);
+  }
+  UndercutOptions o;
+  o.u0 = u0;
+  o.u1 = u1;
+  o.v0 = v0;
+  o.v1 = v1;
+  o.samples_u = std::clamp(static_cast<int>(std::ceil(len_u / spacing_mm)) + 1, 8, 8000);
+  o.samples_v = std::clamp(static_cast<int>(std::ceil(len_v / spacing_mm)) + 1, 8, 8000);
+  return o;
+}
+
 }  // namespace bliskrun

@@ -104,6 +104,13 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
                                  const UndercutOptions& options,
                                  Progress& progress = Progress::none());
 
+// Samples of `s` over [u0, u1] x [v0, v1] about spacing_mm apart in both
+// directions, for a GougeGuard (the window and the counts; the caller sets
+// the rest): lengths are the longest of 9 iso-lines each way, as 64-segment
+// polylines; counts between 8 and 8000.
+UndercutOptions guard_sampling(const Surface& s, double spacing_mm, double u0 = 0, double u1 = 1, double v0 = 0,
+                               double v1 = 1);
+
 // The design surface sampled once for many gouge queries of single motions —
 // a planner's proof that a non-cutting move (retract, traverse, approach)
 // does not cut below the finished surface. Same samples, normal lines,
