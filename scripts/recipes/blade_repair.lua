@@ -4,17 +4,20 @@
 -- rebuilt as it is (twisted and bent, the damage filled from the design
 -- registered by ICP within each section), and the damaged region — the
 -- material to deposit and machine — extracted with its volume, extent and
--- offset layers.
+-- offset layers; then the repair toolpaths over the region (§2,
+-- bliskrun.repair_paths), the finishing layer simulated on the rebuilt blade.
 --   bliskrun scripts/recipes/blade_repair.lua --out out/                      (tip damage, built-in blade)
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set damage=edge    (leading-edge nick)
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --data ../shared/data --set part=rotor37
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set measured=my_cmm.csv   (sections from a file)
 -- Options: --set damage=tip|edge part=builtin|rotor37 noise=0.002 (mm) sections=30 points=2000
 --          twist=1.5 (deg) bend=0.3 (mm) smoothing=0.1 (mm) seed=1 layer=0.2 layers=3
+--          paths=false (stop after the region) path_layer=1.0 (mm, roughing) guard_spacing=0.05 (mm)
 -- Outputs: blade_repair.json (deviation and curvature next to the paper's),
 -- blade_repair_sections.txt (the measurement), blade_repair_{design,rebuilt,region}.stl,
 -- blade_repair_deviation.png (measured points to the rebuilt blade),
--- blade_repair_region.png (thickness of the damaged region), report.html.
+-- blade_repair_region.png (thickness of the damaged region),
+-- blade_repair_material_left.png (after the finishing layer), report.html.
 
 local clock0 = os.clock()
 local function lap(what) bliskrun.log(string.format("%-28s %6.2f s CPU", what, os.clock() - clock0)) end
@@ -98,17 +101,75 @@ bliskrun.log(string.format("damaged region: %.2f mm3, max thickness %.3f mm, hei
                            region.volume, region.max_thickness, region.height_from, region.height_to, region.u_from,
                            region.u_to, region.v_from, region.v_to))
 
--- ===== Hand-over to repair toolpath planning (§2, branch repairpaths:
--- core/planning/repair_paths.*, lua_api/wrap_repair_paths.cpp) =====
--- The planner takes: `rebuilt` (the Surface to restore, u span, v around),
--- the region's (u, v) box (region.u_from..u_to, region.v_from..v_to; v wraps
--- when v_from > v_to), `handle:thickness(u, v)` (mm of deposit above the
--- damage face), `handle:layer(k)` (offset layers, rough outside, finish
--- inside) and `handle:surface()` (the rebuilt surface over the box). No
--- toolpath is planned here.
--- ===========================================================================
-
 lap("damaged region")
+
+-- 5. The repair toolpaths (§2) on the rebuilt blade — the shape to restore
+-- — over the region's (u, v) box, after the damaged region is deposited:
+-- roughing layers from the region's thickness down to `stock`, then the
+-- finishing layer on the rebuilt surface; a ball-end spiral around a
+-- broken tip (§2.2), a zigzag with arc lead-outs and bridges over a nicked
+-- edge (§2.1). Proved against the blade itself (shank, holder) and the
+-- fixture plane at the root (every part); the finishing layer simulated on
+-- the rebuilt surface over the region and a band of undamaged blade beside
+-- it. `--set paths=false` stops after the region.
+local paths = {}
+if args.paths ~= false and not region.empty then
+  local repair = require("repair")
+  local tool = bliskrun.ball_end_mill{radius = 3, flute_length = 12, shank = {diameter = 6, length = 60},
+                                      holder = {diameter = 25, length = 50}}
+  -- The fixture: a plane across the stacking axis at the blade's root.
+  local o, ax, e1, e2 = info.origin, info.axis, info.e1, info.e2
+  local function at(h, x, y)
+    return {o.x + h * ax.x + x * e1.x + y * e2.x, o.y + h * ax.y + x * e1.y + y * e2.y,
+            o.z + h * ax.z + x * e1.z + y * e2.z}
+  end
+  local h0 = info.h_lo
+  local world = bliskrun.collision_world{surfaces = {
+    {name = "blade", surface = rebuilt, chord_tol = 0.05, margin = 0.05, parts = {"shank", "holder"}},
+    {name = "fixture", mesh = {vertices = {at(h0, -100, -100), at(h0, 100, -100), at(h0, 100, 100), at(h0, -100, 100)},
+                               triangles = {{1, 2, 3}, {1, 3, 4}}}}}}
+  local w = {u = {region.u_from, region.u_to}, v = {region.v_from, region.v_to}}
+  if w.v[1] > w.v[2] then error("the damaged region crosses the rebuilt blade's seam (v " .. region.v_from .. " .. " ..
+                                region.v_to .. "): toolpaths over the seam are not planned") end
+  local scallop, chord_tol = 0.005, 0.002
+  local plan = bliskrun.repair_paths{design = rebuilt, tool = tool, world = world,
+                                     pattern = damage == "tip" and "spiral" or "zigzag", u = w.u, v = w.v,
+                                     deposit = region.max_thickness, layer = args.path_layer or 1.0,
+                                     stock = 0.2, scallop = scallop, chord_tol = chord_tol, clearance = 0.5,
+                                     guard_spacing = args.guard_spacing or 0.05}
+  lap("repair toolpaths")
+  for _, r in ipairs(plan.refusals) do
+    bliskrun.log(string.format("  layer %d: refused at u = %.4f, v = %.4f: %s", r.layer, r.u, r.v, r.reason))
+  end
+  -- The band of undamaged blade next to the region: 1 mm of span below it
+  -- (and beside it, for an edge).
+  local du = 1 / (info.h_hi - info.h_lo)
+  local band = {u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v}
+  local passes = repair.finishing_passes(plan, tool)
+  local su, sv = repair.window_samples(rebuilt, w, 0.5 * (w.v[1] + w.v[2]))
+  local sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = w.u, v = w.v, samples_u = su, samples_v = sv,
+                                search_above = 0.05, search_below = 0.05}
+  local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (w.v[1] + w.v[2]))
+  local band_sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
+                                     samples_v = bv, search_above = 0.05, search_below = 0.05}
+  lap("repair simulation")
+  sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (mm)"})
+  paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
+           moves = #plan.moves, bridges = plan.bridges, links = plan.links, refusals = #plan.refusals,
+           refused_connections = plan.refused_connections, tilted = plan.tilted,
+           chord_deviation_max_mm = plan.max_deviation,
+           simulation = {untouched = sim.untouched, residual_max_mm = sim.residual_max, overcut_mm = sim.overcut,
+                         band_overcut_mm = band_sim.overcut, allowed_undercut_mm = scallop + chord_tol}}
+  bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused; finishing simulated: "
+                             .. "material left <= %.2f um (allowed %.1f), overcut %.2f um, %.2f um in the band",
+                             plan.pattern, #plan.layers, plan.passes, plan.poses,
+                             #plan.refusals + plan.refused_connections, 1e3 * (sim.residual_max or 0),
+                             1e3 * (scallop + chord_tol), -1e3 * sim.overcut, -1e3 * band_sim.overcut))
+  assert(sim.untouched == 0 and sim.residual_max <= scallop + chord_tol + 1e-4,
+         string.format("repair: material left up to %.2f um on the rebuilt blade", 1e3 * (sim.residual_max or -1)))
+  assert(sim.overcut > -0.003 and band_sim.overcut > -0.003,
+         string.format("repair: overcut %.2f / %.2f um", -1e3 * sim.overcut, -1e3 * band_sim.overcut))
+end
 
 -- Pictures and STL.
 rebuild:write_deviation_png("blade_repair_deviation.png", {scale = 4 * math.max(noise, 0.0005)})
@@ -141,6 +202,7 @@ local report = {
             nicked_sections = region.nicked_sections, break_normal = xyz(region.break_normal),
             face_points = region.face_points, face_rms_um = region.face_rms * 1e3, layers = region.layers},
   sections = rep.sections,
+  repair_paths = paths,
 }
 bliskrun.write_json("blade_repair.json", report)
 require("run_report").write{
@@ -149,7 +211,8 @@ require("run_report").write{
   files = {{"blade_repair.json", "the report"}, {"blade_repair_sections.txt", "the simulated measurement"},
            {"blade_repair_*.stl", "design, rebuilt blade and damaged region"},
            {"blade_repair_deviation.png", "measured points to the rebuilt blade"},
-           {"blade_repair_region.png", "thickness of the damaged region"}}}
+           {"blade_repair_region.png", "thickness of the damaged region"},
+           {"blade_repair_material_left.png", "material left on the rebuilt blade after the finishing layer"}}}
 bliskrun.log(string.format("K rebuilt %.4f..%.4f (1-99 %%: %.4f..%.4f), design %.4f..%.4f (%.4f..%.4f) mm^-2; paper: -0.290..0.217 rebuilt, -0.239..0.248 design",
                            k_rebuilt.min, k_rebuilt.max, k_rebuilt.p01, k_rebuilt.p99, k_design.min, k_design.max,
                            k_design.p01, k_design.p99))

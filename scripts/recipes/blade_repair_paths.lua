@@ -1,7 +1,7 @@
 -- Repair toolpaths of a welded-up blade (issue 16 item 5, repair paper §2,
 -- SPEC §6.5), planned on the *design* surface of blade 1 of the built-in
--- blisk over two regions given here (the damaged-region extraction of
--- blade_repair.lua will hand them in later):
+-- blisk over two regions given here (blade_repair.lua plans the same on
+-- the rebuilt blade over the region it extracts):
 --   tip:  the whole way around the blade above `tip_span` of the span, with
 --         `deposit` mm of weld: a ball-end spiral (§2.2) per offset layer;
 --   edge: the leading edge, `edge_width` mm either side of its apex, over
@@ -107,21 +107,7 @@ local report = {blade = {root_radius_mm = r_root, tip_radius_mm = r_tip, perimet
 local pictures, vtk_blocks, rows = {}, {{name = "design blade", surface = blade, samples_u = 60, samples_v = 400}}, {}
 local plans = {}
 
--- The moves of the finishing layer as simulation passes (a stop ends one).
-local function finishing_passes(plan)
-  local passes, cur = {}, {}
-  for i = plan.first_finishing_move, #plan.moves do
-    local m = plan.moves[i]
-    if m.kind == "stop" then
-      if #cur > 0 then passes[#passes + 1] = {tool = tool, poses = cur} end
-      cur = {}
-    else
-      cur[#cur + 1] = m
-    end
-  end
-  if #cur > 0 then passes[#passes + 1] = {tool = tool, poses = cur} end
-  return passes
-end
+local repair = require("repair")
 
 for _, name in ipairs(regions) do
   local region = region_of[name]
@@ -140,15 +126,8 @@ for _, name in ipairs(regions) do
   -- The independent simulation of the finishing layer on the design: over
   -- the region (material left) and over the band of undamaged blade next to
   -- it (gouge), samples about 0.05 mm apart.
-  local passes = finishing_passes(plan)
-  -- Samples 0.04 mm apart across the passes (u: the cusps between passes
-  -- lie there), 0.25 mm along them (v), where the material left varies
-  -- only with the chord.
-  local function window_samples(w)
-    local a, b = blade:point(w.u[1], closed.le_v), blade:point(w.u[2], closed.le_v)
-    local span_mm = math.sqrt((b.x - a.x) ^ 2 + (b.y - a.y) ^ 2 + (b.z - a.z) ^ 2)
-    return math.max(8, math.ceil(span_mm / 0.04)), math.max(8, math.ceil((w.v[2] - w.v[1]) * perimeter / 0.25))
-  end
+  local passes = repair.finishing_passes(plan, tool)
+  local function window_samples(w) return repair.window_samples(blade, w, closed.le_v) end
   -- The default sweep (0.05 mm of the fastest cutter point): at 0.15 mm
   -- the material left read 0.26 um higher on the tip (positions missed).
   local su, sv = window_samples(region)
