@@ -28,9 +28,10 @@ double box_distance(const Vec2& p, const Vec2& lo, const Vec2& hi) {
 
 constexpr int kLeafSegments = 4;
 
-}  // namespace
-
-RevolutionDistance::RevolutionDistance(const SurfaceOfRevolution& surface, double chord_tol_mm) {
+// The meridian of `surface` as (z, r) points, doubled until the curve
+// between every two of them, measured at three points, stays within
+// chord_tol_mm of their chord.
+std::vector<Vec2> meridian_polyline(const SurfaceOfRevolution& surface, double chord_tol_mm) {
   if (!(chord_tol_mm > 0) || !std::isfinite(chord_tol_mm))
     throw ParameterError("chord_tol", "must be a positive length in mm");
   // The meridian is u along the surface at v = 0, where (x, y, z) = (r, 0, z).
@@ -38,9 +39,7 @@ RevolutionDistance::RevolutionDistance(const SurfaceOfRevolution& surface, doubl
     const Vec3 p = surface.eval(u, 0).p;
     return Vec2(p.z(), p.x());
   };
-  // Double the samples until the curve between every two of them, measured
-  // at three points, stays within the tolerance of their chord.
-  for (int n = 64;; n *= 2) {
+  for (int n = 64; n <= (1 << 20); n *= 2) {
     std::vector<Vec2> pts;
     for (int i = 0; i <= n; ++i) pts.push_back(at(static_cast<double>(i) / n));
     double worst = 0;
@@ -50,15 +49,16 @@ RevolutionDistance::RevolutionDistance(const SurfaceOfRevolution& surface, doubl
         worst = std::max(worst, segment_distance(at((i + k / 4.0) / n), pts[i], pts[i + 1], foot));
       }
     }
-    if (worst <= chord_tol_mm || n >= (1 << 20)) {
-      if (worst > chord_tol_mm)
-        throw Error("RevolutionDistance: the meridian is not within " + std::to_string(chord_tol_mm) +
-                    " mm of 2^20 chords");
-      *this = RevolutionDistance(std::move(pts), chord_tol_mm);
-      return;
-    }
+    if (worst <= chord_tol_mm) return pts;
   }
+  throw Error("RevolutionDistance: the meridian is not within " + std::to_string(chord_tol_mm) +
+              " mm of 2^20 chords");
 }
+
+}  // namespace
+
+RevolutionDistance::RevolutionDistance(const SurfaceOfRevolution& surface, double chord_tol_mm)
+    : RevolutionDistance(meridian_polyline(surface, chord_tol_mm), chord_tol_mm) {}
 
 RevolutionDistance::RevolutionDistance(std::vector<Vec2> meridian_zr, double chord_tol_mm)
     : zr_(std::move(meridian_zr)), chord_tol_mm_(chord_tol_mm) {

@@ -271,19 +271,6 @@ bool split_gouging_segments(const TrimmedSurface& ts, double u, RowSteps& st, co
   return true;
 }
 
-// Samples of the whole trimmed flank for the links' gouge guard, about
-// rq.guard_spacing_mm apart.
-UndercutOptions drum_guard_sampling(const TrimmedSurface& ts, const DrumFinishRequest& rq) {
-  UndercutOptions o = guard_sampling(ts, rq.guard_spacing_mm);
-  o.flip_normal = rq.flip_normal;
-  // Only dips below the allowance matter; deeper ones read as 20 um, still
-  // far beyond it (a shorter trace per sample).
-  o.search_below_mm = 0.02;
-  o.sweep_step_mm = 0.02;
-  o.threads = 1;
-  return o;
-}
-
 }  // namespace
 
 RowWidth row_width(const Surface& trimmed, const Tool& tool, double u, double residual_height_mm, int samples,
@@ -361,7 +348,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   // The finished flank, sampled once, for proving the cutting moves and the
   // links against it (core/sim GougeGuard).
   const auto guard_t0 = Clock::now();
-  const GougeGuard guard(ts, drum_guard_sampling(ts, rq));
+  const GougeGuard guard(ts, link_guard_sampling(ts, rq.guard_spacing_mm, rq.flip_normal));
   res.guard_spacing_mm = guard.spacing_mm();
   res.link_seconds += seconds_since(guard_t0);
   Progress per_row(&progress);

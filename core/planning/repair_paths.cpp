@@ -352,16 +352,6 @@ void validate(const RepairPathRequest& rq) {
   if (rq.across_samples < 2) throw ParameterError("across_samples", "expected >= 2");
 }
 
-// Samples of the whole design for the gouge guard, about spacing_mm apart.
-UndercutOptions repair_guard_sampling(const Surface& s, bool flip, double spacing_mm) {
-  UndercutOptions o = guard_sampling(s, spacing_mm);
-  o.flip_normal = flip;
-  o.search_below_mm = 0.02;
-  o.sweep_step_mm = 0.02;
-  o.threads = 1;
-  return o;
-}
-
 }  // namespace
 
 RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progress) {
@@ -373,7 +363,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   const double ball_r = tool.cutter().max_radius();
   const ToolBody body(tool, rq.tool_tol_mm);
   auto t0 = Clock::now();
-  const GougeGuard guard(s, repair_guard_sampling(s, rq.flip_normal, rq.guard_spacing_mm));
+  const GougeGuard guard(s, link_guard_sampling(s, rq.guard_spacing_mm, rq.flip_normal));
   res.guard_spacing_mm = guard.spacing_mm();
   const double margin = guard.between_samples_mm(ball_r);
   Planner planner{rq, body, guard, tool, ball_r, std::max(0.0, rq.steps.chord_tol_mm - margin), res, progress};

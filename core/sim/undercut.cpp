@@ -398,4 +398,13 @@ UndercutOptions guard_sampling(const Surface& s, double spacing_mm, double u0, d
   return o;
 }
 
+UndercutOptions link_guard_sampling(const Surface& s, double spacing_mm, bool flip_normal) {
+  UndercutOptions o = guard_sampling(s, spacing_mm);
+  o.flip_normal = flip_normal;
+  o.search_below_mm = 0.02;
+  o.sweep_step_mm = 0.02;
+  o.threads = 1;
+  return o;
+}
+
 }  // namespace bliskrun

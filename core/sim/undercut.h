@@ -110,6 +110,11 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
 // polylines; counts between 8 and 8000.
 UndercutOptions guard_sampling(const Surface& s, double spacing_mm, double u0 = 0, double u1 = 1, double v0 = 0,
                                double v1 = 1);
+// guard_sampling of the whole surface set up for a planner's link guard:
+// the normal flipped as given, dips traced only 20 um deep (only dips below
+// the allowance matter, and deeper ones still read as beyond it: a shorter
+// trace per sample), one thread (the planner's own threads call it).
+UndercutOptions link_guard_sampling(const Surface& s, double spacing_mm, bool flip_normal);
 
 // The design surface sampled once for many gouge queries of single motions —
 // a planner's proof that a non-cutting move (retract, traverse, approach)
