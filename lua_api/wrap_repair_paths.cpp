@@ -117,6 +117,9 @@ void push_result(lua_State* L, const RepairPathResult& r) {
   luax::set_number(L, "refused_connections", r.refused_connections);
   luax::set_number(L, "gouge_refusals", r.gouge_refusals);
   luax::set_number(L, "gouge_splits", r.gouge_splits);
+  luax::set_number(L, "tilt_fills", r.tilt_fills);
+  luax::set_number(L, "lifted", r.lifted);
+  luax::set_number(L, "max_lift", r.max_lift_mm);
   luax::set_number(L, "max_deviation", r.max_deviation_mm);
   luax::set_number(L, "guard_spacing", r.guard_spacing_mm);
   luax::set_number(L, "paths_seconds", r.paths_seconds);
@@ -223,7 +226,9 @@ int w_repair_paths(lua_State* L) {
        number_field("min_retract", "links: smallest offset tried, mm (default 0.1)", 1e-4, 1000),
        number_field("allowed_overcut", "how far a non-cutting move may dip below the design, mm (default 0.002)", 0,
                     1),
-       number_field("guard_spacing", "design samples of the gouge guard, mm apart (default 0.1)", 0.005, 10)});
+       number_field("guard_spacing", "design samples of the gouge guard, mm apart (default 0.1)", 0.005, 10),
+       number_field("max_lift", "finishing: the most a contact is lifted off the design so the ball does not cut "
+                    "the troughs beside it, mm (default 0.005; 0: refuse such contacts)", 0, 1)});
   RepairPathRequest rq;
   rq.design = surface_option(L, o, what, "design");
   o.push_raw("tool");
@@ -267,6 +272,7 @@ int w_repair_paths(lua_State* L) {
   rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
   rq.links.allowed_overcut_mm = o.number("allowed_overcut", rq.links.allowed_overcut_mm);
   rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
+  rq.max_lift_mm = o.number("max_lift", rq.max_lift_mm);
   return luax::guarded(L, [&] {
     const RepairPathResult r = plan_repair_paths(rq, context(L).progress);
     push_result(L, r);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -155,29 +156,81 @@ struct Planner {
                                      bool reversed, int layer, double offset_mm, bool finishing, double pass_u,
                                      const RowSteps& steps) {
     std::vector<RepairPass> pieces;
-    auto make_pose = [&](double t, RepairPose& rp, ToolPose& lead_pose) {
+    auto make_pose = [&](double t, RepairPose& rp, ToolPose& lead_pose, double lift_mm) {
       const Contact c = contact_of(t);
       Vec3 feed = curve.eval(t).dt;
       if (reversed) feed = -feed;
       Vec3 sp;
-      const ContactFrame f = frame_at(*rq.design, rq.flip_normal, c, feed, offset_mm, sp);
+      const ContactFrame f = frame_at(*rq.design, rq.flip_normal, c, feed, offset_mm + lift_mm, sp);
       rp.contact = sp;
       rp.normal = f.normal;
       rp.tangent = f.tangent;
       rp.u = c.u;
       rp.v = wrap01(c.v);
       rp.t = t;
+      rp.lift_mm = lift_mm;
       lead_pose = place_tool(tool, f, axis_from_lead_tilt(f, rq.tilt.lead0_rad, rq.tilt.tilt0_rad));
       return f;
     };
     if (reversed) std::reverse(ts.begin(), ts.end());
     std::vector<char> refused(ts.size(), 0);
     std::vector<std::string> why(ts.size());
-    // Finishing: the ball at each contact against the whole design
-    // surface (the undamaged blade around the region), and each cutting
-    // segment swept through it and halved where it dips below.
+    std::vector<double> lift(ts.size(), 0.0);
+    // Finishing only: the ball at a pose against the whole design surface
+    // (the undamaged blade around the region).
+    auto gouge_of = [&](const ToolPose& p) { return guard.deepest_cut(tool, p, p, pose_allowed, true, true); };
+    // The pose at t, lifted off along the normal until the ball no longer
+    // cuts the design deeper than allowed: on a trough narrower than the
+    // ball (a ripple of a lofted edge, a concave round tighter than it)
+    // the ball rides over it and leaves its depth. The least such lift
+    // is bracketed between 0 (cuts) and max_lift_mm (must clear, else the
+    // contact is refused: refusal non-empty) and found to 0.2 um: a
+    // Newton step from the cutting side — lifting the centre c by δ along
+    // n moves it from the cut point p by about δ n·(c − p)/|c − p|, so a
+    // steep wall beside the contact needs more lift than its depth —,
+    // bisection where that step leaves the bracket.
+    auto settle = [&](double t, ToolPose& pose, double& lifted_mm, std::string& refusal) {
+      RepairPose rp;
+      lifted_mm = 0;
+      refusal.clear();
+      make_pose(t, rp, pose, 0);
+      GougeGuard::Cut cut = gouge_of(pose);
+      if (cut.depth_mm >= 0) return;
+      ToolPose top;
+      const GougeGuard::Cut top_cut =
+          rq.max_lift_mm > 0 ? (make_pose(t, rp, top, rq.max_lift_mm), gouge_of(top)) : cut;
+      if (top_cut.depth_mm < 0) {
+        std::ostringstream os;
+        os << "the ball cuts " << -cut.depth_mm * 1000 << " um into the design at (" << cut.point.x() << ", "
+           << cut.point.y() << ", " << cut.point.z() << ") (allowed " << pose_allowed * 1000
+           << " um; lifted off by " << rq.max_lift_mm * 1000 << " um it still cuts " << -top_cut.depth_mm * 1000
+           << " um)";
+        refusal = os.str();
+        ++res.gouge_refusals;
+        return;
+      }
+      double lo = 0, hi = rq.max_lift_mm;
+      ToolPose lo_pose = pose, hi_pose = top;
+      for (int round = 0; round < 40 && hi - lo > 2e-4; ++round) {
+        const Vec3 to_centre = lo_pose.tip + ball_r * lo_pose.axis - cut.point;
+        const double gain = rp.normal.dot(to_centre) / std::max(1e-9, to_centre.norm());
+        double next = gain > 1e-3 ? lo + (-cut.depth_mm - pose_allowed) / gain + 1e-5 : hi;
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        ToolPose p;
+        make_pose(t, rp, p, next);
+        const GougeGuard::Cut c = gouge_of(p);
+        if (c.depth_mm < 0) {
+          lo = next, lo_pose = p, cut = c;
+        } else {
+          hi = next, hi_pose = p;
+        }
+      }
+      pose = hi_pose;
+      lifted_mm = hi;
+    };
     if (finishing) {
-      auto gouge_of = [&](const ToolPose& p) { return guard.deepest_cut(tool, p, p, pose_allowed, true, true); };
+      // Each contact settled, each cutting segment swept through the guard
+      // and halved where it dips below.
       // The measured chord deviation of the step of `steps` holding [a, b].
       auto chord_of = [&](double a, double b) {
         const double lo = std::min(a, b);
@@ -187,29 +240,22 @@ struct Planner {
       };
       std::vector<ToolPose> lp(ts.size());
       for (size_t i = 0; i < ts.size(); ++i) {
-        RepairPose rp;
-        make_pose(ts[i], rp, lp[i]);
-        const GougeGuard::Cut cut = gouge_of(lp[i]);
-        if (cut.depth_mm < 0) {
-          refused[i] = 1;
-          std::ostringstream os;
-          os << "the ball cuts " << -cut.depth_mm * 1000 << " um into the design at (" << cut.point.x() << ", "
-             << cut.point.y() << ", " << cut.point.z() << ") (allowed " << pose_allowed * 1000 << " um)";
-          why[i] = os.str();
-          ++res.gouge_refusals;
-        }
+        settle(ts[i], lp[i], lift[i], why[i]);
+        refused[i] = !why[i].empty();
       }
       for (int round = 0; round < 8; ++round) {
         std::vector<double> nt;
         std::vector<ToolPose> np;
         std::vector<char> nr;
         std::vector<std::string> nw;
+        std::vector<double> nl;
         bool split = false;
         for (size_t i = 0; i < ts.size(); ++i) {
           nt.push_back(ts[i]);
           np.push_back(lp[i]);
           nr.push_back(refused[i]);
           nw.push_back(why[i]);
+          nl.push_back(lift[i]);
           if (i + 1 == ts.size() || refused[i] || refused[i + 1]) continue;
           // Only segments whose estimate (the measured chord deviation plus
           // what the axis turn can add, R θ²/8) reaches half the tolerance
@@ -226,14 +272,15 @@ struct Planner {
           // simulation of the program, at 0.05, measures what is left.
           if (guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
             const double tm = 0.5 * (ts[i] + ts[i + 1]);
-            RepairPose rp;
             ToolPose p;
-            make_pose(tm, rp, p);
-            const GougeGuard::Cut cut = gouge_of(p);
+            double lm = 0;
+            std::string refusal;
+            settle(tm, p, lm, refusal);
             nt.push_back(tm);
             np.push_back(p);
-            nr.push_back(cut.depth_mm < 0);
-            nw.push_back(cut.depth_mm < 0 ? "the ball cuts into the design between contacts" : "");
+            nr.push_back(!refusal.empty());
+            nw.push_back(refusal.empty() ? "" : "between contacts, " + refusal);
+            nl.push_back(lm);
             ++res.gouge_splits;
             split = true;
           }
@@ -242,6 +289,7 @@ struct Planner {
         lp.swap(np);
         refused.swap(nr);
         why.swap(nw);
+        lift.swap(nl);
         if (!split) break;
       }
     }
@@ -256,11 +304,44 @@ struct Planner {
       if (!cur.poses.empty()) pieces.push_back(cur);
       cur.poses.clear();
     };
+    auto accept = [&](const RepairPose& rp) {
+      if (rp.lift_mm > 0) {
+        ++res.lifted;
+        res.max_lift_mm = std::max(res.max_lift_mm, rp.lift_mm);
+      }
+      cur.poses.push_back(rp);
+    };
+    auto cuts = [&](const ToolPose& a, const ToolPose& b) {
+      return guard.deepest_cut(tool, a, b, pose_allowed, false, false, kCutSweepMm).depth_mm < 0;
+    };
+    // Contacts between a and b (finishing) whose motions all sweep clear of
+    // the design, in order, into `out`; false where a contact is refused or
+    // `depth` halvings do not clear a motion.
+    std::function<bool(const RepairPose&, const RepairPose&, int, int, std::vector<RepairPose>&)> fill_between =
+        [&](const RepairPose& a, const RepairPose& b, int depth, int index, std::vector<RepairPose>& out) {
+          if (depth == 0) return false;
+          const double tm = 0.5 * (a.t + b.t);
+          ToolPose settled;
+          double lm = 0;
+          std::string refusal;
+          settle(tm, settled, lm, refusal);
+          if (!refusal.empty()) return false;
+          RepairPose m;
+          ToolPose lead_pose;
+          const ContactFrame f = make_pose(tm, m, lead_pose, lm);
+          const TiltOutcome o = tilt_until_clear(*rq.world, body, f, index, rq.tilt, &a.pose);
+          if (!o.accepted) return false;
+          m.pose = o.pose.pose;
+          m.tilted = o.pose.tries > 1;
+          if (cuts(a.pose, m.pose) && !fill_between(a, m, depth - 1, index, out)) return false;
+          out.push_back(m);
+          return !cuts(m.pose, b.pose) || fill_between(m, b, depth - 1, index, out);
+        };
     for (size_t i = 0; i < ts.size(); ++i) {
       progress.check();
       RepairPose rp;
       ToolPose lead_pose;
-      const ContactFrame f = make_pose(ts[i], rp, lead_pose);
+      const ContactFrame f = make_pose(ts[i], rp, lead_pose, lift[i]);
       if (refused[i]) {
         res.refusals.push_back({layer, rp.u, rp.v, rp.contact, why[i]});
         close_piece();
@@ -276,15 +357,24 @@ struct Planner {
       rp.pose = o.pose.pose;
       rp.tilted = o.pose.tries > 1;
       // A tilted axis moves the swept ball between poses a little: the
-      // segment is swept again, and where it now dips below the design the
-      // pass is split (the pieces are joined by a proved link).
-      if (finishing && prev && (rp.tilted || cur.poses.back().tilted) &&
-          guard.deepest_cut(tool, *prev, rp.pose, pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
-        close_piece();
-        res.refusals.push_back({layer, rp.u, rp.v, rp.contact,
-                                "the tilted motion from the previous contact cuts into the design: pass split"});
+      // segment is swept again, and where it now dips below the design
+      // contacts are put in between (each settled and tilted like any
+      // other, each new motion swept), halving up to four times; only
+      // where that does not clear it is the pass split (the pieces are
+      // joined by a proved link).
+      if (finishing && prev && (rp.tilted || cur.poses.back().tilted) && cuts(*prev, rp.pose)) {
+        std::vector<RepairPose> between;
+        if (fill_between(cur.poses.back(), rp, 4, static_cast<int>(i), between)) {
+          res.tilt_fills += static_cast<int>(between.size());
+          for (const RepairPose& m : between) accept(m);
+        } else {
+          close_piece();
+          res.refusals.push_back({layer, rp.u, rp.v, rp.contact,
+                                  "the tilted motion from the previous contact cuts into the design, also with "
+                                  "contacts put in between: pass split"});
+        }
       }
-      cur.poses.push_back(rp);
+      accept(rp);
     }
     close_piece();
     return pieces;
@@ -349,6 +439,7 @@ void validate(const RepairPathRequest& rq) {
   if (!(rq.arc_angle_rad > 0 && rq.arc_angle_rad <= kPi)) throw ParameterError("arc_angle", "expected (0, 180] deg");
   if (rq.arc_segments < 1 || rq.bridge_segments < 2) throw ParameterError("arc_segments", "expected >= 1 (bridges >= 2)");
   if (!(rq.guard_spacing_mm > 0)) throw ParameterError("guard_spacing", "expected > 0");
+  if (!(rq.max_lift_mm >= 0)) throw ParameterError("max_lift", "expected >= 0 mm");
   if (rq.across_samples < 2) throw ParameterError("across_samples", "expected >= 2");
 }
 
@@ -375,6 +466,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   std::reverse(offsets.begin(), offsets.end());
   offsets.push_back(0);
 
+  bool next_layer_reversed = false;  // zigzag: the next layer's first pass runs towards decreasing v
   for (size_t L = 0; L < offsets.size(); ++L) {
     const bool finishing = L + 1 == offsets.size();
     RepairLayer layer;
@@ -402,14 +494,19 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
         layer.step_over_max_mm = std::max(layer.step_over_max_mm, m);
       }
       if (!upward) std::reverse(us.begin(), us.end());
+      // The layer starts on the side of the region where the one before
+      // ended (its last pass's end): the link between layers then stays on
+      // one side of the blade instead of crossing round the edge.
+      const bool start_reversed = next_layer_reversed;
+      next_layer_reversed = !(((us.size() - 1) % 2 == 1) != start_reversed);
       for (size_t k = 0; k < us.size(); ++k) {
         const IsoUCurve iso(s, us[k]);
         const CurveSpan span(iso, rq.v0, rq.v1);
         const RowSteps st = plan_row_steps(span, so);
         const double u = us[k];
         auto contact_of = [&](double t) { return Contact{t, u, t}; };
-        std::vector<RepairPass> pieces = planner.plan_curve(span, contact_of, st.t, k % 2 == 1, static_cast<int>(L),
-                                                            layer.offset_mm, finishing, u, st);
+        std::vector<RepairPass> pieces = planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != start_reversed,
+                                                            static_cast<int>(L), layer.offset_mm, finishing, u, st);
         layer.max_deviation_mm = std::max(layer.max_deviation_mm, st.max_deviation_mm);
         for (RepairPass& p : pieces) {
           const size_t sk = upward ? k : us.size() - 2 - k;

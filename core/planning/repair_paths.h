@@ -17,7 +17,10 @@
 //    of consecutive passes a bridge (§2.1 (3)): a cubic Hermite curve from
 //    the end of one arc to the start of the next, tangent to both, the axis
 //    turned uniformly with the bridge's length. The passes alternate in
-//    direction, so every bridge lies at one end of the region.
+//    direction, so every bridge lies at one end of the region; each layer
+//    starts at the end where the layer before ended, so the link between
+//    layers stays on one side (round an edge, the other side is through
+//    the blade).
 //  - Spiral (§2.2, tip damage): the region goes once around the blade
 //    (v in [0, 1] of a surface periodic in v); the contacts of the iso-u
 //    lines u_k are moved onto the slanted line from (u_k, 0) to (u_k+1, 1)
@@ -33,6 +36,10 @@
 // clear of the world (the blade itself, the fixture), tilted until clear
 // (tilt_until_clear: λ raised through the normal to the back side, w varied
 // sideways); a contact with no clear axis is refused and splits its pass.
+// On the finishing layer a tilted axis moves the swept ball between two
+// contacts a little: where that motion dips below the design, contacts are
+// put in between (halving, up to four times, each settled and tilted like
+// any other) and the pass is split only where that does not clear it.
 // A ball has the same cutting surface whatever its axis, so the tilt does
 // not move the contact.
 //
@@ -40,8 +47,12 @@
 // against the design surface (core/sim GougeGuard over the whole surface,
 // so the undamaged blade next to the region is protected) and refused
 // where the ball would cut below it by more than the chord tolerance (a
-// region narrower than the ball); every cutting segment is swept through
-// the guard and halved where it dips deeper than the chord tolerance. Every
+// region narrower than the ball) it is first lifted off along the normal
+// until it no longer does — it rides over a trough narrower than itself,
+// as a gouge-avoiding CAM system lifts a tool, and leaves the trough's
+// depth — and refused only where that lift would exceed max_lift_mm;
+// every cutting segment is swept through the guard and halved where it
+// dips deeper than the chord tolerance (the new contact lifted alike). Every
 // arc, bridge and link motion is proved against the world (whole tool,
 // holder included) and the guard (allowed overcut); a bridge that does not
 // prove is replaced by the shared link (plan_link between the arcs' ends,
@@ -99,6 +110,10 @@ struct RepairPathRequest {
   int bridge_segments = 12;                 // straight moves per bridge
   LinkOptions links;                        // between layers, and where a bridge does not prove
   double guard_spacing_mm = 0.1;            // design-surface samples of the gouge guard
+  // Finishing: the most a contact is lifted off the design to keep the
+  // ball from cutting the troughs beside it (0: refuse instead). A lifted
+  // contact leaves up to the lift on top of the scallop there.
+  double max_lift_mm = 0.005;
   int across_samples = 24;                  // points per pass where the curvature across is taken
   double tool_tol_mm = 1e-3;                // ToolBody meshing tolerance
 };
@@ -109,6 +124,7 @@ struct RepairPose {
   double u = 0, v = 0;     // design parameters of the contact (v in [0, 1))
   double t = 0;            // parameter along the pass (spiral: turns)
   bool tilted = false;     // the lead axis was not clear: tilted
+  double lift_mm = 0;      // finishing: lifted off the design this much to clear the troughs beside it
 };
 
 struct RepairRefusal {
@@ -169,13 +185,16 @@ struct RepairPathResult {
   int bridges = 0, links = 0, refused_connections = 0;
   int gouge_refusals = 0;        // finishing contacts where the ball cut into the design
   int gouge_splits = 0;          // finishing segments halved because the swept ball dipped below
+  int tilt_fills = 0;            // finishing contacts put between two whose tilted motion dipped below
+  int lifted = 0;                // finishing contacts lifted off the design (max_lift_mm)
+  double max_lift_mm = 0;        // the largest of those lifts
   double max_deviation_mm = 0;   // finishing layer
   double guard_spacing_mm = 0;
   double paths_seconds = 0, checks_seconds = 0, connect_seconds = 0;
 };
 
 // Throws ParameterError for a missing design/tool/world, a tool that is not
-// a ball-end mill, an empty or out-of-range region, non-positive scallop,
+// a ball-end mill, an empty or out-of-range region, a negative max_lift, non-positive scallop,
 // layer or arc radius, stock below 0 or deposit below stock, and bad link
 // options.
 RepairPathResult plan_repair_paths(const RepairPathRequest& request, Progress& progress = Progress::none());

@@ -141,6 +141,9 @@ if args.paths ~= false and not region.empty then
   for _, r in ipairs(plan.refusals) do
     bliskrun.log(string.format("  layer %d: refused at u = %.4f, v = %.4f: %s", r.layer, r.u, r.v, r.reason))
   end
+  for _, why in ipairs(plan.refused) do bliskrun.log("  refused connection: " .. why) end
+  bliskrun.log(string.format("  planned in %.1f s (passes %.1f s, connections %.1f s)",
+                             plan.paths_seconds + plan.connect_seconds, plan.paths_seconds, plan.connect_seconds))
   -- The band of undamaged blade next to the region: 1 mm of span below it
   -- (and beside it, for an edge).
   local du = 1 / (info.h_hi - info.h_lo)
@@ -157,13 +160,16 @@ if args.paths ~= false and not region.empty then
   paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
            moves = #plan.moves, bridges = plan.bridges, links = plan.links, refusals = #plan.refusals,
            refused_connections = plan.refused_connections, tilted = plan.tilted,
+           lifted = plan.lifted, max_lift_mm = plan.max_lift,
            chord_deviation_max_mm = plan.max_deviation,
            simulation = {untouched = sim.untouched, residual_max_mm = sim.residual_max, overcut_mm = sim.overcut,
                          band_overcut_mm = band_sim.overcut, allowed_undercut_mm = scallop + chord_tol}}
-  bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused; finishing simulated: "
+  bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused, %d finishing contacts "
+                             .. "lifted over troughs narrower than the ball (up to %.2f um); finishing simulated: "
                              .. "material left <= %.2f um (allowed %.1f), overcut %.2f um, %.2f um in the band",
                              plan.pattern, #plan.layers, plan.passes, plan.poses,
-                             #plan.refusals + plan.refused_connections, 1e3 * (sim.residual_max or 0),
+                             #plan.refusals + plan.refused_connections, plan.lifted, 1e3 * plan.max_lift,
+                             1e3 * (sim.residual_max or 0),
                              1e3 * (scallop + chord_tol), -1e3 * sim.overcut, -1e3 * band_sim.overcut))
   assert(sim.untouched == 0 and sim.residual_max <= scallop + chord_tol + 1e-4,
          string.format("repair: material left up to %.2f um on the rebuilt blade", 1e3 * (sim.residual_max or -1)))

@@ -280,6 +280,39 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
     EXPECT_LE((poses[i + 1].contact - poses[i].contact).norm(), rq.steps.max_step_mm + 1e-9);
 }
 
+TEST(RepairPaths, EachZigzagLayerStartsOnTheSideWhereTheLayerBeforeEnded) {
+  // Roughing layers and the finish over a patch of a flat: a layer whose
+  // pass count is odd ends on the far side (v1); the next layer must start
+  // there, or the link between them crosses the whole region (round a
+  // blade's edge: through the blade).
+  const Tool tool = ball_mill(3);
+  const CollisionWorld world = far_world();
+  auto s = std::make_shared<Plane>(20.0, 60.0);
+  RepairPathRequest rq = finishing_only(s, tool, world);
+  rq.u0 = 0.4;
+  rq.u1 = 0.5;
+  rq.v0 = 0.45;
+  rq.v1 = 0.55;
+  rq.deposit_mm = 1.0;
+  rq.layer_mm = 0.4;
+  rq.stock_mm = 0.2;
+  const RepairPathResult r = plan_repair_paths(rq);
+  ASSERT_GE(r.layers.size(), 3u);
+  int odd_layers = 0;
+  for (size_t L = 0; L + 1 < r.layers.size(); ++L) {
+    const RepairLayer& a = r.layers[L];
+    const RepairLayer& b = r.layers[L + 1];
+    odd_layers += a.passes % 2;
+    const RepairPose& end = r.passes[a.first_pass + a.passes - 1].poses.back();
+    const RepairPose& start = r.passes[b.first_pass].poses.front();
+    EXPECT_NEAR(end.v, start.v, 1e-9) << "layer " << L << " ends at v = " << end.v << ", the next starts at v = "
+                                      << start.v;
+    EXPECT_NEAR(end.u, start.u, 1e-9);
+  }
+  EXPECT_GT(odd_layers, 0) << "no layer with an odd pass count: the test would pass with any start";
+  EXPECT_EQ(r.refused_connections, 0);
+}
+
 TEST(RepairPaths, ArcLeadOutsAreTangentToThePassAndBridgesJoinThem) {
   const Tool tool = ball_mill(3);
   const CollisionWorld world = far_world();
@@ -336,6 +369,7 @@ TEST(RepairPaths, ContactsWhereTheBallWouldGougeTheRoundNextToTheRegionAreRefuse
   RepairPathRequest rq = finishing_only(s, tool, world);
   rq.scallop_mm = 0.01;
   rq.guard_spacing_mm = 0.05;
+  rq.max_lift_mm = 0;  // refuse, never lift (the lift has its own test)
   const RepairPathResult r = plan_repair_paths(rq);
   // Brute force: the ball centre at contact + R n against the profile.
   auto penetration = [&](double u) {
@@ -363,6 +397,71 @@ TEST(RepairPaths, ContactsWhereTheBallWouldGougeTheRoundNextToTheRegionAreRefuse
   EXPECT_GT(accepted, 0);
   EXPECT_GT(refused, 0);
   EXPECT_EQ(r.gouge_refusals, refused);
+}
+
+TEST(RepairPaths, ABallBesideATroughNarrowerThanItIsLiftedByWhatBruteForceNeedsAndRefusedBeyondMaxLift) {
+  // The plate and round of the test above: approaching the round (radius 2)
+  // the ball (radius 3) touching the plate cuts the round's wall, more the
+  // nearer it gets. With max_lift the planner lifts such a contact off the
+  // plate until the ball cuts no deeper than allowed, and refuses it where
+  // that takes more than max_lift.
+  const Tool tool = ball_mill(3);
+  const CollisionWorld world = far_world();
+  const double R = 3, rf = 2, x0 = -6, x1 = 1.6;
+  auto s = std::make_shared<PlateWithRound>(x0, x1, rf, 6.0);
+  RepairPathRequest rq = finishing_only(s, tool, world);
+  rq.scallop_mm = 0.001;  // passes 0.15 mm apart: several in the band that lifts
+  rq.guard_spacing_mm = 0.05;
+  rq.max_lift_mm = 0.3;
+  const RepairPathResult r = plan_repair_paths(rq);
+  // Brute force over the profile: penetration of a ball centred at c.
+  auto penetration = [&](const Vec3& c) {
+    double least = 1e300;
+    for (int i = 0; i <= 40000; ++i) {
+      const double x = x0 + (x1 - x0) * i / 40000.0;
+      least = std::min(least, std::hypot(x - c.x(), s->z(x) - c.z()) - R);
+    }
+    return least;
+  };
+  // What the planner allows a pose: the chord tolerance less what the
+  // guard's samples can miss (spacing^2 / 8R).
+  const double allowed = rq.steps.chord_tol_mm - r.guard_spacing_mm * r.guard_spacing_mm / (8 * R);
+  // The lift along the normal (up, on the plate) a contact at u needs: by
+  // bisection on the brute-force penetration.
+  auto needed_lift = [&](double u) {
+    const Vec3 c0 = s->point(u, 0.5) + R * Vec3::UnitZ();
+    if (penetration(c0) >= -allowed) return 0.0;
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 40; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (penetration(c0 + mid * Vec3::UnitZ()) >= -allowed ? hi : lo) = mid;
+    }
+    return hi;
+  };
+  int lifted_passes = 0, plain_passes = 0;
+  double largest = 0;
+  for (const RepairPass& p : r.passes) {
+    if (s->point(p.u, 0.5).x() >= 0) continue;  // on the round itself the normal is not up
+    const double need = needed_lift(p.u);
+    for (const RepairPose& q : p.poses) {
+      EXPECT_LE(q.lift_mm, rq.max_lift_mm);
+      EXPECT_NEAR(q.lift_mm, need, 1e-3 * 0.5) << "u = " << p.u;
+      // The pose as emitted, not as planned: its ball centre is clear.
+      EXPECT_GE(penetration(q.pose.tip + R * q.pose.axis), -rq.steps.chord_tol_mm) << "u = " << p.u;
+      largest = std::max(largest, q.lift_mm);
+    }
+    (need > 0 ? lifted_passes : plain_passes) += 1;
+  }
+  EXPECT_GE(lifted_passes, 3);
+  EXPECT_GT(plain_passes, 10);
+  EXPECT_GT(r.lifted, 0);
+  EXPECT_DOUBLE_EQ(r.max_lift_mm, largest);
+  // Refused only where the lift needed passes max_lift.
+  ASSERT_GT(r.refusals.size(), 0u);
+  for (const RepairRefusal& f : r.refusals) {
+    EXPECT_NE(f.reason.find("it still cuts"), std::string::npos) << f.reason;
+    if (s->point(f.u, 0.5).x() < 0) EXPECT_GT(needed_lift(f.u), rq.max_lift_mm - 1e-3 * 0.5) << "u = " << f.u;
+  }
 }
 
 TEST(RepairPaths, TheAxisTiltsAwayWhereTheHolderWouldHitAWall) {
