@@ -99,8 +99,11 @@ int w_rebuild_sections(lua_State* L) {
              "curvature samples per section for the start alignment (default 2048)", {}},
        Field{"axis", Kind::Vec3, false, std::nullopt, std::nullopt, "stacking direction, first section to last (default {0, 0, 1})", {}},
        number_field("max_step", "longest step between neighbouring points of a section, mm (default: from the spacing)", 0, 1e4),
+       Field{"threads", Kind::Integer, false, 1, 256,
+             "sections processed on this many threads (default: the run's --threads); the result does not depend on it", {}},
        number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4)});
   RebuildOptions ro;
+  ro.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   ro.smoothing_mm = o.number("smoothing", ro.smoothing_mm);
   ro.loft.samples = static_cast<int>(o.integer("samples", ro.loft.samples));
   ro.align_samples = static_cast<int>(o.integer("align_samples", ro.align_samples));
@@ -341,6 +344,8 @@ int w_rebuild_damaged(lua_State* L) {
        Field{"align_samples", Kind::Integer, false, 16, 1 << 20, "curvature samples for the start alignment (default 2048)", {}},
        Field{"design_samples", Kind::Integer, false, 16, 1 << 20, "points of a design plane section for the ICP (default 1024)", {}},
        number_field("max_step", "longest step between neighbouring points of a section, mm (default: from the spacing)", 0, 1e4),
+       Field{"threads", Kind::Integer, false, 1, 256,
+             "sections processed on this many threads (default: the run's --threads); the result does not depend on it", {}},
        number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4)});
   o.push_raw("measurement");
   const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
@@ -349,6 +354,7 @@ int w_rebuild_damaged(lua_State* L) {
   const auto b = luax::check<DamagedBladeHandle>(L, -1).blade;
   lua_pop(L, 1);
   DamagedRebuildOptions ro;
+  ro.rebuild.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   ro.rebuild.smoothing_mm = o.number("smoothing", ro.rebuild.smoothing_mm);
   ro.rebuild.loft.samples = static_cast<int>(o.integer("samples", ro.rebuild.loft.samples));
   ro.rebuild.align_samples = static_cast<int>(o.integer("align_samples", ro.rebuild.align_samples));

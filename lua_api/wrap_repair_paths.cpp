@@ -228,7 +228,9 @@ int w_repair_paths(lua_State* L) {
                     1),
        number_field("guard_spacing", "design samples of the gouge guard, mm apart (default 0.1)", 0.005, 10),
        number_field("max_lift", "finishing: the most a contact is lifted off the design so the ball does not cut "
-                    "the troughs beside it, mm (default 0.005; 0: refuse such contacts)", 0, 1)});
+                    "the troughs beside it, mm (default 0.005; 0: refuse such contacts)", 0, 1),
+       Field{"threads", Kind::Integer, false, 1, 256,
+             "layers planned on this many threads (default: the run's --threads); the plan does not depend on it", {}}});
   RepairPathRequest rq;
   rq.design = surface_option(L, o, what, "design");
   o.push_raw("tool");
@@ -273,6 +275,7 @@ int w_repair_paths(lua_State* L) {
   rq.links.allowed_overcut_mm = o.number("allowed_overcut", rq.links.allowed_overcut_mm);
   rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
   rq.max_lift_mm = o.number("max_lift", rq.max_lift_mm);
+  rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
     const RepairPathResult r = plan_repair_paths(rq, context(L).progress);
     push_result(L, r);

@@ -57,4 +57,34 @@ void run_parallel(size_t n, int threads, Progress& progress, const std::string& 
   progress.end();
 }
 
+// Calls f(i) for i in [0, n) on up to `threads` threads, each taking a
+// contiguous run of indices (at least 8 of them, so small loops stay on
+// the caller's thread). f writes only what belongs to index i. Where f
+// throws, the exception of the lowest such index is rethrown once every
+// thread has stopped — the one a plain loop would have thrown. No
+// progress: for loops inside a job that reports its own.
+template <class F>
+void parallel_for_index(size_t n, int threads, F&& f) {
+  const int workers = std::max(1, std::min<int>(threads, static_cast<int>(n / 8)));
+  if (workers == 1) {
+    for (size_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+  std::vector<std::exception_ptr> failure(workers);
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) {
+    pool.emplace_back([&, w] {
+      const size_t lo = n * w / workers, hi = n * (w + 1) / workers;
+      try {
+        for (size_t i = lo; i < hi; ++i) f(i);
+      } catch (...) {
+        failure[w] = std::current_exception();
+      }
+    });
+  }
+  for (auto& t : pool) t.join();
+  for (const std::exception_ptr& e : failure)
+    if (e) std::rethrow_exception(e);
+}
+
 }  // namespace bliskrun

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/geometry/differential.h"
 #include "core/planning/belt_paths.h"
 
@@ -206,7 +207,6 @@ struct Planner {
            << " um; lifted off by " << rq.max_lift_mm * 1000 << " um it still cuts " << -top_cut.depth_mm * 1000
            << " um)";
         refusal = os.str();
-        ++res.gouge_refusals;
         return;
       }
       double lo = 0, hi = rq.max_lift_mm;
@@ -238,51 +238,65 @@ struct Planner {
         const size_t k = it == steps.t.begin() ? 0 : static_cast<size_t>(it - steps.t.begin()) - 1;
         return k < steps.deviation_mm.size() ? steps.deviation_mm[k] : steps.max_deviation_mm;
       };
+      // Contacts and segments are independent of each other here: settled
+      // and swept on the request's threads, each into its own slot.
       std::vector<ToolPose> lp(ts.size());
+      parallel_for_index(ts.size(), rq.threads, [&](size_t i) { settle(ts[i], lp[i], lift[i], why[i]); });
       for (size_t i = 0; i < ts.size(); ++i) {
-        settle(ts[i], lp[i], lift[i], why[i]);
         refused[i] = !why[i].empty();
+        res.gouge_refusals += refused[i];
       }
       for (int round = 0; round < 8; ++round) {
+        // Only segments whose estimate (the measured chord deviation plus
+        // what the axis turn can add, R θ²/8) reaches half the tolerance
+        // are swept: on the flanks the axis hardly turns and the chord is
+        // far below it; around an edge both are large.
+        // The sweep step bounds the motion of the fastest tool point, the
+        // flutes' top when the axis turns round an edge; near the design
+        // only the ball cuts, whose points move about a third of that.
+        // 0.15 mm (three times faster than 0.05) can miss a few tenths of
+        // a um between positions (the recipe's simulation read 0.26 um
+        // more material left at 0.15 than at 0.05); the independent
+        // simulation of the program, at 0.05, measures what is left.
+        std::vector<char> dips(ts.size(), 0);
+        parallel_for_index(ts.size(), rq.threads, [&](size_t i) {
+          if (i + 1 == ts.size() || refused[i] || refused[i + 1]) return;
+          const double theta = axis_angle_rad(lp[i].axis, lp[i + 1].axis);
+          if (chord_of(ts[i], ts[i + 1]) + ball_r * theta * theta / 8 < 0.5 * rq.steps.chord_tol_mm) return;
+          dips[i] = guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0;
+        });
+        std::vector<size_t> at;
+        for (size_t i = 0; i < ts.size(); ++i)
+          if (dips[i]) at.push_back(i);
+        if (at.empty()) break;
+        // A contact halfway along each segment that dips below.
+        std::vector<double> mt(at.size()), ml(at.size());
+        std::vector<ToolPose> mp(at.size());
+        std::vector<std::string> mw(at.size());
+        parallel_for_index(at.size(), rq.threads, [&](size_t k) {
+          mt[k] = 0.5 * (ts[at[k]] + ts[at[k] + 1]);
+          settle(mt[k], mp[k], ml[k], mw[k]);
+        });
         std::vector<double> nt;
         std::vector<ToolPose> np;
         std::vector<char> nr;
         std::vector<std::string> nw;
         std::vector<double> nl;
-        bool split = false;
-        for (size_t i = 0; i < ts.size(); ++i) {
+        for (size_t i = 0, k = 0; i < ts.size(); ++i) {
           nt.push_back(ts[i]);
           np.push_back(lp[i]);
           nr.push_back(refused[i]);
           nw.push_back(why[i]);
           nl.push_back(lift[i]);
-          if (i + 1 == ts.size() || refused[i] || refused[i + 1]) continue;
-          // Only segments whose estimate (the measured chord deviation plus
-          // what the axis turn can add, R θ²/8) reaches half the tolerance
-          // are swept: on the flanks the axis hardly turns and the chord is
-          // far below it; around an edge both are large.
-          const double theta = axis_angle_rad(lp[i].axis, lp[i + 1].axis);
-          if (chord_of(ts[i], ts[i + 1]) + ball_r * theta * theta / 8 < 0.5 * rq.steps.chord_tol_mm) continue;
-          // The sweep step bounds the motion of the fastest tool point, the
-          // flutes' top when the axis turns round an edge; near the design
-          // only the ball cuts, whose points move about a third of that.
-          // 0.15 mm (three times faster than 0.05) can miss a few tenths of
-          // a um between positions (the recipe's simulation read 0.26 um
-          // more material left at 0.15 than at 0.05); the independent
-          // simulation of the program, at 0.05, measures what is left.
-          if (guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0) {
-            const double tm = 0.5 * (ts[i] + ts[i + 1]);
-            ToolPose p;
-            double lm = 0;
-            std::string refusal;
-            settle(tm, p, lm, refusal);
-            nt.push_back(tm);
-            np.push_back(p);
-            nr.push_back(!refusal.empty());
-            nw.push_back(refusal.empty() ? "" : "between contacts, " + refusal);
-            nl.push_back(lm);
+          if (k < at.size() && at[k] == i) {
+            nt.push_back(mt[k]);
+            np.push_back(mp[k]);
+            nr.push_back(!mw[k].empty());
+            nw.push_back(mw[k].empty() ? "" : "between contacts, " + mw[k]);
+            nl.push_back(ml[k]);
+            res.gouge_refusals += !mw[k].empty();
             ++res.gouge_splits;
-            split = true;
+            ++k;
           }
         }
         ts.swap(nt);
@@ -290,7 +304,6 @@ struct Planner {
         refused.swap(nr);
         why.swap(nw);
         lift.swap(nl);
-        if (!split) break;
       }
     }
     // The tool axis: lead, tilted until the shank and holder are clear of
@@ -441,6 +454,7 @@ void validate(const RepairPathRequest& rq) {
   if (!(rq.guard_spacing_mm > 0)) throw ParameterError("guard_spacing", "expected > 0");
   if (!(rq.max_lift_mm >= 0)) throw ParameterError("max_lift", "expected >= 0 mm");
   if (rq.across_samples < 2) throw ParameterError("across_samples", "expected >= 2");
+  if (rq.threads < 1) throw ParameterError("threads", "expected >= 1");
 }
 
 }  // namespace
@@ -457,7 +471,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   const GougeGuard guard(s, link_guard_sampling(s, rq.guard_spacing_mm, rq.flip_normal));
   res.guard_spacing_mm = guard.spacing_mm();
   const double margin = guard.between_samples_mm(ball_r);
-  Planner planner{rq, body, guard, tool, ball_r, std::max(0.0, rq.steps.chord_tol_mm - margin), res, progress};
+  const double pose_allowed = std::max(0.0, rq.steps.chord_tol_mm - margin);
 
   // Offsets: stock + k layer below the deposit, outside first; then 0.
   std::vector<double> offsets;
@@ -466,52 +480,72 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   std::reverse(offsets.begin(), offsets.end());
   offsets.push_back(0);
 
-  bool next_layer_reversed = false;  // zigzag: the next layer's first pass runs towards decreasing v
-  for (size_t L = 0; L < offsets.size(); ++L) {
+  // The iso-u lines of a zigzag layer of scallop h (u0 upwards) and the
+  // step-over to the next of each.
+  auto zigzag_lines = [&](double h, std::vector<double>& us, std::vector<double>& step_mm) {
+    us.assign(1, rq.u0);
+    step_mm.clear();
+    while (us.back() < rq.u1 - 1e-12) {
+      const AcrossStep a = across_step(s, rq.flip_normal, us.back(), rq.v0, rq.v1, h, ball_r, rq.across_samples);
+      step_mm.push_back(a.step_mm);
+      us.push_back(std::min(rq.u1, us.back() + a.du));
+    }
+  };
+  auto scallop_of = [&](size_t L) { return L + 1 == offsets.size() ? rq.scallop_mm : rq.rough_scallop_mm; };
+  // Zigzag: each layer starts on the side of the region where the one
+  // before ended (its last pass's end), so the link between layers stays on
+  // one side of the blade instead of crossing round the edge. That depends
+  // only on the pass counts before it, so the layers themselves can be
+  // planned apart.
+  std::vector<char> start_reversed(offsets.size(), 0);
+  if (rq.pattern == RepairPattern::Zigzag) {
+    bool next = false;
+    std::vector<double> us, step_mm;
+    for (size_t L = 0; L < offsets.size(); ++L) {
+      zigzag_lines(scallop_of(L), us, step_mm);
+      start_reversed[L] = next;
+      next = !(((us.size() - 1) % 2 == 1) != next);
+    }
+  }
+
+  // One layer into its own result (passes, refusals, counts): the layers
+  // are independent (every pose and motion is checked against the design
+  // and the world, never against another layer), so they are planned on
+  // the request's threads and joined in order; the plan does not depend on
+  // the thread count.
+  auto plan_layer = [&](size_t L, Planner& planner, RepairPathResult& part) {
     const bool finishing = L + 1 == offsets.size();
     RepairLayer layer;
     layer.offset_mm = offsets[L];
     layer.finishing = finishing;
-    layer.scallop_mm = finishing ? rq.scallop_mm : rq.rough_scallop_mm;
+    layer.scallop_mm = scallop_of(L);
     StepOptions so = rq.steps;
     if (!finishing) so.chord_tol_mm = rq.rough_chord_tol_mm;
     layer.chord_tol_mm = so.chord_tol_mm;
-    layer.first_pass = static_cast<int>(res.passes.size());
     layer.step_over_min_mm = 1e300;
     const bool upward = L % 2 == 0;  // layers alternate: shorter links
-    const int layer_refusals0 = static_cast<int>(res.refusals.size());
     if (rq.pattern == RepairPattern::Zigzag) {
-      std::vector<double> us{rq.u0};
-      std::vector<double> step_mm;
-      while (us.back() < rq.u1 - 1e-12) {
-        const AcrossStep a =
-            across_step(s, rq.flip_normal, us.back(), rq.v0, rq.v1, layer.scallop_mm, ball_r, rq.across_samples);
-        step_mm.push_back(a.step_mm);
-        us.push_back(std::min(rq.u1, us.back() + a.du));
-      }
+      std::vector<double> us, step_mm;
+      zigzag_lines(layer.scallop_mm, us, step_mm);
       for (double m : step_mm) {
         layer.step_over_min_mm = std::min(layer.step_over_min_mm, m);
         layer.step_over_max_mm = std::max(layer.step_over_max_mm, m);
       }
       if (!upward) std::reverse(us.begin(), us.end());
-      // The layer starts on the side of the region where the one before
-      // ended (its last pass's end): the link between layers then stays on
-      // one side of the blade instead of crossing round the edge.
-      const bool start_reversed = next_layer_reversed;
-      next_layer_reversed = !(((us.size() - 1) % 2 == 1) != start_reversed);
       for (size_t k = 0; k < us.size(); ++k) {
         const IsoUCurve iso(s, us[k]);
         const CurveSpan span(iso, rq.v0, rq.v1);
         const RowSteps st = plan_row_steps(span, so);
         const double u = us[k];
         auto contact_of = [&](double t) { return Contact{t, u, t}; };
-        std::vector<RepairPass> pieces = planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != start_reversed,
-                                                            static_cast<int>(L), layer.offset_mm, finishing, u, st);
+        std::vector<RepairPass> pieces =
+            planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != (start_reversed[L] != 0),
+                               static_cast<int>(L), layer.offset_mm, finishing, u, st);
         layer.max_deviation_mm = std::max(layer.max_deviation_mm, st.max_deviation_mm);
         for (RepairPass& p : pieces) {
           const size_t sk = upward ? k : us.size() - 2 - k;
           p.step_over_mm = k + 1 < us.size() && sk < step_mm.size() ? step_mm[sk] : 0;
-          res.passes.push_back(std::move(p));
+          part.passes.push_back(std::move(p));
         }
       }
     } else {
@@ -536,16 +570,38 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
       std::vector<RepairPass> pieces = planner.plan_curve(spiral, contact_of, st.t, !upward, static_cast<int>(L),
                                                           layer.offset_mm, finishing, rq.u0, st);
       layer.max_deviation_mm = st.max_deviation_mm;
-      for (RepairPass& p : pieces) res.passes.push_back(std::move(p));
+      for (RepairPass& p : pieces) part.passes.push_back(std::move(p));
     }
     if (layer.step_over_min_mm > 1e299) layer.step_over_min_mm = 0;
-    layer.passes = static_cast<int>(res.passes.size()) - layer.first_pass;
-    for (int p = layer.first_pass; p < layer.first_pass + layer.passes; ++p) {
-      layer.poses += static_cast<int>(res.passes[p].poses.size());
-      for (const RepairPose& rp : res.passes[p].poses) layer.tilted += rp.tilted;
+    layer.passes = static_cast<int>(part.passes.size());
+    for (const RepairPass& p : part.passes) {
+      layer.poses += static_cast<int>(p.poses.size());
+      for (const RepairPose& rp : p.poses) layer.tilted += rp.tilted;
     }
-    layer.refusals = static_cast<int>(res.refusals.size()) - layer_refusals0;
-    if (finishing) res.max_deviation_mm = layer.max_deviation_mm;
+    layer.refusals = static_cast<int>(part.refusals.size());
+    return layer;
+  };
+  std::vector<RepairPathResult> parts(offsets.size());
+  std::vector<RepairLayer> layers(offsets.size());
+  // The finishing layer first: it costs the most (the gouge guard, the
+  // finer steps), and started last it would run alone at the end.
+  run_parallel(offsets.size(), rq.threads, progress, "repair layers", [&](size_t k, Progress& own) {
+    const size_t L = offsets.size() - 1 - k;
+    Planner planner{rq, body, guard, tool, ball_r, pose_allowed, parts[L], own};
+    layers[L] = plan_layer(L, planner, parts[L]);
+  });
+  for (size_t L = 0; L < offsets.size(); ++L) {
+    RepairPathResult& part = parts[L];
+    RepairLayer& layer = layers[L];
+    layer.first_pass = static_cast<int>(res.passes.size());
+    for (RepairPass& p : part.passes) res.passes.push_back(std::move(p));
+    res.refusals.insert(res.refusals.end(), part.refusals.begin(), part.refusals.end());
+    res.gouge_refusals += part.gouge_refusals;
+    res.gouge_splits += part.gouge_splits;
+    res.tilt_fills += part.tilt_fills;
+    res.lifted += part.lifted;
+    res.max_lift_mm = std::max(res.max_lift_mm, part.max_lift_mm);
+    if (layer.finishing) res.max_deviation_mm = layer.max_deviation_mm;
     res.layers.push_back(layer);
   }
   res.paths_seconds = seconds_since(t0);

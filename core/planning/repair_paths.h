@@ -116,6 +116,7 @@ struct RepairPathRequest {
   double max_lift_mm = 0.005;
   int across_samples = 24;                  // points per pass where the curvature across is taken
   double tool_tol_mm = 1e-3;                // ToolBody meshing tolerance
+  int threads = 1;                          // layers planned apart; the plan does not depend on it
 };
 
 struct RepairPose {

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/common/progress.h"
 #include "core/geometry/point_index.h"
 #include "core/repair/section_curve.h"
@@ -142,7 +143,9 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     DamagedSection report;
   };
   std::vector<Work> work(n);
-  for (int k = 0; k < n; ++k) {
+  // Each section on its own (o.rebuild.threads, one slot each; an error is
+  // the lowest section's, as a plain loop would give).
+  parallel_for_index(n, o.rebuild.threads, [&](size_t k) {
     cancellation_point();
     const MeasuredSection& ms = measurement.sections[k];
     Work& w = work[k];
@@ -172,7 +175,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     w.report.rejected = static_cast<int>(w.ordered.rejected.size());
     w.report.gaps = static_cast<int>(w.ordered.gaps.size());
     for (const SectionGap& g : w.ordered.gaps) w.report.gap_mm += g.length_mm;
-  }
+  });
   std::sort(work.begin(), work.end(), [](const Work& a, const Work& b) { return a.h < b.h; });
   out.top_measured_mm = work.back().h;
   std::vector<double> steps;
@@ -282,14 +285,14 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
   std::vector<std::vector<Vec3>> loops;
   for (const Work& w : work) loops.push_back(w.loop);
   const std::vector<OrientedSection> oriented = orient_sections(loops, frame.axis);
-  std::vector<ClosedCurve> curves;
-  for (size_t k = 0; k < work.size(); ++k) {
+  std::vector<ClosedCurve> curves(work.size(), ClosedCurve());
+  parallel_for_index(work.size(), o.rebuild.threads, [&](size_t k) {
     cancellation_point();
     const SmoothedSection s = smooth_section(oriented[k].loop, o.rebuild.smoothing_mm);
     work[k].report.smoothing_shift_mm = s.rms_shift_mm;
-    curves.push_back(s.curve);
-  }
-  const AlignedSections aligned = align_section_starts(curves, o.rebuild.align_samples);
+    curves[k] = s.curve;
+  });
+  const AlignedSections aligned = align_section_starts(curves, o.rebuild.align_samples, o.rebuild.threads);
   out.loft = loft_sections(aligned.curves, o.rebuild.loft);
   std::vector<Vec3> kept;
   for (size_t k = 0; k < work.size(); ++k) {
@@ -297,7 +300,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     kept.insert(kept.end(), work[k].kept.begin(), work[k].kept.end());
     out.sections.push_back(work[k].report);
   }
-  out.deviation = loft_deviation(out.loft, kept, &out.point_deviations);
+  out.deviation = loft_deviation(out.loft, kept, &out.point_deviations, o.rebuild.threads);
   return out;
 }
 

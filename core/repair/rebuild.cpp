@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/common/progress.h"
 #include "core/repair/section_curve.h"
 
@@ -19,7 +20,9 @@ RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const
   RebuiltBlade out;
   out.sections.resize(n);
   std::vector<std::vector<Vec3>> loops(n);
-  for (int k = 0; k < n; ++k) {
+  // Sections are independent until they are oriented together: ordered on
+  // o.threads, each into its own slot (an error is the lowest section's).
+  parallel_for_index(n, o.threads, [&](size_t k) {
     cancellation_point();
     const std::string what = "section " + std::to_string(k + 1);
     OrderedSection s;
@@ -41,24 +44,24 @@ RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const
     r.chains = s.chains;
     r.spacing_mm = s.spacing_mm;
     loops[k] = pick(sections[k], s.order);
-  }
+  });
   const std::vector<OrientedSection> oriented = orient_sections(loops, o.axis);
-  std::vector<ClosedCurve> curves;
-  std::vector<Vec3> kept;
-  for (int k = 0; k < n; ++k) {
+  std::vector<ClosedCurve> curves(n, ClosedCurve());
+  parallel_for_index(n, o.threads, [&](size_t k) {
     cancellation_point();
     const SmoothedSection s = smooth_section(oriented[k].loop, o.smoothing_mm);
     out.sections[k].smoothing_shift_mm = s.rms_shift_mm;
-    curves.push_back(s.curve);
-    kept.insert(kept.end(), oriented[k].loop.begin(), oriented[k].loop.end());
-  }
-  const AlignedSections aligned = align_section_starts(curves, o.align_samples);
+    curves[k] = s.curve;
+  });
+  std::vector<Vec3> kept;
+  for (int k = 0; k < n; ++k) kept.insert(kept.end(), oriented[k].loop.begin(), oriented[k].loop.end());
+  const AlignedSections aligned = align_section_starts(curves, o.align_samples, o.threads);
   for (int k = 0; k < n; ++k) {
     out.sections[k].start_shift_mm = aligned.alignments[k].shift_mm;
     out.sections[k].start_correlation = aligned.alignments[k].correlation;
   }
   out.loft = loft_sections(aligned.curves, o.loft);
-  out.deviation = loft_deviation(out.loft, kept);
+  out.deviation = loft_deviation(out.loft, kept, nullptr, o.threads);
   return out;
 }
 

@@ -30,6 +30,9 @@ struct RebuildOptions {
   int align_samples = 2048;  // curvature samples per section for the alignment
   Vec3 axis = Vec3::UnitZ();  // stacking direction: sections given from the first along it to the last
   SectionLoftOptions loft;
+  // Sections ordered and smoothed, points measured, on this many threads;
+  // the result does not depend on it.
+  int threads = 1;
 };
 
 struct RebuiltSection {

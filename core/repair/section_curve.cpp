@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/common/progress.h"
 #include "core/repair/section_points.h"
 
@@ -184,15 +185,20 @@ StartAlignment align_start(const CurvatureProfile& reference, const CurvaturePro
   return out;
 }
 
-AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples) {
+AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples, int threads) {
   AlignedSections out;
   if (sections.empty()) return out;
+  std::vector<CurvatureProfile> own(sections.size());
+  parallel_for_index(sections.size(), threads, [&](size_t k) {
+    cancellation_point();
+    own[k] = curvature_profile(sections[k], samples);
+  });
   out.curves.push_back(sections[0]);
   out.alignments.emplace_back();
-  CurvatureProfile reference = curvature_profile(sections[0], samples);
+  CurvatureProfile reference = own[0];
   for (size_t k = 1; k < sections.size(); ++k) {
     cancellation_point();
-    const StartAlignment a = align_start(reference, curvature_profile(sections[k], samples));
+    const StartAlignment a = align_start(reference, own[k]);
     out.curves.push_back(sections[k].started_at(a.t_start));
     out.alignments.push_back(a);
     reference = curvature_profile(out.curves.back(), samples);

@@ -98,6 +98,8 @@ struct AlignedSections {
 // gap (OrderedSection::gaps) has a shorter profile whose samples do not
 // correspond to its neighbour's; the paper rebuilds those from the loft of
 // the complete ones (§1.4).
-AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples = 2048);
+// Each section's own curvature profile is taken on `threads` threads; the
+// result does not depend on it.
+AlignedSections align_section_starts(const std::vector<ClosedCurve>& sections, int samples = 2048, int threads = 1);
 
 }  // namespace bliskrun

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/point_index.h"
@@ -96,7 +97,7 @@ SectionLoft loft_sections(const std::vector<ClosedCurve>& sections, const Sectio
 }
 
 LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points,
-                             std::vector<PointDeviation>* each) {
+                             std::vector<PointDeviation>* each, int threads) {
   if (points.empty()) throw ParameterError("points", "no point to measure");
   for (size_t i = 0; i < points.size(); ++i)
     if (!points[i].allFinite()) throw ParameterError("points", "point " + std::to_string(i) + " is not finite");
@@ -112,10 +113,14 @@ LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& p
   }
   const HalfTurned turned(loft.surface);
 
-  LoftDeviation out;
-  if (each) each->clear();
-  double sum = 0, sum2 = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
+  // Each point projected into its own slot, then summed in order.
+  struct Projected {
+    double distance = 0;
+    PointDeviation deviation;
+    std::string failure;
+  };
+  std::vector<Projected> at(points.size());
+  parallel_for_index(points.size(), threads, [&](size_t i) {
     if (i % 1024 == 0) cancellation_point();
     const Vec3& q = points[i];
     const int s = index.nearest(q, (hi - lo).norm() + (q - 0.5 * (lo + hi)).norm());
@@ -125,18 +130,31 @@ LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& p
     ProjectionOptions po;
     po.seed = Eigen::Vector2d(loft.section_u[k], near_seam ? wrap01(v - 0.5) : v);
     const SurfaceProjection pr = project_to_surface(near_seam ? static_cast<const Surface&>(turned) : loft.surface, q, po);
-    if (!pr.ok)
-      throw Error("loft deviation: point " + std::to_string(i) + " does not project onto the loft: " + pr.failure);
+    if (!pr.ok) {
+      at[i].failure = pr.failure;
+      return;
+    }
+    at[i].distance = pr.distance;
     if (each) {
       const double v_on = near_seam ? wrap01(pr.v + 0.5) : pr.v;
       const SurfaceDerivs d = loft.surface.eval(pr.u, v_on);
       const double side = (q - pr.point).dot(d.pu.cross(d.pv)) >= 0 ? 1.0 : -1.0;
-      each->push_back(PointDeviation{pr.u, v_on, side * pr.distance});
+      at[i].deviation = PointDeviation{pr.u, v_on, side * pr.distance};
     }
-    sum += pr.distance;
-    sum2 += pr.distance * pr.distance;
-    if (pr.distance > out.max_mm || out.worst < 0) {
-      out.max_mm = pr.distance;
+  });
+
+  LoftDeviation out;
+  if (each) each->clear();
+  double sum = 0, sum2 = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!at[i].failure.empty())
+      throw Error("loft deviation: point " + std::to_string(i) + " does not project onto the loft: " + at[i].failure);
+    const double distance = at[i].distance;
+    if (each) each->push_back(at[i].deviation);
+    sum += distance;
+    sum2 += distance * distance;
+    if (distance > out.max_mm || out.worst < 0) {
+      out.max_mm = distance;
       out.worst = static_cast<int>(i);
     }
   }

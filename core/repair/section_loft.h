@@ -73,8 +73,9 @@ struct PointDeviation {
 
 // Throws ParameterError ("points") for no point or a non-finite one, Error if
 // a point does not project (the projection's reason given). With `each`, the
-// points' deviations one by one (for a deviation map).
+// points' deviations one by one (for a deviation map). The points are
+// projected on `threads` threads; the result does not depend on it.
 LoftDeviation loft_deviation(const SectionLoft& loft, const std::vector<Vec3>& points,
-                             std::vector<PointDeviation>* each = nullptr);
+                             std::vector<PointDeviation>* each = nullptr, int threads = 1);
 
 }  // namespace bliskrun

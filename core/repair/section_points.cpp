@@ -396,9 +396,14 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   if (!(diagonal > 0)) throw ParameterError("points", "all points coincide");
 
   // A loop of n points in a box of this diagonal is ~2.5 diagonal / n apart.
-  const PointIndex rough(points, 2.5 * diagonal / n);
+  // The indexes' cells are a few spacings wide: a cell grid is dense over
+  // the points' box, and at one spacing a section's box is hundreds of
+  // thousands of empty cells to allocate and fill (three indexes per
+  // section took more time than the walk); the queries are exact either way.
+  const double rough_spacing = 2.5 * diagonal / n;
+  const PointIndex rough(points, 4 * rough_spacing);
   std::vector<double> nearest(n);
-  for (int i = 0; i < n; ++i) nearest[i] = nearest_other_distance(rough, i, rough.cell_mm());
+  for (int i = 0; i < n; ++i) nearest[i] = nearest_other_distance(rough, i, rough_spacing);
   OrderedSection out;
   out.spacing_mm = median(nearest);
   if (!(out.spacing_mm > 0))
@@ -410,7 +415,7 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   std::sort(sorted_nearest.begin(), sorted_nearest.end());
   out.max_step_mm = options.max_step_mm > 0 ? options.max_step_mm
                                             : 2.5 * sorted_nearest[static_cast<size_t>(0.9 * (n - 1))];
-  const PointIndex index(points, h);
+  const PointIndex index(points, 4 * h);
 
   // First seed: the extreme along the second principal axis (across the
   // chord: the middle of the flattest side) among points that have
@@ -501,7 +506,7 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   // loop point within max_step), and test them like the rest.
   if (!loose.empty()) {
     const int m = static_cast<int>(loop.at.size());
-    const PointIndex on_loop(pick(points, loop.at), h);
+    const PointIndex on_loop(pick(points, loop.at), 4 * h);
     std::vector<std::vector<std::pair<double, int>>> onto(m);  // per link: (position along it, point)
     for (int u : loose) {
       const int k = on_loop.nearest(points[u], out.max_step_mm);

@@ -156,6 +156,49 @@ TEST(DamagedBlade, RebuiltEdgeDamagedSectionsAreTheDeformedDesign) {
   EXPECT_LT(r.deviation.mean_mm, 1.0 * mo.noise_mm);
 }
 
+TEST(DamagedBlade, RebuildOnTwoThreadsIsTheRebuildOnOne) {
+  // Sections are ordered, smoothed and profiled, and points measured, on
+  // the options' threads: the loft and every figure must be the same.
+  BladeDamage dmg;
+  dmg.twist_rad = deg_to_rad(1.5);
+  dmg.edge = true;
+  MeasurementOptions mo;
+  mo.sections = 12;
+  mo.points = 800;
+  mo.outlier_fraction = 0.005;
+  const SectionMeasurement m = measure_sections(DamagedBlade(design(), dmg), mo);
+  DamagedRebuildOptions one, two;
+  two.rebuild.threads = 2;
+  const DamagedRebuild a = rebuild_damaged(m, design(), one);
+  const DamagedRebuild b = rebuild_damaged(m, design(), two);
+  ASSERT_EQ(a.loft.grid.points.size(), b.loft.grid.points.size());
+  for (size_t i = 0; i < a.loft.grid.points.size(); ++i) ASSERT_EQ(a.loft.grid.points[i], b.loft.grid.points[i]) << i;
+  EXPECT_EQ(a.deviation.mean_mm, b.deviation.mean_mm);
+  EXPECT_EQ(a.deviation.max_mm, b.deviation.max_mm);
+  ASSERT_EQ(a.sections.size(), b.sections.size());
+  for (size_t k = 0; k < a.sections.size(); ++k) {
+    EXPECT_EQ(a.sections[k].kept, b.sections[k].kept);
+    EXPECT_EQ(a.sections[k].start_correlation, b.sections[k].start_correlation);
+  }
+  // And an error names the same section whatever the thread count.
+  SectionMeasurement bad = m;
+  bad.sections[3].points.resize(5);
+  bad.sections[9].points.resize(5);
+  std::string one_says, two_says;
+  try {
+    rebuild_damaged(bad, design(), one);
+  } catch (const ParameterError& e) {
+    one_says = e.what();
+  }
+  try {
+    rebuild_damaged(bad, design(), two);
+  } catch (const ParameterError& e) {
+    two_says = e.what();
+  }
+  EXPECT_FALSE(one_says.empty());
+  EXPECT_EQ(one_says, two_says);
+}
+
 TEST(DamagedBlade, BadDamageAndMeasurementOptionsAreNamed) {
   BladeDamage dmg;
   dmg.edge = true;
