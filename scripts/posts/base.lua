@@ -49,14 +49,15 @@ function P.check(self, job) end
 
 -- Fixed decimals, never "-0.000". (Called five times a block: the format
 -- strings are made once, and only a text starting with "-" is looked at.)
+local format, byte, concat = string.format, string.byte, table.concat
 local formats = setmetatable({}, {__index = function(t, decimals)
   local f = "%." .. decimals .. "f"
   t[decimals] = f
   return f
 end})
 function P.number(self, value, decimals)
-  local text = string.format(formats[decimals], value)
-  if text:byte(1) == 45 and tonumber(text) == 0 then text = text:sub(2) end
+  local text = format(formats[decimals], value)
+  if byte(text, 1) == 45 and tonumber(text) == 0 then text = text:sub(2) end
   return text
 end
 
@@ -82,24 +83,24 @@ end
 -- program has one block per planned move, which read-back relies on.
 function P.axis_words(self, job, move)
   local words, n, last = {}, 0, self.last
-  local function add(names, decimals)
+  local machine, decimals = job.machine, job.decimals
+  local names, d = machine.linear, decimals.linear
+  for _ = 1, 2 do  -- the linear axes, then the rotary ones
     for i = 1, #names do
       local name = names[i]
-      local text = self:word(name, move[name], decimals)
+      local text = self:word(name, move[name], d)
       if last[name] ~= text then
         n = n + 1
         words[n] = text
         last[name] = text
       end
     end
+    names, d = machine.rotary, decimals.rotary
   end
-  local machine, decimals = job.machine, job.decimals
-  add(machine.linear, decimals.linear)
-  add(machine.rotary, decimals.rotary)
   if n == 0 then
     -- Nothing changed: every word again (they are the last ones written).
-    for _, names in ipairs({machine.linear, machine.rotary}) do
-      for i = 1, #names do words[#words + 1] = last[names[i]] end
+    for _, group in ipairs({machine.linear, machine.rotary}) do
+      for i = 1, #group do words[#words + 1] = last[group[i]] end
     end
   end
   return words
@@ -169,17 +170,23 @@ function P.motion(self, job, out)
   end
 end
 
+-- A block: the motion word (when it changes), then `words`. (The words'
+-- own table is joined: a million blocks made a million more tables.)
+local function block(self, out, code, words)
+  local g = self:motion_word(code)
+  local text = concat(words, " ")
+  if g then text = #words > 0 and g .. " " .. text or g end
+  self:emit(out, text)
+end
+
 function P.rapid(self, job, move, out)
-  local parts = { self:motion_word("G0") }
-  for _, w in ipairs(self:axis_words(job, move)) do parts[#parts + 1] = w end
-  self:emit(out, table.concat(parts, " "))
+  block(self, out, "G0", self:axis_words(job, move))
 end
 
 function P.feed_move(self, job, move, out)
-  local parts = { self:motion_word("G1") }
-  for _, w in ipairs(self:axis_words(job, move)) do parts[#parts + 1] = w end
-  parts[#parts + 1] = self:feed_word(job, move)
-  self:emit(out, table.concat(parts, " "))
+  local words = self:axis_words(job, move)
+  words[#words + 1] = self:feed_word(job, move)
+  block(self, out, "G1", words)
 end
 
 return P
