@@ -180,6 +180,11 @@ struct Planner {
     // Finishing only: the ball at a pose against the whole design surface
     // (the undamaged blade around the region).
     auto gouge_of = [&](const ToolPose& p) { return guard.deepest_cut(tool, p, p, pose_allowed, true, true); };
+    // Whether the cutting motion a -> b, swept at kCutSweepMm, dips below
+    // the design deeper than allowed (its ends are the contacts' own).
+    auto cuts = [&](const ToolPose& a, const ToolPose& b) {
+      return guard.deepest_cut(tool, a, b, pose_allowed, false, false, kCutSweepMm).depth_mm < 0;
+    };
     // The pose at t, lifted off along the normal until the ball no longer
     // cuts the design deeper than allowed: on a trough narrower than the
     // ball (a ripple of a lofted edge, a concave round tighter than it)
@@ -197,9 +202,12 @@ struct Planner {
       make_pose(t, rp, pose, 0);
       GougeGuard::Cut cut = gouge_of(pose);
       if (cut.depth_mm >= 0) return;
-      ToolPose top;
-      const GougeGuard::Cut top_cut =
-          rq.max_lift_mm > 0 ? (make_pose(t, rp, top, rq.max_lift_mm), gouge_of(top)) : cut;
+      ToolPose top = pose;
+      GougeGuard::Cut top_cut = cut;
+      if (rq.max_lift_mm > 0) {
+        make_pose(t, rp, top, rq.max_lift_mm);
+        top_cut = gouge_of(top);
+      }
       if (top_cut.depth_mm < 0) {
         std::ostringstream os;
         os << "the ball cuts " << -cut.depth_mm * 1000 << " um into the design at (" << cut.point.x() << ", "
@@ -263,7 +271,7 @@ struct Planner {
           if (i + 1 == ts.size() || refused[i] || refused[i + 1]) return;
           const double theta = axis_angle_rad(lp[i].axis, lp[i + 1].axis);
           if (chord_of(ts[i], ts[i + 1]) + ball_r * theta * theta / 8 < 0.5 * rq.steps.chord_tol_mm) return;
-          dips[i] = guard.deepest_cut(tool, lp[i], lp[i + 1], pose_allowed, false, false, kCutSweepMm).depth_mm < 0;
+          dips[i] = cuts(lp[i], lp[i + 1]);
         });
         std::vector<size_t> at;
         for (size_t i = 0; i < ts.size(); ++i)
@@ -323,9 +331,6 @@ struct Planner {
         res.max_lift_mm = std::max(res.max_lift_mm, rp.lift_mm);
       }
       cur.poses.push_back(rp);
-    };
-    auto cuts = [&](const ToolPose& a, const ToolPose& b) {
-      return guard.deepest_cut(tool, a, b, pose_allowed, false, false, kCutSweepMm).depth_mm < 0;
     };
     // Contacts between a and b (finishing) whose motions all sweep clear of
     // the design, in order, into `out`; false where a contact is refused or
@@ -480,31 +485,31 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   std::reverse(offsets.begin(), offsets.end());
   offsets.push_back(0);
 
-  // The iso-u lines of a zigzag layer of scallop h (u0 upwards) and the
-  // step-over to the next of each.
-  auto zigzag_lines = [&](double h, std::vector<double>& us, std::vector<double>& step_mm) {
-    us.assign(1, rq.u0);
-    step_mm.clear();
-    while (us.back() < rq.u1 - 1e-12) {
-      const AcrossStep a = across_step(s, rq.flip_normal, us.back(), rq.v0, rq.v1, h, ball_r, rq.across_samples);
-      step_mm.push_back(a.step_mm);
-      us.push_back(std::min(rq.u1, us.back() + a.du));
-    }
-  };
   auto scallop_of = [&](size_t L) { return L + 1 == offsets.size() ? rq.scallop_mm : rq.rough_scallop_mm; };
-  // Zigzag: each layer starts on the side of the region where the one
-  // before ended (its last pass's end), so the link between layers stays on
-  // one side of the blade instead of crossing round the edge. That depends
-  // only on the pass counts before it, so the layers themselves can be
-  // planned apart.
-  std::vector<char> start_reversed(offsets.size(), 0);
+  // Zigzag: each layer's iso-u lines (u0 upwards) and the step-over from
+  // each to the next. Each layer starts on the side of the region where the
+  // one before ended (its last pass's end), so the link between layers stays
+  // on one side of the blade instead of crossing round the edge. That
+  // depends only on the pass counts before it, so the layers themselves can
+  // be planned apart.
+  struct ZigzagLines {
+    std::vector<double> u, step_mm;
+    bool start_reversed = false;
+  };
+  std::vector<ZigzagLines> zigzag(offsets.size());
   if (rq.pattern == RepairPattern::Zigzag) {
     bool next = false;
-    std::vector<double> us, step_mm;
     for (size_t L = 0; L < offsets.size(); ++L) {
-      zigzag_lines(scallop_of(L), us, step_mm);
-      start_reversed[L] = next;
-      next = !(((us.size() - 1) % 2 == 1) != next);
+      ZigzagLines& z = zigzag[L];
+      z.u.assign(1, rq.u0);
+      while (z.u.back() < rq.u1 - 1e-12) {
+        const AcrossStep a =
+            across_step(s, rq.flip_normal, z.u.back(), rq.v0, rq.v1, scallop_of(L), ball_r, rq.across_samples);
+        z.step_mm.push_back(a.step_mm);
+        z.u.push_back(std::min(rq.u1, z.u.back() + a.du));
+      }
+      z.start_reversed = next;
+      next = !(((z.u.size() - 1) % 2 == 1) != next);
     }
   }
 
@@ -525,8 +530,8 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
     layer.step_over_min_mm = 1e300;
     const bool upward = L % 2 == 0;  // layers alternate: shorter links
     if (rq.pattern == RepairPattern::Zigzag) {
-      std::vector<double> us, step_mm;
-      zigzag_lines(layer.scallop_mm, us, step_mm);
+      std::vector<double> us = zigzag[L].u;
+      const std::vector<double>& step_mm = zigzag[L].step_mm;
       for (double m : step_mm) {
         layer.step_over_min_mm = std::min(layer.step_over_min_mm, m);
         layer.step_over_max_mm = std::max(layer.step_over_max_mm, m);
@@ -539,7 +544,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
         const double u = us[k];
         auto contact_of = [&](double t) { return Contact{t, u, t}; };
         std::vector<RepairPass> pieces =
-            planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != (start_reversed[L] != 0),
+            planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != zigzag[L].start_reversed,
                                static_cast<int>(L), layer.offset_mm, finishing, u, st);
         layer.max_deviation_mm = std::max(layer.max_deviation_mm, st.max_deviation_mm);
         for (RepairPass& p : pieces) {

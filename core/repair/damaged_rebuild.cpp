@@ -285,7 +285,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
   std::vector<std::vector<Vec3>> loops;
   for (const Work& w : work) loops.push_back(w.loop);
   const std::vector<OrientedSection> oriented = orient_sections(loops, frame.axis);
-  std::vector<ClosedCurve> curves(work.size(), ClosedCurve());
+  std::vector<ClosedCurve> curves(work.size());
   parallel_for_index(work.size(), o.rebuild.threads, [&](size_t k) {
     cancellation_point();
     const SmoothedSection s = smooth_section(oriented[k].loop, o.rebuild.smoothing_mm);

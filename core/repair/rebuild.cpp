@@ -46,7 +46,7 @@ RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const
     loops[k] = pick(sections[k], s.order);
   });
   const std::vector<OrientedSection> oriented = orient_sections(loops, o.axis);
-  std::vector<ClosedCurve> curves(n, ClosedCurve());
+  std::vector<ClosedCurve> curves(n);
   parallel_for_index(n, o.threads, [&](size_t k) {
     cancellation_point();
     const SmoothedSection s = smooth_section(oriented[k].loop, o.smoothing_mm);

@@ -400,8 +400,9 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   // the points' box, and at one spacing a section's box is hundreds of
   // thousands of empty cells to allocate and fill (three indexes per
   // section took more time than the walk); the queries are exact either way.
+  constexpr double kCellSpacings = 4;
   const double rough_spacing = 2.5 * diagonal / n;
-  const PointIndex rough(points, 4 * rough_spacing);
+  const PointIndex rough(points, kCellSpacings * rough_spacing);
   std::vector<double> nearest(n);
   for (int i = 0; i < n; ++i) nearest[i] = nearest_other_distance(rough, i, rough_spacing);
   OrderedSection out;
@@ -415,7 +416,7 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   std::sort(sorted_nearest.begin(), sorted_nearest.end());
   out.max_step_mm = options.max_step_mm > 0 ? options.max_step_mm
                                             : 2.5 * sorted_nearest[static_cast<size_t>(0.9 * (n - 1))];
-  const PointIndex index(points, 4 * h);
+  const PointIndex index(points, kCellSpacings * h);
 
   // First seed: the extreme along the second principal axis (across the
   // chord: the middle of the flattest side) among points that have
@@ -506,7 +507,7 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   // loop point within max_step), and test them like the rest.
   if (!loose.empty()) {
     const int m = static_cast<int>(loop.at.size());
-    const PointIndex on_loop(pick(points, loop.at), 4 * h);
+    const PointIndex on_loop(pick(points, loop.at), kCellSpacings * h);
     std::vector<std::vector<std::pair<double, int>>> onto(m);  // per link: (position along it, point)
     for (int u : loose) {
       const int k = on_loop.nearest(points[u], out.max_step_mm);
