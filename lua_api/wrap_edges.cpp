@@ -145,6 +145,11 @@ int w_edge_finish(lua_State* L) {
          Field{"world", Kind::Any, true, std::nullopt, std::nullopt, "check surfaces: neighbouring blades, hub, own blade", {}},
          Field{"name", Kind::String, false, std::nullopt, std::nullopt, "name used in reports", {}},
          Field{"span", Kind::Table, false, std::nullopt, std::nullopt, "edge-region v window {from, to} (default {0.1, 0.9})", {}},
+         Field{"hub", Kind::Any, false, std::nullopt, std::nullopt,
+               "hub (surface of revolution): the first row as low as the cutter clears it; the strip below reported", {}},
+         Field{"casing", Kind::Any, false, std::nullopt, std::nullopt,
+               "casing (surface of revolution): the window ends where the edge passes it", {}},
+         Field{"hub_clearance", Kind::Number, false, 0.0, 100.0, "cutter to hub on the first row, mm (default 0.05)", {}},
          Field{"e1", Kind::Number, false, -10.0, 0.0, "overcut limit, mm (<= 0, default -0.001)", {}},
          Field{"e2", Kind::Number, false, 1e-6, 10.0, "undercut limit, mm (default 0.02)", {}},
          Field{"r_e", Kind::Number, false, 1e-3, 100.0, "cutting-speed radius: l >= r_e, mm (default 1)", {}},
@@ -207,6 +212,9 @@ int w_edge_finish(lua_State* L) {
     const auto span = range_option(L, o, "span", what, {0.1, 0.9});
     rq.v0 = span.first;
     rq.v1 = span.second;
+    if (o.has("hub")) rq.hub = revolution_option(L, o, "hub", what);
+    if (o.has("casing")) rq.casing = revolution_option(L, o, "casing", what);
+    rq.hub_clearance_mm = o.number("hub_clearance", 0.05);
     rq.band.e1_mm = o.number("e1", -0.001);
     rq.band.e2_mm = o.number("e2", 0.02);
     rq.r_e_mm = o.number("r_e", 1.0);
@@ -255,10 +263,12 @@ int w_plan_report(lua_State* L) {
   set_number(L, "r_e", rq.r_e_mm);
   set_string(L, "optimum", rq.optimum == EdgeOptimum::Paper ? "paper" : "joint");
   set_number(L, "chord_tol", rq.steps.chord_tol_mm);
-  set_number(L, "span_v0", rq.v0);
-  set_number(L, "span_v1", rq.v1);
+  set_number(L, "span_v0", r.v0);
+  set_number(L, "span_v1", r.v1);
+  set_number(L, "hub_strip", r.hub_strip_mm);
   set_bool(L, "zigzag", rq.zigzag);
-  set_integer(L, "row_count", static_cast<long long>(r.rows.size()));
+  set_integer(L, "row_count", static_cast<long long>(r.rows.size()) - r.infill_rows);
+  set_integer(L, "infill_rows", r.infill_rows);
   set_integer(L, "side_rows", r.side_rows);
   set_number(L, "side_window", r.side_window_mm);
   set_number(L, "side_min_lead", rad_to_deg(rq.side_min_lead_rad));
@@ -272,10 +282,12 @@ int w_plan_report(lua_State* L) {
   lua_createtable(L, static_cast<int>(r.rows.size()), 0);
   for (size_t i = 0; i < r.rows.size(); ++i) {
     const EdgeFinishRow& row = r.rows[i];
-    wmin = std::min(wmin, row.width_mm);
-    wmax = std::max(wmax, row.width_mm);
-    smin = std::min(smin, row.side_width_mm);
-    smax = std::max(smax, row.side_width_mm);
+    if (!row.infill) {  // the widths of the rows proper (a partial row's are its whole row's)
+      wmin = std::min(wmin, row.width_mm);
+      wmax = std::max(wmax, row.width_mm);
+      smin = std::min(smin, row.side_width_mm);
+      smax = std::max(smax, row.side_width_mm);
+    }
     bottom += row.bottom_contacts;
     corner += row.corner_contacts;
     evals += row.strip_evaluations;
@@ -295,6 +307,7 @@ int w_plan_report(lua_State* L) {
     set_integer(L, "refusals", static_cast<long long>(row.refusals.size()));
     set_number(L, "max_deviation", row.max_deviation_mm);
     set_bool(L, "reversed", row.reversed);
+    set_bool(L, "infill", row.infill);
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "rows");
@@ -323,6 +336,7 @@ int w_plan_report(lua_State* L) {
   set_number(L, "rows", r.rows_seconds);
   set_number(L, "side", r.side_seconds);
   set_number(L, "checks", r.checks_seconds);
+  set_number(L, "clear", r.clear_seconds);
   lua_setfield(L, -2, "seconds");
   return 1;
 }
@@ -403,8 +417,8 @@ int w_plan_simulate(lua_State* L) {
     so.samples_v = static_cast<int>(o.integer("samples_v", 400));
     so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
     so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
-    so.v0 = p.request.v0;
-    so.v1 = p.request.v1;
+    so.v0 = r.v0;
+    so.v1 = r.v1;
     const std::vector<DrumFinishMove> moves = edge_finish_moves(r);
     const DrumFinishPasses split = passes_of_moves(moves);
     const std::vector<ToolPass>& passes = split.passes;

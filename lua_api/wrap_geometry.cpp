@@ -29,6 +29,19 @@ void push_meridian(lua_State* L, const std::vector<Vec2>& meridian) {
   }
 }
 
+std::shared_ptr<const SurfaceOfRevolution> revolution_option(lua_State* L, const luax::Options& o,
+                                                             const std::string& key, const std::string& what) {
+  o.push_raw(key);
+  const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+  auto s = h ? std::dynamic_pointer_cast<const SurfaceOfRevolution>(h->surface) : nullptr;
+  if (!s)
+    luax::error(L, what + ": option '" + key +
+                       "': expected a surface of revolution (blisk:hub(), blisk:casing() or "
+                       "bliskrun.surface_of_revolution)");
+  lua_pop(L, 1);
+  return s;
+}
+
 void read_unit_window(lua_State* L, const luax::Options& o, const std::string& what, const char* key, double& lo,
                       double& hi) {
   if (!o.has(key)) return;

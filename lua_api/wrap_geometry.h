@@ -7,6 +7,7 @@
 #include "core/geometry/curve.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/point_grid.h"
+#include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
 #include "lua_api/luax.h"
 
@@ -35,6 +36,10 @@ void push_meridian(lua_State* L, const std::vector<Vec2>& meridian);
 // 0 <= lo < hi <= 1 (a surface's u or v range); errors name `what` and key.
 void read_unit_window(lua_State* L, const luax::Options& o, const std::string& what, const char* key, double& lo,
                       double& hi);
+// The option `key` of `o` as a surface of revolution (a hub or casing);
+// errors name `what` and key.
+std::shared_ptr<const SurfaceOfRevolution> revolution_option(lua_State* L, const luax::Options& o,
+                                                             const std::string& key, const std::string& what);
 
 }  // namespace bliskrun::lua_api
 

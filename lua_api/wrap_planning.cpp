@@ -87,19 +87,6 @@ std::vector<Field> common_fields() {
   return f;
 }
 
-std::shared_ptr<const Surface> revolution_option(lua_State* L, const luax::Options& o, const std::string& key,
-                                                 const std::string& what) {
-  o.push_raw(key);
-  const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
-  if (!h || !dynamic_cast<const SurfaceOfRevolution*>(h->surface.get()))
-    luax::error(L, what + ": option '" + key +
-                       "': expected a surface of revolution (blisk:hub(), blisk:casing() or "
-                       "bliskrun.surface_of_revolution)");
-  std::shared_ptr<const Surface> s = h->surface;
-  lua_pop(L, 1);
-  return s;
-}
-
 // A plan with everything but the flank and the world.
 LuaDrumPlan read_common(lua_State* L, const luax::Options& o, const std::string& what) {
   LuaDrumPlan p;

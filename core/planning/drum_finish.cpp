@@ -74,20 +74,7 @@ RowFrames row_frames(const TrimmedSurface& ts, double u, const std::vector<doubl
 // the bottom face.
 std::vector<Vec3> cutter_lower_samples(const Tool& tool) {
   const Profile& c = tool.cutter();
-  const double z0 = c.z_min(), z1 = std::max(z0, std::min(c.z_max(), tool.flank_contact_height()));
-  constexpr int kRings = 3, kAround = 24;
-  std::vector<Vec3> out;
-  for (int i = 0; i <= kRings; ++i) {
-    const double z = z0 + (z1 - z0) * i / kRings;
-    const double r = c.radius_at(z);
-    for (int k = 0; k < kAround; ++k) {
-      const double a = 2 * kPi * k / kAround;
-      out.emplace_back(r * std::cos(a), r * std::sin(a), z);
-      if (i == 0) out.emplace_back(0.5 * r * std::cos(a), 0.5 * r * std::sin(a), z);
-    }
-  }
-  out.emplace_back(0, 0, z0);
-  return out;
+  return c.surface_samples(c.z_min(), tool.flank_contact_height(), 3, 24);
 }
 
 // Smallest radial offset from the hub, minus the clearance, of the cutter's

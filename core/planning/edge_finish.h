@@ -23,6 +23,7 @@
 #include "core/collision/collision_world.h"
 #include "core/collision/tilt.h"
 #include "core/common/progress.h"
+#include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
 #include "core/planning/drum_finish.h"
 #include "core/planning/edge_strip.h"
@@ -58,6 +59,16 @@ struct EdgeFinishRequest {
   std::shared_ptr<const Surface> first, second;
   double span_u0 = 0, span_u1 = 1;
   double v0 = 0.1, v1 = 0.9;            // span window to machine (edge-region v)
+  // The hub and the casing (surfaces of revolution about Z), optional; they
+  // narrow the window. With a hub, the first row is the lowest span >= v0
+  // at which every contact, positioned as planned, keeps the cutter
+  // hub_clearance_mm outside the hub: lower, the bottom's disc (R either
+  // side of the feed) sits in the hub. The strip below is left for the
+  // hub-fillet operation, as the drum finish leaves its own
+  // (DrumFinishRequest::hub_clearance_mm), and reported. With a casing, the
+  // window ends where the whole row lies outside it (past the blade's tip).
+  std::shared_ptr<const SurfaceOfRevolution> hub, casing;
+  double hub_clearance_mm = 0.05;
   const Tool* tool = nullptr;           // a flat-end mill
   const CollisionWorld* world = nullptr;
   Band band;                            // e1 (overcut), e2 (undercut)
@@ -88,6 +99,10 @@ struct EdgeFinishRequest {
   double tilt_lead_step_rad = 5.0 * kPi / 180.0;
   double tilt_lead_max_rad = 80.0 * kPi / 180.0;
   double tilt_slip_step_rad = 15.0 * kPi / 180.0;
+  // Extra clearance of the shank and holder an axis is first sought with
+  // (links between tilted poses need room to pass); the bare clearances
+  // where none has it.
+  double tilt_room_mm = 0.5;
   AxisLimit axis_limit;
   Clearances clearances;
   double motion_tol_mm = 1e-3;
@@ -119,6 +134,10 @@ struct EdgeContactRefusal {
 struct EdgeFinishRow {
   double v = 0;
   bool reversed = false;
+  // A partial row between two rows, over only the part around the edge
+  // where their strips as emitted (tilted poses cut narrower ones) leave
+  // material between them (see plan_edge_finish).
+  bool infill = false;
   double width_mm = 0;                 // balanced row width (the emitted method)
   double left_min_mm = 0, right_min_mm = 0;
   double spacing_mm = 0;               // to the next row (0 on the last)
@@ -154,6 +173,12 @@ struct EdgeWidthComparison {
 };
 
 struct EdgeFinishResult {
+  // The span window machined: the request's, narrowed by hub and casing.
+  double v0 = 0, v1 = 0;
+  // Largest span distance (mm, along the region's rows) between the
+  // request's v0 or the hub, whichever is higher, and the first row: the
+  // strip left to the hub-fillet operation (0 without a hub).
+  double hub_strip_mm = 0;
   std::vector<EdgeFinishRow> rows;
   std::vector<EdgeFinishLink> links;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
@@ -164,7 +189,9 @@ struct EdgeFinishResult {
   double side_window_mm = 0;     // span length covered (along the round's middle)
   EdgeWidthComparison comparison;
   double max_deviation_mm = 0;
+  int infill_rows = 0;           // partial rows among `rows` (EdgeFinishRow::infill)
   double rows_seconds = 0, checks_seconds = 0, side_seconds = 0;
+  double clear_seconds = 0;      // tilting clear of the world and the partial rows
 };
 
 // Throws ParameterError for a missing edge/tool/world, a tool that is not a

@@ -188,6 +188,23 @@ std::pair<Profile, Profile> Profile::split_at(double z) const {
   return {Profile(std::move(below)), Profile(std::move(above))};
 }
 
+std::vector<Vec3> Profile::surface_samples(double z0, double z1, int rings, int around) const {
+  z0 = std::max(z0, z_min_);
+  z1 = std::max(z0, std::min(z1, z_max_));
+  std::vector<Vec3> out;
+  for (int i = 0; i <= rings; ++i) {
+    const double z = z0 + (z1 - z0) * i / std::max(rings, 1);
+    const double r = radius_at(z);
+    for (int k = 0; k < around; ++k) {
+      const double a = 2 * kPi * k / around;
+      out.emplace_back(r * std::cos(a), r * std::sin(a), z);
+      if (i == 0) out.emplace_back(0.5 * r * std::cos(a), 0.5 * r * std::sin(a), z);
+    }
+  }
+  out.emplace_back(0, 0, z0);
+  return out;
+}
+
 double Profile::radius_at(double z) const {
   if (z < z_min_ || z > z_max_) return 0;
   double r = 0;

@@ -71,6 +71,12 @@ class Profile {
   std::pair<Profile, Profile> split_at(double z) const;
   // R(z): radius of the solid at height z; 0 outside [z_min, z_max].
   double radius_at(double z) const;
+  // Points on the solid's surface between heights z0 and z1 (clipped to
+  // [z_min, z_max]), in its frame: `rings` + 1 rings of R(z), `around`
+  // points each, and the bottom face at z0 (a ring at half the radius and
+  // its centre). For quick clearance rules against analytic surfaces (a
+  // hub of revolution), where asking the exact check would be too costly.
+  std::vector<Vec3> surface_samples(double z0, double z1, int rings, int around) const;
 
   // Exact signed distance from (r, z) to the profile: negative inside the
   // solid. For a solid of revolution this is the 3-D signed distance of any

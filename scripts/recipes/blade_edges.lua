@@ -62,10 +62,11 @@ local settings = {e1 = args.e1 or -0.001, e2 = args.e2 or 0.02, overlap = args.o
 
 -- The part: both flanks of blade 1, its neighbours and the hub as check
 -- surfaces (the blade itself for shank and holder).
-local pressure, suction, world, label
+local pressure, suction, world, label, hub, casing
 if part_name == "builtin" then
   local blisk = bliskrun.blisk{}
   pressure, suction = blisk:flank(1, "pressure"), blisk:flank(1, "suction")
+  hub, casing = blisk:hub(), blisk:casing()
   world = blisk_world.around_blade(blisk, 1)
   label = "built-in blisk blade 1"
 else
@@ -75,6 +76,7 @@ else
   -- circles below.
   local part = bliskrun.read_rotor67(rotor67_file, {edge_margin = 0.01})
   pressure, suction = part.pressure:surface(), part.suction:surface()
+  hub, casing = part.hub, part.casing
   local pitch = 360 / part.blades
   local surfaces = {}
   for _, turn in ipairs{-pitch, pitch} do
@@ -115,7 +117,7 @@ for _, edge in ipairs(edges) do
   -- bottom of a pose near a flank can reach: condition ① is checked there.
   local cpu0 = os.clock()  -- process CPU seconds (every thread): on a shared machine wall time says little
   local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
-                                    span = {settings.v0, settings.v1}, e1 = settings.e1, e2 = settings.e2,
+                                    span = {settings.v0, settings.v1}, hub = hub, casing = casing, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
                                     side_min_lead = settings.side_min_lead}
   local cpu_plan = os.clock() - cpu0
@@ -127,7 +129,7 @@ for _, edge in ipairs(edges) do
   -- window, 0.05 mm behind the front up to the round's radius and past it
   -- onto the overlap.
   local spans = {}
-  for _, f in ipairs{0.25, 0.5, 0.75} do spans[#spans + 1] = settings.v0 + f * (settings.v1 - settings.v0) end
+  for _, f in ipairs{0.25, 0.5, 0.75} do spans[#spans + 1] = rep.span_v0 + f * (rep.span_v1 - rep.span_v0) end
   local behind = {0.05, 0.1, 0.2, 0.4, 0.6}
   local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 400,
                             flanks = {pressure, suction}, picture = stem .. "_undercut.png",
@@ -146,8 +148,9 @@ for _, edge in ipairs(edges) do
                                                         cmp.v, label, edge),
                                   x_label = "u around the edge (pressure/suction overlap at the ends)",
                                   y_label = "strip width, mm", series = series})
-  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, checks %.2f s, simulation %.2f s (wall); CPU: plan %.2f s, "
-                             .. "simulation %.2f s", edge, rep.seconds.rows, rep.seconds.side, rep.seconds.checks,
+  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, tilting and partial rows %.2f s, checks %.2f s, "
+                             .. "simulation %.2f s (wall); CPU: plan %.2f s, simulation %.2f s", edge, rep.seconds.rows,
+                             rep.seconds.side, rep.seconds.clear, rep.seconds.checks,
                              sim.seconds, cpu_plan, cpu_sim))
   rep.seconds = nil
   rep.region = {round_u0 = region.round_u0, round_u1 = region.round_u1, overlap_mm = region.overlap,
@@ -204,9 +207,12 @@ for _, edge in ipairs(edges) do
                       rep.side_width_max, rep.poses, rep.refusals + rep.refused_links, 1e3 * sim.undercut_max,
                       1e3 * sim.overcut, 1e3 * sim.flank_overcut))
   print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts, "
-                      .. "%d tilted clear of the world, %d refused contacts, %d refused links",
+                      .. "%d tilted clear of the world, %d partial rows where tilted strips leave a gap, "
+                      .. "%d refused contacts, %d refused links",
                       region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts,
-                      rep.tilted_contacts, rep.refusals, rep.refused_links))
+                      rep.tilted_contacts, rep.infill_rows, rep.refusals, rep.refused_links))
+  print(string.format("            span window v %.3f-%.3f (hub and casing): strip of %.2f mm above the hub left for the "
+                      .. "hub-fillet operation", rep.span_v0, rep.span_v1, rep.hub_strip))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links, 1e3 * sim.undercut_max, 1e3 * sim.overcut,

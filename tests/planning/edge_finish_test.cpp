@@ -54,7 +54,7 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   ASSERT_GE(res.rows.size(), 2u);
   EXPECT_EQ(res.total_refusals, 0);
   EXPECT_EQ(res.refused_links, 0);
-  EXPECT_GE(res.side_rows, static_cast<int>(res.rows.size()));
+  EXPECT_GE(res.side_rows, static_cast<int>(res.rows.size()) - res.infill_rows);
   for (const EdgeFinishRow& row : res.rows) {
     // Ours (each l keeps its own best φ) is no worse than the paper's average.
     EXPECT_GE(row.joint_width_mm, row.paper_width_mm - 1e-9);
@@ -92,6 +92,114 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   EXPECT_EQ(feeds, res.total_poses);
 }
 
+
+// The hub and the casing narrow the window: the first row is the lowest
+// whose cutter, at every contact as planned, stays the clearance outside
+// the hub (tight: the bisection's last step is a few um of span), and the
+// window ends where the whole row has passed the casing.
+TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCasing) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kPressure);
+  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  const EdgeRegion e = build_edge_region(er);
+  auto hub = std::make_shared<const SurfaceOfRevolution>(blisk.hub_meridian());
+  auto casing = std::make_shared<const SurfaceOfRevolution>(blisk.casing_meridian());
+  // Nothing to tilt clear of: every pose stays as planned (the rule is
+  // about those; a world with the hub tilts the shank off it near the hub).
+  const CollisionWorld world;
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq;
+  rq.edge = e.surface;
+  rq.first = er.first;
+  rq.second = er.second;
+  rq.tool = &tool;
+  rq.world = &world;
+  rq.hub = hub;
+  rq.casing = casing;
+  rq.v0 = 0.05;
+  rq.v1 = 0.99;
+  rq.l_count = 2;  // fewer positions to weigh: the window is what is tested
+  rq.sampling.across = 41;
+  rq.threads = 2;
+  const EdgeFinishResult res = plan_edge_finish(rq);
+  ASSERT_FALSE(res.rows.empty());
+  EXPECT_GT(res.v0, rq.v0);
+  EXPECT_NEAR(res.rows.front().v, res.v0, 1e-12);
+  const Profile& c = tool.cutter();
+  const std::vector<Vec3> cutter = c.surface_samples(c.z_min(), c.z_max(), 6, 24);
+  double margin = std::numeric_limits<double>::infinity();
+  for (const EdgeFinishPose& p : res.rows.front().poses) {
+    ASSERT_FALSE(p.tilted);
+    const Eigen::Isometry3d T = tool_to_part(p.pose);
+    for (const Vec3& q : cutter) margin = std::min(margin, hub->radial_offset(T * q));
+  }
+  EXPECT_GE(margin, rq.hub_clearance_mm - 1e-6);
+  EXPECT_LT(margin, rq.hub_clearance_mm + 0.02);
+  // The strip left for the hub-fillet operation: the bottom's disc (R 3)
+  // keeps the first row about its radius above the hub.
+  EXPECT_GT(res.hub_strip_mm, 1.5);
+  EXPECT_LT(res.hub_strip_mm, 6.0);
+  // The casing: the row at the window's end lies outside it, one a little
+  // lower does not.
+  auto least_outside = [&](double v) {
+    double m = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 20; ++i) m = std::min(m, casing->radial_offset(e.surface->point(i / 20.0, v)));
+    return m;
+  };
+  EXPECT_LT(res.v1, rq.v1);
+  EXPECT_GE(least_outside(res.v1), -1e-9);
+  EXPECT_LT(least_outside(res.v1 - 0.01), 0);
+}
+
+#if !defined(BLISKRUN_SANITIZED)
+// Beside the neighbouring blade (the built-in LE's pressure side, 10 mm
+// away) the optimum's tool does not fit and poses are tilted clear onto the
+// corner, whose strips are narrower than the rows were spaced for: partial
+// rows fill the gaps, so the simulation leaves no more than e2 (it left up
+// to 0.1 mm without them), and every tilted axis leans out of the passage,
+// so each link proves (a lean flipping between neighbours did not).
+TEST(EdgeFinishTest, TiltedPosesBesideTheNeighbourGetPartialRowsAndTheBandHolds) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kPressure);
+  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  const EdgeRegion e = build_edge_region(er);
+  CollisionWorld world;
+  const int n = blisk.blade_count();
+  for (int nb : {n - 1, 1})
+    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
+      world.add("blade " + std::to_string(nb) + (side == FlankSide::kPressure ? " pressure" : " suction"),
+                tessellate(*blisk.flank_surface(nb, side), 0.01));
+  world.add("hub", tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.02));
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq;
+  rq.edge = e.surface;
+  rq.first = er.first;
+  rq.second = er.second;
+  rq.tool = &tool;
+  rq.world = &world;
+  rq.v0 = 0.5;
+  rq.v1 = 0.56;
+  rq.threads = 2;
+  const EdgeFinishResult res = plan_edge_finish(rq);
+  EXPECT_EQ(res.total_refusals, 0);
+  EXPECT_EQ(res.refused_links, 0);
+  EXPECT_GT(res.infill_rows, 0);
+  int tilted = 0;
+  for (const EdgeFinishRow& row : res.rows) tilted += row.tilted_contacts;
+  EXPECT_GT(tilted, 10);
+  UndercutOptions o;
+  o.samples_u = 160;
+  o.samples_v = 40;
+  o.v0 = res.v0;
+  o.v1 = res.v1;
+  const UndercutResult sim = simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
+  EXPECT_EQ(sim.untouched, 0);
+  EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.002);
+  EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
+}
+#endif
 
 // A stadium-shaped edge: a round of radius rho (centre on the Z axis, front
 // at +X) between two flat flanks `flank` mm long, straight along Z over
