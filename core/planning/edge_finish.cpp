@@ -35,6 +35,9 @@ void validate(const EdgeFinishRequest& rq) {
   if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance", "must be >= 0");
 }
 
+// Parts of a row around the edge, [u0, u1] each, in u order.
+using Intervals = std::vector<std::pair<double, double>>;
+
 // Everything one contact contributes to its row.
 struct ContactPlan {
   double u = 0;
@@ -47,6 +50,7 @@ struct ContactPlan {
   double corner_w = 0;
   double side_w = 0;                  // conventional side-edge positioning
   int evaluations = 0;
+  int piece = 0;  // which part of a partial row (plan_row's `only`) it belongs to
   std::shared_ptr<const ContactStrip> strip;
 };
 
@@ -158,21 +162,43 @@ struct PlannedRow {
   BalancedRow emitted;
 };
 
+// `only` (may be null): plan just the contacts within these parts of the
+// row, each with the contact just outside either end (so the strips reach
+// over the whole part), for a partial row; each part's contacts carry its
+// index as their piece.
 PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, bool side_only,
-                    Progress& progress) {
+                    Progress& progress, const Intervals* only = nullptr) {
   PlannedRow pr;
   pr.row.v = v;
   const IsoVCurve curve(*rq.edge, v);
   const RowSteps steps = plan_row_steps(curve, rq.steps);
   pr.row.max_deviation_mm = steps.max_deviation_mm;
+  const size_t n = steps.t.size();
+  std::vector<int> piece(n, 0);
+  if (only) {
+    std::vector<int> owner(n, -1);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t k = 0; k < only->size(); ++k)
+        if (steps.t[i] >= (*only)[k].first - 1e-12 && steps.t[i] <= (*only)[k].second + 1e-12) owner[i] = static_cast<int>(k);
+    piece = owner;
+    for (size_t i = 0; i < n; ++i) {
+      if (piece[i] >= 0) continue;
+      if (i + 1 < n && owner[i + 1] >= 0) piece[i] = owner[i + 1];
+      else if (i > 0 && owner[i - 1] >= 0) piece[i] = owner[i - 1];
+    }
+  }
+  std::vector<size_t> which;
+  for (size_t i = 0; i < n; ++i)
+    if (piece[i] >= 0) which.push_back(i);
   // The contacts of a row are independent (each its own samples and
   // searches): on rq.threads workers, each writing its own slot.
-  pr.contacts.resize(steps.t.size());
+  pr.contacts.resize(which.size());
   pr.flanks = flank_samples(rq, v);
   const StripSamples& flanks = pr.flanks;
   Progress quiet(&progress);  // cancelled with the caller's, its own bar
-  run_parallel(steps.t.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
-    pr.contacts[k] = plan_contact(rq, steps.t[k], v, ls, side_only, flanks);
+  run_parallel(which.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
+    pr.contacts[k] = plan_contact(rq, steps.t[which[k]], v, ls, side_only, flanks);
+    pr.contacts[k].piece = piece[which[k]];
   });
   for (const ContactPlan& c : pr.contacts) pr.row.strip_evaluations += c.evaluations;
   // Over the contacts where the side-edge positioning has a gouge-free
@@ -377,6 +403,7 @@ void refine_row(const EdgeFinishRequest& rq, double v, const StripSamples& flank
 double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, PlannedRow& pr) {
   double left = std::numeric_limits<double>::infinity(), right = left, narrowest = left;
   std::vector<std::shared_ptr<const ContactStrip>> strips;
+  int last_piece = 0;
   for (size_t i = 0; i < pr.contacts.size(); ++i) {
     const ContactPlan& c = pr.contacts[i];
     EdgePosition pos;
@@ -394,6 +421,10 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
     p.left_mm = w.left_mm;
     p.right_mm = w.right_mm;
     p.strip = c.strip;
+    // A partial row's parts are passes of their own: no cut across the
+    // part of the round between them.
+    p.break_before = !pr.row.poses.empty() && c.piece != last_piece;
+    last_piece = c.piece;
     pr.row.poses.push_back(p);
     strips.push_back(c.strip);
     left = std::min(left, w.left_mm);
@@ -488,7 +519,6 @@ double reach_at(const EdgeFinishRow& row, double u, bool up) {
 // slack_mm. b may be the window's end (reach 0). Each interval padded by
 // two samples.
 constexpr int kGapSamples = 200;
-using Intervals = std::vector<std::pair<double, double>>;
 Intervals gaps_between(const Surface& edge, const EdgeFinishRow& a, const EdgeFinishRow* b, double b_v,
                        double slack_mm, const Intervals& within) {
   Intervals out;
@@ -520,59 +550,13 @@ Intervals gaps_between(const Surface& edge, const EdgeFinishRow& a, const EdgeFi
   return merged;
 }
 
-// A partial row at v over the intervals: planned as a whole row (its l
-// balanced along the whole round, as any row's), then only the contacts
-// within the intervals kept — each interval its own pass (a break before
-// its first pose), the others' contacts dropped.
+// A partial row at v over the intervals: only the contacts within them
+// planned (plan_row's `only`; l balanced over those), each interval its own
+// pass.
 PlannedRow infill_row(const EdgeFinishRequest& rq, const ToolBody& body, double v, const std::vector<double>& ls,
                       const Intervals& where, Progress& progress) {
-  PlannedRow pr = plan_row(rq, v, ls, false, progress);
+  PlannedRow pr = plan_row(rq, v, ls, false, progress, &where);
   emit_poses(rq, v, ls, pr);
-  auto inside = [&](double u) {
-    for (size_t k = 0; k < where.size(); ++k)
-      if (u >= where[k].first - 1e-12 && u <= where[k].second + 1e-12) return static_cast<int>(k);
-    return -1;
-  };
-  // Each interval with the pose just outside either end, so the kept
-  // strips reach over the whole interval (the reach between two poses is
-  // the smaller one's).
-  const size_t n = pr.row.poses.size();
-  std::vector<int> owner(n, -1);
-  for (size_t i = 0; i < n; ++i) owner[i] = inside(pr.row.poses[i].u);
-  std::vector<int> keep = owner;
-  for (size_t i = 0; i < n; ++i) {
-    if (keep[i] >= 0) continue;
-    if (i + 1 < n && owner[i + 1] >= 0) keep[i] = owner[i + 1];
-    else if (i > 0 && owner[i - 1] >= 0) keep[i] = owner[i - 1];
-  }
-  std::vector<EdgeFinishPose> kept;
-  int last_interval = -1;
-  for (size_t i = 0; i < n; ++i) {
-    EdgeFinishPose& p = pr.row.poses[i];
-    const int k = keep[i];
-    if (k < 0) {
-      last_interval = -1;
-      continue;
-    }
-    if (!kept.empty() && k != last_interval) p.break_before = true;
-    if (kept.empty()) p.break_before = false;
-    last_interval = k;
-    kept.push_back(std::move(p));
-  }
-  pr.row.poses = std::move(kept);
-  // The contacts a refusal is reported for: those within the intervals.
-  std::vector<ContactPlan> contacts;
-  std::vector<int> l_index;
-  for (size_t i = 0; i < pr.contacts.size(); ++i)
-    if (inside(pr.contacts[i].u) >= 0) {
-      contacts.push_back(pr.contacts[i]);
-      l_index.push_back(pr.emitted.l_index[i]);
-    }
-  pr.contacts = std::move(contacts);
-  pr.emitted.l_index = std::move(l_index);
-  pr.row.bottom_contacts = pr.row.corner_contacts = 0;
-  for (const EdgeFinishPose& p : pr.row.poses)
-    (p.position.contact == EdgeContact::Bottom ? pr.row.bottom_contacts : pr.row.corner_contacts) += 1;
   pr.row.infill = true;
   clear_row(rq, body, pr.row);
   return pr;
@@ -799,17 +783,23 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
                  [&](size_t k, Progress&) { clear_row(rq, body, planned[k].row); });
   }
   {
-    std::vector<PlannedRow> infill;
+    // Each pair of rows on its own, pairs on rq.threads workers (each
+    // planning its contacts on one).
     const Intervals whole{{0.0, 1.0}};
     constexpr int kInfillDepth = 3;  // up to 7 partial rows between two rows
-    for (size_t k = 0; k < planned.size(); ++k) {
-      progress.check();
+    EdgeFinishRequest one = rq;
+    one.threads = 1;
+    std::vector<std::vector<PlannedRow>> infill(planned.size());
+    run_parallel(planned.size(), rq.threads, progress, "edge finish partial rows", [&](size_t k, Progress& pg) {
       const bool last = k + 1 == planned.size();
-      fill_gaps(rq, body, ls, planned[k].row, last ? nullptr : &planned[k + 1].row,
-                last ? rq.v1 : planned[k + 1].row.v, whole, kInfillDepth, infill, progress);
-    }
-    out.infill_rows = static_cast<int>(infill.size());
-    for (PlannedRow& pr : infill) planned.push_back(std::move(pr));
+      fill_gaps(one, body, ls, planned[k].row, last ? nullptr : &planned[k + 1].row,
+                last ? rq.v1 : planned[k + 1].row.v, whole, kInfillDepth, infill[k], pg);
+    });
+    for (std::vector<PlannedRow>& rows : infill)
+      for (PlannedRow& pr : rows) {
+        planned.push_back(std::move(pr));
+        ++out.infill_rows;
+      }
     std::stable_sort(planned.begin(), planned.end(),
                      [](const PlannedRow& a, const PlannedRow& b) { return a.row.v < b.row.v; });
   }
@@ -866,8 +856,10 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       if (g->deepest_cut(*rq.tool, a, b, allowed(*g)).depth_mm < 0) return true;
     return false;
   };
-  progress.begin("edge finish checks", static_cast<long>(planned.size()));
-  for (size_t r = 0; r < planned.size(); ++r) {
+  // Each row on its own (its passes, tilts and breaks depend on nothing
+  // outside it), rows on rq.threads workers; totals summed in row order.
+  std::vector<long> row_gouge_breaks(planned.size(), 0);
+  run_parallel(planned.size(), rq.threads, progress, "edge finish checks", [&](size_t r, Progress& row_progress) {
     EdgeFinishRow& row = planned[r].row;
     std::vector<EdgeFinishPose> candidates = std::move(row.poses);
     row.poses.clear();
@@ -886,19 +878,14 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     long last_candidate = -1;  // ... and in candidates
     TiltAccepted last_tilt;    // the row's last tilted contact's axis (index -1: none yet)
     last_tilt.index = -1;
-    progress.step(static_cast<long>(r));
-    // The guards' sweep of every consecutive pair as planned, on rq.threads
-    // workers (the guards are read-only); the pass below takes it where the
-    // pose before is the candidate before and neither was tilted.
+    // The guards' sweep of every consecutive pair as planned; the pass
+    // below takes it where the pose before is the candidate before and
+    // neither was tilted.
     std::vector<char> pair_gouges(candidates.size(), 0);
-    {
-      Progress quiet(&progress);
-      run_parallel(candidates.empty() ? 0 : candidates.size() - 1, rq.threads, quiet, "edge finish sweeps",
-                   [&](size_t k, Progress&) { pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]); });
-    }
+    for (size_t k = 0; k + 1 < candidates.size(); ++k) pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]);
     for (size_t ci = 0; ci < candidates.size(); ++ci) {
       EdgeFinishPose& p = candidates[ci];
-      progress.check();
+      row_progress.check();
       if (p.break_before && last >= 0) {
         ++segment;
         last = -1;
@@ -951,7 +938,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
                         (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
-        ++out.gouge_breaks;
+        ++row_gouge_breaks[r];
       }
       p.segment = segment;
       row.poses.push_back(p);
@@ -965,6 +952,10 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       if (!chosen_position(rq, c, planned[r].emitted.l_index[i], ls, pos))
         row.refusals.push_back({c.u, c.frame.point, "no gouge-free position within the band"});
     }
+  });
+  for (size_t r = 0; r < planned.size(); ++r) {
+    EdgeFinishRow& row = planned[r].row;
+    out.gouge_breaks += row_gouge_breaks[r];
     out.total_poses += static_cast<int>(row.poses.size());
     out.total_refusals += static_cast<int>(row.refusals.size());
     out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
