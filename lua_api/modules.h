@@ -28,6 +28,7 @@ void open_channel(lua_State* L);    // wrap_channel.cpp: channel_rough (impeller
 void open_sim(lua_State* L);        // wrap_sim.cpp: simulate (undercut of any surface, passes with their tools)
 void open_repair(lua_State* L);     // wrap_repair.cpp: rebuild_sections (a blade lofted through measured sections)
 void open_repair_paths(lua_State* L);  // wrap_repair_paths.cpp: close_blade, repair_paths (repair zigzag / spiral, offset layers)
+void open_hub_finish(lua_State* L);  // wrap_hub_finish.cpp: hub_finish (blade root strip and channel floor, (tapered) ball end)
 
 // Registers everything into a new global table `bliskrun`.
 void open_all(lua_State* L);

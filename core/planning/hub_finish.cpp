@@ -245,6 +245,33 @@ ClosedRoot close_root(const BladeFaces& faces, const SurfaceOfRevolution& hub, i
   return out;
 }
 
+// Signed distance of q from a closed blade surface (> 0 outside), by its
+// nearest point: Newton from the nearest of the given samples (u raised by
+// `lift_u`, towards the ball's height), else from a coarse grid. -1 when no
+// foot is found (near the medial axis, inside): callers take that as "does
+// not fit", which is safe.
+double blade_signed_distance(const Surface& s, const std::vector<double>& su, const std::vector<double>& sv,
+                             const std::vector<Vec3>& sp, double lift_u, const Vec3& q) {
+  size_t best = 0;
+  double bd = 1e300;
+  for (size_t i = 0; i < sp.size(); i += 2) {
+    const double d = (sp[i] - q).squaredNorm();
+    if (d < bd) bd = d, best = i;
+  }
+  ProjectionOptions po;
+  po.seed = Eigen::Vector2d(std::min(1.0, su[best] + lift_u), sv[best]);
+  SurfaceProjection pr = project_to_surface(s, q, po);
+  if (!pr.ok) {
+    ProjectionOptions grid;
+    grid.seed_samples_u = 40;
+    grid.seed_samples_v = 160;
+    pr = project_to_surface(s, q, grid);
+  }
+  if (!pr.ok) return -1.0;
+  const Vec3 nn = unit_normal(s.eval(pr.u, pr.v), false);
+  return (q - pr.point).dot(nn) >= 0 ? pr.distance : -pr.distance;
+}
+
 struct Guards {
   std::unique_ptr<GougeGuard> blade, next, hub;
   double margin = 0;
@@ -661,28 +688,10 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   // Signed distance of a point from a closed blade (its nearest point,
   // seeded from the nearest root sample).
   auto signed_distance = [&](const ClosedRoot& b, const Vec3& q) {
-    size_t best = 0;
-    double bd = 1e300;
-    for (size_t i = 0; i < b.points.size(); i += 2) {
-      const double d = (b.points[i] - q).squaredNorm();
-      if (d < bd) bd = d, best = i;
-    }
-    ProjectionOptions po;
-    po.seed = Eigen::Vector2d(std::min(1.0, b.u[best] + r * du_per_mm), b.v[best]);
-    SurfaceProjection pr = project_to_surface(*b.surface, q, po);
-    if (!pr.ok) {  // Newton left from the seed: from the coarse sample instead
-      ProjectionOptions grid;
-      grid.seed_samples_u = 40;
-      grid.seed_samples_v = 160;
-      pr = project_to_surface(*b.surface, q, grid);
-    }
-    // No foot at all: the caller takes the ball as not fitting (safe).
-    if (!pr.ok) return -1.0;
-    const Vec3 nn = unit_normal(b.surface->eval(pr.u, pr.v), false);
-    return (q - pr.point).dot(nn) >= 0 ? pr.distance : -pr.distance;
+    return blade_signed_distance(*b.surface, b.u, b.v, b.points, r * du_per_mm, q);
   };
   struct FloorRow {
-    double z = 0, radius = 0, theta0 = 0, theta1 = 0;
+    double z = 0, radius = 0, theta0 = 0, theta1 = 0, cell0 = 0, cell1 = 0;
     Vec3 normal_zr = Vec3::Zero();  // the hub normal in the meridian plane (n_z, n_r)
   };
   std::vector<FloorRow> floor_rows;
@@ -726,6 +735,8 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
       fr.normal_zr = Vec3(-slope, 1, 0).normalized();
       const double a = blade.mid(fr.z);
       const double b = a + pitch;
+      fr.cell0 = a;
+      fr.cell1 = b;
       auto centre = [&](double th) { return Vec3(fr.radius * std::cos(th), fr.radius * std::sin(th), fr.z); };
       // The ball's gap to each blade along the row, every 0.1 mm; the row is
       // the longest run where it fits between both, its ends found by
@@ -778,6 +789,8 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
       res.floor_z.push_back(fr.z);
       res.floor_theta0.push_back(fr.theta0);
       res.floor_theta1.push_back(fr.theta1);
+      res.floor_cell0.push_back(fr.cell0);
+      res.floor_cell1.push_back(fr.cell1);
     }
   }
 
@@ -1120,7 +1133,53 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
   HubFinishSimulation sim;
   const SurfaceOfRevolution& hub = *rq.hub;
   // Every move of the plan, root and channel: either can cut the other's region.
-  std::vector<ToolPass> passes = passes_of_moves(hub_finish_moves(result)).passes;
+  // The plan is blade k's and channel k's; the blisk is periodic and a job
+  // turns the plan onto every blade, so the neighbours' copies cut here too:
+  // channel k - 1 reaches blade k's pressure-side fillet, blade k + 1's root
+  // rows and channel k + 1 the floor's far side.
+  auto turned = [&](const std::vector<ToolPass>& in, double angle) {
+    const Eigen::AngleAxisd rot(angle, Vec3::UnitZ());
+    std::vector<ToolPass> out = in;
+    for (ToolPass& pass : out)
+      for (ToolPose& p : pass) p = ToolPose{rot * p.tip, rot * p.axis};
+    return out;
+  };
+  auto join = [](std::vector<ToolPass> a, const std::vector<ToolPass>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  // Only what can reach a window's samples: the stretches of each pass
+  // whose poses come within the tool's reach of the window's box, with the
+  // pose before and after (the motion from or to a far pose can still cut).
+  auto near_window = [&](const std::vector<ToolPass>& in, const Surface& s, const UndercutOptions& o) {
+    Eigen::AlignedBox3d box;
+    for (int i = 0; i <= 16; ++i)
+      for (int j = 0; j <= 64; ++j) box.extend(s.point(o.u0 + (o.u1 - o.u0) * i / 16, o.v0 + (o.v1 - o.v0) * j / 64));
+    const double reach = rq.tool->cutter().reach() + 1;
+    std::vector<ToolPass> out;
+    for (const ToolPass& pass : in) {
+      std::vector<char> near(pass.size());
+      for (size_t k = 0; k < pass.size(); ++k) near[k] = box.exteriorDistance(pass[k].tip) < reach;
+      ToolPass cur;
+      for (size_t k = 0; k < pass.size(); ++k) {
+        const bool keep = near[k] || (k > 0 && near[k - 1]) || (k + 1 < pass.size() && near[k + 1]);
+        if (keep) {
+          cur.push_back(pass[k]);
+        } else if (!cur.empty()) {
+          out.push_back(std::move(cur));
+          cur.clear();
+        }
+      }
+      if (!cur.empty()) out.push_back(std::move(cur));
+    }
+    return out;
+  };
+  const std::vector<ToolPass> root = passes_of_moves(hub_finish_moves(result.root)).passes;
+  const std::vector<ToolPass> channel = passes_of_moves(hub_finish_moves(result.channel)).passes;
+  const double pitch = result.pitch_rad;
+  const std::vector<ToolPass> root_passes = join(join(root, channel), turned(channel, -pitch));
+  const std::vector<ToolPass> floor_passes =
+      join(join(join(join(channel, root), turned(root, pitch)), turned(channel, -pitch)), turned(channel, pitch));
   UndercutOptions base;
   base.sweep_step_mm = options.sweep_step_mm;
   base.threads = options.threads;
@@ -1142,7 +1201,7 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
     o.u1 = std::min(1.0, uhi);
     o.samples_u = options.root_samples_u;
     o.samples_v = options.root_samples_v;
-    sim.root = simulate_undercut(bs, *rq.tool, passes, o, progress);
+    sim.root = simulate_undercut(bs, *rq.tool, near_window(root_passes, bs, o), o, progress);
     std::vector<char> strip(sim.root.residual_mm.size(), 0), fillet(strip.size(), 0);
     for (int i = 0; i < o.samples_u; ++i) {
       const double u = o.u0 + (o.u1 - o.u0) * i / (o.samples_u - 1);
@@ -1175,25 +1234,61 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
     const double ua = u_at_z(result.z_inlet_mm), ub = u_at_z(result.z_outlet_mm);
     o.u0 = std::min(ua, ub);
     o.u1 = std::max(ua, ub);
-    sim.floor = simulate_undercut(*result.hub_sector, *rq.tool, passes, o, progress);
+    sim.floor = simulate_undercut(*result.hub_sector, *rq.tool, near_window(floor_passes, *result.hub_sector, o), o, progress);
     // Floor: between the rows' ends at the sample's z (the row ends are ball
     // centres; the contact below is at the same angle, z moved by the
     // normal's tilt, which the row interpolation in z absorbs).
-    std::vector<char> floor(sim.floor.residual_mm.size(), 0);
+    std::vector<char> floor(sim.floor.residual_mm.size(), 0), middle(floor.size(), 0);
     const double zmin = result.floor_z.front(), zmax = result.floor_z.back();
+    constexpr double kExactMm = 0.6;
+    const double r = ball_radius(*rq.tool);
+    std::vector<Vec3> seeds;
+    for (size_t k = 0; k < result.fillet_u.size(); ++k)
+      seeds.push_back(result.blade_closed->point(result.fillet_u[k], result.fillet_v[k]));
+    std::vector<Vec3> seeds_next;
+    for (size_t k = 0; k < result.fillet_u.size(); ++k)
+      seeds_next.push_back(result.next_closed->point(result.fillet_u[k], result.fillet_v[k]));
+    auto fits = [&](const Vec3& c) {
+      const struct {
+        const Surface* s;
+        const std::vector<Vec3>* pts;
+      } blades[] = {{result.blade_closed.get(), &seeds}, {result.next_closed.get(), &seeds_next}};
+      for (const auto& b : blades) {
+        double near = 1e300;
+        for (const Vec3& q : *b.pts) near = std::min(near, (q - c).squaredNorm());
+        if (near > (3 * r + 2) * (3 * r + 2)) continue;
+        if (blade_signed_distance(*b.s, result.fillet_u, result.fillet_v, *b.pts, 0, c) < r - 1e-4) return false;
+      }
+      return true;
+    };
     for (int i = 0; i < o.samples_u; ++i) {
       const double u = o.u0 + (o.u1 - o.u0) * i / (o.samples_u - 1);
       for (int j = 0; j < o.samples_v; ++j) {
         const double v = o.v0 + (o.v1 - o.v0) * j / (o.samples_v - 1);
-        const Vec3 p = result.hub_sector->point(u, v);
-        const double zc = p.z();
+        const SurfaceDerivs d = result.hub_sector->eval(u, v);
+        const Vec3& p = d.p;
+        // The ball resting on the hub here: its centre (the rows' z is the centre's).
+        const Vec3 c = p + r * unit_normal(d, result.hub_sector_flip);
+        const double zc = c.z();
         if (zc < zmin || zc > zmax) continue;
-        const double th = wrap_near(angle_of(p), interp(result.floor_z, result.floor_theta0, zc));
-        if (th >= interp(result.floor_z, result.floor_theta0, zc) && th <= interp(result.floor_z, result.floor_theta1, zc))
-          floor[static_cast<size_t>(i) * o.samples_v + j] = 1;
+        const double t0 = interp(result.floor_z, result.floor_theta0, zc);
+        const double t1 = interp(result.floor_z, result.floor_theta1, zc);
+        const double th = wrap_near(angle_of(p), t0);
+        const double radius = std::hypot(p.x(), p.y());
+        if (th < t0 - kExactMm / radius || th > t1 + kExactMm / radius) continue;
+        // The cell's own: beyond its mid-lines the next channel's rows cut.
+        if (th < interp(result.floor_z, result.floor_cell0, zc) || th > interp(result.floor_z, result.floor_cell1, zc))
+          continue;
+        bool in = th >= t0 && th <= t1;
+        // Near the rows' ends (a round's end moves fast from row to row):
+        // whether the ball resting on the hub here fits, measured.
+        if (std::min(std::abs(th - t0), std::abs(th - t1)) * radius < kExactMm) in = fits(c);
+        if (in) floor[static_cast<size_t>(i) * o.samples_v + j] = 1;
+        if (th > t0 + 1.0 / radius && th < t1 - 1.0 / radius) middle[static_cast<size_t>(i) * o.samples_v + j] = 1;
       }
     }
     sim.channel_floor = region_stats(sim.floor, floor);
+    sim.channel_middle = region_stats(sim.floor, middle);
   }
   sim.seconds = seconds_since(t0);
   return sim;

@@ -199,6 +199,7 @@ struct HubFinishResult {
   bool hub_sector_flip = false;                // its pu x pv points into the hub
   std::vector<double> fillet_v, fillet_u;      // the fillet row's contacts on blade_closed, v increasing
   std::vector<double> floor_z, floor_theta0, floor_theta1;  // each floor row: centre z and end angles
+  std::vector<double> floor_cell0, floor_cell1;              // and its cell's (the blades' mid-lines)
 };
 
 // Throws ParameterError naming the option for missing surfaces, a tool that
@@ -227,10 +228,13 @@ std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part);
 //    (between the floor rows' ends, interpolated in z).
 // The statistics of each cover its strip / floor samples; the overcut covers
 // every sample.
+// Samples ~0.07 mm apart across the rows (the cusp's top read within
+// ~0.7 um); the sweep at 0.1 mm of the fastest cutter point (the flute's
+// top as the axis turns) misses < 1 um on the ball (d^2 / 8 r).
 struct HubFinishSimOptions {
-  int root_samples_u = 120, root_samples_v = 1600;
-  int floor_samples_u = 600, floor_samples_v = 400;
-  double sweep_step_mm = 0.05;
+  int root_samples_u = 100, root_samples_v = 1200;
+  int floor_samples_u = 500, floor_samples_v = 300;
+  double sweep_step_mm = 0.1;
   int threads = 2;
 };
 struct HubFinishRegionStats {
@@ -242,7 +246,9 @@ struct HubFinishRegionStats {
 };
 struct HubFinishSimulation {
   UndercutResult root, floor;
-  HubFinishRegionStats strip, fillet, channel_floor;
+  // channel_middle: the floor samples 1 mm or more inside both rows' ends,
+  // where only the rows' own cusps are left (the closed form's h).
+  HubFinishRegionStats strip, fillet, channel_floor, channel_middle;
   double seconds = 0;
 };
 HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const HubFinishRequest& request,

@@ -1,0 +1,93 @@
+-- Hub and blade-root finishing of the built-in blisk (issue 18 item 2):
+-- blade 1's root strip all around the blade (pressure flank -> TE round ->
+-- suction flank -> LE round) and the channel floor between blades 1 and 2,
+-- with a tapered ball end long enough to reach the hub from outside the
+-- casing (bliskrun.hub_finish, core/planning/hub_finish.h).
+--   root:    the fillet row (the ball on hub and blade at once: the design's
+--            sharp corner is left as a fillet of the ball's radius), then
+--            closed rows at constant height above the hub up to `top`
+--            (4 mm: above the drum finish's ~2-3 mm and the edge finish's
+--            ~3.4 mm strips, overlapping what they finished);
+--   channel: rows across the channel at constant z, the ball on the hub,
+--            from where it touches blade 1 to where it touches blade 2,
+--            inlet to outlet, one zigzag pass joined along the fillet.
+-- Rows by the ball's scallop closed form, steps by the chord of the ball
+-- centre's path; every pose tilted clear of the neighbours and the hub
+-- (whole tool), the ball and cone checked against the design surfaces,
+-- steps and links proved. Then the simulation (core/sim) of every move on
+-- blade 1's closed surface over the root strip and on the hub around the
+-- channel, the neighbours' copies of the plan included (the blisk is
+-- periodic: a job turns this plan onto every blade).
+--
+--   bliskrun scripts/recipes/blisk_hub_finish.lua --out out
+--            [--set ball=1.5] [--set taper=2.5] [--set top=4] [--set scallop=0.005]
+--            [--set chord_tol=0.001] [--set simulate=true]
+-- Outputs: blisk_hub_finish.json, blisk_hub_finish.apt.
+local t_start = os.clock()
+local function number_arg(key, default, lo, hi)
+  local v = args[key]
+  if v == nil then return default end
+  assert(type(v) == "number" and v >= lo and v <= hi,
+         string.format("--set %s= expects a number in [%g, %g], got %s", key, lo, hi, tostring(v)))
+  return v
+end
+local ball = number_arg("ball", 1.5, 0.5, 3)
+local taper = number_arg("taper", 2.5, 0, 5)
+local top = number_arg("top", 4, 0.5, 20)
+local scallop = number_arg("scallop", 0.005, 1e-4, 0.1)
+local chord_tol = number_arg("chord_tol", 0.001, 1e-4, 0.05)
+local simulate = args.simulate ~= false and args.simulate ~= "false"
+
+local blisk = bliskrun.blisk{}
+local n = blisk:blade_count()
+local function faces(k) return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction")} end
+-- 40 mm of flute: from the ball on the hub (r 60..66) past the casing
+-- (r 90..96) with the 8 mm shank and the holder outside it.
+local tool = bliskrun.tapered_ball_end_mill{tip_radius = ball, half_angle = taper, flute_length = 40,
+                                            shank = {diameter = 8, length = 30}, holder = {diameter = 32, length = 40}}
+
+local plan = bliskrun.hub_finish{blade = faces(1), next = faces(2), previous = faces(n), hub = blisk:hub(),
+                                 tool = tool, top = top, scallop = scallop, chord_tol = chord_tol}
+local r = plan:report()
+print(string.format("hub finish, blade 1 and the channel to blade 2: %s", r.tool))
+for _, name in ipairs{"root", "channel"} do
+  local p = r[name]
+  print(string.format("  %-7s %3d rows, %d passes, %5d poses (%d tilted), %d refused, %d steps, %d links, "
+                      .. "%d refused links; step %.4f..%.4f mm, chord %.2f um; %.2f s",
+                      name, p.rows, p.passes, p.poses, p.tilted, p.refusals, p.steps, p.links, p.refused_links,
+                      p.step_min, p.step_max, p.max_deviation * 1000, p.seconds))
+  for _, why in ipairs(p.refused) do print("    refused link: " .. why) end
+end
+print(string.format("  root: fillet of r %.2f mm left in the sharp corner (the fillet row touches the blade %.3f..%.3f mm "
+                    .. "above the hub); rows %.3f..%.3f mm above the hub", r.fillet.radius, r.fillet.contact_min,
+                    r.fillet.contact_max, r.heights[1], r.heights[2]))
+print(string.format("  channel: z %.1f..%.1f mm, pitch %.3f deg; setup %.2f s", r.z[1], r.z[2], r.pitch, r.setup_seconds))
+for i, f in ipairs(r.refusals) do
+  if i > 5 then print(string.format("    ... %d refused contacts in all", #r.refusals)) break end
+  print(string.format("    refused %s row %d: %s", f.operation, f.row, f.reason))
+end
+
+local report = {tool = r.tool, scallop = scallop, chord_tol = chord_tol, top = top, root = r.root,
+                channel = r.channel, fillet = r.fillet, heights = r.heights, z = r.z, refusals = #r.refusals}
+if simulate then
+  local s = plan:simulate{}
+  local function line(name, st)
+    print(string.format("  simulated %-12s %6d samples, %d unreached, material left max %.2f um (mean %.2f), "
+                        .. "overcut %.2f um", name, st.samples, st.unreached, st.left_max * 1000, st.left_mean * 1000,
+                        -st.overcut * 1000))
+  end
+  line("root strip", s.strip)
+  line("floor", s.floor)
+  line("floor middle", s.floor_middle)
+  print(string.format("  the fillet (below the fillet row): %d samples, material left up to %.3f mm (the ball's fillet); "
+                      .. "simulation %.2f s", s.fillet.samples, s.fillet.left_max, s.seconds))
+  report.simulation = {strip = s.strip, floor = s.floor, floor_middle = s.floor_middle,
+                       root_overcut = s.root_overcut, floor_overcut = s.floor_overcut}
+  local allowed = 0.002 + 0.0002
+  assert(s.root_overcut >= -allowed and s.floor_overcut >= -allowed,
+         string.format("overcut beyond the allowance: root %.2f um, floor %.2f um", -s.root_overcut * 1000,
+                       -s.floor_overcut * 1000))
+end
+bliskrun.write_json("blisk_hub_finish.json", report)
+plan:write_apt("blisk_hub_finish.apt")
+print(string.format("wrote blisk_hub_finish.json and blisk_hub_finish.apt (%.1f s CPU)", os.clock() - t_start))
