@@ -150,6 +150,8 @@ int w_edge_finish(lua_State* L) {
          Field{"casing", Kind::Any, false, std::nullopt, std::nullopt,
                "casing (surface of revolution): the window ends where the edge passes it", {}},
          Field{"hub_clearance", Kind::Number, false, 0.0, 100.0, "cutter to hub on the first row, mm (default 0.05)", {}},
+         Field{"reach", Kind::Table, false, std::nullopt, std::nullopt,
+               "{axis = {x, y, z}, max = deg}: every tool axis within max of axis (the machine's reach in the setup)", {}},
          Field{"e1", Kind::Number, false, -10.0, 0.0, "overcut limit, mm (<= 0, default -0.001)", {}},
          Field{"e2", Kind::Number, false, 1e-6, 10.0, "undercut limit, mm (default 0.02)", {}},
          Field{"r_e", Kind::Number, false, 1e-3, 100.0, "cutting-speed radius: l >= r_e, mm (default 1)", {}},
@@ -215,6 +217,21 @@ int w_edge_finish(lua_State* L) {
     if (o.has("hub")) rq.hub = revolution_option(L, o, "hub", what);
     if (o.has("casing")) rq.casing = revolution_option(L, o, "casing", what);
     rq.hub_clearance_mm = o.number("hub_clearance", 0.05);
+    if (o.has("reach")) {
+      o.push_raw("reach");
+      const int t = lua_gettop(L);
+      lua_getfield(L, t, "axis");
+      const Vec3 axis = luax::check_vec3(L, -1, (what + ": option 'reach'.axis").c_str());
+      lua_pop(L, 1);
+      lua_getfield(L, t, "max");
+      if (!lua_isnumber(L, -1)) luax::error(L, what + ": option 'reach': expected max = degrees");
+      const double max_deg = lua_tonumber(L, -1);
+      lua_pop(L, 2);
+      if (!(axis.norm() > 1e-9)) luax::error(L, what + ": option 'reach'.axis: expected a non-zero direction");
+      if (!(max_deg > 0 && max_deg <= 180)) luax::error(L, what + ": option 'reach'.max: expected degrees in (0, 180]");
+      rq.reach_axis = axis.normalized();
+      rq.reach_max_rad = deg_to_rad(max_deg);
+    }
     rq.band.e1_mm = o.number("e1", -0.001);
     rq.band.e2_mm = o.number("e2", 0.02);
     rq.r_e_mm = o.number("r_e", 1.0);
@@ -325,6 +342,8 @@ int w_plan_report(lua_State* L) {
       if (reasons.size() < 20) reasons.insert(f.reason);
   for (const EdgeFinishLink& l : r.links)
     if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
+  for (const PlannedDeparture* d : {&r.lead_in, &r.lead_out})
+    if (!d->clear && !d->reason.empty()) reasons.insert(d->reason);
   lua_createtable(L, static_cast<int>(reasons.size()), 0);
   int k = 0;
   for (const std::string& why : reasons) {

@@ -33,6 +33,8 @@ void validate(const EdgeFinishRequest& rq) {
     throw ParameterError("tilt_lead_max", "expected tilt_lead_step <= tilt_lead_max < 90 deg");
   if (!(rq.tilt_slip_step_rad > 0)) throw ParameterError("tilt_slip_step", "must be > 0");
   if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance", "must be >= 0");
+  if (!rq.reach_axis.isZero() && std::abs(rq.reach_axis.norm() - 1) > 1e-9)
+    throw ParameterError("reach", "the reach axis must be a unit vector");
 }
 
 // Parts of a row around the edge, [u0, u1] each, in u order.
@@ -245,6 +247,13 @@ std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFin
   return {{0.5 * (a.contact + b.contact) + (rq.retract_mm + flat_end_of(*rq.tool).radius_mm) * front, front}};
 }
 
+// Whether a pose's axis is within the machine's reach (EdgeFinishRequest::
+// reach_axis, reach_max_rad).
+bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose) {
+  if (rq.reach_axis.isZero()) return true;
+  return pose.axis.normalized().dot(rq.reach_axis) >= std::cos(rq.reach_max_rad) - 1e-12;
+}
+
 // Waypoints in front of the edge between two passes: the round's middle
 // (u = 0.5) at the passes' mean span, out along its normal by the retract
 // distance plus the tool's diameter, with the first pass's axis and then
@@ -292,6 +301,7 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body,
   const Vec3 front = edge_frame(rq.edge->eval(0.5, p.v)).z;
   s.pose_filter = [&](const ToolPose& pose) -> std::string {
     if (pose.axis.dot(front) < 0) return "leans back into the passage";
+    if (!within_reach(rq, pose)) return "beyond the machine's reach";
     const StripWidth w = strip.width(pose);
     if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um)";
     if (!w.touches) return "leaves more than e2 at the contact";
@@ -461,7 +471,7 @@ void clear_row(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishRow&
     const size_t n = poses.size();
     for (size_t k = 0; k < n; ++k) {
       EdgeFinishPose& p = poses[backwards ? n - 1 - k : k];
-      if (rq.world->check(body, p.pose, rq.clearances, 0).clear) continue;
+      if (within_reach(rq, p.pose) && rq.world->check(body, p.pose, rq.clearances, 0).clear) continue;
       const TiltOutcome t = clear_alternative(rq, body, p, last.index >= 0 ? &last : nullptr);
       if (!t.accepted) continue;
       last = t.pose;
@@ -893,6 +903,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
       std::string reason;
       if (!pc.clear) reason = describe(pc, *rq.world);
+      else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
       else if (last >= 0 &&
                !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
         // The pose is clear, the cutting motion into it is not: a new pass,
@@ -1023,6 +1034,25 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       link.reason = "link from row " + std::to_string(e.from_row) + " to row " + std::to_string(e.to_row) + ": " + pl.reason;
   });
   for (const EdgeFinishLink& link : out.links) out.refused_links += link.clear ? 0 : 1;
+  const EdgeFinishPose* first = nullptr;
+  const EdgeFinishPose* last = nullptr;
+  for (const EdgeFinishRow& row : out.rows)
+    if (!row.poses.empty()) {
+      if (!first) first = &row.poses.front();
+      last = &row.poses.back();
+    }
+  if (first) {
+    auto departure = [&](const EdgeFinishPose& p, const char* what) {
+      PlannedDeparture d = plan_departure({p.pose, p.normal}, link_checks, link_options);
+      if (!d.clear) {
+        d.reason = std::string(what) + ": " + d.reason;
+        ++out.refused_links;
+      }
+      return d;
+    };
+    out.lead_in = departure(*first, "lead-in");
+    out.lead_out = departure(*last, "lead-out");
+  }
   progress.end();
   out.checks_seconds = seconds_since(t_checks);
   return out;
@@ -1032,11 +1062,17 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
   std::vector<DrumFinishMove> moves;
   size_t link = 0;
   bool started = false;
+  int last_row = -1;
   for (size_t r = 0; r < result.rows.size(); ++r) {
     const EdgeFinishRow& row = result.rows[r];
     const int ri = static_cast<int>(r);
     for (size_t i = 0; i < row.poses.size(); ++i) {
       const bool starts_pass = i == 0 || row.poses[i].segment != row.poses[i - 1].segment;
+      if (!started) {
+        if (result.lead_in.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_in.away, ri, "start", {}});
+        else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", result.lead_in.reason});
+      }
+      last_row = ri;
       if (starts_pass && started) {
         const EdgeFinishLink& l = result.links.at(link++);
         if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
@@ -1049,6 +1085,10 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
       moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, motion, {}});
       started = true;
     }
+  }
+  if (started) {
+    if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
+    else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, last_row, "stop", result.lead_out.reason});
   }
   return moves;
 }

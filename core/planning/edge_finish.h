@@ -104,6 +104,12 @@ struct EdgeFinishRequest {
   // where none has it.
   double tilt_room_mm = 0.5;
   AxisLimit axis_limit;
+  // The machine's reach in the setup the edge is cut in: every emitted axis
+  // within reach_max_rad of reach_axis (unit; zero: no limit) — e.g. within
+  // 118 deg of the table's axis for a B head or A cradle that tilts to 120.
+  // An axis beyond it is tilted like one that interferes, or refused.
+  Vec3 reach_axis = Vec3::Zero();
+  double reach_max_rad = kPi;
   Clearances clearances;
   double motion_tol_mm = 1e-3;
   double retract_mm = 3.0;              // links: up the tool axis
@@ -181,6 +187,10 @@ struct EdgeFinishResult {
   double hub_strip_mm = 0;
   std::vector<EdgeFinishRow> rows;
   std::vector<EdgeFinishLink> links;
+  // Off the first pose and off the last, up the tool axis, proved as a
+  // link's legs (plan_departure): the path begins and ends in the air, so a
+  // job's link into it or out of it never ends on the blade.
+  PlannedDeparture lead_in, lead_out;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
   // Cutting motions the gouge guard (core/sim, the whole edge region and
   // both flanks) found cutting beyond e1: reached by a link instead.

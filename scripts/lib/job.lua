@@ -75,6 +75,48 @@ end
 
 -- Drum-wheel flank finishing (blisk paper §3) of the given blades' flanks,
 -- one plan per flank with the shared settings of scripts/lib/blisk_finish.lua.
+-- A plan's moves turned about Z by `angle` (rad): a blisk's blades are one
+-- blade turned by the pitch, so blade k's path is blade 1's turned.
+local function turned_moves(list, angle)
+  local c, s = math.cos(angle), math.sin(angle)
+  local function rot(v) return {c * v[1] - s * v[2], s * v[1] + c * v[2], v[3]} end
+  local out = {}
+  for i, m in ipairs(list) do
+    local t = {}
+    for key, value in pairs(m) do t[key] = value end
+    t.tip, t.axis = rot(m.tip), rot(m.axis)
+    out[i] = t
+  end
+  return out
+end
+M.turned_moves = turned_moves
+
+-- The blades of an operation planned once and turned (periodic) or each
+-- planned: plan_blade(k) -> {{side =, plan =, report =, moves_list =}, ...}.
+-- Returns the job's flank entries in blade order.
+local function blades_of(self, j, plan_blade)
+  local flanks, base, base_k = {}, nil, nil
+  local n = j.part:blade_count()
+  for _, k in ipairs(self.blades) do
+    local units
+    if self.periodic and base then
+      units = {}
+      for i, u in ipairs(base) do
+        units[i] = {side = u.side, plan = u.plan, report = u.report, turned_from = base_k, flanks = u.flanks,
+                    moves_list = turned_moves(u.moves_list, 2 * math.pi * (k - base_k) / n)}
+      end
+    else
+      units = plan_blade(k)
+      base, base_k = units, k
+    end
+    for _, u in ipairs(units) do
+      flanks[#flanks + 1] = {blade = k, side = u.side, plan = u.plan, report = u.report, feed = self.feed,
+                             moves_list = u.moves_list, turned_from = u.turned_from, flanks = u.flanks}
+    end
+  end
+  return flanks
+end
+
 function M.drum_finish(o)
   check_options("job.drum_finish", o, {
     tool = {type = "string", required = true},
@@ -90,10 +132,11 @@ function M.drum_finish(o)
     c_range = {type = "number", check = function(v) if not (v > 0 and v <= 90) then return "expected 0 < c_range <= 90 deg" end end},
     shank_clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     feed = {type = "number", check = positive},
+    periodic = {type = "boolean"},
   }, 2)
   local op = {kind = "drum_finish", tool = o.tool, blades = o.blades, sides = o.sides or {"pressure", "suction"},
               residual = o.residual or 0.014, chord_tol = o.chord_tol or 0.002, c_range = o.c_range or 30,
-              shank_clearance = o.shank_clearance or 0.1, feed = o.feed or 600}
+              shank_clearance = o.shank_clearance or 0.1, feed = o.feed or 600, periodic = o.periodic == true}
   -- The plans of this operation, flank by flank, in cutting order: all
   -- flanks planned at once on the run's --threads (bliskrun.drum_finish_all;
   -- the plans do not depend on the thread count).
@@ -105,7 +148,9 @@ function M.drum_finish(o)
                                     shank_clearance = self.shank_clearance})
     common.jobs = {}
     local which = {}
-    for _, k in ipairs(self.blades) do
+    -- Periodic: the first blade planned, the others its plan turned.
+    local planned_blades = self.periodic and {self.blades[1]} or self.blades
+    for _, k in ipairs(planned_blades) do
       if k > blisk:blade_count() then
         error(string.format("job.drum_finish: blade %d does not exist; the part has %d", k, blisk:blade_count()), 0)
       end
@@ -127,7 +172,73 @@ function M.drum_finish(o)
       flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed,
                              moves_list = plan:moves()}
     end
-    return flanks
+    if not self.periodic then return flanks end
+    local base = {}
+    for i, f in ipairs(flanks) do base[i] = {side = f.side, plan = f.plan, report = f.report, moves_list = f.moves_list} end
+    return blades_of(self, j, function() return base end)
+  end
+  return op
+end
+
+-- Blade edges finished with the bottom of a flat-end mill (edge paper §3,
+-- bliskrun.edge_finish): each blade's leading and trailing edge regions
+-- (bliskrun.edge_region, `overlap` mm onto the flanks) between hub and
+-- casing (the strip above the hub is the hub-fillet operation's), every pose
+-- and link proved against the blade's neighbours, the hub and itself. With
+-- `periodic` (default) the first blade is planned and every other blade
+-- gets its path turned by the pitch (the blisk's blades are one blade
+-- turned, and so are their neighbours and the hub: what is proved for one
+-- holds for all).
+function M.edge_finish(o)
+  check_options("job.edge_finish", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = function(v)
+      if #v == 0 then return "expected a list of blade numbers" end
+      for _, b in ipairs(v) do if math.type(b) ~= "integer" or b < 1 then return "expected blade numbers 1, 2, ..." end end
+    end},
+    edges = {type = "table", check = function(v)
+      if #v == 0 then return "expected 'leading' and/or 'trailing'" end
+      for _, e in ipairs(v) do if e ~= "leading" and e ~= "trailing" then return "expected 'leading' and/or 'trailing'" end end
+    end},
+    e1 = {type = "number", check = function(v) if not (v <= 0) then return "expected <= 0 mm (the overcut limit)" end end},
+    e2 = {type = "number", check = positive},
+    overlap = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    span = {type = "table", check = function(v)
+      if not (type(v[1]) == "number" and type(v[2]) == "number" and 0 <= v[1] and v[1] < v[2] and v[2] <= 1) then
+        return "expected {from, to} with 0 <= from < to <= 1"
+      end
+    end},
+    periodic = {type = "boolean"},
+    feed = {type = "number", check = positive},
+    reach = {type = "table"},
+  }, 2)
+  local op = {kind = "edge_finish", tool = o.tool, blades = o.blades, edges = o.edges or {"leading", "trailing"},
+              e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0.1, 0.9},
+              periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach}
+  function op.plan_flanks(self, j)
+    local blisk = j.part
+    local tool = j.tools[self.tool].tool
+    return blades_of(self, j, function(k)
+      local units = {}
+      for _, edge in ipairs(self.edges) do
+        -- The flank whose edge end is at v = 0 first (bliskrun.edge_region).
+        local first, second = blisk:flank(k, "pressure"), blisk:flank(k, "suction")
+        if edge == "trailing" then first, second = second, first end
+        local region = bliskrun.edge_region{first = first, second = second, overlap = self.overlap}
+        local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool,
+                                          world = j:world_around(k), name = string.format("blade %d %s edge", k, edge),
+                                          span = self.span, hub = blisk:hub(), casing = blisk:casing(),
+                                          e1 = self.e1, e2 = self.e2, reach = self.reach}
+        local r = plan:report()
+        if r.refusals > 0 or r.refused_links > 0 then
+          error(string.format("job.edge_finish: blade %d %s edge: %d contacts and %d links refused; nothing of it is "
+                              .. "emitted (see plan:report().refusal_reasons)", k, edge, r.refusals, r.refused_links), 0)
+        end
+        units[#units + 1] = {side = edge .. " edge", plan = plan, report = r, moves_list = plan:moves(),
+                             flanks = {first, second}}
+      end
+      return units
+    end)
   end
   return op
 end
@@ -373,27 +484,52 @@ end
 --   the cylinder (nil when the axis points along Z); travel(out, into) ->
 --   points round the cylinder, into last, in steps short enough that every
 --   chord stays within 0.5 mm of it.
-function M.cylinder(R)
-  local c = {description = string.format("the clearance cylinder (r = %g mm)", R)}
+-- The clearance surface of a blisk: the cylinder of radius R about Z and,
+-- when z0 < z1 are given, its end planes z = z0 and z = z1 in front of and
+-- behind the part (a can). A tool backs out along its axis to the cylinder
+-- when its axis leans outward enough to meet it (radial part >= 0.2),
+-- otherwise to the end plane it points at (an edge tool's axis is nearly
+-- axial); it travels out on the plane to the cylinder's rim, round the
+-- cylinder, and in on the other's plane.
+function M.cylinder(R, z0, z1)
+  local can = z0 and z1
+  local c = {description = can and string.format("the clearance can (r = %g mm, z %g .. %g mm)", R, z0, z1)
+                               or string.format("the clearance cylinder (r = %g mm)", R)}
   function c.back_out(pose)
     local p, a = pose.tip, pose.axis
     -- |xy(p + t a)| = R: (a.a) t^2 + 2 (p.a) t + (p.p - R^2) = 0 in xy.
     local A, B, C = a[1] ^ 2 + a[2] ^ 2, p[1] * a[1] + p[2] * a[2], p[1] ^ 2 + p[2] ^ 2 - R * R
     local disc = B * B - A * C
-    if A < 0.04 or disc < 0 then return nil end
-    return {tip = add(p, a, math.max(0, (-B + math.sqrt(disc)) / A)), axis = a}
+    if A >= 0.04 and disc >= 0 then return {tip = add(p, a, math.max(0, (-B + math.sqrt(disc)) / A)), axis = a} end
+    if not can or math.abs(a[3]) < 0.5 then return nil end
+    local z = a[3] < 0 and z0 or z1
+    local q = add(p, a, math.max(0, (z - p[3]) / a[3]))
+    if q[1] ^ 2 + q[2] ^ 2 > R * R then return nil end
+    return {tip = q, axis = a}
+  end
+  -- The point on the rim (radius R) a point on an end plane travels out
+  -- to, or the point itself when it is on the cylinder.
+  local function rim(q)
+    local r = math.sqrt(q[1] ^ 2 + q[2] ^ 2)
+    if r >= R - 1e-6 then return q, false end
+    if r < 1e-9 then return {R, 0, q[3]}, true end
+    return {R * q[1] / r, R * q[2] / r, q[3]}, true
   end
   function c.travel(out, into)
-    local t1, t2 = math.atan(out.tip[2], out.tip[1]), math.atan(into.tip[2], into.tip[1])
+    local from, out_plane = rim(out.tip)
+    local to, into_plane = rim(into.tip)
+    local points = {}
+    if out_plane then points[#points + 1] = from end
+    local t1, t2 = math.atan(from[2], from[1]), math.atan(to[2], to[1])
     local dt = t2 - t1
     while dt > math.pi do dt = dt - 2 * math.pi end
     while dt < -math.pi do dt = dt + 2 * math.pi end
     local n = math.max(1, math.ceil(math.abs(dt) / (2 * math.acos((R - 0.5) / R))))
-    local points = {}
     for i = 1, n do
       local s, t = i / n, t1 + i / n * dt
-      points[i] = i == n and into.tip or {R * math.cos(t), R * math.sin(t), out.tip[3] + s * (into.tip[3] - out.tip[3])}
+      points[#points + 1] = i == n and to or {R * math.cos(t), R * math.sin(t), from[3] + s * (to[3] - from[3])}
     end
+    if into_plane then points[#points + 1] = into.tip end
     return points
   end
   return c
@@ -411,6 +547,7 @@ function M.new(spec)
       if type(v) ~= "userdata" and type(v) ~= "table" then return "expected a part (bliskrun.blisk, bliskrun.impeller, ...)" end
     end},
     clearance_radius = {type = "number", check = positive},
+    clearance_axial = {type = "number", check = positive},
     clearance = {type = "number", check = positive},
     link_clearance = {type = "table"},
     tools = {type = "table", required = true},
@@ -427,7 +564,12 @@ function M.new(spec)
       error(string.format("job.new: option 'clearance_radius': %.3f mm is not outside the casing (radius up to %.3f mm) "
                           .. "by at least 1 mm", spec.clearance_radius, casing), 2)
     end
-    clearance_surface = M.cylinder(spec.clearance_radius)
+    -- End planes 10 mm (clearance_axial) in front of and behind the hub:
+    -- a tool on a blade's edge backs out along its nearly axial axis.
+    local zmin, zmax = math.huge, -math.huge
+    for _, p in ipairs(spec.part:hub_meridian()) do zmin, zmax = math.min(zmin, p[1]), math.max(zmax, p[1]) end
+    local axial = spec.clearance_axial or 10
+    clearance_surface = M.cylinder(spec.clearance_radius, zmin - axial, zmax + axial)
   else
     if not spec.clearance then error("job.new: missing option 'clearance' (an impeller's links run this many mm "
                                      .. "over its outline)", 2) end
@@ -452,7 +594,7 @@ function M.new(spec)
       numbers[n] = name
     end
   end
-  local blisk_ops, impeller_ops = {drum_finish = true}, {notch = true, widen = true, flank_finish = true}
+  local blisk_ops, impeller_ops = {drum_finish = true, edge_finish = true}, {notch = true, widen = true, flank_finish = true}
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
       error(string.format("job.new: operations[%d]: expected an operation (job.drum_finish{...}, job.notch{...}, ...)",
@@ -756,7 +898,8 @@ function Job:plan()
       last = {pose = {tip = plan_moves[#plan_moves].tip, axis = plan_moves[#plan_moves].axis}, blade = f.blade,
               tool = number}
       flanks[#flanks + 1] = {operation = i, kind = op.kind, blade = f.blade, side = f.side, plan = f.plan,
-                             report = f.report, moves = #plan_moves, first_move = first_move}
+                             report = f.report, moves = #plan_moves, first_move = first_move,
+                             turned_from = f.turned_from, design_flanks = f.flanks}
     end
   end
   self.planned = {moves = moves, flanks = flanks, links = links, tool_groups = groups}
@@ -776,6 +919,8 @@ function Job:simulate(o)
   check_options("job:simulate", o, {
     samples_u = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    edge_samples_u = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    edge_samples_v = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
     sweep_step = {type = "number", check = positive},
     search_above = {type = "number", check = positive},
     search_below = {type = "number", check = positive},
@@ -783,11 +928,25 @@ function Job:simulate(o)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then return self:simulate_impeller(o) end
   local out = {flanks = {}, undercut_max = 0, overcut = 0}
+  -- A turned plan (a periodic operation's other blades) is its first
+  -- blade's path turned with the blade: simulated once.
+  local done = {}
   for _, f in ipairs(self.planned.flanks) do
-    local sim = f.plan:simulate{samples_u = o.samples_u or 200, samples_v = o.samples_v or 1000}
+    local sim = done[f.plan]
+    if not sim then
+      if f.kind == "edge_finish" then
+        sim = f.plan:simulate{samples_u = o.edge_samples_u or 200, samples_v = o.edge_samples_v or 400,
+                              flanks = f.design_flanks}
+      else
+        sim = f.plan:simulate{samples_u = o.samples_u or 200, samples_v = o.samples_v or 1000}
+      end
+      done[f.plan] = sim
+    end
     local r = {operation = f.operation, kind = f.kind, blade = f.blade, side = f.side, undercut_max = sim.undercut_max,
                undercut_mean = sim.undercut_mean, overcut = sim.overcut, overcut_motion = sim.overcut_motion,
-               overcut_move = sim.overcut_move and f.first_move + sim.overcut_move - 1 or nil, map = sim.map}
+               overcut_move = sim.overcut_move and f.first_move + sim.overcut_move - 1 or nil, map = sim.map,
+               flank_overcut = sim.flank_overcut, turned_from = f.turned_from}
+    if sim.flank_overcut and sim.flank_overcut < r.overcut then r.overcut = sim.flank_overcut end
     out.flanks[#out.flanks + 1] = r
     if sim.undercut_max > out.undercut_max then out.undercut_max = sim.undercut_max end
     if sim.overcut < out.overcut then
@@ -998,14 +1157,14 @@ end
 -- the program's entry for a run's JSON report. m = {machine = name or
 -- Machine, name = (how the report calls a Machine), post =, file =}.
 function Job:post_program(m)
-  local r = self:post{machine = m.machine, post = m.post, file = m.file}
+  local r = self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start}
   local s = r.seconds
   print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan; %.1f s (path %.1f, "
                       .. "machine motion %.1f, post %.1f, read back %.1f, write %.1f)", m.file, r.moves, r.positioning,
                       r.max_position, s.read + s.motion + s.post + s.verify + s.write, s.read, s.motion, s.post,
                       s.verify, s.write))
   return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
-          max_position_mm = r.max_position, max_angle_deg = r.max_angle}
+          max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil}
 end
 
 -- Posts the planned job for one machine: o = {machine = name or Machine,
@@ -1015,12 +1174,35 @@ function Job:post(o)
   check_options("job:post", o, {
     machine = {type = "any", required = true}, post = {type = "any", required = true},
     file = {type = "string", required = true}, chord_tol = {type = "number", check = positive},
+    setup = {type = "table"},
+    start = {type = "table"},  -- the machine's axes before the first move (picks the rotary branch)
   }, 2)
   if not self.planned then error("job:post: plan the job first (j:plan())", 2) end
+  -- A setup (o.setup = {name =, first =, last =, flip = bool}): the job's
+  -- moves first..last as one program, with the part turned over (180 deg
+  -- about X: the side of the part that faced the table faces the spindle)
+  -- when flip. A blisk's leading edges face the table with its axis on C:
+  -- no tool direction the A cradle reaches cuts them in the first setup.
+  local path, offset = self.planned.moves, 0
+  if o.setup then
+    local first, last = o.setup.first or 1, o.setup.last or #self.planned.moves
+    path, offset = {}, first - 1
+    for i = first, last do
+      local m = self.planned.moves[i]
+      if o.setup.flip then
+        local t = {}
+        for key, value in pairs(m) do t[key] = value end
+        t.tip = {m.tip[1], -m.tip[2], -m.tip[3]}
+        t.axis = {m.axis[1], -m.axis[2], -m.axis[3]}
+        m = t
+      end
+      path[#path + 1] = m
+    end
+  end
   -- The program's tools in the order they are first used; a sister tool
   -- has its tool's length and speed.
   local tools, order = {}, {}
-  for _, m in ipairs(self.planned.moves) do
+  for _, m in ipairs(path) do
     if not order[m.tool] then
       order[m.tool] = true
       local t = self:tool_entry(m.tool)
@@ -1028,18 +1210,18 @@ function Job:post(o)
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
-  local ok, result = pcall(bliskrun.post.write, {machine = machine, post = o.post, path = self.planned.moves,
+  local ok, result = pcall(bliskrun.post.write, {machine = machine, post = o.post, path = path,
                                                  file = o.file, tools = tools, name = self.name,
-                                                 chord_tol = o.chord_tol or 0.002})
+                                                 chord_tol = o.chord_tol or 0.002, start = o.start})
   if ok then return result end
   -- A move out of travel (or out of reach) names the job's move: say which
   -- operation, blade and flank it belongs to.
   local message = tostring(result)
-  local offset = tonumber(message:match("moves start at move (%d+)")) or 1
+  local start = tonumber(message:match("moves start at move (%d+)")) or 1
   local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
-  local m = n and self.planned.moves[offset + n - 1]
+  local m = n and self.planned.moves[offset + start + n - 1]
   if m then
-    error(string.format("job:post: job move %d (operation %d %s, blade %d %s flank, %s): %s", offset + n - 1,
+    error(string.format("job:post: job move %d (operation %d %s, blade %d %s flank, %s): %s", offset + start + n - 1,
                         m.operation, m.operation_kind, m.blade, m.side, m.motion or m.kind, message), 2)
   end
   error(message, 2)

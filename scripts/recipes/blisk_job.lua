@@ -1,16 +1,22 @@
--- The built-in blisk's flanks finished as one job and posted as one verified
--- program per machine (issue 13 item 7, issue 18 item 3): drum-wheel
--- finishing of both flanks of the chosen blades with the extended wheel of
--- Table 2, each flank planned and proved as in blisk_drum_finish.lua, the
--- flanks linked through a clearance cylinder outside the casing (every link
--- motion proved clear of every blade and the hub, whole tool), then posted
--- for an A/C trunnion (Fanuc) and a B/C head-table (Heidenhain TCPM), each
--- program read back and replayed through the machine.
+-- The built-in blisk's blades finished as one job and posted as one verified
+-- program per machine (issue 18): drum-wheel finishing of both flanks of the
+-- chosen blades with the extended wheel of Table 2 (each flank planned and
+-- proved as in blisk_drum_finish.lua), then both edges of each blade with
+-- the bottom of a flat-end mill (as in blade_edges.lua: the window between
+-- hub and casing, partial rows where tilted poses cut narrow strips); the
+-- operations and blades linked through a clearance can outside the casing
+-- and in front of / behind the hub (every link motion proved clear of every
+-- blade and the hub, whole tool), then posted for an A/C trunnion (Fanuc)
+-- and a B/C head-table (Heidenhain TCPM), each program read back and
+-- replayed through the machine. Every blade is blade 1 turned: blade 1 is
+-- planned and simulated, the others get its paths turned by the pitch.
 --
 --   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
+--            [--set edges=false] [--set edge_span=0.1,0.9] [--set periodic=false]
 --            [--set samples_u=100 --set samples_v=500]   (simulation samples per flank)
+--            [--set edge_samples_u=200 --set edge_samples_v=400]   (per edge region)
 --            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
--- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first four flanks),
+-- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first flanks),
 -- blisk_job.pvd (job toolpath, flanks with their undercut, for ParaView), report.html.
 local job = require("job")
 local finish = require("blisk_finish")
@@ -24,19 +30,48 @@ assert(sides, "--set sides= expects both, pressure or suction")
 local blades = {}
 for k = 1, count do blades[k] = k end
 
+-- --set edges=false: the flanks only. --set edge_span=a,b: the edge
+-- window in edge-region v (default 0.1,0.9, narrowed to hub and casing).
+local with_edges = args.edges ~= false and args.edges ~= "false"
+local edge_span = {0.1, 0.9}
+if args.edge_span then
+  local a, b = tostring(args.edge_span):match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
+  assert(a, "--set edge_span= expects two numbers a,b with 0 <= a < b <= 1")
+  edge_span = {tonumber(a), tonumber(b)}
+end
+-- Every blade is blade 1 turned: plan the first, turn it for the others
+-- (--set periodic=false plans each blade).
+local periodic = args.periodic ~= false and args.periodic ~= "false"
+
 local wheel = finish.design_wheels(blisk, {c_range = 30}).wheels.extended
+-- The edge mill (blade_edges.lua): R 3, r 0.5, shank d 6.
+local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,
+                                    shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 40}}
+local operations = {
+  job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002, feed = 600,
+                  periodic = periodic},
+}
+if with_edges then
+  -- The trailing edges with the flanks; the leading edges last, in a second
+  -- setup with the part turned over (they face the table: see the posting).
+  -- Every axis within 118 deg of the table's axis in its setup (the A
+  -- cradle and the B head tilt to 120).
+  operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"trailing"}, span = edge_span,
+                                                feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118}}
+  operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = edge_span,
+                                                feed = 400, periodic = periodic, reach = {axis = {0, 0, -1}, max = 118}}
+end
 local j = job.new{
-  name = "blisk flanks",
+  name = with_edges and "blisk flanks and edges" or "blisk flanks",
   part = blisk,
   clearance_radius = 110,
   -- --set tool_life=mm: whole blades per wheel up to that cutting length,
   -- then the next sister wheel (T15, T25, ...), as the impeller paper groups
   -- blades per tool.
   tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = args.tool_life,
-                    sisters = args.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil}},
-  operations = {
-    job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002, feed = 600},
-  },
+                    sisters = args.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
+           mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill}},
+  operations = operations,
 }
 local planned = j:plan()
 
@@ -49,17 +84,31 @@ for _, g in ipairs(planned.tool_groups) do
                       g.cutting_length_mm))
 end
 for _, f in ipairs(planned.flanks) do
-  print(string.format("  blade %2d %-8s  rows %3d  poses %5d  refused 0", f.blade, f.side, f.report.row_count, f.report.poses))
-  report.flanks[#report.flanks + 1] = {blade = f.blade, side = f.side, rows = f.report.row_count, poses = f.report.poses,
-                                       moves = f.moves}
+  if not f.turned_from or f.blade <= 2 or f.blade == blisk:blade_count() then
+    print(string.format("  blade %2d %-14s  rows %3d%s  poses %5d  refused 0%s", f.blade, f.side, f.report.row_count,
+                        f.report.infill_rows and string.format(" (+%d partial)", f.report.infill_rows) or "",
+                        f.report.poses, f.turned_from and string.format("  (blade %d's, turned)", f.turned_from) or ""))
+  elseif f.blade == 3 and f.side ~= "suction" then
+    print("  ...")
+  end
+  report.flanks[#report.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind, rows = f.report.row_count,
+                                       partial_rows = f.report.infill_rows, poses = f.report.poses, moves = f.moves,
+                                       turned_from = f.turned_from}
 end
 -- Every flank simulated after the moves that machine it (core/sim).
-local sim = j:simulate{samples_u = args.samples_u or 100, samples_v = args.samples_v or 500}
+local sim = j:simulate{samples_u = args.samples_u or 100, samples_v = args.samples_v or 500,
+                       edge_samples_u = args.edge_samples_u, edge_samples_v = args.edge_samples_v}
 report.simulation = {undercut_max_mm = sim.undercut_max, overcut_mm = sim.overcut, flanks = {}}
 for _, f in ipairs(sim.flanks) do
-  report.simulation.flanks[#report.simulation.flanks + 1] = {blade = f.blade, side = f.side,
+  report.simulation.flanks[#report.simulation.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind,
     undercut_max_mm = f.undercut_max, undercut_mean_mm = f.undercut_mean, overcut_mm = f.overcut,
-    overcut_move = f.overcut_move, overcut_motion = f.overcut_motion}
+    overcut_move = f.overcut_move, overcut_motion = f.overcut_motion, turned_from = f.turned_from}
+end
+for _, f in ipairs(sim.flanks) do
+  if f.kind == "edge_finish" and not f.turned_from then
+    print(string.format("  simulated blade %d %s: material left up to %.2f um (e2 20 um), overcut %.2f um (edge and flanks)",
+                        f.blade, f.side, 1e3 * f.undercut_max, 1e3 * f.overcut))
+  end
 end
 print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 * sim.undercut_max, 1e3 * sim.overcut,
                     sim.overcut_at and sim.overcut_at.overcut_move and string.format(" (job move %d, %s, blade %d %s)",
@@ -72,9 +121,43 @@ if sim.overcut < -chord_tol - 1e-4 then
                       -1e3 * sim.overcut, 1e3 * chord_tol), 0)
 end
 
-for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
-                    {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}}) do
-  report.programs[#report.programs + 1] = j:post_program(m)
+-- Setups: the blisk's axis on the table's C axis, its inlet face down. The
+-- leading edges face the table (their tool axes point 32-58 deg below the
+-- table plane, beyond the A cradle's -120 deg and the head's reach), so
+-- they are cut in a second setup with the part turned over; everything
+-- else in the first.
+local setups = {{name = "inlet down", first = 1, last = #planned.moves}}
+for i, f in ipairs(planned.flanks) do
+  if f.side == "leading edge" then
+    local before = planned.flanks[i - 1]
+    setups = {{name = "inlet down", first = 1, last = before.first_move + before.moves - 1},
+              {name = "turned over (inlet up)", first = f.first_move, last = #planned.moves, flip = true}}
+    break
+  end
+end
+-- The A/C trunnion does not take the second setup: turned over, the
+-- leading edges' tool axes run from along the table's axis (0 deg) to
+-- 127 deg from it, so the cradle must pass A = 0 between neighbouring moves
+-- and change its branch (C half a turn), which no motion along the planned
+-- path does (core/machine/motion.h refuses it). The head-table machine
+-- (B head, TCPM) cuts them.
+report.not_posted = {}
+for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc", ext = ".nc",
+                     first_setup_only = true},
+                    {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain",
+                     ext = ".h"}}) do
+  for k, setup in ipairs(setups) do
+    local file = m.file .. (#setups > 1 and string.format("_setup%d", k) or "") .. m.ext
+    if k > 1 and m.first_setup_only then
+      print(string.format("  %s: not written: the leading edges turned over need the A cradle through 0 deg (a "
+                          .. "branch change) between moves; cut them on the head-table machine", file))
+      report.not_posted[#report.not_posted + 1] = {machine = m.machine, setup = setup.name,
+        why = "the leading edges' axes span 0-127 deg from the table axis: a branch change of the A/C cradle between moves"}
+    else
+      report.programs[#report.programs + 1] = j:post_program{machine = m.machine, post = m.post, setup = setup,
+                                                             file = file}
+    end
+  end
 end
 bliskrun.write_json("blisk_job.json", report)
 
@@ -84,7 +167,7 @@ local flank_rows, blocks, pictures = {}, {{name = "job toolpath", moves = planne
 for i, f in ipairs(sim.flanks) do
   flank_rows[i] = {f.blade, f.side, planned.flanks[i].report.row_count, planned.flanks[i].report.poses,
                    1e3 * f.undercut_max, 1e3 * f.undercut_mean, 1e3 * f.overcut}
-  if i <= 4 then
+  if i <= 4 and f.map then
     local picture = string.format("blisk_job_undercut_blade%d_%s.png", f.blade, f.side)
     f.map:write_png(picture, {title = string.format("Undercut after the job, blade %d %s flank (mm)", f.blade, f.side)})
     pictures[#pictures + 1] = {title = string.format("Undercut, blade %d %s", f.blade, f.side), image = picture}
@@ -105,8 +188,10 @@ local sections = {
     "positioning moves", "tip deviation (um)"}, rows = program_rows}}}
 for _, p in ipairs(pictures) do sections[#sections + 1] = p end
 require("run_report").write{title = "Job: " .. j.name, settings = {blades = count, sides = args.sides or "both",
+  edges = with_edges, edge_span = string.format("%g, %g", edge_span[1], edge_span[2]), periodic = periodic,
   tool_life_mm = args.tool_life or "none", samples_u = args.samples_u or 100, samples_v = args.samples_v or 500},
   sections = sections, vtk = {path = "blisk_job.pvd", blocks = blocks},
-  files = {{"blisk_job.json", "the report"}, {"blisk_job_ac_fanuc.nc", "Fanuc program, A/C trunnion"},
-           {"blisk_job_bc_heidenhain.h", "Heidenhain program, B/C head-table"},
+  files = {{"blisk_job.json", "the report"},
+           {"blisk_job_ac_fanuc*.nc", "Fanuc programs, A/C trunnion (one per setup)"},
+           {"blisk_job_bc_heidenhain*.h", "Heidenhain programs, B/C head-table (one per setup)"},
            {"blisk_job_undercut_*.png", "the undercut maps above"}}}

@@ -16,33 +16,59 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(BliskJobRecipe, BothFlanksOfABladeBecomeOneVerifiedProgramPerMachine) {
+// Two blades: the flanks by the drum wheel, then the trailing and the
+// leading edges by the flat-end mill (a narrow span keeps it quick), blade 2
+// blade 1's paths turned; one program per machine and setup (the leading
+// edges with the part turned over), each read back.
+TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachineAndSetup) {
   TempDir dir;
   const std::string out = dir.path() + "/out";
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_job.lua", "--out", out,
-                                       "--quiet", "--set", "blades=1", "--set", "samples_u=40", "--set", "samples_v=200"});
+                                       "--quiet", "--set", "blades=2", "--set", "edge_span=0.5,0.56", "--set",
+                                       "samples_u=40", "--set", "samples_v=200", "--set", "edge_samples_u=120",
+                                       "--set", "edge_samples_v=40"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_run_report(out, "blisk_job.pvd"));
   std::ifstream in(out + "/blisk_job.json");
   const nlohmann::json j = nlohmann::json::parse(in);
-  ASSERT_EQ(j["flanks"].size(), 2u);
-  EXPECT_EQ(j["links"].get<int>(), 1);  // pressure flank -> round the blade -> suction flank
-  ASSERT_EQ(j["programs"].size(), 2u);
-  // Both flanks simulated after the whole job: nothing cut beyond the chord
-  // tolerance, and the residual of the rows is there.
-  ASSERT_EQ(j["simulation"]["flanks"].size(), 2u);
+  // Drum: blade 1 pressure, suction, blade 2 pressure, suction; then the
+  // trailing edges of blades 1, 2; then the leading edges.
+  ASSERT_EQ(j["flanks"].size(), 8u);
+  const char* sides[] = {"pressure", "suction", "pressure", "suction", "trailing edge", "trailing edge",
+                         "leading edge", "leading edge"};
+  for (size_t i = 0; i < 8; ++i) {
+    const auto& f = j["flanks"][i];
+    EXPECT_EQ(f["side"].get<std::string>(), sides[i]);
+    const int blade = i < 4 ? 1 + static_cast<int>(i) / 2 : 1 + static_cast<int>(i) % 2;
+    EXPECT_EQ(f["blade"].get<int>(), blade);
+    // Blade 2 is blade 1 turned: the same plan, the same number of moves.
+    if (blade == 2) {
+      EXPECT_EQ(f["turned_from"].get<int>(), 1);
+      EXPECT_EQ(f["moves"].get<long>(), j["flanks"][i - (i < 4 ? 2 : 1)]["moves"].get<long>());
+    }
+  }
+  EXPECT_EQ(j["links"].get<int>(), 7);
+  // Simulated after the whole job: nothing cut beyond the chord tolerance on
+  // the flanks, nor beyond e1 on the edges and the flanks beside them.
+  ASSERT_EQ(j["simulation"]["flanks"].size(), 8u);
   EXPECT_GE(j["simulation"]["overcut_mm"].get<double>(), -0.002 - 1e-4);
   EXPECT_GT(j["simulation"]["undercut_max_mm"].get<double>(), 0.001);
+  for (const auto& f : j["simulation"]["flanks"])
+    if (f["operation"].get<std::string>() == "edge_finish") EXPECT_GE(f["overcut_mm"].get<double>(), -0.001 - 1e-3);
   long flank_moves = 0;
   for (const auto& f : j["flanks"]) flank_moves += f["moves"].get<long>();
-  // The link adds its back-out, traverse and approach poses.
-  EXPECT_GT(j["moves"].get<long>(), flank_moves + 2);
+  // The links add their back-out, traverse and approach poses.
+  EXPECT_GT(j["moves"].get<long>(), flank_moves + 14);
+  // The A/C trunnion posts the first setup; the head-table machine both.
+  ASSERT_EQ(j["programs"].size(), 3u);
+  ASSERT_EQ(j["not_posted"].size(), 1u);
   for (const auto& p : j["programs"]) {
-    EXPECT_GE(p["blocks"].get<long>(), j["moves"].get<long>());
+    EXPECT_GT(p["blocks"].get<long>(), 100);
     EXPECT_LT(p["max_position_mm"].get<double>(), 0.005);
     EXPECT_GT(p["positioning"].get<long>(), 0);
     EXPECT_TRUE(fs::exists(out + "/" + p["file"].get<std::string>()));
   }
+  EXPECT_EQ(j["programs"][2]["setup"].get<std::string>(), "turned over (inlet up)");
 }
 
 // A job of blade 1 with the given clearance radius and drum-finish options
