@@ -374,14 +374,11 @@ struct Planner {
   const HubFinishRequest& rq;
   const CollisionWorld& world;
   const ToolBody& body;
-  const Tool& tool;
   const Guards& guards;
-  double ball_r = 0;
   double pose_allowed = 0;
-  const SurfaceOfRevolution& hub;
   const Tool& short_tool;
   double flute_from_mm = 0, flute_top_mm = 0;
-  const ToolBody& flute_body;
+  const ToolBody* flute_body;  // null: no flute above 2 r (a short ball end)
   const CollisionWorld& flute_world;
   Clearances flute_clearance;
 
@@ -407,14 +404,15 @@ struct Planner {
         return os.str();
       }
     }
-    const PoseCheck fc = flute_world.check(flute_body, flute_pose(p), flute_clearance, 0);
+    if (!flute_body) return "";
+    const PoseCheck fc = flute_world.check(*flute_body, flute_pose(p), flute_clearance, 0);
     if (!fc.clear) return "the flute above the ball: " + describe(fc, flute_world);
     return "";
   }
   ToolPose flute_pose(const ToolPose& p) const { return ToolPose{p.tip + flute_from_mm * p.axis, p.axis}; }
   // The flute's margin over its clearance at a pose, resolved up to 1 mm.
   double flute_margin(const ToolPose& p) const {
-    return flute_world.check(flute_body, flute_pose(p), flute_clearance, 1.0).min_margin_mm;
+    return flute_body ? flute_world.check(*flute_body, flute_pose(p), flute_clearance, 1.0).min_margin_mm : 1e300;
   }
   // Whether the cutting motion a -> b cuts the design or brings the flute
   // to the blades. The ball's centre runs on the chord of its path, whose
@@ -428,8 +426,8 @@ struct Planner {
     if (motion.angle_rad() > kSweepTurnRad)
       for (const GougeGuard* g : {guards.blade.get(), guards.next.get(), guards.hub.get()})
         if (g && g->deepest_cut(short_tool, a, b, pose_allowed, false, false, kCutSweepMm).depth_mm < 0) return true;
-    if (std::min(margin_a, margin_b) > motion.max_point_speed(flute_top_mm)) return false;
-    return !flute_world.check_motion(flute_body, flute_pose(a), flute_pose(b), flute_clearance, rq.motion_tol_mm).clear;
+    if (!flute_body || std::min(margin_a, margin_b) > motion.max_point_speed(flute_top_mm)) return false;
+    return !flute_world.check_motion(*flute_body, flute_pose(a), flute_pose(b), flute_clearance, rq.motion_tol_mm).clear;
   }
 
   // Each contact tilted until clear (its own settings), the motion from the
@@ -502,8 +500,15 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   const double r = ball_radius(tool);
   const SurfaceOfRevolution& hub = *rq.hub;
   const double ref_angle = angle_of(rq.blade.pressure->point(0.5, 0.5));
-  const ClosedRoot blade = close_root(rq.blade, hub, rq.closed_sections, ref_angle, kTargetHeightMm);
-  const ClosedRoot next = close_root(rq.next, hub, rq.closed_sections, blade.theta_centroid + 0.3, kTargetHeightMm);
+  // Both blades closed on the workers (blade k+1's angles read near blade
+  // k's turned forward, so that the pitch comes out positive).
+  ClosedRoot closed[2];
+  parallel_for_index(2, rq.threads, [&](size_t i) {
+    closed[i] = close_root(i == 0 ? rq.blade : rq.next, hub, rq.closed_sections, ref_angle + (i == 0 ? 0 : 0.3),
+                           kTargetHeightMm);
+  });
+  const ClosedRoot& blade = closed[0];
+  const ClosedRoot& next = closed[1];
   res.blade_closed = blade.surface;
   res.next_closed = next.surface;
   res.pitch_rad = next.theta_centroid - blade.theta_centroid;
@@ -526,16 +531,22 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   res.z_outlet_mm = z_out;
 
   Guards guards;
-  guards.blade = std::make_unique<GougeGuard>(*blade.surface, link_guard_sampling(*blade.surface, rq.guard_spacing_mm, false));
-  guards.next = std::make_unique<GougeGuard>(*next.surface, link_guard_sampling(*next.surface, rq.guard_spacing_mm, false));
-  guards.hub = std::make_unique<GougeGuard>(*sector, link_guard_sampling(*sector, rq.guard_spacing_mm, res.hub_sector_flip));
+  CollisionWorld own_world;
+  parallel_for_index(4, rq.threads, [&](size_t i) {
+    if (i == 0)
+      guards.blade = std::make_unique<GougeGuard>(*blade.surface, link_guard_sampling(*blade.surface, rq.guard_spacing_mm, false));
+    else if (i == 1)
+      guards.next = std::make_unique<GougeGuard>(*next.surface, link_guard_sampling(*next.surface, rq.guard_spacing_mm, false));
+    else if (i == 2)
+      guards.hub = std::make_unique<GougeGuard>(*sector, link_guard_sampling(*sector, rq.guard_spacing_mm, res.hub_sector_flip));
+    else if (!rq.world)
+      own_world = hub_finish_world(rq);
+  });
   res.guard_spacing_mm = std::max({guards.blade->spacing_mm(), guards.next->spacing_mm(), guards.hub->spacing_mm()});
   guards.margin = std::max({guards.blade->between_samples_mm(r), guards.next->between_samples_mm(r),
                             guards.hub->between_samples_mm(r)});
   const double pose_allowed = std::max(0.0, rq.allowed_overcut_mm - guards.margin);
 
-  CollisionWorld own_world;
-  if (!rq.world) own_world = hub_finish_world(rq);
   const CollisionWorld& world = rq.world ? *rq.world : own_world;
   const ToolBody body(tool, rq.tool_tol_mm);
   // The cutter split for the pose checks (Planner::gouge): the ball and
@@ -546,17 +557,21 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   const double flute_from = 2 * r;
   const double flute_top = tool.cutter().z_max();
   const Tool short_tool = Tool::tapered_ball_end_mill({r, beta, flute_from, {}, {}});
-  const double rf0 = tool.cutter().radius_at(flute_from), rf1 = tool.cutter().radius_at(flute_top - 1e-9);
-  const Tool flute_tool = Tool::conical_drum_wheel({2 * rf0 + 2e-5, 2 * rf1 + 2e-5, 1e7, flute_top - flute_from, {}, {}});
-  const ToolBody flute_body(flute_tool, 0.005);
+  std::unique_ptr<ToolBody> flute_body;
   CollisionWorld flute_world;
-  constexpr double kFluteMeshMm = 0.05;  // with that as margin: the flute keeps off the blades
-  flute_world.add("blade k", tessellate(*blade.surface, kFluteMeshMm), {PartMask{}, kFluteMeshMm});
-  flute_world.add("blade k+1", tessellate(*next.surface, kFluteMeshMm), {PartMask{}, kFluteMeshMm});
+  if (flute_top > flute_from + 0.1) {
+    const double rf0 = tool.cutter().radius_at(flute_from), rf1 = tool.cutter().radius_at(flute_top - 1e-9);
+    const Tool flute_tool =
+        Tool::conical_drum_wheel({2 * rf0 + 2e-5, 2 * rf1 + 2e-5, 1e7, flute_top - flute_from, {}, {}});
+    flute_body = std::make_unique<ToolBody>(flute_tool, 0.005);
+    constexpr double kFluteMeshMm = 0.05;  // with that as margin: the flute keeps off the blades
+    flute_world.add("blade k", tessellate(*blade.surface, kFluteMeshMm), {PartMask{}, kFluteMeshMm});
+    flute_world.add("blade k+1", tessellate(*next.surface, kFluteMeshMm), {PartMask{}, kFluteMeshMm});
+  }
   Clearances flute_clearance;
   flute_clearance.cutter_mm = 0.02;  // the flute stands off the finished blades
-  Planner planner{rq,   world,      body,       tool,        guards,         r,
-                  pose_allowed, hub, short_tool, flute_from, flute_top, flute_body, flute_world, flute_clearance};
+  Planner planner{rq,         world,      body,      guards,     pose_allowed,   short_tool,
+                  flute_from, flute_top, flute_body.get(), flute_world, flute_clearance};
   res.setup_seconds = seconds_since(t_setup);
 
   TiltSettings base;

@@ -47,11 +47,15 @@ struct Planned {
   HubFinishResult plan;
   HubFinishSimulation sim;
   Planned() {
-    plan = plan_hub_finish(s.rq);
     HubFinishSimOptions so;
+    so.root_samples_u = 80, so.root_samples_v = 1000, so.floor_samples_v = 200;
 #ifdef BLISKRUN_SANITIZED
-    so.root_samples_u = 60, so.root_samples_v = 500, so.floor_samples_u = 200, so.floor_samples_v = 120;
+    // Ten times slower: a 4 mm slice of the channel and two root rows.
+    s.rq.z_inlet_mm = -2, s.rq.z_outlet_mm = 2;
+    s.rq.root_top_mm = 1.9;
+    so.root_samples_v = 500, so.floor_samples_u = 60, so.floor_samples_v = 120;
 #endif
+    plan = plan_hub_finish(s.rq);
     sim = simulate_hub_finish(plan, s.rq, so);
   }
 };
@@ -103,13 +107,17 @@ TEST(HubFinish, ChannelFloorCuspMatchesTheBallsClosedForm) {
   const double r = 1.5, h = rq.scallop_mm;
   EXPECT_NEAR(p.plan.channel.step_max_mm, 2 * std::sqrt(2 * r * h - h * h), 1e-9);
   EXPECT_NEAR(ball_step_over(h, r, 0), 2 * std::sqrt(2 * r * h - h * h), 1e-12);
+#ifdef BLISKRUN_SANITIZED
+  ASSERT_GT(p.plan.channel.rows, 10);
+#else
   ASSERT_GT(p.plan.channel.rows, 100);
+#endif
   // Between the rows' ends only the rows' own cusps are left: h (the rows
   // are the closed form's step apart along the meridian, straight on a
   // cone); the chord of the centre's arc cuts below, it never leaves more.
   // The samples (0.07 mm along the meridian) read the cusp's top to ~0.4 um.
   const HubFinishRegionStats& m = p.sim.channel_middle;
-  ASSERT_GT(m.samples, 1000);
+  ASSERT_GT(m.samples, 500);
   EXPECT_EQ(m.unreached, 0);
   EXPECT_LE(m.left_max_mm, h + 2e-4) << "cusp " << m.left_max_mm * 1000 << " um";
   EXPECT_GE(m.left_max_mm, 0.8 * h) << "rows closer than the closed form asks";
@@ -127,10 +135,12 @@ TEST(HubFinish, RootRowsCoverTheStripUpToTheTopHeight) {
   const Planned& p = planned();
   const HubFinishRequest& rq = p.s.rq;
   EXPECT_GE(p.plan.top_height_mm, rq.root_top_mm - 1e-9);
+#ifndef BLISKRUN_SANITIZED
   EXPECT_GT(p.plan.root.rows, 5);
+#endif
   EXPECT_NEAR(p.plan.root_fillet_mm, 1.5, 1e-6);
   const HubFinishRegionStats& s = p.sim.strip;
-  ASSERT_GT(s.samples, 1000);
+  ASSERT_GT(s.samples, 500);
   EXPECT_EQ(s.unreached, 0);
   EXPECT_LE(s.left_max_mm, rq.scallop_mm + rq.steps.chord_tol_mm + 2e-4) << s.left_max_mm * 1000 << " um";
 }
