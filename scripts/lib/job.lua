@@ -243,6 +243,49 @@ function M.edge_finish(o)
   return op
 end
 
+-- The hub and the blade roots with a tapered ball end (bliskrun.hub_finish,
+-- core/planning/hub_finish.h): blade k's root strip all around it — what the
+-- drum finish and the edge finish leave above the hub, from the fillet row
+-- (the ball on hub and blade at once) up to `top` mm, overlapping both — and
+-- the channel floor from blade k to blade k+1. A refused contact or link
+-- stops the job. Periodic by default (job.drum_finish).
+function M.hub_finish(o)
+  check_options("job.hub_finish", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = function(v)
+      if #v == 0 then return "expected a list of blade numbers" end
+      for _, b in ipairs(v) do if math.type(b) ~= "integer" or b < 1 then return "expected blade numbers 1, 2, ..." end end
+    end},
+    top = {type = "number", check = positive},
+    scallop = {type = "number", check = positive},
+    chord_tol = {type = "number", check = positive},
+    periodic = {type = "boolean"},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "hub_finish", tool = o.tool, blades = o.blades, top = o.top or 4, scallop = o.scallop or 0.005,
+              chord_tol = o.chord_tol or 0.001, periodic = o.periodic ~= false, feed = o.feed or 800}
+  function op.plan_flanks(self, j)
+    local blisk = j.part
+    local n = blisk:blade_count()
+    local function faces(k) return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction")} end
+    return blades_of(self, j, function(k)
+      local plan = bliskrun.hub_finish{blade = faces(k), next = faces(k % n + 1), previous = faces((k - 2) % n + 1),
+                                       hub = blisk:hub(), tool = j.tools[self.tool].tool, top = self.top,
+                                       scallop = self.scallop, chord_tol = self.chord_tol}
+      local r = plan:report()
+      local refused = r.root.refusals + r.channel.refusals
+      local refused_links = r.root.refused_links + r.channel.refused_links
+      if refused > 0 or refused_links > 0 then
+        error(string.format("job.hub_finish: blade %d root and channel: %d contacts and %d links refused; nothing of "
+                            .. "it is emitted (see plan:report().refusals)", k, refused, refused_links), 0)
+      end
+      r.row_count = r.root.rows + r.channel.rows
+      return {{side = "root and channel", plan = plan, report = r, moves_list = plan:moves()}}
+    end)
+  end
+  return op
+end
+
 -- ---- impeller operations (impeller paper §4) -------------------------------
 
 local function blade_list(v)
@@ -594,7 +637,8 @@ function M.new(spec)
       numbers[n] = name
     end
   end
-  local blisk_ops, impeller_ops = {drum_finish = true, edge_finish = true}, {notch = true, widen = true, flank_finish = true}
+  local blisk_ops = {drum_finish = true, edge_finish = true, hub_finish = true}
+  local impeller_ops = {notch = true, widen = true, flank_finish = true}
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
       error(string.format("job.new: operations[%d]: expected an operation (job.drum_finish{...}, job.notch{...}, ...)",
@@ -937,6 +981,14 @@ function Job:simulate(o)
       if f.kind == "edge_finish" then
         sim = f.plan:simulate{samples_u = o.edge_samples_u or 200, samples_v = o.edge_samples_v or 400,
                               flanks = f.design_flanks}
+      elseif f.kind == "hub_finish" then
+        -- The root strip above the fillet row and the channel floor; the
+        -- fillet itself (the ball's radius in the sharp corner) apart.
+        local h = f.plan:simulate{}
+        sim = {undercut_max = math.max(h.strip.left_max, h.floor.left_max),
+               undercut_mean = 0.5 * (h.strip.left_mean + h.floor.left_mean),
+               overcut = math.min(h.root_overcut, h.floor_overcut), unreached = h.strip.unreached + h.floor.unreached,
+               fillet_left_max = h.fillet.left_max}
       else
         sim = f.plan:simulate{samples_u = o.samples_u or 200, samples_v = o.samples_v or 1000}
       end
@@ -945,7 +997,8 @@ function Job:simulate(o)
     local r = {operation = f.operation, kind = f.kind, blade = f.blade, side = f.side, undercut_max = sim.undercut_max,
                undercut_mean = sim.undercut_mean, overcut = sim.overcut, overcut_motion = sim.overcut_motion,
                overcut_move = sim.overcut_move and f.first_move + sim.overcut_move - 1 or nil, map = sim.map,
-               flank_overcut = sim.flank_overcut, turned_from = f.turned_from}
+               flank_overcut = sim.flank_overcut, turned_from = f.turned_from, unreached = sim.unreached,
+               fillet_left_max = sim.fillet_left_max}
     if sim.flank_overcut and sim.flank_overcut < r.overcut then r.overcut = sim.flank_overcut end
     out.flanks[#out.flanks + 1] = r
     if sim.undercut_max > out.undercut_max then out.undercut_max = sim.undercut_max end

@@ -33,6 +33,8 @@ for k = 1, count do blades[k] = k end
 -- --set edges=false: the flanks only. --set edge_span=a,b: the edge
 -- window in edge-region v (default 0.1,0.9, narrowed to hub and casing).
 local with_edges = args.edges ~= false and args.edges ~= "false"
+-- --set hub=false: no hub and root finishing.
+local with_hub = args.hub ~= false and args.hub ~= "false"
 local edge_span = {0.1, 0.9}
 if args.edge_span then
   local a, b = tostring(args.edge_span):match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
@@ -47,6 +49,10 @@ local wheel = finish.design_wheels(blisk, {c_range = 30}).wheels.extended
 -- The edge mill (blade_edges.lua): R 3, r 0.5, shank d 6.
 local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,
                                     shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 40}}
+-- The hub and root ball (blisk_hub_finish.lua): r 1.5, taper 2.5 deg, 40 mm
+-- of flute to reach the hub from outside the casing.
+local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, flute_length = 40,
+                                            shank = {diameter = 8, length = 30}, holder = {diameter = 32, length = 40}}
 local operations = {
   job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002, feed = 600,
                   periodic = periodic},
@@ -58,11 +64,19 @@ if with_edges then
   -- cradle and the B head tilt to 120).
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"trailing"}, span = edge_span,
                                                 feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118}}
+end
+if with_hub then
+  -- The root strip all around each blade (above the drum's and the edges'
+  -- strips) and the channel floor to the next blade, from above.
+  operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, top = 4, scallop = 0.005, feed = 800,
+                                               periodic = periodic}
+end
+if with_edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = edge_span,
                                                 feed = 400, periodic = periodic, reach = {axis = {0, 0, -1}, max = 118}}
 end
 local j = job.new{
-  name = with_edges and "blisk flanks and edges" or "blisk flanks",
+  name = "blisk blades" .. (with_edges and ", edges" or "") .. (with_hub and ", hub and roots" or ""),
   part = blisk,
   clearance_radius = 110,
   -- --set tool_life=mm: whole blades per wheel up to that cutting length,
@@ -70,7 +84,8 @@ local j = job.new{
   -- blades per tool.
   tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = args.tool_life,
                     sisters = args.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
-           mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill}},
+           mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill},
+           ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}},
   operations = operations,
 }
 local planned = j:plan()
@@ -102,12 +117,17 @@ report.simulation = {undercut_max_mm = sim.undercut_max, overcut_mm = sim.overcu
 for _, f in ipairs(sim.flanks) do
   report.simulation.flanks[#report.simulation.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind,
     undercut_max_mm = f.undercut_max, undercut_mean_mm = f.undercut_mean, overcut_mm = f.overcut,
-    overcut_move = f.overcut_move, overcut_motion = f.overcut_motion, turned_from = f.turned_from}
+    overcut_move = f.overcut_move, overcut_motion = f.overcut_motion, turned_from = f.turned_from,
+    unreached = f.unreached, fillet_left_max_mm = f.fillet_left_max}
 end
 for _, f in ipairs(sim.flanks) do
   if f.kind == "edge_finish" and not f.turned_from then
     print(string.format("  simulated blade %d %s: material left up to %.2f um (e2 20 um), overcut %.2f um (edge and flanks)",
                         f.blade, f.side, 1e3 * f.undercut_max, 1e3 * f.overcut))
+  elseif f.kind == "hub_finish" and not f.turned_from then
+    print(string.format("  simulated blade %d root strip and channel floor: material left up to %.2f um, %d samples "
+                        .. "unreached, overcut %.2f um; the fillet (the ball's radius in the sharp corner) up to %.3f mm",
+                        f.blade, 1e3 * f.undercut_max, f.unreached, 1e3 * f.overcut, f.fillet_left_max))
   end
 end
 print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 * sim.undercut_max, 1e3 * sim.overcut,
