@@ -91,8 +91,8 @@ local j = job.new{
 local planned = j:plan()
 
 local report = {flanks = {}, links = planned.links, moves = #planned.moves, programs = {}}
-print(string.format("Job '%s': %d flanks, %d moves, %d links through the clearance cylinder (r = %g mm), each proved clear",
-                    j.name, #planned.flanks, #planned.moves, planned.links, j.clearance_radius))
+print(string.format("Job '%s': %d plans, %d moves, %d links through %s, each proved clear",
+                    j.name, #planned.flanks, #planned.moves, planned.links, j.clearance_surface.description))
 report.tool_groups = planned.tool_groups
 for _, g in ipairs(planned.tool_groups) do
   print(string.format("  tool T%d: blades %d-%d, cutting length %.0f mm", g.tool, g.blades[1], g.blades[#g.blades],
@@ -200,9 +200,10 @@ for i, p in ipairs(report.programs) do
   program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm}
 end
 local sections = {
-  {title = "Flanks", text = string.format("%d moves, %d links through the clearance cylinder (r = %g mm).",
-                                          #planned.moves, planned.links, j.clearance_radius),
-   table = {columns = {"blade", "flank", "rows", "poses", "undercut max (um)", "mean (um)", "overcut (um)"},
+  {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
+                                              j.clearance_surface.description),
+   table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (um)", "mean (um)",
+                       "overcut (um)"},
             rows = flank_rows}},
   {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
     "positioning moves", "tip deviation (um)"}, rows = program_rows}}}
