@@ -134,6 +134,74 @@ print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 
                     sim.overcut_at and sim.overcut_at.overcut_move and string.format(" (job move %d, %s, blade %d %s)",
                       sim.overcut_at.overcut_move, sim.overcut_at.overcut_motion, sim.overcut_at.blade,
                       sim.overcut_at.side) or ""))
+-- Seams between operations on blade 1 (issue 18 item 4): windows of its
+-- flanks (the drum finish's trimmed flank) across each seam, simulated
+-- (bliskrun.simulate) under every operation that cuts there, each with its
+-- own tool — blade 1's drum, edge and root moves and blade N's channel
+-- floor, which ends on blade 1's pressure root. The seams: the root strip's
+-- top over the drum finish's first rows (above the ball's fillet), and
+-- each edge region's overlap onto the flank. A step across a seam is at
+-- most the spread of the material left over its window (the scallops
+-- included), and no sample may be left unreached.
+local seams = {}
+if with_edges or with_hub then
+  local n = blisk:blade_count()
+  local function passes_of(blade_ok)
+    local passes, last = {}, nil
+    for _, m in ipairs(planned.moves) do
+      local key = m.operation_kind ~= "link" and blade_ok(m) and (m.operation .. ":" .. m.blade) or nil
+      if key then
+        if key ~= last then
+          passes[#passes + 1] = {tool = j:tool_entry(m.tool).tool, poses = {}, group = m.operation_kind}
+        end
+        local poses = passes[#passes].poses
+        poses[#poses + 1] = m
+      end
+      last = key
+    end
+    return passes
+  end
+  local passes = passes_of(function(m) return m.blade == 1 or (m.blade == n and m.operation_kind == "hub_finish") end)
+  local root_top, fillet_top
+  for _, f in ipairs(planned.flanks) do
+    if f.kind == "hub_finish" and f.blade == 1 then root_top, fillet_top = f.report.heights[2], f.report.fillet.contact_max end
+  end
+  for _, f in ipairs(planned.flanks) do
+    if f.kind == "drum_finish" and f.blade == 1 then
+      local ts = f.plan:trimmed()
+      local function dist(a, b) return math.sqrt((a.x - b.x) ^ 2 + (a.y - b.y) ^ 2 + (a.z - b.z) ^ 2) end
+      local span = dist(ts:point(0, 0.5), ts:point(1, 0.5))
+      local chord = dist(ts:point(0.5, 0), ts:point(0.5, 1))
+      local windows = {}
+      if with_hub and root_top then
+        windows[#windows + 1] = {name = "root strip / drum finish", u = {(fillet_top + 0.1) / span, (root_top + 1.5) / span},
+                                 v = {0.05, 0.95}}
+      end
+      if with_edges then
+        -- Pressure flank v: LE -> TE; suction: TE -> LE.
+        local first, second = "leading", "trailing"
+        if f.side == "suction" then first, second = second, first end
+        local w = 1.5 / chord
+        windows[#windows + 1] = {name = first .. " edge / drum finish", u = {0.25, 0.8}, v = {0, w}}
+        windows[#windows + 1] = {name = second .. " edge / drum finish", u = {0.25, 0.8}, v = {1 - w, 1}}
+      end
+      for _, win in ipairs(windows) do
+        local r = bliskrun.simulate{surface = ts, passes = passes, u = win.u, v = win.v, samples_u = 30,
+                                    samples_v = 120, search_above = 0.5}
+        local seam = {flank = f.side, seam = win.name, material_left_max_mm = r.residual_max,
+                      material_left_min_mm = r.residual_min, overcut_mm = r.overcut, unreached = r.untouched,
+                      samples = r.samples, step_bound_mm = r.residual_max and (r.residual_max - math.max(0, r.residual_min))}
+        seams[#seams + 1] = seam
+        print(string.format("  seam, blade 1 %s flank, %-28s material left %s, unreached %d of %d, overcut %.2f um",
+                            f.side, win.name .. ":", r.residual_max and string.format("%.2f..%.2f um (step <= %.2f um)",
+                              1e3 * r.residual_min, 1e3 * r.residual_max, 1e3 * seam.step_bound_mm) or "none reached",
+                            r.untouched, r.samples, 1e3 * r.overcut))
+      end
+    end
+  end
+end
+report.seams = seams
+
 local chord_tol = 0.002
 if sim.overcut < -chord_tol - 1e-4 then
   bliskrun.write_json("blisk_job.json", report)

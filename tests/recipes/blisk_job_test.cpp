@@ -68,6 +68,16 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
       EXPECT_GE(f["overcut_mm"].get<double>(), -0.002 - 2e-4);
     }
   }
+  // The seams on blade 1's flanks (root strip over the drum's first rows,
+  // each edge region's overlap): every sample reached by some operation,
+  // the material left within the drum finish's residual (14 um) and chord,
+  // nothing cut beyond the chord tolerance.
+  ASSERT_EQ(j["seams"].size(), 6u);
+  for (const auto& seam : j["seams"]) {
+    EXPECT_EQ(seam["unreached"].get<int>(), 0) << seam["seam"];
+    EXPECT_LE(seam["material_left_max_mm"].get<double>(), 0.014 + 0.002) << seam["seam"];
+    EXPECT_GE(seam["overcut_mm"].get<double>(), -0.002 - 1e-4) << seam["seam"];
+  }
   long flank_moves = 0;
   for (const auto& f : j["flanks"]) flank_moves += f["moves"].get<long>();
   // The links add their back-out, traverse and approach poses.
