@@ -151,7 +151,7 @@ int w_edge_finish(lua_State* L) {
                "casing (surface of revolution): the window ends where the edge passes it", {}},
          Field{"hub_clearance", Kind::Number, false, 0.0, 100.0, "cutter to hub on the first row, mm (default 0.05)", {}},
          Field{"reach", Kind::Table, false, std::nullopt, std::nullopt,
-               "{axis = {x, y, z}, max = deg}: every tool axis within max of axis (the machine's reach in the setup)", {}},
+               "{axis = {x, y, z}, min = 0, max = deg}: every tool axis between min and max off axis (the machine's reach)", {}},
          Field{"e1", Kind::Number, false, -10.0, 0.0, "overcut limit, mm (<= 0, default -0.001)", {}},
          Field{"e2", Kind::Number, false, 1e-6, 10.0, "undercut limit, mm (default 0.02)", {}},
          Field{"r_e", Kind::Number, false, 1e-3, 100.0, "cutting-speed radius: l >= r_e, mm (default 1)", {}},
@@ -226,10 +226,17 @@ int w_edge_finish(lua_State* L) {
       lua_getfield(L, t, "max");
       if (!lua_isnumber(L, -1)) luax::error(L, what + ": option 'reach': expected max = degrees");
       const double max_deg = lua_tonumber(L, -1);
+      lua_pop(L, 1);
+      lua_getfield(L, t, "min");
+      if (!lua_isnil(L, -1) && !lua_isnumber(L, -1)) luax::error(L, what + ": option 'reach': expected min = degrees");
+      const double min_deg = lua_isnil(L, -1) ? 0.0 : lua_tonumber(L, -1);
       lua_pop(L, 2);
       if (!(axis.norm() > 1e-9)) luax::error(L, what + ": option 'reach'.axis: expected a non-zero direction");
       if (!(max_deg > 0 && max_deg <= 180)) luax::error(L, what + ": option 'reach'.max: expected degrees in (0, 180]");
+      if (!(min_deg >= 0 && min_deg < max_deg))
+        luax::error(L, what + ": option 'reach'.min: expected degrees in [0, max)");
       rq.reach_axis = axis.normalized();
+      rq.reach_min_rad = deg_to_rad(min_deg);
       rq.reach_max_rad = deg_to_rad(max_deg);
     }
     rq.band.e1_mm = o.number("e1", -0.001);

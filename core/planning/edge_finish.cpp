@@ -35,6 +35,8 @@ void validate(const EdgeFinishRequest& rq) {
   if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance", "must be >= 0");
   if (!rq.reach_axis.isZero() && std::abs(rq.reach_axis.norm() - 1) > 1e-9)
     throw ParameterError("reach", "the reach axis must be a unit vector");
+  if (!(rq.reach_min_rad >= 0 && rq.reach_min_rad < rq.reach_max_rad && rq.reach_max_rad <= kPi))
+    throw ParameterError("reach", "expected 0 <= min < max <= 180 deg");
 }
 
 // Parts of a row around the edge, [u0, u1] each, in u order.
@@ -248,10 +250,11 @@ std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFin
 }
 
 // Whether a pose's axis is within the machine's reach (EdgeFinishRequest::
-// reach_axis, reach_max_rad).
+// reach_axis, reach_min_rad, reach_max_rad).
 bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose) {
   if (rq.reach_axis.isZero()) return true;
-  return pose.axis.normalized().dot(rq.reach_axis) >= std::cos(rq.reach_max_rad) - 1e-12;
+  const double c = pose.axis.normalized().dot(rq.reach_axis);
+  return c >= std::cos(rq.reach_max_rad) - 1e-12 && c <= std::cos(rq.reach_min_rad) + 1e-12;
 }
 
 // Waypoints in front of the edge between two passes: the round's middle

@@ -105,11 +105,14 @@ struct EdgeFinishRequest {
   double tilt_room_mm = 0.5;
   AxisLimit axis_limit;
   // The machine's reach in the setup the edge is cut in: every emitted axis
-  // within reach_max_rad of reach_axis (unit; zero: no limit) — e.g. within
-  // 118 deg of the table's axis for a B head or A cradle that tilts to 120.
-  // An axis beyond it is tilted like one that interferes, or refused.
+  // between reach_min_rad and reach_max_rad of reach_axis (unit; zero: no
+  // limit) — e.g. within 118 deg of the table's axis for a B head or A
+  // cradle that tilts to 120, and at least 35 deg off it for a cradle whose
+  // other side reaches 30 deg (below that a path may have to change sides
+  // between moves, which no motion along it does). An axis outside is
+  // tilted like one that interferes, or refused.
   Vec3 reach_axis = Vec3::Zero();
-  double reach_max_rad = kPi;
+  double reach_min_rad = 0, reach_max_rad = kPi;
   Clearances clearances;
   double motion_tol_mm = 1e-3;
   double retract_mm = 3.0;              // links: up the tool axis

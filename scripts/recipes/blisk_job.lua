@@ -73,7 +73,8 @@ if with_hub then
 end
 if with_edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = edge_span,
-                                                feed = 400, periodic = periodic, reach = {axis = {0, 0, -1}, max = 118}}
+                                                feed = 400, periodic = periodic,
+                                                reach = {axis = {0, 0, -1}, min = 35, max = 118}}
 end
 local j = job.new{
   name = "blisk blades" .. (with_edges and ", edges" or "") .. (with_hub and ", hub and roots" or ""),
@@ -210,8 +211,8 @@ if sim.overcut < -chord_tol - 1e-4 then
 end
 
 -- Setups: the blisk's axis on the table's C axis, its inlet face down. The
--- leading edges face the table (their tool axes point 32-58 deg below the
--- table plane, beyond the A cradle's -120 deg and the head's reach), so
+-- leading edges face the table (their tool axes point up to 90 deg below
+-- the table plane, beyond the A cradle's -120 deg and the head's reach), so
 -- they are cut in a second setup with the part turned over; everything
 -- else in the first.
 local setups = {{name = "inlet down", first = 1, last = #planned.moves}}
@@ -223,28 +224,18 @@ for i, f in ipairs(planned.flanks) do
     break
   end
 end
--- The A/C trunnion does not take the second setup: turned over, the
--- leading edges' tool axes run from along the table's axis (0 deg) to
--- 127 deg from it, so the cradle must pass A = 0 between neighbouring moves
--- and change its branch (C half a turn), which no motion along the planned
--- path does (core/machine/motion.h refuses it). The head-table machine
--- (B head, TCPM) cuts them.
-report.not_posted = {}
-for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc", ext = ".nc",
-                     first_setup_only = true},
+-- Turned over, the leading edges' axes are kept 35-118 deg off the table's
+-- axis (job.edge_finish reach): within the A cradle's and the B head's 120,
+-- and clear of the cone where the A/C cradle reaches an axis on either side
+-- of A = 0 (up to its +30) — a path through it would have to change sides
+-- between two moves, which no motion along the planned path does
+-- (core/machine/motion.h refuses it).
+for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc", ext = ".nc"},
                     {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain",
                      ext = ".h"}}) do
   for k, setup in ipairs(setups) do
-    local file = m.file .. (#setups > 1 and string.format("_setup%d", k) or "") .. m.ext
-    if k > 1 and m.first_setup_only then
-      print(string.format("  %s: not written: the leading edges turned over need the A cradle through 0 deg (a "
-                          .. "branch change) between moves; cut them on the head-table machine", file))
-      report.not_posted[#report.not_posted + 1] = {machine = m.machine, setup = setup.name,
-        why = "the leading edges' axes span 0-127 deg from the table axis: a branch change of the A/C cradle between moves"}
-    else
-      report.programs[#report.programs + 1] = j:post_program{machine = m.machine, post = m.post, setup = setup,
-                                                             file = file}
-    end
+    report.programs[#report.programs + 1] = j:post_program{machine = m.machine, post = m.post, setup = setup,
+      file = m.file .. (#setups > 1 and string.format("_setup%d", k) or "") .. m.ext}
   end
 end
 bliskrun.write_json("blisk_job.json", report)
