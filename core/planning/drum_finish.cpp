@@ -572,7 +572,7 @@ DrumFinishSimulation simulate_drum_finish(const DrumFinishResult& result, const 
 }
 
 namespace {
-void put_goto(std::ostringstream& os, const ToolPose& p) {
+void put_goto(std::ostream& os, const ToolPose& p) {
   char buf[160];
   std::snprintf(buf, sizeof buf, "GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.tip.x(), p.tip.y(), p.tip.z(),
                 p.axis.x(), p.axis.y(), p.axis.z());
@@ -646,12 +646,22 @@ std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequ
                 result.total_refusals);
   os << buf;
   os << "MULTAX\n";
+  write_apt_moves(os, drum_finish_moves(result), [&](int row) {
+    const DrumFinishRow& r = result.rows[row];
+    std::snprintf(buf, sizeof buf, "$$ ROW %d U %.6f WIDTH %.6f\n", row, r.u, r.width_mm);
+    return std::string(buf);
+  }, "LINK REFUSED");
+  os << "FINI\n";
+  return os.str();
+}
+
+void write_apt_moves(std::ostream& os, const std::vector<DrumFinishMove>& moves,
+                     const std::function<std::string(int row)>& row_header, const char* stop_label) {
   int row = -1;
-  for (const DrumFinishMove& m : drum_finish_moves(result)) {
+  for (const DrumFinishMove& m : moves) {
     switch (m.kind) {
       case DrumFinishMove::Kind::Stop:
-        os << "$$ LINK REFUSED: " << m.reason << "\n";
-        os << "STOP\n";
+        os << "$$ " << stop_label << ": " << m.reason << "\nSTOP\n";
         break;
       case DrumFinishMove::Kind::Rapid:
         os << "RAPID\n";
@@ -660,16 +670,12 @@ std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequ
       case DrumFinishMove::Kind::Feed:
         if (m.row != row) {
           row = m.row;
-          const DrumFinishRow& r = result.rows[row];
-          std::snprintf(buf, sizeof buf, "$$ ROW %d U %.6f WIDTH %.6f\n", row, r.u, r.width_mm);
-          os << buf;
+          os << row_header(row);
         }
         put_goto(os, m.pose);
         break;
     }
   }
-  os << "FINI\n";
-  return os.str();
 }
 
 void write_drum_finish_apt(const std::string& path, const DrumFinishResult& result,

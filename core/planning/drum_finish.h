@@ -5,7 +5,9 @@
 // (§3.1 Fig. 6), step along each row to the chord tolerance, orient the
 // axis by the paper's λ/w rule with tilt-until-clear (§3.3), and link the
 // rows with collision-checked retract/traverse/approach moves.
+#include <functional>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -155,6 +157,13 @@ struct DrumFinishMove {
   std::string reason;  // Stop
 };
 std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result);
+
+// The APT/CL body of any plan's move list (after the caller's header and
+// MULTAX, before FINI): RAPID before each rapid, GOTO/x,y,z,i,j,k, and
+// "$$ <stop_label>: reason" with STOP where a move was refused;
+// `row_header(row)` is written before the first feed of each row.
+void write_apt_moves(std::ostream& os, const std::vector<DrumFinishMove>& moves,
+                     const std::function<std::string(int row)>& row_header, const char* stop_label = "REFUSED");
 
 // The program's motion for the undercut simulation (core/sim): every move
 // of drum_finish_moves — rows and links — as passes, one per stretch of

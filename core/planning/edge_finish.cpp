@@ -1108,32 +1108,10 @@ std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequ
   std::snprintf(buf, sizeof buf, "$$ BAND %.6f %.6f CHORD_TOL %.6f ROWS %zu POSES %d REFUSALS %d\n", rq.band.e1_mm,
                 rq.band.e2_mm, rq.steps.chord_tol_mm, result.rows.size(), result.total_poses, result.total_refusals);
   os << buf << "MULTAX\n";
-  int row = -1;
-  auto put = [&](const ToolPose& p) {
-    std::snprintf(buf, sizeof buf, "GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.tip.x(), p.tip.y(), p.tip.z(), p.axis.x(),
-                  p.axis.y(), p.axis.z());
-    os << buf;
-  };
-  for (const DrumFinishMove& m : edge_finish_moves(result)) {
-    switch (m.kind) {
-      case DrumFinishMove::Kind::Stop:
-        os << "$$ REFUSED: " << m.reason << "\nSTOP\n";
-        break;
-      case DrumFinishMove::Kind::Rapid:
-        os << "RAPID\n";
-        put(m.pose);
-        break;
-      case DrumFinishMove::Kind::Feed:
-        if (m.row != row) {
-          row = m.row;
-          std::snprintf(buf, sizeof buf, "$$ ROW %d V %.6f WIDTH %.6f\n", row, result.rows[row].v,
-                        result.rows[row].width_mm);
-          os << buf;
-        }
-        put(m.pose);
-        break;
-    }
-  }
+  write_apt_moves(os, edge_finish_moves(result), [&](int row) {
+    std::snprintf(buf, sizeof buf, "$$ ROW %d V %.6f WIDTH %.6f\n", row, result.rows[row].v, result.rows[row].width_mm);
+    return std::string(buf);
+  });
   os << "FINI\n";
   return os.str();
 }

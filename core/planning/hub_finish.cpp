@@ -1319,33 +1319,10 @@ std::string hub_finish_apt(const HubFinishResult& result, const HubFinishRequest
                 result.root.poses + result.channel.poses, result.refusals.size());
   os << buf;
   os << "MULTAX\n";
-  auto put = [&](const ToolPose& p) {
-    std::snprintf(buf, sizeof buf, "GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.tip.x(), p.tip.y(), p.tip.z(), p.axis.x(),
-                  p.axis.y(), p.axis.z());
-    os << buf;
-  };
   for (const HubFinishPart* part : {&result.root, &result.channel}) {
     if (part->passes.empty()) continue;
     os << "$$ OPERATION " << hub_finish_op_name(part->op) << "\n";
-    int row = -1;
-    for (const DrumFinishMove& m : hub_finish_moves(*part)) {
-      switch (m.kind) {
-        case DrumFinishMove::Kind::Stop:
-          os << "$$ REFUSED: " << m.reason << "\nSTOP\n";
-          break;
-        case DrumFinishMove::Kind::Rapid:
-          os << "RAPID\n";
-          put(m.pose);
-          break;
-        case DrumFinishMove::Kind::Feed:
-          if (m.row != row) {
-            row = m.row;
-            os << "$$ ROW " << row << "\n";
-          }
-          put(m.pose);
-          break;
-      }
-    }
+    write_apt_moves(os, hub_finish_moves(*part), [](int row) { return "$$ ROW " + std::to_string(row) + "\n"; });
   }
   os << "FINI\n";
   return os.str();

@@ -529,11 +529,12 @@ end
 --   chord stays within 0.5 mm of it.
 -- The clearance surface of a blisk: the cylinder of radius R about Z and,
 -- when z0 < z1 are given, its end planes z = z0 and z = z1 in front of and
--- behind the part (a can). A tool backs out along its axis to the cylinder
--- when its axis leans outward enough to meet it (radial part >= 0.2),
--- otherwise to the end plane it points at (an edge tool's axis is nearly
--- axial); it travels out on the plane to the cylinder's rim, round the
--- cylinder, and in on the other's plane.
+-- behind the part (a can). A tool backs out along its axis to the can's
+-- first wall: the cylinder, or the end plane it points at when it meets
+-- that first (an edge tool's axis is nearly axial; without the planes such
+-- an axis would meet the cylinder far beyond the machine's travel); it
+-- travels out on the plane to the cylinder's rim, round the cylinder, and in
+-- on the other's plane.
 function M.cylinder(R, z0, z1)
   local can = z0 and z1
   local c = {description = can and string.format("the clearance can (r = %g mm, z %g .. %g mm)", R, z0, z1)
@@ -543,12 +544,15 @@ function M.cylinder(R, z0, z1)
     -- |xy(p + t a)| = R: (a.a) t^2 + 2 (p.a) t + (p.p - R^2) = 0 in xy.
     local A, B, C = a[1] ^ 2 + a[2] ^ 2, p[1] * a[1] + p[2] * a[2], p[1] ^ 2 + p[2] ^ 2 - R * R
     local disc = B * B - A * C
-    if A >= 0.04 and disc >= 0 then return {tip = add(p, a, math.max(0, (-B + math.sqrt(disc)) / A)), axis = a} end
-    if not can or math.abs(a[3]) < 0.5 then return nil end
-    local z = a[3] < 0 and z0 or z1
-    local q = add(p, a, math.max(0, (z - p[3]) / a[3]))
-    if q[1] ^ 2 + q[2] ^ 2 > R * R then return nil end
-    return {tip = q, axis = a}
+    local t = A >= 0.04 and disc >= 0 and math.max(0, (-B + math.sqrt(disc)) / A) or nil
+    if can and math.abs(a[3]) >= 1e-6 then
+      -- The can's first wall along the axis: an end plane before the cylinder.
+      local tz = math.max(0, ((a[3] < 0 and z0 or z1) - p[3]) / a[3])
+      local q = add(p, a, tz)
+      if q[1] ^ 2 + q[2] ^ 2 <= R * R and (not t or tz < t) then t = tz end
+    end
+    if not t then return nil end
+    return {tip = add(p, a, t), axis = a}
   end
   -- The point on the rim (radius R) a point on an end plane travels out
   -- to, or the point itself when it is on the cylinder.
