@@ -209,9 +209,11 @@ TEST(HubFinish, EveryEmittedPoseIsClearOfTheWorldByBruteForce) {
   const std::vector<Vec3> prev = faces(n - 1), own = faces(0), next = faces(1);
   const std::vector<DrumFinishMove> moves = hub_finish_moves(p.plan);
 #ifdef BLISKRUN_SANITIZED
-  const size_t every = 97;
+  const size_t every = 97;  // the 4 mm slice: 46 poses checked
+  const int at_least = 40;
 #else
   const size_t every = 7;
+  const int at_least = 100;
 #endif
   int checked = 0;
   for (size_t i = 0; i < moves.size(); ++i) {
@@ -237,7 +239,7 @@ TEST(HubFinish, EveryEmittedPoseIsClearOfTheWorldByBruteForce) {
     EXPECT_GE(hub_clearance(tool, ToolPartId::Holder, pose, *rq.hub), rq.clearances.holder_mm) << "move " << i;
     if (HasFailure()) break;
   }
-  EXPECT_GT(checked, 100);
+  EXPECT_GT(checked, at_least);
 }
 
 // A plate standing in the channel (hub to beyond the casing, 2 mm thick in
