@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -600,14 +601,14 @@ void fill_gaps(const EdgeFinishRequest& rq, const ToolBody& body, const std::vec
 }
 
 // The span window's ends against hub and casing (EdgeFinishRequest::hub,
-// casing). `lowest(f, a, b)`: the lowest v in [a, b] with f(v) >= 0, f
+// casing). `lowest_clear(f, a, b)`: the lowest v in [a, b] with f(v) >= 0, f
 // negative at a and growing with v (margins from a surface of revolution
 // grow with the span), by bisection to 1e-4 in v (a few um of span);
-// b when f(b) < 0.
+// none when f(b) < 0.
 template <class F>
-double lowest_clear(const F& f, double a, double b) {
+std::optional<double> lowest_clear(const F& f, double a, double b) {
   if (f(a) >= 0) return a;
-  if (f(b) < 0) return b;
+  if (f(b) < 0) return std::nullopt;
   double lo = a, hi = b;
   while (hi - lo > 1e-4) {
     const double mid = 0.5 * (lo + hi);
@@ -642,7 +643,7 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
       for (int i = 0; i < kAround; ++i) m = std::min(m, rq.casing->radial_offset(rq.edge->point(i / (kAround - 1.0), v)));
       return m;
     };
-    rq.v1 = lowest_clear(beyond_tip, rq.v0, rq.v1);
+    rq.v1 = lowest_clear(beyond_tip, rq.v0, rq.v1).value_or(rq.v1);
     if (rq.v1 <= rq.v0 + 1e-9)
       throw Error("edge finish: the span window lies beyond the casing (no blade edge in it)");
   }
@@ -650,17 +651,19 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
   const Profile& c = rq.tool->cutter();
   const std::vector<Vec3> cutter = c.surface_samples(c.z_min(), c.z_max(), 6, 24);
   Progress quiet(&progress);
-  const double first = lowest_clear([&](double v) { return row_hub_margin(rq, v, ls, cutter, quiet); }, rq.v0, rq.v1);
-  if (row_hub_margin(rq, first, ls, cutter, quiet) < 0)
+  const std::optional<double> clear =
+      lowest_clear([&](double v) { return row_hub_margin(rq, v, ls, cutter, quiet); }, rq.v0, rq.v1);
+  if (!clear)
     throw Error("edge finish: no row of the window keeps the cutter " + std::to_string(rq.hub_clearance_mm) +
                 " mm outside the hub (the tool is too large for the edge here)");
+  const double first = *clear;
   // The strip below the first row: along each iso-u line from the hub (or
   // the requested v0, if higher) up to the first row.
   double strip = 0;
   for (int i = 0; i < kAround; ++i) {
     const double u = i / (kAround - 1.0);
     auto above_hub = [&](double v) { return rq.hub->radial_offset(rq.edge->point(u, v)); };
-    const double from = lowest_clear(above_hub, rq.v0, first);
+    const double from = lowest_clear(above_hub, rq.v0, first).value_or(first);
     double len = 0;
     constexpr int kSteps = 16;
     for (int k = 0; k < kSteps; ++k)

@@ -173,9 +173,7 @@ function M.drum_finish(o)
                              moves_list = plan:moves()}
     end
     if not self.periodic then return flanks end
-    local base = {}
-    for i, f in ipairs(flanks) do base[i] = {side = f.side, plan = f.plan, report = f.report, moves_list = f.moves_list} end
-    return blades_of(self, j, function() return base end)
+    return blades_of(self, j, function() return flanks end)
   end
   return op
 end
