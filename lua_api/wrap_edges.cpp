@@ -125,6 +125,8 @@ int w_edge_region(lua_State* L) {
     set_number(L, "radius_min", e.radius_min_mm);
     set_number(L, "radius_max", e.radius_max_mm);
     set_number(L, "circle_misfit", e.circle_misfit_mm);
+    set_bool(L, "flanks_meet", e.flanks_meet);
+    set_number(L, "crease_deg", e.crease_deg);
     set_number(L, "fit_deviation", e.fit_deviation_mm);
     return 1;
   });

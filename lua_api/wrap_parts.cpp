@@ -33,6 +33,10 @@ std::vector<luax::Field> loft_fields() {
   return {Field{"cols", Kind::Integer, false, 4, 5000, "grid columns along the chord; default 200", {}},
           Field{"edge_margin", Kind::Number, false, 0, 0.49,
                 "chord fraction of each side left out at the edge circles; default 0.03", {}},
+          Field{"spacing", Kind::String, false, std::nullopt, std::nullopt,
+                "grid columns along the chord: \"uniform\" (default) or \"cosine\" (dense at the edges; with "
+                "edge_margin = 0 the flanks carry the edge rounds)",
+                {"uniform", "cosine"}},
           Field{"span_extension", Kind::Number, false, 0, 0.5,
                 "fraction of the span the flanks reach past the hub and tip sections; default 0.03", {}},
           Field{"chord_fraction", Kind::String, false, std::nullopt, std::nullopt,
@@ -49,6 +53,7 @@ LoftOptions loft_options(const luax::Options& o) {
   l.span_extension = o.number("span_extension", l.span_extension);
   l.cross_check = o.boolean("cross_check", false);
   if (o.string("chord_fraction", "projection") == "arc_length") l.chord_fraction = ChordFraction::arc_length;
+  if (o.string("spacing", "uniform") == "cosine") l.spacing = ColumnSpacing::cosine;
   return l;
 }
 

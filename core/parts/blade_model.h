@@ -72,9 +72,19 @@ SectionEdges find_section_edges(const std::vector<Vec3>& loop);
 // inside the resampled range falls back to arc length for the whole blade.
 enum class ChordFraction { projection, arc_length };
 
+// How the grid columns are spread over [edge_margin, 1 - edge_margin]:
+// uniformly, or by cosine spacing (f = (1 - cos(pi t)) / 2 over the column
+// index t in [0, 1]), dense at both ends. Near a round edge the chord
+// fraction grows with the square of the arc length from the edge point, so
+// cosine columns fall nearly uniformly in arc length around the edge: with
+// edge_margin = 0 the flanks reach the edge point and carry the round
+// themselves (200 cosine columns put ~10 on a 0.45 mm round, uniform ones 1).
+enum class ColumnSpacing { uniform, cosine };
+
 struct LoftOptions {
   int cols = 200;               // grid columns along the chord, >= 4
   double edge_margin = 0.03;    // chord fraction left out at each edge, [0, 0.5)
+  ColumnSpacing spacing = ColumnSpacing::uniform;
   double span_extension = 0.03; // fraction of each column's length added past hub and tip, [0, 0.5]
   ChordFraction chord_fraction = ChordFraction::projection;
   // Also loft the blade once without each interior section and measure that

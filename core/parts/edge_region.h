@@ -13,7 +13,7 @@
 // the built-in blisk and for loft_blade's grids), goes round the edge and
 // ends on the other flank.
 //
-// Construction, the same for the built-in blisk's exact flanks, lofted
+// Construction, where the flanks end at the round (the built-in blisk): the built-in blisk's exact flanks, lofted
 // blades and grids (anything given as two flank surfaces that end where the
 // edge round starts): at each span, the edge round is the circle tangent to
 // both flanks at their ends (centre and radius by least squares from the
@@ -25,6 +25,16 @@
 // interpolated by a bicubic B-spline (core/geometry interpolate_grid); the
 // spline's deviation from the construction between the samples is measured
 // and reported.
+//
+// Where the two flanks meet at the edge point instead (ends within 0.01 mm:
+// blades lofted from section data with edge_margin 0 and cosine columns,
+// core/parts/blade_model.h) they carry the data's own round, and no circle is
+// constructed: the region is each flank's last stretch, walked by arc length
+// from the edge point — the round (until the section's curvature falls below
+// half the edge point's) and `overlap_mm` past it. A circle tangent to two
+// flank ends at a chord-fraction margin does not fit such data: on Rotor 67
+// the two ends' centres were 0.25-0.9 mm apart whatever the margin, and the
+// arc between them stepped onto the flanks.
 #include <memory>
 #include <string>
 
@@ -50,6 +60,9 @@ struct EdgeRegion {
   double overlap_mm = 0;          // measured arc length on each flank, smallest over the spans
   double radius_min_mm = 0, radius_max_mm = 0;  // edge-circle radius over the span
   double circle_misfit_mm = 0;    // largest distance between the two flanks' circle centres
+                                  // (flanks that meet: between their ends)
+  bool flanks_meet = false;       // the flanks carry the round (no circle constructed)
+  double crease_deg = 0;          // flanks that meet: largest angle between their normals there
   double fit_deviation_mm = 0;    // largest spline deviation from the construction between samples
 };
 
