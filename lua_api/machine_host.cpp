@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 
 namespace bliskrun::lua_api {
 
@@ -387,6 +388,18 @@ int l_extend(lua_State* L) {
   return 1;
 }
 
+// fixed(value, decimals): string.format("%.<decimals>f", value) exactly,
+// without the sign of a value that rounds to zero (core/common/fixed_text.h);
+// the number words of a post, five or six a block.
+int l_fixed(lua_State* L) {
+  const double value = luaL_checknumber(L, 1);
+  const lua_Integer decimals = luaL_checkinteger(L, 2);
+  if (decimals < 0 || decimals > 17) return luaL_error(L, "fixed: decimals must be 0..17, got %d", static_cast<int>(decimals));
+  const std::string text = fixed_text(value, static_cast<int>(decimals));
+  lua_pushlstring(L, text.data(), text.size());
+  return 1;
+}
+
 // ---- running a post ------------------------------------------------------
 
 struct PostContext {
@@ -571,6 +584,8 @@ void load_post_file(lua_State* L, const std::string& path, const std::string& po
   lua_pushvalue(L, -2);
   lua_pushcclosure(L, l_extend, 2);
   lua_setfield(L, -2, "extend");
+  lua_pushcfunction(L, l_fixed);
+  lua_setfield(L, -2, "fixed");
   run_file(L, path, -1);
   lua_remove(L, -2);
   if (!lua_istable(L, -1)) luaL_error(L, "%s: expected the post file to return its table", path.c_str());

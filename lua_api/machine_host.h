@@ -13,7 +13,9 @@
 // Every error names the machine file and line.
 //
 // Post files (scripts/posts/*.lua) run with `extend "name"`, which returns a
-// copy of another post's table to override steps in (see scripts/posts/base.lua).
+// copy of another post's table to override steps in (see scripts/posts/base.lua),
+// and `fixed(value, decimals)`, string.format("%.<decimals>f") exactly but
+// several times cheaper and never "-0.000" (core/common/fixed_text.h).
 #include <lua.hpp>
 
 #include <string>

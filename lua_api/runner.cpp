@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "core/common/atomic_file.h"
+#include "core/common/error.h"
 #include "core/common/memory_budget.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
@@ -404,6 +405,40 @@ std::string RunContext::resolve_write(lua_State* L, const std::string& path) con
   if (!inside(abs, out_dir) || abs == out_dir)
     luax::error(L, "'" + path + "' is outside the out folder " + out_dir + " (recipes write only there)");
   return abs;
+}
+
+// ---- worker states -------------------------------------------------------------------------
+
+struct WorkerLuaState::Heap {
+  Allocator allocator;  // this state's own count; the budget is the run's
+};
+
+WorkerLuaState::WorkerLuaState(lua_State* recipe_state) : heap_(std::make_unique<Heap>()) {
+  RunState& run = state(recipe_state);
+  L_ = lua_newstate(limited_alloc, &heap_->allocator);
+  if (!L_) throw std::bad_alloc();
+  // The recipe's RunState: require reads its folders; the count hook records
+  // the position under its mutex and reads the watchdog's atomic flag, so a
+  // post line can be named by a time-limit stop. Protected: the budget may
+  // refuse the libraries' memory.
+  lua_pushcfunction(L_, [](lua_State* S) {
+    lua_pushvalue(S, 1);
+    lua_setfield(S, LUA_REGISTRYINDEX, kContextKey);
+    open_sandbox(S);
+    return 0;
+  });
+  lua_pushlightuserdata(L_, &run);
+  if (lua_pcall(L_, 1, 0, 0) != LUA_OK) {
+    const std::string message = lua_tostring(L_, -1) ? lua_tostring(L_, -1) : "cannot open a worker's Lua state";
+    lua_close(L_);
+    L_ = nullptr;
+    throw Error(message);
+  }
+  lua_sethook(L_, count_hook, LUA_MASKCOUNT, 10000);
+}
+
+WorkerLuaState::~WorkerLuaState() {
+  if (L_) lua_close(L_);
 }
 
 // ---- running -------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 #include <lua.hpp>
 
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -51,6 +52,26 @@ struct RunContext {
 };
 
 RunContext& context(lua_State* L);
+
+// A Lua state for recipe work on another thread (post.write_all posts each
+// program in its own): the recipe's sandbox (the same libraries, require and
+// limits) without the bliskrun module, its heap counted in the run's memory
+// budget, and the run's time limit raised as a Lua error by the same count
+// hook. Made from the recipe's state on the recipe's thread; then used by one
+// other thread only, while the recipe's state waits.
+class WorkerLuaState {
+ public:
+  explicit WorkerLuaState(lua_State* recipe_state);
+  ~WorkerLuaState();
+  WorkerLuaState(const WorkerLuaState&) = delete;
+  WorkerLuaState& operator=(const WorkerLuaState&) = delete;
+  lua_State* get() const { return L_; }
+
+ private:
+  struct Heap;
+  std::unique_ptr<Heap> heap_;
+  lua_State* L_ = nullptr;
+};
 
 // Exit codes of the bliskrun command.
 enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };

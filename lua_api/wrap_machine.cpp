@@ -9,9 +9,11 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <optional>
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/parallel.h"
 #include "core/machine/verify.h"
 #include <sstream>
 #include "lua_api/lua_tool.h"
@@ -309,29 +311,33 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "file");
 }
 
-VerifyReport verify_posted(lua_State* L, const PostedProgram& p, const std::string& text, double tol_mm,
-                           double angle_tol_deg) {
+// The read-back and replay of a posted program (throws core's errors).
+VerifyReport verify_text(const PostedProgram& p, const std::string& text, double tol_mm, double angle_tol_deg) {
   VerifyOptions options;
   options.tol_mm = tol_mm;
   options.angle_tol_rad = deg_to_rad(angle_tol_deg);
   options.read.file_name = p.file;
   options.read.tcp = p.tcp_always;
-  VerifyReport report;
   options.tool_numbers = p.tool_numbers;
+  std::vector<Kinematics> kins;
+  for (double length : p.tool_lengths_mm) kins.emplace_back(p.machine, length);
+  std::vector<const Kinematics*> pointers;
+  for (const Kinematics& k : kins) pointers.push_back(&k);
+  return verify_program(text, pointers, p.plan, options);
+}
+
+VerifyReport verify_posted(lua_State* L, const PostedProgram& p, const std::string& text, double tol_mm,
+                           double angle_tol_deg) {
+  VerifyReport report;
   luax::guarded(L, [&] {
-    std::vector<Kinematics> kins;
-    for (double length : p.tool_lengths_mm) kins.emplace_back(p.machine, length);
-    std::vector<const Kinematics*> pointers;
-    for (const Kinematics& k : kins) pointers.push_back(&k);
-    report = verify_program(text, pointers, p.plan, options);
+    report = verify_text(p, text, tol_mm, angle_tol_deg);
     return 0;
   });
   return report;
 }
 
-// post.write{machine=, post=, path=, file=, tool=, chord_tol=, tcp=, name=, verify=}
-int w_post_write(lua_State* L) {
-  const luax::Options o(L, 1, "bliskrun.post.write", {
+const std::vector<luax::Field>& post_write_fields() {
+  static const std::vector<luax::Field> fields = {
       {"machine", luax::Kind::Any, true, {}, {}, "Machine (bliskrun.machine.load)", {}},
       {"post", luax::Kind::Any, true, {}, {}, "post name ('fanuc'), file, or a loaded post table", {}},
       {"path", luax::Kind::Table, true, {}, {}, "moves {kind=, tip=, axis=, feed=, row=}", {}},
@@ -343,22 +349,52 @@ int w_post_write(lua_State* L) {
       {"tcp", luax::Kind::Boolean, false, {}, {}, "write under TCP control (default: the post's choice)", {}},
       {"verify_tol", luax::Kind::Number, false, 0.0, 10.0, "read-back tolerance beyond resolution, mm", {}},
       {"start", luax::Kind::Table, false, {}, {}, "axes before the first move {X=, ..., C=}", {}},
-  });
-  o.push_raw("machine");
-  const MachineValue& machine = check_machine(L, -1);
-  lua_pop(L, 1);
+  };
+  return fields;
+}
 
-  const int post_idx = push_post_option(L, o, "post");
+// One program to post, read on the recipe's state from post.write's options:
+// everything but the post itself is plain C++, so that a program whose post
+// is named by its file can be posted on another thread, in a Lua state of
+// its own.
+struct PostRequest {
+  MachineDefinition machine;
+  std::string post_file;  // the post's file when the option names one; empty for a post table
+  bool set_tcp = false, tcp = false;  // the tcp option, when given
+  PostJob job;
+  std::vector<PlannedMove> path;
+  std::vector<int> tool_of;  // each move's index into job.tools
+  std::string file, target;
+  MotionOptions motion;      // all but .tcp, which is the post's
+  double verify_tol = 0.001;
+  double read_seconds = 0;
+};
+
+// Reads the option table at `idx` (`what` names it in messages); the post
+// option is left to the caller (a name is resolved into post_file here).
+PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
+  idx = lua_absindex(L, idx);
+  const luax::Options o(L, idx, what, post_write_fields());
+  PostRequest r;
+  o.push_raw("machine");
+  r.machine = check_machine(L, -1).definition;
+  lua_pop(L, 1);
+  o.push_raw("post");
+  if (lua_type(L, -1) == LUA_TSTRING) {
+    r.post_file = resolve_script(L, lua_tostring(L, -1), "posts");
+  } else if (!lua_istable(L, -1)) {
+    luax::error(L, what + " post: expected a post name or a post table (bliskrun.post.load)");
+  }
+  lua_pop(L, 1);
   if (o.has("tcp")) {
-    lua_pushboolean(L, o.boolean("tcp", false));
-    lua_setfield(L, post_idx, "tcp");
+    r.set_tcp = true;
+    r.tcp = o.boolean("tcp", false);
   }
 
   if (o.has("tool") == o.has("tools"))
-    luax::error(L, "bliskrun.post.write: give either 'tool' (one tool) or 'tools' (a list), not both or neither");
-  PostJob job;
-  auto read_tool = [&](int idx, const std::string& what) {
-    const luax::Options tool(L, idx, what, {
+    luax::error(L, what + ": give either 'tool' (one tool) or 'tools' (a list), not both or neither");
+  auto read_tool = [&](int tool_idx, const std::string& tool_what) {
+    const luax::Options tool(L, tool_idx, tool_what, {
         {"number", luax::Kind::Integer, true, 0.0, 99999.0, "tool number (T, H, TOOL CALL)", {}},
         {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
         {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
@@ -367,103 +403,133 @@ int w_post_write(lua_State* L) {
     t.number = static_cast<int>(tool.integer("number", 1));
     t.length_mm = tool.number("length", 0);
     t.spindle_rpm = static_cast<long>(tool.integer("spindle_rpm", 0));
-    for (const PostTool& other : job.tools)
-      if (other.number == t.number) luax::error(L, what + ": tool number " + std::to_string(t.number) + " is listed twice");
-    job.tools.push_back(t);
+    for (const PostTool& other : r.job.tools)
+      if (other.number == t.number) luax::error(L, tool_what + ": tool number " + std::to_string(t.number) + " is listed twice");
+    r.job.tools.push_back(t);
   };
   if (o.has("tool")) {
     o.push_raw("tool");
-    read_tool(lua_gettop(L), "bliskrun.post.write tool");
+    read_tool(lua_gettop(L), what + " tool");
     lua_pop(L, 1);
   } else {
     o.push_raw("tools");
     const int tools_idx = lua_gettop(L);
     const lua_Unsigned n = lua_rawlen(L, tools_idx);
-    if (n == 0) luax::error(L, "bliskrun.post.write tools: expected a list of at least one tool");
+    if (n == 0) luax::error(L, what + " tools: expected a list of at least one tool");
     for (lua_Unsigned i = 1; i <= n; ++i) {
       lua_rawgeti(L, tools_idx, static_cast<lua_Integer>(i));
-      read_tool(lua_gettop(L), "bliskrun.post.write tools[" + std::to_string(i) + "]");
+      read_tool(lua_gettop(L), what + " tools[" + std::to_string(i) + "]");
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
   }
 
-  // Where the time goes (seconds, wall): reported as `seconds`.
   using Clock = std::chrono::steady_clock;
-  const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
-  PostSeconds seconds;
-  auto t0 = Clock::now();
+  const auto t0 = Clock::now();
   o.push_raw("path");
   std::vector<int> move_tools;
-  const std::vector<PlannedMove> path = check_path(L, -1, &move_tools);
-  seconds.read = since(t0);
+  r.path = check_path(L, -1, &move_tools);
+  r.read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   lua_pop(L, 1);
   // Each move's tool index; a move without `tool` keeps the one before.
-  std::vector<int> tool_of(path.size(), 0);
-  for (size_t i = 0; i < path.size(); ++i) {
+  r.tool_of.assign(r.path.size(), 0);
+  for (size_t i = 0; i < r.path.size(); ++i) {
     if (move_tools[i] == 0) {
-      tool_of[i] = i > 0 ? tool_of[i - 1] : 0;
+      r.tool_of[i] = i > 0 ? r.tool_of[i - 1] : 0;
       continue;
     }
-    const auto it = std::find_if(job.tools.begin(), job.tools.end(),
+    const auto it = std::find_if(r.job.tools.begin(), r.job.tools.end(),
                                  [&](const PostTool& t) { return t.number == move_tools[i]; });
-    if (it == job.tools.end())
+    if (it == r.job.tools.end())
       luax::error(L, "path[" + std::to_string(i + 1) + "].tool: tool " + std::to_string(move_tools[i]) +
                          " is not in the program's tools");
-    tool_of[i] = static_cast<int>(it - job.tools.begin());
+    r.tool_of[i] = static_cast<int>(it - r.job.tools.begin());
   }
 
-  const std::string file = o.string("file", "");
-  const std::string target = context(L).resolve_write(L, file);
-  job.name = o.string("name", fs::path(file).stem().string());
+  r.file = o.string("file", "");
+  r.target = context(L).resolve_write(L, r.file);
+  r.job.name = o.string("name", fs::path(r.file).stem().string());
+  r.motion.chord_tol_mm = o.number("chord_tol", 0.005);
+  if (o.has("start")) {
+    o.push_raw("start");
+    r.motion.start = check_axes(L, -1, r.machine, "start");
+    lua_pop(L, 1);
+  }
+  r.verify_tol = o.number("verify_tol", 0.001);
+  return r;
+}
 
+// Loads a request's post by its file into `L` (a worker's state), applies
+// the tcp option and leaves the post table on the stack.
+void push_request_post(lua_State* L, const PostRequest& r) {
+  load_post_file(L, r.post_file, scripts_folder() + "/posts");
+  if (r.set_tcp) {
+    lua_pushboolean(L, r.tcp);
+    lua_setfield(L, -2, "tcp");
+  }
+}
+
+struct PostOutcome {
   PostedProgram posted;
-  posted.machine = machine.definition;
-  for (const PostTool& t : job.tools) {
+  VerifyReport report;
+  PostSeconds seconds;
+};
+
+// The Lua post's part: the program's text from its machine motion.
+using LuaPost = std::function<std::string(const Kinematics& first_tool, const MachineProgram& plan)>;
+
+// Posts one program: machine motion (inverse kinematics per tool, feed
+// moves split to the chord tolerance), the Lua post, the read-back and
+// replay, then the atomic write — the program is proved before it replaces
+// anything on disk. Throws core's errors; Lua errors come from `lua_post`.
+PostOutcome post_program(const PostRequest& r, bool tcp, bool tcp_always, Progress& progress,
+                         const LuaPost& lua_post) {
+  using Clock = std::chrono::steady_clock;
+  const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
+  PostOutcome out;
+  out.seconds.read = r.read_seconds;
+  PostedProgram& posted = out.posted;
+  posted.machine = r.machine;
+  for (const PostTool& t : r.job.tools) {
     posted.tool_lengths_mm.push_back(t.length_mm);
     posted.tool_numbers.push_back(t.number);
   }
-  posted.tcp_always = post_tcp_always(L, post_idx);
-  posted.file = target;
-  MotionOptions motion;
-  motion.chord_tol_mm = o.number("chord_tol", 0.005);
-  motion.tcp = post_wants_tcp(L, post_idx);
-  if (o.has("start")) {
-    o.push_raw("start");
-    motion.start = check_axes(L, -1, machine.definition, "start");
-    lua_pop(L, 1);
-  }
+  posted.tcp_always = tcp_always;
+  posted.file = r.target;
+  MotionOptions motion = r.motion;
+  motion.tcp = tcp;
   std::vector<Kinematics> kins;
+  for (const PostTool& t : r.job.tools) kins.emplace_back(r.machine, t.length_mm);
+  std::vector<const Kinematics*> pointers;
+  for (const Kinematics& k : kins) pointers.push_back(&k);
+  auto t0 = Clock::now();
+  posted.plan = plan_machine_motion_tools(pointers, r.path, r.tool_of, motion, progress);
+  out.seconds.motion = since(t0);
   t0 = Clock::now();
-  luax::guarded(L, [&] {
-    for (const PostTool& t : job.tools) kins.emplace_back(machine.definition, t.length_mm);
-    std::vector<const Kinematics*> pointers;
-    for (const Kinematics& k : kins) pointers.push_back(&k);
-    posted.plan = plan_machine_motion_tools(pointers, path, tool_of, motion, context(L).progress);
-    return 0;
-  });
-  seconds.motion = since(t0);
+  const std::string text = lua_post(kins.front(), posted.plan);
+  out.seconds.post = since(t0);
   t0 = Clock::now();
-  const std::string text = run_post(L, post_idx, kins.front(), posted.plan, job);
-  seconds.post = since(t0);
-  // Prove the program before it replaces anything on disk.
+  out.report = verify_text(posted, text, r.verify_tol, 0.001);
+  out.seconds.verify = since(t0);
   t0 = Clock::now();
-  const VerifyReport report = verify_posted(L, posted, text, o.number("verify_tol", 0.001), 0.001);
-  seconds.verify = since(t0);
-  t0 = Clock::now();
-  luax::guarded(L, [&] {
-    write_file_atomic(target, text);
-    return 0;
-  });
-  seconds.write = since(t0);
+  write_file_atomic(r.target, text);
+  out.seconds.write = since(t0);
+  return out;
+}
+
+// The result of post.write: the read-back report, `seconds` per stage and
+// the program (for post.verify). Records the read-back for --verify.
+void push_outcome(lua_State* L, PostOutcome&& out) {
+  const VerifyReport& report = out.report;
   {
     std::ostringstream line;
-    line << target << ": " << report.moves << " moves, max tip deviation " << report.max_position_mm
+    line << out.posted.file << ": " << report.moves << " moves, max tip deviation " << report.max_position_mm
          << " mm (line " << report.worst_position_line << "), max axis deviation "
          << rad_to_deg(report.max_angle_rad) << " deg (line " << report.worst_angle_line << ")";
     context(L).verified_programs.push_back(line.str());
   }
-  push_report(L, report, posted);
+  push_report(L, report, out.posted);
+  const PostSeconds& seconds = out.seconds;
   lua_createtable(L, 0, 5);
   for (const auto& [name, value] : {std::pair<const char*, double>{"read", seconds.read}, {"motion", seconds.motion},
                                     {"post", seconds.post}, {"verify", seconds.verify}, {"write", seconds.write}}) {
@@ -471,8 +537,159 @@ int w_post_write(lua_State* L) {
     lua_setfield(L, -2, name);
   }
   lua_setfield(L, -2, "seconds");
-  luax::push_new(L, std::move(posted));
+  luax::push_new(L, std::move(out.posted));
   lua_setfield(L, -2, "program");
+}
+
+// post.write{machine=, post=, path=, file=, tool=, chord_tol=, tcp=, name=, verify=}
+int w_post_write(lua_State* L) {
+  const PostRequest r = read_post_request(L, 1, "bliskrun.post.write");
+  lua_getfield(L, 1, "post");
+  int post_idx = lua_gettop(L);
+  if (!r.post_file.empty()) {
+    push_request_post(L, r);
+    post_idx = lua_gettop(L);
+  } else if (r.set_tcp) {
+    lua_pushboolean(L, r.tcp);
+    lua_setfield(L, post_idx, "tcp");
+  }
+  PostOutcome out;
+  luax::guarded(L, [&] {
+    out = post_program(r, post_wants_tcp(L, post_idx), post_tcp_always(L, post_idx), context(L).progress,
+                       [&](const Kinematics& kin, const MachineProgram& plan) {
+                         return run_post(L, post_idx, kin, plan, r.job);
+                       });
+    return 0;
+  });
+  push_outcome(L, std::move(out));
+  return 1;
+}
+
+// Posts one request on a worker thread, in a Lua state of its own: the post
+// is loaded from its file there. Lua errors (the post's, the time limit)
+// come back as Error with the Lua message.
+PostOutcome post_on_worker(WorkerLuaState& worker, const PostRequest& r, Progress& progress) {
+  lua_State* W = worker.get();
+  // Calls f(data, post) protected (a C function sees its own stack frame:
+  // the post table goes in as its second argument); a Lua error becomes an
+  // Error with its message.
+  const auto protect = [W](lua_CFunction f, void* data, int post_idx) {
+    lua_pushcfunction(W, f);
+    lua_pushlightuserdata(W, data);
+    if (post_idx) lua_pushvalue(W, post_idx); else lua_pushnil(W);
+    if (lua_pcall(W, 2, 1, 0) != LUA_OK) {
+      const std::string message = lua_tostring(W, -1) ? lua_tostring(W, -1) : "error object is not a string";
+      lua_pop(W, 1);
+      throw Error(message);
+    }
+  };
+  // The post table stays on the worker's stack.
+  protect(
+      [](lua_State* S) {
+        push_request_post(S, *static_cast<const PostRequest*>(lua_touserdata(S, 1)));
+        return 1;
+      },
+      const_cast<PostRequest*>(&r), 0);
+  const int post_idx = lua_gettop(W);
+  struct PostCall {
+    const Kinematics* kin;
+    const MachineProgram* plan;
+    const PostJob* job;
+    std::string text;
+  };
+  return post_program(r, post_wants_tcp(W, post_idx), post_tcp_always(W, post_idx), progress,
+                      [&](const Kinematics& kin, const MachineProgram& plan) {
+                        PostCall call{&kin, &plan, &r.job, {}};
+                        protect(
+                            [](lua_State* S) {
+                              auto* c = static_cast<PostCall*>(lua_touserdata(S, 1));
+                              c->text = run_post(S, 2, *c->kin, *c->plan, *c->job);
+                              lua_pushnil(S);
+                              return 1;
+                            },
+                            &call, post_idx);
+                        lua_pop(W, 1);
+                        return std::move(call.text);
+                      });
+}
+
+// post.write_all{{...post.write's options...}, ...} -> {report, ...}: the
+// programs posted at once, each as post.write posts it, on up to --threads
+// workers (the longest paths first); a post named by its file is loaded
+// into each worker's own Lua state, a post table (edited in the recipe) runs
+// here afterwards. The results and the --verify lines are in list order and
+// do not depend on the thread count. A failure is raised once every program
+// has stopped: the first failing program in list order, named by its index
+// and file.
+int w_post_write_all(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);
+  const lua_Unsigned n = lua_rawlen(L, 1);
+  if (n == 0) luax::error(L, "bliskrun.post.write_all: expected a list of post.write option tables");
+  std::vector<PostRequest> requests;
+  requests.reserve(n);
+  for (lua_Unsigned i = 1; i <= n; ++i) {
+    lua_rawgeti(L, 1, static_cast<lua_Integer>(i));
+    const std::string what = "bliskrun.post.write_all[" + std::to_string(i) + "]";
+    if (!lua_istable(L, -1)) luax::error(L, what + ": expected a post.write option table");
+    requests.push_back(read_post_request(L, -1, what));
+    lua_pop(L, 1);
+  }
+  std::vector<std::optional<PostOutcome>> outcomes(n);
+  std::vector<std::string> failures(n);
+  // Named posts on the workers, the longest paths first.
+  std::vector<size_t> order;
+  for (size_t k = 0; k < n; ++k)
+    if (!requests[k].post_file.empty()) order.push_back(k);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return requests[a].path.size() > requests[b].path.size(); });
+  if (!order.empty()) {
+    luax::guarded(L, [&] {
+      // Made here: a worker state is made from the recipe's state, on its thread.
+      std::vector<std::unique_ptr<WorkerLuaState>> workers;
+      for (size_t j = 0; j < order.size(); ++j) workers.push_back(std::make_unique<WorkerLuaState>(L));
+      run_parallel(order.size(), context(L).options.threads, context(L).progress, "posting",
+                   [&](size_t j, Progress& own) {
+                     const size_t k = order[j];
+                     try {
+                       outcomes[k] = post_on_worker(*workers[j], requests[k], own);
+                     } catch (const std::exception& e) {
+                       failures[k] = e.what();
+                     }
+                     workers[j].reset();  // its heap back before the next program
+                   });
+      return 0;
+    });
+  }
+  // Post tables here, in list order, unless a program before has failed.
+  for (size_t k = 0; k < n; ++k) {
+    if (!requests[k].post_file.empty()) continue;
+    if (std::any_of(failures.begin(), failures.begin() + k, [](const std::string& f) { return !f.empty(); })) break;
+    lua_rawgeti(L, 1, static_cast<lua_Integer>(k + 1));
+    lua_getfield(L, -1, "post");
+    const int post_idx = lua_gettop(L);
+    if (requests[k].set_tcp) {
+      lua_pushboolean(L, requests[k].tcp);
+      lua_setfield(L, post_idx, "tcp");
+    }
+    try {
+      outcomes[k] = post_program(requests[k], post_wants_tcp(L, post_idx), post_tcp_always(L, post_idx),
+                                 context(L).progress, [&](const Kinematics& kin, const MachineProgram& plan) {
+                                   return run_post(L, post_idx, kin, plan, requests[k].job);
+                                 });
+    } catch (const std::exception& e) {
+      failures[k] = e.what();
+    }
+    lua_pop(L, 2);
+  }
+  for (size_t k = 0; k < n; ++k)
+    if (!failures[k].empty())
+      luax::error(L, "bliskrun.post.write_all: programs[" + std::to_string(k + 1) + "] (" + requests[k].file +
+                         "): " + failures[k]);
+  lua_createtable(L, static_cast<int>(n), 0);
+  for (size_t k = 0; k < n; ++k) {
+    push_outcome(L, std::move(*outcomes[k]));
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
   return 1;
 }
 
@@ -525,7 +742,8 @@ void open_machine(lua_State* L) {
   luaL_setfuncs(L, machine_functions, 0);
   lua_setfield(L, -2, "machine");
   static const luaL_Reg post_functions[] = {
-      {"load", w_post_load}, {"write", w_post_write}, {"verify", w_post_verify}, {nullptr, nullptr}};
+      {"load", w_post_load},     {"write", w_post_write},   {"write_all", w_post_write_all},
+      {"verify", w_post_verify}, {nullptr, nullptr}};
   lua_newtable(L);
   luaL_setfuncs(L, post_functions, 0);
   lua_setfield(L, -2, "post");

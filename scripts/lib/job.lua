@@ -1208,11 +1208,9 @@ function Job:check_overcut(sim, units, slack)
   end
 end
 
--- Posts for one machine (j:post) and prints the one-line summary; returns
--- the program's entry for a run's JSON report. m = {machine = name or
--- Machine, name = (how the report calls a Machine), post =, file =}.
-function Job:post_program(m)
-  local r = self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start}
+-- The one-line summary of a posted program (post.write's report) and its
+-- entry for a run's JSON report. m = {machine =, name =, post =, file =, setup =}.
+local function program_entry(m, r)
   local s = r.seconds
   print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan; %.1f s (path %.1f, "
                       .. "machine motion %.1f, post %.1f, read back %.1f, write %.1f)", m.file, r.moves, r.positioning,
@@ -1222,40 +1220,78 @@ function Job:post_program(m)
           max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil}
 end
 
--- Posts the planned job for one machine: o = {machine = name or Machine,
--- post = name or post table, file =, chord_tol = 0.002}. Returns the
--- post.write report (the program read back and replayed).
-function Job:post(o)
+-- Posts for one machine (j:post) and prints the one-line summary; returns
+-- the program's entry for a run's JSON report. m = {machine = name or
+-- Machine, name = (how the report calls a Machine), post =, file =}.
+function Job:post_program(m)
+  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start})
+end
+
+-- Posts several programs at once (bliskrun.post.write_all: on the run's
+-- threads, the longest first; each read back and replayed as j:post does)
+-- and prints their summaries in list order; returns their entries. list =
+-- {m, ...} as j:post_program takes. A setup's path is made once for all
+-- the machines that take it.
+function Job:post_programs(list)
+  local options, offsets, paths = {}, {}, {}
+  for i, m in ipairs(list) do
+    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start}
+    local key = m.setup or "whole"
+    paths[key] = paths[key] or {self:program_path(o, 3)}
+    options[i], offsets[i] = self:post_options(o, paths[key][1], 3), paths[key][2]
+  end
+  local ok, result = pcall(bliskrun.post.write_all, options)
+  if not ok then
+    local message = tostring(result)
+    local k = tonumber(message:match("programs%[(%d+)%]"))
+    self:raise_post_error(message, k and offsets[k] or 0, 3)
+  end
+  local entries = {}
+  for i, m in ipairs(list) do entries[i] = program_entry(m, result[i]) end
+  return entries
+end
+
+-- `level`: the error level of the recipe line, seen from the function
+-- that takes it (as error() counts).
+local function check_post_options(o, level)
   check_options("job:post", o, {
     machine = {type = "any", required = true}, post = {type = "any", required = true},
     file = {type = "string", required = true}, chord_tol = {type = "number", check = positive},
     setup = {type = "table"},
     start = {type = "table"},  -- the machine's axes before the first move (picks the rotary branch)
-  }, 2)
-  if not self.planned then error("job:post: plan the job first (j:plan())", 2) end
-  -- A setup (o.setup = {name =, first =, last =, flip = bool}): the job's
-  -- moves first..last as one program, with the part turned over (180 deg
-  -- about X: the side of the part that faced the table faces the spindle)
-  -- when flip. A blisk's leading edges face the table with its axis on C:
-  -- no tool direction the A cradle reaches cuts them in the first setup.
-  local path, offset = self.planned.moves, 0
-  if o.setup then
-    local first, last = o.setup.first or 1, o.setup.last or #self.planned.moves
-    path, offset = {}, first - 1
-    for i = first, last do
-      local m = self.planned.moves[i]
-      if o.setup.flip then
-        local t = {}
-        for key, value in pairs(m) do t[key] = value end
-        t.tip = {m.tip[1], -m.tip[2], -m.tip[3]}
-        t.axis = {m.axis[1], -m.axis[2], -m.axis[3]}
-        m = t
-      end
-      path[#path + 1] = m
+  }, level)
+end
+
+-- The moves of a program and the job move before its first: o.setup =
+-- {name =, first =, last =, flip = bool}: the job's moves first..last as one
+-- program, with the part turned over (180 deg about X: the side of the part
+-- that faced the table faces the spindle) when flip. A blisk's leading edges
+-- face the table with its axis on C: no tool direction the A cradle reaches
+-- cuts them in the first setup.
+function Job:program_path(o, level)
+  check_post_options(o, level + 1)
+  if not self.planned then error("job:post: plan the job first (j:plan())", level) end
+  if not o.setup then return self.planned.moves, 0 end
+  local first, last = o.setup.first or 1, o.setup.last or #self.planned.moves
+  local path = {}
+  for i = first, last do
+    local m = self.planned.moves[i]
+    if o.setup.flip then
+      local t = {}
+      for key, value in pairs(m) do t[key] = value end
+      t.tip = {m.tip[1], -m.tip[2], -m.tip[3]}
+      t.axis = {m.axis[1], -m.axis[2], -m.axis[3]}
+      m = t
     end
+    path[#path + 1] = m
   end
-  -- The program's tools in the order they are first used; a sister tool
-  -- has its tool's length and speed.
+  return path, first - 1
+end
+
+-- post.write's options for a program of `path`: the program's tools in the
+-- order they are first used (a sister tool has its tool's length and speed).
+function Job:post_options(o, path, level)
+  check_post_options(o, level + 1)
   local tools, order = {}, {}
   for _, m in ipairs(path) do
     if not order[m.tool] then
@@ -1265,21 +1301,32 @@ function Job:post(o)
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
-  local ok, result = pcall(bliskrun.post.write, {machine = machine, post = o.post, path = path,
-                                                 file = o.file, tools = tools, name = self.name,
-                                                 chord_tol = o.chord_tol or 0.002, start = o.start})
-  if ok then return result end
-  -- A move out of travel (or out of reach) names the job's move: say which
-  -- operation, blade and flank it belongs to.
-  local message = tostring(result)
+  return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
+          chord_tol = o.chord_tol or 0.002, start = o.start}
+end
+
+-- A move out of travel (or out of reach) names the job's move: say which
+-- operation, blade and flank it belongs to. `offset`: the job move before
+-- the program's first.
+function Job:raise_post_error(message, offset, level)
   local start = tonumber(message:match("moves start at move (%d+)")) or 1
   local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
   local m = n and self.planned.moves[offset + start + n - 1]
   if m then
     error(string.format("job:post: job move %d (operation %d %s, blade %d %s flank, %s): %s", offset + start + n - 1,
-                        m.operation, m.operation_kind, m.blade, m.side, m.motion or m.kind, message), 2)
+                        m.operation, m.operation_kind, m.blade, m.side, m.motion or m.kind, message), level)
   end
-  error(message, 2)
+  error(message, level)
+end
+
+-- Posts the planned job for one machine: o = {machine = name or Machine,
+-- post = name or post table, file =, chord_tol = 0.002, setup =, start =}.
+-- Returns the post.write report (the program read back and replayed).
+function Job:post(o)
+  local path, offset = self:program_path(o, 3)
+  local ok, result = pcall(bliskrun.post.write, self:post_options(o, path, 3))
+  if ok then return result end
+  self:raise_post_error(tostring(result), offset, 3)
 end
 
 return M

@@ -230,14 +230,18 @@ end
 -- of A = 0 (up to its +30) — a path through it would have to change sides
 -- between two moves, which no motion along the planned path does
 -- (core/machine/motion.h refuses it).
+-- The four programs are independent: posted at once on --threads (each
+-- read back and replayed as one posted alone).
+local programs = {}
 for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc", ext = ".nc"},
                     {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain",
                      ext = ".h"}}) do
   for k, setup in ipairs(setups) do
-    report.programs[#report.programs + 1] = j:post_program{machine = m.machine, post = m.post, setup = setup,
-      file = m.file .. (#setups > 1 and string.format("_setup%d", k) or "") .. m.ext}
+    programs[#programs + 1] = {machine = m.machine, post = m.post, setup = setup,
+                               file = m.file .. (#setups > 1 and string.format("_setup%d", k) or "") .. m.ext}
   end
 end
+report.programs = j:post_programs(programs)
 bliskrun.write_json("blisk_job.json", report)
 
 -- The run's page and the ParaView collection: every flank painted with its

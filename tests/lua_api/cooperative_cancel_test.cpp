@@ -61,5 +61,20 @@ TEST(CooperativeCancel, PostingStopsAtItsLine) {
       "7", "3");
 }
 
+// The same programs posted at once: each worker (its machine motion, its
+// post in its own Lua state) stops at the limit too.
+TEST(CooperativeCancel, PostingAtOnceStopsAtItsLine) {
+  expect_cooperative_stop(
+      "local m = bliskrun.machine.load(\"dmg_like_ac_trunnion\")\n"
+      "local path = {{kind = \"rapid\", tip = {40, 0, 30}, axis = {0, -0.5, 0.866}}}\n"
+      "for i = 1, 100000 do\n"
+      "  local a = math.rad(30 * (i % 2))\n"
+      "  path[#path + 1] = {kind = \"feed\", tip = {40, 0, 5}, axis = {0.5 * math.sin(a), -0.5 * math.cos(a), 0.866}, feed = 500}\n"
+      "end\n"
+      "bliskrun.post.write_all{{machine = m, post = \"fanuc\", path = path, file = \"x.nc\", tool = {number = 1, length = 80}},\n"
+      "                        {machine = m, post = \"fanuc\", path = path, file = \"y.nc\", tool = {number = 1, length = 80}}}\n",
+      "7", "3");
+}
+
 }  // namespace
 }  // namespace bliskrun::test

@@ -82,6 +82,74 @@ TEST(MachineLua, TwoToolsInOneProgramAreChangedAndVerified) {
   EXPECT_NE(r.output.find("expected tool 7 here (plan move 5), the program has tool 3"), std::string::npos) << r.output;
 }
 
+// post.write_all posts several programs at once — a post named by its file
+// in a worker's own Lua state, a post table edited in the recipe on the
+// recipe's state — and gives every file and report post.write gives each
+// alone, in list order.
+TEST(MachineLua, WriteAllGivesWhatWriteGivesEachProgram) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, std::string(kPath) +
+      "local ac = bliskrun.machine.load(\"dmg_like_ac_trunnion\")\n"
+      "local bc = bliskrun.machine.load(\"monoblock_like_head_table\")\n"
+      "local edited = bliskrun.post.load(\"fanuc\")\n"
+      "edited.program_number = 2000\n"
+      "local function programs(prefix)\n"
+      "  local two = path({10, 12, 14})\n"
+      "  for _, move in ipairs(path({20, 22})) do move.tool = 7; two[#two + 1] = move end\n"
+      "  return {{machine = ac, post = \"fanuc\", path = path({10, 12, 14}), file = prefix .. \"a.nc\", name = \"p\",\n"
+      "           tool = {number = 1, length = 80}},\n"
+      "          {machine = bc, post = \"heidenhain\", path = two, file = prefix .. \"b.h\", name = \"p\",\n"
+      "           tools = {{number = 3, length = 80, spindle_rpm = 9000}, {number = 7, length = 120}}},\n"
+      "          {machine = ac, post = edited, path = path({5, 6, 7, 8}), file = prefix .. \"c.nc\", name = \"p\",\n"
+      "           tool = {number = 1, length = 80}}}\n"
+      "end\n"
+      "local alone = {}\n"
+      "for i, o in ipairs(programs(\"alone_\")) do alone[i] = bliskrun.post.write(o) end\n"
+      "local all = bliskrun.post.write_all(programs(\"all_\"))\n"
+      "assert(#all == 3)\n"
+      "for i, name in ipairs({\"a.nc\", \"b.h\", \"c.nc\"}) do\n"
+      "  assert(bliskrun.read_text(\"alone_\" .. name) == bliskrun.read_text(\"all_\" .. name), name)\n"
+      "  assert(all[i].moves == alone[i].moves and all[i].max_position == alone[i].max_position, name)\n"
+      "  assert(all[i].positioning == alone[i].positioning and all[i].seconds.post >= 0, name)\n"
+      "  assert(bliskrun.post.verify{program = all[i].program}.moves == all[i].moves, name)\n"
+      "end\n"
+      "assert(bliskrun.read_text(\"all_c.nc\"):find(\"O2000\", 1, true))\n"
+      "assert(bliskrun.read_text(\"all_b.h\"):find(\"TOOL CALL 7 Z\", 1, true))\n"
+      "assert(all[1].moves == 24 and all[2].moves == 7 and all[3].moves == 17)\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// A failure in post.write_all names the program (its index and file) and
+// what failed as post.write would, at the recipe line; of several failures
+// the first in list order is raised, whatever the thread that ran it. A
+// post's own error inside a worker's state keeps its file and line.
+TEST(MachineLua, WriteAllNamesTheFirstFailingProgram) {
+  TempDir dir;
+  const std::string programs =
+      "local ac = bliskrun.machine.load(\"dmg_like_ac_trunnion\")\n"
+      "local function program(file, tilts, post)\n"
+      "  return {machine = ac, post = post or \"fanuc\", path = path(tilts), file = file, tool = {number = 1, length = 80}}\n"
+      "end\n";
+  const RecipeResult travel = run_recipe_text(dir, std::string(kPath) + programs +
+      "bliskrun.post.write_all{program(\"a.nc\", {10, 12}), program(\"b.nc\", {10, 60, 125}),\n"
+      "                        program(\"c.nc\", {10, 125, 126, 127, 128})}\n");
+  EXPECT_EQ(travel.exit_code, 1);
+  EXPECT_NE(travel.output.find("recipe.lua:14: bliskrun.post.write_all: programs[2] (b.nc):"), std::string::npos)
+      << travel.output;
+  EXPECT_NE(travel.output.find("A: move 4 (row 2)"), std::string::npos) << travel.output;
+  EXPECT_NE(travel.output.find("outside travel [-120.000, 30.000] deg"), std::string::npos) << travel.output;
+
+  dir.write("bad_post.lua",
+            "local P = extend \"fanuc\"\n"
+            "function P.header(self, job, out) error(\"no header for \" .. job.name) end\n"
+            "return P\n");
+  const RecipeResult post = run_recipe_text(dir, std::string(kPath) + programs +
+      "bliskrun.post.write_all{program(\"a.nc\", {10, 12}), program(\"b.nc\", {10, 12}, \"bad_post.lua\")}\n");
+  EXPECT_EQ(post.exit_code, 1);
+  EXPECT_NE(post.output.find("programs[2] (b.nc): "), std::string::npos) << post.output;
+  EXPECT_NE(post.output.find("bad_post.lua:2: no header for b"), std::string::npos) << post.output;
+}
+
 TEST(MachineLua, PostWriteOptionsAreValidated) {
   TempDir dir;
   const RecipeResult r = run_recipe_text(dir,

@@ -1,0 +1,27 @@
+#include "core/common/fixed_text.h"
+
+#include <charconv>
+#include <cstdio>
+
+#include "core/common/error.h"
+
+namespace bliskrun {
+
+std::string fixed_text(double value, int decimals) {
+  if (decimals < 0 || decimals > 17) throw ParameterError("decimals", "expected 0..17");
+  // 309 digits before the point at most, a sign, the point and 17 decimals.
+  char buffer[340];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, decimals);
+  std::string text;
+  if (ec == std::errc()) {
+    text.assign(buffer, end);
+  } else {  // cannot happen for a double within the buffer; printf then
+    const int n = std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+    text.assign(buffer, n > 0 ? static_cast<size_t>(n) : 0);
+  }
+  // "-0.000" -> "0.000": a negative value that rounds to zero.
+  if (text.size() > 1 && text[0] == '-' && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);
+  return text;
+}
+
+}  // namespace bliskrun
