@@ -295,6 +295,8 @@ int w_plan_report(lua_State* L) {
   set_bool(L, "zigzag", rq.zigzag);
   set_integer(L, "row_count", static_cast<long long>(r.rows.size()) - r.infill_rows);
   set_integer(L, "infill_rows", r.infill_rows);
+  set_integer(L, "lifted_contacts", r.lifted_contacts);
+  set_integer(L, "simulated_infill_rows", r.simulated_infill_rows);
   set_integer(L, "side_rows", r.side_rows);
   set_number(L, "side_window", r.side_window_mm);
   set_number(L, "side_min_lead", rad_to_deg(rq.side_min_lead_rad));
@@ -365,6 +367,7 @@ int w_plan_report(lua_State* L) {
   set_number(L, "side", r.side_seconds);
   set_number(L, "checks", r.checks_seconds);
   set_number(L, "clear", r.clear_seconds);
+  set_number(L, "simulation", r.simulation_seconds);
   lua_setfield(L, -2, "seconds");
   return 1;
 }

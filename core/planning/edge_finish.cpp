@@ -12,6 +12,7 @@
 #include "core/common/error.h"
 #include "core/common/parallel.h"
 #include "core/planning/links.h"
+#include "core/sim/undercut.h"
 
 namespace bliskrun {
 namespace {
@@ -162,6 +163,9 @@ BalancedRow balance(const std::vector<ContactPlan>& cs, bool paper, size_t nl) {
 
 struct PlannedRow {
   EdgeFinishRow row;
+  // Where the row is cut, in v order (row.v unless it is a partial row cut
+  // after the row above it: see the simulated partial rows).
+  std::optional<double> cut_after_v;
   StripSamples flanks;  // the row's flank samples (flank_samples)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
@@ -258,13 +262,97 @@ bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose) {
   return c >= std::cos(rq.reach_max_rad) - 1e-12 && c <= std::cos(rq.reach_min_rad) + 1e-12;
 }
 
+// What every pose and cutting motion is proved against beyond the world:
+// the design surfaces the way the independent simulation sweeps them
+// (core/sim GougeGuard: the edge region over the machined span and both
+// flanks near their edge ends, dense samples, the whole swept tool). The
+// contact strips see only samples across the feed through each contact: a
+// motion into a tilted pose was found cutting 4.4 um into the round between
+// them on the built-in LE, and on Rotor 67's TE untilted corner contacts on
+// the round cut up to 14 um beside their strips (84 of 1900 poses in a
+// tenth of the span) — the torus leaning over a round smaller than itself.
+// Allowed: the band's overcut less what the samples can miss.
+struct DesignGuards {
+  std::unique_ptr<GougeGuard> edge;
+  std::vector<std::unique_ptr<GougeGuard>> flanks;
+  double e1_mm = 0;
+  double corner_mm = 0;
+
+  double allowed(const GougeGuard& g) const { return std::max(0.0, -e1_mm - g.between_samples_mm(corner_mm)); }
+  double least_allowed() const {
+    double a = allowed(*edge);
+    for (const auto& g : flanks) a = std::min(a, allowed(*g));
+    return a;
+  }
+  // The deepest cut below the allowance of the tool moving a -> b (the ends
+  // included or not), over the edge region and the flanks; 0 if none.
+  double deepest(const Tool& tool, const ToolPose& a, const ToolPose& b, bool ends) const {
+    double d = edge->deepest_cut(tool, a, b, allowed(*edge), ends, ends).depth_mm;
+    for (const auto& g : flanks) d = std::min(d, g->deepest_cut(tool, a, b, allowed(*g), ends, ends).depth_mm);
+    return d;
+  }
+};
+
+// The checks a pose must pass: the whole tool clear of the world, and the
+// design guards.
+struct PoseChecks {
+  const ToolBody& body;
+  const DesignGuards& guards;
+  // Why the pose itself fails the guards ("" if it does not).
+  std::string gouge(const Tool& tool, const ToolPose& pose) const {
+    const double d = guards.deepest(tool, pose, pose, true);
+    if (d >= 0) return "";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "the tool cuts %.1f um into the blade beside its contact strip", -1e3 * d);
+    return buf;
+  }
+};
+
+// A pose that cuts the blade beside its strip by a little more than the
+// guards allow is lifted off along the surface normal at its contact by the
+// excess (repeated: where the surface turns away from the contact a lift
+// clears less than itself), up to kMaxLiftMm; it then leaves that much more
+// at its contact, far inside e2. The strip's samples across the feed are
+// 0.1 mm apart and the optimum puts them at e1 exactly, so between them the
+// guards (32 um apart) find the pose 0.1-0.7 um deeper: on Rotor 67's LE 373
+// such contacts had no tilted axis that cut less either. Deeper cuts (a
+// torus leaning over a round smaller than itself) are tilted instead.
+// False (the pose as it was) if the lift would exceed the limit or the
+// lifted pose is not clear of the world.
+bool lift_clear(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinishPose& p) {
+  constexpr double kMaxLiftMm = 0.003;
+  constexpr double kExtraMm = 5e-5;  // past the allowance, so one lift usually does
+  const EdgeFinishPose original = p;
+  double lifted = 0;
+  for (int it = 0; it < 4; ++it) {
+    const double d = checks.guards.deepest(*rq.tool, p.pose, p.pose, true);
+    if (d >= 0) {
+      if (!rq.world->check(checks.body, p.pose, rq.clearances, 0).clear) break;
+      const StripWidth w = p.strip->width(p.pose);
+      if (w.gouges || !w.touches) break;
+      p.width_mm = w.width_mm;
+      p.left_mm = w.left_mm;
+      p.right_mm = w.right_mm;
+      p.lift_mm = lifted;
+      return true;
+    }
+    const double excess = -d - checks.guards.least_allowed() + kExtraMm;
+    lifted += excess;
+    if (lifted > kMaxLiftMm) break;
+    p.pose.tip += excess * p.normal;
+  }
+  p = original;
+  return false;
+}
+
 // Waypoints in front of the edge between two passes: the round's middle
 // (u = 0.5) at the passes' mean span, out along its normal by the retract
 // distance plus the tool's diameter, with the first pass's axis and then
 // the second's (the axis turns there, clear of the blades).
-std::vector<ToolPose> in_front(const EdgeFinishRequest& rq, const EdgeFinishPose& a, const EdgeFinishPose& b) {
+std::vector<ToolPose> in_front(const EdgeFinishRequest& rq, const EdgeFinishPose& a, const EdgeFinishPose& b,
+                               double retract_mm) {
   const EdgeFrame f = edge_frame(rq.edge->eval(0.5, 0.5 * (a.v + b.v)));
-  const Vec3 at = f.point + (rq.retract_mm + 2 * flat_end_of(*rq.tool).radius_mm) * f.z;
+  const Vec3 at = f.point + (retract_mm + 2 * flat_end_of(*rq.tool).radius_mm) * f.z;
   return {{at, a.pose.axis}, {at, b.pose.axis}};
 }
 
@@ -282,8 +370,9 @@ std::vector<ToolPose> in_front(const EdgeFinishRequest& rq, const EdgeFinishPose
 // first — ours: neighbouring contacts keep one axis where it clears, so the
 // row turns its axis less and breaks into fewer passes, and a contact
 // beside the neighbouring blade asks one axis instead of dozens.
-TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishPose& p,
+TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinishPose& p,
                               const TiltAccepted* hint) {
+  const ToolBody& body = checks.body;
   const ContactFrame frame{p.contact, p.strip->frame().x, p.strip->frame().z};
   TiltSettings s;
   s.lead0_rad = kPi / 2 - rq.tilt_lead_step_rad;
@@ -309,7 +398,7 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const ToolBody& body,
     const StripWidth w = strip.width(pose);
     if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um)";
     if (!w.touches) return "leaves more than e2 at the contact";
-    return "";
+    return checks.gouge(*rq.tool, pose);
   };
   // Tilted first with room to spare (rq.tilt_room_mm on the shank and
   // holder): an axis found at the bare clearance leaves the shank a few um
@@ -466,7 +555,7 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
 // retract proves (the built-in LE's pressure side, every row). The hints
 // are carried both ways along the row and the way with fewer flips kept
 // (then the one whose narrowest strip is wider).
-void clear_row(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishRow& row) {
+void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinishRow& row) {
   auto tilted_along = [&](bool backwards, int& tilted) {
     std::vector<EdgeFinishPose> poses = row.poses;
     TiltAccepted last;
@@ -475,8 +564,10 @@ void clear_row(const EdgeFinishRequest& rq, const ToolBody& body, EdgeFinishRow&
     const size_t n = poses.size();
     for (size_t k = 0; k < n; ++k) {
       EdgeFinishPose& p = poses[backwards ? n - 1 - k : k];
-      if (within_reach(rq, p.pose) && rq.world->check(body, p.pose, rq.clearances, 0).clear) continue;
-      const TiltOutcome t = clear_alternative(rq, body, p, last.index >= 0 ? &last : nullptr);
+      if (within_reach(rq, p.pose) && rq.world->check(checks.body, p.pose, rq.clearances, 0).clear &&
+          (checks.gouge(*rq.tool, p.pose).empty() || lift_clear(rq, checks, p)))
+        continue;
+      const TiltOutcome t = clear_alternative(rq, checks, p, last.index >= 0 ? &last : nullptr);
       if (!t.accepted) continue;
       last = t.pose;
       ++tilted;
@@ -567,12 +658,12 @@ Intervals gaps_between(const Surface& edge, const EdgeFinishRow& a, const EdgeFi
 // A partial row at v over the intervals: only the contacts within them
 // planned (plan_row's `only`; l balanced over those), each interval its own
 // pass.
-PlannedRow infill_row(const EdgeFinishRequest& rq, const ToolBody& body, double v, const std::vector<double>& ls,
+PlannedRow infill_row(const EdgeFinishRequest& rq, const PoseChecks& checks, double v, const std::vector<double>& ls,
                       const Intervals& where, Progress& progress) {
   PlannedRow pr = plan_row(rq, v, ls, false, progress, &where);
   emit_poses(rq, v, ls, pr);
   pr.row.infill = true;
-  clear_row(rq, body, pr.row);
+  clear_row(rq, checks, pr.row);
   return pr;
 }
 
@@ -580,7 +671,7 @@ PlannedRow infill_row(const EdgeFinishRequest& rq, const ToolBody& body, double 
 // their strips as emitted — tilted ones are narrower than the spacing
 // assumed — leave material: one at the middle over the gaps' intervals,
 // then the same for each half, to `depth` levels. Appended to `out`.
-void fill_gaps(const EdgeFinishRequest& rq, const ToolBody& body, const std::vector<double>& ls,
+void fill_gaps(const EdgeFinishRequest& rq, const PoseChecks& checks, const std::vector<double>& ls,
                const EdgeFinishRow& a, const EdgeFinishRow* b, double b_v, const Intervals& within, int depth,
                std::vector<PlannedRow>& out, Progress& progress) {
   // Gaps narrower than this are left: beyond a strip's end the material
@@ -592,12 +683,12 @@ void fill_gaps(const EdgeFinishRequest& rq, const ToolBody& body, const std::vec
   if (gaps.empty() || depth == 0) return;
   // Against the window's end the partial row goes on the end itself.
   const double v = b ? 0.5 * (a.v + b_v) : b_v;
-  out.push_back(infill_row(rq, body, v, ls, gaps, progress));
+  out.push_back(infill_row(rq, checks, v, ls, gaps, progress));
   const size_t m = out.size() - 1;
   // out may grow (and move) below: copy the middle row.
   const EdgeFinishRow mid = out[m].row;
-  fill_gaps(rq, body, ls, a, &mid, mid.v, gaps, depth - 1, out, progress);
-  if (b) fill_gaps(rq, body, ls, mid, b, b_v, gaps, depth - 1, out, progress);
+  fill_gaps(rq, checks, ls, a, &mid, mid.v, gaps, depth - 1, out, progress);
+  if (b) fill_gaps(rq, checks, ls, mid, b, b_v, gaps, depth - 1, out, progress);
 }
 
 // The span window's ends against hub and casing (EdgeFinishRequest::hub,
@@ -676,6 +767,81 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
 }
 
 }  // namespace
+
+// How many times the rows are simulated for material left (below).
+constexpr int kSimulatedInfillRounds = 2;
+
+// Where the rows (sorted by v) as checked leave more than e2 on the edge
+// region over the window — their cutting passes simulated by the
+// independent simulation's method (core/sim simulate_undercut), 0.25 mm
+// along the span (rows are 1-3 mm apart; what they leave between them spans
+// most of that) and kGapSamples around — as partial rows to add: each at
+// half-way between the two rows around the part left (at the window's end
+// above the last row), over the u intervals left, padded by two samples.
+struct SimulatedGap {
+  double v = 0;        // where the partial row goes
+  Intervals where;     // the parts of the round it covers
+  size_t below = 0;    // the row below it (index into the rows given)
+};
+std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std::vector<PlannedRow>& rows,
+                                         Progress& progress) {
+  std::vector<ToolPass> passes;
+  for (const PlannedRow& pr : rows) {
+    const std::vector<EdgeFinishPose>& ps = pr.row.poses;
+    for (size_t i = 0; i < ps.size(); ++i) {
+      if (i == 0 || ps[i].segment != ps[i - 1].segment) passes.emplace_back();
+      passes.back().push_back(ps[i].pose);
+    }
+  }
+  if (passes.empty() || rows.empty()) return {};
+  double span_mm = 0;
+  for (int i = 0; i < 32; ++i)
+    span_mm += (rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * (i + 1) / 32) -
+                rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * i / 32)).norm();
+  UndercutOptions o;
+  o.samples_u = kGapSamples + 1;
+  o.samples_v = std::clamp(static_cast<int>(span_mm / 0.25), 16, 2000);
+  o.v0 = rq.v0;
+  o.v1 = rq.v1;
+  o.threads = rq.threads;
+  Progress quiet(&progress);
+  const UndercutResult r = simulate_undercut(*rq.edge, *rq.tool, passes, o, quiet);
+  // Per pair of rows (k: between rows k and k + 1; rows.size() - 1: above
+  // the last), the u samples left.
+  std::vector<std::vector<int>> left(rows.size());
+  for (int j = 0; j < r.samples_v; ++j) {
+    const double v = o.v0 + (o.v1 - o.v0) * j / (r.samples_v - 1);
+    if (v < rows.front().row.v) continue;  // below the first row: the window's start
+    size_t k = 0;
+    while (k + 1 < rows.size() && rows[k + 1].row.v <= v) ++k;
+    for (int i = 0; i < r.samples_u; ++i)
+      if (r.residual_mm[static_cast<size_t>(i) * r.samples_v + j] > rq.band.e2_mm) left[k].push_back(i);
+  }
+  std::vector<SimulatedGap> out;
+  const double du = 1.0 / (r.samples_u - 1);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    std::vector<int>& us = left[k];
+    if (us.empty()) continue;
+    std::sort(us.begin(), us.end());
+    us.erase(std::unique(us.begin(), us.end()), us.end());
+    Intervals iv;
+    int lo = us.front(), hi = us.front();
+    auto close = [&] { iv.push_back({std::max(0.0, (lo - 2) * du), std::min(1.0, (hi + 2) * du)}); };
+    for (size_t n = 1; n < us.size(); ++n) {
+      if (us[n] > hi + 4) {
+        close();
+        lo = us[n];
+      }
+      hi = us[n];
+    }
+    close();
+    const bool above_last = k + 1 == rows.size();
+    const double v = above_last ? rq.v1 : 0.5 * (rows[k].row.v + rows[k + 1].row.v);
+    if (above_last && rq.v1 - rows[k].row.v < 1e-9) continue;  // the last row is on the window's end
+    out.push_back({v, std::move(iv), k});
+  }
+  return out;
+}
 
 EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& progress) {
   validate(request);
@@ -785,6 +951,32 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   }
   out.side_seconds = seconds_since(t_side);
 
+  // The design guards (DesignGuards above), over the window. Samples h
+  // apart miss at most h² / (8 r) for the corner radius r: h is chosen so
+  // that is a quarter of |e1| (0.032 mm for r 0.5, e1 -1 um), the counts
+  // from the window's longest parameter lines in mm — the allowance keeps
+  // three quarters of e1, wherever the window and however long the blade.
+  DesignGuards guards;
+  guards.e1_mm = rq.band.e1_mm;
+  guards.corner_mm = std::max(fe.corner_mm, 1e-3);
+  const double spacing = std::sqrt(2 * guards.corner_mm * std::max(-rq.band.e1_mm, 1e-3));
+  guards.edge = std::make_unique<GougeGuard>(*rq.edge, guard_sampling(*rq.edge, spacing, 0, 1, rq.v0, rq.v1));
+  // The flanks near their edge ends (first: v = 0, second: v = 1), where the
+  // flat bottom of a pose reaches over them: 12 % of the chord, over the
+  // machined span window and a tool radius + 1 mm either side of it.
+  for (int k = 0; k < 2; ++k) {
+    const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
+    if (!flank) continue;
+    const double fu0 = rq.span_u0 + rq.v0 * (rq.span_u1 - rq.span_u0);
+    const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
+    const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
+    const double margin = (fe.radius_mm + 1.0) / per_u;
+    guards.flanks.push_back(std::make_unique<GougeGuard>(
+        *flank, guard_sampling(*flank, spacing, std::max(0.0, std::min(fu0, fu1) - margin),
+                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0)));
+  }
+  const PoseChecks checks{body, guards};
+
   // ---- poses tilted clear of the world; partial rows where that leaves material ----
   // The rows were spaced by the optimum's strips; a pose tilted clear of
   // the neighbouring blade cuts a narrower one (corner contact, lead up to
@@ -796,7 +988,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   {
     Progress quiet(&progress);
     run_parallel(planned.size(), rq.threads, quiet, "edge finish tilting",
-                 [&](size_t k, Progress&) { clear_row(rq, body, planned[k].row); });
+                 [&](size_t k, Progress&) { clear_row(rq, checks, planned[k].row); });
   }
   {
     // Each pair of rows on its own, pairs on rq.threads workers (each
@@ -808,7 +1000,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     std::vector<std::vector<PlannedRow>> infill(planned.size());
     run_parallel(planned.size(), rq.threads, progress, "edge finish partial rows", [&](size_t k, Progress& pg) {
       const bool last = k + 1 == planned.size();
-      fill_gaps(one, body, ls, planned[k].row, last ? nullptr : &planned[k + 1].row,
+      fill_gaps(one, checks, ls, planned[k].row, last ? nullptr : &planned[k + 1].row,
                 last ? rq.v1 : planned[k + 1].row.v, whole, kInfillDepth, infill[k], pg);
     });
     for (std::vector<PlannedRow>& rows : infill)
@@ -823,63 +1015,27 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
 
   // ---- order, checks, links ----
   const auto t_checks = Clock::now();
-  // Every cutting motion is also swept through the design surfaces the way
-  // the independent simulation sweeps it (core/sim GougeGuard: the edge
-  // region over the machined span and both flanks, dense samples, the whole
-  // swept tool): the contact strips see only samples near each contact, and
-  // a motion into a tilted pose was found cutting 4.4 um into the round
-  // between them. Allowed: the band's overcut less what the samples can miss.
-  // Samples h apart miss at most h² / (8 r) for the corner radius r: h is
-  // chosen so that is a quarter of |e1| (0.032 mm for r 0.5, e1 -1 um), the
-  // counts from the window's longest parameter lines in mm — the allowance
-  // keeps three quarters of e1, wherever the window and however long the
-  // blade.
-  const double corner_r = std::max(fe.corner_mm, 1e-3);
-  const double spacing = std::sqrt(2 * corner_r * std::max(-rq.band.e1_mm, 1e-3));
-  const GougeGuard edge_guard(*rq.edge, guard_sampling(*rq.edge, spacing, 0, 1, rq.v0, rq.v1));
-  // The flanks near their edge ends (first: v = 0, second: v = 1), where the
-  // flat bottom of a pose reaches over them: 12 % of the chord, over the
-  // machined span window and a tool radius + 1 mm either side of it.
-  std::vector<std::unique_ptr<GougeGuard>> flank_guards;
-  for (int k = 0; k < 2; ++k) {
-    const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
-    if (!flank) continue;
-    const double fu0 = rq.span_u0 + rq.v0 * (rq.span_u1 - rq.span_u0);
-    const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
-    const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
-    const double margin = (fe.radius_mm + 1.0) / per_u;
-    flank_guards.push_back(std::make_unique<GougeGuard>(
-        *flank, guard_sampling(*flank, spacing, std::max(0.0, std::min(fu0, fu1) - margin),
-                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0)));
-  }
   // Swept only where the contact strips' view is least to be trusted: a
   // change of contact family (bottom <-> corner), a tilted pose, or an axis
   // turning more than 5 degrees between the poses (the swept tool then leaves
   // the strips' samples). Smooth motions within one family stay with the
   // strips' check, and the independent simulation checks every move after.
   auto risky = [&](const EdgeFinishPose& a, const EdgeFinishPose& b) {
-    return a.position.contact != b.position.contact || a.tilted || b.tilted ||
+    return a.position.contact != b.position.contact || a.tilted || b.tilted || a.lift_mm > 0 || b.lift_mm > 0 ||
            a.pose.axis.normalized().dot(b.pose.axis.normalized()) < std::cos(deg_to_rad(5.0));
   };
   auto motion_gouges = [&](const EdgeFinishPose& pa, const EdgeFinishPose& pb) {
-    if (!risky(pa, pb)) return false;
-    const ToolPose& a = pa.pose;
-    const ToolPose& b = pb.pose;
-    const double corner = std::max(fe.corner_mm, 1e-3);
-    auto allowed = [&](const GougeGuard& g) { return std::max(0.0, -rq.band.e1_mm - g.between_samples_mm(corner)); };
-    if (edge_guard.deepest_cut(*rq.tool, a, b, allowed(edge_guard)).depth_mm < 0) return true;
-    for (const auto& g : flank_guards)
-      if (g->deepest_cut(*rq.tool, a, b, allowed(*g)).depth_mm < 0) return true;
-    return false;
+    return risky(pa, pb) && guards.deepest(*rq.tool, pa.pose, pb.pose, false) < 0;
   };
   // Each row on its own (its passes, tilts and breaks depend on nothing
   // outside it), rows on rq.threads workers; totals summed in row order.
-  std::vector<long> row_gouge_breaks(planned.size(), 0);
-  run_parallel(planned.size(), rq.threads, progress, "edge finish checks", [&](size_t r, Progress& row_progress) {
-    EdgeFinishRow& row = planned[r].row;
+  // Returns the row's gouge breaks.
+  auto check_row = [&](PlannedRow& pr, bool reversed, Progress& row_progress) -> long {
+    long gouge_breaks = 0;
+    EdgeFinishRow& row = pr.row;
     std::vector<EdgeFinishPose> candidates = std::move(row.poses);
     row.poses.clear();
-    row.reversed = rq.zigzag && r % 2 == 1;
+    row.reversed = reversed;
     if (row.reversed) {
       // A break belongs to the pair it separates: move it to the pose that
       // now comes second.
@@ -899,6 +1055,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     // neither was tilted.
     std::vector<char> pair_gouges(candidates.size(), 0);
     for (size_t k = 0; k + 1 < candidates.size(); ++k) pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]);
+    std::vector<char> lifted_here(candidates.size(), 0);
     for (size_t ci = 0; ci < candidates.size(); ++ci) {
       EdgeFinishPose& p = candidates[ci];
       row_progress.check();
@@ -910,8 +1067,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       std::string reason;
       if (!pc.clear) reason = describe(pc, *rq.world);
       else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
-      else if (last >= 0 &&
-               !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
+      else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
+        reason.clear();
+        lifted_here[ci] = 1;  // its pair sweeps above were of the pose before the lift
+      }
+      if (reason.empty() && last >= 0 &&
+          !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
         // The pose is clear, the cutting motion into it is not: a new pass,
         // reached by a proved link.
         ++segment;
@@ -924,7 +1085,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
         // pose it cannot reach by cutting is reached by a link — asking it
         // of every candidate axis cost a swept FCL query each, minutes per
         // edge beside the neighbouring blade.
-        tilt = clear_alternative(rq, body, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
+        tilt = clear_alternative(rq, checks, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
         if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
       }
       if (tilt.accepted) {
@@ -951,11 +1112,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
       // pose after a refused one): otherwise reach this pose by a link.
       const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !p.tilted &&
-                              !candidates[static_cast<size_t>(last_candidate)].tilted;
+                              !candidates[static_cast<size_t>(last_candidate)].tilted && !lifted_here[ci] &&
+                              !lifted_here[static_cast<size_t>(last_candidate)];
       if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
                         (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
-        ++row_gouge_breaks[r];
+        ++gouge_breaks;
       }
       p.segment = segment;
       row.poses.push_back(p);
@@ -963,17 +1125,75 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       last_candidate = static_cast<long>(ci);
     }
     // Rows whose contacts had no feasible position at all.
-    for (size_t i = 0; i < planned[r].contacts.size(); ++i) {
+    for (size_t i = 0; i < pr.contacts.size(); ++i) {
       EdgePosition pos;
-      const ContactPlan& c = planned[r].contacts[i];
-      if (!chosen_position(rq, c, planned[r].emitted.l_index[i], ls, pos))
+      const ContactPlan& c = pr.contacts[i];
+      if (!chosen_position(rq, c, pr.emitted.l_index[i], ls, pos))
         row.refusals.push_back({c.u, c.frame.point, "no gouge-free position within the band"});
     }
+    return gouge_breaks;
+  };
+  std::vector<long> row_gouge_breaks(planned.size(), 0);
+  run_parallel(planned.size(), rq.threads, progress, "edge finish checks", [&](size_t r, Progress& row_progress) {
+    row_gouge_breaks[r] = check_row(planned[r], rq.zigzag && r % 2 == 1, row_progress);
   });
+  for (long b : row_gouge_breaks) out.gouge_breaks += b;
+
+  // ---- partial rows where the rows as checked still leave material ----
+  // The strips' reaches are measured across the feed at each contact; what
+  // the swept tool leaves between contacts of two rows can differ (on the
+  // built-in TE: triangles between the rows' ends on the pressure flank's
+  // overlap, up to 27.5 um where the reaches said the rows met). The rows'
+  // passes are simulated over the window (core/sim, the independent
+  // simulation's method) and a partial row goes half-way between the two
+  // rows around every part left above e2; twice.
+  const auto t_sim = Clock::now();
+  for (int round = 0; round < kSimulatedInfillRounds; ++round) {
+    std::stable_sort(planned.begin(), planned.end(),
+                     [](const PlannedRow& a, const PlannedRow& b) { return a.row.v < b.row.v; });
+    const std::vector<SimulatedGap> gaps = simulated_gaps(rq, planned, progress);
+    if (gaps.empty()) break;
+    EdgeFinishRequest one = rq;
+    one.threads = 1;
+    std::vector<PlannedRow> extra(gaps.size());
+    std::vector<long> extra_breaks(gaps.size(), 0);
+    run_parallel(gaps.size(), rq.threads, progress, "edge finish partial rows (simulated)", [&](size_t k, Progress& pg) {
+      extra[k] = infill_row(one, checks, gaps[k].v, ls, gaps[k].where, pg);
+      // Cut after the row below or the row above it, whichever ends nearer
+      // (the zigzag's rows end on alternate sides of the edge), and from
+      // its end nearer there: the links into and out of it then stay on
+      // that side of the edge (round the front, the hub refused them
+      // beside an 18 mm holder).
+      const std::vector<EdgeFinishPose>& mine = extra[k].row.poses;
+      const size_t b = gaps[k].below;
+      auto nearer_end = [&](const std::vector<EdgeFinishPose>& row) {
+        if (row.empty() || mine.empty()) return std::numeric_limits<double>::infinity();
+        return std::min(std::abs(mine.front().u - row.back().u), std::abs(mine.back().u - row.back().u));
+      };
+      const bool after_above = b + 1 < planned.size() && nearer_end(planned[b + 1].row.poses) < nearer_end(planned[b].row.poses);
+      const std::vector<EdgeFinishPose>& before = planned[after_above ? b + 1 : b].row.poses;
+      if (after_above) extra[k].cut_after_v = planned[b + 1].row.v;
+      const bool reversed = !before.empty() && !mine.empty() &&
+                            std::abs(mine.back().u - before.back().u) < std::abs(mine.front().u - before.back().u);
+      extra_breaks[k] = check_row(extra[k], reversed, pg);
+    });
+    for (size_t k = 0; k < extra.size(); ++k) {
+      out.gouge_breaks += extra_breaks[k];
+      ++out.infill_rows;
+      ++out.simulated_infill_rows;
+      planned.push_back(std::move(extra[k]));
+    }
+  }
+  // Cutting order: by v, a partial row cut after the row above it just
+  // after that row.
+  auto cut_at = [](const PlannedRow& p) { return p.cut_after_v ? std::nextafter(*p.cut_after_v, 2.0) : p.row.v; };
+  std::stable_sort(planned.begin(), planned.end(),
+                   [&](const PlannedRow& a, const PlannedRow& b) { return cut_at(a) < cut_at(b); });
+  out.simulation_seconds = seconds_since(t_sim);
   for (size_t r = 0; r < planned.size(); ++r) {
     EdgeFinishRow& row = planned[r].row;
-    out.gouge_breaks += row_gouge_breaks[r];
     out.total_poses += static_cast<int>(row.poses.size());
+    for (const EdgeFinishPose& p : row.poses) out.lifted_contacts += p.lift_mm > 0 ? 1 : 0;
     out.total_refusals += static_cast<int>(row.refusals.size());
     out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
     out.rows.push_back(std::move(row));
@@ -988,9 +1208,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   link_checks.body = &body;
   link_checks.clearances = rq.clearances;
   link_checks.motion_tol_mm = rq.motion_tol_mm;
-  link_checks.guard = &edge_guard;
-  link_checks.guard_margin_mm = edge_guard.between_samples_mm(corner_r);
-  for (const auto& g : flank_guards) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(corner_r)});
+  link_checks.guard = guards.edge.get();
+  link_checks.guard_margin_mm = guards.edge->between_samples_mm(guards.corner_mm);
+  for (const auto& g : guards.flanks) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(guards.corner_mm)});
   LinkOptions link_options;
   link_options.direction = RetractDirection::ToolAxis;
   link_options.retract_mm = rq.retract_mm;
@@ -1025,9 +1245,20 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       // poses can graze it (their shanks are both at the clearance): out in
       // front of the edge instead, turning the axis there, away from both.
       const PlannedLink out_front = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal},
-                                              link_checks, link_options, in_front(rq, *e.from, *e.to));
+                                              link_checks, link_options, in_front(rq, *e.from, *e.to, rq.retract_mm));
       if (out_front.clear) pl = out_front;
       else pl.reason += "; in front of the edge: " + out_front.reason;
+    }
+    if (!pl.clear) {
+      // Near the hub a holder turning with the axis between two retracted
+      // poses can graze it by nanometres (Rotor 67's TE, 2 of 300 links):
+      // retracted three times as far, in front of the edge.
+      LinkOptions farther = link_options;
+      farther.retract_mm = 3 * link_options.retract_mm;
+      const PlannedLink far_out = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal}, link_checks,
+                                            farther, in_front(rq, *e.from, *e.to, farther.retract_mm));
+      if (far_out.clear) pl = far_out;
+      else pl.reason += "; retracted " + std::to_string(farther.retract_mm) + " mm: " + far_out.reason;
     }
     EdgeFinishLink& link = out.links[k];
     link.from_row = e.from_row;

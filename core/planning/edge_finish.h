@@ -131,6 +131,7 @@ struct EdgeFinishPose {
   bool break_before = false;  // bottom <-> corner switch: a link, not a cut, from the previous pose
   bool inserted = false;      // added so the motion from the previous pose stays within e1
   bool tilted = false;        // the optimum was not clear of the world: corner with more lead instead
+  double lift_mm = 0;         // lifted off along the normal: it cut the blade beside its strip (< 3 um)
   std::shared_ptr<const ContactStrip> strip;  // the contact's samples
 };
 
@@ -203,8 +204,11 @@ struct EdgeFinishResult {
   EdgeWidthComparison comparison;
   double max_deviation_mm = 0;
   int infill_rows = 0;           // partial rows among `rows` (EdgeFinishRow::infill)
+  int lifted_contacts = 0;       // emitted poses lifted off by < 3 um (EdgeFinishPose::lift_mm)
+  int simulated_infill_rows = 0; // of infill_rows: where the simulated rows left more than e2
   double rows_seconds = 0, checks_seconds = 0, side_seconds = 0;
   double clear_seconds = 0;      // tilting clear of the world and the partial rows
+  double simulation_seconds = 0; // of checks_seconds: the rows simulated for material left
 };
 
 // Throws ParameterError for a missing edge/tool/world, a tool that is not a

@@ -39,6 +39,7 @@
 --   bliskrun scripts/recipes/blade_edges.lua --out out/
 --   bliskrun scripts/recipes/blade_edges.lua --data ../shared/data --out out/
 --   options: --set part=builtin|rotor67 --set edges=both|leading|trailing --set R=3 --set r=0.5
+--            --set shank=50 (mm; 120 on Rotor 67)
 --            --set e1=-0.001 --set e2=0.02 --set overlap=0.3 --set v0=0.1 --set v1=0.9
 --            --set chord_tol=0.001 --set optimum=paper|joint --set side_min_lead=3
 --            --set samples_u=200 --set samples_v=400
@@ -70,11 +71,13 @@ if part_name == "builtin" then
   world = blisk_world.around_blade(blisk, 1)
   label = "built-in blisk blade 1"
 else
-  -- Flanks lofted nearer the edges than the flank operation's default
-  -- (edge_margin 0.03 of the chord): the edge region is rebuilt from where
-  -- they end, and the round it fits is compared with the sections' edge
-  -- circles below.
-  local part = bliskrun.read_rotor67(rotor67_file, {edge_margin = 0.01})
+  -- Flanks lofted to the edge points (edge_margin 0) with columns dense at
+  -- the edges (cosine spacing): they carry the data's own rounds, and the
+  -- edge region is their last stretch either side of the edge point (a
+  -- circle fitted between flank ends at a margin did not fit the data: its
+  -- arc stepped 0.1-0.4 mm onto the flanks). The round's radius is compared
+  -- with the sections' edge circles below.
+  local part = bliskrun.read_rotor67(rotor67_file, {edge_margin = 0, spacing = "cosine"})
   pressure, suction = part.pressure:surface(), part.suction:surface()
   hub, casing = part.hub, part.casing
   local pitch = 360 / part.blades
@@ -98,8 +101,14 @@ else
                              radii[1], radii[#radii]))
 end
 
+-- The shank's length: the holder must stay out of the passage. Rotor 67's
+-- blades are 100-150 mm tall against the built-in blisk's 40: with a 50 mm
+-- shank the holder met the neighbouring blade at 649 LE contacts near the
+-- hub (no tilt out of the passage cleared them); a long-neck mill reaches.
+local shank_length = args.shank or (part_name == "rotor67" and 120 or 50)
 local tool = bliskrun.flat_end_mill{radius = R, corner_radius = r, flute_length = 3 * R,
-                                    shank = {diameter = 2 * R, length = 50}, holder = {diameter = 4 * R, length = 40}}
+                                    shank = {diameter = 2 * R, length = shank_length},
+                                    holder = {diameter = 4 * R, length = 40}}
 local report = {part = label, tool = tool:description(), settings = settings, edges = {}}
 local ok, within_band = true, true
 print(string.format("Edge finishing, %s, %s, band (%.3f, %.3f) mm", label, tool:description(), settings.e1,
@@ -148,9 +157,10 @@ for _, edge in ipairs(edges) do
                                                         cmp.v, label, edge),
                                   x_label = "u around the edge (pressure/suction overlap at the ends)",
                                   y_label = "strip width, mm", series = series})
-  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, tilting and partial rows %.2f s, checks %.2f s, "
+  bliskrun.log(string.format("%s: rows %.2f s, side rows %.2f s, tilting and partial rows %.2f s, checks %.2f s "
+                             .. "(of which rows simulated for material left %.2f s), "
                              .. "simulation %.2f s (wall); CPU: plan %.2f s, simulation %.2f s", edge, rep.seconds.rows,
-                             rep.seconds.side, rep.seconds.clear, rep.seconds.checks,
+                             rep.seconds.side, rep.seconds.clear, rep.seconds.checks, rep.seconds.simulation,
                              sim.seconds, cpu_plan, cpu_sim))
   rep.seconds = nil
   rep.region = {round_u0 = region.round_u0, round_u1 = region.round_u1, overlap_mm = region.overlap,
@@ -207,10 +217,12 @@ for _, edge in ipairs(edges) do
                       rep.side_width_max, rep.poses, rep.refusals + rep.refused_links, 1e3 * sim.undercut_max,
                       1e3 * sim.overcut, 1e3 * sim.flank_overcut))
   print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts, "
-                      .. "%d tilted clear of the world, %d partial rows where tilted strips leave a gap, "
+                      .. "%d tilted clear of the world or the blade, %d lifted off by < 3 um, %d partial rows where "
+                      .. "tilted strips leave a gap (%d where the simulated rows left more than e2), "
                       .. "%d refused contacts, %d refused links",
                       region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts,
-                      rep.tilted_contacts, rep.infill_rows, rep.refusals, rep.refused_links))
+                      rep.tilted_contacts, rep.lifted_contacts, rep.infill_rows, rep.simulated_infill_rows,
+                      rep.refusals, rep.refused_links))
   print(string.format("            span window v %.3f-%.3f (hub and casing): strip of %.2f mm above the hub left for the "
                       .. "hub-fillet operation", rep.span_v0, rep.span_v1, rep.hub_strip))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end

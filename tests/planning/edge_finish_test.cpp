@@ -12,6 +12,7 @@
 #include "core/parts/edge_region.h"
 #include "core/common/error.h"
 #include "core/planning/edge_finish.h"
+#include "core/sim/undercut.h"
 #include "core/tools/pose.h"
 
 namespace bliskrun {
@@ -61,11 +62,16 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
     EXPECT_GT(row.width_mm, 0);
     for (size_t i = 0; i < row.poses.size(); ++i) {
       const EdgeFinishPose& p = row.poses[i];
-      // The contact lies on the cutter, the strip is gouge-free (①) and wide.
-      EXPECT_NEAR(tool.signed_distance(Vec3(tool_to_part(p.pose).inverse() * p.contact)), 0, 1e-6);
+      // The contact lies on the cutter (or its lift off it: a pose that cut
+      // the blade beside its strip by a little is lifted along the normal),
+      // the strip is gouge-free (①) and wide.
+      EXPECT_LT(p.lift_mm, 0.003);
+      EXPECT_NEAR(tool.signed_distance(Vec3(tool_to_part(p.pose).inverse() * p.contact)), p.lift_mm, 1e-6);
       const StripWidth w = p.strip->width(p.position);
       EXPECT_FALSE(w.gouges);
-      EXPECT_GE(w.width_mm, row.width_mm - 1e-6) << "a pose narrower than the balanced row width";
+      // Tilted poses (here: corner contacts whose torus cut the concave
+      // pressure flank beside their strips) cut narrower strips by design.
+      if (!p.tilted) EXPECT_GE(w.width_mm, row.width_mm - 1e-6) << "a pose narrower than the balanced row width";
       if (p.position.contact == EdgeContact::Bottom) EXPECT_GE(p.position.l_mm, rq.r_e_mm - 1e-12);  // ③
       // Cutting motion within e1 of the blade (independent samples: the
       // midpoint against the next contact's samples).
@@ -75,6 +81,21 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
       }
     }
   }
+  // No pose cuts the blade beside its strip: the whole tool at every pose
+  // against the edge region and both flanks near the edge, sampled 20 um
+  // apart (not the planner's 32 um; what these miss is ~0.1 um). Without
+  // the planner's own guard at each pose, corner contacts at the row ends
+  // cut 6.5-16.7 um into the pressure flank here (measured).
+  UndercutOptions so = guard_sampling(*e.surface, 0.02, 0, 1, rq.v0, rq.v1);
+  const GougeGuard edge_guard(*e.surface, so);
+  const GougeGuard pressure_guard(*er.first, guard_sampling(*er.first, 0.02, 0.35, 0.65, 0, 0.12));
+  const GougeGuard suction_guard(*er.second, guard_sampling(*er.second, 0.02, 0.35, 0.65, 0.88, 1));
+  double deepest = 0;
+  for (const EdgeFinishRow& row : res.rows)
+    for (const EdgeFinishPose& p : row.poses)
+      for (const GougeGuard* g : {&edge_guard, &pressure_guard, &suction_guard})
+        deepest = std::min(deepest, g->deepest_cut(tool, p.pose, p.pose, 0, true, true).depth_mm);
+  EXPECT_GE(deepest, rq.band.e1_mm - 3e-4);
   // Fig. 8: on the round the bottom's strip is wider than the side edge's.
   const EdgeWidthComparison& c = res.comparison;
   int round_contacts = 0;
@@ -129,11 +150,17 @@ TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCas
   const Profile& c = tool.cutter();
   const std::vector<Vec3> cutter = c.surface_samples(c.z_min(), c.z_max(), 6, 24);
   double margin = std::numeric_limits<double>::infinity();
+  size_t as_planned = 0;
   for (const EdgeFinishPose& p : res.rows.front().poses) {
-    ASSERT_FALSE(p.tilted);
+    // The window is fitted to the poses as planned; a few are tilted after
+    // (a flat bottom over the concave pressure flank near the round cuts
+    // ~1 um into it beside its strip).
+    if (p.tilted) continue;
+    ++as_planned;
     const Eigen::Isometry3d T = tool_to_part(p.pose);
     for (const Vec3& q : cutter) margin = std::min(margin, hub->radial_offset(T * q));
   }
+  EXPECT_GT(as_planned, res.rows.front().poses.size() * 3 / 4);
   EXPECT_GE(margin, rq.hub_clearance_mm - 1e-6);
   EXPECT_LT(margin, rq.hub_clearance_mm + 0.02);
   // The strip left for the hub-fillet operation: the bottom's disc (R 3)
@@ -197,6 +224,46 @@ TEST(EdgeFinishTest, TiltedPosesBesideTheNeighbourGetPartialRowsAndTheBandHolds)
   const UndercutResult sim = simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
   EXPECT_EQ(sim.untouched, 0);
   EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.002);
+  EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
+}
+
+// The trailing edge's rows, spaced by their strips' reaches, left triangles
+// of up to 27.5 um between their ends on the pressure flank's overlap (the
+// reaches are measured across the feed at each contact; the swept tool
+// between contacts cut less). The planner simulates its rows and adds
+// partial rows where they leave more than e2: checked here by the
+// independent simulation (without the simulated rows it finds 27.6 um in
+// this window: measured).
+TEST(EdgeFinishTest, PartialRowsGoWhereTheSimulatedRowsLeaveMoreThanE2) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kSuction);  // the TE: suction flank at v = 0
+  er.second = blisk.flank_surface(0, FlankSide::kPressure);
+  const EdgeRegion e = build_edge_region(er);
+  CollisionWorld world;
+  world.add("hub", tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.02));
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq;
+  rq.edge = e.surface;
+  rq.first = er.first;
+  rq.second = er.second;
+  rq.tool = &tool;
+  rq.world = &world;
+  rq.v0 = 0.5;
+  rq.v1 = 0.7;
+  rq.threads = 2;
+  const EdgeFinishResult res = plan_edge_finish(rq);
+  EXPECT_EQ(res.total_refusals, 0);
+  EXPECT_EQ(res.refused_links, 0);
+  EXPECT_GT(res.simulated_infill_rows, 0);
+  UndercutOptions o;
+  o.samples_u = 150;  // not the planner's 201 x 0.1 mm
+  o.samples_v = 97;
+  o.v0 = res.v0;
+  o.v1 = res.v1;
+  const UndercutResult sim = simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
+  EXPECT_EQ(sim.untouched, 0);
+  EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.001);
   EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
 }
 #endif
