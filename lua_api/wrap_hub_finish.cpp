@@ -4,6 +4,7 @@
 // (core/sim), APT/CL. Lengths in mm, angles in degrees. See docs/lua_api.md.
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/common/atomic_file.h"
@@ -168,10 +169,7 @@ void push_stats(lua_State* L, const HubFinishRegionStats& s) {
   luax::set_number(L, "overcut", s.overcut_mm);
 }
 
-// plan:simulate{root_samples = {u, v}, floor_samples = {u, v}, sweep_step =, threads =}
-int w_plan_simulate(lua_State* L) {
-  static const char* what = "plan:simulate";
-  const LuaHubPlan& p = check_plan(L);
+HubFinishSimOptions read_sim_options(lua_State* L, const char* what) {
   const luax::Options o(
       L, 2, what,
       {Field{"root_samples", Kind::Table, false, std::nullopt, std::nullopt,
@@ -201,6 +199,67 @@ int w_plan_simulate(lua_State* L) {
   pair("floor_samples", so.floor_samples_u, so.floor_samples_v);
   so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
   so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  return so;
+}
+
+// plan:regions{root_samples = {u, v}, floor_samples = {u, v}} -> {root = {surface =, u =, v =, samples_u =,
+// samples_v =, strip = {bool...}, fillet = {bool...}}, floor = {surface =, u =, v =, samples_u =, samples_v =,
+// flip_normal =, floor = {bool...}, middle = {bool...}}}: the surfaces, windows and per-sample regions
+// plan:simulate measures (core hub_finish_regions), for a simulation of other moves over them
+// (bliskrun.simulate{..., keep = regions.root.strip}). A part the plan does not have is absent.
+int w_plan_regions(lua_State* L) {
+  const LuaHubPlan& p = check_plan(L);
+  const HubFinishSimOptions so = read_sim_options(L, "plan:regions");
+  return luax::guarded(L, [&] {
+    const HubFinishRegions r = hub_finish_regions(*p.result, p.request, so);
+    auto push_mask = [&](const std::vector<char>& mask, const char* name) {
+      lua_createtable(L, static_cast<int>(mask.size()), 0);
+      for (size_t i = 0; i < mask.size(); ++i) {
+        lua_pushboolean(L, mask[i]);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+      lua_setfield(L, -2, name);
+    };
+    auto push_window = [&](const std::shared_ptr<const Surface>& surface, const UndercutOptions& o) {
+      lua_createtable(L, 0, 8);
+      push_surface(L, surface);
+      lua_setfield(L, -2, "surface");
+      for (const auto& [name, lo, hi] : {std::tuple<const char*, double, double>{"u", o.u0, o.u1}, {"v", o.v0, o.v1}}) {
+        lua_createtable(L, 2, 0);
+        lua_pushnumber(L, lo);
+        lua_rawseti(L, -2, 1);
+        lua_pushnumber(L, hi);
+        lua_rawseti(L, -2, 2);
+        lua_setfield(L, -2, name);
+      }
+      lua_pushinteger(L, o.samples_u);
+      lua_setfield(L, -2, "samples_u");
+      lua_pushinteger(L, o.samples_v);
+      lua_setfield(L, -2, "samples_v");
+      lua_pushboolean(L, o.flip_normal);
+      lua_setfield(L, -2, "flip_normal");
+    };
+    lua_createtable(L, 0, 2);
+    if (r.blade) {
+      push_window(r.blade, r.root);
+      push_mask(r.strip, "strip");
+      push_mask(r.fillet, "fillet");
+      lua_setfield(L, -2, "root");
+    }
+    if (r.hub) {
+      push_window(r.hub, r.floor);
+      push_mask(r.channel_floor, "floor");
+      push_mask(r.channel_middle, "middle");
+      lua_setfield(L, -2, "floor");
+    }
+    return 1;
+  });
+}
+
+// plan:simulate{root_samples = {u, v}, floor_samples = {u, v}, sweep_step =, threads =}
+int w_plan_simulate(lua_State* L) {
+  const LuaHubPlan& p = check_plan(L);
+  const HubFinishSimOptions so = read_sim_options(L, "plan:simulate");
   return luax::guarded(L, [&] {
     const HubFinishSimulation s = simulate_hub_finish(*p.result, p.request, so, context(L).progress);
     lua_createtable(L, 0, 6);
@@ -339,6 +398,7 @@ int w_hub_finish(lua_State* L) {
 void open_hub_finish(lua_State* L) {
   static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"moves", w_plan_moves},
                                           {"simulate", w_plan_simulate},   {"write_apt", w_plan_write_apt},
+                                          {"regions", w_plan_regions},
                                           {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaHubPlan>::name, plan_methods, &luax::gc_value<LuaHubPlan>,
                       w_plan_tostring);

@@ -3,6 +3,7 @@
 // the material its operations leave on a part that no planner's own
 // simulation covers (an impeller's hub and faces after notching, widening
 // and flank finishing).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -103,7 +104,10 @@ int w_simulate(lua_State* L) {
        number_field("search_above", "how far above the surface material is tracked, mm (default 1)", 1e-4, 100),
        number_field("search_below", "how deep a gouge is measured, mm (default 0.5)", 1e-4, 100),
        number_field("sweep_step", "largest cutter-point motion between positions, mm (default 0.05)", 1e-4, 10),
-       Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+       Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}},
+       Field{"keep", Kind::Table, false, std::nullopt, std::nullopt,
+             "{true|false, ...} per sample, row-major (u outer): the region measured; the others are NaN in the "
+             "map and in no figure", {}}});
   o.push_raw("surface");
   const SurfaceHandle* surface = luax::test<SurfaceHandle>(L, -1);
   if (!surface) luax::error(L, "bliskrun.simulate: option 'surface': expected a bliskrun.Surface");
@@ -175,6 +179,33 @@ int w_simulate(lua_State* L) {
   so.search_below_mm = o.number("search_below", 0.5);
   so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
   so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  // The region measured: a sample outside it becomes NaN after the sweep
+  // (summarise_residual leaves NaN out of every figure).
+  std::vector<char> keep;
+  if (o.has("keep")) {
+    o.push_raw("keep");
+    const lua_Unsigned n = lua_rawlen(L, -1);
+    if (n != static_cast<lua_Unsigned>(so.samples_u) * static_cast<lua_Unsigned>(so.samples_v))
+      luax::error(L, "bliskrun.simulate: option 'keep': expected samples_u x samples_v = " +
+                         std::to_string(static_cast<long>(so.samples_u) * so.samples_v) + " booleans, got " +
+                         std::to_string(static_cast<unsigned long long>(n)));
+    keep.resize(n);
+    for (lua_Unsigned i = 1; i <= n; ++i) {
+      lua_rawgeti(L, -1, static_cast<lua_Integer>(i));
+      keep[i - 1] = lua_toboolean(L, -1) ? 1 : 0;
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  const auto apply_keep = [&](UndercutResult& r) {
+    if (keep.empty()) return;
+    const long deepest = r.overcut_sample;
+    for (size_t i = 0; i < keep.size(); ++i)
+      if (!keep[i]) r.residual_mm[i] = std::numeric_limits<double>::quiet_NaN();
+    summarise_residual(r, so);
+    // The motion that cut deepest is known only for the sample the sweep found.
+    if (r.overcut_sample != deepest) r.overcut_pass = r.overcut_pose = -1;
+  };
   return luax::guarded(L, [&] {
     // Each group swept on its own; the whole is the lowest of the groups'
     // maps (every motion belongs to one group), not a second sweep.
@@ -187,6 +218,7 @@ int w_simulate(lua_State* L) {
       results.push_back(simulate_undercut(*design, runs, so, context(L).progress));
       seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       if (results.back().overcut_pass >= 0) results.back().overcut_pass = g.global[results.back().overcut_pass];
+      apply_keep(results.back());
     }
     UndercutResult whole = results.front();
     double whole_seconds = seconds.front();
@@ -222,10 +254,90 @@ int w_simulate(lua_State* L) {
   });
 }
 
+// bliskrun.map_mosaic{rows = {{tile, ...}, ...}, gap = 2, footer =} ->
+// UndercutMap: several maps as one picture, the tiles of a row side by side
+// (left to right), the rows top to bottom (the first row drawn highest),
+// each tile at its own samples; a tile is a map or {map =, transpose = bool}
+// (rows and columns swapped, e.g. an edge region's u around / v span set
+// beside flanks' u span / v across). The cells between and around tiles
+// are NaN (grey).
+int w_map_mosaic(lua_State* L) {
+  const luax::Options o(L, 1, "bliskrun.map_mosaic",
+                        {Field{"rows", Kind::Table, true, std::nullopt, std::nullopt,
+                               "{{map | {map =, transpose =}, ...}, ...}: tiles left to right, rows top to bottom", {}},
+                         Field{"gap", Kind::Integer, false, 0, 1000, "NaN cells between tiles (default 2)", {}},
+                         Field{"footer", Kind::String, false, std::nullopt, std::nullopt, "line under the picture", {}}});
+  struct Tile {
+    const HeatMap* map;
+    bool transpose;
+    int rows() const { return transpose ? map->cols : map->rows; }
+    int cols() const { return transpose ? map->rows : map->cols; }
+    double at(int i, int j) const { return transpose ? map->at(j, i) : map->at(i, j); }
+  };
+  std::vector<std::vector<Tile>> rows;
+  o.push_raw("rows");
+  const int rows_idx = lua_gettop(L);
+  const lua_Unsigned nr = lua_rawlen(L, rows_idx);
+  if (nr == 0) luax::error(L, "bliskrun.map_mosaic: option 'rows': expected at least one row of maps");
+  for (lua_Unsigned r = 1; r <= nr; ++r) {
+    lua_rawgeti(L, rows_idx, static_cast<lua_Integer>(r));
+    const std::string where = "bliskrun.map_mosaic: rows[" + std::to_string(r) + "]";
+    if (!lua_istable(L, -1)) luax::error(L, where + ": expected a list of maps");
+    rows.emplace_back();
+    const lua_Unsigned nt = lua_rawlen(L, -1);
+    for (lua_Unsigned t = 1; t <= nt; ++t) {
+      lua_rawgeti(L, -1, static_cast<lua_Integer>(t));
+      Tile tile{nullptr, false};
+      if (const auto* m = luax::test<LuaUndercutMap>(L, -1)) {
+        tile.map = &m->map;
+      } else if (lua_istable(L, -1)) {
+        lua_getfield(L, -1, "map");
+        if (const auto* m2 = luax::test<LuaUndercutMap>(L, -1)) tile.map = &m2->map;
+        lua_getfield(L, -2, "transpose");
+        tile.transpose = lua_toboolean(L, -1);
+        lua_pop(L, 2);
+      }
+      if (!tile.map || tile.map->rows < 1 || tile.map->cols < 1)
+        luax::error(L, where + "[" + std::to_string(t) + "]: expected an UndercutMap or {map = UndercutMap, transpose =}");
+      rows.back().push_back(tile);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  const int gap = static_cast<int>(o.integer("gap", 2));
+  int height = gap, width = 0;
+  for (const auto& row : rows) {
+    int h = 0, w = gap;
+    for (const Tile& t : row) h = std::max(h, t.rows()), w += t.cols() + gap;
+    height += h + gap;
+    width = std::max(width, w);
+  }
+  // Map rows are drawn bottom up (row 0 lowest), so the first mosaic row
+  // goes at the top: fill from the last row of cells down.
+  std::vector<double> values(static_cast<size_t>(height) * width, std::numeric_limits<double>::quiet_NaN());
+  int top = height - gap;  // one past the highest cell row of the next mosaic row
+  for (const auto& row : rows) {
+    int h = 0;
+    for (const Tile& t : row) h = std::max(h, t.rows());
+    int left = gap;
+    for (const Tile& t : row) {
+      const int base = top - h;  // tiles sit on the row's bottom
+      for (int i = 0; i < t.rows(); ++i)
+        for (int j = 0; j < t.cols(); ++j)
+          values[static_cast<size_t>(base + i) * width + left + j] = t.at(i, j);
+      left += t.cols() + gap;
+    }
+    top -= h + gap;
+  }
+  push_undercut_map(L, height, width, std::move(values), o.string("footer", ""));
+  return 1;
+}
+
 }  // namespace
 
 void open_sim(lua_State* L) {
-  static const luaL_Reg functions[] = {{"simulate", w_simulate}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"simulate", w_simulate}, {"map_mosaic", w_map_mosaic}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

@@ -1137,64 +1137,14 @@ double interp(const std::vector<double>& x, const std::vector<double>& y, double
 
 }  // namespace
 
-HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const HubFinishRequest& rq,
-                                        const HubFinishSimOptions& options, Progress& progress) {
+HubFinishRegions hub_finish_regions(const HubFinishResult& result, const HubFinishRequest& rq,
+                                    const HubFinishSimOptions& options) {
   if (!rq.tool || !rq.hub) throw ParameterError("tool", "the request's tool and hub are required");
   if (options.root_samples_u < 2 || options.root_samples_v < 2 || options.floor_samples_u < 2 ||
       options.floor_samples_v < 2)
     throw ParameterError("samples", "expected at least 2 samples each way");
-  if (!(options.sweep_step_mm > 0)) throw ParameterError("sweep_step", "expected > 0");
-  const auto t0 = Clock::now();
-  HubFinishSimulation sim;
   const SurfaceOfRevolution& hub = *rq.hub;
-  // Every move of the plan, root and channel: either can cut the other's region.
-  // The plan is blade k's and channel k's; the blisk is periodic and a job
-  // turns the plan onto every blade, so the neighbours' copies cut here too:
-  // channel k - 1 reaches blade k's pressure-side fillet, blade k + 1's root
-  // rows and channel k + 1 the floor's far side.
-  auto turned = [&](const std::vector<ToolPass>& in, double angle) {
-    const Eigen::AngleAxisd rot(angle, Vec3::UnitZ());
-    std::vector<ToolPass> out = in;
-    for (ToolPass& pass : out)
-      for (ToolPose& p : pass) p = ToolPose{rot * p.tip, rot * p.axis};
-    return out;
-  };
-  auto join = [](std::vector<ToolPass> a, const std::vector<ToolPass>& b) {
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
-  };
-  // Only what can reach a window's samples: the stretches of each pass
-  // whose poses come within the tool's reach of the window's box, with the
-  // pose before and after (the motion from or to a far pose can still cut).
-  auto near_window = [&](const std::vector<ToolPass>& in, const Surface& s, const UndercutOptions& o) {
-    Eigen::AlignedBox3d box;
-    for (int i = 0; i <= 16; ++i)
-      for (int j = 0; j <= 64; ++j) box.extend(s.point(o.u0 + (o.u1 - o.u0) * i / 16, o.v0 + (o.v1 - o.v0) * j / 64));
-    const double reach = rq.tool->cutter().reach() + 1;
-    std::vector<ToolPass> out;
-    for (const ToolPass& pass : in) {
-      std::vector<char> near(pass.size());
-      for (size_t k = 0; k < pass.size(); ++k) near[k] = box.exteriorDistance(pass[k].tip) < reach;
-      ToolPass cur;
-      for (size_t k = 0; k < pass.size(); ++k) {
-        const bool keep = near[k] || (k > 0 && near[k - 1]) || (k + 1 < pass.size() && near[k + 1]);
-        if (keep) {
-          cur.push_back(pass[k]);
-        } else if (!cur.empty()) {
-          out.push_back(std::move(cur));
-          cur.clear();
-        }
-      }
-      if (!cur.empty()) out.push_back(std::move(cur));
-    }
-    return out;
-  };
-  const std::vector<ToolPass> root = passes_of_moves(hub_finish_moves(result.root)).passes;
-  const std::vector<ToolPass> channel = passes_of_moves(hub_finish_moves(result.channel)).passes;
-  const double pitch = result.pitch_rad;
-  const std::vector<ToolPass> root_passes = join(join(root, channel), turned(channel, -pitch));
-  const std::vector<ToolPass> floor_passes =
-      join(join(join(join(channel, root), turned(root, pitch)), turned(channel, -pitch)), turned(channel, pitch));
+  HubFinishRegions regions;
   UndercutOptions base;
   base.sweep_step_mm = options.sweep_step_mm;
   base.threads = options.threads;
@@ -1211,13 +1161,17 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
       ulo = std::min(ulo, result.fillet_u[i] - (g(result.fillet_u[i]) + 0.3) * du);
       uhi = std::max(uhi, result.fillet_u[i] + (result.top_height_mm + 0.5 - g(result.fillet_u[i])) * du);
     }
-    UndercutOptions o = base;
+    UndercutOptions& o = regions.root;
+    o = base;
     o.u0 = std::max(0.0, ulo);
     o.u1 = std::min(1.0, uhi);
     o.samples_u = options.root_samples_u;
     o.samples_v = options.root_samples_v;
-    sim.root = simulate_undercut(bs, *rq.tool, near_window(root_passes, bs, o), o, progress);
-    std::vector<char> strip(sim.root.residual_mm.size(), 0), fillet(strip.size(), 0);
+    regions.blade = result.blade_closed;
+    std::vector<char>& strip = regions.strip;
+    std::vector<char>& fillet = regions.fillet;
+    strip.assign(static_cast<size_t>(o.samples_u) * o.samples_v, 0);
+    fillet.assign(strip.size(), 0);
     for (int i = 0; i < o.samples_u; ++i) {
       const double u = o.u0 + (o.u1 - o.u0) * i / (o.samples_u - 1);
       for (int j = 0; j < o.samples_v; ++j) {
@@ -1228,11 +1182,10 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
         (u >= interp(result.fillet_v, result.fillet_u, v) ? strip : fillet)[k] = 1;
       }
     }
-    sim.strip = region_stats(sim.root, strip);
-    sim.fillet = region_stats(sim.root, fillet);
   }
   if (rq.channel && result.hub_sector && !result.floor_z.empty()) {
-    UndercutOptions o = base;
+    UndercutOptions& o = regions.floor;
+    o = base;
     o.flip_normal = result.hub_sector_flip;
     o.samples_u = options.floor_samples_u;
     o.samples_v = options.floor_samples_v;
@@ -1249,11 +1202,14 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
     const double ua = u_at_z(result.z_inlet_mm), ub = u_at_z(result.z_outlet_mm);
     o.u0 = std::min(ua, ub);
     o.u1 = std::max(ua, ub);
-    sim.floor = simulate_undercut(*result.hub_sector, *rq.tool, near_window(floor_passes, *result.hub_sector, o), o, progress);
     // Floor: between the rows' ends at the sample's z (the row ends are ball
     // centres; the contact below is at the same angle, z moved by the
     // normal's tilt, which the row interpolation in z absorbs).
-    std::vector<char> floor(sim.floor.residual_mm.size(), 0), middle(floor.size(), 0);
+    regions.hub = result.hub_sector;
+    std::vector<char>& floor = regions.channel_floor;
+    std::vector<char>& middle = regions.channel_middle;
+    floor.assign(static_cast<size_t>(o.samples_u) * o.samples_v, 0);
+    middle.assign(floor.size(), 0);
     const double zmin = result.floor_z.front(), zmax = result.floor_z.back();
     constexpr double kExactMm = 0.6;
     const double r = ball_radius(*rq.tool);
@@ -1302,8 +1258,75 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
         if (th > t0 + 1.0 / radius && th < t1 - 1.0 / radius) middle[static_cast<size_t>(i) * o.samples_v + j] = 1;
       }
     }
-    sim.channel_floor = region_stats(sim.floor, floor);
-    sim.channel_middle = region_stats(sim.floor, middle);
+  }
+  return regions;
+}
+
+HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const HubFinishRequest& rq,
+                                        const HubFinishSimOptions& options, Progress& progress) {
+  if (!(options.sweep_step_mm > 0)) throw ParameterError("sweep_step", "expected > 0");
+  const HubFinishRegions regions = hub_finish_regions(result, rq, options);
+  const auto t0 = Clock::now();
+  HubFinishSimulation sim;
+  // Every move of the plan, root and channel: either can cut the other's region.
+  // The plan is blade k's and channel k's; the blisk is periodic and a job
+  // turns the plan onto every blade, so the neighbours' copies cut here too:
+  // channel k - 1 reaches blade k's pressure-side fillet, blade k + 1's root
+  // rows and channel k + 1 the floor's far side.
+  auto turned = [&](const std::vector<ToolPass>& in, double angle) {
+    const Eigen::AngleAxisd rot(angle, Vec3::UnitZ());
+    std::vector<ToolPass> out = in;
+    for (ToolPass& pass : out)
+      for (ToolPose& p : pass) p = ToolPose{rot * p.tip, rot * p.axis};
+    return out;
+  };
+  auto join = [](std::vector<ToolPass> a, const std::vector<ToolPass>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  // Only what can reach a window's samples: the stretches of each pass
+  // whose poses come within the tool's reach of the window's box, with the
+  // pose before and after (the motion from or to a far pose can still cut).
+  auto near_window = [&](const std::vector<ToolPass>& in, const Surface& s, const UndercutOptions& o) {
+    Eigen::AlignedBox3d box;
+    for (int i = 0; i <= 16; ++i)
+      for (int j = 0; j <= 64; ++j) box.extend(s.point(o.u0 + (o.u1 - o.u0) * i / 16, o.v0 + (o.v1 - o.v0) * j / 64));
+    const double reach = rq.tool->cutter().reach() + 1;
+    std::vector<ToolPass> out;
+    for (const ToolPass& pass : in) {
+      std::vector<char> near(pass.size());
+      for (size_t k = 0; k < pass.size(); ++k) near[k] = box.exteriorDistance(pass[k].tip) < reach;
+      ToolPass cur;
+      for (size_t k = 0; k < pass.size(); ++k) {
+        const bool keep = near[k] || (k > 0 && near[k - 1]) || (k + 1 < pass.size() && near[k + 1]);
+        if (keep) {
+          cur.push_back(pass[k]);
+        } else if (!cur.empty()) {
+          out.push_back(std::move(cur));
+          cur.clear();
+        }
+      }
+      if (!cur.empty()) out.push_back(std::move(cur));
+    }
+    return out;
+  };
+  const std::vector<ToolPass> root = passes_of_moves(hub_finish_moves(result.root)).passes;
+  const std::vector<ToolPass> channel = passes_of_moves(hub_finish_moves(result.channel)).passes;
+  const double pitch = result.pitch_rad;
+  const std::vector<ToolPass> root_passes = join(join(root, channel), turned(channel, -pitch));
+  const std::vector<ToolPass> floor_passes =
+      join(join(join(join(channel, root), turned(root, pitch)), turned(channel, -pitch)), turned(channel, pitch));
+  if (regions.blade) {
+    const Surface& bs = *regions.blade;
+    sim.root = simulate_undercut(bs, *rq.tool, near_window(root_passes, bs, regions.root), regions.root, progress);
+    sim.strip = region_stats(sim.root, regions.strip);
+    sim.fillet = region_stats(sim.root, regions.fillet);
+  }
+  if (regions.hub) {
+    sim.floor = simulate_undercut(*regions.hub, *rq.tool, near_window(floor_passes, *regions.hub, regions.floor),
+                                  regions.floor, progress);
+    sim.channel_floor = region_stats(sim.floor, regions.channel_floor);
+    sim.channel_middle = region_stats(sim.floor, regions.channel_middle);
   }
   sim.seconds = seconds_since(t0);
   return sim;

@@ -251,6 +251,23 @@ struct HubFinishSimulation {
   HubFinishRegionStats strip, fillet, channel_floor, channel_middle;
   double seconds = 0;
 };
+// The surfaces, windows and regions simulate_hub_finish measures, for any
+// simulation of them (a job's whole-blade map sweeps every operation's
+// moves over them): the closed blade's root window — `strip` above the
+// fillet row, `fillet` below it, both between the hub and the top height —
+// and the hub sector's window between the inlet and outlet planes — its
+// `channel_floor` between the floor rows' ends (where the ball fits) and
+// `channel_middle` 1 mm inside them. Masks per sample of their window,
+// row-major (u outer); a window with no surface (blade or hub null) is not
+// part of the plan.
+struct HubFinishRegions {
+  std::shared_ptr<const Surface> blade, hub;
+  UndercutOptions root, floor;
+  std::vector<char> strip, fillet, channel_floor, channel_middle;
+};
+HubFinishRegions hub_finish_regions(const HubFinishResult& result, const HubFinishRequest& request,
+                                    const HubFinishSimOptions& options);
+
 HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const HubFinishRequest& request,
                                         const HubFinishSimOptions& options, Progress& progress = Progress::none());
 

@@ -189,6 +189,7 @@ void summarise_residual(UndercutResult& r, const UndercutOptions& o) {
   under.reserve(r.residual_mm.size());
   for (size_t i = 0; i < r.residual_mm.size(); ++i) {
     const double res = r.residual_mm[i];
+    if (std::isnan(res)) continue;  // outside the region measured (a mask)
     const double u = o.u0 + (o.u1 - o.u0) * static_cast<double>(i / o.samples_v) / (o.samples_u - 1);
     const bool machined = u >= o.machined_u0 && u <= o.machined_u1;
     if (!std::isfinite(res)) {

@@ -89,7 +89,8 @@ UndercutResult simulate_undercut(const Surface& design, const Tool& tool,
 // The statistics of a residual map (untouched, the undercut figures, the
 // deepest overcut and its sample) from r.residual_mm, r.samples_u/v and the
 // options' windows — e.g. of the lowest of several simulations' maps over
-// the same samples. Leaves overcut_pass and overcut_pose alone.
+// the same samples. A NaN sample is outside the region measured (a caller's
+// mask) and counts in no figure. Leaves overcut_pass and overcut_pose alone.
 void summarise_residual(UndercutResult& r, const UndercutOptions& options);
 
 // Passes one tool cuts (borrowed: both must outlive the call).

@@ -103,7 +103,7 @@ local function blades_of(self, j, plan_blade)
       units = {}
       for i, u in ipairs(base) do
         units[i] = {side = u.side, plan = u.plan, report = u.report, turned_from = base_k, flanks = u.flanks,
-                    moves_list = turned_moves(u.moves_list, 2 * math.pi * (k - base_k) / n)}
+                    surface = u.surface, moves_list = turned_moves(u.moves_list, 2 * math.pi * (k - base_k) / n)}
       end
     else
       units = plan_blade(k)
@@ -111,7 +111,8 @@ local function blades_of(self, j, plan_blade)
     end
     for _, u in ipairs(units) do
       flanks[#flanks + 1] = {blade = k, side = u.side, plan = u.plan, report = u.report, feed = self.feed,
-                             moves_list = u.moves_list, turned_from = u.turned_from, flanks = u.flanks}
+                             moves_list = u.moves_list, turned_from = u.turned_from, flanks = u.flanks,
+                             surface = u.surface}
     end
   end
   return flanks
@@ -233,7 +234,7 @@ function M.edge_finish(o)
                               .. "emitted (see plan:report().refusal_reasons)", k, edge, r.refusals, r.refused_links), 0)
         end
         units[#units + 1] = {side = edge .. " edge", plan = plan, report = r, moves_list = plan:moves(),
-                             flanks = {first, second}}
+                             flanks = {first, second}, surface = region.surface}
       end
       return units
     end)
@@ -278,7 +279,19 @@ function M.hub_finish(o)
                             .. "it is emitted (see plan:report().refusals)", k, refused, refused_links), 0)
       end
       r.row_count = r.root.rows + r.channel.rows
-      return {{side = "root and channel", plan = plan, report = r, moves_list = plan:moves()}}
+      -- The root strip, then the channel: joined through the clearance can
+      -- like any two plans (the channel's first pose is a plain "start"
+      -- from the root's last: straight across, that rapid ran through the
+      -- blade's suction flank, 0.24 mm deep where blade 1's map sampled it).
+      local moves, channel = plan:moves("root"), plan:moves("channel")
+      if #moves > 0 and #channel > 0 then
+        local a, b = moves[#moves], channel[1]
+        local link = j:link({tip = a.tip, axis = a.axis}, {tip = b.tip, axis = b.axis}, j.tools[self.tool].tool,
+                            string.format("link from blade %d's root strip to its channel", k), k, k)
+        for _, p in ipairs(link) do moves[#moves + 1] = {kind = "rapid", tip = p.tip, axis = p.axis, motion = "link"} end
+      end
+      for _, m in ipairs(channel) do moves[#moves + 1] = m end
+      return {{side = "root and channel", plan = plan, report = r, moves_list = moves}}
     end)
   end
   return op
@@ -945,7 +958,7 @@ function Job:plan()
               tool = number}
       flanks[#flanks + 1] = {operation = i, kind = op.kind, blade = f.blade, side = f.side, plan = f.plan,
                              report = f.report, moves = #plan_moves, first_move = first_move,
-                             turned_from = f.turned_from, design_flanks = f.flanks}
+                             turned_from = f.turned_from, design_flanks = f.flanks, surface = f.surface}
     end
   end
   self.planned = {moves = moves, flanks = flanks, links = links, tool_groups = groups}
@@ -1009,6 +1022,174 @@ function Job:simulate(o)
       out.overcut_at = r
     end
   end
+  return out
+end
+
+-- One map of blade 1 (issue 18 item 4): the material left and the gouges
+-- over the whole blade, each surface swept by every operation's moves that
+-- can reach it, each move with its own tool (bliskrun.simulate, core/sim):
+-- blade 1's drum, edge and hub moves, and the neighbours' hub moves (blade
+-- N's channel ends on blade 1's pressure root, blade 2's root rows border
+-- blade 1's channel floor). The regions: both flanks (the drum finish's
+-- trimmed flanks, from 0.1 mm above the ball's fillet to the casing, edge to
+-- edge), both edges (each edge region over its machined span window, 0.3 mm
+-- onto the flanks), the root strip all around the blade up to the hub
+-- operation's top and the fillet below it (the ball's radius in the design's
+-- sharp corner: material is tracked up to 2 mm there, more counts unreached), and the channel
+-- floor to blade 2 — the last three the hub plan's own windows and regions
+-- (plan:regions). o = {flank_samples = {u, v}, edge_samples = {around, span},
+-- root_samples = {span, around}, floor_samples = {meridian, around}}.
+-- Returns {regions = {{name, surface, material_left_max_mm,
+-- material_left_min_mm, overcut_mm, overcut_move, unreached, samples, map,
+-- tile = {map =, transpose =}}, ...}, material_left_max_mm and unreached
+-- (the fillet apart), overcut_mm (all regions), map} — `map` all regions as one
+-- picture (bliskrun.map_mosaic: the flanks and edges around the blade, span
+-- up; under them the root strip, the fillet and the channel floor).
+function Job:simulate_blade(o)
+  o = o or {}
+  local function pair(v) return type(v) == "table" and #v == 2 and math.type(v[1]) == "integer" and
+                                math.type(v[2]) == "integer" and v[1] >= 2 and v[2] >= 2 end
+  check_options("job:simulate_blade", o, {
+    flank_samples = {type = "table", check = function(v) if not pair(v) then return "expected {u, v} integers >= 2" end end},
+    edge_samples = {type = "table", check = function(v) if not pair(v) then return "expected {u, v} integers >= 2" end end},
+    root_samples = {type = "table", check = function(v) if not pair(v) then return "expected {u, v} integers >= 2" end end},
+    floor_samples = {type = "table", check = function(v) if not pair(v) then return "expected {u, v} integers >= 2" end end},
+  }, 2)
+  if not self.planned then error("job:simulate_blade: plan the job first (j:plan())", 2) end
+  if self.part_kind == "impeller" then error("job:simulate_blade: a blisk job's blade (impellers: j:simulate)", 2) end
+  local n = self.part:blade_count()
+  local fs, es = o.flank_samples or {40, 200}, o.edge_samples or {80, 40}
+  local rs, ls = o.root_samples or {40, 400}, o.floor_samples or {100, 80}
+  -- The passes: each operation's moves on a blade, in job order, its tool's.
+  local passes, last, moves_of = {}, nil, {}
+  for i, m in ipairs(self.planned.moves) do
+    local key = m.operation_kind ~= "link" and (m.blade == 1 or (m.operation_kind == "hub_finish" and
+                (m.blade == n or m.blade == 2))) and (m.operation .. ":" .. m.blade) or nil
+    if key then
+      if key ~= last then
+        passes[#passes + 1] = {tool = self:tool_entry(m.tool).tool, poses = {}}
+        moves_of[#passes] = {}
+      end
+      local poses = passes[#passes].poses
+      poses[#poses + 1] = m
+      moves_of[#passes][#poses] = i
+    end
+    last = key
+  end
+  -- Only what can reach a region: the stretches of each pass whose poses
+  -- come within the tool's reach of the window's box, with the pose before
+  -- and after (a motion from or to a far pose can still cut) — as the hub
+  -- plan's own simulation does; most of a job's moves are far from any one
+  -- surface of blade 1.
+  local reach = {}
+  local function near(spec)
+    local lo, hi = {math.huge, math.huge, math.huge}, {-math.huge, -math.huge, -math.huge}
+    for i = 0, 16 do
+      for k = 0, 64 do
+        local p = spec.surface:point(spec.u[1] + (spec.u[2] - spec.u[1]) * i / 16,
+                                     spec.v[1] + (spec.v[2] - spec.v[1]) * k / 64)
+        local x = {p.x, p.y, p.z}
+        for c = 1, 3 do lo[c], hi[c] = math.min(lo[c], x[c]), math.max(hi[c], x[c]) end
+      end
+    end
+    local out, out_moves = {}, {}
+    for pi, pass in ipairs(passes) do
+      reach[pass.tool] = reach[pass.tool] or pass.tool:reach()
+      local r2 = (reach[pass.tool] + (spec.search_above or 0.5) + 1) ^ 2
+      local inside = {}
+      for k, m in ipairs(pass.poses) do
+        local d2 = 0
+        for c = 1, 3 do
+          local x = m.tip[c]
+          local e = x < lo[c] and lo[c] - x or (x > hi[c] and x - hi[c] or 0)
+          d2 = d2 + e * e
+        end
+        inside[k] = d2 < r2
+      end
+      local cur, cur_moves = nil, nil
+      for k, m in ipairs(pass.poses) do
+        if inside[k] or inside[k - 1] or inside[k + 1] then
+          if not cur then
+            cur, cur_moves = {tool = pass.tool, poses = {}}, {}
+            out[#out + 1], out_moves[#out + 1] = cur, cur_moves
+          end
+          cur.poses[#cur.poses + 1] = m
+          cur_moves[#cur.poses] = moves_of[pi][k]
+        else
+          cur = nil
+        end
+      end
+    end
+    return out, out_moves
+  end
+  local regions = {}
+  local function simulate(name, spec, keep)
+    local near_passes, near_moves = near(spec)
+    if #near_passes == 0 then near_passes, near_moves = {passes[1]}, {moves_of[1]} end
+    local r = bliskrun.simulate{surface = spec.surface, passes = near_passes, u = spec.u, v = spec.v,
+                                samples_u = spec.samples_u, samples_v = spec.samples_v, flip_normal = spec.flip_normal,
+                                search_above = spec.search_above or 0.5, sweep_step = spec.sweep_step, keep = keep}
+    local samples = spec.samples_u * spec.samples_v
+    if keep then
+      samples = 0
+      for _, k in ipairs(keep) do if k then samples = samples + 1 end end
+    end
+    local at = r.overcut_pass and near_moves[r.overcut_pass]
+    local region = {name = name, material_left_max_mm = r.residual_max, material_left_min_mm = r.residual_min,
+                    overcut_mm = r.overcut, unreached = r.untouched, samples = samples, map = r.map,
+                    overcut_move = at and at[r.overcut_pose] or nil,
+                    tile = {map = r.map, transpose = spec.transpose}}
+    regions[#regions + 1] = region
+    return region
+  end
+  local hub_plan, fillet_top
+  for _, f in ipairs(self.planned.flanks) do
+    if f.kind == "hub_finish" and f.blade == 1 then hub_plan, fillet_top = f.plan, f.report.fillet.contact_max end
+  end
+  local function dist(a, b) return math.sqrt((a.x - b.x) ^ 2 + (a.y - b.y) ^ 2 + (a.z - b.z) ^ 2) end
+  local top, around = {}, {}
+  for _, side in ipairs({"pressure", "trailing edge", "suction", "leading edge"}) do
+    for _, f in ipairs(self.planned.flanks) do
+      if f.blade == 1 and f.side == side and f.kind == "drum_finish" then
+        local ts = f.plan:trimmed()
+        local span = dist(ts:point(0, 0.5), ts:point(1, 0.5))
+        local u0 = fillet_top and math.min(0.5, (fillet_top + 0.1) / span) or 0
+        top[#top + 1] = simulate(side .. " flank", {surface = ts, u = {u0, 1}, v = {0, 1}, samples_u = fs[1],
+                                                    samples_v = fs[2]}).tile
+      elseif f.blade == 1 and f.side == side and f.kind == "edge_finish" then
+        top[#top + 1] = simulate(side, {surface = f.surface, u = {0, 1}, v = {f.report.span_v0, f.report.span_v1},
+                                        samples_u = es[1], samples_v = es[2], transpose = true}).tile
+      end
+    end
+  end
+  if hub_plan then
+    -- The ball's regions at the hub plan's own sweep step (0.1 mm).
+    local w = hub_plan:regions{root_samples = rs, floor_samples = ls}
+    if w.floor then w.floor.sweep_step = 0.1 end
+    if w.root then
+      w.root.sweep_step = 0.1
+      around[#around + 1] = simulate("root strip", w.root, w.root.strip).tile
+      local fillet = {}
+      for k, v in pairs(w.root) do fillet[k] = v end
+      fillet.search_above = 2
+      around[#around + 1] = simulate("fillet", fillet, w.root.fillet).tile
+    end
+    if w.floor then around[#around + 1] = simulate("channel floor", w.floor, w.floor.floor).tile end
+  end
+  local out = {regions = regions, material_left_max_mm = 0, overcut_mm = 0, unreached = 0}
+  for _, r in ipairs(regions) do
+    if r.name ~= "fillet" then
+      if r.material_left_max_mm then out.material_left_max_mm = math.max(out.material_left_max_mm, r.material_left_max_mm) end
+      out.unreached = out.unreached + r.unreached
+    end
+    out.overcut_mm = math.min(out.overcut_mm, r.overcut_mm)
+  end
+  local rows = {top}
+  if #around > 0 then rows[2] = around end
+  out.map = bliskrun.map_mosaic{rows = rows, footer = string.format(
+    "blade 1: flanks and edges around (span up), under them the root strip, the fillet and the channel floor; "
+    .. "left up to %.1f um, %d unreached (fillet apart), overcut %.1f um", 1e3 * out.material_left_max_mm,
+    out.unreached, 1e3 * out.overcut_mm)}
   return out
 end
 

@@ -16,7 +16,9 @@
 --            [--set samples_u=100 --set samples_v=500]   (simulation samples per flank)
 --            [--set edge_samples_u=200 --set edge_samples_v=400]   (per edge region)
 --            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
+--            [--set blade_map=lean|false]   (blade 1's one map: coarse samples, or none)
 -- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first flanks),
+-- blisk_job_blade1_map.png (blade 1's whole surface after the job),
 -- blisk_job.pvd (job toolpath, flanks with their undercut, for ParaView), report.html.
 local job = require("job")
 local finish = require("blisk_finish")
@@ -203,6 +205,34 @@ if with_edges or with_hub then
 end
 report.seams = seams
 
+-- One map of blade 1 (issue 18 item 4): every surface of the blade — both
+-- flanks, both edges, the root strip and the fillet below it, the channel
+-- floor to blade 2 — swept by every operation's moves with their own tools
+-- (j:simulate_blade), as one picture and one summary per region.
+-- --set blade_map=false skips it; --set blade_map=lean samples coarsely.
+if with_edges and with_hub and args.blade_map ~= false and args.blade_map ~= "false" then
+  local lean = args.blade_map == "lean"
+  local t_map = os.clock()
+  local bm = j:simulate_blade(lean and {flank_samples = {16, 60}, edge_samples = {40, 12}, root_samples = {12, 160},
+                                        floor_samples = {40, 30}} or {})
+  print(string.format("  blade 1 map: %.1f s CPU", os.clock() - t_map))
+  report.blade_map = {material_left_max_mm = bm.material_left_max_mm, overcut_mm = bm.overcut_mm,
+                      unreached = bm.unreached, picture = "blisk_job_blade1_map.png", regions = {}}
+  for _, r in ipairs(bm.regions) do
+    report.blade_map.regions[#report.blade_map.regions + 1] = {name = r.name,
+      material_left_max_mm = r.material_left_max_mm, material_left_min_mm = r.material_left_min_mm,
+      overcut_mm = r.overcut_mm, overcut_move = r.overcut_move, unreached = r.unreached, samples = r.samples}
+    print(string.format("  blade 1 map, %-14s material left %s, overcut %.2f um%s, unreached %d of %d", r.name .. ":",
+                        r.material_left_max_mm and string.format("%.2f..%.2f um", 1e3 * r.material_left_min_mm,
+                          1e3 * r.material_left_max_mm) or "none reached", 1e3 * r.overcut_mm,
+                        r.overcut_move and string.format(" (job move %d)", r.overcut_move) or "", r.unreached, r.samples))
+  end
+  -- The scale: twice the drum finish's residual (the fillet's ball radius is clamped to it).
+  bm.map:write_png("blisk_job_blade1_map.png", {title = "Blade 1 after the job: material left (mm; red above the design, "
+                                                         .. "blue below), every operation's moves", scale = 0.03,
+                                                width = 1200, height = 480})
+end
+
 local chord_tol = 0.002
 if sim.overcut < -chord_tol - 1e-4 then
   bliskrun.write_json("blisk_job.json", report)
@@ -270,6 +300,10 @@ local sections = {
             rows = flank_rows}},
   {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
     "positioning moves", "tip deviation (um)"}, rows = program_rows}}}
+if report.blade_map then
+  pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
+                             image = report.blade_map.picture}
+end
 for _, p in ipairs(pictures) do sections[#sections + 1] = p end
 require("run_report").write{title = "Job: " .. j.name, settings = {blades = count, sides = args.sides or "both",
   edges = with_edges, edge_span = string.format("%g, %g", edge_span[1], edge_span[2]), periodic = periodic,
@@ -278,4 +312,5 @@ require("run_report").write{title = "Job: " .. j.name, settings = {blades = coun
   files = {{"blisk_job.json", "the report"},
            {"blisk_job_ac_fanuc*.nc", "Fanuc programs, A/C trunnion (one per setup)"},
            {"blisk_job_bc_heidenhain*.h", "Heidenhain programs, B/C head-table (one per setup)"},
-           {"blisk_job_undercut_*.png", "the undercut maps above"}}}
+           {"blisk_job_undercut_*.png", "the undercut maps above"},
+           {"blisk_job_blade1_map.png", "blade 1's whole surface after the job, one map"}}}
