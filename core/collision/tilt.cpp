@@ -147,6 +147,14 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
           continue;
         }
       }
+      if (s.clear_pose_filter) {
+        const std::string why = s.clear_pose_filter(pose);
+        if (!why.empty()) {
+          ++filtered;
+          last_filtered = at + why;
+          continue;
+        }
+      }
       TiltOutcome out;
       out.accepted = true;
       out.pose = TiltAccepted{index, pose, lead, tilt, check, tries};
@@ -158,7 +166,7 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
      << deg_text(s.lead_step_rad) << " steps";
   if (s.allow_tilt) os << ", tilt " << deg_text(s.tilt0_rad) << " ± " << deg_text(s.tilt_range_rad);
   os << "; of " << tries << " axes " << beyond_limit << " beyond the axis limit, ";
-  if (s.pose_filter) os << filtered << " refused by the operation, ";
+  if (s.pose_filter || s.clear_pose_filter) os << filtered << " refused by the operation, ";
   os << interfering
      << " interfere at the pose, " << motion_blocked << " interfere in the motion";
   if (!last_interference.empty()) os << "; last interference " << last_interference;

@@ -79,6 +79,10 @@ struct TiltSettings {
   // (cheaper): "" accepts, else why not (e.g. the cutter would gouge the
   // finished surface). Empty: every pose.
   std::function<std::string(const ToolPose& pose)> pose_filter;
+  // The same, asked only of a pose the world has cleared (and the motion
+  // to it): for requirements dearer than the world query (e.g. the whole
+  // tool swept against the design surfaces). Counted with pose_filter's.
+  std::function<std::string(const ToolPose& pose)> clear_pose_filter;
 };
 
 struct TiltAccepted {

@@ -402,8 +402,10 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const PoseChecks& che
     const StripWidth w = strip.width(pose);
     if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um)";
     if (!w.touches) return "leaves more than e2 at the contact";
-    return checks.gouge(*rq.tool, pose, true);
+    return "";
   };
+  // The guards sweep thousands of samples: only for axes the world clears.
+  s.clear_pose_filter = [&](const ToolPose& pose) { return checks.gouge(*rq.tool, pose, true); };
   // Tilted first with room to spare (rq.tilt_room_mm on the shank and
   // holder): an axis found at the bare clearance leaves the shank a few um
   // outside it beside the neighbouring blade, and every traverse of a link
