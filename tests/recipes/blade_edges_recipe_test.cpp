@@ -40,5 +40,40 @@ TEST(BladeEdgesRecipe, LeadingEdgeBandPassesWithoutGouge) {
   EXPECT_TRUE(e["within_band"].get<bool>()) << e["simulation"]["undercut_max_mm"].get<double>();
 }
 
+#if !defined(BLISKRUN_SANITIZED)
+// The same recipe on NASA Rotor 67's trailing edge (a band of 5 % of the
+// span, small samples): the edge region built from flanks lofted to the
+// data's edge points, every pose and link proved, no gouge. Before the
+// region followed the data (a circle fitted between flank ends a chord
+// margin from the edge) the whole edge refused ~2700 contacts and ~2200
+// links and the simulation found 0.1 mm overcut. The material left is
+// reported, not asserted within e2: Rotor 67 keeps up to 27.5 um (issue 14).
+TEST(BladeEdgesRecipe, Rotor67TrailingEdgeBandIsProvedAndDoesNotGouge) {
+  const std::string data = shared_data_dir();
+  if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 edge recipe skipped";
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_edges.lua", "--data",
+                                       data, "--out", out, "--quiet", "--set", "edges=trailing", "--set", "v0=0.45",
+                                       "--set", "v1=0.5", "--set", "samples_u=80", "--set", "samples_v=60"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out + "/blade_edges.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["part"].get<std::string>(), "NASA Rotor 67 blade 1");
+  const auto& e = j["edges"]["trailing"];
+  EXPECT_TRUE(e["verified"].get<bool>());
+  EXPECT_LT(e["region"]["circle_misfit_mm"].get<double>(), 0.002);  // the flanks meet
+  EXPECT_LT(e["region"]["fit_deviation_mm"].get<double>(), 0.002);
+  EXPECT_EQ(e["refusals"].get<int>(), 0);
+  EXPECT_EQ(e["refused_links"].get<int>(), 0);
+  EXPECT_GT(e["poses"].get<int>(), 200);
+  const double e1 = -0.001;
+  EXPECT_GE(e["simulation"]["overcut_mm"].get<double>(), e1 - 1e-3);
+  EXPECT_GE(e["simulation"]["flank_overcut_mm"].get<double>(), e1 - 1e-3);
+  EXPECT_EQ(e["simulation"]["untouched"].get<int>(), 0);
+  EXPECT_LT(e["simulation"]["undercut_max_mm"].get<double>(), 0.03);  // measured 25.6 um
+}
+#endif
+
 }  // namespace
 }  // namespace bliskrun::test
