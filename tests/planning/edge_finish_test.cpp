@@ -28,6 +28,33 @@ Tool mill(double R, double r) {
   return Tool::flat_end_mill(s);
 }
 
+// A request to finish the region `e` (built from `er`) with `tool` among
+// `world` over v0..v1, on two threads.
+EdgeFinishRequest request_for(const EdgeRegion& e, const EdgeRegionRequest& er, const Tool& tool,
+                              const CollisionWorld& world, double v0, double v1) {
+  EdgeFinishRequest rq;
+  rq.edge = e.surface;
+  rq.first = er.first;
+  rq.second = er.second;
+  rq.tool = &tool;
+  rq.world = &world;
+  rq.v0 = v0;
+  rq.v1 = v1;
+  rq.threads = 2;
+  return rq;
+}
+
+// The independent simulation of a plan's moves over its window of the region.
+UndercutResult simulated(const EdgeRegion& e, const Tool& tool, const EdgeFinishResult& res, int samples_u,
+                         int samples_v) {
+  UndercutOptions o;
+  o.samples_u = samples_u;
+  o.samples_v = samples_v;
+  o.v0 = res.v0;
+  o.v1 = res.v1;
+  return simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
+}
+
 // A band of rows across the middle of the built-in blade's leading edge,
 // with the hub as the only check surface (fast): the claims of the paper
 // and of the planner, each of which can fail.
@@ -200,15 +227,7 @@ TEST(EdgeFinishTest, TiltedPosesBesideTheNeighbourGetPartialRowsAndTheBandHolds)
                 tessellate(*blisk.flank_surface(nb, side), 0.01));
   world.add("hub", tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.02));
   const Tool tool = mill(3, 0.5);
-  EdgeFinishRequest rq;
-  rq.edge = e.surface;
-  rq.first = er.first;
-  rq.second = er.second;
-  rq.tool = &tool;
-  rq.world = &world;
-  rq.v0 = 0.5;
-  rq.v1 = 0.56;
-  rq.threads = 2;
+  const EdgeFinishRequest rq = request_for(e, er, tool, world, 0.5, 0.56);
   const EdgeFinishResult res = plan_edge_finish(rq);
   EXPECT_EQ(res.total_refusals, 0);
   EXPECT_EQ(res.refused_links, 0);
@@ -216,12 +235,7 @@ TEST(EdgeFinishTest, TiltedPosesBesideTheNeighbourGetPartialRowsAndTheBandHolds)
   int tilted = 0;
   for (const EdgeFinishRow& row : res.rows) tilted += row.tilted_contacts;
   EXPECT_GT(tilted, 10);
-  UndercutOptions o;
-  o.samples_u = 160;
-  o.samples_v = 40;
-  o.v0 = res.v0;
-  o.v1 = res.v1;
-  const UndercutResult sim = simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
+  const UndercutResult sim = simulated(e, tool, res, 160, 40);
   EXPECT_EQ(sim.untouched, 0);
   EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.002);
   EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
@@ -243,25 +257,12 @@ TEST(EdgeFinishTest, PartialRowsGoWhereTheSimulatedRowsLeaveMoreThanE2) {
   CollisionWorld world;
   world.add("hub", tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.02));
   const Tool tool = mill(3, 0.5);
-  EdgeFinishRequest rq;
-  rq.edge = e.surface;
-  rq.first = er.first;
-  rq.second = er.second;
-  rq.tool = &tool;
-  rq.world = &world;
-  rq.v0 = 0.5;
-  rq.v1 = 0.7;
-  rq.threads = 2;
+  const EdgeFinishRequest rq = request_for(e, er, tool, world, 0.5, 0.7);
   const EdgeFinishResult res = plan_edge_finish(rq);
   EXPECT_EQ(res.total_refusals, 0);
   EXPECT_EQ(res.refused_links, 0);
   EXPECT_GT(res.simulated_infill_rows, 0);
-  UndercutOptions o;
-  o.samples_u = 150;  // not the planner's 201 x 0.1 mm
-  o.samples_v = 97;
-  o.v0 = res.v0;
-  o.v1 = res.v1;
-  const UndercutResult sim = simulate_undercut(*e.surface, tool, edge_finish_passes(res).passes, o);
+  const UndercutResult sim = simulated(e, tool, res, 150, 97);  // not the planner's 201 around x 0.25 mm
   EXPECT_EQ(sim.untouched, 0);
   EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.001);
   EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
