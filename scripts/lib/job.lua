@@ -1136,7 +1136,7 @@ function Job:simulate_blade(o)
     end
     local at = r.overcut_pass and near_moves[r.overcut_pass]
     local region = {name = name, material_left_max_mm = r.residual_max, material_left_min_mm = r.residual_min,
-                    overcut_mm = r.overcut, unreached = r.untouched, samples = samples, map = r.map,
+                    overcut_mm = r.overcut, unreached = r.untouched, samples = samples, map = r.map, seconds = r.seconds,
                     overcut_move = at and at[r.overcut_pose] or nil,
                     tile = {map = r.map, transpose = spec.transpose}}
     regions[#regions + 1] = region

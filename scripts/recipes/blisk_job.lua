@@ -222,10 +222,11 @@ if with_edges and with_hub and args.blade_map ~= false and args.blade_map ~= "fa
     report.blade_map.regions[#report.blade_map.regions + 1] = {name = r.name,
       material_left_max_mm = r.material_left_max_mm, material_left_min_mm = r.material_left_min_mm,
       overcut_mm = r.overcut_mm, overcut_move = r.overcut_move, unreached = r.unreached, samples = r.samples}
-    print(string.format("  blade 1 map, %-14s material left %s, overcut %.2f um%s, unreached %d of %d", r.name .. ":",
+    print(string.format("  blade 1 map, %-14s material left %s, overcut %.2f um%s, unreached %d of %d (%.1f s)", r.name .. ":",
                         r.material_left_max_mm and string.format("%.2f..%.2f um", 1e3 * r.material_left_min_mm,
                           1e3 * r.material_left_max_mm) or "none reached", 1e3 * r.overcut_mm,
-                        r.overcut_move and string.format(" (job move %d)", r.overcut_move) or "", r.unreached, r.samples))
+                        r.overcut_move and string.format(" (job move %d)", r.overcut_move) or "", r.unreached, r.samples,
+                        r.seconds))
   end
   -- The scale: twice the drum finish's residual (the fillet's ball radius is clamped to it).
   bm.map:write_png("blisk_job_blade1_map.png", {title = "Blade 1 after the job: material left (mm; red above the design, "
