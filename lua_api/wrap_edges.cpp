@@ -560,7 +560,9 @@ int w_plan_simulate(lua_State* L) {
       map.cols = u.samples_v;
       map.values = u.residual_mm;
       HeatMapOptions h;
-      h.title = "Edge region after the edge finish: material left (mm), u around the edge, v along the span";
+      h.title = "Edge region after the edge finish: material left (mm)";
+      h.u_label = "u (around the edge)";
+      h.v_label = "v (span, hub to tip)";
       h.value_label = "mm";
       char footer[240];
       std::snprintf(footer, sizeof footer,

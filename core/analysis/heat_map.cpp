@@ -118,10 +118,10 @@ std::string heat_map_svg(const HeatMap& map, const HeatMapOptions& o) {
            "\" text-anchor=\"end\">" + fmt("%.2f", f) + "</text>\n";
   }
   out += "<text x=\"" + fmt("%.1f", left + W / 2) + "\" y=\"" + fmt("%.1f", top + H + 36) +
-         "\" text-anchor=\"middle\">v (chord)</text>\n";
+         "\" text-anchor=\"middle\">" + xml_escape(o.v_label) + "</text>\n";
   out += "<text x=\"20\" y=\"" + fmt("%.1f", top + H / 2) +
          "\" text-anchor=\"middle\" transform=\"rotate(-90 20 " + fmt("%.1f", top + H / 2) +
-         ")\">u (span, hub to tip)</text>\n";
+         ")\">" + xml_escape(o.u_label) + "</text>\n";
   // Colour bar, K from -m (bottom) to m (top).
   const double lh = H / o.levels;
   for (int l = 0; l < o.levels; ++l)
@@ -190,7 +190,8 @@ RgbImage heat_map_raster(const HeatMap& map, const HeatMapOptions& o) {
     im.fill(L.plot_x - 5, y, L.plot_x - 1, y + 1, black);
     im.text(L.plot_x - 8 - text_width(label), y - 3, label, black);
   }
-  const std::string v_label = "v (chord)", u_label = "u (span, hub to tip)";
+  const std::string& v_label = o.v_label;
+  const std::string& u_label = o.u_label;
   im.text(L.plot_x + W / 2 - text_width(v_label) / 2, L.plot_y + H + 22, v_label, black);
   im.text(14, L.plot_y + H / 2 + text_width(u_label) / 2, u_label, black, 1, true);
   // Colour bar: level l's band of rows, -m at the bottom.

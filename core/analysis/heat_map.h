@@ -29,6 +29,10 @@ struct HeatMapOptions {
   std::string title;
   std::string value_label;  // over the colour bar, e.g. "K (mm^-2)"
   std::string footer;       // one line under the plot
+  // The axes: v across, u up (a flank's chord and span; an edge region's
+  // span and the way round the edge).
+  std::string v_label = "v (chord)";
+  std::string u_label = "u (span, hub to tip)";
   double scale_max = 0;     // > 0: fixed scale [-scale_max, scale_max]; values beyond are clamped
   int plot_width_px = 800;
   int plot_height_px = 320;

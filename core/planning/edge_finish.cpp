@@ -787,9 +787,10 @@ constexpr int kSimulatedInfillRounds = 2;
 
 // Where the rows (sorted by v) as checked leave more than e2 on the edge
 // region over the window — their cutting passes simulated by the
-// independent simulation's method (core/sim simulate_undercut), 0.25 mm
-// along the span (rows are 1-3 mm apart; what they leave between them spans
-// most of that) and kGapSamples around — as partial rows to add: each at
+// independent simulation's method (core/sim simulate_undercut), 0.1 mm
+// along the span (the triangles the rows leave at their ends narrow to a
+// point: at 0.25 mm a 27 um one on the built-in TE went unseen) and
+// kGapSamples around — as partial rows to add: each at
 // half-way between the two rows around the part left (at the window's end
 // above the last row), over the u intervals left, padded by two samples.
 struct SimulatedGap {
@@ -814,7 +815,7 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std:
                 rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * i / 32)).norm();
   UndercutOptions o;
   o.samples_u = kGapSamples + 1;
-  o.samples_v = std::clamp(static_cast<int>(span_mm / 0.25), 16, 2000);
+  o.samples_v = std::clamp(static_cast<int>(span_mm / 0.1), 16, 2000);
   o.v0 = rq.v0;
   o.v1 = rq.v1;
   o.threads = rq.threads;

@@ -262,7 +262,7 @@ TEST(EdgeFinishTest, PartialRowsGoWhereTheSimulatedRowsLeaveMoreThanE2) {
   EXPECT_EQ(res.total_refusals, 0);
   EXPECT_EQ(res.refused_links, 0);
   EXPECT_GT(res.simulated_infill_rows, 0);
-  const UndercutResult sim = simulated(e, tool, res, 150, 97);  // not the planner's 201 around x 0.25 mm
+  const UndercutResult sim = simulated(e, tool, res, 150, 97);  // not the planner's 201 around x 0.1 mm
   EXPECT_EQ(sim.untouched, 0);
   EXPECT_LE(sim.undercut_max_mm, rq.band.e2_mm + 0.001);
   EXPECT_GE(sim.overcut_mm, rq.band.e1_mm - 0.001);
