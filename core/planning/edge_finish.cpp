@@ -780,8 +780,6 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
   return strip;
 }
 
-}  // namespace
-
 // How many times the rows are simulated for material left (below).
 constexpr int kSimulatedInfillRounds = 2;
 
@@ -857,6 +855,8 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std:
   }
   return out;
 }
+
+}  // namespace
 
 EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& progress) {
   validate(request);
