@@ -68,16 +68,9 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   CollisionWorld world;
   world.add("hub", tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.02));
   const Tool tool = mill(3, 0.5);
-  EdgeFinishRequest rq;
-  rq.edge = e.surface;
-  rq.first = er.first;
-  rq.second = er.second;
-  rq.tool = &tool;
-  rq.world = &world;
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.45, 0.55);
   rq.sampling.half_width_mm = 4;
   rq.sampling.gouge_half_mm = 4;
-  rq.v0 = 0.45;
-  rq.v1 = 0.55;
   const EdgeFinishResult res = plan_edge_finish(rq);
   ASSERT_GE(res.rows.size(), 2u);
   EXPECT_EQ(res.total_refusals, 0);
@@ -157,19 +150,11 @@ TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCas
   // about those; a world with the hub tilts the shank off it near the hub).
   const CollisionWorld world;
   const Tool tool = mill(3, 0.5);
-  EdgeFinishRequest rq;
-  rq.edge = e.surface;
-  rq.first = er.first;
-  rq.second = er.second;
-  rq.tool = &tool;
-  rq.world = &world;
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.05, 0.99);
   rq.hub = hub;
   rq.casing = casing;
-  rq.v0 = 0.05;
-  rq.v1 = 0.99;
   rq.l_count = 2;  // fewer positions to weigh: the window is what is tested
   rq.sampling.across = 41;
-  rq.threads = 2;
   const EdgeFinishResult res = plan_edge_finish(rq);
   ASSERT_FALSE(res.rows.empty());
   EXPECT_GT(res.v0, rq.v0);
