@@ -117,14 +117,17 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
         }
       }
       const ToolPose pose = place_tool(body.tool(), contact, axis);
-      if (s.pose_filter) {
-        const std::string why = s.pose_filter(pose);
-        if (!why.empty()) {
-          ++filtered;
-          last_filtered = at + why;
-          continue;
-        }
-      }
+      // The operation's own test (either filter): counted, and the last
+      // refusal kept for the report.
+      auto refused_by = [&](const std::function<std::string(const ToolPose&)>& filter) {
+        if (!filter) return false;
+        const std::string why = filter(pose);
+        if (why.empty()) return false;
+        ++filtered;
+        last_filtered = at + why;
+        return true;
+      };
+      if (refused_by(s.pose_filter)) continue;
       // Horizon 0: only clear / not clear matters here (fastest query).
       const PoseCheck check = world.check(body, pose, s.clearances, 0);
       if (!check.clear) {
@@ -147,14 +150,7 @@ TiltOutcome tilt_until_clear(const CollisionWorld& world, const ToolBody& body, 
           continue;
         }
       }
-      if (s.clear_pose_filter) {
-        const std::string why = s.clear_pose_filter(pose);
-        if (!why.empty()) {
-          ++filtered;
-          last_filtered = at + why;
-          continue;
-        }
-      }
+      if (refused_by(s.clear_pose_filter)) continue;
       TiltOutcome out;
       out.accepted = true;
       out.pose = TiltAccepted{index, pose, lead, tilt, check, tries};
