@@ -166,6 +166,10 @@ struct PlannedRow {
   // Where the row is cut, in v order (row.v unless it is a partial row cut
   // after the row above it: see the simulated partial rows).
   std::optional<double> cut_after_v;
+  // Per pose of row.poses (in planned order): clear_row proved it against
+  // the design guards as it stands (clear, lifted clear, or tilted clear),
+  // so the checks need not sweep the guards over it again.
+  std::vector<char> design_proved;
   StripSamples flanks;  // the row's flank samples (flank_samples)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
@@ -569,24 +573,33 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
 // retract proves (the built-in LE's pressure side, every row). The hints
 // are carried both ways along the row and the way with fewer flips kept
 // (then the one whose narrowest strip is wider).
-void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinishRow& row) {
-  auto tilted_along = [&](bool backwards, int& tilted) {
-    std::vector<EdgeFinishPose> poses = row.poses;
+void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow& pr) {
+  EdgeFinishRow& row = pr.row;
+  struct Along {
+    std::vector<EdgeFinishPose> poses;
+    std::vector<char> proved;  // PlannedRow::design_proved
+    int tilted = 0;
+  };
+  auto tilted_along = [&](bool backwards) {
+    Along a{row.poses, std::vector<char>(row.poses.size(), 0), 0};
     TiltAccepted last;
     last.index = -1;
-    tilted = 0;
-    const size_t n = poses.size();
+    const size_t n = a.poses.size();
     for (size_t k = 0; k < n; ++k) {
-      EdgeFinishPose& p = poses[backwards ? n - 1 - k : k];
+      const size_t i = backwards ? n - 1 - k : k;
+      EdgeFinishPose& p = a.poses[i];
       if (within_reach(rq, p.pose) && rq.world->check(checks.body, p.pose, rq.clearances, 0).clear &&
-          (checks.gouge(*rq.tool, p.pose).empty() || lift_clear(rq, checks, p)))
+          (checks.gouge(*rq.tool, p.pose).empty() || lift_clear(rq, checks, p))) {
+        a.proved[i] = 1;
         continue;
+      }
       const TiltOutcome t = clear_alternative(rq, checks, p, last.index >= 0 ? &last : nullptr);
       if (!t.accepted) continue;
+      a.proved[i] = 1;  // the tilt accepts only axes the guards pass (lifted if need be)
       last = t.pose;
-      ++tilted;
+      ++a.tilted;
     }
-    return poses;
+    return a;
   };
   auto flips = [](const std::vector<EdgeFinishPose>& poses) {
     int f = 0;
@@ -598,18 +611,16 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinish
     for (const EdgeFinishPose& p : poses) w = std::min(w, p.width_mm);
     return w;
   };
-  int tilted = 0;
-  std::vector<EdgeFinishPose> best = tilted_along(false, tilted);
-  if (flips(best) > 0) {
-    int tilted_back = 0;
-    std::vector<EdgeFinishPose> back = tilted_along(true, tilted_back);
-    if (flips(back) < flips(best) || (flips(back) == flips(best) && narrowest(back) > narrowest(best))) {
+  Along best = tilted_along(false);
+  if (flips(best.poses) > 0) {
+    Along back = tilted_along(true);
+    if (flips(back.poses) < flips(best.poses) ||
+        (flips(back.poses) == flips(best.poses) && narrowest(back.poses) > narrowest(best.poses)))
       best = std::move(back);
-      tilted = tilted_back;
-    }
   }
-  row.poses = std::move(best);
-  row.tilted_contacts += tilted;
+  row.poses = std::move(best.poses);
+  pr.design_proved = std::move(best.proved);
+  row.tilted_contacts += best.tilted;
 }
 
 // How far a row's strips reach at u towards higher v (`up`: their right
@@ -677,7 +688,7 @@ PlannedRow infill_row(const EdgeFinishRequest& rq, const PoseChecks& checks, dou
   PlannedRow pr = plan_row(rq, v, ls, false, progress, &where);
   emit_poses(rq, v, ls, pr);
   pr.row.infill = true;
-  clear_row(rq, checks, pr.row);
+  clear_row(rq, checks, pr);
   return pr;
 }
 
@@ -1003,7 +1014,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   {
     Progress quiet(&progress);
     run_parallel(planned.size(), rq.threads, quiet, "edge finish tilting",
-                 [&](size_t k, Progress&) { clear_row(rq, checks, planned[k].row); });
+                 [&](size_t k, Progress&) { clear_row(rq, checks, planned[k]); });
   }
   {
     // Each pair of rows on its own, pairs on rq.threads workers (each
@@ -1060,6 +1071,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       std::reverse(candidates.begin(), candidates.end());
       for (size_t j = 0; j < n; ++j) candidates[j].break_before = j > 0 && breaks[n - j];
     }
+    std::vector<char> proved = pr.design_proved;
+    proved.resize(candidates.size(), 0);
+    if (row.reversed) std::reverse(proved.begin(), proved.end());
     int segment = 0;
     long last = -1;  // index in row.poses of the previous emitted pose of this pass
     long last_candidate = -1;  // ... and in candidates
@@ -1082,7 +1096,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       std::string reason;
       if (!pc.clear) reason = describe(pc, *rq.world);
       else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
-      else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
+      else if (!proved[ci] && !(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
         reason.clear();
         lifted_here[ci] = 1;  // its pair sweeps above were of the pose before the lift
       }
