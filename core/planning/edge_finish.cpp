@@ -1084,7 +1084,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     // neither was tilted.
     std::vector<char> pair_gouges(candidates.size(), 0);
     for (size_t k = 0; k + 1 < candidates.size(); ++k) pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]);
-    std::vector<char> lifted_here(candidates.size(), 0);
+    // Poses this pass moved (lifted or tilted): the pair sweeps above were
+    // of where they stood before.
+    std::vector<char> changed_here(candidates.size(), 0);
     for (size_t ci = 0; ci < candidates.size(); ++ci) {
       EdgeFinishPose& p = candidates[ci];
       row_progress.check();
@@ -1092,13 +1094,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
         ++segment;
         last = -1;
       }
-      const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
+      // A pose clear_row proved (clear of the world within reach, and of
+      // the design guards) is taken as proved: the same queries again.
       std::string reason;
-      if (!pc.clear) reason = describe(pc, *rq.world);
-      else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
-      else if (!proved[ci] && !(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
-        reason.clear();
-        lifted_here[ci] = 1;  // its pair sweeps above were of the pose before the lift
+      if (!proved[ci]) {
+        const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
+        if (!pc.clear) reason = describe(pc, *rq.world);
+        else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
+        else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
+          reason.clear();
+          changed_here[ci] = 1;  // its pair sweeps above were of the pose before the lift
+        }
       }
       if (reason.empty() && last >= 0 &&
           !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
@@ -1119,6 +1125,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       }
       if (tilt.accepted) {
         reason.clear();
+        changed_here[ci] = 1;
         ++row.tilted_contacts;
         last_tilt = tilt.pose;
         // A tilted pose is a different family from its neighbours: reach it
@@ -1140,9 +1147,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       }
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
       // pose after a refused one): otherwise reach this pose by a link.
-      const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !p.tilted &&
-                              !candidates[static_cast<size_t>(last_candidate)].tilted && !lifted_here[ci] &&
-                              !lifted_here[static_cast<size_t>(last_candidate)];
+      const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !changed_here[ci] &&
+                              !changed_here[static_cast<size_t>(last_candidate)];
       if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
                         (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
