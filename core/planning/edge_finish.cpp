@@ -560,6 +560,62 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
   return narrowest;
 }
 
+// refine_row for the tilted poses clear_row made: contacts were stepped for
+// the planned positions' chord height, but a tilted pose cuts with the
+// corner torus, whose centre runs on a round of radius ρ + r (0.9 mm on the
+// built-in LE's 0.4 mm round with r 0.5) and sags ~2 um between contacts
+// stepped for 1 um on the round — every such motion dipped below e1 and
+// became a link (1092 of the built-in LE's 1571 links). Between two tilted
+// poses whose motion dips below e1, a contact is inserted half-way with the
+// blended lead and side-slip, proved as clear_row proves a pose (world,
+// reach, design guards with a lift, condition ① and ② on its strip); where
+// the blend is not clear the pair stays a link, as before.
+void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow& pr) {
+  constexpr int kMaxInserted = 6;  // per original pair: the sag falls 4x per halving
+  std::vector<EdgeFinishPose>& poses = pr.row.poses;
+  std::vector<char>& proved = pr.design_proved;
+  size_t i = 0;
+  int inserted_here = 0;
+  while (i + 1 < poses.size()) {
+    const EdgeFinishPose& a = poses[i];
+    const EdgeFinishPose& b = poses[i + 1];
+    if (!a.tilted || !b.tilted || !proved[i] || !proved[i + 1] || b.break_before || std::abs(b.u - a.u) < 1e-7 ||
+        inserted_here >= kMaxInserted || motion_deepest(a, b, *a.strip, *b.strip) >= rq.band.e1_mm) {
+      ++i;
+      inserted_here = 0;
+      continue;
+    }
+    EdgeFinishPose m;
+    m.u = 0.5 * (a.u + b.u);
+    m.v = a.v;
+    m.position = {EdgeContact::Corner, 0, 0.5 * (a.position.lead_rad + b.position.lead_rad),
+                  a.position.side_slip_rad +
+                      0.5 * std::remainder(b.position.side_slip_rad - a.position.side_slip_rad, 2 * kPi)};
+    const EdgeFrame f = edge_frame(rq.edge->eval(m.u, m.v));
+    m.strip = make_strip(rq, f, m.u, m.v, pr.flanks);
+    m.pose = m.strip->pose(m.position);
+    m.contact = f.point;
+    m.normal = f.z;
+    m.inserted = m.tilted = true;
+    const StripWidth w = m.strip->width(m.position);
+    m.width_mm = w.width_mm;
+    m.left_mm = w.left_mm;
+    m.right_mm = w.right_mm;
+    const bool ok = !w.gouges && w.touches && within_reach(rq, m.pose) &&
+                    rq.world->check(checks.body, m.pose, rq.clearances, 0).clear &&
+                    (checks.gouge(*rq.tool, m.pose).empty() || lift_clear(rq, checks, m));
+    if (!ok) {  // the blend is not proved: the pair stays a link
+      ++i;
+      inserted_here = 0;
+      continue;
+    }
+    poses.insert(poses.begin() + static_cast<long>(i) + 1, std::move(m));
+    proved.insert(proved.begin() + static_cast<long>(i) + 1, 1);
+    ++pr.row.inserted_contacts;
+    ++inserted_here;
+  }
+}
+
 // Each pose of a row that is not clear of the world tilted clear where it
 // can be (clear_alternative, each contact hinted by the row's last tilted
 // one, in u order), before the rows are checked in cutting order: the
@@ -621,6 +677,7 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow
   row.poses = std::move(best.poses);
   pr.design_proved = std::move(best.proved);
   row.tilted_contacts += best.tilted;
+  refine_tilted(rq, checks, pr);
 }
 
 // How far a row's strips reach at u towards higher v (`up`: their right
