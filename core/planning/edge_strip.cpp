@@ -162,22 +162,57 @@ double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to
   return t < 0 ? t : cap_mm;
 }
 
-StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+namespace {
+
+// Condition ① over ps: the smallest of each sample's signed distance where
+// it is outside the cutter and its directed distance where inside. With
+// tiles, a tile wholly outside the cutter counts as its lower bound (>= 0):
+// the result is the same wherever it is below 0.
+double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const std::vector<Vec3>& ps,
+                      const std::vector<Vec3>& ns, const std::vector<SampleTile>* tiles, double cap) {
+  double deepest = std::numeric_limits<double>::infinity();
+  auto range = [&](size_t a, size_t b) {
+    for (size_t i = a; i < b; ++i) {
+      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
+      deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
+    }
+  };
+  if (!tiles) {
+    range(0, ps.size());
+    return deepest;
+  }
+  for (const SampleTile& t : *tiles) {
+    const double outside = cutter.signed_distance(Vec3(to_tool * t.centre)) - t.radius;
+    if (outside > 0) deepest = std::min(deepest, outside);
+    else range(t.begin, t.end);
+  }
+  return deepest;
+}
+
+std::vector<SampleTile> tile_samples(const std::vector<Vec3>& ps) {
+  constexpr size_t kTile = 16;
+  std::vector<SampleTile> tiles;
+  for (size_t a = 0; a < ps.size(); a += kTile) {
+    SampleTile t;
+    t.begin = a;
+    t.end = std::min(ps.size(), a + kTile);
+    for (size_t i = t.begin; i < t.end; ++i) t.centre += ps[i];
+    t.centre /= static_cast<double>(t.end - t.begin);
+    for (size_t i = t.begin; i < t.end; ++i) t.radius = std::max(t.radius, (ps[i] - t.centre).norm());
+    tiles.push_back(t);
+  }
+  return tiles;
+}
+
+StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
+                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles) {
   StripWidth w;
-  const FlatEnd cutter = flat_end_of(tool);
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
   const double cap = 2 * (band.e2_mm - band.e1_mm);
   // ① every sample: cheap signed distance first, the directed one only where
   // the sample is inside the cutter.
-  w.deepest_mm = std::numeric_limits<double>::infinity();
-  auto screen = [&](const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
-    for (size_t i = 0; i < ps.size(); ++i) {
-      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
-      w.deepest_mm = std::min(w.deepest_mm, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
-    }
-  };
-  screen(smp.p, smp.n);
-  screen(smp.gouge_p, smp.gouge_n);
+  w.deepest_mm = std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
+                          screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
   if (w.deepest_mm < band.e1_mm) {
     w.gouges = true;
     return w;
@@ -215,32 +250,44 @@ StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSample
   return w;
 }
 
-double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
-  const FlatEnd cutter = flat_end_of(tool);
+double deepest_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
+                  const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles) {
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
   const double cap = 2 * (band.e2_mm - band.e1_mm);
-  double deepest = std::numeric_limits<double>::infinity();
-  auto screen = [&](const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
-    for (size_t i = 0; i < ps.size(); ++i) {
-      const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
-      deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
-    }
-  };
-  screen(smp.p, smp.n);
-  screen(smp.gouge_p, smp.gouge_n);
-  return deepest;
+  return std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
+                  screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
 }
 
-double ContactStrip::deepest(const ToolPose& pose) const { return deepest_distance(tool_, pose, samples_, band_); }
+}  // namespace
+
+StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+  return width_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr);
+}
+
+double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
+  return deepest_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr);
+}
+
+double ContactStrip::deepest(const ToolPose& pose) const {
+  return deepest_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_);
+}
 
 ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band)
-    : tool_(tool), flat_(flat_end_of(tool)), frame_(frame), samples_(std::move(samples)), band_(band) {}
+    : tool_(tool),
+      flat_(flat_end_of(tool)),
+      frame_(frame),
+      samples_(std::move(samples)),
+      band_(band),
+      tiles_(tile_samples(samples_.p)),
+      gouge_tiles_(tile_samples(samples_.gouge_p)) {}
 
 ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }
 
 StripWidth ContactStrip::width(const EdgePosition& pos) const { return width(pose(pos)); }
 
-StripWidth ContactStrip::width(const ToolPose& pose) const { return strip_width(tool_, pose, samples_, band_); }
+StripWidth ContactStrip::width(const ToolPose& pose) const {
+  return width_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_);
+}
 
 namespace {
 

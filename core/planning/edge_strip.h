@@ -130,7 +130,10 @@ struct Band {
 
 struct StripWidth {
   bool gouges = false;       // condition ① violated somewhere
-  double deepest_mm = 0;     // smallest directed distance over all samples
+  // Smallest directed distance over all samples — exact where it is below
+  // 0; where no sample is inside the cutter a ContactStrip may report a
+  // lower bound >= 0 instead (it screens samples by tiles).
+  double deepest_mm = 0;
   bool touches = false;      // condition ②
   double left_mm = 0, right_mm = 0;  // strip extent towards -pv / +pv from C
   double width_mm = 0;       // left + right; 0 when gouging or not touching
@@ -165,6 +168,15 @@ struct SearchResult {
 template <class F>
 SearchResult search_side_slip(F width, const SideSlipSearch& s);
 
+// A run of consecutive samples (neighbours on the surface) within `radius`
+// of `centre`: the cutter's signed distance is 1-Lipschitz, so a tile whose
+// centre is more than its radius outside the cutter has no sample inside.
+struct SampleTile {
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+  size_t begin = 0, end = 0;
+};
+
 // One contact: samples + the width of any bottom/corner position there.
 class ContactStrip {
  public:
@@ -184,6 +196,9 @@ class ContactStrip {
   EdgeFrame frame_;
   StripSamples samples_;
   Band band_;
+  // Condition ① screens thousands of samples per pose (the flanks' and the
+  // region's beyond the strip), most far outside the cutter: by tiles.
+  std::vector<SampleTile> tiles_, gouge_tiles_;
 };
 
 struct BottomOptimum {

@@ -191,6 +191,47 @@ TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
   EXPECT_FALSE(c.width.gouges);
 }
 
+// ContactStrip screens condition ① by tiles of samples; every sample one
+// by one (strip_width) must give the same verdict, the same width and, where
+// the pose gouges, the same depth — over bottom and corner poses on a convex
+// and a concave wall, gouging or not.
+TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
+  const Cylinder cyl(8, 1.0, 20);
+  const Tool tool = mill(5, 1);
+  const Band band{-0.001, 0.02};
+  StripSampling sm;
+  sm.across = 121;
+  int gouging = 0, cutting = 0;
+  for (bool concave : {false, true}) {
+    const StripSamples samples = sample_strip(cyl, 0.5, 0.5, sm, concave);
+    const ContactStrip strip(tool, edge_frame(cyl.eval(0.5, 0.5), concave), samples, band);
+    for (double phi = -1.5; phi <= 1.5; phi += 0.1)
+      for (const EdgePosition& pos : {EdgePosition{EdgeContact::Bottom, 2.0, 0, phi},
+                                      EdgePosition{EdgeContact::Bottom, 3.5, 0, phi},
+                                      EdgePosition{EdgeContact::Corner, 0, 0.3, phi},
+                                      EdgePosition{EdgeContact::Corner, 0, 1.0, phi}}) {
+        const ToolPose pose = strip.pose(pos);
+        const StripWidth tiled = strip.width(pose);
+        const StripWidth each = strip_width(tool, pose, samples, band);
+        ASSERT_EQ(tiled.gouges, each.gouges);
+        EXPECT_EQ(tiled.touches, each.touches);
+        EXPECT_EQ(tiled.width_mm, each.width_mm);
+        EXPECT_EQ(tiled.left_mm, each.left_mm);
+        if (each.deepest_mm < 0) {
+          EXPECT_EQ(tiled.deepest_mm, each.deepest_mm);
+          EXPECT_EQ(strip.deepest(pose), deepest_distance(tool, pose, samples, band));
+        } else {
+          EXPECT_GE(tiled.deepest_mm, 0);
+          EXPECT_LE(tiled.deepest_mm, each.deepest_mm);
+        }
+        gouging += each.gouges ? 1 : 0;
+        cutting += each.width_mm > 0 ? 1 : 0;
+      }
+  }
+  EXPECT_GT(gouging, 10);  // both verdicts are exercised
+  EXPECT_GT(cutting, 10);
+}
+
 TEST(EdgeStripTest, SideSlipSearchFindsTheMaximumFromBothSides) {
   const SideSlipSearch s;
   const double peak = 0.3;
