@@ -247,28 +247,44 @@ ProfilePoint Profile::closest_point(const Vec2& rz) const {
 // closest_point takes four arc tangents and two fmods; squared distances,
 // one square root.
 double Profile::signed_distance(const Vec2& rz) const {
+  // The solid is convex: where the nearest point lies inside an element (not
+  // on a vertex), the side of that element's line or circle says whether rz
+  // is inside; only at a vertex is R(z) asked (a loop over the elements).
   double best2 = std::numeric_limits<double>::infinity();
+  int side = 0;  // of the nearest element where decided: -1 inside, +1 outside, 0 ask R(z)
   for (const ProfileElement& e : elements_) {
     double d2;
+    int s = 0;
     if (e.kind == ProfileElement::Kind::Segment) {
       const Vec2 d = e.end - e.start;
       const double len2 = d.squaredNorm();
-      const double u = len2 > 0 ? std::clamp((rz - e.start).dot(d) / len2, 0.0, 1.0) : 0.0;
-      d2 = (rz - (e.start + u * d)).squaredNorm();
+      const double t = len2 > 0 ? (rz - e.start).dot(d) / len2 : 0.0;
+      const double u = std::clamp(t, 0.0, 1.0);
+      const Vec2 off = rz - (e.start + u * d);
+      d2 = off.squaredNorm();
+      // Outward normal of a chain run with the solid on its left: (d_z, -d_r).
+      if (t > 0 && t < 1) s = off.x() * d.y() - off.y() * d.x() > 0 ? 1 : -1;
     } else {
       const Vec2 rel = rz - e.centre;
       if (cross2(e.start - e.centre, rel) >= 0 && cross2(rel, e.end - e.centre) >= 0) {
         const double g = rel.norm() - e.radius;
         d2 = g * g;
+        s = g > 0 ? 1 : -1;
       } else {
         d2 = std::min((rz - e.start).squaredNorm(), (rz - e.end).squaredNorm());
       }
     }
-    best2 = std::min(best2, d2);
+    if (d2 < best2) {
+      best2 = d2;
+      side = s;
+    } else if (d2 == best2 && s != side) {
+      side = 0;  // a tie between elements: let R(z) decide
+    }
   }
   const double d = std::sqrt(best2);
-  const bool inside = rz.y() > z_min_ && rz.y() < z_max_ && rz.x() < radius_at(rz.y());
-  return inside ? -d : d;
+  if (side == 0) side = rz.y() > z_min_ && rz.y() < z_max_ && rz.x() < radius_at(rz.y()) ? -1 : 1;
+  if (d == 0) return 0;
+  return side < 0 ? -d : d;
 }
 
 double Profile::signed_distance(const Vec3& p) const {

@@ -196,7 +196,9 @@ TEST(Tools, SignedDistanceMatchesBruteForceOnSampledSurface) {
 
 // The distance-only signed distance (wedge tests instead of angles) is the
 // distance to the closest point, for every tool, near and far, on and off
-// the axis and at the arcs' centres.
+// the axis, at the arcs' centres and a micrometre around every vertex; and
+// negative exactly where the point is inside the solid (r < R(z)) — the
+// sign is taken from the nearest element's side, R(z) asked only at vertices.
 TEST(Profile, SignedDistanceIsTheDistanceToTheClosestPoint) {
   std::mt19937 rng(11);
   for (const Tool& tool : every_tool()) {
@@ -205,13 +207,24 @@ TEST(Profile, SignedDistanceIsTheDistanceToTheClosestPoint) {
     std::uniform_real_distribution<double> uz(p.z_min() - 2, p.z_max() + 2);
     std::vector<Vec2> points;
     for (int k = 0; k < 4000; ++k) points.emplace_back(ur(rng), uz(rng));
-    for (const ProfileElement& e : p.elements())
+    for (const ProfileElement& e : p.elements()) {
       if (e.kind == ProfileElement::Kind::Arc) points.push_back(e.centre);
+      for (double dr : {-1e-3, 0.0, 1e-3})
+        for (double dz : {-1e-3, 0.0, 1e-3})
+          if (e.start.x() + dr >= 0) points.push_back(e.start + Vec2(dr, dz));
+    }
+    int inside_count = 0;
     for (const Vec2& q : points) {
       const double expected = (p.closest_point(q).point - q).norm();
-      EXPECT_NEAR(std::abs(p.signed_distance(q)), expected, 1e-12 * std::max(1.0, expected))
+      const double sd = p.signed_distance(q);
+      EXPECT_NEAR(std::abs(sd), expected, 1e-12 * std::max(1.0, expected))
           << tool.description() << " at r " << q.x() << " z " << q.y();
+      if (expected < 1e-12) continue;  // on the profile: either sign
+      const bool inside = q.y() > p.z_min() && q.y() < p.z_max() && q.x() < p.radius_at(q.y());
+      EXPECT_EQ(sd < 0, inside) << tool.description() << " at r " << q.x() << " z " << q.y();
+      inside_count += inside ? 1 : 0;
     }
+    EXPECT_GT(inside_count, 100) << tool.description();
   }
 }
 
