@@ -206,6 +206,8 @@ struct EdgeFinishResult {
   int infill_rows = 0;           // partial rows among `rows` (EdgeFinishRow::infill)
   int lifted_contacts = 0;       // emitted poses lifted off by < 3 um (EdgeFinishPose::lift_mm)
   int simulated_infill_rows = 0; // of infill_rows: where the simulated rows left more than e2
+  // rows_seconds: the bottom method's rows and the window's fit to the hub
+  // (rows planned for their margin from it).
   double rows_seconds = 0, checks_seconds = 0, side_seconds = 0;
   double clear_seconds = 0;      // tilting clear of the world and the partial rows
   double simulation_seconds = 0; // of checks_seconds: the rows simulated for material left
