@@ -122,6 +122,17 @@ int w_plan_report(lua_State* L) {
   lua_setfield(L, -2, "z");
   luax::set_number(L, "pitch", r.pitch_rad * 180 / kPi);
   luax::set_number(L, "poses", r.root.poses + r.channel.poses);
+  lua_createtable(L, 0, 8);
+  luax::set_bool(L, "clear", r.join.clear);
+  luax::set_number(L, "legs", r.join.clear ? static_cast<double>(r.join.poses.size() + 1) : 0);
+  luax::set_string(L, "route", r.join_route);
+  luax::set_number(L, "offset", r.join_offset_mm);
+  luax::set_number(L, "margin", r.join_margin_mm);
+  luax::set_string(L, "margin_at", r.join_margin_at);
+  luax::set_number(L, "deepest_cut", r.join_deepest_cut_mm);
+  luax::set_string(L, "reason", r.join.reason);
+  luax::set_number(L, "seconds", r.join_seconds);
+  lua_setfield(L, -2, "join");
   luax::set_number(L, "guard_spacing", r.guard_spacing_mm);
   luax::set_number(L, "setup_seconds", r.setup_seconds);
   lua_createtable(L, static_cast<int>(r.refusals.size()), 0);
@@ -139,23 +150,17 @@ int w_plan_report(lua_State* L) {
 }
 
 // plan:moves([part]) -> {{kind =, motion =, tip =, axis =, row =}, ...}:
-// "root", "channel", or both (root, then channel); each part up to its
-// first refused connection (nothing unproven is implied).
+// "root" or "channel" (each with its lead-in and lead-out), or the whole
+// program (root, the join, channel); up to the first refused connection
+// (nothing unproven is implied).
 int w_plan_moves(lua_State* L) {
   const LuaHubPlan& p = check_plan(L);
   const std::string part = lua_isnoneornil(L, 2) ? "both" : luax::check_string(L, 2, "part");
   if (part != "both" && part != "root" && part != "channel")
     luax::error(L, "plan:moves: expected \"root\", \"channel\" or nothing (both), got '" + part + "'");
   return luax::guarded(L, [&] {
-    std::vector<DrumFinishMove> moves;
-    for (const HubFinishPart* pp : {&p.result->root, &p.result->channel}) {
-      if (part != "both" && part != hub_finish_op_name(pp->op)) continue;
-      for (const DrumFinishMove& m : hub_finish_moves(*pp)) {
-        if (m.kind == DrumFinishMove::Kind::Stop) break;
-        moves.push_back(m);
-      }
-    }
-    push_finish_moves(L, moves);
+    const HubFinishResult& r = *p.result;
+    push_finish_moves(L, part == "both" ? hub_finish_moves(r) : hub_finish_moves(part == "root" ? r.root : r.channel));
     return 1;
   });
 }

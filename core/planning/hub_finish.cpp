@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <functional>
 #include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
 
 #include "core/common/error.h"
 #include "core/common/parallel.h"
@@ -489,6 +492,157 @@ struct Planner {
     close();
   }
 };
+
+// The channel's route for the join: the pose nearest the middle of each
+// channel row (t = 0.5), `lift_mm` up its axis, from the row nearest
+// z_from to the one nearest z_to, rows at least `spacing_mm` apart in z
+// (the first and last always).
+std::vector<ToolPose> channel_waypoints(const HubFinishPart& channel, double z_from, double z_to, double lift_mm,
+                                        double spacing_mm) {
+  struct Mid {
+    double level = 0, off = 1e300;
+    const HubFinishPose* pose = nullptr;
+  };
+  std::vector<Mid> rows;  // by row, in the channel's row order
+  for (const HubFinishPass& pass : channel.passes) {
+    if (pass.row >= static_cast<int>(rows.size())) rows.resize(static_cast<size_t>(pass.row) + 1);
+    Mid& m = rows[static_cast<size_t>(pass.row)];
+    m.level = pass.level;
+    for (const HubFinishPose& p : pass.poses)
+      if (std::abs(p.t - 0.5) < m.off) m.off = std::abs(p.t - 0.5), m.pose = &p;
+  }
+  std::vector<const Mid*> have;
+  for (const Mid& m : rows)
+    if (m.pose) have.push_back(&m);
+  if (have.empty()) return {};
+  std::sort(have.begin(), have.end(), [](const Mid* a, const Mid* b) { return a->level < b->level; });
+  auto nearest = [&](double z) {
+    size_t best = 0;
+    for (size_t i = 1; i < have.size(); ++i)
+      if (std::abs(have[i]->level - z) < std::abs(have[best]->level - z)) best = i;
+    return best;
+  };
+  const long from = static_cast<long>(nearest(z_from)), to = static_cast<long>(nearest(z_to));
+  const long step = to >= from ? 1 : -1;
+  std::vector<ToolPose> out;
+  double last = 0;
+  for (long i = from;; i += step) {
+    const Mid& m = *have[static_cast<size_t>(i)];
+    if (i == from || i == to || std::abs(m.level - last) >= spacing_mm) {
+      const ToolPose& p = m.pose->pose;
+      out.push_back({p.tip + lift_mm * unit_axis(p.axis), p.axis});
+      last = m.level;
+    }
+    if (i == to) break;
+  }
+  return out;
+}
+
+// How close the tool comes to the part between the join's two retracted
+// poses (the legs that leave and reach the cutting poses touch it by
+// design): the whole tool against the world and both blades' closed
+// surfaces (which the proofs see the cutter against through the guards
+// only), at poses along the legs no tool point moves more than 0.5 mm
+// between, resolved up to 2 mm. Returns the margin and what it is against.
+std::pair<double, std::string> join_clearance(const std::vector<ToolPose>& via, const LinkChecks& checks,
+                                              const CollisionWorld& blades) {
+  constexpr double kStepMm = 0.5, kHorizonMm = 2;
+  std::pair<double, std::string> out{kHorizonMm, "nothing within " + std::to_string(kHorizonMm) + " mm"};
+  const double reach = checks.body->tool().reach();
+  for (size_t i = 0; i + 1 < via.size(); ++i) {
+    const PoseMotion motion(via[i], via[i + 1]);
+    const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(reach) / kStepMm)));
+    for (int k = 0; k <= n; ++k) {
+      const ToolPose pose = motion.pose_at(static_cast<double>(k) / n);
+      for (const CollisionWorld* w : {checks.world, &blades}) {
+        const PoseCheck pc = w->check(*checks.body, pose, checks.clearances, kHorizonMm);
+        if (pc.min_margin_mm < out.first) out = {pc.min_margin_mm, describe(pc, *w)};
+      }
+    }
+  }
+  return out;
+}
+
+// HubFinishResult::join: plan_link from the root's last pose to the
+// channel's first by each route in turn (see hub_finish.h), the first that
+// proves kept.
+void plan_join(HubFinishResult& res, const LinkChecks& checks, const LinkOptions& lo, double ball_r,
+               const CollisionWorld& flute_world) {
+  HubFinishConnection& join = res.join;
+  join.kind = HubFinishConnection::Kind::Link;
+  if (res.root.passes.empty() || res.channel.passes.empty()) {
+    join.reason = "nothing to join: the plan has only one part";
+    return;
+  }
+  const auto t0 = Clock::now();
+  const HubFinishPose& a = res.root.passes.back().poses.back();
+  const HubFinishPose& b = res.channel.passes.front().poses.front();
+  join.from_pass = static_cast<int>(res.root.passes.size()) - 1;
+  join.to_pass = 0;
+  const LinkEnd from{a.pose, a.normal}, to{b.pose, b.normal};
+
+  // Over the blades: both ends far enough up their axes that the tool's
+  // ball is outside the blades' tips by 1 mm more than the chord between
+  // the two raised tips sags towards the axis.
+  double tip_radius = 0;
+  for (const Surface* s : {res.blade_closed.get(), res.next_closed.get()})
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j < 360; ++j) {
+        const Vec3 p = s->point(0.9 + 0.01 * i, j / 360.0);
+        tip_radius = std::max(tip_radius, std::hypot(p.x(), p.y()));
+      }
+  const double turn = std::abs(wrap_near(angle_of(a.pose.tip) - angle_of(b.pose.tip), 0));
+  const double high_radius = tip_radius * (2 - std::cos(0.5 * turn)) + ball_r + 1;
+  double rise_mm = 0;
+  bool can_rise = true;
+  for (const ToolPose* p : {&a.pose, &b.pose}) {
+    const Vec3 radial = Vec3(p->tip.x(), p->tip.y(), 0).normalized();
+    const double outward = unit_axis(p->axis).dot(radial);
+    if (outward < 0.2) can_rise = false;
+    else rise_mm = std::max(rise_mm, (high_radius - p->tip.dot(radial)) / outward - lo.min_retract_mm);
+  }
+
+  struct Route {
+    const char* name;
+    LinkOptions options;
+    std::vector<ToolPose> via;
+  };
+  std::vector<Route> routes;
+  routes.push_back({"through the channel", lo,
+                    channel_waypoints(res.channel, a.centre.z(), res.channel.passes.front().level, lo.retract_mm, 3.0)});
+  routes.push_back({"straight", lo, {}});
+  std::string reasons;
+  if (can_rise) {
+    LinkOptions high = lo;
+    high.axis_retract_mm = std::max(0.0, rise_mm);
+    routes.push_back({"over the blades", high, {}});
+  } else {
+    reasons = "over the blades: an axis leans too far from radial to rise over the tips";
+  }
+  for (const Route& route : routes) {
+    const PlannedLink pl = plan_link(from, to, checks, route.options, route.via);
+    if (!pl.clear) {
+      reasons += (reasons.empty() ? "" : "; ") + std::string(route.name) + ": " + pl.reason;
+      continue;
+    }
+    join.clear = true;
+    join.poses = pl.via;
+    for (size_t i = 0; i < pl.via.size(); ++i) join.motion.push_back(link_leg_name(pl.legs[i]));
+    res.join_route = route.name;
+    res.join_offset_mm = pl.offset_mm;
+    res.join_deepest_cut_mm = pl.deepest_cut_mm;
+    CollisionWorld own;
+    if (flute_world.size() == 0) {  // a short ball end: no flute world to reuse
+      own.add("blade k", tessellate(*res.blade_closed, 0.05), {PartMask{}, 0.05});
+      own.add("blade k+1", tessellate(*res.next_closed, 0.05), {PartMask{}, 0.05});
+    }
+    std::tie(res.join_margin_mm, res.join_margin_at) =
+        join_clearance(pl.via, checks, flute_world.size() ? flute_world : own);
+    break;
+  }
+  if (!join.clear) join.reason = "root to channel: no route proved (" + reasons + ")";
+  res.join_seconds = seconds_since(t0);
+}
 
 }  // namespace
 
@@ -1049,6 +1203,7 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   };
   connect_part(res.root, progress);
   connect_part(res.channel, progress);
+  plan_join(res, checks, lo, r, flute_world);
   // Rows' time shared by the poses each part planned.
   const double total_poses = std::max(1, res.root.poses + res.channel.poses);
   res.root.seconds += rows_seconds * res.root.poses / total_poses;
@@ -1056,7 +1211,11 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   return res;
 }
 
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part) {
+namespace {
+
+// One part's program (hub_finish_moves(part)), without its lead-in or its
+// lead-out where the join replaces them.
+std::vector<DrumFinishMove> part_moves(const HubFinishPart& part, bool lead_in, bool lead_out) {
   std::vector<DrumFinishMove> out;
   auto add = [&](DrumFinishMove::Kind kind, const ToolPose& pose, int row, const std::string& motion,
                  const std::string& reason = "") {
@@ -1073,7 +1232,9 @@ std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part) {
     const HubFinishConnection& c = part.connections[p];
     const int row = part.passes[std::min(p, part.passes.size() - 1)].row;
     std::string reach = "approach";
-    if (!c.clear) {
+    if ((p == 0 && !lead_in) || (p == part.passes.size() && !lead_out)) {
+      // the join's
+    } else if (!c.clear) {
       add(DrumFinishMove::Kind::Stop, ToolPose{}, row, "stop", c.reason);
     } else {
       const DrumFinishMove::Kind kind =
@@ -1089,17 +1250,48 @@ std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part) {
   return out;
 }
 
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishResult& r) {
-  std::vector<DrumFinishMove> out = hub_finish_moves(r.root);
-  const std::vector<DrumFinishMove> ch = hub_finish_moves(r.channel);
-  if (!out.empty() && !ch.empty()) {
+// The whole program in three pieces: the root, the join (its rapids, or a
+// Stop), the channel.
+struct Program {
+  std::vector<DrumFinishMove> root, join, channel;
+};
+Program program_of(const HubFinishResult& r) {
+  Program p;
+  const bool both = !r.root.passes.empty() && !r.channel.passes.empty();
+  const bool joined = both && r.join.clear;
+  p.root = part_moves(r.root, true, !joined);
+  p.channel = part_moves(r.channel, !joined, true);
+  if (!both) return p;
+  const int row = r.channel.passes.front().row;
+  if (joined) {
+    for (const ToolPose& pose : r.join.poses) {
+      DrumFinishMove m;
+      m.kind = DrumFinishMove::Kind::Rapid;
+      m.pose = pose;
+      m.row = row;
+      m.motion = "link";
+      p.join.push_back(std::move(m));
+    }
+  } else {
     DrumFinishMove stop;
     stop.kind = DrumFinishMove::Kind::Stop;
+    stop.row = row;
     stop.motion = "stop";
-    stop.reason = "root finished: the channel follows from its own lead-in (the job links them)";
-    out.push_back(std::move(stop));
+    stop.reason = r.join.reason;
+    p.join.push_back(std::move(stop));
   }
-  out.insert(out.end(), ch.begin(), ch.end());
+  return p;
+}
+
+}  // namespace
+
+std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part) { return part_moves(part, true, true); }
+
+std::vector<DrumFinishMove> hub_finish_moves(const HubFinishResult& r) {
+  Program p = program_of(r);
+  std::vector<DrumFinishMove> out = std::move(p.root);
+  out.insert(out.end(), p.join.begin(), p.join.end());
+  out.insert(out.end(), p.channel.begin(), p.channel.end());
   return out;
 }
 
@@ -1310,12 +1502,25 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
     }
     return out;
   };
-  const std::vector<ToolPass> root = passes_of_moves(hub_finish_moves(result.root)).passes;
-  const std::vector<ToolPass> channel = passes_of_moves(hub_finish_moves(result.channel)).passes;
+  // The join as one pass from the root's last pose to the channel's first.
+  const Program program = program_of(result);
+  std::vector<DrumFinishMove> join_moves;
+  if (result.join.clear && !program.root.empty() && !program.channel.empty()) {
+    join_moves.push_back(program.root.back());
+    join_moves.insert(join_moves.end(), program.join.begin(), program.join.end());
+    join_moves.push_back(program.channel.front());
+  }
+  const std::vector<ToolPass> root = passes_of_moves(program.root).passes;
+  const std::vector<ToolPass> channel = passes_of_moves(program.channel).passes;
+  const std::vector<ToolPass> link = passes_of_moves(join_moves).passes;
   const double pitch = result.pitch_rad;
-  const std::vector<ToolPass> root_passes = join(join(root, channel), turned(channel, -pitch));
-  const std::vector<ToolPass> floor_passes =
-      join(join(join(join(channel, root), turned(root, pitch)), turned(channel, -pitch)), turned(channel, pitch));
+  // Blade k - 1's join runs through channel k - 1, beside blade k's pressure
+  // flank; blade k + 1's starts on its root, beside the floor.
+  const std::vector<ToolPass> root_passes =
+      join(join(join(join(root, link), channel), turned(channel, -pitch)), turned(link, -pitch));
+  const std::vector<ToolPass> floor_passes = join(
+      join(join(join(join(join(channel, root), link), turned(root, pitch)), turned(link, pitch)), turned(channel, -pitch)),
+      turned(channel, pitch));
   if (regions.blade) {
     const Surface& bs = *regions.blade;
     sim.root = simulate_undercut(bs, *rq.tool, near_window(root_passes, bs, regions.root), regions.root, progress);
@@ -1342,10 +1547,19 @@ std::string hub_finish_apt(const HubFinishResult& result, const HubFinishRequest
                 result.root.poses + result.channel.poses, result.refusals.size());
   os << buf;
   os << "MULTAX\n";
-  for (const HubFinishPart* part : {&result.root, &result.channel}) {
-    if (part->passes.empty()) continue;
-    os << "$$ OPERATION " << hub_finish_op_name(part->op) << "\n";
-    write_apt_moves(os, hub_finish_moves(*part), [](int row) { return "$$ ROW " + std::to_string(row) + "\n"; });
+  const Program p = program_of(result);
+  auto rows = [](int row) { return "$$ ROW " + std::to_string(row) + "\n"; };
+  if (!p.root.empty()) {
+    os << "$$ OPERATION root\n";
+    write_apt_moves(os, p.root, rows);
+  }
+  if (!p.join.empty()) {
+    if (result.join.clear) os << "$$ JOIN root to channel (" << result.join_route << ")\n";
+    write_apt_moves(os, p.join, rows, "JOIN REFUSED");
+  }
+  if (!p.channel.empty()) {
+    os << "$$ OPERATION channel\n";
+    write_apt_moves(os, p.channel, rows);
   }
   os << "FINI\n";
   return os.str();

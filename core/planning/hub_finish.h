@@ -200,6 +200,31 @@ struct HubFinishResult {
   std::vector<double> fillet_v, fillet_u;      // the fillet row's contacts on blade_closed, v increasing
   std::vector<double> floor_z, floor_theta0, floor_theta1;  // each floor row: centre z and end angles
   std::vector<double> floor_cell0, floor_cell1;              // and its cell's (the blades' mid-lines)
+  // The root's last pose to the channel's first (both parts planned): a
+  // link as the plan's own between passes (plan_link with `links`, up the
+  // tool axis; every leg proved against the world with the whole tool and
+  // by the gouge guards), by the first route that proves: "through the
+  // channel" (over the middle of the channel's rows from the root's last
+  // height to the channel's first row, links.retract_mm up their axes, rows
+  // >= 3 mm apart: the root ends on blade k's suction flank, the channel
+  // starts in front of its leading edge, and the straight traverse between
+  // them runs through the blade); "straight" (the plan's own link between
+  // passes); "over the blades" (up both axes until the ball is outside the
+  // blades' tips). Its moves replace the root's lead-out and the channel's
+  // lead-in in hub_finish_moves(result). Not clear: the reasons of every
+  // route, and a Stop there.
+  HubFinishConnection join;
+  std::string join_route;           // the route that proved; empty when none did
+  double join_offset_mm = 0;        // its retract up the axes
+  // How close it comes: the smallest margin over its clearance of any tool
+  // part between its two retracted poses, against the world and both
+  // blades' closed surfaces (0.05 mm meshes, that as margin), sampled every
+  // 0.5 mm of tool motion (the minimum within 0.25 mm), resolved up to
+  // 2 mm; and what it is against.
+  double join_margin_mm = 0;
+  std::string join_margin_at;
+  double join_deepest_cut_mm = 0;   // deepest dip below the design the guards measured over its legs (<= 0)
+  double join_seconds = 0;
 };
 
 // Throws ParameterError naming the option for missing surfaces, a tool that
@@ -212,9 +237,11 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& request, Progress& progr
 // lead-in (Rapid), each pass's poses (Feed, "cut"; the first "approach" or
 // "step"), steps (Feed) and links (Rapid) between passes, the lead-out; a
 // Stop with the reason where a connection was refused. With both parts the
-// root's lead-out and the channel's lead-in follow each other (a job links
-// them through its clearance surface): a Stop between them, so that nothing
-// implies a motion from one to the other.
+// root's last pass and the channel's first are joined by `join` (Rapid,
+// "link"; its last leg ends at the channel's first pose, a Feed
+// "approach") in place of the root's lead-out and the channel's lead-in;
+// where no route proved, the lead-out, a Stop with the join's reason and
+// the lead-in: nothing implies a motion from one part to the other.
 std::vector<DrumFinishMove> hub_finish_moves(const HubFinishResult& result);
 std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part);
 

@@ -14,7 +14,9 @@
 -- Rows by the ball's scallop closed form, steps by the chord of the ball
 -- centre's path; every pose tilted clear of the neighbours and the hub
 -- (whole tool), the ball and cone checked against the design surfaces,
--- steps and links proved. Then the simulation (core/sim) of every move on
+-- steps and links proved; the root's last pose joined to the channel's
+-- first by a proved link (through the channel, round the leading edge).
+-- Then the simulation (core/sim) of every move on
 -- blade 1's closed surface over the root strip and on the hub around the
 -- channel, the neighbours' copies of the plan included (the blisk is
 -- periodic: a job turns this plan onto every blade).
@@ -62,13 +64,21 @@ print(string.format("  root: fillet of r %.2f mm left in the sharp corner (the f
                     .. "above the hub); rows %.3f..%.3f mm above the hub", r.fillet.radius, r.fillet.contact_min,
                     r.fillet.contact_max, r.heights[1], r.heights[2]))
 print(string.format("  channel: z %.1f..%.1f mm, pitch %.3f deg; setup %.2f s", r.z[1], r.z[2], r.pitch, r.setup_seconds))
+if r.join.clear then
+  print(string.format("  root to channel: joined %s, %d legs, %.2f mm up the axes, smallest margin %.3f mm (%s), "
+                      .. "deepest cut %.2f um; %.2f s", r.join.route, r.join.legs, r.join.offset, r.join.margin, r.join.margin_at,
+                      -r.join.deepest_cut * 1000, r.join.seconds))
+else
+  print("  root to channel: NOT joined, a STOP between them: " .. r.join.reason)
+end
 for i, f in ipairs(r.refusals) do
   if i > 5 then print(string.format("    ... %d refused contacts in all", #r.refusals)) break end
   print(string.format("    refused %s row %d: %s", f.operation, f.row, f.reason))
 end
 
 local report = {tool = r.tool, scallop = scallop, chord_tol = chord_tol, top = top, root = r.root,
-                channel = r.channel, fillet = r.fillet, heights = r.heights, z = r.z, refusals = #r.refusals}
+                channel = r.channel, join = r.join, fillet = r.fillet, heights = r.heights, z = r.z,
+                refusals = #r.refusals}
 if simulate then
   local s = plan:simulate{}
   local function line(name, st)

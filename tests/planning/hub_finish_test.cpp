@@ -11,9 +11,11 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "core/common/error.h"
 #include "core/geometry/mesh.h"
+#include "core/geometry/revolution_distance.h"
 #include "core/parts/builtin_blisk.h"
 #include "core/planning/hub_finish.h"
 #include "core/planning/repair_paths.h"
@@ -270,6 +272,137 @@ TEST(HubFinish, APoseBlockedByAnObstacleIsRefusedNotEmitted) {
     for (ToolPartId part : {ToolPartId::Cutter, ToolPartId::Shank, ToolPartId::Holder})
       ASSERT_GT(part_clearance(s.tool, part, m.pose, pts), 0) << m.motion << " row " << m.row;
   }
+}
+
+// The program's shape around the join, on a made-up plan of one pass per
+// part: joined, the join's rapids replace the root's lead-out and the
+// channel's lead-in; not joined, both stay with a Stop between them that
+// carries the join's reason (nothing implies a motion from one to the other).
+TEST(HubFinishMoves, TheJoinReplacesTheLeadsOrAStopSeparatesThem) {
+  auto pose = [](double x) { return ToolPose{Vec3(x, 0, 0), Vec3::UnitX()}; };
+  auto part = [&](HubFinishOp op, double x0) {
+    HubFinishPart p;
+    p.op = op;
+    HubFinishPass pass;
+    pass.op = op;
+    for (double dx : {0.0, 1.0}) {
+      HubFinishPose hp;
+      hp.pose = pose(x0 + dx);
+      pass.poses.push_back(hp);
+    }
+    p.passes.push_back(pass);
+    for (double dx : {-5.0, 6.0}) {
+      HubFinishConnection c;
+      c.kind = HubFinishConnection::Kind::Departure;
+      c.clear = true;
+      c.poses = {pose(x0 + dx)};
+      c.motion = {dx < 0 ? "start" : "retract"};
+      p.connections.push_back(c);
+    }
+    return p;
+  };
+  HubFinishResult r;
+  r.root = part(HubFinishOp::Root, 10);
+  r.channel = part(HubFinishOp::Channel, 100);
+  r.join.reason = "no route";
+  auto xs = [](const std::vector<DrumFinishMove>& moves) {
+    std::vector<double> out;
+    for (const DrumFinishMove& m : moves) out.push_back(m.kind == DrumFinishMove::Kind::Stop ? -1 : m.pose.tip.x());
+    return out;
+  };
+  const std::vector<DrumFinishMove> stopped = hub_finish_moves(r);
+  EXPECT_EQ(xs(stopped), (std::vector<double>{5, 10, 11, 16, -1, 95, 100, 101, 106}));
+  EXPECT_EQ(stopped[4].reason, "no route");
+  r.join.clear = true;
+  r.join.poses = {pose(40), pose(60)};
+  const std::vector<DrumFinishMove> joined = hub_finish_moves(r);
+  EXPECT_EQ(xs(joined), (std::vector<double>{5, 10, 11, 40, 60, 100, 101, 106}));
+  EXPECT_EQ(joined[3].kind, DrumFinishMove::Kind::Rapid);
+  EXPECT_EQ(joined[3].motion, "link");
+  EXPECT_EQ(joined[5].kind, DrumFinishMove::Kind::Feed);
+  EXPECT_EQ(joined[5].motion, "approach");
+  // Each part on its own keeps its leads.
+  EXPECT_EQ(xs(hub_finish_moves(r.root)), (std::vector<double>{5, 10, 11, 16}));
+  EXPECT_EQ(xs(hub_finish_moves(r.channel)), (std::vector<double>{95, 100, 101, 106}));
+}
+
+// The root strip ends on blade 1's suction flank and the channel starts in
+// front of its leading edge: the straight rapid between the two parts'
+// retracted poses (what the program implied with nothing between them)
+// runs through the blade, so the plan joins them by a proved link. Every
+// move from the root's last cut to the channel's first is re-checked here
+// in a world of our own: blade 1's and blade 2's design faces (not the
+// planner's closed lofts, every tool part) and the exact hub, every part.
+TEST(HubFinish, RootAndChannelAreJoinedByAProvedLinkNotAStop) {
+  const Planned& p = planned();
+  const HubFinishResult& plan = p.plan;
+  const Tool& tool = p.s.tool;
+  ASSERT_TRUE(plan.join.clear) << plan.join.reason;
+  EXPECT_FALSE(plan.join_route.empty());
+  EXPECT_GT(plan.join_margin_mm, 0);
+  const ToolPose& last_cut = plan.root.passes.back().poses.back().pose;
+  const ToolPose& first_cut = plan.channel.passes.front().poses.front().pose;
+  auto same = [](const ToolPose& a, const ToolPose& b) {
+    return (a.tip - b.tip).norm() < 1e-12 && (a.axis - b.axis).norm() < 1e-12;
+  };
+  // The program: no Stop anywhere; from the root's last cut the join's
+  // rapids ("link") lead straight to the channel's first pose.
+  const std::vector<DrumFinishMove> moves = hub_finish_moves(plan);
+  size_t from = moves.size();
+  for (size_t i = 0; i < moves.size(); ++i) {
+    EXPECT_NE(moves[i].kind, DrumFinishMove::Kind::Stop) << moves[i].reason;
+    if (moves[i].kind == DrumFinishMove::Kind::Feed && same(moves[i].pose, last_cut)) from = i;
+  }
+  ASSERT_LT(from + plan.join.poses.size() + 1, moves.size());
+  std::vector<ToolPose> chain{last_cut};
+  for (size_t k = 1; k <= plan.join.poses.size(); ++k) {
+    EXPECT_EQ(moves[from + k].kind, DrumFinishMove::Kind::Rapid);
+    EXPECT_EQ(moves[from + k].motion, "link");
+    chain.push_back(moves[from + k].pose);
+  }
+  const DrumFinishMove& arrive = moves[from + plan.join.poses.size() + 1];
+  ASSERT_TRUE(same(arrive.pose, first_cut));
+  EXPECT_EQ(arrive.kind, DrumFinishMove::Kind::Feed);
+  chain.push_back(first_cut);
+
+  CollisionWorld world;
+  constexpr double kMeshMm = 0.02;
+  for (int b : {0, 1})
+    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
+      world.add("blade " + std::to_string(b + 1) + (side == FlankSide::kPressure ? " pressure" : " suction"),
+                tessellate(*p.s.blisk.flank_surface(b, side), kMeshMm), {PartMask{}, kMeshMm});
+  world.add("hub", std::make_shared<const RevolutionDistance>(*p.s.rq.hub, 1e-4));
+  const ToolBody body(tool);
+  const Clearances clear{0, 0.1, 0.5};
+  // The first leg leaves a cutting pose and the last reaches one, where the
+  // ball touches the blade or the hub by design: the ball is checked from
+  // 0.5 mm along them; everything else over every leg.
+  for (size_t k = 0; k + 1 < chain.size(); ++k) {
+    ToolPose a = chain[k], b = chain[k + 1];
+    const double len = (b.tip - a.tip).norm();
+    ASSERT_GT(len, 0.5);
+    if (k == 0) a = PoseMotion(a, b).pose_at(0.5 / len);
+    if (k + 2 == chain.size()) b = PoseMotion(a, b).pose_at(1 - 0.5 / (b.tip - a.tip).norm());
+    const MotionCheck whole = world.check_motion(body, a, b, clear);
+    EXPECT_TRUE(whole.clear) << "leg " << k + 1 << " of " << chain.size() - 1 << " at t = " << whole.t << ": "
+                             << describe(whole.at, world);
+  }
+
+#ifndef BLISKRUN_SANITIZED  // the 4 mm slice's channel starts beside the blade, not in front of it
+  // Without the join: the straight rapid from the root's lead-out to the
+  // channel's lead-in cuts into blade 1 (sampled faces, the tool's exact
+  // signed distance: deeper than the samples' slack of ~21 um).
+  ASSERT_TRUE(plan.root.connections.back().clear && plan.channel.connections.front().clear);
+  const ToolPose out = plan.root.connections.back().poses.back(), in = plan.channel.connections.front().poses.front();
+  std::vector<Vec3> blade1 = sample_surface(*p.s.blisk.flank_surface(0, FlankSide::kSuction), 80, 150);
+  const std::vector<Vec3> pressure = sample_surface(*p.s.blisk.flank_surface(0, FlankSide::kPressure), 80, 150);
+  blade1.insert(blade1.end(), pressure.begin(), pressure.end());
+  double deepest = 1e300;
+  for (int i = 0; i <= 200; ++i)
+    deepest = std::min(deepest, part_clearance(tool, ToolPartId::Cutter, PoseMotion(out, in).pose_at(i / 200.0), blade1));
+  EXPECT_LT(deepest, -0.1) << "the straight rapid from the root to the channel clears the blade";
+  EXPECT_FALSE(world.check_motion(body, out, in, clear).clear) << "deepest " << deepest;
+#endif
 }
 
 }  // namespace
