@@ -283,6 +283,13 @@ function M.hub_finish(o)
       -- like any two plans (the channel's first pose is a plain "start"
       -- from the root's last: straight across, that rapid ran through the
       -- blade's suction flank, 0.24 mm deep where blade 1's map sampled it).
+      -- The plan joins them itself (plan:moves() with no part, r.join:
+      -- through the channel), but proved as its own links are: against
+      -- blades k-1, k, k+1 and the hub, the cutter meeting k and k+1 through
+      -- the gouge guards only (it may graze them within the allowance). The
+      -- job's link is proved against more: every blade and the hub, the
+      -- whole tool off all of them (blade k by 0.01 mm, the traverse by
+      -- 0.05: link_world, part_world). So the job keeps its own link here.
       local moves, channel = plan:moves("root"), plan:moves("channel")
       if #moves > 0 and #channel > 0 then
         local a, b = moves[#moves], channel[1]
