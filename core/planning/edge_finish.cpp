@@ -199,6 +199,17 @@ PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<dou
       if (i + 1 < n && owner[i + 1] >= 0) piece[i] = owner[i + 1];
       else if (i > 0 && owner[i - 1] >= 0) piece[i] = owner[i - 1];
     }
+    // A part with no step inside it (the steps are far apart where the
+    // row is nearly straight: on Rotor 67's TE overlap from u 0 to 0.19)
+    // takes the steps either side: the cut between them covers it. Without
+    // them the partial row was empty and the part stayed as it was (26 um).
+    for (size_t k = 0; k < only->size(); ++k) {
+      if (std::find(owner.begin(), owner.end(), static_cast<int>(k)) != owner.end()) continue;
+      const auto above = std::lower_bound(steps.t.begin(), steps.t.end(), (*only)[k].second);
+      const size_t hi = static_cast<size_t>(above - steps.t.begin());
+      if (hi < n && piece[hi] < 0) piece[hi] = static_cast<int>(k);
+      if (hi > 0 && piece[hi - 1] < 0) piece[hi - 1] = static_cast<int>(k);
+    }
   }
   std::vector<size_t> which;
   for (size_t i = 0; i < n; ++i)
@@ -506,6 +517,7 @@ void refine_row(const EdgeFinishRequest& rq, double v, const StripSamples& flank
     m.right_mm = w.right_mm;
     m.inserted = true;
     m.strip = strip;
+    m.piece = a.piece;
     if (w.gouges) {  // the blend itself gouges: cut no further along, link over
       poses[i + 1].break_before = true;
       ++i;
@@ -545,6 +557,7 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
     // A partial row's parts are passes of their own: no cut across the
     // part of the round between them.
     p.break_before = !pr.row.poses.empty() && c.piece != last_piece;
+    p.piece = c.piece;
     last_piece = c.piece;
     pr.row.poses.push_back(p);
     strips.push_back(c.strip);
@@ -570,6 +583,12 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
 // blended lead and side-slip, proved as clear_row proves a pose (world,
 // reach, design guards with a lift, condition ① and ② on its strip); where
 // the blend is not clear the pair stays a link, as before.
+// A break refine_row put between two contacts of the same part because they
+// were of different families (bottom <-> corner) is reconsidered when both
+// are tilted now (one family): on Rotor 67's TE the row's first contact
+// (u 0, a corner) and its next (u 0.19, a bottom) were both tilted to one
+// axis, and the flank's overlap between them — the steps are far apart
+// where the row is nearly straight — was never cut (26 um left).
 void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow& pr) {
   constexpr int kMaxInserted = 6;  // per original pair: the sag falls 4x per halving
   std::vector<EdgeFinishPose>& poses = pr.row.poses;
@@ -578,9 +597,12 @@ void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, Planne
   int inserted_here = 0;
   while (i + 1 < poses.size()) {
     const EdgeFinishPose& a = poses[i];
-    const EdgeFinishPose& b = poses[i + 1];
-    if (!a.tilted || !b.tilted || !proved[i] || !proved[i + 1] || b.break_before || std::abs(b.u - a.u) < 1e-7 ||
-        inserted_here >= kMaxInserted || motion_deepest(a, b, *a.strip, *b.strip) >= rq.band.e1_mm) {
+    EdgeFinishPose& b = poses[i + 1];
+    const bool joinable = a.tilted && b.tilted && proved[i] && proved[i + 1] && a.piece == b.piece &&
+                          std::abs(b.u - a.u) >= 1e-7;
+    const bool dips = joinable && motion_deepest(a, b, *a.strip, *b.strip) < rq.band.e1_mm;
+    if (joinable && !dips) b.break_before = false;  // one family now: cut across
+    if (!dips || inserted_here >= kMaxInserted) {
       ++i;
       inserted_here = 0;
       continue;
@@ -597,6 +619,7 @@ void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, Planne
     m.contact = f.point;
     m.normal = f.z;
     m.inserted = m.tilted = true;
+    m.piece = a.piece;
     const StripWidth w = m.strip->width(m.position);
     m.width_mm = w.width_mm;
     m.left_mm = w.left_mm;

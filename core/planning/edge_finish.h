@@ -129,6 +129,7 @@ struct EdgeFinishPose {
   double width_mm = 0, left_mm = 0, right_mm = 0;  // strip at this pose
   int segment = 0;  // passes within the row (a refused contact splits the row)
   bool break_before = false;  // bottom <-> corner switch: a link, not a cut, from the previous pose
+  int piece = 0;              // the part of a partial row it belongs to (no cut across parts)
   bool inserted = false;      // added so the motion from the previous pose stays within e1
   bool tilted = false;        // the optimum was not clear of the world: corner with more lead instead
   double lift_mm = 0;         // lifted off along the normal: it cut the blade beside its strip (< 3 um)
