@@ -67,7 +67,7 @@ print(string.format("  channel: z %.1f..%.1f mm, pitch %.3f deg; setup %.2f s", 
 if r.join.clear then
   print(string.format("  root to channel: joined %s, %d legs, %.2f mm up the axes, smallest margin %.3f mm (%s), "
                       .. "deepest cut %.2f um; %.2f s", r.join.route, r.join.legs, r.join.offset, r.join.margin, r.join.margin_at,
-                      -r.join.deepest_cut * 1000, r.join.seconds))
+                      math.abs(r.join.deepest_cut) * 1000, r.join.seconds))
 else
   print("  root to channel: NOT joined, a STOP between them: " .. r.join.reason)
 end
