@@ -79,8 +79,13 @@ double cover_distance(const RevolutionDistance& surface, const SphereCover& cove
       const AxisSphere& s = cover.spheres[static_cast<size_t>(j)];
       const Vec3 c = origin + s.z * axis;
       Vec3 foot;
-      const double d = surface.distance(c, best + s.radius, &foot) - s.radius;
-      if (d < best) {
+      // Unresolved, the query returns its bound, and (best + r) - r can
+      // round one unit below best: that must not pass as a nearer point
+      // (its foot is unset; the part's nearest surface was misnamed).
+      const double bound_here = best + s.radius;
+      const double raw = surface.distance(c, bound_here, &foot);
+      const double d = raw - s.radius;
+      if (raw < bound_here && d < best) {
         best = d;
         *on_object = foot;
         const Vec3 to = foot - c;

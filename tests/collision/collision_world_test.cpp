@@ -383,6 +383,34 @@ TEST(CollisionWorld, RevolutionMeasuresTheBallAsItIs) {
   EXPECT_TRUE(sunk.parts[0].collides);
 }
 
+// A plate nearer the ball than the hub (the plate listed first): the part's
+// nearest surface is the plate at every pose. An unresolved hub query
+// returns its bound, best + r, and (best + r) - r rounds one unit below
+// best for some values — that passed as a nearer hub with an unset nearest
+// point (a helper saw "cutter against hub" beside a blade flank).
+TEST(CollisionWorld, AFartherRevolutionNeverTakesTheNearestSurfacesName) {
+  CollisionWorld world;
+  CheckSurfaceOptions cutter_only;
+  cutter_only.parts = {true, false, false};
+  // The plate x = 60 (normal -X), the hub r = 40 about Z; the tool upright
+  // beside the plate, its ball `gap` from it and 14 mm or more from the hub.
+  world.add("plate", test::grid_mesh(Vec3(60, -50, -50), Vec3(0, 100, 0), Vec3(0, 0, 100), 4, 4), cutter_only);
+  world.add("hub", std::make_shared<RevolutionDistance>(std::vector<Vec2>{Vec2(-50, 40), Vec2(50, 40)}, 0.0),
+            cutter_only);
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  int poses = 0;
+  for (int i = 0; i < 400; ++i) {
+    const double gap = 0.013 + 0.0173 * i;  // ball 0.013 .. 6.9 mm off the plate
+    const ToolPose pose{Vec3(60 - 3 - gap, 0.01 * i, 0.5), Vec3::UnitZ()};
+    const PoseCheck c = world.check(body, pose, Clearances{}, 20.0);
+    ASSERT_TRUE(c.parts[0].resolved);
+    EXPECT_EQ(world.name(c.parts[0].object), "plate") << "gap " << gap;
+    EXPECT_NEAR(c.parts[0].on_object.x(), 60, 1e-9) << "gap " << gap;
+    ++poses;
+  }
+  EXPECT_EQ(poses, 400);
+}
+
 TEST(CollisionWorld, RevolutionProvesAMotionAlongTheHubOrFindsItsDip) {
   // The tip 0.5 mm off the hub at -phi and +phi, the axis radial at both:
   // the straight move's middle puts the ball centre (40.5) cos(phi) + 3 from
