@@ -273,8 +273,7 @@ double ContactStrip::deepest(const ToolPose& pose) const {
 }
 
 ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band)
-    : tool_(tool),
-      flat_(flat_end_of(tool)),
+    : flat_(flat_end_of(tool)),
       frame_(frame),
       samples_(std::move(samples)),
       band_(band),

@@ -191,7 +191,6 @@ class ContactStrip {
   double deepest(const ToolPose& pose) const;
 
  private:
-  const Tool& tool_;
   FlatEnd flat_;
   EdgeFrame frame_;
   StripSamples samples_;
