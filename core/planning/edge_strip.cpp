@@ -204,15 +204,24 @@ std::vector<SampleTile> tile_samples(const std::vector<Vec3>& ps) {
   return tiles;
 }
 
+double deepest_over(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const StripSamples& smp, double cap,
+                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                    const SharedGougeSamples* shared) {
+  double d = std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
+                      screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
+  if (shared) d = std::min(d, screen_deepest(cutter, to_tool, shared->p, shared->n, &shared->tiles, cap));
+  return d;
+}
+
 StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
-                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles) {
+                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                    const SharedGougeSamples* shared) {
   StripWidth w;
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
   const double cap = 2 * (band.e2_mm - band.e1_mm);
   // ① every sample: cheap signed distance first, the directed one only where
   // the sample is inside the cutter.
-  w.deepest_mm = std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
-                          screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
+  w.deepest_mm = deepest_over(cutter, to_tool, smp, cap, tiles, gouge_tiles, shared);
   if (w.deepest_mm < band.e1_mm) {
     w.gouges = true;
     return w;
@@ -251,41 +260,51 @@ StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamp
 }
 
 double deepest_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
-                  const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles) {
+                  const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                  const SharedGougeSamples* shared) {
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
-  const double cap = 2 * (band.e2_mm - band.e1_mm);
-  return std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
-                  screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
+  return deepest_over(cutter, to_tool, smp, 2 * (band.e2_mm - band.e1_mm), tiles, gouge_tiles, shared);
 }
 
 }  // namespace
 
 StripWidth strip_width(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
-  return width_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr);
+  return width_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr, nullptr);
 }
 
 double deepest_distance(const Tool& tool, const ToolPose& pose, const StripSamples& smp, const Band& band) {
-  return deepest_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr);
+  return deepest_of(flat_end_of(tool), pose, smp, band, nullptr, nullptr, nullptr);
 }
 
 double ContactStrip::deepest(const ToolPose& pose) const {
-  return deepest_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_);
+  return deepest_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_, shared_.get());
 }
 
-ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band)
+std::shared_ptr<const SharedGougeSamples> share_gouge_samples(std::vector<Vec3> p, std::vector<Vec3> n) {
+  if (p.size() != n.size()) throw ParameterError("samples", "as many normals as points expected");
+  auto out = std::make_shared<SharedGougeSamples>();
+  out->p = std::move(p);
+  out->n = std::move(n);
+  out->tiles = tile_samples(out->p);
+  return out;
+}
+
+ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band,
+                           std::shared_ptr<const SharedGougeSamples> shared)
     : flat_(flat_end_of(tool)),
       frame_(frame),
       samples_(std::move(samples)),
       band_(band),
       tiles_(tile_samples(samples_.p)),
-      gouge_tiles_(tile_samples(samples_.gouge_p)) {}
+      gouge_tiles_(tile_samples(samples_.gouge_p)),
+      shared_(std::move(shared)) {}
 
 ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }
 
 StripWidth ContactStrip::width(const EdgePosition& pos) const { return width(pose(pos)); }
 
 StripWidth ContactStrip::width(const ToolPose& pose) const {
-  return width_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_);
+  return width_of(flat_, pose, samples_, band_, &tiles_, &gouge_tiles_, shared_.get());
 }
 
 namespace {

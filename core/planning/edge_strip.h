@@ -33,6 +33,7 @@
 // ③ l >= r_e (cutting speed; the bottom's pose only).
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "core/common/types.h"
@@ -177,10 +178,22 @@ struct SampleTile {
   size_t begin = 0, end = 0;
 };
 
+// Condition-① samples several contacts share — a row's flanks beyond the
+// edge region, over half of each contact's samples — with their tiles, held
+// once however many contacts the row has.
+struct SharedGougeSamples {
+  std::vector<Vec3> p, n;
+  std::vector<SampleTile> tiles;
+};
+std::shared_ptr<const SharedGougeSamples> share_gouge_samples(std::vector<Vec3> p, std::vector<Vec3> n);
+
 // One contact: samples + the width of any bottom/corner position there.
 class ContactStrip {
  public:
-  ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band);
+  // `shared` (may be null): more condition-① samples, as if appended to
+  // samples.gouge_p / gouge_n.
+  ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSamples samples, Band band,
+               std::shared_ptr<const SharedGougeSamples> shared = nullptr);
   StripWidth width(const EdgePosition& pos) const;
   StripWidth width(const ToolPose& pose) const;  // any pose (e.g. one tilted clear of the world)
   ToolPose pose(const EdgePosition& pos) const;
@@ -198,6 +211,7 @@ class ContactStrip {
   // Condition ① screens thousands of samples per pose (the flanks' and the
   // region's beyond the strip), most far outside the cutter: by tiles.
   std::vector<SampleTile> tiles_, gouge_tiles_;
+  std::shared_ptr<const SharedGougeSamples> shared_;
 };
 
 struct BottomOptimum {

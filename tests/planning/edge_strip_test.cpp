@@ -194,7 +194,7 @@ TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
 // ContactStrip screens condition ① by tiles of samples; every sample one
 // by one (strip_width) must give the same verdict, the same width and, where
 // the pose gouges, the same depth — over bottom and corner poses on a convex
-// and a concave wall, gouging or not.
+// and a concave wall, gouging or not; the same with the gouge samples shared.
 TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
   const Cylinder cyl(8, 1.0, 20);
   const Tool tool = mill(5, 1);
@@ -205,6 +205,12 @@ TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
   for (bool concave : {false, true}) {
     const StripSamples samples = sample_strip(cyl, 0.5, 0.5, sm, concave);
     const ContactStrip strip(tool, edge_frame(cyl.eval(0.5, 0.5), concave), samples, band);
+    // The gouge samples held apart and shared (as a row's flank samples are).
+    StripSamples own = samples;
+    own.gouge_p.clear();
+    own.gouge_n.clear();
+    const ContactStrip sharing(tool, edge_frame(cyl.eval(0.5, 0.5), concave), own, band,
+                               share_gouge_samples(samples.gouge_p, samples.gouge_n));
     for (double phi = -1.5; phi <= 1.5; phi += 0.1)
       for (const EdgePosition& pos : {EdgePosition{EdgeContact::Bottom, 2.0, 0, phi},
                                       EdgePosition{EdgeContact::Bottom, 3.5, 0, phi},
@@ -213,7 +219,11 @@ TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
         const ToolPose pose = strip.pose(pos);
         const StripWidth tiled = strip.width(pose);
         const StripWidth each = strip_width(tool, pose, samples, band);
+        const StripWidth shared = sharing.width(pose);
         ASSERT_EQ(tiled.gouges, each.gouges);
+        ASSERT_EQ(shared.gouges, each.gouges);
+        EXPECT_EQ(shared.width_mm, each.width_mm);
+        if (each.deepest_mm < 0) EXPECT_EQ(shared.deepest_mm, each.deepest_mm);
         EXPECT_EQ(tiled.touches, each.touches);
         EXPECT_EQ(tiled.width_mm, each.width_mm);
         EXPECT_EQ(tiled.left_mm, each.left_mm);
