@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "core/common/error.h"
 #include "core/common/parallel.h"
@@ -476,6 +477,30 @@ double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const Co
   return d;
 }
 
+// The contact half-way between two poses of a row (same part), at
+// `position`, on a strip of its own: what refine_row and refine_tilted
+// insert. Returns the pose and its strip's width there.
+std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, const FlankSamples& flanks,
+                                                   const EdgeFinishPose& a, const EdgeFinishPose& b,
+                                                   const EdgePosition& position) {
+  EdgeFinishPose m;
+  m.u = 0.5 * (a.u + b.u);
+  m.v = a.v;
+  m.position = position;
+  const EdgeFrame f = edge_frame(rq.edge->eval(m.u, m.v));
+  m.strip = make_strip(rq, f, m.u, m.v, flanks);
+  const StripWidth w = m.strip->width(m.position);
+  m.pose = m.strip->pose(m.position);
+  m.contact = f.point;
+  m.normal = f.z;
+  m.width_mm = w.width_mm;
+  m.left_mm = w.left_mm;
+  m.right_mm = w.right_mm;
+  m.inserted = true;
+  m.piece = a.piece;
+  return {std::move(m), w};
+}
+
 // The contact positions fix the tool at the contacts, but the straight
 // motion between two of them (tip on the chord, axis turning) swings the
 // tool's far side — l from the contact on a round of radius ρ — through a
@@ -484,7 +509,7 @@ double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const Co
 // contacts' samples, dips below e1, a contact is inserted half-way with the
 // blended position (same family: l, θ, φ averaged) until it does not; a
 // switch between bottom and corner cannot be blended and becomes a link.
-void refine_row(const EdgeFinishRequest& rq, double v, const FlankSamples& flanks, std::vector<EdgeFinishPose>& poses,
+void refine_row(const EdgeFinishRequest& rq, const FlankSamples& flanks, std::vector<EdgeFinishPose>& poses,
                 std::vector<std::shared_ptr<const ContactStrip>>& strips, int& inserted) {
   size_t i = 0;
   while (i + 1 < poses.size()) {
@@ -500,31 +525,17 @@ void refine_row(const EdgeFinishRequest& rq, double v, const FlankSamples& flank
       ++i;
       continue;
     }
-    EdgeFinishPose m;
-    m.u = 0.5 * (a.u + b.u);
-    m.v = v;
-    m.position = {a.position.contact, 0.5 * (a.position.l_mm + b.position.l_mm),
-                  0.5 * (a.position.lead_rad + b.position.lead_rad),
-                  0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)};
-    const EdgeFrame f = edge_frame(rq.edge->eval(m.u, v));
-    auto strip = make_strip(rq, f, m.u, v, flanks);
-    const StripWidth w = strip->width(m.position);
-    m.pose = strip->pose(m.position);
-    m.contact = f.point;
-    m.normal = f.z;
-    m.width_mm = w.width_mm;
-    m.left_mm = w.left_mm;
-    m.right_mm = w.right_mm;
-    m.inserted = true;
-    m.strip = strip;
-    m.piece = a.piece;
+    auto [m, w] = halfway_pose(rq, flanks, a, b,
+                               {a.position.contact, 0.5 * (a.position.l_mm + b.position.l_mm),
+                                0.5 * (a.position.lead_rad + b.position.lead_rad),
+                                0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)});
     if (w.gouges) {  // the blend itself gouges: cut no further along, link over
       poses[i + 1].break_before = true;
       ++i;
       continue;
     }
-    poses.insert(poses.begin() + static_cast<long>(i) + 1, m);
-    strips.insert(strips.begin() + static_cast<long>(i) + 1, strip);
+    strips.insert(strips.begin() + static_cast<long>(i) + 1, m.strip);
+    poses.insert(poses.begin() + static_cast<long>(i) + 1, std::move(m));
     ++inserted;
   }
 }
@@ -567,7 +578,7 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
     if (pos.contact == EdgeContact::Bottom) ++pr.row.bottom_contacts;
     else ++pr.row.corner_contacts;
   }
-  refine_row(rq, v, pr.flanks, pr.row.poses, strips, pr.row.inserted_contacts);
+  refine_row(rq, pr.flanks, pr.row.poses, strips, pr.row.inserted_contacts);
   pr.row.left_min_mm = std::isfinite(left) ? left : 0;
   pr.row.right_min_mm = std::isfinite(right) ? right : 0;
   return narrowest;
@@ -607,23 +618,12 @@ void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, Planne
       inserted_here = 0;
       continue;
     }
-    EdgeFinishPose m;
-    m.u = 0.5 * (a.u + b.u);
-    m.v = a.v;
-    m.position = {EdgeContact::Corner, 0, 0.5 * (a.position.lead_rad + b.position.lead_rad),
-                  a.position.side_slip_rad +
-                      0.5 * std::remainder(b.position.side_slip_rad - a.position.side_slip_rad, 2 * kPi)};
-    const EdgeFrame f = edge_frame(rq.edge->eval(m.u, m.v));
-    m.strip = make_strip(rq, f, m.u, m.v, pr.flanks);
-    m.pose = m.strip->pose(m.position);
-    m.contact = f.point;
-    m.normal = f.z;
-    m.inserted = m.tilted = true;
-    m.piece = a.piece;
-    const StripWidth w = m.strip->width(m.position);
-    m.width_mm = w.width_mm;
-    m.left_mm = w.left_mm;
-    m.right_mm = w.right_mm;
+    auto [m, w] = halfway_pose(rq, pr.flanks, a, b,
+                               {EdgeContact::Corner, 0, 0.5 * (a.position.lead_rad + b.position.lead_rad),
+                                a.position.side_slip_rad + 0.5 * std::remainder(b.position.side_slip_rad -
+                                                                                    a.position.side_slip_rad,
+                                                                                2 * kPi)});
+    m.tilted = true;
     const bool ok = !w.gouges && w.touches && within_reach(rq, m.pose) &&
                     rq.world->check(checks.body, m.pose, rq.clearances, 0).clear &&
                     (checks.gouge(*rq.tool, m.pose).empty() || lift_clear(rq, checks, m));
@@ -925,13 +925,14 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std:
     }
   }
   if (passes.empty() || rows.empty()) return {};
-  double span_mm = 0;
-  for (int i = 0; i < 32; ++i)
-    span_mm += (rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * (i + 1) / 32) -
-                rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * i / 32)).norm();
-  double around_mm = 0;
-  for (int i = 0; i < 64; ++i)
-    around_mm += (rq.edge->point((i + 1) / 64.0, 0.5 * (rq.v0 + rq.v1)) - rq.edge->point(i / 64.0, 0.5 * (rq.v0 + rq.v1))).norm();
+  // Length of t -> at(t), t in [0, 1], as an n-segment polyline.
+  auto length = [](const auto& at, int n) {
+    double l = 0;
+    for (int i = 0; i < n; ++i) l += (at(static_cast<double>(i + 1) / n) - at(static_cast<double>(i) / n)).norm();
+    return l;
+  };
+  const double span_mm = length([&](double t) { return rq.edge->point(0.5, rq.v0 + (rq.v1 - rq.v0) * t); }, 32);
+  const double around_mm = length([&](double t) { return rq.edge->point(t, 0.5 * (rq.v0 + rq.v1)); }, 64);
   UndercutOptions o;
   o.samples_u = kGapSamples + 1;
   o.samples_v = std::clamp(static_cast<int>(span_mm / 0.1), 16, 2000);
@@ -1197,7 +1198,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     last_tilt.index = -1;
     // The guards' sweep of every consecutive pair as planned; the pass
     // below takes it where the pose before is the candidate before and
-    // neither was tilted.
+    // this pass moved neither (changed_here).
     std::vector<char> pair_gouges(candidates.size(), 0);
     for (size_t k = 0; k + 1 < candidates.size(); ++k) pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]);
     // Poses this pass moved (lifted or tilted): the pair sweeps above were
@@ -1239,6 +1240,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
         tilt = clear_alternative(rq, checks, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
         if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
       }
+      bool motion_proved = false;  // the cutting motion into p, by the strips and the guards
       if (tilt.accepted) {
         reason.clear();
         changed_here[ci] = 1;
@@ -1254,6 +1256,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
           ++segment;
           last = -1;
         }
+        motion_proved = last >= 0;
       }
       if (!reason.empty()) {
         row.refusals.push_back({p.u, p.contact, reason});
@@ -1265,8 +1268,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       // pose after a refused one): otherwise reach this pose by a link.
       const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !changed_here[ci] &&
                               !changed_here[static_cast<size_t>(last_candidate)];
-      if (last >= 0 && (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-                        (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
+      if (last >= 0 && !motion_proved &&
+          (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+           (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
         ++segment;
         ++gouge_breaks;
       }
