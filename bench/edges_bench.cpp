@@ -3,7 +3,9 @@
 // (-0.001, 0.02) mm, chord 0.001 mm: the strip width of one pose (condition
 // ① over 81 x 5 strip samples, 21 x 41 over the region and 21 x 12 on each
 // flank beyond it), the φ/l optimisation and checks of one row, and one
-// whole edge (v 0.1..0.9: rows, side-edge rows, world checks with the
+// whole edge as blade_edges.lua plans it (v 0.1..0.9 fitted to the hub and
+// casing, shank and holder clearances 0.1 / 0.5 mm: rows, side-edge rows,
+// tilting, partial rows, world checks with the
 // neighbours' flanks, the hub and the blade itself for the shank, links).
 #include <benchmark/benchmark.h>
 
@@ -11,6 +13,7 @@
 
 #include "core/geometry/mesh.h"
 #include "core/geometry/revolution.h"
+#include "core/geometry/revolution_distance.h"
 #include "core/parts/builtin_blisk.h"
 #include "core/parts/edge_region.h"
 #include "core/planning/edge_finish.h"
@@ -24,6 +27,8 @@ struct EdgeSetup {
   std::shared_ptr<const Surface> first, second;
   Tool tool = Tool::flat_end_mill({3, 0.5, 9, {6, 50}, {12, 40}});
   CollisionWorld hub_only, world;
+  std::shared_ptr<const SurfaceOfRevolution> hub = std::make_shared<SurfaceOfRevolution>(blisk.hub_meridian()),
+                                             casing = std::make_shared<SurfaceOfRevolution>(blisk.casing_meridian());
 
   EdgeSetup() {
     EdgeRegionRequest er;
@@ -32,9 +37,9 @@ struct EdgeSetup {
     edge = build_edge_region(er);
     first = er.first;
     second = er.second;
-    const TriangleMesh hub = tessellate(SurfaceOfRevolution(blisk.hub_meridian()), 0.01);
-    hub_only.add("hub", hub);
-    world.add("hub", hub);
+    const TriangleMesh hub_mesh = tessellate(*hub, 0.01);
+    hub_only.add("hub", hub_mesh);
+    world.add("hub", std::make_shared<RevolutionDistance>(*hub, 0.01));
     for (int b : {1, 21})
       for (FlankSide s : {FlankSide::kPressure, FlankSide::kSuction})
         world.add("blade " + std::to_string(b) + (s == FlankSide::kPressure ? " p" : " s"),
@@ -56,6 +61,16 @@ struct EdgeSetup {
     rq.sampling.gouge_half_mm = 4;
     rq.v0 = v0;
     rq.v1 = v1;
+    return rq;
+  }
+  // As blade_edges.lua plans it: the window fitted to the hub and casing,
+  // the recipe's clearances (shank 0.1 mm, holder 0.5 mm).
+  EdgeFinishRequest recipe_request() const {
+    EdgeFinishRequest rq = request(world, 0.1, 0.9);
+    rq.hub = hub;
+    rq.casing = casing;
+    rq.clearances.shank_mm = 0.1;
+    rq.clearances.holder_mm = 0.5;
     return rq;
   }
 };
@@ -115,7 +130,7 @@ BENCHMARK(BM_EdgeOneRow)->Unit(benchmark::kMillisecond)->Iterations(3);
 // read "Time", the CPU column is the main thread's alone.
 void BM_EdgeWholeLeadingEdge(benchmark::State& state) {
   EdgeSetup& s = setup();
-  EdgeFinishRequest rq = s.request(s.world, 0.1, 0.9);
+  EdgeFinishRequest rq = s.recipe_request();
   rq.threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
     const EdgeFinishResult r = plan_edge_finish(rq);
@@ -126,7 +141,10 @@ void BM_EdgeWholeLeadingEdge(benchmark::State& state) {
     state.counters["refused"] = r.total_refusals + r.refused_links;
     state.counters["rows_s"] = r.rows_seconds;
     state.counters["side_s"] = r.side_seconds;
+    state.counters["clear_s"] = r.clear_seconds;
     state.counters["checks_s"] = r.checks_seconds;
+    state.counters["sim_s"] = r.simulation_seconds;
+    state.counters["links_s"] = r.links_seconds;
     state.counters["tilted"] = 0;
     for (const EdgeFinishRow& row : r.rows) state.counters["tilted"] += row.tilted_contacts;
   }

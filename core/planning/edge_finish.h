@@ -212,6 +212,7 @@ struct EdgeFinishResult {
   double rows_seconds = 0, checks_seconds = 0, side_seconds = 0;
   double clear_seconds = 0;      // tilting clear of the world and the partial rows
   double simulation_seconds = 0; // of checks_seconds: the rows simulated for material left
+  double links_seconds = 0;      // of checks_seconds: the links, lead-in and lead-out
 };
 
 // Throws ParameterError for a missing edge/tool/world, a tool that is not a
