@@ -68,7 +68,7 @@ if part_name == "builtin" then
   local blisk = bliskrun.blisk{}
   pressure, suction = blisk:flank(1, "pressure"), blisk:flank(1, "suction")
   hub, casing = blisk:hub(), blisk:casing()
-  world = blisk_world.around_blade(blisk, 1)
+  world = blisk_world.around_blade(blisk, 1, {analytic_hub = true})
   label = "built-in blisk blade 1"
 else
   -- Flanks lofted to the edge points (edge_margin 0) with columns dense at
