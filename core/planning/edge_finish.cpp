@@ -90,14 +90,86 @@ std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, cons
                                               flanks);
 }
 
+// The positions a row's contacts took as planned (before any tilt), in u
+// order: where a partial row between two rows starts its own (RowSeeds).
+struct SeedContact {
+  double u = 0;
+  EdgePosition position;
+};
+using RowSeed = std::vector<SeedContact>;
+
+// The rows either side of a partial row (either may be null).
+struct RowSeeds {
+  const RowSeed* below = nullptr;
+  const RowSeed* above = nullptr;
+};
+
+// Ours, not the paper's: a partial row (the infill where tilted strips
+// leave a gap) plans its contacts from the positions the rows either side
+// took at the nearest u — the optimum varies slowly across the span, and
+// the partial row only has to close a gap, not set a spacing. Each
+// candidate is proved on the contact's own strip (conditions ① ② ③ at every
+// l_j for a bottom position, ① ② for a corner one); the better is kept.
+// The full two-sided search runs only where no candidate is feasible. On
+// the built-in LE the partial rows hold 71 % of the contacts and took over
+// half of the ~290 000 strip evaluations with the full search.
+bool seeded_contact(const std::vector<double>& ls, const RowSeeds& seeds, ContactPlan& c) {
+  std::vector<EdgePosition> candidates;
+  for (const RowSeed* row : {seeds.below, seeds.above}) {
+    if (!row || row->empty()) continue;
+    const auto at = std::lower_bound(row->begin(), row->end(), c.u,
+                                     [](const SeedContact& s, double u) { return s.u < u; });
+    const SeedContact* nearest = at == row->end() ? &row->back() : &*at;
+    if (at != row->begin() && at != row->end() && c.u - std::prev(at)->u < at->u - c.u) nearest = &*std::prev(at);
+    candidates.push_back(nearest->position);
+  }
+  const ContactStrip& strip = *c.strip;
+  bool any_bottom = false;
+  for (const EdgePosition& p : candidates) {
+    if (p.contact != EdgeContact::Bottom) continue;
+    any_bottom = true;
+    std::vector<double> w;
+    for (double l : ls) w.push_back(score(strip.width({EdgeContact::Bottom, l, 0, p.side_slip_rad})));
+    c.evaluations += static_cast<int>(ls.size());
+    const double best = *std::max_element(w.begin(), w.end());
+    if (best > 0 && (!c.bottom || best > *std::max_element(c.paper_w.begin(), c.paper_w.end()))) {
+      c.bottom = c.any = true;
+      c.paper_phi = p.side_slip_rad;
+      c.paper_w = w;
+      c.joint_w = w;
+      c.joint_phi.assign(ls.size(), p.side_slip_rad);
+    }
+  }
+  if (c.bottom || any_bottom) return c.bottom;  // a bottom seed that fails here: the full search decides
+  for (const EdgePosition& p : candidates) {
+    const double w = score(strip.width(p));
+    ++c.evaluations;
+    if (w > c.corner_w) {
+      c.any = true;
+      c.corner = p;
+      c.corner_w = w;
+    }
+  }
+  return c.any;
+}
+
 ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const std::vector<double>& ls,
-                         bool side_only, const FlankSamples& flanks) {
+                         bool side_only, const FlankSamples& flanks, const RowSeeds* seeds = nullptr) {
   ContactPlan c;
   c.u = u;
   const SurfaceDerivs d = rq.edge->eval(u, v);
   c.frame = edge_frame(d);
   c.strip = make_strip(rq, c.frame, u, v, flanks);
   const ContactStrip& strip = *c.strip;
+  if (seeds && !side_only) {
+    if (seeded_contact(ls, *seeds, c)) return c;
+    ContactPlan fresh;  // the seeds' tries dropped, their evaluations counted
+    fresh.u = c.u;
+    fresh.frame = c.frame;
+    fresh.strip = c.strip;
+    fresh.evaluations = c.evaluations;
+    c = std::move(fresh);
+  }
   const CornerPosition side = corner_min_lead(strip, rq.side_min_lead_rad);
   c.side_w = side.feasible ? side.width.width_mm : 0.0;
   c.evaluations += 1;
@@ -181,7 +253,7 @@ struct PlannedRow {
 // over the whole part), for a partial row; each part's contacts carry its
 // index as their piece.
 PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls, bool side_only,
-                    Progress& progress, const Intervals* only = nullptr) {
+                    Progress& progress, const Intervals* only = nullptr, const RowSeeds* seeds = nullptr) {
   PlannedRow pr;
   pr.row.v = v;
   const IsoVCurve curve(*rq.edge, v);
@@ -222,7 +294,7 @@ PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<dou
   const FlankSamples& flanks = pr.flanks;
   Progress quiet(&progress);  // cancelled with the caller's, its own bar
   run_parallel(which.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
-    pr.contacts[k] = plan_contact(rq, steps.t[which[k]], v, ls, side_only, flanks);
+    pr.contacts[k] = plan_contact(rq, steps.t[which[k]], v, ls, side_only, flanks, seeds);
     pr.contacts[k].piece = piece[which[k]];
   });
   for (const ContactPlan& c : pr.contacts) pr.row.strip_evaluations += c.evaluations;
@@ -255,6 +327,16 @@ bool chosen_position(const EdgeFinishRequest& rq, const ContactPlan& c, int l_in
   pos = {EdgeContact::Bottom, ls[l_index], 0,
          rq.optimum == EdgeOptimum::Paper ? c.paper_phi : c.joint_phi[l_index]};
   return true;
+}
+
+// The positions a planned row's contacts took (RowSeed).
+RowSeed seed_of(const EdgeFinishRequest& rq, const PlannedRow& pr, const std::vector<double>& ls) {
+  RowSeed out;
+  for (size_t i = 0; i < pr.contacts.size(); ++i) {
+    EdgePosition pos;
+    if (chosen_position(rq, pr.contacts[i], pr.emitted.l_index[i], ls, pos)) out.push_back({pr.contacts[i].u, pos});
+  }
+  return out;
 }
 
 // The traverse's waypoint round the edge's front, for a link between passes
@@ -764,8 +846,8 @@ Intervals gaps_between(const Surface& edge, const EdgeFinishRow& a, const EdgeFi
 // planned (plan_row's `only`; l balanced over those), each interval its own
 // pass.
 PlannedRow infill_row(const EdgeFinishRequest& rq, const PoseChecks& checks, double v, const std::vector<double>& ls,
-                      const Intervals& where, Progress& progress) {
-  PlannedRow pr = plan_row(rq, v, ls, false, progress, &where);
+                      const Intervals& where, const RowSeeds& seeds, Progress& progress) {
+  PlannedRow pr = plan_row(rq, v, ls, false, progress, &where, &seeds);
   emit_poses(rq, v, ls, pr);
   pr.row.infill = true;
   clear_row(rq, checks, pr);
@@ -777,8 +859,8 @@ PlannedRow infill_row(const EdgeFinishRequest& rq, const PoseChecks& checks, dou
 // assumed — leave material: one at the middle over the gaps' intervals,
 // then the same for each half, to `depth` levels. Appended to `out`.
 void fill_gaps(const EdgeFinishRequest& rq, const PoseChecks& checks, const std::vector<double>& ls,
-               const EdgeFinishRow& a, const EdgeFinishRow* b, double b_v, const Intervals& within, int depth,
-               std::vector<PlannedRow>& out, Progress& progress) {
+               const EdgeFinishRow& a, const EdgeFinishRow* b, double b_v, const RowSeeds& seeds,
+               const Intervals& within, int depth, std::vector<PlannedRow>& out, Progress& progress) {
   // Gaps narrower than this are left: beyond a strip's end the material
   // rises from e2 as the corner turns away from the surface, by 0.1 um
   // over 0.01 mm for r 0.5 (measured: 0.063 mm, 1 um by that rule, left
@@ -788,12 +870,13 @@ void fill_gaps(const EdgeFinishRequest& rq, const PoseChecks& checks, const std:
   if (gaps.empty() || depth == 0) return;
   // Against the window's end the partial row goes on the end itself.
   const double v = b ? 0.5 * (a.v + b_v) : b_v;
-  out.push_back(infill_row(rq, checks, v, ls, gaps, progress));
+  out.push_back(infill_row(rq, checks, v, ls, gaps, seeds, progress));
   const size_t m = out.size() - 1;
   // out may grow (and move) below: copy the middle row.
   const EdgeFinishRow mid = out[m].row;
-  fill_gaps(rq, checks, ls, a, &mid, mid.v, gaps, depth - 1, out, progress);
-  if (b) fill_gaps(rq, checks, ls, mid, b, b_v, gaps, depth - 1, out, progress);
+  const RowSeed mid_seed = seed_of(rq, out[m], ls);
+  fill_gaps(rq, checks, ls, a, &mid, mid.v, {seeds.below, &mid_seed}, gaps, depth - 1, out, progress);
+  if (b) fill_gaps(rq, checks, ls, mid, b, b_v, {&mid_seed, seeds.above}, gaps, depth - 1, out, progress);
 }
 
 // The span window's ends against hub and casing (EdgeFinishRequest::hub,
@@ -1141,10 +1224,13 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     EdgeFinishRequest one = rq;
     one.threads = 1;
     std::vector<std::vector<PlannedRow>> infill(planned.size());
+    std::vector<RowSeed> seeds;
+    for (const PlannedRow& pr : planned) seeds.push_back(seed_of(rq, pr, ls));
     run_parallel(planned.size(), rq.threads, progress, "edge finish partial rows", [&](size_t k, Progress& pg) {
       const bool last = k + 1 == planned.size();
       fill_gaps(one, checks, ls, planned[k].row, last ? nullptr : &planned[k + 1].row,
-                last ? rq.v1 : planned[k + 1].row.v, whole, kInfillDepth, infill[k], pg);
+                last ? rq.v1 : planned[k + 1].row.v, {&seeds[k], last ? nullptr : &seeds[k + 1]}, whole,
+                kInfillDepth, infill[k], pg);
     });
     for (std::vector<PlannedRow>& rows : infill)
       for (PlannedRow& pr : rows) {
@@ -1313,7 +1399,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     std::vector<PlannedRow> extra(gaps.size());
     std::vector<long> extra_breaks(gaps.size(), 0);
     run_parallel(gaps.size(), rq.threads, progress, "edge finish partial rows (simulated)", [&](size_t k, Progress& pg) {
-      extra[k] = infill_row(one, checks, gaps[k].v, ls, gaps[k].where, pg);
+      const RowSeed below = seed_of(rq, planned[gaps[k].below], ls);
+      const RowSeed above = gaps[k].below + 1 < planned.size() ? seed_of(rq, planned[gaps[k].below + 1], ls) : RowSeed{};
+      extra[k] = infill_row(one, checks, gaps[k].v, ls, gaps[k].where, {&below, &above}, pg);
       // Cut after the row below or the row above it, whichever ends nearer
       // (the zigzag's rows end on alternate sides of the edge), and from
       // its end nearer there: the links into and out of it then stay on
@@ -1353,6 +1441,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
     out.rows.push_back(std::move(row));
   }
+  const auto t_links = Clock::now();
   // Links between consecutive passes, in cutting order: the shared link
   // builder (core/planning/links.h), up the tool axis — a bottom-cutting
   // tool leaves along its axis — every leg proved against the world with
@@ -1446,6 +1535,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     out.lead_out = departure(*last, "lead-out");
   }
   progress.end();
+  out.links_seconds = seconds_since(t_links);
   out.checks_seconds = seconds_since(t_checks);
   return out;
 }
