@@ -27,6 +27,11 @@ struct Group {
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   std::vector<int> members;  // sample indices (tiles) or tile indices (super-tiles)
+  // slab_of: the samples' mean normal, their largest distance from the
+  // plane through the centre across it, and the cosine and sine of the
+  // largest angle between a sample's normal and that mean.
+  Vec3 normal = Vec3::Zero();
+  double thickness = 0, cone_cos = -1, cone_sin = 0;
 };
 
 template <class PointOf>
@@ -43,6 +48,25 @@ void bound(Group& g, PointOf point_and_radius) {
     const auto [c, r] = point_and_radius(m);
     g.radius = std::max(g.radius, (c - g.centre).norm() + r);
   }
+}
+
+// A group's slab (Group::normal ... cone_sin) over the given samples: a
+// nearly flat patch of the surface lies within `thickness` of its mean
+// plane.
+template <class ForEachSample>
+void slab_of(Group& g, ForEachSample each) {
+  Vec3 n = Vec3::Zero();
+  each([&](const Sample& smp) { n += smp.n; });
+  if (!(n.norm() > 1e-9)) return;  // normals cancel: no slab (cone_cos -1 never culls)
+  g.normal = n.normalized();
+  g.thickness = 0;
+  g.cone_cos = 1;
+  each([&](const Sample& smp) {
+    g.thickness = std::max(g.thickness, std::abs(g.normal.dot(smp.p - g.centre)));
+    g.cone_cos = std::min(g.cone_cos, g.normal.dot(smp.n));
+  });
+  g.cone_cos = std::clamp(g.cone_cos, -1.0, 1.0);
+  g.cone_sin = std::sqrt(1 - g.cone_cos * g.cone_cos);
 }
 
 struct SampleIndex {
@@ -78,15 +102,24 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
       idx.tiles[static_cast<size_t>(i / kTile) * tv + j / kTile].members.push_back(i * nv + j);
   }
   cancellation_point();
-  for (Group& t : idx.tiles)
+  for (Group& t : idx.tiles) {
     bound(t, [&](int m) { return std::pair<Vec3, double>(idx.samples[m].p, 0.0); });
+    slab_of(t, [&](const auto& f) {
+      for (int m : t.members) f(idx.samples[m]);
+    });
+  }
   const int su = (tu + kTile - 1) / kTile, sv = (tv + kTile - 1) / kTile;
   idx.supers.resize(static_cast<size_t>(su) * sv);
   for (int i = 0; i < tu; ++i)
     for (int j = 0; j < tv; ++j)
       idx.supers[static_cast<size_t>(i / kTile) * sv + j / kTile].members.push_back(i * tv + j);
-  for (Group& g : idx.supers)
+  for (Group& g : idx.supers) {
     bound(g, [&](int m) { return std::pair<Vec3, double>(idx.tiles[m].centre, idx.tiles[m].radius); });
+    slab_of(g, [&](const auto& f) {
+      for (int t : g.members)
+        for (int m : idx.tiles[t].members) f(idx.samples[m]);
+    });
+  }
   return idx;
 }
 
@@ -150,17 +183,44 @@ void lower_to(std::atomic<double>& a, double v) {
   }
 }
 
+// Whether every point p - s n (0 <= s <= range) of a tile's samples lies
+// below the cutter's lowest plane z = z_min, where no point of the cutter
+// is: what a trace of entries below the surface (s <= 0, a gouge guard)
+// can never enter. The bottom of a flat-end mill lies over the flank it
+// cuts beside: ~27 000 samples 32 um apart under a 6 mm disc, every one
+// within the Lipschitz cull's reach, and this clears their tiles whole.
+// With a = the tool axis, z(p - s n) = a.(c - tip) + a.(p - c) - s a.n:
+// a.(p - c) <= radius |a x n_t| + thickness (the patch's in-plane spread
+// tipped by the axis's angle to its normal, plus its depth), and - s a.n
+// <= 0 when every sample normal is within the cone about n_t that keeps
+// a.n >= 0.
+bool below_the_cutter(const Group& g, const Eigen::Isometry3d& to_tool, double z_min, double tol) {
+  if (g.cone_cos < 0) return false;
+  const Vec3 a = to_tool.linear().row(2).transpose();  // the tool axis in the part frame
+  const double an = a.dot(g.normal);
+  const double across = std::sqrt(std::max(0.0, 1 - an * an));
+  if (an * g.cone_cos - across * g.cone_sin < 0) return false;  // some normal may point below the axis
+  const double top = (to_tool * g.centre).z() + g.radius * across + g.thickness;
+  return top < z_min - tol;
+}
+
 // Calls f(m) for every sample m whose group the cutter at `to_tool` may
 // reach within `range` (the Lipschitz bound prunes super-tiles, then tiles).
+// `only_below`: the caller traces entries below the surface only (s <= 0),
+// so tiles wholly below the cutter's lowest plane are pruned too.
 template <class F>
 void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_tool, const SampleIndex& idx,
-                          double range, F&& f) {
-  auto far = [&](const Group& g) { return cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range; };
+                          double range, double tol, bool only_below, F&& f) {
+  // The slab test first: a few products against a signed distance.
+  auto skip = [&](const Group& g) {
+    return (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) ||
+           cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range;
+  };
   for (const Group& sup : idx.supers) {
-    if (far(sup)) continue;
+    if (skip(sup)) continue;
     for (int t : sup.members) {
       const Group& tile = idx.tiles[t];
-      if (far(tile)) continue;
+      if (skip(tile)) continue;
       for (int m : tile.members) f(m);
     }
   }
@@ -169,7 +229,7 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
 void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
               const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
   const Eigen::Isometry3d to_tool = to_part.inverse();
-  for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), [&](int m) {
+  for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), o.tol_mm, false, [&](int m) {
     const Sample& smp = idx.samples[m];
     ++evaluations;
     const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
@@ -363,7 +423,7 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
   for (int s = include_from ? 0 : 1; s <= (include_to ? n : n - 1); ++s) {
     const double t = static_cast<double>(s) / n;
     const Eigen::Isometry3d to_tool = motion.frame_at(t).inverse();
-    for_each_sample_near(cutter, to_tool, idx, range, [&](int m) {
+    for_each_sample_near(cutter, to_tool, idx, range, options_.tol_mm, true, [&](int m) {
       const Sample& smp = idx.samples[m];
       // Only entries below -allowed matter: the trace stops there.
       const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_,

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/collision/tilt.h"
 #include "core/common/error.h"
 
 namespace bliskrun {
@@ -186,6 +187,75 @@ TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
   EXPECT_EQ(a.tool_positions, b.tool_positions);
   EXPECT_LT(b.line_evaluations, a.line_evaluations * 11 / 10);
   EXPECT_LT(a.line_evaluations, a.tool_positions * 41L * 101L / 4);
+}
+
+// A cylinder of radius 20 about X, its top near z = 0 (normal out): a flank
+// the flat bottom of an end mill lies over, curving away from it.
+class Cylinder : public Surface {
+ public:
+  SurfaceDerivs eval(double u, double v) const override {
+    const double r = 20, x = 16 * u - 8, a = (v - 0.5) * 0.8;
+    SurfaceDerivs d;
+    d.p = Vec3(x, r * std::sin(a), r * std::cos(a) - r);
+    d.pu = Vec3(16, 0, 0);
+    d.pv = Vec3(0, 0.8 * r * std::cos(a), -0.8 * r * std::sin(a));
+    return d;
+  }
+};
+
+// The guard prunes tiles of samples whose traces below the surface lie
+// wholly under the cutter's lowest plane (a flat bottom over a flank). The
+// pruning must never change a verdict: the deepest cut equals a brute-force
+// trace of every sample (stepping 0.5 um down its normal), for flat-end
+// poses lying on the plane and on the cylinder, level and tilted up to 20
+// degrees, just clear and gouging by a few um at the bottom's centre or at
+// its corner.
+TEST(Undercut, GuardPruningBelowTheBottomAgreesWithTracingEverySample) {
+  FlatEndMillSpec spec;
+  spec.radius_mm = 3;
+  spec.corner_radius_mm = 0.5;
+  spec.flute_length_mm = 9;
+  spec.shank = {6, 30};
+  const Tool mill = Tool::flat_end_mill(spec);
+  const Profile& cutter = mill.cutter();
+  const Plane plane;
+  const Cylinder cylinder;
+  int compared = 0, cut = 0;
+  for (const Surface* surface : {static_cast<const Surface*>(&plane), static_cast<const Surface*>(&cylinder)}) {
+    UndercutOptions o = guard_sampling(*surface, 0.1, 0.3, 0.7, 0.2, 0.8);
+    const GougeGuard guard(*surface, o);
+    for (double tilt_deg : {0.0, 5.0, 20.0}) {
+      for (double gap_mm : {0.004, -0.002, -0.02}) {
+        // The axis tilted about X, the tool touching the tangent plane
+        // z = 0 at (0.3, 0, 0) (the top of both surfaces), then gap_mm above it.
+        const double t = tilt_deg * kPi / 180;
+        const Vec3 axis(0, std::sin(t), std::cos(t));
+        ToolPose pose = place_tool(mill, {Vec3(0.3, 0, 0), Vec3::UnitX(), Vec3::UnitZ()}, axis);
+        pose.tip.z() += gap_mm;
+        const Eigen::Isometry3d to = tool_to_part(pose).inverse();
+        const double allowed = 0.001;
+        const GougeGuard::Cut c = guard.deepest_cut(mill, pose, pose, allowed, true, true);
+        double brute = 0;
+        for (int i = 0; i < o.samples_u; ++i)
+          for (int j = 0; j < o.samples_v; ++j) {
+            const SurfaceDerivs d = surface->eval(o.u0 + (o.u1 - o.u0) * i / (o.samples_u - 1),
+                                                  o.v0 + (o.v1 - o.v0) * j / (o.samples_v - 1));
+            const Vec3 n = d.pu.cross(d.pv).normalized();
+            for (double s = -o.search_below_mm; s <= -allowed; s += 5e-4)
+              if (cutter.signed_distance(to * Vec3(d.p + s * n)) <= 0) {
+                brute = std::min(brute, s);
+                break;
+              }
+          }
+        ++compared;
+        cut += brute < 0 ? 1 : 0;
+        EXPECT_NEAR(c.depth_mm, brute, 6e-4) << "tilt " << tilt_deg << " gap " << gap_mm;
+        EXPECT_EQ(c.depth_mm < 0, brute < 0) << "tilt " << tilt_deg << " gap " << gap_mm;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 18);
+  EXPECT_EQ(cut, 12);  // every pose 2 or 20 um in is seen gouging  // the gouging poses are seen as gouging
 }
 
 TEST(Undercut, RejectsBadOptions) {
