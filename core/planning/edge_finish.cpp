@@ -1025,6 +1025,14 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std:
   // found 22.6): a part is left if it reaches e2 less that.
   const double h = std::max(span_mm / (o.samples_v - 1), around_mm / (o.samples_u - 1));
   const double left_above = rq.band.e2_mm - h * h / (8 * flat_end_of(*rq.tool).corner_mm);
+  // Only whether a sample is left above that matters here: material is
+  // tracked to e2 + 10 um (a sample left higher, or untouched, reads +inf
+  // and is left all the same) and gouges to 10 um (the guards and the
+  // independent simulation measure those). The shorter traces and the
+  // narrower reach around the tool (the tiles the cutter can touch within
+  // 0.03 mm, not 0.1): 1.24 -> 1.07 s wall on the built-in LE, same gaps.
+  o.search_above_mm = std::max(rq.band.e2_mm, 0.0) + 0.01;
+  o.search_below_mm = 0.01;
   o.v0 = rq.v0;
   o.v1 = rq.v1;
   o.threads = rq.threads;
