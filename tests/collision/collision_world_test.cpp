@@ -3,6 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "collision/test_meshes.h"
 #include "core/collision/collision_world.h"
@@ -126,6 +130,45 @@ TEST(CollisionWorld, SeparateClearancesForCutterShankAndHolder) {
   EXPECT_TRUE(low.parts[2].collides);
   EXPECT_FALSE(low.parts[1].collides);
   EXPECT_FALSE(low.clear);
+}
+
+// check_bounded asks first the object that was nearest a piece at its last
+// query (it prunes the others by that distance). The order must change the
+// cost only: the tool hops over five blocks, each nearest in turn and in
+// every order (down the row, up it, skipping), and every part's distance
+// and nearest object equal the minimum over worlds holding one block each.
+TEST(CollisionWorld, NearestFirstOrderGivesTheMinimumOverTheObjects) {
+  const ToolBody body(Tool::flat_end_mill({3, 0.5, 9, {6, 30}, {12, 20}}), 1e-3);
+  constexpr int kBlocks = 5;
+  CollisionWorld all;
+  std::vector<CollisionWorld> one(kBlocks);
+  for (int b = 0; b < kBlocks; ++b) {
+    const TriangleMesh block = box_mesh(Vec3(30 * b - 5, -5, -10), Vec3(30 * b + 5, 5, 0));
+    all.add("block " + std::to_string(b), block);
+    one[b].add("block " + std::to_string(b), block);
+  }
+  const std::vector<int> hops = {4, 3, 2, 1, 0, 0, 2, 4, 1, 3, 0, 4};
+  for (size_t k = 0; k < hops.size(); ++k) {
+    const double tilt = 0.1 * static_cast<double>(k % 4);
+    const ToolPose pose{Vec3(30 * hops[k] + 0.5 * static_cast<double>(k % 3), 0, 0.5 + 0.2 * static_cast<double>(k % 5)),
+                        Vec3(std::sin(tilt), 0, std::cos(tilt))};
+    const PoseCheck c = all.check(body, pose, Clearances{});
+    for (size_t p = 0; p < c.parts.size(); ++p) {
+      double best = std::numeric_limits<double>::infinity();
+      int best_block = -1;
+      for (int b = 0; b < kBlocks; ++b) {
+        const double d = one[b].check(body, pose, Clearances{}).parts[p].distance_mm;
+        if (d < best) {
+          best = d;
+          best_block = b;
+        }
+      }
+      EXPECT_EQ(c.parts[p].distance_mm, best) << "hop " << k << " part " << p;
+      ASSERT_GE(c.parts[p].object, 0);
+      EXPECT_EQ(all.name(c.parts[p].object), "block " + std::to_string(best_block)) << "hop " << k << " part " << p;
+    }
+    EXPECT_EQ(all.name(c.parts[0].object), "block " + std::to_string(hops[k]));  // the cutter's is the one below it
+  }
 }
 
 TEST(CollisionWorld, NamesObjectsAndRejectsBadMeshes) {
