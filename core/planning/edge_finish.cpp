@@ -71,13 +71,34 @@ std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
   return l;
 }
 
-// The flanks' condition-① samples of a row: they depend on the row's span
-// alone (the flank u of its v, the flanks' edge ends), not on the contact,
-// so a row samples them once and its contacts' strips share them (they are
-// over half of each strip's samples: 1680 of 2946 on the built-in LE).
+// A row's condition-① samples beyond its contacts' strips: they depend on
+// the row's span alone, not on the contact, so a row samples them once and
+// its contacts' strips share them (of a contact's 2946 samples on the
+// built-in LE, 1680 are the flanks' and 861 these lines; a third of the
+// poses are contacts inserted between others, each sampling its strip):
+//  - the flanks' (the flank u of the row's v, from the flanks' edge ends);
+//  - with gouge_whole_u, the edge region's: every gouge_stride-th line
+//    across the feed, each over the whole round, the lines spaced for the
+//    row's smallest |pv| so they reach half_width_mm either side at every
+//    contact (a contact's own strip samples are spaced for its own |pv|).
 using FlankSamples = std::shared_ptr<const SharedGougeSamples>;
 FlankSamples flank_samples(const EdgeFinishRequest& rq, double v) {
   StripSamples out;
+  const StripSampling& sm = rq.sampling;
+  double pv_min = std::numeric_limits<double>::infinity();
+  for (int i = 0; sm.gouge_whole_u && i <= 20; ++i) pv_min = std::min(pv_min, rq.edge->eval(i / 20.0, v).pv.norm());
+  const int half = sm.across / 2;
+  const double dv = sm.half_width_mm / half / std::max(pv_min, 1e-12);
+  for (int j = -half; sm.gouge_whole_u && j <= half; j += std::max(sm.gouge_stride, 1)) {
+    const double vj = v + j * dv;
+    if (vj < -1e-12 || vj > 1 + 1e-12) continue;
+    for (int k = 0; k < sm.gouge_along; ++k) {
+      const SurfaceDerivs e = rq.edge->eval(static_cast<double>(k) / std::max(sm.gouge_along - 1, 1),
+                                            std::clamp(vj, 0.0, 1.0));
+      out.gouge_p.push_back(e.p);
+      out.gouge_n.push_back(e.pu.cross(e.pv).normalized());
+    }
+  }
   const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
   if (rq.first) add_flank_samples(out, *rq.first, u_f, 0.0, rq.sampling);
   if (rq.second) add_flank_samples(out, *rq.second, u_f, 1.0, rq.sampling);
@@ -86,8 +107,9 @@ FlankSamples flank_samples(const EdgeFinishRequest& rq, double v) {
 
 std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
                                                double v, const FlankSamples& flanks) {
-  return std::make_shared<const ContactStrip>(*rq.tool, frame, sample_strip(*rq.edge, u, v, rq.sampling), rq.band,
-                                              flanks);
+  StripSampling own = rq.sampling;
+  if (own.gouge_whole_u) own.gouge_along = 0;  // the region's lines beyond the strip are the row's (flank_samples)
+  return std::make_shared<const ContactStrip>(*rq.tool, frame, sample_strip(*rq.edge, u, v, own), rq.band, flanks);
 }
 
 // The positions a row's contacts took as planned (before any tilt), in u
