@@ -1309,17 +1309,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     if (row.reversed) std::reverse(proved.begin(), proved.end());
     int segment = 0;
     long last = -1;  // index in row.poses of the previous emitted pose of this pass
-    long last_candidate = -1;  // ... and in candidates
     TiltAccepted last_tilt;    // the row's last tilted contact's axis (index -1: none yet)
     last_tilt.index = -1;
-    // The guards' sweep of every consecutive pair as planned; the pass
-    // below takes it where the pose before is the candidate before and
-    // this pass moved neither (changed_here).
-    std::vector<char> pair_gouges(candidates.size(), 0);
-    for (size_t k = 0; k + 1 < candidates.size(); ++k) pair_gouges[k + 1] = motion_gouges(candidates[k], candidates[k + 1]);
-    // Poses this pass moved (lifted or tilted): the pair sweeps above were
-    // of where they stood before.
-    std::vector<char> changed_here(candidates.size(), 0);
     for (size_t ci = 0; ci < candidates.size(); ++ci) {
       EdgeFinishPose& p = candidates[ci];
       row_progress.check();
@@ -1334,10 +1325,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
         const PoseCheck pc = rq.world->check(body, p.pose, rq.clearances, 0);
         if (!pc.clear) reason = describe(pc, *rq.world);
         else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
-        else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p)) {
+        else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p))
           reason.clear();
-          changed_here[ci] = 1;  // its pair sweeps above were of the pose before the lift
-        }
       }
       if (reason.empty() && last >= 0 &&
           !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
@@ -1359,7 +1348,6 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       bool motion_proved = false;  // the cutting motion into p, by the strips and the guards
       if (tilt.accepted) {
         reason.clear();
-        changed_here[ci] = 1;
         ++row.tilted_contacts;
         last_tilt = tilt.pose;
         // A tilted pose is a different family from its neighbours: reach it
@@ -1381,19 +1369,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
         continue;
       }
       // Every cutting motion within e1 of the blade (a tilted neighbour, a
-      // pose after a refused one): otherwise reach this pose by a link.
-      const bool as_planned = last >= 0 && last_candidate + 1 == static_cast<long>(ci) && !changed_here[ci] &&
-                              !changed_here[static_cast<size_t>(last_candidate)];
+      // pose after a refused one): otherwise reach this pose by a link. The
+      // guards' sweep only where the strips' cheaper test passes.
       if (last >= 0 && !motion_proved &&
           (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-           (as_planned ? pair_gouges[ci] != 0 : motion_gouges(row.poses[last], p)))) {
+           motion_gouges(row.poses[last], p))) {
         ++segment;
         ++gouge_breaks;
       }
       p.segment = segment;
       row.poses.push_back(p);
       last = static_cast<long>(row.poses.size()) - 1;
-      last_candidate = static_cast<long>(ci);
     }
     // Rows whose contacts had no feasible position at all.
     for (size_t i = 0; i < pr.contacts.size(); ++i) {
