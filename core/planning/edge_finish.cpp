@@ -81,23 +81,21 @@ std::vector<double> l_grid(const FlatEnd& f, double r_e, int count) {
 //    across the feed, each over the whole round, the lines spaced for the
 //    row's smallest |pv| so they reach half_width_mm either side at every
 //    contact (a contact's own strip samples are spaced for its own |pv|).
-using FlankSamples = std::shared_ptr<const SharedGougeSamples>;
-FlankSamples flank_samples(const EdgeFinishRequest& rq, double v) {
+using RowGougeSamples = std::shared_ptr<const SharedGougeSamples>;
+RowGougeSamples row_gouge_samples(const EdgeFinishRequest& rq, double v) {
   StripSamples out;
   const StripSampling& sm = rq.sampling;
-  double pv_min = std::numeric_limits<double>::infinity();
-  for (int i = 0; sm.gouge_whole_u && i <= 20; ++i) pv_min = std::min(pv_min, rq.edge->eval(i / 20.0, v).pv.norm());
-  const int half = sm.across / 2;
-  const double dv = sm.half_width_mm / half / std::max(pv_min, 1e-12);
-  for (int j = -half; sm.gouge_whole_u && j <= half; j += std::max(sm.gouge_stride, 1)) {
-    const double vj = v + j * dv;
-    if (vj < -1e-12 || vj > 1 + 1e-12) continue;
-    for (int k = 0; k < sm.gouge_along; ++k) {
-      const SurfaceDerivs e = rq.edge->eval(static_cast<double>(k) / std::max(sm.gouge_along - 1, 1),
-                                            std::clamp(vj, 0.0, 1.0));
-      out.gouge_p.push_back(e.p);
-      out.gouge_n.push_back(e.pu.cross(e.pv).normalized());
+  if (sm.gouge_whole_u) {
+    double pv_min = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= 20; ++i) pv_min = std::min(pv_min, rq.edge->eval(i / 20.0, v).pv.norm());
+    const int half = sm.across / 2;
+    const double dv = sm.half_width_mm / half / std::max(pv_min, 1e-12);
+    std::vector<double> lines;
+    for (int j = -half; j <= half; j += std::max(sm.gouge_stride, 1)) {
+      const double vj = v + j * dv;
+      if (vj >= -1e-12 && vj <= 1 + 1e-12) lines.push_back(std::clamp(vj, 0.0, 1.0));
     }
+    add_gouge_lines(out, *rq.edge, 0, 1, lines, sm);
   }
   const double u_f = rq.span_u0 + v * (rq.span_u1 - rq.span_u0);
   if (rq.first) add_flank_samples(out, *rq.first, u_f, 0.0, rq.sampling);
@@ -106,10 +104,10 @@ FlankSamples flank_samples(const EdgeFinishRequest& rq, double v) {
 }
 
 std::shared_ptr<const ContactStrip> make_strip(const EdgeFinishRequest& rq, const EdgeFrame& frame, double u,
-                                               double v, const FlankSamples& flanks) {
+                                               double v, const RowGougeSamples& row_samples) {
   StripSampling own = rq.sampling;
-  if (own.gouge_whole_u) own.gouge_along = 0;  // the region's lines beyond the strip are the row's (flank_samples)
-  return std::make_shared<const ContactStrip>(*rq.tool, frame, sample_strip(*rq.edge, u, v, own), rq.band, flanks);
+  if (own.gouge_whole_u) own.gouge_along = 0;  // the region's lines beyond the strip are the row's (row_gouge_samples)
+  return std::make_shared<const ContactStrip>(*rq.tool, frame, sample_strip(*rq.edge, u, v, own), rq.band, row_samples);
 }
 
 // The positions a row's contacts took as planned (before any tilt), in u
@@ -176,21 +174,17 @@ bool seeded_contact(const std::vector<double>& ls, const RowSeeds& seeds, Contac
 }
 
 ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const std::vector<double>& ls,
-                         bool side_only, const FlankSamples& flanks, const RowSeeds* seeds = nullptr) {
+                         bool side_only, const RowGougeSamples& row_samples, const RowSeeds* seeds = nullptr) {
   ContactPlan c;
   c.u = u;
   const SurfaceDerivs d = rq.edge->eval(u, v);
   c.frame = edge_frame(d);
-  c.strip = make_strip(rq, c.frame, u, v, flanks);
+  c.strip = make_strip(rq, c.frame, u, v, row_samples);
   const ContactStrip& strip = *c.strip;
   if (seeds && !side_only) {
-    if (seeded_contact(ls, *seeds, c)) return c;
-    ContactPlan fresh;  // the seeds' tries dropped, their evaluations counted
-    fresh.u = c.u;
-    fresh.frame = c.frame;
-    fresh.strip = c.strip;
-    fresh.evaluations = c.evaluations;
-    c = std::move(fresh);
+    ContactPlan seeded = c;
+    if (seeded_contact(ls, *seeds, seeded)) return seeded;
+    c.evaluations = seeded.evaluations;  // the seeds' tries dropped, their evaluations counted
   }
   const CornerPosition side = corner_min_lead(strip, rq.side_min_lead_rad);
   c.side_w = side.feasible ? side.width.width_mm : 0.0;
@@ -265,7 +259,7 @@ struct PlannedRow {
   // the design guards as it stands (clear, lifted clear, or tilted clear),
   // so the checks need not sweep the guards over it again.
   std::vector<char> design_proved;
-  FlankSamples flanks;  // the row's flank samples (flank_samples)
+  RowGougeSamples row_samples;  // the row's condition-① samples beyond its strips (row_gouge_samples)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
 };
@@ -312,11 +306,11 @@ PlannedRow plan_row(const EdgeFinishRequest& rq, double v, const std::vector<dou
   // The contacts of a row are independent (each its own samples and
   // searches): on rq.threads workers, each writing its own slot.
   pr.contacts.resize(which.size());
-  pr.flanks = flank_samples(rq, v);
-  const FlankSamples& flanks = pr.flanks;
+  pr.row_samples = row_gouge_samples(rq, v);
+  const RowGougeSamples& row_samples = pr.row_samples;
   Progress quiet(&progress);  // cancelled with the caller's, its own bar
   run_parallel(which.size(), rq.threads, quiet, "edge finish contacts", [&](size_t k, Progress&) {
-    pr.contacts[k] = plan_contact(rq, steps.t[which[k]], v, ls, side_only, flanks, seeds);
+    pr.contacts[k] = plan_contact(rq, steps.t[which[k]], v, ls, side_only, row_samples, seeds);
     pr.contacts[k].piece = piece[which[k]];
   });
   for (const ContactPlan& c : pr.contacts) pr.row.strip_evaluations += c.evaluations;
@@ -584,7 +578,7 @@ double motion_deepest(const EdgeFinishPose& a, const EdgeFinishPose& b, const Co
 // The contact half-way between two poses of a row (same part), at
 // `position`, on a strip of its own: what refine_row and refine_tilted
 // insert. Returns the pose and its strip's width there.
-std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, const FlankSamples& flanks,
+std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, const RowGougeSamples& row_samples,
                                                    const EdgeFinishPose& a, const EdgeFinishPose& b,
                                                    const EdgePosition& position) {
   EdgeFinishPose m;
@@ -592,7 +586,7 @@ std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, 
   m.v = a.v;
   m.position = position;
   const EdgeFrame f = edge_frame(rq.edge->eval(m.u, m.v));
-  m.strip = make_strip(rq, f, m.u, m.v, flanks);
+  m.strip = make_strip(rq, f, m.u, m.v, row_samples);
   const StripWidth w = m.strip->width(m.position);
   m.pose = m.strip->pose(m.position);
   m.contact = f.point;
@@ -613,7 +607,7 @@ std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, 
 // contacts' samples, dips below e1, a contact is inserted half-way with the
 // blended position (same family: l, θ, φ averaged) until it does not; a
 // switch between bottom and corner cannot be blended and becomes a link.
-void refine_row(const EdgeFinishRequest& rq, const FlankSamples& flanks, std::vector<EdgeFinishPose>& poses,
+void refine_row(const EdgeFinishRequest& rq, const RowGougeSamples& row_samples, std::vector<EdgeFinishPose>& poses,
                 std::vector<std::shared_ptr<const ContactStrip>>& strips, int& inserted) {
   size_t i = 0;
   while (i + 1 < poses.size()) {
@@ -629,7 +623,7 @@ void refine_row(const EdgeFinishRequest& rq, const FlankSamples& flanks, std::ve
       ++i;
       continue;
     }
-    auto [m, w] = halfway_pose(rq, flanks, a, b,
+    auto [m, w] = halfway_pose(rq, row_samples, a, b,
                                {a.position.contact, 0.5 * (a.position.l_mm + b.position.l_mm),
                                 0.5 * (a.position.lead_rad + b.position.lead_rad),
                                 0.5 * (a.position.side_slip_rad + b.position.side_slip_rad)});
@@ -682,7 +676,7 @@ double emit_poses(const EdgeFinishRequest& rq, double v, const std::vector<doubl
     if (pos.contact == EdgeContact::Bottom) ++pr.row.bottom_contacts;
     else ++pr.row.corner_contacts;
   }
-  refine_row(rq, pr.flanks, pr.row.poses, strips, pr.row.inserted_contacts);
+  refine_row(rq, pr.row_samples, pr.row.poses, strips, pr.row.inserted_contacts);
   pr.row.left_min_mm = std::isfinite(left) ? left : 0;
   pr.row.right_min_mm = std::isfinite(right) ? right : 0;
   return narrowest;
@@ -722,7 +716,7 @@ void refine_tilted(const EdgeFinishRequest& rq, const PoseChecks& checks, Planne
       inserted_here = 0;
       continue;
     }
-    auto [m, w] = halfway_pose(rq, pr.flanks, a, b,
+    auto [m, w] = halfway_pose(rq, pr.row_samples, a, b,
                                {EdgeContact::Corner, 0, 0.5 * (a.position.lead_rad + b.position.lead_rad),
                                 a.position.side_slip_rad + 0.5 * std::remainder(b.position.side_slip_rad -
                                                                                     a.position.side_slip_rad,

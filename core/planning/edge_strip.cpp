@@ -101,23 +101,31 @@ StripSamples sample_strip(const Surface& surface, double u, double v, const Stri
     prev = c;
   }
   if (sm.gouge_along > 1 && sm.gouge_half_mm > 0) {
-    const double gdu = 2 * sm.gouge_half_mm / (sm.gouge_along - 1) / std::max(d.pu.norm(), 1e-12);
-    for (int idx = 0; idx < out.across; idx += std::max(sm.gouge_stride, 1)) {
-      const double vj = std::clamp(v + js[idx] * dv, 0.0, 1.0);
-      for (int k = 0; k < sm.gouge_along; ++k) {
-        const double uk = sm.gouge_whole_u ? static_cast<double>(k) / (sm.gouge_along - 1)
-                                           : u + (k - (sm.gouge_along - 1) / 2.0) * gdu;
-        if (uk < 0 || uk > 1) continue;
-        const SurfaceDerivs e = surface.eval(uk, vj);
-        Vec3 n = e.pu.cross(e.pv).normalized();
-        out.gouge_p.push_back(e.p);
-        out.gouge_n.push_back(flip_normal ? Vec3(-n) : n);
-      }
-    }
+    std::vector<double> lines;
+    for (int idx = 0; idx < out.across; idx += std::max(sm.gouge_stride, 1))
+      lines.push_back(std::clamp(v + js[idx] * dv, 0.0, 1.0));
+    add_gouge_lines(out, surface, u, d.pu.norm(), lines, sm, flip_normal);
   }
   const double s0 = out.s_mm[out.centre];
   for (double& s : out.s_mm) s -= s0;
   return out;
+}
+
+void add_gouge_lines(StripSamples& out, const Surface& surface, double u, double pu_norm,
+                     const std::vector<double>& lines, const StripSampling& sm, bool flip_normal) {
+  if (sm.gouge_along < 2) return;
+  const double gdu = 2 * sm.gouge_half_mm / (sm.gouge_along - 1) / std::max(pu_norm, 1e-12);
+  for (double vj : lines) {
+    for (int k = 0; k < sm.gouge_along; ++k) {
+      const double uk = sm.gouge_whole_u ? static_cast<double>(k) / (sm.gouge_along - 1)
+                                         : u + (k - (sm.gouge_along - 1) / 2.0) * gdu;
+      if (uk < 0 || uk > 1) continue;
+      const SurfaceDerivs e = surface.eval(uk, vj);
+      Vec3 n = e.pu.cross(e.pv).normalized();
+      out.gouge_p.push_back(e.p);
+      out.gouge_n.push_back(flip_normal ? Vec3(-n) : n);
+    }
+  }
 }
 
 void add_flank_samples(StripSamples& out, const Surface& flank, double u_f, double end_v, const StripSampling& sm) {

@@ -116,6 +116,14 @@ struct StripSamples {
 StripSamples sample_strip(const Surface& surface, double u, double v, const StripSampling& sampling,
                           bool flip_normal = false);
 
+// Adds condition-① samples (gouge_p / gouge_n): sampling.gouge_along of
+// them on each iso-v line at `lines` — over the surface's whole u range
+// (gouge_whole_u) or ±gouge_half_mm along the feed around u, where |pu| is
+// pu_norm. sample_strip takes a contact's every gouge_stride-th line across;
+// a row can sample its lines once for all its contacts.
+void add_gouge_lines(StripSamples& samples, const Surface& surface, double u, double pu_norm,
+                     const std::vector<double>& lines, const StripSampling& sampling, bool flip_normal = false);
+
 // Adds condition-① samples on a flank beyond an edge region: at flank
 // parameter u_f (the contact's span) ± half_width_mm along the flank's u,
 // and from the flank's edge end (v = end_v, 0 or 1) gouge_half_mm of arc
