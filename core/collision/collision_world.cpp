@@ -173,17 +173,16 @@ PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, cons
   return check_bounded(body, tool_to_part(pose), clearances, bound, nullptr);
 }
 
-int& CollisionWorld::nearest_hint(size_t part, size_t piece) const {
+std::vector<int>& CollisionWorld::nearest_hints(size_t parts) const {
   // Per thread (queries run on many), per world. A world freed and another
   // made at its address inherits stale hints: harmless, they only order.
   thread_local std::unordered_map<const CollisionWorld*, std::vector<int>> hints;
-  constexpr size_t kPieces = 8;  // pieces per part, at most (tool_fcl.h cuts a cutter in two)
   if (hints.size() > 64 && !hints.count(this)) hints.clear();
   std::vector<int>& mine = hints[this];
-  if (mine.size() < (part + 1) * kPieces) mine.resize((part + 1) * kPieces, 0);
-  int& h = mine[part * kPieces + std::min(piece, kPieces - 1)];
-  if (h >= size()) h = 0;
-  return h;
+  if (mine.size() < parts * kHintPieces) mine.resize(parts * kHintPieces, 0);
+  for (int& h : mine)
+    if (h >= size()) h = 0;
+  return mine;
 }
 
 PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isometry3d& frame,
@@ -196,6 +195,7 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
   const fcl::Transform3d identity = fcl::Transform3d::Identity();
   const Eigen::Isometry3d to_tool = frame.inverse();
   if (piece_distance) piece_distance->assign(body.parts().size(), {});
+  std::vector<int>& hints = nearest_hints(body.parts().size());
   for (size_t p = 0; p < body.parts().size(); ++p) {
     const FclToolPart& part = body.parts()[p];
     PartClearance pc;
@@ -229,7 +229,7 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
       // asked first: the others are then pruned by its distance, not by the
       // bound (beside a neighbouring blade, its far flank costs a fraction).
       // The order changes the cost only: the minimum is the same.
-      int& hint = nearest_hint(p, k);
+      int& hint = hints[p * kHintPieces + std::min(k, kHintPieces - 1)];
       const int first = hint;  // the order is fixed before the loop updates the hint
       for (int n = 0; n < size(); ++n) {
         const int i = n == 0 ? first : (n <= first ? n - 1 : n);

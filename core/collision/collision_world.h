@@ -166,9 +166,11 @@ class CollisionWorld {
     std::vector<Vec3> piece_vertices;  // one vertex of every connected piece
     CheckSurfaceOptions options;
   };
-  // The object that was nearest to piece `piece` of part `part` at the
-  // last query on this thread (0 at first): check_bounded asks it first.
-  int& nearest_hint(size_t part, size_t piece) const;
+  // Per piece (kHintPieces slots per part, the last shared by any more),
+  // the object that was nearest it at the last query on this thread (0 at
+  // first): check_bounded asks it first.
+  static constexpr size_t kHintPieces = 8;  // tool_fcl.h cuts a cutter in two
+  std::vector<int>& nearest_hints(size_t parts) const;
   // bound_mm[i][k]: resolve piece k of part i up to this; each piece's
   // distance (or its bound, when farther) into piece_distance when given.
   PoseCheck check_bounded(const ToolBody& body, const Eigen::Isometry3d& tool_to_part,
