@@ -147,27 +147,82 @@ void add_flank_samples(StripSamples& out, const Surface& flank, double u_f, doub
   }
 }
 
+namespace {
+
+// The cutter's signed distance at p (FlatEnd::signed_distance, the same
+// arithmetic) and its rate of change along the unit direction m.
+struct DistanceSlope {
+  double d, slope;
+};
+DistanceSlope distance_and_slope(const FlatEnd& cutter, const Vec3& p, const Vec3& m) {
+  const double rho = std::sqrt(p.x() * p.x() + p.y() * p.y());
+  const double r = cutter.corner_mm;
+  const double x = rho - (cutter.radius_mm - r);
+  const double y = r - p.z();
+  const double drho = rho > 1e-12 ? (p.x() * m.x() + p.y() * m.y()) / rho : 0.0;  // on the axis: a kink, 0 in it
+  const double dy = -m.z();
+  if (x <= 0 && y <= 0) return x > y ? DistanceSlope{x - r, drho} : DistanceSlope{y - r, dy};
+  const double xp = std::max(x, 0.0), yp = std::max(y, 0.0);
+  const double n = std::sqrt(xp * xp + yp * yp);
+  return {n - r, (xp * drho + yp * dy) / n};
+}
+
+}  // namespace
+
 double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to_tool, const Vec3& p,
                          const Vec3& n, double cap_mm) {
   const Vec3 q = part_to_tool * p;
   const Vec3 m = part_to_tool.linear() * n;
   constexpr double kTol = 1e-8;
   double t = 0;
-  double d = cutter.signed_distance(q);
-  // A ray grazing the cutter advances by tiny steps; after kMaxSteps it is
-  // reported as missing (+cap) when outside — the strip then ends there,
-  // which can only make it narrower, never hide a gouge (a ray starting
-  // inside the cutter leaves it in a few steps: the exact signed distance of
-  // a convex profile shrinks linearly along any line out of it).
-  constexpr int kMaxSteps = 40;
-  for (int it = 0; it < kMaxSteps; ++it) {
-    if (std::abs(d) < kTol) return t;
-    t += d;  // outside: along +n towards the tool; inside: along -n out of it
-    if (t > cap_mm) return cap_mm;
-    if (t < -cap_mm) return -cap_mm;
-    d = cutter.signed_distance(Vec3(q + t * m));
+  DistanceSlope ds = distance_and_slope(cutter, q, m);
+  if (std::abs(ds.d) < kTol) return 0;
+  // Where the line crosses the flat bottom (z = 0 within R - r of the axis,
+  // the cutter above it) it crosses the convex cutter's boundary there and
+  // nowhere else on that side: the crossing, in closed form.
+  if (m.z() > 1e-9) {
+    const double tp = -q.z() / m.z();
+    if ((ds.d > 0) == (tp > 0)) {  // outside: ahead along +n; inside: behind
+      const Vec3 h = q + tp * m;
+      const double b = cutter.radius_mm - cutter.corner_mm;
+      if (h.x() * h.x() + h.y() * h.y() <= b * b) return std::clamp(tp, -cap_mm, cap_mm);
+    }
   }
-  return t < 0 ? t : cap_mm;
+  // The signed distance to a convex body is convex along any line: from
+  // outside, Newton steps along +n never pass the surface (the tangent's
+  // zero lies short of the crossing) and converge fast at any angle;
+  // sphere tracing (step d) took ~ log(tol / d) / log(1 - sin a) steps for
+  // a line meeting the surface at a, and gave up on lines within ~20 deg of
+  // it. A line that does not approach, or meets the cutter not at all, ends
+  // beyond the cap (+cap: the strip ends there, never a gouge hidden).
+  if (ds.d > 0) {
+    for (int it = 0; it < 40; ++it) {
+      // Convex: d + slope (s - t) bounds the distance at s from below; where
+      // that stays above 0 up to the cap, so does the line.
+      if (ds.d + ds.slope * (cap_mm - t) > 0) return cap_mm;
+      t += ds.d / -ds.slope;
+      if (t > cap_mm) return cap_mm;
+      ds = distance_and_slope(cutter, Vec3(q + t * m), m);
+      if (ds.d < kTol) return t;
+    }
+    return cap_mm;
+  }
+  // Inside: along -n out of it, sphere tracing (a step of |d| stays inside),
+  // then bisection once the convex distance rises slowly (a line leaving
+  // nearly along the side).
+  for (int it = 0; it < 12; ++it) {
+    t += ds.d;
+    if (t < -cap_mm) return -cap_mm;
+    ds = distance_and_slope(cutter, Vec3(q + t * m), m);
+    if (ds.d > -kTol) return t;
+  }
+  double lo = -cap_mm, hi = t;  // lo outside (or the cap), hi inside
+  if (cutter.signed_distance(Vec3(q + lo * m)) <= 0) return -cap_mm;
+  while (hi - lo > kTol) {
+    const double mid = 0.5 * (lo + hi);
+    (cutter.signed_distance(Vec3(q + mid * m)) > 0 ? lo : hi) = mid;
+  }
+  return hi;
 }
 
 namespace {
@@ -177,7 +232,7 @@ namespace {
 // tiles, a tile wholly outside the cutter counts as its lower bound (>= 0):
 // the result is the same wherever it is below 0.
 double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const std::vector<Vec3>& ps,
-                      const std::vector<Vec3>& ns, const std::vector<SampleTile>* tiles, double cap) {
+                      const std::vector<Vec3>& ns, const SampleTiles* tiles, double cap) {
   double deepest = std::numeric_limits<double>::infinity();
   auto range = [&](size_t a, size_t b) {
     for (size_t i = a; i < b; ++i) {
@@ -189,31 +244,52 @@ double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, c
     range(0, ps.size());
     return deepest;
   }
-  for (const SampleTile& t : *tiles) {
-    const double outside = cutter.signed_distance(Vec3(to_tool * t.centre)) - t.radius;
-    if (outside > 0) deepest = std::min(deepest, outside);
-    else range(t.begin, t.end);
+  // A bound wholly outside the cutter stands for what it bounds.
+  auto outside = [&](const SampleTile& t) { return cutter.signed_distance(Vec3(to_tool * t.centre)) - t.radius; };
+  for (const SampleTile& g : tiles->groups) {
+    const double og = outside(g);
+    if (og > 0) {
+      deepest = std::min(deepest, og);
+      continue;
+    }
+    for (size_t k = g.begin; k < g.end; ++k) {
+      const SampleTile& t = tiles->tiles[k];
+      const double ot = outside(t);
+      if (ot > 0) deepest = std::min(deepest, ot);
+      else range(t.begin, t.end);
+    }
   }
   return deepest;
 }
 
-std::vector<SampleTile> tile_samples(const std::vector<Vec3>& ps) {
-  constexpr size_t kTile = 16;
-  std::vector<SampleTile> tiles;
-  for (size_t a = 0; a < ps.size(); a += kTile) {
+// Runs of `size` consecutive points (or tiles: centres and radii) bounded
+// by a sphere about their mean.
+template <class Centre, class Radius>
+std::vector<SampleTile> bound_runs(size_t count, size_t size, Centre centre, Radius radius) {
+  std::vector<SampleTile> out;
+  for (size_t a = 0; a < count; a += size) {
     SampleTile t;
     t.begin = a;
-    t.end = std::min(ps.size(), a + kTile);
-    for (size_t i = t.begin; i < t.end; ++i) t.centre += ps[i];
+    t.end = std::min(count, a + size);
+    for (size_t i = t.begin; i < t.end; ++i) t.centre += centre(i);
     t.centre /= static_cast<double>(t.end - t.begin);
-    for (size_t i = t.begin; i < t.end; ++i) t.radius = std::max(t.radius, (ps[i] - t.centre).norm());
-    tiles.push_back(t);
+    for (size_t i = t.begin; i < t.end; ++i) t.radius = std::max(t.radius, (centre(i) - t.centre).norm() + radius(i));
+    out.push_back(t);
   }
-  return tiles;
+  return out;
+}
+
+SampleTiles tile_samples(const std::vector<Vec3>& ps) {
+  constexpr size_t kTile = 16, kGroup = 8;
+  SampleTiles st;
+  st.tiles = bound_runs(ps.size(), kTile, [&](size_t i) { return ps[i]; }, [](size_t) { return 0.0; });
+  st.groups = bound_runs(st.tiles.size(), kGroup, [&](size_t i) { return st.tiles[i].centre; },
+                         [&](size_t i) { return st.tiles[i].radius; });
+  return st;
 }
 
 double deepest_over(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const StripSamples& smp, double cap,
-                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                    const SampleTiles* tiles, const SampleTiles* gouge_tiles,
                     const SharedGougeSamples* shared) {
   double d = std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
                       screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
@@ -222,7 +298,7 @@ double deepest_over(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, con
 }
 
 StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
-                    const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                    const SampleTiles* tiles, const SampleTiles* gouge_tiles,
                     const SharedGougeSamples* shared) {
   StripWidth w;
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
@@ -268,7 +344,7 @@ StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamp
 }
 
 double deepest_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamples& smp, const Band& band,
-                  const std::vector<SampleTile>* tiles, const std::vector<SampleTile>* gouge_tiles,
+                  const SampleTiles* tiles, const SampleTiles* gouge_tiles,
                   const SharedGougeSamples* shared) {
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
   return deepest_over(cutter, to_tool, smp, 2 * (band.e2_mm - band.e1_mm), tiles, gouge_tiles, shared);

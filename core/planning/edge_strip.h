@@ -185,13 +185,20 @@ struct SampleTile {
   double radius = 0;
   size_t begin = 0, end = 0;
 };
+// Tiles of 16 samples, and groups of 8 consecutive tiles bounding them (a
+// group's begin/end index tiles): a row's shared samples span the whole
+// round and both flanks, a few mm of which the cutter can reach, so most
+// of a pose's screening ends at the groups.
+struct SampleTiles {
+  std::vector<SampleTile> tiles, groups;
+};
 
 // Condition-① samples several contacts share — a row's flanks beyond the
 // edge region, over half of each contact's samples — with their tiles, held
 // once however many contacts the row has.
 struct SharedGougeSamples {
   std::vector<Vec3> p, n;
-  std::vector<SampleTile> tiles;
+  SampleTiles tiles;
 };
 std::shared_ptr<const SharedGougeSamples> share_gouge_samples(std::vector<Vec3> p, std::vector<Vec3> n);
 
@@ -218,7 +225,7 @@ class ContactStrip {
   Band band_;
   // Condition ① screens thousands of samples per pose (the flanks' and the
   // region's beyond the strip), most far outside the cutter: by tiles.
-  std::vector<SampleTile> tiles_, gouge_tiles_;
+  SampleTiles tiles_, gouge_tiles_;
   std::shared_ptr<const SharedGougeSamples> shared_;
 };
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 
 #include "core/common/error.h"
 #include "core/planning/edge_strip.h"
@@ -240,6 +241,67 @@ TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
   }
   EXPECT_GT(gouging, 10);  // both verdicts are exercised
   EXPECT_GT(cutting, 10);
+}
+
+// The directed distance (the flat bottom in closed form, the corner and
+// side by Newton steps, inside by tracing and bisection) against the
+// line's crossing of the cutter found by marching in 0.1 um steps and
+// bisecting the signed distance: from below the bottom, beside the corner
+// and the side (lines down to grazing, which sphere tracing gave up on at
+// ~20 deg), from inside, and lines that miss.
+TEST(EdgeStripTest, DirectedDistanceMatchesTheCrossingFoundByBisection) {
+  const FlatEnd cutter{5, 1};
+  const double cap = 0.2;
+  auto crossing = [&](const Vec3& q, const Vec3& m) {
+    const double s = cutter.signed_distance(q) > 0 ? 1.0 : -1.0;  // outside: ahead; inside: behind
+    double a = 0;
+    for (double t = 1e-4; t <= cap; t += 1e-4) {
+      if ((cutter.signed_distance(q + s * t * m) > 0) != (s > 0)) {
+        double lo = a, hi = t;
+        for (int k = 0; k < 60; ++k) {
+          const double mid = 0.5 * (lo + hi);
+          ((cutter.signed_distance(q + s * mid * m) > 0) == (s > 0) ? lo : hi) = mid;
+        }
+        return s * lo;
+      }
+      a = t;
+    }
+    return s * cap;
+  };
+  std::uint32_t seed = 12345;
+  auto rnd = [&] {
+    seed = seed * 1664525u + 1013904223u;
+    return (seed >> 8) / 16777216.0;
+  };
+  int bottom = 0, corner = 0, inside = 0, missing = 0;
+  for (int tried = 0, kept = 0; kept < 4000 && tried < 1000000; ++tried) {
+    // A point within cap of the cutting end (a strip's samples are), a
+    // direction anywhere up to 80 deg from +z (the surface normal points at
+    // the tool) or its reverse.
+    const Vec3 q(-7 + 14 * rnd(), -7 + 14 * rnd(), -1.5 + 4 * rnd());
+    const double polar = 80 * kPi / 180 * rnd(), az = 2 * kPi * rnd();
+    Vec3 m(std::sin(polar) * std::cos(az), std::sin(polar) * std::sin(az), std::cos(polar));
+    if (rnd() < 0.2) m = -m;
+    const double dq = cutter.signed_distance(q);
+    if (std::abs(dq) < 1e-6 || std::abs(dq) > cap) continue;
+    ++kept;
+    const double got = directed_distance(cutter, Eigen::Isometry3d::Identity(), q, m, cap);
+    const double want = crossing(q, m);
+    // On the surface to the tracing's 1e-8 (along a grazing line that is
+    // further in t), and at the line's crossing.
+    if (std::abs(want) < cap) EXPECT_LT(std::abs(cutter.signed_distance(q + got * m)), 1.1e-8) << "q " << q.transpose();
+    ASSERT_NEAR(got, want, 1e-6) << "q " << q.transpose() << " m " << m.transpose();
+    const Vec3 h = q + want * m;
+    if (std::abs(want) >= cap) ++missing;
+    else if (dq < 0) ++inside;
+    else if (std::abs(h.z()) < 1e-6 && std::hypot(h.x(), h.y()) < 4) ++bottom;
+    else ++corner;
+  }
+  // Every kind of crossing is exercised.
+  EXPECT_GT(bottom, 100);
+  EXPECT_GT(corner, 100);
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(missing, 100);
 }
 
 TEST(EdgeStripTest, SideSlipSearchFindsTheMaximumFromBothSides) {
