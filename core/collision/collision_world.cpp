@@ -173,6 +173,18 @@ PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, cons
   return check_bounded(body, tool_to_part(pose), clearances, bound, nullptr);
 }
 
+CollisionWorld CollisionWorld::unchecked_pairs() const {
+  CollisionWorld out;
+  for (const Object& o : objects_) {
+    const PartMask& m = o.options.parts;
+    if (m.cutter && m.shank && m.holder) continue;
+    Object left = o;
+    left.options.parts = PartMask{!m.cutter, !m.shank, !m.holder};
+    out.objects_.push_back(std::move(left));
+  }
+  return out;
+}
+
 std::vector<int>& CollisionWorld::nearest_hints(size_t parts) const {
   // Per thread (queries run on many), per world. A world freed and another
   // made at its address inherits stale hints: harmless, they only order.

@@ -30,16 +30,19 @@ struct Attempt {
 // names it in the reason. include_from/include_to: whether the end poses'
 // own cut counts (not for a pose that belongs to a cutting pass).
 bool prove_motion(const ToolPose& from, const ToolPose& to, const LinkChecks& checks, double allowed_mm,
-                  bool include_from, bool include_to, const std::string& name, Attempt& out) {
+                  bool include_from, bool include_to, const std::string& name, Attempt& out,
+                  const CollisionWorld* also = nullptr) {
   std::ostringstream why;
-  const MotionCheck mc = checks.world->check_motion(*checks.body, from, to, checks.clearances, checks.motion_tol_mm);
-  if (!mc.clear) {
+  for (const CollisionWorld* world : {checks.world, also}) {
+    if (!world) continue;
+    const MotionCheck mc = world->check_motion(*checks.body, from, to, checks.clearances, checks.motion_tol_mm);
+    if (mc.clear) continue;
     why << name << " not clear at t = " << mc.t << (mc.undecided ? " (undecided)" : "") << ", margin "
         << mc.min_margin_mm << " mm";
     if (mc.at.worst >= 0) {
       const PartClearance& pc = mc.at.parts[mc.at.worst];
       why << " (" << to_string(pc.part);
-      if (pc.object >= 0) why << " vs " << checks.world->name(pc.object);
+      if (pc.object >= 0) why << " vs " << world->name(pc.object);
       why << ")";
     }
     out.clear = false;
@@ -79,7 +82,7 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
     // The link leaves the cutting pose a and reaches the cutting pose b:
     // their own cut belongs to their passes.
     if (!prove_motion(*chain[s], *chain[s + 1], checks, allowed_mm, s > 0, s + 2 < chain.size() || !b_cuts,
-                      link_leg_name(leg), out))
+                      link_leg_name(leg), out, leg == LinkLeg::Traverse ? checks.traverse_world : nullptr))
       return out;
   }
   return out;

@@ -71,6 +71,13 @@ struct LinkChecks {
     double margin_mm = 0;
   };
   std::vector<Guard> more_guards;
+  // Optional: the traverse legs also proved against this world — the
+  // guards sample the finished surface only near the pass, and the world
+  // leaves the blade being machined to them for the cutter (which touches
+  // it by design); a traverse that goes beyond their reach (along the
+  // span, round a blade) is proved against the whole blade with the cutter
+  // too (CollisionWorld::unchecked_pairs), at the same clearances.
+  const CollisionWorld* traverse_world = nullptr;
 };
 
 enum class LinkLeg { Retract, Traverse, Approach };

@@ -98,6 +98,40 @@ TEST(CollisionWorld, PartMaskAndMarginPerCheckSurface) {
                ParameterError);
 }
 
+// The pairs a world leaves out, as a world of their own: the own blade
+// (shank and holder only) for the cutter alone; a surface checked against
+// every part drops out.
+TEST(CollisionWorld, UncheckedPairsAreTheMaskedOutPartsAlone) {
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  CollisionWorld world;
+  PartMask mask;
+  mask.cutter = false;
+  world.add("own blade", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10), {mask, 0.0});
+  world.add("hub", box_mesh(Vec3(200, 200, -50), Vec3(210, 210, 50)));
+  const CollisionWorld left = world.unchecked_pairs();
+  ASSERT_EQ(left.size(), 1);
+  EXPECT_EQ(left.name(0), "own blade");
+  // The ball dipped 1 mm into the blade: clear for the world, not for the
+  // pairs it left out.
+  const ToolPose dipped{Vec3(0, 0, -1), Vec3::UnitZ()};
+  EXPECT_TRUE(world.check(body, dipped, Clearances{}).clear);
+  const PoseCheck c = left.check(body, dipped, Clearances{});
+  EXPECT_FALSE(c.clear);
+  EXPECT_TRUE(c.parts[0].collides);
+  // The shank through the blade, the cutter 5 mm under it: the world's
+  // pair, not the left-out one's.
+  const ToolPose through{Vec3(0, 0, -20), Vec3::UnitZ()};
+  EXPECT_FALSE(world.check(body, through, Clearances{}).clear);
+  const PoseCheck s = left.check(body, through, Clearances{});
+  EXPECT_TRUE(s.clear);
+  EXPECT_EQ(s.parts[1].object, -1);  // the shank sees nothing
+  EXPECT_NEAR(s.parts[0].distance_mm, 5, body.overestimate_mm() + 1e-9);
+  // A world that checks every pair leaves none.
+  CollisionWorld full;
+  full.add("hub", box_mesh(Vec3(200, 200, -50), Vec3(210, 210, 50)));
+  EXPECT_EQ(full.unchecked_pairs().size(), 0);
+}
+
 TEST(CollisionWorld, SeparateClearancesForCutterShankAndHolder) {
   // Flat-end mill R 5 (corner r 1, flutes 20), shank d 8 up to z 50, holder d 30 up to z 70.
   const ToolBody body(Tool::flat_end_mill({5, 1, 20, {8, 30}, {30, 20}}), 1e-3);

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "collision/test_meshes.h"
 #include "core/collision/tilt.h"
 #include "core/common/error.h"
 #include "core/sim/undercut.h"
@@ -129,6 +131,47 @@ TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithi
   EXPECT_EQ(blind.offset_mm, o.retract_mm);
   const GougeGuard::Cut old_cut = guard.deepest_cut(tool, a.pose, blind.via[0], 0, false, true);
   EXPECT_LT(old_cut.depth_mm, -0.05);  // tens of um into the finished flank
+}
+
+// The world leaves the blade being machined to the gouge guards for the
+// cutter, and the guards sample only near the pass: a traverse beyond
+// them was proved by nothing (a route up the span on Rotor 67's TE cut
+// 0.1 mm into a flank, found only by the recipe's simulation). With the
+// left-out pairs as the traverse's world, a traverse whose cutter runs
+// through a ridge of the own blade is refused; the shank, above the
+// ridge, passes either way.
+TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
+  FlatEndMillSpec s;
+  s.radius_mm = 3;
+  s.corner_radius_mm = 0.5;
+  s.flute_length_mm = 9;
+  s.shank = {6, 20};
+  const Tool tool = Tool::flat_end_mill(s);
+  const ToolBody body(tool, 1e-3);
+  CollisionWorld world;
+  CheckSurfaceOptions own;
+  own.parts.cutter = false;
+  world.add("own blade", test::grid_mesh(Vec3(-50, -50, 0), Vec3(100, 0, 0), Vec3(0, 100, 0), 4, 4), own);
+  world.add("own blade ridge", test::box_mesh(Vec3(9, -20, -1), Vec3(11, 20, 5)), own);  // 5 mm high
+  const CollisionWorld left = world.unchecked_pairs();
+  LinkChecks checks;
+  checks.world = &world;
+  checks.body = &body;
+  LinkOptions o;
+  o.direction = RetractDirection::ToolAxis;
+  o.retract_mm = 3;
+  o.min_retract_mm = 0.5;
+  const LinkEnd a{{Vec3(0, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
+  const LinkEnd b{{Vec3(20, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
+  EXPECT_TRUE(plan_link(a, b, checks, o).clear);  // the hole: nothing sees the cutter in the ridge
+  checks.traverse_world = &left;
+  const PlannedLink refused = plan_link(a, b, checks, o);
+  EXPECT_FALSE(refused.clear);
+  EXPECT_NE(refused.reason.find("traverse not clear"), std::string::npos) << refused.reason;
+  EXPECT_NE(refused.reason.find("cutter vs own blade ridge"), std::string::npos) << refused.reason;
+  // Over the ridge (a waypoint lifting the tool 8 mm): proved.
+  const PlannedLink over = plan_link(a, b, checks, o, {{Vec3(0, 0, 8), Vec3::UnitZ()}, {Vec3(20, 0, 8), Vec3::UnitZ()}});
+  EXPECT_TRUE(over.clear) << over.reason;
 }
 
 TEST(Links, RejectsBadOptions) {
