@@ -303,6 +303,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "poses", r.total_poses);
   set_integer(L, "refusals", r.total_refusals);
   set_integer(L, "refused_links", r.refused_links);
+  set_integer(L, "rearranged_rows", r.rearranged_rows);
   set_integer(L, "gouge_breaks", r.gouge_breaks);
   set_number(L, "max_deviation", r.max_deviation_mm);
   double wmin = std::numeric_limits<double>::infinity(), wmax = 0, smin = wmin, smax = 0;

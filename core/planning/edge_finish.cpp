@@ -801,6 +801,23 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow
   refine_tilted(rq, checks, pr);
 }
 
+// The row cut the other way: poses and passes in reverse, each break
+// moved to the pose that now comes second (check_row's rule).
+void reverse_passes(EdgeFinishRow& row) {
+  std::vector<EdgeFinishPose>& ps = row.poses;
+  const size_t n = ps.size();
+  if (n == 0) return;
+  std::vector<bool> breaks(n);
+  for (size_t i = 0; i < n; ++i) breaks[i] = ps[i].break_before;
+  const int last = ps.back().segment;
+  std::reverse(ps.begin(), ps.end());
+  for (size_t j = 0; j < n; ++j) {
+    ps[j].break_before = j > 0 && breaks[n - j];
+    ps[j].segment = last - ps[j].segment;
+  }
+  row.reversed = !row.reversed;
+}
+
 // How far a row's strips reach at u towards higher v (`up`: their right
 // sides) or lower v (left): between two poses the tool sweeps from one
 // strip to the other, so their reaches interpolated — the smaller one
@@ -1465,6 +1482,13 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   link_checks.guard = guards.edge.get();
   link_checks.guard_margin_mm = guards.edge->between_samples_mm(guards.corner_mm);
   for (const auto& g : guards.flanks) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(guards.corner_mm)});
+  // A traverse out in front of the edge or up the span leaves the guards'
+  // reach: proved against the whole blade with the cutter too (a route
+  // radially out, tried for Rotor 67's TE near the hub, was found by the
+  // recipe's simulation cutting 0.1 mm into a flank the guards did not
+  // sample).
+  const CollisionWorld unchecked = rq.world->unchecked_pairs();
+  if (unchecked.size() > 0) link_checks.traverse_world = &unchecked;
   LinkOptions link_options;
   link_options.direction = RetractDirection::ToolAxis;
   link_options.retract_mm = rq.retract_mm;
@@ -1489,17 +1513,18 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       prev_row = static_cast<int>(r);
     }
   }
-  out.links.resize(ends.size());
-  run_parallel(ends.size(), rq.threads, progress, "edge finish links", [&](size_t k, Progress&) {
-    const LinkEnds& e = ends[k];
-    PlannedLink pl = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal}, link_checks,
-                               link_options, round_the_front(rq, *e.from, *e.to));
+  // A link tried up the axes (round the front where the axis turns past
+  // 90 deg), then out in front of the edge, then retracted three times as
+  // far in front.
+  auto edge_link = [&](const EdgeFinishPose& from, const EdgeFinishPose& to, int from_row, int to_row) {
+    PlannedLink pl = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
+                               round_the_front(rq, from, to));
     if (!pl.clear) {
       // Beside the neighbouring blade a traverse between two retracted
       // poses can graze it (their shanks are both at the clearance): out in
       // front of the edge instead, turning the axis there, away from both.
-      const PlannedLink out_front = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal},
-                                              link_checks, link_options, in_front(rq, *e.from, *e.to, rq.retract_mm));
+      const PlannedLink out_front = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks,
+                                              link_options, in_front(rq, from, to, rq.retract_mm));
       if (out_front.clear) pl = out_front;
       else pl.reason += "; in front of the edge: " + out_front.reason;
     }
@@ -1509,21 +1534,121 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       // retracted three times as far, in front of the edge.
       LinkOptions farther = link_options;
       farther.retract_mm = 3 * link_options.retract_mm;
-      const PlannedLink far_out = plan_link({e.from->pose, e.from->normal}, {e.to->pose, e.to->normal}, link_checks,
-                                            farther, in_front(rq, *e.from, *e.to, farther.retract_mm));
+      const PlannedLink far_out = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, farther,
+                                            in_front(rq, from, to, farther.retract_mm));
       if (far_out.clear) pl = far_out;
       else pl.reason += "; retracted " + std::to_string(farther.retract_mm) + " mm: " + far_out.reason;
     }
-    EdgeFinishLink& link = out.links[k];
-    link.from_row = e.from_row;
-    link.to_row = e.to_row;
+    if (!pl.clear && rq.hub) {
+      // Where an axis leans towards the blisk's axis (Rotor 67's TE near
+      // the hub: 0.4 of it radial inwards) the holder sits at its
+      // clearance of the hub at the pose, and any turn of the axis near
+      // there sweeps it inside: up the span first, radially out from both
+      // retracted poses, turning the axis out there, and back in (2 of
+      // Rotor 67's TE links). The traverse passes the blade beyond the
+      // guards' samples: proved by the traverse world, which refuses it
+      // where the cutter would touch the blade (it cut 0.1 mm into a flank
+      // before that proof).
+      const Vec3 mid = 0.5 * (from.contact + to.contact);
+      const Vec3 out_dir = Vec3(mid.x(), mid.y(), 0).normalized();
+      for (double s : {5.0, 20.0}) {
+        const ToolPose up_a{from.pose.tip + rq.retract_mm * from.pose.axis.normalized(), from.pose.axis};
+        const ToolPose up_b{to.pose.tip + rq.retract_mm * to.pose.axis.normalized(), to.pose.axis};
+        const PlannedLink radial =
+            plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
+                      {{up_a.tip + s * out_dir, up_a.axis}, {up_b.tip + s * out_dir, up_b.axis}});
+        if (radial.clear) {
+          pl = radial;
+          break;
+        }
+        char buf[48];
+        std::snprintf(buf, sizeof buf, "; %.0f mm radially out: ", s);
+        pl.reason += buf + radial.reason;
+      }
+    }
+    EdgeFinishLink link;
+    link.from_row = from_row;
+    link.to_row = to_row;
     link.clear = pl.clear;
     link.moves = pl.via;
     link.legs = pl.legs;
     link.offset_mm = pl.offset_mm;
     if (!pl.clear)
-      link.reason = "link from row " + std::to_string(e.from_row) + " to row " + std::to_string(e.to_row) + ": " + pl.reason;
+      link.reason = "link from row " + std::to_string(from_row) + " to row " + std::to_string(to_row) + ": " + pl.reason;
+    return link;
+  };
+  out.links.resize(ends.size());
+  run_parallel(ends.size(), rq.threads, progress, "edge finish links", [&](size_t k, Progress&) {
+    out.links[k] = edge_link(*ends[k].from, *ends[k].to, ends[k].from_row, ends[k].to_row);
   });
+  // A link no route proves — into a row reached across the round near
+  // Rotor 67's hub, the axis turning 70-165 deg, the holder 120 mm up the
+  // tool sweeping inside its clearance on every route — may be provable
+  // with the rows either side cut the other way, or in the other order:
+  // the finished surface is the envelope of every pass whatever the order
+  // (each pass's cuts are proved on their own), and a row cut the other
+  // way makes the same motions reversed. Zigzag only (one-way keeps its
+  // cutting direction). A rearrangement is kept where fewer of the links
+  // touching its rows are refused.
+  auto rearranged = [&](size_t r0, std::vector<EdgeFinishRow> rows) {
+    const size_t r1 = r0 + rows.size();
+    auto in_range = [&](int row) { return static_cast<size_t>(row) >= r0 && static_cast<size_t>(row) < r1; };
+    size_t k0 = 0;
+    while (k0 < ends.size() && !in_range(ends[k0].from_row) && !in_range(ends[k0].to_row)) ++k0;
+    size_t k1 = k0;
+    while (k1 < ends.size() && (in_range(ends[k1].from_row) || in_range(ends[k1].to_row))) ++k1;
+    if (k0 == k1) return false;
+    // The range's links in cutting order over rows rs[0 .. n) standing at
+    // r0 ..: from the pass before the range, between every two passes, to
+    // the pass after it.
+    auto range_ends = [&](const EdgeFinishRow* rs) {
+      std::vector<LinkEnds> es;
+      const EdgeFinishPose* prev = in_range(ends[k0].from_row) ? nullptr : ends[k0].from;
+      int prev_row = ends[k0].from_row;
+      for (size_t j = 0; j < r1 - r0; ++j)
+        for (size_t i = 0; i < rs[j].poses.size(); ++i) {
+          if ((i == 0 || rs[j].poses[i].segment != rs[j].poses[i - 1].segment) && prev)
+            es.push_back({prev, &rs[j].poses[i], prev_row, static_cast<int>(r0 + j)});
+          prev = &rs[j].poses[i];
+          prev_row = static_cast<int>(r0 + j);
+        }
+      if (!in_range(ends[k1 - 1].to_row)) es.push_back({prev, ends[k1 - 1].to, prev_row, ends[k1 - 1].to_row});
+      return es;
+    };
+    const std::vector<LinkEnds> tried = range_ends(rows.data());
+    if (tried.size() != k1 - k0) return false;
+    std::vector<EdgeFinishLink> relinked;
+    for (const LinkEnds& e : tried) relinked.push_back(edge_link(*e.from, *e.to, e.from_row, e.to_row));
+    auto refused = [](auto first, auto last) {
+      return std::count_if(first, last, [](const EdgeFinishLink& l) { return !l.clear; });
+    };
+    const auto was = refused(out.links.begin() + static_cast<long>(k0), out.links.begin() + static_cast<long>(k1));
+    if (refused(relinked.begin(), relinked.end()) >= was) return false;
+    for (size_t j = 0; j < rows.size(); ++j) out.rows[r0 + j] = std::move(rows[j]);
+    const std::vector<LinkEnds> placed = range_ends(&out.rows[r0]);  // the same ends, pointing into out.rows
+    for (size_t k = k0; k < k1; ++k) {
+      ends[k] = placed[k - k0];
+      out.links[k] = std::move(relinked[k - k0]);
+    }
+    return true;
+  };
+  if (rq.zigzag) {
+    for (size_t k = 0; k < out.links.size(); ++k) {
+      if (out.links[k].clear || ends[k].from_row == ends[k].to_row) continue;
+      const size_t a = static_cast<size_t>(ends[k].from_row), b = static_cast<size_t>(ends[k].to_row);
+      auto flip = [](EdgeFinishRow row) {
+        reverse_passes(row);
+        return row;
+      };
+      // Either row the other way; then the two in the other order, each
+      // either way.
+      const EdgeFinishRow &ra = out.rows[a], &rb = out.rows[b];
+      const bool done = rearranged(b, {flip(rb)}) || rearranged(a, {flip(ra)}) ||
+                        (b == a + 1 && (rearranged(a, {rb, ra}) || rearranged(a, {flip(rb), ra}) ||
+                                        rearranged(a, {rb, flip(ra)}) || rearranged(a, {flip(rb), flip(ra)})));
+      out.rearranged_rows += done ? 1 : 0;
+    }
+  }
   for (const EdgeFinishLink& link : out.links) out.refused_links += link.clear ? 0 : 1;
   const EdgeFinishPose* first = nullptr;
   const EdgeFinishPose* last = nullptr;

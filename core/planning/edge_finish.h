@@ -197,6 +197,9 @@ struct EdgeFinishResult {
   // job's link into it or out of it never ends on the blade.
   PlannedDeparture lead_in, lead_out;
   int total_poses = 0, total_refusals = 0, refused_links = 0;
+  // Refused links proved by cutting the rows either side the other way or
+  // in the other order (zigzag only; see plan_edge_finish).
+  int rearranged_rows = 0;
   // Cutting motions the gouge guard (core/sim, the whole edge region and
   // both flanks) found cutting beyond e1: reached by a link instead.
   long gouge_breaks = 0;

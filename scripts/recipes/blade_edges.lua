@@ -219,10 +219,10 @@ for _, edge in ipairs(edges) do
   print(string.format("            round r %.3f-%.3f mm, overlap %.3f mm on each flank, %d bottom / %d corner contacts, "
                       .. "%d tilted clear of the world or the blade, %d lifted off by < 3 um, %d partial rows where "
                       .. "tilted strips leave a gap (%d where the simulated rows left more than e2), "
-                      .. "%d refused contacts, %d refused links",
+                      .. "%d refused contacts, %d refused links (%d proved by rows cut the other way or order)",
                       region.radius_min, region.radius_max, region.overlap, rep.bottom_contacts, rep.corner_contacts,
                       rep.tilted_contacts, rep.lifted_contacts, rep.infill_rows, rep.simulated_infill_rows,
-                      rep.refusals, rep.refused_links))
+                      rep.refusals, rep.refused_links, rep.rearranged_rows))
   print(string.format("            span window v %.3f-%.3f (hub and casing): strip of %.2f mm above the hub left for the "
                       .. "hub-fillet operation", rep.span_v0, rep.span_v1, rep.hub_strip))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end

@@ -77,6 +77,36 @@ TEST(BladeEdgesRecipe, Rotor67TrailingEdgeBandIsProvedAndDoesNotGouge) {
   EXPECT_LE(e["simulation"]["undercut_max_mm"].get<double>(), 0.02 + 1e-3);  // measured 17.1 um
   EXPECT_TRUE(e["within_band"].get<bool>());
 }
+
+// Rotor 67's TE near the hub (v 0.145-0.155), where the axes on the round's
+// side lean 0.4 towards the blisk's axis and the holder, 120 mm up the
+// tool, sits at its clearance of the hub: one link, into a 2-pose partial
+// row from across the round, swept the holder inside that clearance on
+// every route, and was emitted as a stop; a route radially out, tried for
+// it, cut 0.1 mm into a flank beyond the guards (found only by this
+// recipe's simulation). Now every traverse is proved against the own
+// blade with the cutter too, and the link is proved with the rows either
+// side rearranged.
+TEST(BladeEdgesRecipe, Rotor67TrailingEdgeNearTheHubLinksEveryPass) {
+  const std::string data = shared_data_dir();
+  if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 edge recipe skipped";
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_edges.lua", "--data",
+                                       data, "--out", out, "--quiet", "--set", "edges=trailing", "--set", "v0=0.145",
+                                       "--set", "v1=0.155", "--set", "samples_u=80", "--set", "samples_v=60"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out + "/blade_edges.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& e = j["edges"]["trailing"];
+  EXPECT_EQ(e["refused_links"].get<int>(), 0);    // 1 before
+  EXPECT_GE(e["rearranged_rows"].get<int>(), 1);  // the link's rows cut the other way or order
+  EXPECT_EQ(e["refusals"].get<int>(), 0);
+  EXPECT_TRUE(e["verified"].get<bool>());         // the flank cut by the radial route: -100 um
+  EXPECT_GE(e["simulation"]["flank_overcut_mm"].get<double>(), -0.001 - 1e-3);
+  EXPECT_GE(e["simulation"]["overcut_mm"].get<double>(), -0.001 - 1e-3);
+  EXPECT_TRUE(e["within_band"].get<bool>());
+}
 #endif
 
 }  // namespace
