@@ -136,4 +136,14 @@ std::string shared_data_dir() {
   return ::testing::AssertionSuccess();
 }
 
+Tool flat_end_mill(double radius_mm, double corner_mm, double flute_mm, double shank_mm, double holder_mm) {
+  FlatEndMillSpec s;
+  s.radius_mm = radius_mm;
+  s.corner_radius_mm = corner_mm;
+  s.flute_length_mm = flute_mm;
+  s.shank = {2 * radius_mm, shank_mm};
+  if (holder_mm > 0) s.holder = {6 * radius_mm, holder_mm};
+  return Tool::flat_end_mill(s);
+}
+
 }  // namespace bliskrun::test

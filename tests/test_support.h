@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/tools/tool.h"
 
 namespace bliskrun::test {
 
@@ -71,5 +72,10 @@ std::vector<AptMove> read_apt_moves(const std::string& path);
 
 // Folder of real part data (../shared/data beside the clone), or "" when absent.
 std::string shared_data_dir();
+
+// A flat-end (corner-radius) mill R / r with a flute of flute_mm, a shank
+// 2R wide and shank_mm long, and a holder 6R wide and holder_mm long (0:
+// none) — the edge finish's tool in the tests.
+Tool flat_end_mill(double radius_mm, double corner_mm, double flute_mm, double shank_mm, double holder_mm = 0);
 
 }  // namespace bliskrun::test

@@ -14,19 +14,12 @@
 #include "core/planning/edge_finish.h"
 #include "core/sim/undercut.h"
 #include "core/tools/pose.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
 
-Tool mill(double R, double r) {
-  FlatEndMillSpec s;
-  s.radius_mm = R;
-  s.corner_radius_mm = r;
-  s.flute_length_mm = 3 * R;
-  s.shank = {2 * R, 30};
-  s.holder = {6 * R, 40};
-  return Tool::flat_end_mill(s);
-}
+Tool mill(double R, double r) { return test::flat_end_mill(R, r, 3 * R, 30, 40); }
 
 // A request to finish the region `e` (built from `er`) with `tool` among
 // `world` over v0..v1, on two threads.

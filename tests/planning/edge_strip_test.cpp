@@ -8,6 +8,7 @@
 
 #include "core/common/error.h"
 #include "core/planning/edge_strip.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -51,14 +52,7 @@ class Sphere : public Surface {
   double rho_, a_;
 };
 
-Tool mill(double R, double r) {
-  FlatEndMillSpec s;
-  s.radius_mm = R;
-  s.corner_radius_mm = r;
-  s.flute_length_mm = 2 * R;
-  s.shank = {2 * R, 20};
-  return Tool::flat_end_mill(s);
-}
+Tool mill(double R, double r) { return test::flat_end_mill(R, r, 2 * R, 20); }
 
 StripWidth width_at(const Surface& s, const Tool& tool, const EdgePosition& pos, const StripSampling& sm,
                     const Band& band) {

@@ -13,6 +13,7 @@
 #include "core/collision/tilt.h"
 #include "core/common/error.h"
 #include "core/sim/undercut.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -141,12 +142,7 @@ TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithi
 // through a ridge of the own blade is refused; the shank, above the
 // ridge, passes either way.
 TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
-  FlatEndMillSpec s;
-  s.radius_mm = 3;
-  s.corner_radius_mm = 0.5;
-  s.flute_length_mm = 9;
-  s.shank = {6, 20};
-  const Tool tool = Tool::flat_end_mill(s);
+  const Tool tool = test::flat_end_mill(3, 0.5, 9, 20);
   const ToolBody body(tool, 1e-3);
   CollisionWorld world;
   CheckSurfaceOptions own;

@@ -7,6 +7,7 @@
 
 #include "core/collision/tilt.h"
 #include "core/common/error.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -211,12 +212,7 @@ class Cylinder : public Surface {
 // degrees, just clear and gouging by a few um at the bottom's centre or at
 // its corner.
 TEST(Undercut, GuardPruningBelowTheBottomAgreesWithTracingEverySample) {
-  FlatEndMillSpec spec;
-  spec.radius_mm = 3;
-  spec.corner_radius_mm = 0.5;
-  spec.flute_length_mm = 9;
-  spec.shank = {6, 30};
-  const Tool mill = Tool::flat_end_mill(spec);
+  const Tool mill = test::flat_end_mill(3, 0.5, 9, 30);
   const Profile& cutter = mill.cutter();
   const Plane plane;
   const Cylinder cylinder;
