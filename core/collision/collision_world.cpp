@@ -173,15 +173,16 @@ PoseCheck CollisionWorld::check(const ToolBody& body, const ToolPose& pose, cons
   return check_bounded(body, tool_to_part(pose), clearances, bound, nullptr);
 }
 
-CollisionWorld CollisionWorld::unchecked_pairs() const {
-  CollisionWorld out;
+std::shared_ptr<const CollisionWorld> CollisionWorld::unchecked_pairs() const {
+  auto out = std::make_shared<CollisionWorld>();
   for (const Object& o : objects_) {
     const PartMask& m = o.options.parts;
     if (m.cutter && m.shank && m.holder) continue;
     Object left = o;
     left.options.parts = PartMask{!m.cutter, !m.shank, !m.holder};
-    out.objects_.push_back(std::move(left));
+    out->objects_.push_back(std::move(left));
   }
+  if (out->objects_.empty()) return nullptr;
   return out;
 }
 

@@ -133,10 +133,11 @@ class CollisionWorld {
 
   // The pairs this world leaves out: each surface some tool parts are not
   // checked against (its PartMask), against just those parts; surfaces
-  // checked against every part are dropped. Shared, not copied. E.g. the
-  // blade being machined for the cutter, which touches it by design, for
-  // the non-cutting moves that leave the region its gouge guards sample.
-  CollisionWorld unchecked_pairs() const;
+  // checked against every part are dropped; null when none is left. Shared,
+  // not copied. E.g. the blade being machined for the cutter, which touches
+  // it by design, for the non-cutting moves that leave the region its
+  // gouge guards sample.
+  std::shared_ptr<const CollisionWorld> unchecked_pairs() const;
 
   int size() const { return static_cast<int>(objects_.size()); }
   const std::string& name(int index) const { return objects_.at(index).name; }

@@ -451,10 +451,7 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   checks.body = rq.body;
   checks.clearances = rq.clearances;
   checks.motion_tol_mm = rq.motion_tol_mm;
-  // What the world leaves out for some parts (the face or blade being
-  // machined, for the cutter) is proved for the traverses (links.h).
-  const CollisionWorld unchecked = rq.world ? rq.world->unchecked_pairs() : CollisionWorld();
-  if (unchecked.size() > 0) checks.traverse_world = &unchecked;
+  if (rq.world) checks.traverse_world = rq.world->unchecked_pairs();  // the face being machined, for the cutter
   for (size_t i = 0; i < passes.size(); ++i) {
     if (i > 0 && rq.world) {
       const ToolPose& a = plan.passes.back().poses.back();  // passes[i - 1], already moved into the plan

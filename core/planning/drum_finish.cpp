@@ -460,10 +460,8 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   // radius where it crosses the flank.
   checks.guard_margin_mm = guard.between_samples_mm(tool.cutter().max_radius());
   // The guard samples the finished flank; the rest of the blade being
-  // machined (its other flank, its edges) the world leaves out for the
-  // wheel: proved for the traverses here.
-  const CollisionWorld unchecked = rq.world->unchecked_pairs();
-  if (unchecked.size() > 0) checks.traverse_world = &unchecked;
+  // machined (its other flank, its edges) is left out for the wheel.
+  checks.traverse_world = rq.world->unchecked_pairs();
   auto end_of = [&](const DrumFinishPose& p) {
     return LinkEnd{p.pose, outward_normal(ts.eval(p.u, p.v), rq.flip_normal)};
   };

@@ -801,21 +801,48 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow
   refine_tilted(rq, checks, pr);
 }
 
-// The row cut the other way: poses and passes in reverse, each break
-// moved to the pose that now comes second (check_row's rule).
-void reverse_passes(EdgeFinishRow& row) {
-  std::vector<EdgeFinishPose>& ps = row.poses;
+// Poses in the other cutting order. A break belongs to the pair it
+// separates: it moves to the pose that now comes second.
+void reverse_poses(std::vector<EdgeFinishPose>& ps) {
   const size_t n = ps.size();
-  if (n == 0) return;
   std::vector<bool> breaks(n);
   for (size_t i = 0; i < n; ++i) breaks[i] = ps[i].break_before;
-  const int last = ps.back().segment;
   std::reverse(ps.begin(), ps.end());
-  for (size_t j = 0; j < n; ++j) {
-    ps[j].break_before = j > 0 && breaks[n - j];
-    ps[j].segment = last - ps[j].segment;
-  }
+  for (size_t j = 0; j < n; ++j) ps[j].break_before = j > 0 && breaks[n - j];
+}
+
+// The row cut the other way: its poses and passes in reverse.
+EdgeFinishRow reversed_row(EdgeFinishRow row) {
+  if (row.poses.empty()) return row;
+  const int last = row.poses.back().segment;
+  reverse_poses(row.poses);
+  for (EdgeFinishPose& p : row.poses) p.segment = last - p.segment;
   row.reversed = !row.reversed;
+  return row;
+}
+
+// The links between consecutive passes of rows[0 .. n) — standing at row
+// indices r0 .. in the cutting order — the first from `prev` (the last
+// pose before them, in row prev_row; null: none). prev / prev_row end at
+// the rows' last pose.
+struct LinkEnds {
+  const EdgeFinishPose *from, *to;
+  int from_row, to_row;
+};
+std::vector<LinkEnds> pass_links(const EdgeFinishRow* rows, size_t n, int r0, const EdgeFinishPose*& prev,
+                                 int& prev_row) {
+  std::vector<LinkEnds> out;
+  for (size_t j = 0; j < n; ++j) {
+    const std::vector<EdgeFinishPose>& poses = rows[j].poses;
+    const int r = r0 + static_cast<int>(j);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
+      if (starts_pass && prev) out.push_back({prev, &poses[i], prev_row, r});
+      prev = &poses[i];
+      prev_row = r;
+    }
+  }
+  return out;
 }
 
 // How far a row's strips reach at u towards higher v (`up`: their right
@@ -1306,15 +1333,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     std::vector<EdgeFinishPose> candidates = std::move(row.poses);
     row.poses.clear();
     row.reversed = reversed;
-    if (row.reversed) {
-      // A break belongs to the pair it separates: move it to the pose that
-      // now comes second.
-      const size_t n = candidates.size();
-      std::vector<bool> breaks(n);
-      for (size_t i = 0; i < n; ++i) breaks[i] = candidates[i].break_before;
-      std::reverse(candidates.begin(), candidates.end());
-      for (size_t j = 0; j < n; ++j) candidates[j].break_before = j > 0 && breaks[n - j];
-    }
+    if (row.reversed) reverse_poses(candidates);
     std::vector<char> proved = pr.design_proved;
     proved.resize(candidates.size(), 0);
     if (row.reversed) std::reverse(proved.begin(), proved.end());
@@ -1487,8 +1506,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   // radially out, tried for Rotor 67's TE near the hub, was found by the
   // recipe's simulation cutting 0.1 mm into a flank the guards did not
   // sample).
-  const CollisionWorld unchecked = rq.world->unchecked_pairs();
-  if (unchecked.size() > 0) link_checks.traverse_world = &unchecked;
+  link_checks.traverse_world = rq.world->unchecked_pairs();
   LinkOptions link_options;
   link_options.direction = RetractDirection::ToolAxis;
   link_options.retract_mm = rq.retract_mm;
@@ -1497,25 +1515,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   // The passes' ends in cutting order, then every link on rq.threads
   // workers: each is proved on its own (the world and the guards are
   // read-only), so the plan does not depend on the thread count.
-  struct LinkEnds {
-    const EdgeFinishPose *from, *to;
-    int from_row, to_row;
-  };
-  std::vector<LinkEnds> ends;
-  const EdgeFinishPose* prev = nullptr;
-  int prev_row = -1;
-  for (size_t r = 0; r < out.rows.size(); ++r) {
-    const std::vector<EdgeFinishPose>& poses = out.rows[r].poses;
-    for (size_t i = 0; i < poses.size(); ++i) {
-      const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
-      if (starts_pass && prev) ends.push_back({prev, &poses[i], prev_row, static_cast<int>(r)});
-      prev = &poses[i];
-      prev_row = static_cast<int>(r);
-    }
-  }
+  const EdgeFinishPose* before_first = nullptr;
+  int before_row = -1;
+  std::vector<LinkEnds> ends = pass_links(out.rows.data(), out.rows.size(), 0, before_first, before_row);
   // A link tried up the axes (round the front where the axis turns past
   // 90 deg), then out in front of the edge, then retracted three times as
-  // far in front.
+  // far in front, then (with a hub) radially out.
   auto edge_link = [&](const EdgeFinishPose& from, const EdgeFinishPose& to, int from_row, int to_row) {
     PlannedLink pl = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
                                round_the_front(rq, from, to));
@@ -1551,12 +1556,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
       // before that proof).
       const Vec3 mid = 0.5 * (from.contact + to.contact);
       const Vec3 out_dir = Vec3(mid.x(), mid.y(), 0).normalized();
+      const Vec3 up_a = from.pose.tip + rq.retract_mm * from.pose.axis.normalized();
+      const Vec3 up_b = to.pose.tip + rq.retract_mm * to.pose.axis.normalized();
       for (double s : {5.0, 20.0}) {
-        const ToolPose up_a{from.pose.tip + rq.retract_mm * from.pose.axis.normalized(), from.pose.axis};
-        const ToolPose up_b{to.pose.tip + rq.retract_mm * to.pose.axis.normalized(), to.pose.axis};
         const PlannedLink radial =
             plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
-                      {{up_a.tip + s * out_dir, up_a.axis}, {up_b.tip + s * out_dir, up_b.axis}});
+                      {{up_a + s * out_dir, from.pose.axis}, {up_b + s * out_dir, to.pose.axis}});
         if (radial.clear) {
           pl = radial;
           break;
@@ -1602,16 +1607,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     // r0 ..: from the pass before the range, between every two passes, to
     // the pass after it.
     auto range_ends = [&](const EdgeFinishRow* rs) {
-      std::vector<LinkEnds> es;
       const EdgeFinishPose* prev = in_range(ends[k0].from_row) ? nullptr : ends[k0].from;
       int prev_row = ends[k0].from_row;
-      for (size_t j = 0; j < r1 - r0; ++j)
-        for (size_t i = 0; i < rs[j].poses.size(); ++i) {
-          if ((i == 0 || rs[j].poses[i].segment != rs[j].poses[i - 1].segment) && prev)
-            es.push_back({prev, &rs[j].poses[i], prev_row, static_cast<int>(r0 + j)});
-          prev = &rs[j].poses[i];
-          prev_row = static_cast<int>(r0 + j);
-        }
+      std::vector<LinkEnds> es = pass_links(rs, r1 - r0, static_cast<int>(r0), prev, prev_row);
       if (!in_range(ends[k1 - 1].to_row)) es.push_back({prev, ends[k1 - 1].to, prev_row, ends[k1 - 1].to_row});
       return es;
     };
@@ -1636,16 +1634,13 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     for (size_t k = 0; k < out.links.size(); ++k) {
       if (out.links[k].clear || ends[k].from_row == ends[k].to_row) continue;
       const size_t a = static_cast<size_t>(ends[k].from_row), b = static_cast<size_t>(ends[k].to_row);
-      auto flip = [](EdgeFinishRow row) {
-        reverse_passes(row);
-        return row;
-      };
       // Either row the other way; then the two in the other order, each
       // either way.
       const EdgeFinishRow &ra = out.rows[a], &rb = out.rows[b];
-      const bool done = rearranged(b, {flip(rb)}) || rearranged(a, {flip(ra)}) ||
-                        (b == a + 1 && (rearranged(a, {rb, ra}) || rearranged(a, {flip(rb), ra}) ||
-                                        rearranged(a, {rb, flip(ra)}) || rearranged(a, {flip(rb), flip(ra)})));
+      const bool done =
+          rearranged(b, {reversed_row(rb)}) || rearranged(a, {reversed_row(ra)}) ||
+          (b == a + 1 && (rearranged(a, {rb, ra}) || rearranged(a, {reversed_row(rb), ra}) ||
+                          rearranged(a, {rb, reversed_row(ra)}) || rearranged(a, {reversed_row(rb), reversed_row(ra)})));
       out.rearranged_rows += done ? 1 : 0;
     }
   }

@@ -210,11 +210,12 @@ double directed_distance(const FlatEnd& cutter, const Eigen::Isometry3d& part_to
   // Inside: along -n out of it, sphere tracing (a step of |d| stays inside),
   // then bisection once the convex distance rises slowly (a line leaving
   // nearly along the side).
+  double d = ds.d;
   for (int it = 0; it < 12; ++it) {
-    t += ds.d;
+    t += d;
     if (t < -cap_mm) return -cap_mm;
-    ds = distance_and_slope(cutter, Vec3(q + t * m), m);
-    if (ds.d > -kTol) return t;
+    d = cutter.signed_distance(Vec3(q + t * m));
+    if (d > -kTol) return t;
   }
   double lo = -cap_mm, hi = t;  // lo outside (or the cap), hi inside
   if (cutter.signed_distance(Vec3(q + lo * m)) <= 0) return -cap_mm;

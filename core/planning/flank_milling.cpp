@@ -351,10 +351,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     checks.body = rq.body;
     checks.clearances = rq.clearances;
     checks.motion_tol_mm = rq.motion_tol_mm;
-    // What the world leaves out for some parts (the face or blade being
-    // machined, for the cutter) is proved for the traverses (links.h).
-    const CollisionWorld unchecked = rq.world ? rq.world->unchecked_pairs() : CollisionWorld();
-    if (unchecked.size() > 0) checks.traverse_world = &unchecked;
+    if (rq.world) checks.traverse_world = rq.world->unchecked_pairs();  // the face being machined, for the cutter
     const double r = rq.cutter->ball_radius_mm();
     auto end_normal = [&](const FlankAxis& a) {
       // Out of the material at mid-span of the ruling, and off the hub: a

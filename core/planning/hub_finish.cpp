@@ -1106,10 +1106,7 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   checks.guard = guards.blade.get();
   checks.guard_margin_mm = guards.margin;
   checks.more_guards = {{guards.next.get(), guards.margin}, {guards.hub.get(), guards.margin}};
-  // What the world leaves out for some parts (the face or blade being
-  // machined, for the cutter) is proved for the traverses (links.h).
-  const CollisionWorld unchecked = world.unchecked_pairs();
-  if (unchecked.size() > 0) checks.traverse_world = &unchecked;
+  checks.traverse_world = world.unchecked_pairs();  // the blades either side of the channel and the hub, for the ball
   LinkOptions lo = rq.links;
   lo.allowed_overcut_mm = rq.allowed_overcut_mm;
   auto end_of = [](const HubFinishPose& p) { return LinkEnd{p.pose, p.normal}; };

@@ -82,7 +82,7 @@ Attempt prove(const ToolPose& a, const std::vector<ToolPose>& via, const std::ve
     // The link leaves the cutting pose a and reaches the cutting pose b:
     // their own cut belongs to their passes.
     if (!prove_motion(*chain[s], *chain[s + 1], checks, allowed_mm, s > 0, s + 2 < chain.size() || !b_cuts,
-                      link_leg_name(leg), out, leg == LinkLeg::Traverse ? checks.traverse_world : nullptr))
+                      link_leg_name(leg), out, leg == LinkLeg::Traverse ? checks.traverse_world.get() : nullptr))
       return out;
   }
   return out;

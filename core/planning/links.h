@@ -24,6 +24,7 @@
 // direction is turned 30, then 60 degrees from the normal up the tool axis
 // — still lifting off the surface at once. A link that nothing proves is
 // refused, never emitted.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,7 +78,7 @@ struct LinkChecks {
   // it by design); a traverse that goes beyond their reach (along the
   // span, round a blade) is proved against the whole blade with the cutter
   // too (CollisionWorld::unchecked_pairs), at the same clearances.
-  const CollisionWorld* traverse_world = nullptr;
+  std::shared_ptr<const CollisionWorld> traverse_world;
 };
 
 enum class LinkLeg { Retract, Traverse, Approach };

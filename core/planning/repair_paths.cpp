@@ -621,10 +621,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   checks.motion_tol_mm = rq.tilt.motion_tol_mm;
   checks.guard = &guard;
   checks.guard_margin_mm = margin;
-  // What the world leaves out for some parts (the face or blade being
-  // machined, for the cutter) is proved for the traverses (links.h).
-  const CollisionWorld unchecked = rq.world ? rq.world->unchecked_pairs() : CollisionWorld();
-  if (unchecked.size() > 0) checks.traverse_world = &unchecked;
+  if (rq.world) checks.traverse_world = rq.world->unchecked_pairs();  // the blade being machined, for the cutter
   const double link_allowed = rq.links.allowed_overcut_mm;  // the guard's margin comes off in the proof
   auto end_of = [](const RepairPose& p) { return LinkEnd{p.pose, p.normal}; };
   auto link = [&](int from, int to) {

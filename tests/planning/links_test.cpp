@@ -149,7 +149,6 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   own.parts.cutter = false;
   world.add("own blade", test::grid_mesh(Vec3(-50, -50, 0), Vec3(100, 0, 0), Vec3(0, 100, 0), 4, 4), own);
   world.add("own blade ridge", test::box_mesh(Vec3(9, -20, -1), Vec3(11, 20, 5)), own);  // 5 mm high
-  const CollisionWorld left = world.unchecked_pairs();
   LinkChecks checks;
   checks.world = &world;
   checks.body = &body;
@@ -160,7 +159,7 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   const LinkEnd a{{Vec3(0, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
   const LinkEnd b{{Vec3(20, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
   EXPECT_TRUE(plan_link(a, b, checks, o).clear);  // the hole: nothing sees the cutter in the ridge
-  checks.traverse_world = &left;
+  checks.traverse_world = world.unchecked_pairs();
   const PlannedLink refused = plan_link(a, b, checks, o);
   EXPECT_FALSE(refused.clear);
   EXPECT_NE(refused.reason.find("traverse not clear"), std::string::npos) << refused.reason;
