@@ -16,7 +16,8 @@ namespace bliskrun {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr int kTile = 8;  // samples per tile side; tiles per super-tile side
+constexpr int kFan = 4;     // cells per group side, at every level of a SampleIndex
+constexpr int kLevels = 4;  // tiles of 4 x 4 samples, then 16 x 16, 64 x 64, 256 x 256
 
 struct Sample {
   Vec3 p, n;
@@ -69,9 +70,15 @@ void slab_of(Group& g, ForEachSample each) {
   g.cone_sin = std::sqrt(1 - g.cone_cos * g.cone_cos);
 }
 
+// The samples bounded by a hierarchy of groups: levels[0] holds tiles of
+// kFan x kFan samples, each level above groups kFan x kFan of the one below
+// (the last level covers the whole grid in a few groups). Small tiles at the
+// bottom: a tool's shell within reach of the samples is thin (0.02-0.1 mm)
+// beside tiles of 0.1-0.3 mm, so the finer the last test, the fewer samples
+// are traced for nothing.
 struct SampleIndex {
   std::vector<Sample> samples;
-  std::vector<Group> tiles, supers;
+  std::vector<std::vector<Group>> levels;
 };
 
 SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
@@ -94,31 +101,37 @@ SampleIndex build_index(const Surface& s, const UndercutOptions& o) {
       idx.samples[static_cast<size_t>(i) * nv + j] = {d.p, n.normalized()};
     }
   });
-  const int tu = (nu + kTile - 1) / kTile, tv = (nv + kTile - 1) / kTile;
-  idx.tiles.resize(static_cast<size_t>(tu) * tv);
-  for (int i = 0; i < nu; ++i) {
+  // Level by level: group kFan x kFan cells of the grid below (samples,
+  // then groups) into one, until a few groups cover the grid.
+  int cu = nu, cv = nv;  // the grid being grouped, in cells
+  for (int level = 0; level < kLevels; ++level) {
     cancellation_point();
-    for (int j = 0; j < nv; ++j)
-      idx.tiles[static_cast<size_t>(i / kTile) * tv + j / kTile].members.push_back(i * nv + j);
-  }
-  cancellation_point();
-  for (Group& t : idx.tiles) {
-    bound(t, [&](int m) { return std::pair<Vec3, double>(idx.samples[m].p, 0.0); });
-    slab_of(t, [&](const auto& f) {
-      for (int m : t.members) f(idx.samples[m]);
-    });
-  }
-  const int su = (tu + kTile - 1) / kTile, sv = (tv + kTile - 1) / kTile;
-  idx.supers.resize(static_cast<size_t>(su) * sv);
-  for (int i = 0; i < tu; ++i)
-    for (int j = 0; j < tv; ++j)
-      idx.supers[static_cast<size_t>(i / kTile) * sv + j / kTile].members.push_back(i * tv + j);
-  for (Group& g : idx.supers) {
-    bound(g, [&](int m) { return std::pair<Vec3, double>(idx.tiles[m].centre, idx.tiles[m].radius); });
-    slab_of(g, [&](const auto& f) {
-      for (int t : g.members)
-        for (int m : idx.tiles[t].members) f(idx.samples[m]);
-    });
+    const int gu = (cu + kFan - 1) / kFan, gv = (cv + kFan - 1) / kFan;
+    std::vector<Group> groups(static_cast<size_t>(gu) * gv);
+    for (int i = 0; i < cu; ++i)
+      for (int j = 0; j < cv; ++j) groups[static_cast<size_t>(i / kFan) * gv + j / kFan].members.push_back(i * cv + j);
+    const std::vector<Group>* below = level == 0 ? nullptr : &idx.levels.back();
+    // Every sample under a group, through the levels below.
+    auto each_sample = [&](const Group& g, const auto& f) {
+      std::vector<int> cells(g.members);
+      for (int l = level - 1; l >= 0; --l) {
+        std::vector<int> next;
+        for (int c : cells)
+          for (int m : idx.levels[l][c].members) next.push_back(m);
+        cells.swap(next);
+      }
+      for (int m : cells) f(idx.samples[m]);
+    };
+    for (Group& g : groups) {
+      if (below)
+        bound(g, [&](int m) { return std::pair<Vec3, double>((*below)[m].centre, (*below)[m].radius); });
+      else
+        bound(g, [&](int m) { return std::pair<Vec3, double>(idx.samples[m].p, 0.0); });
+      slab_of(g, [&](const auto& f) { each_sample(g, f); });
+    }
+    idx.levels.push_back(std::move(groups));
+    cu = gu;
+    cv = gv;
   }
   return idx;
 }
@@ -216,14 +229,17 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
     return (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) ||
            cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range;
   };
-  for (const Group& sup : idx.supers) {
-    if (skip(sup)) continue;
-    for (int t : sup.members) {
-      const Group& tile = idx.tiles[t];
-      if (skip(tile)) continue;
-      for (int m : tile.members) f(m);
+  // Depth first from the top level down to the samples.
+  auto visit = [&](auto& self, int level, const Group& g) -> void {
+    if (skip(g)) return;
+    if (level == 0) {
+      for (int m : g.members) f(m);
+      return;
     }
-  }
+    for (int c : g.members) self(self, level - 1, idx.levels[level - 1][c]);
+  };
+  const int top = static_cast<int>(idx.levels.size()) - 1;
+  for (const Group& g : idx.levels[top]) visit(visit, top, g);
 }
 
 void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
