@@ -281,7 +281,7 @@ std::vector<SampleTile> bound_runs(size_t count, size_t size, Centre centre, Rad
 }
 
 SampleTiles tile_samples(const std::vector<Vec3>& ps) {
-  constexpr size_t kTile = 16, kGroup = 8;
+  constexpr size_t kTile = 8, kGroup = 8;
   SampleTiles st;
   st.tiles = bound_runs(ps.size(), kTile, [&](size_t i) { return ps[i]; }, [](size_t) { return 0.0; });
   st.groups = bound_runs(st.tiles.size(), kGroup, [&](size_t i) { return st.tiles[i].centre; },

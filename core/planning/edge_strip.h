@@ -185,7 +185,7 @@ struct SampleTile {
   double radius = 0;
   size_t begin = 0, end = 0;
 };
-// Tiles of 16 samples, and groups of 8 consecutive tiles bounding them (a
+// Tiles of 8 samples, and groups of 8 consecutive tiles bounding them (a
 // group's begin/end index tiles): a row's shared samples span the whole
 // round and both flanks, a few mm of which the cutter can reach, so most
 // of a pose's screening ends at the groups.
