@@ -200,7 +200,7 @@ std::vector<int>& CollisionWorld::nearest_hints(size_t parts) const {
 
 PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isometry3d& frame,
                                         const Clearances& clearances, const std::vector<std::vector<double>>& bound,
-                                        std::vector<std::vector<double>>* piece_distance) const {
+                                        std::vector<std::vector<double>>* piece_distance, bool coarse_far) const {
   PoseCheck out;
   out.min_margin_mm = std::numeric_limits<double>::infinity();
   fcl::DistanceRequestd request;
@@ -272,8 +272,30 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
         // volume farther than that.
         const double seed = best + margin;
         result.min_distance = seed;
-        // Mesh first, tool second: nearest_points follow the argument order.
-        fcl::distance(objects_[i].model.get(), identity, part.pieces[k].geometry.get(), frame, request, result);
+        const FclPiece& piece = part.pieces[k];
+        if (coarse_far && piece.coarse) {
+          // The coarse body encloses the part: nothing within the seed of it,
+          // nothing within the seed of the part. Its distance d_c is at most
+          // its overestimate below the part's, and the fine body's lies at
+          // most that far above d_c: found again from there where near.
+          fcl::distance(objects_[i].model.get(), identity, piece.coarse.get(), frame, request, result);
+          if (!(result.min_distance < seed)) continue;
+          const double far = result.min_distance - margin - clearances.of(part.id);
+          if (far < kCoarseFarFactor * piece.coarse_overestimate_mm) {
+            const fcl::DistanceResultd coarse = result;
+            const double fine_seed = std::min(seed, coarse.min_distance + piece.coarse_overestimate_mm + 1e-9);
+            result = fcl::DistanceResultd();
+            result.min_distance = fine_seed;
+            fcl::distance(objects_[i].model.get(), identity, piece.geometry.get(), frame, request, result);
+            if (!(result.min_distance < fine_seed)) {
+              if (fine_seed >= seed) continue;  // the fine body is no nearer than the seed either
+              result = coarse;                  // only by rounding: d_c still bounds it
+            }
+          }
+        } else {
+          // Mesh first, tool second: nearest_points follow the argument order.
+          fcl::distance(objects_[i].model.get(), identity, piece.geometry.get(), frame, request, result);
+        }
         // Compared with the seed itself: (d + m) - m can round below d.
         if (result.min_distance < seed) {
           resolved = true;
@@ -331,7 +353,7 @@ MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& f
       const double c = clearances.of(body.parts()[p].id);
       for (size_t k = 0; k < bound[p].size(); ++k) bound[p][k] = c + std::max(0.0, speed[p][k] * (1 - t) - tol_mm);
     }
-    const PoseCheck here = check_bounded(body, motion.frame_at(t), clearances, bound, &distance);
+    const PoseCheck here = check_bounded(body, motion.frame_at(t), clearances, bound, &distance, true);
     ++out.samples;
     out.min_margin_mm = std::min(out.min_margin_mm, here.min_margin_mm);
     if (!here.clear) {

@@ -73,21 +73,34 @@ constexpr double kShankTolMm = 0.02;
 
 namespace {
 
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> bvh_of(const RevolvedPolytope& poly) {
+  auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  model->beginModel();
+  for (const auto& f : poly.faces) {
+    for (size_t k = 1; k + 1 < f.size(); ++k) {
+      model->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
+    }
+  }
+  model->endModel();
+  model->computeLocalAABB();
+  return model;
+}
+
 FclPiece fcl_piece(const Profile& profile, double tol_mm, double& overestimate_mm) {
   const RevolvedPolytope poly = circumscribed_polytope(profile, tol_mm);
   overestimate_mm = std::max(overestimate_mm, poly.overestimate_mm);
   FclPiece piece;
   piece.z_max = profile.z_max();
   piece.overestimate_mm = poly.overestimate_mm;
-  piece.geometry = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-  piece.geometry->beginModel();
-  for (const auto& f : poly.faces) {
-    for (size_t k = 1; k + 1 < f.size(); ++k) {
-      piece.geometry->addTriangle(poly.vertices[f[0]], poly.vertices[f[k]], poly.vertices[f[k + 1]]);
-    }
+  piece.geometry = bvh_of(poly);
+  if (tol_mm < kCoarsePieceTolMm) {
+    // The reach below stays the fine body's: a motion proof bounds how fast
+    // the part's points move, and any body enclosing the part gives a lower
+    // bound of its distance.
+    const RevolvedPolytope coarse = circumscribed_polytope(profile, kCoarsePieceTolMm);
+    piece.coarse = bvh_of(coarse);
+    piece.coarse_overestimate_mm = coarse.overestimate_mm;
   }
-  piece.geometry->endModel();
-  piece.geometry->computeLocalAABB();
   for (const Vec3& v : poly.vertices) piece.reach_mm = std::max(piece.reach_mm, v.norm());
   piece.cover = sphere_cover(profile, kCoverExcessMm, tol_mm);
   return piece;

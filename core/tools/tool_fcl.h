@@ -37,7 +37,16 @@ struct FclPiece {
   // The piece covered by spheres on its axis (within kCoverExcessMm), for
   // check surfaces measured analytically (a surface of revolution).
   SphereCover cover;
+  // The same piece meshed to kCoarsePieceTolMm, when `geometry` is finer:
+  // it encloses the part too, within coarse_overestimate_mm. A motion proof
+  // asks it first and takes its distance where that is far from the
+  // clearance (collision_world.h), so the fine mesh is traversed only near.
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> coarse;
+  double coarse_overestimate_mm = 0;
 };
+
+// The tolerance of a piece's coarse mesh (FclPiece::coarse), mm.
+constexpr double kCoarsePieceTolMm = 0.01;
 
 // How much wider than the tool its sphere cover may be, mm.
 constexpr double kCoverExcessMm = 0.01;

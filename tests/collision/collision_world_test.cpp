@@ -386,6 +386,46 @@ TEST(CollisionWorld, ALongCutterGlidingOverAPlaneStepsByItsBottomPiece) {
   EXPECT_EQ(world.name(fin.at.parts[fin.at.worst].object), "fin");
 }
 
+// A motion proof asks the cutter's coarse body (0.01 mm mesh) first and
+// keeps its distance only far from the clearance; near it, the fine body's
+// answer decides. A wall beside the flat end's side, the tool gliding
+// along it at a constant distance D, for walls all round the axis (so some
+// face a corner of the coarse polygon, up to ~0.02 mm nearer than the
+// side): 5 um more clearance than D is refused everywhere, 5 um less
+// proved everywhere — which the coarse body alone would refuse.
+TEST(CollisionWorld, AMotionProofKeepsTheCoarseBodysDistanceOnlyFarFromTheClearance) {
+  const ToolBody body(Tool::flat_end_mill({3, 0.5, 9, {6, 50}, {12, 40}}), 1e-3);
+  const FclPiece& cutter = body.parts().front().pieces.front();
+  ASSERT_TRUE(cutter.coarse);
+  EXPECT_GT(cutter.coarse_overestimate_mm, cutter.overestimate_mm);
+  EXPECT_LE(cutter.coarse_overestimate_mm, 2 * kCoarsePieceTolMm + 1e-9);
+  EXPECT_LT(cutter.coarse->num_tris, cutter.geometry->num_tris / 4);
+  const double D = 0.3;
+  int proved = 0, refused = 0;
+  for (int k = 0; k < 36; ++k) {
+    const double a = deg_to_rad(10.0 * k + 1.3);
+    const Vec3 out(std::cos(a), std::sin(a), 0), along(-std::sin(a), std::cos(a), 0);
+    CollisionWorld world;
+    // The wall's plane at 3 + D from the axis, from below the cutter's
+    // bottom to 4 mm up its 9 mm side: the shank above is not beside it.
+    world.add("wall", grid_mesh(Vec3((3 + D) * out - 50 * along + Vec3(0, 0, -2)), Vec3(100 * along),
+                                Vec3(0, 0, 6), 4, 4));
+    const ToolPose from{Vec3(-10 * along), Vec3::UnitZ()}, to{Vec3(10 * along), Vec3::UnitZ()};
+    const MotionCheck near_out = world.check_motion(body, from, to, Clearances{D - 0.005, 0, 0}, 1e-3);
+    const MotionCheck near_in = world.check_motion(body, from, to, Clearances{D + 0.005, 0, 0}, 1e-3);
+    proved += near_out.clear;
+    refused += !near_in.clear;
+    EXPECT_TRUE(near_out.clear) << "wall at " << 10 * k + 1.3 << " deg";
+    EXPECT_FALSE(near_in.clear) << "wall at " << 10 * k + 1.3 << " deg";
+    // Far from it: proved, in the few samples the coarse distance allows.
+    const MotionCheck far = world.check_motion(body, from, to, Clearances{D - 0.25, 0, 0}, 1e-3);
+    EXPECT_TRUE(far.clear);
+    EXPECT_LE(far.samples, static_cast<int>(std::ceil(20 / (0.25 - 2 * kCoarsePieceTolMm))) + 1);
+  }
+  EXPECT_EQ(proved, 36);
+  EXPECT_EQ(refused, 36);
+}
+
 TEST(CollisionWorld, MotionRejectsBadSettings) {
   CollisionWorld world;
   world.add("floor", grid_mesh(Vec3(-10, -10, 0), Vec3(20, 0, 0), Vec3(0, 20, 0)));
