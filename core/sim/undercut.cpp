@@ -224,10 +224,17 @@ bool below_the_cutter(const Group& g, const Eigen::Isometry3d& to_tool, double z
 template <class F>
 void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_tool, const SampleIndex& idx,
                           double range, double tol, bool only_below, F&& f) {
-  // The slab test first: a few products against a signed distance.
+  // The slab test first: a few products against a signed distance; and the
+  // distance to the cutter's bounding cylinder (never above the cutter's)
+  // before the exact one: most groups far enough by it are far enough.
+  const double r_max = cutter.max_radius(), z_lo = cutter.z_min(), z_hi = cutter.z_max();
   auto skip = [&](const Group& g) {
-    return (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) ||
-           cutter.signed_distance(Vec3(to_tool * g.centre)) > g.radius + range;
+    if (only_below && below_the_cutter(g, to_tool, z_lo, tol)) return true;
+    const Vec3 q = to_tool * g.centre;
+    const double reach = g.radius + range;
+    const double bound =
+        std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
+    return bound > reach || cutter.signed_distance(q) > reach;
   };
   // Depth first from the top level down to the samples.
   auto visit = [&](auto& self, int level, const Group& g) -> void {
