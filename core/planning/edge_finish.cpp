@@ -1093,6 +1093,10 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, const std:
   // 0.03 mm, not 0.1): 1.24 -> 1.07 s wall on the built-in LE, same gaps.
   o.search_above_mm = std::max(rq.band.e2_mm, 0.0) + 0.01;
   o.search_below_mm = 0.01;
+  // A sample once left below that is done with: the passes that cut it
+  // again (the next row's overlap, the cutter hovering over it) are not
+  // traced there.
+  o.settled_mm = left_above;
   o.v0 = rq.v0;
   o.v1 = rq.v1;
   o.threads = rq.threads;

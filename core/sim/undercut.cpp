@@ -253,10 +253,11 @@ void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const Sam
               const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
   const Eigen::Isometry3d to_tool = to_part.inverse();
   for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), o.tol_mm, false, [&](int m) {
+    const double left = residual[m].load(std::memory_order_relaxed);
+    if (left <= o.settled_mm) return;
     const Sample& smp = idx.samples[m];
     ++evaluations;
-    const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o,
-                                 std::min(o.search_above_mm, residual[m].load(std::memory_order_relaxed)));
+    const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, std::min(o.search_above_mm, left));
     if (s < kInf) lower_to(residual[m], s);
   });
 }

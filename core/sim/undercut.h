@@ -51,6 +51,13 @@ struct UndercutOptions {
   // operation leaves (e.g. the hub strip under the first row) is still seen.
   double machined_u0 = -std::numeric_limits<double>::infinity();
   double machined_u1 = std::numeric_limits<double>::infinity();
+  // A sample once left at or below this is traced no more: for a caller
+  // that asks only where more than it is left (e.g. the edge finish's gap
+  // search), the cuts after that change nothing it reads. Such a sample's
+  // residual is then only known to be at most this (which of the cuts
+  // reached it first depends on the order), and the overcut statistics
+  // read it so; off (-inf) by default.
+  double settled_mm = -std::numeric_limits<double>::infinity();
 };
 
 // A pass: poses the tool moves through, in order, each to the next by

@@ -176,6 +176,34 @@ TEST(Undercut, SameResultForAnyThreadCount) {
     ASSERT_EQ(std::memcmp(&a.residual_mm[i], &b.residual_mm[i], sizeof(double)), 0) << i;
 }
 
+// settled_mm: a sample left at or below it is traced no more. Where more
+// is left the map is the same to the bit; where less, it still reads at
+// most settled_mm (the later, deeper cuts are not traced); and fewer lines
+// are traced. Three overlapping passes of a ball, scallops 0.1 mm apart.
+TEST(Undercut, SettledSamplesAreTracedNoMoreAndTheRestIsUnchanged) {
+  std::vector<ToolPass> passes;
+  for (double y : {-0.1, 0.0, 0.1}) passes.push_back({at(-12, y, 0), at(12, y, 0)});
+  UndercutOptions all = plane_options(), settled = plane_options();
+  settled.settled_mm = 0.002;
+  const UndercutResult a = simulate_undercut(Plane(), ball(5), passes, all);
+  const UndercutResult b = simulate_undercut(Plane(), ball(5), passes, settled);
+  ASSERT_EQ(a.residual_mm.size(), b.residual_mm.size());
+  int above = 0, below = 0;
+  for (size_t i = 0; i < a.residual_mm.size(); ++i) {
+    if (a.residual_mm[i] > settled.settled_mm) {
+      ++above;
+      ASSERT_EQ(std::memcmp(&a.residual_mm[i], &b.residual_mm[i], sizeof(double)), 0) << i;
+    } else {
+      ++below;
+      EXPECT_LE(b.residual_mm[i], settled.settled_mm) << i;
+      EXPECT_GE(b.residual_mm[i], a.residual_mm[i]) << i;
+    }
+  }
+  EXPECT_GT(above, 100);
+  EXPECT_GT(below, 100);
+  EXPECT_LT(b.line_evaluations, a.line_evaluations);
+}
+
 TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
   // Doubling the sampled area away from a short pass (same density) must not
   // double the work: far tiles are pruned by the Lipschitz bound.
