@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/collision/tilt.h"
+#include "core/common/parallel.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
@@ -200,24 +201,33 @@ void push_pose_check(lua_State* L, const CollisionWorld& world, const PoseCheck&
 
 // One check surface: a mesh (bliskrun.Mesh, or {vertices=, triangles=}) or a
 // surface tessellated here at chord_tol.
-TriangleMesh check_surface_entry(lua_State* L, const luax::Options& s, const std::string& what) {
+// A check surface as read from its entry: a mesh given, or a surface to
+// tessellate (on a worker, with the others).
+struct MeshEntry {
+  TriangleMesh mesh;
+  std::shared_ptr<const Surface> surface;
+  double chord_tol = 0;
+};
+
+MeshEntry check_surface_entry(lua_State* L, const luax::Options& s, const std::string& what) {
   if (s.has("mesh") == s.has("surface")) luax::error(L, what + ": give exactly one of 'mesh' and 'surface'");
+  MeshEntry out;
   if (s.has("surface")) {
     if (!s.has("chord_tol")) luax::error(L, what + ": 'surface' needs 'chord_tol' (mm)");
     s.push_raw("surface");
-    const std::shared_ptr<const Surface> surface = luax::check<SurfaceHandle>(L, -1).surface;
+    out.surface = luax::check<SurfaceHandle>(L, -1).surface;
     lua_pop(L, 1);
-    return tessellate(*surface, s.number("chord_tol", 0), 0, 1, 0, 1, context(L).progress);
+    out.chord_tol = s.number("chord_tol", 0);
+    return out;
   }
   s.push_raw("mesh");
-  TriangleMesh mesh;
   if (const MeshHandle* handle = luax::test<MeshHandle>(L, -1)) {
-    mesh = *handle->mesh;
+    out.mesh = *handle->mesh;
   } else {
-    mesh = check_mesh(L, -1, what + ".mesh");
+    out.mesh = check_mesh(L, -1, what + ".mesh");
   }
   lua_pop(L, 1);
-  return mesh;
+  return out;
 }
 
 int w_collision_world(lua_State* L) {
@@ -226,6 +236,17 @@ int w_collision_world(lua_State* L) {
                           {Field{"surfaces", Kind::Table, true, std::nullopt, std::nullopt,
                                  "list of {name=, mesh=}, {name=, surface=, chord_tol=} or {name=, revolution=}", {}}});
     auto world = std::make_shared<CollisionWorld>();
+    // Read every entry first (Lua is asked on this thread only), then
+    // tessellate and build the meshes' hierarchies on the run's threads, and
+    // add them in the order given (a world's objects keep their indices).
+    struct Pending {
+      std::string name;
+      CheckSurfaceOptions options;
+      std::shared_ptr<const RevolutionDistance> revolution;
+      MeshEntry mesh;
+      CollisionWorld::PreparedSurface prepared;
+    };
+    std::vector<Pending> pending;
     o.push_raw("surfaces");
     const lua_Integer n = luaL_len(L, -1);
     for (lua_Integer i = 1; i <= n; ++i) {
@@ -276,14 +297,26 @@ int w_collision_world(lua_State* L) {
         const auto* rev = dynamic_cast<const SurfaceOfRevolution*>(surface.get());
         if (!rev) luax::error(L, what + ".revolution: expected a surface of revolution (impeller:hub(), "
                                         "bliskrun.surface_of_revolution, bliskrun.offset_revolution)");
-        world->add(s.string("name", ""), std::make_shared<RevolutionDistance>(*rev, s.number("chord_tol", 1e-3)),
-                   options);
+        pending.push_back({s.string("name", ""), options,
+                           std::make_shared<RevolutionDistance>(*rev, s.number("chord_tol", 1e-3)), {}, {}});
       } else {
-        world->add(s.string("name", ""), check_surface_entry(L, s, what), options);
+        pending.push_back({s.string("name", ""), options, nullptr, check_surface_entry(L, s, what), {}});
       }
       lua_pop(L, 1);
     }
     lua_pop(L, 1);
+    Progress& progress = context(L).progress;
+    run_parallel(pending.size(), context(L).options.threads, progress, "check surfaces", [&](size_t k, Progress& pg) {
+      Pending& p = pending[k];
+      if (p.revolution) return;
+      if (p.mesh.surface) p.mesh.mesh = tessellate(*p.mesh.surface, p.mesh.chord_tol, 0, 1, 0, 1, pg);
+      p.prepared = CollisionWorld::prepare(p.name, p.mesh.mesh, p.options);
+      p.mesh.mesh = TriangleMesh();  // the hierarchy holds what it needs
+    });
+    for (Pending& p : pending) {
+      if (p.revolution) world->add(p.name, p.revolution, p.options);
+      else world->add(std::move(p.prepared));
+    }
     luax::push_new(L, LuaWorld{std::move(world)});
     return 1;
   });

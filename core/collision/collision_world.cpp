@@ -131,8 +131,25 @@ void CollisionWorld::add(const std::string& name, std::shared_ptr<const Revoluti
   objects_.push_back(std::move(o));
 }
 
+struct CollisionWorld::PreparedSurface::Built {
+  Object object;
+};
+
 void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
   check_name(name, options);
+  add(prepare(name, mesh, options));
+}
+
+void CollisionWorld::add(PreparedSurface prepared) {
+  if (!prepared.built_) throw ParameterError("surface", "not prepared (CollisionWorld::prepare)");
+  Object& o = prepared.built_->object;
+  check_name(o.name, o.options);
+  objects_.push_back(std::move(o));
+  prepared.built_.reset();
+}
+
+CollisionWorld::PreparedSurface CollisionWorld::prepare(const std::string& name, const TriangleMesh& mesh,
+                                                        CheckSurfaceOptions options) {
   if (mesh.triangles.empty()) throw ParameterError(name, "check surface mesh has no triangles");
   const int n = static_cast<int>(mesh.vertices.size());
   for (const Vec3& v : mesh.vertices) {
@@ -151,8 +168,10 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, Chec
   }
   model->endModel();
   model->computeLocalAABB();
-  objects_.push_back(
-      Object{name, std::move(model), nullptr, static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options});
+  PreparedSurface out;
+  out.built_ = std::make_shared<PreparedSurface::Built>(PreparedSurface::Built{
+      Object{name, std::move(model), nullptr, static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options}});
+  return out;
 }
 
 std::string describe(const PoseCheck& c, const CollisionWorld& world) {
