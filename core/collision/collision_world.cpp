@@ -133,6 +133,7 @@ void CollisionWorld::add(const std::string& name, std::shared_ptr<const Revoluti
 
 struct CollisionWorld::PreparedSurface::Built {
   Object object;
+  bool added = false;  // moved into a world (copies of a PreparedSurface share it)
 };
 
 void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
@@ -142,10 +143,11 @@ void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, Chec
 
 void CollisionWorld::add(PreparedSurface prepared) {
   if (!prepared.built_) throw ParameterError("surface", "not prepared (CollisionWorld::prepare)");
+  if (prepared.built_->added) throw ParameterError(prepared.built_->object.name, "already added to a world");
   Object& o = prepared.built_->object;
   check_name(o.name, o.options);
   objects_.push_back(std::move(o));
-  prepared.built_.reset();
+  prepared.built_->added = true;
 }
 
 CollisionWorld::PreparedSurface CollisionWorld::prepare(const std::string& name, const TriangleMesh& mesh,
@@ -170,7 +172,8 @@ CollisionWorld::PreparedSurface CollisionWorld::prepare(const std::string& name,
   model->computeLocalAABB();
   PreparedSurface out;
   out.built_ = std::make_shared<PreparedSurface::Built>(PreparedSurface::Built{
-      Object{name, std::move(model), nullptr, static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options}});
+      Object{name, std::move(model), nullptr, static_cast<int>(mesh.triangles.size()), piece_vertices(mesh), options},
+      false});
   return out;
 }
 

@@ -129,7 +129,8 @@ class CollisionWorld {
   // The same in two steps: the BVH built apart from any world (pure, so
   // several at once on worker threads: a Rotor 67 world's seven meshes
   // took 18 s one after the other), then added. prepare throws what add
-  // throws for the mesh; add(PreparedSurface) what it throws for the name.
+  // throws for the mesh; add(PreparedSurface) what it throws for the name,
+  // and ParameterError for one never prepared or already added.
   class PreparedSurface {
    private:
     friend class CollisionWorld;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -223,6 +224,41 @@ TEST(CollisionWorld, NamesObjectsAndRejectsBadMeshes) {
   TriangleMesh bad = box_mesh(Vec3(0, 0, 0), Vec3(1, 1, 1));
   bad.triangles[3] = Eigen::Vector3i(0, 1, 8);
   EXPECT_THROW(world.add("bad", bad), ParameterError);
+}
+
+// prepare + add(prepared) is add in two steps: prepared on two threads, the
+// world answers as the one built by add; the name is checked on adding,
+// the mesh on preparing, and a surface is added once.
+TEST(CollisionWorld, PreparedOnThreadsThenAddedInOrderIsTheSameWorld) {
+  const std::vector<std::pair<std::string, TriangleMesh>> meshes = {
+      {"blade k-1", box_mesh(Vec3(-30, -1, 0), Vec3(-20, 1, 30))},
+      {"blade k+1", box_mesh(Vec3(20, -1, 0), Vec3(30, 1, 30))},
+      {"floor", grid_mesh(Vec3(-50, -50, -3), Vec3(100, 0, 0), Vec3(0, 100, 0), 8, 8)}};
+  CollisionWorld direct, prepared;
+  std::vector<CollisionWorld::PreparedSurface> built(meshes.size());
+  std::vector<std::thread> workers;
+  for (size_t k = 0; k < meshes.size(); ++k)
+    workers.emplace_back([&, k] { built[k] = CollisionWorld::prepare(meshes[k].first, meshes[k].second); });
+  for (std::thread& t : workers) t.join();
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    direct.add(meshes[k].first, meshes[k].second);
+    prepared.add(built[k]);
+    EXPECT_EQ(prepared.name(static_cast<int>(k)), meshes[k].first);
+  }
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}));
+  for (const Vec3& tip : {Vec3(10, 0, 5), Vec3(-12, 0, 2), Vec3(0, 0, 1)}) {
+    const PoseCheck a = direct.check(body, ToolPose{tip, Vec3::UnitZ()}, Clearances{});
+    const PoseCheck b = prepared.check(body, ToolPose{tip, Vec3::UnitZ()}, Clearances{});
+    ASSERT_EQ(a.parts.size(), b.parts.size());
+    for (size_t p = 0; p < a.parts.size(); ++p) {
+      EXPECT_EQ(a.parts[p].distance_mm, b.parts[p].distance_mm);
+      EXPECT_EQ(a.parts[p].object, b.parts[p].object);
+    }
+  }
+  EXPECT_THROW(prepared.add(CollisionWorld::prepare("floor", meshes[2].second)), ParameterError);  // name taken
+  EXPECT_THROW(CollisionWorld::prepare("empty", TriangleMesh{}), ParameterError);
+  EXPECT_THROW(prepared.add(built[0]), ParameterError);  // already added: it was moved into the world
+  EXPECT_THROW(prepared.add(CollisionWorld::PreparedSurface{}), ParameterError);
 }
 
 TEST(CollisionWorld, HorizonBoundsWhatIsResolved) {
