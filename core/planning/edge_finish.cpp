@@ -514,7 +514,7 @@ TiltOutcome clear_alternative(const EdgeFinishRequest& rq, const PoseChecks& che
     if (pose.axis.dot(front) < 0) return "leans back into the passage";
     if (!within_reach(rq, pose)) return "beyond the machine's reach";
     const StripWidth w = strip.width(pose);
-    if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um)";
+    if (w.gouges) return "gouges the blade (" + std::to_string(1e3 * w.deepest_mm) + " um or deeper)";
     if (!w.touches) return "leaves more than e2 at the contact";
     return "";
   };

@@ -232,14 +232,18 @@ namespace {
 // it is outside the cutter and its directed distance where inside. With
 // tiles, a tile wholly outside the cutter counts as its lower bound (>= 0):
 // the result is the same wherever it is below 0.
+// Stops at the first sample found below stop_below (returning its
+// distance): whether a pose gouges needs no more.
 double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const std::vector<Vec3>& ps,
-                      const std::vector<Vec3>& ns, const SampleTiles* tiles, double cap) {
+                      const std::vector<Vec3>& ns, const SampleTiles* tiles, double cap, double stop_below) {
   double deepest = std::numeric_limits<double>::infinity();
   auto range = [&](size_t a, size_t b) {
     for (size_t i = a; i < b; ++i) {
       const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
       deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
+      if (deepest < stop_below) return true;
     }
+    return false;
   };
   if (!tiles) {
     range(0, ps.size());
@@ -257,7 +261,7 @@ double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, c
       const SampleTile& t = tiles->tiles[k];
       const double ot = outside(t);
       if (ot > 0) deepest = std::min(deepest, ot);
-      else range(t.begin, t.end);
+      else if (range(t.begin, t.end)) return deepest;
     }
   }
   return deepest;
@@ -291,10 +295,12 @@ SampleTiles tile_samples(const std::vector<Vec3>& ps) {
 
 double deepest_over(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const StripSamples& smp, double cap,
                     const SampleTiles* tiles, const SampleTiles* gouge_tiles,
-                    const SharedGougeSamples* shared) {
-  double d = std::min(screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap),
-                      screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap));
-  if (shared) d = std::min(d, screen_deepest(cutter, to_tool, shared->p, shared->n, &shared->tiles, cap));
+                    const SharedGougeSamples* shared, double stop_below = -std::numeric_limits<double>::infinity()) {
+  double d = screen_deepest(cutter, to_tool, smp.p, smp.n, tiles, cap, stop_below);
+  if (d < stop_below) return d;
+  d = std::min(d, screen_deepest(cutter, to_tool, smp.gouge_p, smp.gouge_n, gouge_tiles, cap, stop_below));
+  if (d < stop_below) return d;
+  if (shared) d = std::min(d, screen_deepest(cutter, to_tool, shared->p, shared->n, &shared->tiles, cap, stop_below));
   return d;
 }
 
@@ -305,8 +311,10 @@ StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamp
   const Eigen::Isometry3d to_tool = tool_to_part(pose).inverse();
   const double cap = 2 * (band.e2_mm - band.e1_mm);
   // ① every sample: cheap signed distance first, the directed one only where
-  // the sample is inside the cutter.
-  w.deepest_mm = deepest_over(cutter, to_tool, smp, cap, tiles, gouge_tiles, shared);
+  // the sample is inside the cutter. Screened (a contact's strip: the
+  // searches try many gouging poses), the first sample below e1 ends it.
+  w.deepest_mm = deepest_over(cutter, to_tool, smp, cap, tiles, gouge_tiles, shared,
+                              tiles ? band.e1_mm : -std::numeric_limits<double>::infinity());
   if (w.deepest_mm < band.e1_mm) {
     w.gouges = true;
     return w;

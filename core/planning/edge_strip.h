@@ -141,7 +141,9 @@ struct StripWidth {
   bool gouges = false;       // condition ① violated somewhere
   // Smallest directed distance over all samples — exact where it is below
   // 0; where no sample is inside the cutter a ContactStrip may report a
-  // lower bound >= 0 instead (it screens samples by tiles).
+  // lower bound >= 0 instead (it screens samples by tiles), and where one
+  // gouges, the first it found below e1 (the deepest may lie deeper;
+  // ContactStrip::deepest finds it).
   double deepest_mm = 0;
   bool touches = false;      // condition ②
   double left_mm = 0, right_mm = 0;  // strip extent towards -pv / +pv from C

@@ -188,7 +188,8 @@ TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
 
 // ContactStrip screens condition ① by tiles of samples; every sample one
 // by one (strip_width) must give the same verdict, the same width and, where
-// the pose gouges, the same depth — over bottom and corner poses on a convex
+// the pose cuts below the surface within e1, the same depth (where it gouges,
+// the screen stops at the first sample below e1) — over bottom and corner poses on a convex
 // and a concave wall, gouging or not; the same with the gouge samples shared.
 TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
   const Cylinder cyl(8, 1.0, 20);
@@ -218,12 +219,21 @@ TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
         ASSERT_EQ(tiled.gouges, each.gouges);
         ASSERT_EQ(shared.gouges, each.gouges);
         EXPECT_EQ(shared.width_mm, each.width_mm);
-        if (each.deepest_mm < 0) EXPECT_EQ(shared.deepest_mm, each.deepest_mm);
         EXPECT_EQ(tiled.touches, each.touches);
         EXPECT_EQ(tiled.width_mm, each.width_mm);
         EXPECT_EQ(tiled.left_mm, each.left_mm);
-        if (each.deepest_mm < 0) {
+        if (each.gouges) {
+          // The screen stops at the first sample below e1: a depth below e1,
+          // never below the deepest; deepest() finds the deepest itself.
+          for (const StripWidth* w : {&tiled, &shared}) {
+            EXPECT_LT(w->deepest_mm, band.e1_mm);
+            EXPECT_GE(w->deepest_mm, each.deepest_mm);
+          }
+          EXPECT_EQ(strip.deepest(pose), deepest_distance(tool, pose, samples, band));
+          EXPECT_EQ(strip.deepest(pose), each.deepest_mm);
+        } else if (each.deepest_mm < 0) {
           EXPECT_EQ(tiled.deepest_mm, each.deepest_mm);
+          EXPECT_EQ(shared.deepest_mm, each.deepest_mm);
           EXPECT_EQ(strip.deepest(pose), deepest_distance(tool, pose, samples, band));
         } else {
           EXPECT_GE(tiled.deepest_mm, 0);
