@@ -27,7 +27,7 @@ struct Sample {
 struct Group {
   Vec3 centre = Vec3::Zero();
   double radius = 0;
-  std::vector<int> members;  // sample indices (tiles) or tile indices (super-tiles)
+  std::vector<int> members;  // sample indices (tiles), or indices of the groups a level below
   // slab_of: the samples' mean normal, their largest distance from the
   // plane through the centre across it, and the cosine and sine of the
   // largest angle between a sample's normal and that mean.
@@ -218,7 +218,7 @@ bool below_the_cutter(const Group& g, const Eigen::Isometry3d& to_tool, double z
 }
 
 // Calls f(m) for every sample m whose group the cutter at `to_tool` may
-// reach within `range` (the Lipschitz bound prunes super-tiles, then tiles).
+// reach within `range` (the Lipschitz bound prunes each level's groups, top down).
 // `only_below`: the caller traces entries below the surface only (s <= 0),
 // so tiles wholly below the cutter's lowest plane are pruned too.
 template <class F>

@@ -18,9 +18,9 @@
 // Each line is cut by sphere tracing the tool's exact signed distance, which
 // is 1-Lipschitz, so a root is never stepped over. The same Lipschitz bound
 // prunes whole groups of samples: samples are grouped in parameter-space
-// tiles and tiles in super-tiles, each with a bounding sphere, and a group
-// whose centre is farther from the cutter than its radius plus the search
-// range is skipped. Each tool position so visits only the samples near it:
+// tiles of 4 x 4, tiles in groups of 4 x 4, and so on for four levels, each
+// with a bounding sphere, and a group whose centre is farther from the
+// cutter than its radius plus the search range is skipped. Each tool position so visits only the samples near it:
 // the cost is (tool positions) x (samples near one position), not
 // samples x poses.
 #include <limits>
