@@ -199,10 +199,9 @@ void push_pose_check(lua_State* L, const CollisionWorld& world, const PoseCheck&
 
 // ---- functions -------------------------------------------------------------
 
-// One check surface: a mesh (bliskrun.Mesh, or {vertices=, triangles=}) or a
-// surface tessellated here at chord_tol.
-// A check surface as read from its entry: a mesh given, or a surface to
-// tessellate (on a worker, with the others).
+// One check surface as read from its entry: a mesh (bliskrun.Mesh, or
+// {vertices=, triangles=}), or a surface to tessellate at chord_tol (on a
+// worker, with the others).
 struct MeshEntry {
   TriangleMesh mesh;
   std::shared_ptr<const Surface> surface;

@@ -137,7 +137,7 @@ struct CollisionWorld::PreparedSurface::Built {
 };
 
 void CollisionWorld::add(const std::string& name, const TriangleMesh& mesh, CheckSurfaceOptions options) {
-  check_name(name, options);
+  check_name(name, options);  // before the BVH is built for a name already taken
   add(prepare(name, mesh, options));
 }
 

@@ -166,21 +166,26 @@ void add_positions(Positions& out, const std::vector<ToolPass>& passes, int firs
   out.run.resize(out.frames.size(), run);
 }
 
+// A lower bound of the cutter's signed distance at q (tool frame): the
+// distance to its bounding cylinder, or less at the cylinder's rims. Far
+// cheaper than the exact one, and as long far from the cutter.
+double bounding_cylinder_distance(const Profile& cutter, const Vec3& q) {
+  return std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - cutter.max_radius(),
+                  std::max(cutter.z_min() - q.z(), q.z() - cutter.z_max()));
+}
+
 // Lowest s in [-below, limit] where p + s n is inside the cutter, or +inf.
 // `limit` is the lower of search_above_mm and the material already left at
 // the sample: an entry above it would change nothing, so the trace stops
 // there (most positions of a sweep only graze what the one before cut).
 double first_entry(const Profile& cutter, const Vec3& p_tool, const Vec3& n_tool,
                    const UndercutOptions& o, double limit) {
-  // The distance to the cutter's bounding cylinder is a cheaper lower bound
-  // of the exact one; stepping by it is as safe, and far from the cutter it
-  // is nearly as long a step.
-  const double r_max = cutter.max_radius(), z_lo = cutter.z_min(), z_hi = cutter.z_max();
+  // Stepping by the bounding cylinder's distance is as safe as by the exact
+  // one, and far from the cutter nearly as long a step.
   double s = -o.search_below_mm;
   for (int iter = 0; iter < 400; ++iter) {
     const Vec3 q = p_tool + s * n_tool;
-    const double bound =
-        std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
+    const double bound = bounding_cylinder_distance(cutter, q);
     const double f = bound > 0.02 ? bound : cutter.signed_distance(q);
     if (f <= o.tol_mm) return s;
     s += f;
@@ -225,16 +230,13 @@ template <class F>
 void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_tool, const SampleIndex& idx,
                           double range, double tol, bool only_below, F&& f) {
   // The slab test first: a few products against a signed distance; and the
-  // distance to the cutter's bounding cylinder (never above the cutter's)
-  // before the exact one: most groups far enough by it are far enough.
-  const double r_max = cutter.max_radius(), z_lo = cutter.z_min(), z_hi = cutter.z_max();
+  // bounding cylinder's distance before the exact one: most groups far
+  // enough by it are far enough.
   auto skip = [&](const Group& g) {
-    if (only_below && below_the_cutter(g, to_tool, z_lo, tol)) return true;
+    if (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) return true;
     const Vec3 q = to_tool * g.centre;
     const double reach = g.radius + range;
-    const double bound =
-        std::max(std::sqrt(q.x() * q.x() + q.y() * q.y()) - r_max, std::max(z_lo - q.z(), q.z() - z_hi));
-    return bound > reach || cutter.signed_distance(q) > reach;
+    return bounding_cylinder_distance(cutter, q) > reach || cutter.signed_distance(q) > reach;
   };
   // Depth first from the top level down to the samples.
   auto visit = [&](auto& self, int level, const Group& g) -> void {

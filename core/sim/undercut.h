@@ -20,9 +20,9 @@
 // prunes whole groups of samples: samples are grouped in parameter-space
 // tiles of 4 x 4, tiles in groups of 4 x 4, and so on for four levels, each
 // with a bounding sphere, and a group whose centre is farther from the
-// cutter than its radius plus the search range is skipped. Each tool position so visits only the samples near it:
-// the cost is (tool positions) x (samples near one position), not
-// samples x poses.
+// cutter than its radius plus the search range is skipped. Each tool
+// position so visits only the samples near it: the cost is (tool
+// positions) x (samples near one position), not samples x poses.
 #include <limits>
 #include <memory>
 #include <vector>
