@@ -182,7 +182,7 @@ void check_keys(lua_State* L, int idx, const std::string& what, const std::set<s
 RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(what + ": expected a table, got " + type_of(L, idx));
-  check_keys(L, idx, what + ": ", {"name", "carrier", "direction", "pivot", "travel", "iso841"});
+  check_keys(L, idx, what + ": ", {"name", "carrier", "direction", "pivot", "travel", "iso841", "speed"});
   RotaryAxis a;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error(what + ": missing name (A, B or C)");
@@ -211,7 +211,13 @@ RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
                          "ISO 841 says) or false (the reverse), got " + type_of(L, -1));
     a.iso841_sense = lua_toboolean(L, -1) ? 1 : -1;
   }
-  lua_pop(L, 6);
+  lua_getfield(L, idx, "speed");
+  if (!lua_isnil(L, -1)) {
+    const double deg_per_min = read_number(L, -1, what + ".speed");
+    if (!(deg_per_min > 0)) table_error(what + ".speed: expected the axis' top speed > 0 deg/min");
+    a.max_speed_rad_per_min = deg_to_rad(deg_per_min);
+  }
+  lua_pop(L, 7);
   return a;
 }
 
@@ -219,7 +225,7 @@ MachineDefinition read_definition(lua_State* L, int idx) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(std::string("expected a table, got ") + type_of(L, idx));
   check_keys(L, idx, "", {"name", "linear", "rotary", "spindle", "part_origin", "tool_length", "feed",
-                          "rapid", "resolution"});
+                          "rapid", "resolution", "safe_z"});
   MachineDefinition m;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error("missing name");
@@ -282,6 +288,9 @@ MachineDefinition read_definition(lua_State* L, int idx) {
     }
     lua_pop(L, 2);
   }
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "safe_z");
+  if (!lua_isnil(L, -1)) m.safe_z_mm = read_number(L, -1, "safe_z");
   lua_pop(L, 1);
   lua_getfield(L, idx, "resolution");
   if (!lua_isnil(L, -1)) {
@@ -447,7 +456,10 @@ int l_moves_next(lua_State* L) {
   lua_createtable(L, 0, 12);
   lua_pushstring(L, m.kind == MoveKind::Rapid ? "rapid" : "feed");
   lua_setfield(L, -2, "kind");
-  const Vec3 xyz = c.program->tcp ? m.pose.tip : m.axes.linear_mm;
+  // Under TCP the linear words are the tip in the part frame, except on
+  // the way in at the safe height, which runs with TCP off.
+  const bool machine_words = m.safe == SafeMove::Retract || m.safe == SafeMove::Rotate;
+  const Vec3 xyz = c.program->tcp && !machine_words ? m.pose.tip : m.axes.linear_mm;
   for (int a = 0; a < 3; ++a) {
     lua_pushnumber(L, xyz[a]);
     lua_setfield(L, -2, def.linear[a].name.c_str());
@@ -474,6 +486,21 @@ int l_moves_next(lua_State* L) {
   lua_setfield(L, -2, "positioning");
   lua_pushinteger(L, m.tool + 1);
   lua_setfield(L, -2, "tool");  // index into job.tools
+  if (m.safe != SafeMove::None) {
+    lua_pushstring(L, to_string(m.safe));
+    lua_setfield(L, -2, "safe");
+  }
+  if (m.rotary_reset[0] != 0 || m.rotary_reset[1] != 0) {
+    // The rotary axes whose display is reset before this move (M94).
+    lua_createtable(L, 2, 0);
+    int k = 0;
+    for (int a = 0; a < 2; ++a) {
+      if (m.rotary_reset[a] == 0) continue;
+      lua_pushstring(L, def.rotary[a].name.c_str());
+      lua_rawseti(L, -2, ++k);
+    }
+    lua_setfield(L, -2, "reset");
+  }
   // tip and axis are made when a post reads them (none of ours does, and
   // two tables a block were a tenth of the post's time on a million blocks).
   lua_pushvalue(L, lua_upvalueindex(3));
@@ -603,6 +630,30 @@ bool post_tcp_always(lua_State* L, int post_idx) {
   return post_flag(L, lua_absindex(L, post_idx), "tcp_always");
 }
 
+PostTraits post_traits(lua_State* L, int post_idx) {
+  post_idx = lua_absindex(L, post_idx);
+  PostTraits t;
+  t.tcp = post_wants_tcp(L, post_idx);
+  t.tcp_always = post_tcp_always(L, post_idx);
+  t.rotary_reset = post_flag(L, post_idx, "rotary_reset");
+  lua_getfield(L, post_idx, "orientation");
+  if (!lua_isnil(L, -1)) {
+    const char* o = lua_tostring(L, -1);
+    if (!o || (std::strcmp(o, "axis") != 0 && std::strcmp(o, "vector") != 0))
+      luaL_error(L, "post: field 'orientation': expected \"axis\" (rotaries linear) or \"vector\" (great circle)");
+    t.vector = std::strcmp(o, "vector") == 0;
+  }
+  lua_pop(L, 1);
+  lua_getfield(L, post_idx, "rotary_input_limit");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_isnumber(L, -1) || !(lua_tonumber(L, -1) > 360))
+      luaL_error(L, "post: field 'rotary_input_limit': expected the controller's largest rotary value, > 360 deg");
+    t.rotary_input_limit_deg = lua_tonumber(L, -1);
+  }
+  lua_pop(L, 1);
+  return t;
+}
+
 int decimals_for(double resolution) {
   return std::clamp(static_cast<int>(std::lround(-std::log10(resolution))), 0, 9);
 }
@@ -676,6 +727,8 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   lua_setfield(L, -2, "tools");
   lua_pushboolean(L, program.tcp);
   lua_setfield(L, -2, "tcp");
+  lua_pushstring(L, to_string(program.controller));
+  lua_setfield(L, -2, "controller");
   lua_pushstring(L, program.feed_mode == FeedMode::InverseTime ? "inverse_time" : "per_minute");
   lua_setfield(L, -2, "feed_mode");
   lua_createtable(L, 0, 3);

@@ -18,6 +18,7 @@
 // several times cheaper and never "-0.000" (core/common/fixed_text.h).
 #include <lua.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,22 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
 // The output mode a post asks for: its `tcp` field, overridden by `tcp_always`.
 bool post_wants_tcp(lua_State* L, int post_idx);
 bool post_tcp_always(lua_State* L, int post_idx);
+
+// What a post says of its controller (fields of the post table):
+//   orientation = "axis" | "vector"   how TCP moves the tool axis between
+//                                     blocks (rotaries linear, e.g. PATHCTRL
+//                                     AXIS; or the great circle, PATHCTRL
+//                                     VECTOR); default "axis"
+//   rotary_reset = true               the post writes a display reset of a
+//                                     continuous rotary axis (step
+//                                     rotary_reset, e.g. Heidenhain M94)
+//   rotary_input_limit = deg          the largest rotary value the
+//                                     controller takes (default: none)
+struct PostTraits {
+  bool tcp = false, tcp_always = false, vector = false, rotary_reset = false;
+  double rotary_input_limit_deg = std::numeric_limits<double>::infinity();
+};
+PostTraits post_traits(lua_State* L, int post_idx);
 
 // "X","Y","Z" then the rotary names; decimals from the resolution.
 int decimals_for(double resolution);

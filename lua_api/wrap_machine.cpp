@@ -29,8 +29,11 @@ struct PostedProgram {
   MachineDefinition machine;
   std::vector<double> tool_lengths_mm;  // per tool index of the plan's moves
   std::vector<int> tool_numbers;
+  std::vector<ToolReach> reaches;       // per tool index; zero reach: tip only
   MachineProgram plan;
   bool tcp_always = false;
+  MachineAxes start;                    // the axes before the first block
+  double chord_tol_mm = 0.005, body_tol_mm = 0.05;  // the sweep's tolerances
   std::string file;  // absolute path of the written program
 };
 
@@ -307,8 +310,76 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "positioning");
   lua_pushnumber(L, p.plan.max_deviation_mm);
   lua_setfield(L, -2, "max_deviation");
+  // The sweep of the program read back, as the controller moves it.
+  lua_pushstring(L, to_string(p.plan.controller));
+  lua_setfield(L, -2, "controller");
+  lua_pushnumber(L, r.max_cutter_mm);
+  lua_setfield(L, -2, "swept_cutter");
+  lua_pushnumber(L, r.max_body_mm);
+  lua_setfield(L, -2, "swept_tool");
+  lua_pushinteger(L, r.worst_cutter_line);
+  lua_setfield(L, -2, "swept_worst_line");
+  lua_pushinteger(L, r.swept_moves);
+  lua_setfield(L, -2, "swept");
+  lua_pushinteger(L, r.unswept_moves);
+  lua_setfield(L, -2, "unswept");
+  lua_pushinteger(L, r.safe_moves);
+  lua_setfield(L, -2, "safe_moves");
+  lua_pushnumber(L, p.chord_tol_mm);
+  lua_setfield(L, -2, "chord_tol");
+  lua_pushnumber(L, p.body_tol_mm);
+  lua_setfield(L, -2, "body_tol");
+  // Feed at the cutter and rotary speeds.
+  lua_pushinteger(L, p.plan.slowed_moves);
+  lua_setfield(L, -2, "slowed");
+  lua_pushnumber(L, p.plan.max_cutter_speed_ratio);
+  lua_setfield(L, -2, "cutter_speed_ratio");
+  lua_createtable(L, 0, 2);
+  for (int i = 0; i < 2; ++i) {
+    lua_pushnumber(L, rad_to_deg(p.plan.max_rotary_speed_rad_per_min[i]));
+    lua_setfield(L, -2, p.machine.rotary[i].name.c_str());
+  }
+  lua_setfield(L, -2, "rotary_speed");  // deg/min, the fastest block of each axis
+  lua_pushinteger(L, p.plan.rotary_resets);
+  lua_setfield(L, -2, "rotary_resets");
+  double largest = 0;
+  for (const MachineMove& m : p.plan.moves)
+    for (int i = 0; i < 2; ++i) largest = std::max(largest, std::abs(rad_to_deg(m.axes.rotary_rad[i])));
+  lua_pushnumber(L, largest);
+  lua_setfield(L, -2, "rotary_largest");  // deg: the largest rotary word written
   luax::push(L, p.file);
   lua_setfield(L, -2, "file");
+}
+
+// The program's verdict for its header (the post's `VERDICT: @VERDICT@`
+// line): what was proved, in words a setter reads. Upper case where the
+// line is (Fanuc comments are read upper case); no parentheses.
+std::string verdict_text(const VerifyReport& r, const PostedProgram& p) {
+  std::ostringstream v;
+  v.precision(2);
+  v.setf(std::ios::fixed);
+  v << "PROVED, every block read back and swept as the controller moves it, " << to_string(p.plan.controller)
+    << ": cutter within " << 1e3 * r.max_cutter_mm << " um, tool within " << 1e3 * r.max_body_mm
+    << " um of the proved motion, tolerances " << 1e3 * p.chord_tol_mm << " / " << 1e3 * p.body_tol_mm
+    << " um plus output resolution; " << r.safe_moves << " blocks at the safe height";
+  if (r.unswept_moves > 0) v << "; " << r.unswept_moves << " blocks from the tool change position NOT proved";
+  std::string text = v.str();
+  for (char& c : text) if (c == '(' || c == ')') c = ' ';
+  return text;
+}
+
+std::string with_verdict(std::string text, const std::string& verdict) {
+  const std::string token = "@VERDICT@";
+  const size_t at = text.find(token);
+  if (at == std::string::npos) return text;
+  const size_t line_start = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+  bool lower = false;
+  for (size_t i = line_start; i < at; ++i) lower = lower || std::islower(static_cast<unsigned char>(text[i]));
+  std::string v = verdict;
+  if (!lower)
+    for (char& c : v) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  text.replace(at, token.size(), v);
+  return text;
 }
 
 // The read-back and replay of a posted program (throws core's errors).
@@ -318,7 +389,11 @@ VerifyReport verify_text(const PostedProgram& p, const std::string& text, double
   options.angle_tol_rad = deg_to_rad(angle_tol_deg);
   options.read.file_name = p.file;
   options.read.tcp = p.tcp_always;
+  options.read.start = p.start;
   options.tool_numbers = p.tool_numbers;
+  options.reaches = p.reaches;
+  options.chord_tol_mm = p.chord_tol_mm;
+  options.body_tol_mm = p.body_tol_mm;
   std::vector<Kinematics> kins;
   for (double length : p.tool_lengths_mm) kins.emplace_back(p.machine, length);
   std::vector<const Kinematics*> pointers;
@@ -349,6 +424,11 @@ const std::vector<luax::Field>& post_write_fields() {
       {"tcp", luax::Kind::Boolean, false, {}, {}, "write under TCP control (default: the post's choice)", {}},
       {"verify_tol", luax::Kind::Number, false, 0.0, 10.0, "read-back tolerance beyond resolution, mm", {}},
       {"start", luax::Kind::Table, false, {}, {}, "axes before the first move {X=, ..., C=}", {}},
+      {"body_tol", luax::Kind::Number, false, 1e-6, 10.0, "departure of shank and holder allowed between blocks, mm", {}},
+      {"cutter_feed_factor", luax::Kind::Number, false, 1.0, 100.0,
+       "no cutter point faster than this times the planned feed", {}},
+      {"approach", luax::Kind::Table, false, {}, {},
+       "{proved = mm, safe_z = mm}: the safe way in and out along the tool axis (the plan proved `proved` mm)", {}},
   };
   return fields;
 }
@@ -366,6 +446,7 @@ struct PostRequest {
   std::vector<int> tool_of;  // each move's index into job.tools
   std::string file, target;
   MotionOptions motion;      // all but .tcp, which is the post's
+  std::vector<ToolReach> reaches;  // per job tool: from its `body`, or tip only
   double verify_tol = 0.001;
   double read_seconds = 0;
 };
@@ -398,7 +479,18 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
         {"number", luax::Kind::Integer, true, 0.0, 99999.0, "tool number (T, H, TOOL CALL)", {}},
         {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
         {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
+        {"body", luax::Kind::Any, false, {}, {}, "the Tool (its reach: the whole tool is swept)", {}},
     });
+    ToolReach reach;
+    if (tool.has("body")) {
+      tool.push_raw("body");
+      const LuaTool* body = luax::test<LuaTool>(L, -1);
+      if (!body) luax::error(L, tool_what + " body: expected a Tool (bliskrun.drum_wheel{...}, flat_end_mill{...}, ...)");
+      reach.body_mm = body->tool.reach();
+      reach.cutter_mm = body->tool.cutter().reach();
+      lua_pop(L, 1);
+    }
+    r.reaches.push_back(reach);
     PostTool t;
     t.number = static_cast<int>(tool.integer("number", 1));
     t.length_mm = tool.number("length", 0);
@@ -456,6 +548,19 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
     lua_pop(L, 1);
   }
   r.verify_tol = o.number("verify_tol", 0.001);
+  r.motion.body_tol_mm = o.number("body_tol", 0.05);
+  r.motion.cutter_feed_factor = o.number("cutter_feed_factor", 1.5);
+  if (o.has("approach")) {
+    o.push_raw("approach");
+    const luax::Options a(L, lua_gettop(L), what + " approach", {
+        {"proved", luax::Kind::Number, true, 0.0, {}, "mm along the tool axis the plan proved clear", {}},
+        {"safe_z", luax::Kind::Number, false, {}, {}, "the safe height's Z word (default: the machine's)", {}},
+    });
+    r.motion.approach.enabled = true;
+    r.motion.approach.proved_mm = a.number("proved", 0);
+    if (a.has("safe_z")) r.motion.approach.safe_z_mm = a.number("safe_z", 0);
+    lua_pop(L, 1);
+  }
   return r;
 }
 
@@ -482,7 +587,7 @@ using LuaPost = std::function<std::string(const Kinematics& first_tool, const Ma
 // moves split to the chord tolerance), the Lua post, the read-back and
 // replay, then the atomic write — the program is proved before it replaces
 // anything on disk. Throws core's errors; Lua errors come from `lua_post`.
-PostOutcome post_program(const PostRequest& r, bool tcp, bool tcp_always, Progress& progress,
+PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progress& progress,
                          const LuaPost& lua_post) {
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); };
@@ -494,22 +599,33 @@ PostOutcome post_program(const PostRequest& r, bool tcp, bool tcp_always, Progre
     posted.tool_lengths_mm.push_back(t.length_mm);
     posted.tool_numbers.push_back(t.number);
   }
-  posted.tcp_always = tcp_always;
+  posted.tcp_always = traits.tcp_always;
   posted.file = r.target;
+  posted.reaches = r.reaches;
+  posted.start = r.motion.start;
+  posted.chord_tol_mm = r.motion.chord_tol_mm;
+  posted.body_tol_mm = r.motion.body_tol_mm;
+  if (traits.tcp_always && r.motion.approach.enabled)
+    throw ParameterError("approach", "this post's kinematics are always TCP (no machine-axis moves): it cannot "
+                                     "write the way in at the safe height; post without 'approach'");
   MotionOptions motion = r.motion;
-  motion.tcp = tcp;
+  motion.tcp = traits.tcp;
+  motion.tcp_vector = traits.tcp && traits.vector;
+  motion.rotary_reset = traits.rotary_reset;
+  motion.rotary_input_limit_rad = deg_to_rad(traits.rotary_input_limit_deg);
   std::vector<Kinematics> kins;
   for (const PostTool& t : r.job.tools) kins.emplace_back(r.machine, t.length_mm);
-  std::vector<const Kinematics*> pointers;
-  for (const Kinematics& k : kins) pointers.push_back(&k);
+  std::vector<MotionTool> tools;
+  for (size_t k = 0; k < kins.size(); ++k) tools.push_back({&kins[k], r.reaches[k]});
   auto t0 = Clock::now();
-  posted.plan = plan_machine_motion_tools(pointers, r.path, r.tool_of, motion, progress);
+  posted.plan = plan_machine_motion_tools(tools, r.path, r.tool_of, motion, progress);
   out.seconds.motion = since(t0);
   t0 = Clock::now();
-  const std::string text = lua_post(kins.front(), posted.plan);
+  std::string text = lua_post(kins.front(), posted.plan);
   out.seconds.post = since(t0);
   t0 = Clock::now();
   out.report = verify_text(posted, text, r.verify_tol, 0.001);
+  text = with_verdict(std::move(text), verdict_text(out.report, posted));
   out.seconds.verify = since(t0);
   t0 = Clock::now();
   write_file_atomic(r.target, text);
@@ -555,7 +671,7 @@ int w_post_write(lua_State* L) {
   }
   PostOutcome out;
   luax::guarded(L, [&] {
-    out = post_program(r, post_wants_tcp(L, post_idx), post_tcp_always(L, post_idx), context(L).progress,
+    out = post_program(r, post_traits(L, post_idx), context(L).progress,
                        [&](const Kinematics& kin, const MachineProgram& plan) {
                          return run_post(L, post_idx, kin, plan, r.job);
                        });
@@ -597,7 +713,7 @@ PostOutcome post_on_worker(WorkerLuaState& worker, const PostRequest& r, Progres
     const PostJob* job;
     std::string text;
   };
-  return post_program(r, post_wants_tcp(W, post_idx), post_tcp_always(W, post_idx), progress,
+  return post_program(r, post_traits(W, post_idx), progress,
                       [&](const Kinematics& kin, const MachineProgram& plan) {
                         PostCall call{&kin, &plan, &r.job, {}};
                         protect(
@@ -672,8 +788,7 @@ int w_post_write_all(lua_State* L) {
       lua_setfield(L, post_idx, "tcp");
     }
     try {
-      outcomes[k] = post_program(requests[k], post_wants_tcp(L, post_idx), post_tcp_always(L, post_idx),
-                                 context(L).progress, [&](const Kinematics& kin, const MachineProgram& plan) {
+      outcomes[k] = post_program(requests[k], post_traits(L, post_idx), context(L).progress, [&](const Kinematics& kin, const MachineProgram& plan) {
                                    return run_post(L, post_idx, kin, plan, requests[k].job);
                                  });
     } catch (const std::exception& e) {

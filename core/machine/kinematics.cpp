@@ -272,6 +272,18 @@ double Kinematics::lever_arm_mm(const MachineAxes& q) const {
   return arm;
 }
 
+double Kinematics::safe_z_mm() const {
+  if (std::isfinite(machine_.safe_z_mm)) return machine_.safe_z_mm;
+  const double top = machine_.linear[2].max_mm;
+  if (!std::isfinite(top))
+    throw ParameterError("safe_z", "the machine states neither a safe height (safe_z) nor the top of its Z travel");
+  return top - gauge_local_.z();
+}
+
+double Kinematics::rotary_axes_cos() const {
+  return std::abs(machine_.rotary[0].direction.normalized().dot(machine_.rotary[1].direction.normalized()));
+}
+
 double Kinematics::pivot_reach_mm(const MachineAxes& q) const {
   std::array<Vec3, 2> pivots;
   int n = 0;

@@ -88,6 +88,16 @@ class Kinematics {
   // tip's motion when the rotaries turn).
   double pivot_reach_mm(const MachineAxes& axes) const;
 
+  // The Z word of the safe height (MachineDefinition::safe_z_mm, or the top
+  // of the Z slide's travel for this tool). Throws ParameterError("safe_z")
+  // when neither is stated.
+  double safe_z_mm() const;
+  // |cos| of the angle between the two rotary axis lines: constant in any
+  // position (an axis carried by another turns about it, keeping the angle),
+  // so the relative angular speed of tool and part is at most
+  // sqrt(w1^2 + w2^2 + 2 |w1 w2| rotary_axes_cos()).
+  double rotary_axes_cos() const;
+
  private:
   Eigen::Isometry3d part_to_machine(const std::array<double, 2>& rotary_rad) const;
   Eigen::Isometry3d head_map(const std::array<double, 2>& rotary_rad) const;

@@ -59,6 +59,9 @@ struct RotaryAxis {
   // machine's +X, +Y or +Z (for A, B, C)", -1 the reverse, 0 not stated.
   // validate() checks a statement against the geometry above.
   int iso841_sense = 0;
+  // Fastest the axis turns (machine file `speed`, deg/min there); infinite
+  // when not stated. Feed words keep every block within it (motion.h).
+  double max_speed_rad_per_min = std::numeric_limits<double>::infinity();
 };
 
 // How the controller moves on a rapid (G0, FMAX). Each axis then runs at its
@@ -88,6 +91,11 @@ struct MachineDefinition {
   // What the controller can represent; read-back adds it to the tolerance.
   double linear_resolution_mm = 0.001;
   double rotary_resolution_rad = deg_to_rad(0.001);
+  // The safe height for retracts and tool changes, as the Z word (program
+  // zero frame) with the tool axis along the spindle's home direction; NaN:
+  // the top of the Z slide's travel (Kinematics::safe_z_mm). Everything on
+  // the table (part, fixture) must lie below it.
+  double safe_z_mm = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Checks the definition: three linear axes named X, Y, Z; two rotary axes with

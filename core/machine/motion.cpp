@@ -67,51 +67,91 @@ std::string describe(long index, const PlannedMove& m) {
   return out.str();
 }
 
-// Feed word for a move of the tip over `tip_mm` (machine axes from a to b).
-double feed_word(FeedMode mode, double feed_mm_per_min, double tip_mm, const MachineAxes& a,
-                 const MachineAxes& b) {
-  if (mode == FeedMode::PerMinute) return feed_mm_per_min;
-  // Inverse time: 1 / duration in minutes. A move that only turns the tool
-  // has no tip length; it is timed as the controller times per-minute feed,
-  // over the combined axis distance (mm and degrees).
-  double length = tip_mm;
-  if (length < 1e-6) {
-    double d2 = (b.linear_mm - a.linear_mm).squaredNorm();
-    for (int i = 0; i < 2; ++i) d2 += std::pow(rad_to_deg(b.rotary_rad[i] - a.rotary_rad[i]), 2);
-    length = std::sqrt(d2);
+// The F word of a block and how fast its cutter moves (see MotionOptions).
+// The block's duration is the longest of: the tip over its length at the
+// planned feed; the cutter's fastest point (tip length + cutter reach x the
+// relative turn of tool and part) at `cutter_feed_factor` x the planned
+// feed; each rotary axis at its top speed. Positioning moves (not cutting)
+// skip the cutter's term.
+struct BlockFeed {
+  double word = 0;
+  double cutter_ratio = 0;  // fastest cutter point / planned feed
+  bool slowed = false;
+  std::array<double, 2> rotary_rad_per_min{0.0, 0.0};
+};
+
+BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed_mm_per_min, double tip_mm,
+                     const MachineAxes& a, const MachineAxes& b, const ToolReach& reach, double factor,
+                     bool cutting) {
+  const double d0 = b.rotary_rad[0] - a.rotary_rad[0], d1 = b.rotary_rad[1] - a.rotary_rad[1];
+  const double turn = std::sqrt(std::max(0.0, d0 * d0 + d1 * d1 + 2 * std::abs(d0 * d1) * kin.rotary_axes_cos()));
+  const double cutter_mm = tip_mm + reach.cutter_mm * turn;
+  double minutes = tip_mm / feed_mm_per_min;
+  const double tip_minutes = minutes;
+  if (cutting && factor > 0) minutes = std::max(minutes, cutter_mm / (factor * feed_mm_per_min));
+  for (int i = 0; i < 2; ++i) {
+    const double top = kin.machine().rotary[i].max_speed_rad_per_min;
+    if (std::isfinite(top) && top > 0) minutes = std::max(minutes, std::abs(i == 0 ? d0 : d1) / top);
   }
-  return feed_mm_per_min / length;
+  BlockFeed f;
+  // The controller's own measure of a block: with TCP the tip's path;
+  // without, the combined axis distance (mm and degrees), as it times a
+  // per-minute feed with rotary words.
+  double combined = (b.linear_mm - a.linear_mm).squaredNorm();
+  for (double d : {d0, d1}) combined += std::pow(rad_to_deg(d), 2);
+  combined = std::sqrt(combined);
+  if (!(minutes > 0)) {
+    // Nothing the tool does bounds the time (no tip motion, no reach, no
+    // stated speeds): timed as the controller times it, the combined
+    // distance at the planned feed.
+    minutes = combined / feed_mm_per_min;
+    if (!(minutes > 0)) minutes = 1e-9;
+  }
+  f.slowed = minutes > tip_minutes * (1 + 1e-9) + 1e-15;
+  if (mode == FeedMode::InverseTime) f.word = 1 / minutes;
+  else if (!cutting) f.word = feed_mm_per_min;  // positioning: the rapid feed as the controller reads it
+  else if (tcp) f.word = tip_mm > 1e-6 ? tip_mm / minutes : feed_mm_per_min;  // F is the tip's speed
+  else f.word = combined / minutes;
+  // Under TCP a block that hardly moves the tip is timed by the controller
+  // (its rotary speed), not by F: its ratio is measured at the top speeds.
+  f.cutter_ratio = cutter_mm / minutes / feed_mm_per_min;
+  f.rotary_rad_per_min = {std::abs(d0) / minutes, std::abs(d1) / minutes};
+  return f;
 }
 
 class Planner {
  public:
-  Planner(const Kinematics& kin, const MotionOptions& options, MachineProgram& program)
-      : kin_(kin), options_(options), program_(program) {}
+  Planner(const Kinematics& kin, const MotionOptions& options, MachineProgram& program, const ToolReach& reach)
+      : kin_(kin), options_(options), program_(program), reach_(reach) {}
 
   // Appends the feed move from (pose_a, axes_a) to (pose_b, axes_b), split
-  // until each piece stays within the chord tolerance.
+  // until the whole tool stays within tolerance of the planned motion.
   void feed(const ToolPose& pose_a, const MachineAxes& axes_a, const ToolPose& pose_b,
             const MachineAxes& axes_b, const PlannedMove& planned, long index, int depth,
             bool last_piece) {
-    if (options_.tcp) {
+    const double tol = options_.chord_tol_mm, body_tol = options_.body_tol_mm;
+    const ToolDeviation dev = tool_deviation(kin_, options_.controller(), axes_a, axes_b, pose_a.tip, pose_b.tip,
+                                             pose_a, pose_b, reach_, 0.25 * tol, 0.25 * body_tol);
+    if (dev.cutter_bound_mm <= tol && dev.body_bound_mm <= body_tol) {
+      program_.max_deviation_mm = std::max(program_.max_deviation_mm, dev.cutter_bound_mm);
+      program_.max_body_deviation_mm = std::max(program_.max_body_deviation_mm, dev.body_bound_mm);
       emit(pose_b, axes_a, axes_b, planned, index, !last_piece);
       return;
     }
-    const double tol = options_.chord_tol_mm;
-    const MoveDeviation dev =
-        move_deviation(kin_, axes_a, axes_b, pose_a.tip, pose_b.tip, 0.25 * tol);
-    if (dev.bound_mm <= tol) {
-      program_.max_deviation_mm = std::max(program_.max_deviation_mm, dev.bound_mm);
-      emit(pose_b, axes_a, axes_b, planned, index, !last_piece);
-      return;
+    if (depth >= options_.max_depth) {
+      std::ostringstream msg;
+      msg.precision(4);
+      msg << describe(index, planned) << ": as the controller moves (" << to_string(options_.controller())
+          << ") the cutter departs " << dev.cutter_bound_mm << " mm and the tool " << dev.body_bound_mm
+          << " mm from the planned motion (tool axis " << rad_to_deg(dev.axis_rad)
+          << " deg off), and splitting does not bring it within " << tol << " / " << body_tol
+          << " mm (a branch change forced by travel, or a move through the singularity of the primary "
+             "rotary axis?)";
+      throw Error(msg.str());
     }
-    if (depth >= options_.max_depth)
-      throw Error(describe(index, planned) + ": the tip departs " + std::to_string(dev.bound_mm) +
-                  " mm from the planned segment and splitting does not bring it within " +
-                  std::to_string(tol) + " mm (a branch change forced by travel, or a move "
-                  "close to the singularity of the primary rotary axis?)");
-    // The departure of a rotary move shrinks with the square of its length.
-    const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(dev.bound_mm / tol))), 2, 256);
+    // A departure shrinks with the square of the piece's length.
+    const double ratio = std::max(dev.cutter_bound_mm / tol, dev.body_bound_mm / body_tol);
+    const int pieces = std::clamp(static_cast<int>(std::ceil(1.2 * std::sqrt(ratio))), 2, 256);
     ToolPose from = pose_a;
     MachineAxes from_axes = axes_a;
     for (int i = 1; i <= pieces; ++i) {
@@ -134,9 +174,22 @@ class Planner {
     m.source = index;
     m.row = planned.row;
     m.inserted = inserted;
-    if (planned.kind == MoveKind::Feed)
-      m.feed = feed_word(program_.feed_mode, planned.feed_mm_per_min,
-                         (pose.tip - last_tip_).norm(), from, to);
+    m.rotary_reset = pending_reset_;
+    pending_reset_ = {0, 0};
+    if (planned.kind == MoveKind::Feed) {
+      const BlockFeed f = block_feed(kin_, program_.feed_mode, options_.tcp, planned.feed_mm_per_min,
+                                     (pose.tip - last_tip_).norm(), from, to, reach_, options_.cutter_feed_factor,
+                                     !positioning_);
+      m.feed = f.word;
+      if (!positioning_) {
+        m.cutter_speed_ratio = f.cutter_ratio;
+        program_.max_cutter_speed_ratio = std::max(program_.max_cutter_speed_ratio, f.cutter_ratio);
+      }
+      program_.slowed_moves += f.slowed;
+      for (int i = 0; i < 2; ++i)
+        program_.max_rotary_speed_rad_per_min[i] =
+            std::max(program_.max_rotary_speed_rad_per_min[i], f.rotary_rad_per_min[i]);
+    }
     last_tip_ = pose.tip;
     program_.inserted_moves += inserted;
     program_.moves.push_back(m);
@@ -154,12 +207,18 @@ class Planner {
   }
 
   void set_last_tip(const Vec3& tip) { last_tip_ = tip; }
+  void set_positioning(bool on) { positioning_ = on; }
+  // The next move emitted carries a reset of the rotary displays.
+  void reset_before_next(const std::array<int, 2>& turns) { pending_reset_ = turns; }
 
  private:
   const Kinematics& kin_;
   const MotionOptions& options_;
   MachineProgram& program_;
+  ToolReach reach_;
   Vec3 last_tip_ = Vec3::Zero();
+  bool positioning_ = false;
+  std::array<int, 2> pending_reset_{0, 0};
 };
 
 // A rapid move (or the first) is where the rotary branch may change freely.
@@ -218,6 +277,27 @@ MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>&
 
 }  // namespace
 
+const char* to_string(ControllerMotion motion) {
+  switch (motion) {
+    case ControllerMotion::JointLinear: return "joint-linear";
+    case ControllerMotion::TcpRotaryLinear: return "TCP, rotaries linear";
+    case ControllerMotion::TcpVector: return "TCP, vector orientation";
+  }
+  return "?";
+}
+
+const char* to_string(SafeMove move) {
+  switch (move) {
+    case SafeMove::None: return "";
+    case SafeMove::Retract: return "retract";
+    case SafeMove::Rotate: return "rotate";
+    case SafeMove::Position: return "position";
+    case SafeMove::Descend: return "descend";
+    case SafeMove::Lift: return "lift";
+  }
+  return "?";
+}
+
 ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t) {
   ToolPose p;
   p.tip = a.tip + t * (b.tip - a.tip);
@@ -231,6 +311,114 @@ ToolPose interpolate_pose(const ToolPose& a, const ToolPose& b, double t) {
   }
   p.axis = Eigen::AngleAxisd(t * angle, n.normalized()) * ka;
   return p;
+}
+
+ToolPose controller_pose(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                         const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t) {
+  if (motion == ControllerMotion::JointLinear) return kin.forward(lerp(from, to, t));
+  ToolPose p;
+  p.tip = tip_from + t * (tip_to - tip_from);
+  if (motion == ControllerMotion::TcpRotaryLinear) {
+    p.axis = kin.tool_axis(lerp(from, to, t).rotary_rad);
+  } else {
+    p.axis = interpolate_pose({tip_from, kin.tool_axis(from.rotary_rad)}, {tip_to, kin.tool_axis(to.rotary_rad)}, t)
+                 .axis;
+  }
+  return p;
+}
+
+// Between two samples h apart (in t) a function f with |f''| <= A strays at
+// most A h^2 / 8 above the chord through the samples. For the whole tool
+// the deviation is |tip_c - tip_p| + reach |k_c - k_p| with
+//   |tip_c''| <= 2 W^2 rho + 2 W v   (joint-linear: rotations at rates summing
+//                                     to W about pivots within rho, linear
+//                                     axes at speed v; 0 under TCP)
+//   |k_c''|   <= W^2                 (the axis turned by the rotaries)
+//   |k_p''|   <= Theta^2 (t'')^2 ... (the great circle of angle Theta, at the
+//                                     place t' the tip projects to: under TCP
+//                                     t' = t; joint-linear, t' moves at most
+//                                     |tip'| / len and accelerates at most
+//                                     |tip''| / len).
+ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                             const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to,
+                             const ToolPose& plan_from, const ToolPose& plan_to, const ToolReach& reach,
+                             double margin_mm, double body_margin_mm) {
+  const bool joint = motion == ControllerMotion::JointLinear;
+  const double w = std::abs(to.rotary_rad[0] - from.rotary_rad[0]) + std::abs(to.rotary_rad[1] - from.rotary_rad[1]);
+  const Vec3 seg = plan_to.tip - plan_from.tip;
+  const double len = seg.norm();
+  const Vec3 ka = plan_from.axis.normalized(), kb = plan_to.axis.normalized();
+  const double theta = std::atan2(ka.cross(kb).norm(), ka.dot(kb));
+  // Along the planned motion: joint-linear, at the tip's projection where
+  // the segment is long enough to place it (beside the micrometres a rounded
+  // rotary word moves the tip through the lever arm), else at the same t
+  // (any planned pose bounds the distance; on a short block the tip lags
+  // along it by less than the block's length).
+  const bool by_place = joint && len > 0.05;
+  const double v = joint ? (to.linear_mm - from.linear_mm).norm() : (tip_to - tip_from).norm();
+  auto sample = [&](double t, double& tip_d, double& axis_d) {
+    const ToolPose c = controller_pose(kin, motion, from, to, tip_from, tip_to, t);
+    double tp = t;
+    if (by_place) tp = std::clamp((c.tip - plan_from.tip).dot(seg) / (len * len), 0.0, 1.0);
+    const ToolPose p = interpolate_pose(plan_from, plan_to, tp);
+    tip_d = (c.tip - p.tip).norm();
+    axis_d = (c.axis.normalized() - p.axis).norm();
+  };
+  ToolDeviation dev;
+  const double margin = std::max(margin_mm, 1e-9);
+  const double body_margin = body_margin_mm > 0 ? body_margin_mm : margin;
+  double rho = 0;
+  if (joint && w > 0) rho = std::max(kin.pivot_reach_mm(from), kin.pivot_reach_mm(to)) + v;
+  // Second-derivative bounds (above), refined with the sampled reach.
+  auto coefficients = [&](double rho_now, double& tip_a, double& axis_a) {
+    tip_a = joint ? 2 * w * w * rho_now + 2 * w * v : 0.0;
+    double planned = theta * theta;
+    if (by_place) {
+      const double speed = (v + w * rho_now) / len;
+      planned = theta * theta * speed * speed + theta * tip_a / len;
+    }
+    axis_a = (motion == ControllerMotion::TcpVector ? theta * theta : w * w) + planned;
+  };
+  double tip_a = 0, axis_a = 0;
+  coefficients(rho, tip_a, axis_a);
+  auto needed = [&](double m, double r) { return std::sqrt((tip_a + r * axis_a) / (8 * m)); };
+  int n = std::clamp(static_cast<int>(std::ceil(std::max(needed(margin, reach.cutter_mm),
+                                                         needed(body_margin, reach.body_mm)))) + 1,
+                     2, kMaxSamples);
+  if (w == 0 && theta == 0 && !joint) n = 1;  // TCP, fixed orientation: both ends say everything
+  for (;;) {
+    double cutter = 0, body = 0, axis = 0, worst_t = 0, reach_seen = 0;
+    for (int i = 0; i <= n; ++i) {
+      const double t = double(i) / n;
+      double tip_d = 0, axis_d = 0;
+      sample(t, tip_d, axis_d);
+      const double c = tip_d + reach.cutter_mm * axis_d;
+      if (c > cutter) {
+        cutter = c;
+        worst_t = t;
+      }
+      body = std::max(body, tip_d + reach.body_mm * axis_d);
+      axis = std::max(axis, axis_d);
+      if (joint && w > 0) reach_seen = std::max(reach_seen, kin.pivot_reach_mm(lerp(from, to, t)));
+    }
+    const double h = 1.0 / n;
+    if (joint && w > 0) {
+      // Between samples the reach grows at most by the tip speed times h/2.
+      coefficients(reach_seen + 0.5 * h * (v + w * reach_seen), tip_a, axis_a);
+    }
+    const double between_cutter = (tip_a + reach.cutter_mm * axis_a) * h * h / 8;
+    const double between_body = (tip_a + reach.body_mm * axis_a) * h * h / 8;
+    dev.cutter_mm = cutter;
+    dev.body_mm = body;
+    dev.cutter_bound_mm = cutter + between_cutter;
+    dev.body_bound_mm = body + between_body;
+    dev.axis_rad = 2 * std::asin(std::min(1.0, 0.5 * axis));
+    dev.worst_t = worst_t;
+    dev.samples = n;
+    const double over = std::max(between_cutter / margin, between_body / body_margin);
+    if (over <= 1 || n >= kMaxSamples) return dev;
+    n = std::min(kMaxSamples, static_cast<int>(std::ceil(n * std::sqrt(over) * 1.05)));
+  }
 }
 
 MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
@@ -274,13 +462,15 @@ MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, con
 }
 
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
-                                   const MotionOptions& options, Progress& progress) {
+                                   const MotionOptions& options, Progress& progress, const ToolReach& reach) {
   if (!(options.chord_tol_mm > 0)) throw ParameterError("chord_tol", "expected a tolerance > 0 mm");
+  if (!(options.body_tol_mm > 0)) throw ParameterError("body_tol", "expected a tolerance > 0 mm");
   MachineProgram program;
   // Under TCP control F is the tip's speed, which is what the plan gives.
   program.feed_mode = options.tcp ? FeedMode::PerMinute : kin.machine().feed;
   program.tcp = options.tcp;
-  Planner planner(kin, options, program);
+  program.controller = options.controller();
+  Planner planner(kin, options, program, reach);
   progress.begin("machine motion", static_cast<long>(path.size()));
   MachineAxes axes = options.start;
   ToolPose pose = kin.forward(axes);
@@ -290,6 +480,25 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
     const long index = static_cast<long>(i);
     if (m.kind == MoveKind::Feed && !(m.feed_mm_per_min > 0))
       throw ParameterError("feed", describe(index, m) + ": expected a feed > 0 mm/min");
+    if (i > 0 && m.kind == MoveKind::Rapid && options.rotary_reset) {
+      // A link: where a continuous axis has wound past a turn, its display
+      // is reset before the link (no motion; the controller's M94).
+      std::array<int, 2> turns{0, 0};
+      for (int r = 0; r < 2; ++r) {
+        if (!kin.machine().rotary[r].continuous() || std::abs(axes.rotary_rad[r]) <= 2 * kPi) continue;
+        // The controller reduces the value it was given (rounded): within a
+        // hair of a whole turn it may count one turn more or less than we
+        // would, so the reset waits for the next link.
+        const double turn_part = axes.rotary_rad[r] / (2 * kPi) - std::floor(axes.rotary_rad[r] / (2 * kPi));
+        if (turn_part < 1e-4 || turn_part > 1 - 1e-4) continue;
+        turns[r] = static_cast<int>(std::floor(axes.rotary_rad[r] / (2 * kPi)));
+        axes.rotary_rad[r] -= 2 * kPi * turns[r];
+      }
+      if (turns[0] != 0 || turns[1] != 0) {
+        planner.reset_before_next(turns);
+        ++program.rotary_resets;
+      }
+    }
     const MachineAxes next = (m.kind == MoveKind::Rapid || i == 0)
                                  ? choose_branch(kin, path, i, axes, planner, options)
                                  : planner.inverse(m.pose, axes, m, index);
@@ -309,12 +518,14 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
       positioning.kind = MoveKind::Feed;
       positioning.feed_mm_per_min = kin.machine().rapid.feed_mm_per_min;
       const size_t first = program.moves.size();
+      planner.set_positioning(true);
       try {
         planner.feed(pose, axes, m.pose, next, positioning, index, 0, true);
       } catch (const Error& e) {
         throw Error(std::string("a rapid posted as a positioning move cannot follow the planned segment: ") +
                     e.what() + "; retract the tool to where any motion is safe before it");
       }
+      planner.set_positioning(false);
       for (size_t k = first; k < program.moves.size(); ++k) program.moves[k].positioning = true;
       ++program.positioning_moves;
       axes = program.moves.back().axes;
@@ -339,49 +550,206 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
     if ((i & 255) == 0) progress.step(index + 1);
   }
   progress.end();
+  // What the controller takes: a continuous axis beyond its input range.
+  for (const MachineMove& mm : program.moves) {
+    for (int r = 0; r < 2; ++r) {
+      if (std::abs(mm.axes.rotary_rad[r]) <= options.rotary_input_limit_rad) continue;
+      std::ostringstream msg;
+      msg.precision(10);
+      msg << describe(mm.source, path[static_cast<size_t>(mm.source)]) << ": " << kin.machine().rotary[r].name
+          << " = " << rad_to_deg(mm.axes.rotary_rad[r]) << " deg, beyond the controller's input range of +-"
+          << rad_to_deg(options.rotary_input_limit_rad) << " deg"
+          << (options.rotary_reset ? "" : " (this post cannot reset the axis' display between links)");
+      throw ParameterError(kin.machine().rotary[r].name, msg.str());
+    }
+  }
   return program;
 }
 
-MachineProgram plan_machine_motion_tools(const std::vector<const Kinematics*>& kins,
-                                         const std::vector<PlannedMove>& path, const std::vector<int>& tool_of,
-                                         const MotionOptions& options, Progress& progress) {
+namespace {
+
+// The safe way in to a tool's first move `first` (MachineMove of the
+// segment, already solved) from `before` (the axes the tool change left):
+// see SafeMove. The moves to put before `first` (Retract, Rotate,
+// Position); `first` itself becomes the Descend.
+struct SafeWay {
+  std::vector<MachineMove> before;
+};
+
+// Machine axes of the point `s` mm out along the pose's tool axis, the
+// rotaries unchanged, and its height per mm (the Z word's rate).
+MachineAxes along_axis(const Kinematics& kin, const MachineMove& at, double s) {
+  MachineAxes q = at.axes;
+  q.linear_mm = kin.linear_for(at.pose.tip + s * at.pose.axis.normalized(), at.axes.rotary_rad);
+  return q;
+}
+
+double out_along_axis_to_safe(const Kinematics& kin, const MachineMove& at, double safe_z,
+                              const ApproachOptions& approach, const char* what) {
+  const double rate = along_axis(kin, at, 1.0).linear_mm.z() - at.axes.linear_mm.z();
+  std::ostringstream msg;
+  msg.precision(6);
+  if (rate < 0.05) {
+    msg << what << ": the tool axis (" << at.pose.axis.x() << ", " << at.pose.axis.y() << ", " << at.pose.axis.z()
+        << ") does not point up the machine's Z (" << rate << " mm of Z per mm along it): no way along it to "
+        << "the safe height";
+    throw Error(msg.str());
+  }
+  const double s = (safe_z - at.axes.linear_mm.z()) / rate;
+  if (s < 0) {
+    msg << what << ": the pose lies above the safe height (Z " << at.axes.linear_mm.z() << " > " << safe_z << ")";
+    throw Error(msg.str());
+  }
+  if (s > approach.proved_mm + 1e-9) {
+    msg << what << ": the way along the tool axis to the safe height (Z " << safe_z << ") is " << s
+        << " mm long; the plan proved " << approach.proved_mm << " mm of it clear (approach.proved)";
+    throw Error(msg.str());
+  }
+  return s;
+}
+
+MachineMove safe_move(const Kinematics& kin, SafeMove kind, const MachineAxes& q, long source, int tool) {
+  MachineMove m;
+  m.kind = MoveKind::Rapid;
+  m.axes = q;
+  m.pose = kin.forward(q);
+  m.source = source;
+  m.tool = tool;
+  m.safe = kind;
+  return m;
+}
+
+// A move along the tool axis with fixed rotaries: a rapid where the
+// controller keeps it on the line by itself (one linear axis moves, or
+// rapids are interpolated linearly), else a positioning feed move.
+void along_axis_kind(const Kinematics& kin, MachineMove& m, const MachineAxes& from, FeedMode mode) {
+  int moving = 0;
+  for (int i = 0; i < 3; ++i) moving += std::abs(m.axes.linear_mm[i] - from.linear_mm[i]) > 1e-9;
+  const RapidMotion& rapid = kin.machine().rapid;
+  if (moving <= 1 || rapid.linear) {
+    m.kind = MoveKind::Rapid;
+    m.feed = 0;
+    return;
+  }
+  m.kind = MoveKind::Feed;
+  m.positioning = true;
+  const double length = (m.axes.linear_mm - from.linear_mm).norm();
+  m.feed = mode == FeedMode::InverseTime ? rapid.feed_mm_per_min / length : rapid.feed_mm_per_min;
+}
+
+// The point at the safe height on the tool axis line through `at`: its
+// axes (the rotaries of `at`, within travel) and pose.
+MachineMove up_the_axis(const Kinematics& kin, const MachineMove& at, const ApproachOptions& approach,
+                        const std::string& what) {
+  const double safe_z = std::isfinite(approach.safe_z_mm) ? approach.safe_z_mm : kin.safe_z_mm();
+  const double s = out_along_axis_to_safe(kin, at, safe_z, approach, what.c_str());
+  MachineMove up = at;
+  up.axes = along_axis(kin, at, s);
+  up.axes.linear_mm.z() = safe_z;  // exactly, not to rounding
+  up.pose.tip = at.pose.tip + s * at.pose.axis.normalized();
+  up.inserted = false;
+  up.rotary_reset = {0, 0};
+  up.cutter_speed_ratio = 0;
+  // Within travel: the same rotaries reach the point.
+  try {
+    const MachineAxes check = kin.inverse(up.pose, at.axes);
+    if (std::abs(check.rotary_rad[0] - at.axes.rotary_rad[0]) > 1e-9 ||
+        std::abs(check.rotary_rad[1] - at.axes.rotary_rad[1]) > 1e-9)
+      throw ParameterError("approach", "it needs other rotary positions");
+  } catch (const ParameterError& e) {
+    throw Error(what + ": the point at the safe height, " + std::to_string(s) +
+                " mm out along the tool axis, is out of travel: " + e.what());
+  }
+  return up;
+}
+
+SafeWay safe_way_in(const Kinematics& kin, const MachineMove& first, const MachineAxes& before,
+                    const ApproachOptions& approach, const std::string& what) {
+  const MachineMove entry = up_the_axis(kin, first, approach, what);
+  MachineAxes up = before;
+  up.linear_mm.z() = entry.axes.linear_mm.z();
+  MachineAxes turned = up;
+  turned.rotary_rad = first.axes.rotary_rad;
+  SafeWay way;
+  way.before.push_back(safe_move(kin, SafeMove::Retract, up, first.source, first.tool));
+  way.before.push_back(safe_move(kin, SafeMove::Rotate, turned, first.source, first.tool));
+  MachineMove position = safe_move(kin, SafeMove::Position, entry.axes, first.source, first.tool);
+  position.pose = entry.pose;  // the entry point on the first pose's axis line
+  way.before.push_back(position);
+  return way;
+}
+
+}  // namespace
+
+MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, const std::vector<PlannedMove>& path,
+                                         const std::vector<int>& tool_of, const MotionOptions& options,
+                                         Progress& progress) {
   if (tool_of.size() != path.size()) throw ParameterError("tools", "need one tool index per move");
-  if (kins.empty()) throw ParameterError("tools", "need at least one tool");
+  if (tools.empty()) throw ParameterError("tools", "need at least one tool");
+  for (const MotionTool& t : tools)
+    if (t.kin == nullptr) throw ParameterError("tools", "a tool without kinematics");
   MachineProgram program;
   bool first = true;
+  MachineAxes left = options.start;  // where the last tool left the machine
   for (size_t begin = 0; begin < path.size();) {
     const int tool = tool_of[begin];
-    if (tool < 0 || tool >= static_cast<int>(kins.size()))
+    if (tool < 0 || tool >= static_cast<int>(tools.size()))
       throw ParameterError("tools", "move " + std::to_string(begin + 1) + ": no tool " + std::to_string(tool + 1));
+    const Kinematics& kin = *tools[static_cast<size_t>(tool)].kin;
     size_t end = begin;
     while (end < path.size() && tool_of[end] == tool) ++end;
     const std::vector<PlannedMove> segment(path.begin() + static_cast<long>(begin), path.begin() + static_cast<long>(end));
     MotionOptions o = options;
-    if (!first) o.start = program.moves.empty() ? options.start : program.moves.back().axes;
+    o.start = left;
     MachineProgram part;
-    if (begin == 0 && end == path.size()) {
-      part = plan_machine_motion(*kins[tool], segment, o, progress);  // one tool: messages as they are
-    } else {
-      try {
-        part = plan_machine_motion(*kins[tool], segment, o, progress);
-      } catch (const Error& e) {
-        throw Error("tool " + std::to_string(tool + 1) + ", whose moves start at move " + std::to_string(begin + 1) +
-                    " (move numbers below count from there): " + e.what());
+    const std::string prefix = begin == 0 && end == path.size()
+                                   ? std::string()
+                                   : "tool " + std::to_string(tool + 1) + ", whose moves start at move " +
+                                         std::to_string(begin + 1) + " (move numbers below count from there): ";
+    try {
+      part = plan_machine_motion(kin, segment, o, progress, tools[static_cast<size_t>(tool)].reach);
+      if (options.approach.enabled && !part.moves.empty()) {
+        // In from the tool change position: Retract, Rotate, Position, then
+        // the segment's first move becomes the Descend along its axis.
+        MachineMove& descend = part.moves.front();
+        const SafeWay in = safe_way_in(kin, descend, left, options.approach,
+                                       "the way in to move 1 (the first of this tool)");
+        descend.safe = SafeMove::Descend;
+        along_axis_kind(kin, descend, in.before.back().axes, part.feed_mode);
+        part.moves.insert(part.moves.begin(), in.before.begin(), in.before.end());
+        // ... and out: up the last pose's axis to the safe height.
+        const MachineMove& last = part.moves.back();
+        MachineMove lift = up_the_axis(kin, last, options.approach, "the way out from this tool's last move");
+        lift.safe = SafeMove::Lift;
+        along_axis_kind(kin, lift, last.axes, part.feed_mode);
+        part.moves.push_back(lift);
       }
+    } catch (const Error& e) {
+      if (prefix.empty()) throw;
+      throw Error(prefix + e.what());
     }
     if (first) {
       program.feed_mode = part.feed_mode;
       program.tcp = part.tcp;
+      program.controller = part.controller;
     }
     for (MachineMove m : part.moves) {
       m.tool = tool;
       m.source += static_cast<long>(begin);
       program.moves.push_back(m);
     }
+    if (!program.moves.empty()) left = program.moves.back().axes;
     program.max_deviation_mm = std::max(program.max_deviation_mm, part.max_deviation_mm);
+    program.max_body_deviation_mm = std::max(program.max_body_deviation_mm, part.max_body_deviation_mm);
     program.inserted_moves += part.inserted_moves;
     program.skipped_moves += part.skipped_moves;
     program.positioning_moves += part.positioning_moves;
+    program.slowed_moves += part.slowed_moves;
+    program.rotary_resets += part.rotary_resets;
+    program.max_cutter_speed_ratio = std::max(program.max_cutter_speed_ratio, part.max_cutter_speed_ratio);
+    for (int r = 0; r < 2; ++r)
+      program.max_rotary_speed_rad_per_min[r] =
+          std::max(program.max_rotary_speed_rad_per_min[r], part.max_rotary_speed_rad_per_min[r]);
     first = false;
     begin = end;
   }

@@ -1,14 +1,26 @@
 #pragma once
-// From planned tool poses to machine-axis moves.
+// From planned tool poses to machine-axis moves, and the motion a controller
+// makes between two blocks.
 //
-// Between two blocks a controller without tool-centre-point control moves all
-// axes linearly; with a rotary axis in the move the tip then leaves the
-// planned straight segment (blisk paper §3.4 assumes it does not). Each feed
-// move is measured and, where the departure exceeds the chord tolerance,
-// split by inserting poses on the planned segment (tip linear, axis along the
-// great circle) until every piece is within tolerance. With TCP control
-// (G43.4, TRAORI, M128) the controller keeps the tip on the segment and no
-// move is split.
+// The planner proved every move with the tool on the *planned motion*: tip
+// on the straight segment, tool axis turning along the great circle
+// (interpolate_pose). A controller moves otherwise (ControllerMotion):
+//   - without tool-centre-point control every machine axis is interpolated
+//     linearly (joint-linear): the tip leaves the segment and the axis the
+//     great circle wherever a rotary axis turns;
+//   - with TCP and linear rotaries (Heidenhain FUNCTION TCPM ... PATHCTRL
+//     AXIS, Fanuc G43.4, Siemens TRAORI with ORIAXES, LinuxCNC trt) the tip
+//     stays on the segment but the axis follows the rotary axes' straight
+//     line, not the great circle — tens of degrees off where one block turns
+//     C by 90 deg or more near the pole;
+//   - with TCP and vector orientation (PATHCTRL VECTOR, ORIVECT) the axis
+//     follows the great circle: the planned motion itself.
+// Each move is measured with the *whole tool* (tool_deviation: the tip's
+// departure plus the reach of the tool times the axis' departure) and split
+// by inserting poses of the planned motion until the cutter stays within
+// the chord tolerance and the rest of the tool (shank, holder) within the
+// body tolerance of the proved motion. The same model sweeps the program
+// read back (verify.h).
 //
 // Rapids. On a rapid each axis runs at its own rate along a path the program
 // does not define, yet the planner proved every link clear along the same
@@ -20,6 +32,8 @@
 // move. A positioning move that would have to change the rotary branch (the
 // same tool axis reached by other rotary angles) cannot follow the segment at
 // all and is refused: the plan must retract to where any motion is safe.
+#include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,6 +44,18 @@ namespace bliskrun {
 
 enum class MoveKind { Rapid, Feed };
 
+// How the controller interpolates the tool between two blocks (see above).
+enum class ControllerMotion { JointLinear, TcpRotaryLinear, TcpVector };
+// "joint-linear", "TCP, rotaries linear", "TCP, vector orientation".
+const char* to_string(ControllerMotion motion);
+
+// How far a tool reaches from its tip: what turns a departure of the tool
+// axis into a departure of tool points, and a rotation into cutter speed.
+struct ToolReach {
+  double cutter_mm = 0;  // farthest point of the cutting part (Tool::cutter) from the tip
+  double body_mm = 0;    // farthest point of the whole tool (cutter, shank, holder)
+};
+
 struct PlannedMove {
   MoveKind kind = MoveKind::Feed;
   ToolPose pose;
@@ -37,14 +63,60 @@ struct PlannedMove {
   long row = -1;               // provenance for messages; -1 when not in a row
 };
 
+// The moves a program makes besides the plan: the way from the tool change
+// position to the first planned pose of a tool, and from its last pose
+// back up (plan_machine_motion_tools with MotionOptions::approach).
+//   Retract  Z alone to the safe height, from wherever the tool change left
+//            the machine (one axis: a defined path);
+//   Rotate   the rotary axes alone, to those of the first pose, at the safe
+//            height;
+//   Position X and Y alone, at the safe height, over the entry point: the
+//            point on the first pose's tool axis line at the safe height;
+//   Descend  down the tool axis line from the entry point to the first pose
+//            (the plan proved that line clear: MotionOptions::approach);
+//   Lift     up the tool axis line from the last pose to the safe height.
+// Retract, Rotate and Position run at the safe height, above the part by the
+// machine file's statement; the machine's own bodies are not modelled here.
+enum class SafeMove { None, Retract, Rotate, Position, Descend, Lift };
+const char* to_string(SafeMove move);  // "", "retract", "rotate", "position", "descend", "lift"
+
+struct ApproachOptions {
+  bool enabled = false;
+  // How far out along the tool axis beyond each tool's first and the
+  // program's last planned pose the plan proved the line clear (mm): a
+  // descent or lift longer than this is refused.
+  double proved_mm = 0;
+  // The safe height as the machine's Z word (program zero frame); NaN: the
+  // top of the Z slide's travel (Kinematics::safe_z_mm).
+  double safe_z_mm = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct MotionOptions {
-  double chord_tol_mm = 0.005;  // allowed departure of the tip from the planned segment
-  bool tcp = false;             // the controller interpolates the tip (no splitting)
+  double chord_tol_mm = 0.005;  // allowed departure of the cutter from the planned motion
+  double body_tol_mm = 0.05;    // allowed departure of the shank and holder
+  bool tcp = false;             // the controller interpolates the tip
+  bool tcp_vector = false;      // ... and the tool axis along the great circle (PATHCTRL VECTOR)
   int max_depth = 10;           // split rounds per move before giving up
   MachineAxes start;            // axes before the first move: continuity reference
   // At each rapid move the rotary branch is chosen by following the next feed
   // moves (up to this many) on each branch: see plan_machine_motion.
   size_t branch_lookahead = 20000;
+  // Feed at the cutter: no point of the cutter moves faster than this times
+  // the planned feed (rotation-heavy blocks get a lower F), and no rotary
+  // axis faster than its RotaryAxis::max_speed_rad_per_min.
+  double cutter_feed_factor = 1.5;
+  // Continuous rotary axes: the largest value the controller takes (e.g.
+  // 99 999.9999 deg on a TNC). Where an axis would leave it, or wind past one
+  // turn, at a rapid move, the program resets the axis' display to [0, 360)
+  // deg (MachineMove::rotary_reset) when `rotary_reset` allows; otherwise a
+  // value beyond the limit is refused.
+  double rotary_input_limit_rad = std::numeric_limits<double>::infinity();
+  bool rotary_reset = false;
+  ApproachOptions approach;
+  ControllerMotion controller() const {
+    return !tcp ? ControllerMotion::JointLinear
+                : (tcp_vector ? ControllerMotion::TcpVector : ControllerMotion::TcpRotaryLinear);
+  }
 };
 
 struct MachineMove {
@@ -57,17 +129,58 @@ struct MachineMove {
   bool inserted = false;  // added by splitting; ends inside the planned move
   bool positioning = false;  // a planned rapid posted as a feed move (see above)
   int tool = 0;              // index of the tool (plan_machine_motion_tools); 0 with one tool
+  SafeMove safe = SafeMove::None;
+  // Before this move the controller resets the display of rotary axis i by
+  // this many turns (2*pi each, subtracted); 0 for none.
+  std::array<int, 2> rotary_reset{0, 0};
+  // Feed at the cutter (feed moves): the fastest cutter point over the
+  // block relative to the planned feed, after the F word's choice.
+  double cutter_speed_ratio = 0;
 };
 
 struct MachineProgram {
   std::vector<MachineMove> moves;
   FeedMode feed_mode = FeedMode::PerMinute;
   bool tcp = false;
-  double max_deviation_mm = 0;  // bound on the tip departure over all feed moves, after splitting
+  ControllerMotion controller = ControllerMotion::JointLinear;
+  double max_deviation_mm = 0;  // bound on the cutter's departure over all moves, after splitting
+  double max_body_deviation_mm = 0;  // the same for the whole tool
   long inserted_moves = 0;
   long skipped_moves = 0;       // planned moves that did not move any axis
   long positioning_moves = 0;   // planned rapids posted as feed moves at the rapid feed
+  long slowed_moves = 0;        // feed moves whose F was lowered for the cutter or a rotary axis
+  double max_cutter_speed_ratio = 0;   // over the feed moves, after slowing
+  std::array<double, 2> max_rotary_speed_rad_per_min{0.0, 0.0};  // over the feed moves
+  long rotary_resets = 0;
 };
+
+// The tool's departure from the planned motion while the controller moves
+// from one block to the next. For TCP modes tip_from/tip_to are the blocks'
+// tips (the controller's straight line); joint-linear moves use the axes
+// only. The planned motion runs from plan_from to plan_to (interpolate_pose).
+// At each sample the controller's tool is compared with the planned pose at
+// the same place along the segment (the projection of its tip; the same t
+// where the segment is shorter than 1 um): tip distance + reach * |axis
+// difference| bounds the distance of every tool point within that reach
+// (a body of revolution about its axis). `*_bound_mm` add what can happen
+// between samples (second derivatives of tip and axis: see the .cpp);
+// samples are added until that margin is at most margin_mm for the cutter
+// and body_margin_mm (<= 0: margin_mm) for the whole tool, or 4096 samples.
+struct ToolDeviation {
+  double cutter_mm = 0, body_mm = 0;              // largest sampled
+  double cutter_bound_mm = 0, body_bound_mm = 0;  // never below the truth
+  double axis_rad = 0;                            // largest sampled axis departure
+  double worst_t = 0;                             // where the cutter's was largest
+  int samples = 0;
+};
+ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                             const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to,
+                             const ToolPose& plan_from, const ToolPose& plan_to, const ToolReach& reach,
+                             double margin_mm, double body_margin_mm = 0);
+
+// The tool at t in [0, 1] of a block, as the controller moves it.
+ToolPose controller_pose(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                         const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t);
 
 // The departure of the tip from the straight segment tip_from -> tip_to (part
 // frame) while the machine moves its axes linearly from `from` to `to`.
@@ -94,16 +207,25 @@ MoveDeviation move_deviation(const Kinematics& kin, const MachineAxes& from, con
 // row and pose in the message.
 MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<PlannedMove>& path,
                                    const MotionOptions& options,
-                                   Progress& progress = Progress::none());
+                                   Progress& progress = Progress::none(), const ToolReach& reach = {});
+
+// One tool of a program: its kinematics (its length moves the tip on head
+// axes and in gauge mode) and its reach.
+struct MotionTool {
+  const Kinematics* kin = nullptr;
+  ToolReach reach;
+};
 
 // One program, several tools: `path` is cut in segments where `tool_of`
-// changes (tool_of[i] indexes `kins`, one Kinematics per tool — its length
-// moves the tip on head axes and in gauge mode). Each segment is planned as a
-// program of its own, its first move a rapid from the tool change position;
-// the moves carry their tool index and `source` counts in the whole path.
-MachineProgram plan_machine_motion_tools(const std::vector<const Kinematics*>& kins,
-                                         const std::vector<PlannedMove>& path, const std::vector<int>& tool_of,
-                                         const MotionOptions& options, Progress& progress = Progress::none());
+// changes (tool_of[i] indexes `tools`). Each segment is planned as a program
+// of its own; with options.approach each starts with the safe way in from
+// the tool change position (Retract, Rotate, Position, Descend) and the
+// program ends with a Lift; without, a segment's first move is a move from
+// wherever the tool change left the machine. The moves carry their tool
+// index and `source` counts in the whole path.
+MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, const std::vector<PlannedMove>& path,
+                                         const std::vector<int>& tool_of, const MotionOptions& options,
+                                         Progress& progress = Progress::none());
 
 // The pose at t in [0, 1] of the planned motion from a to b: tip linear, axis
 // along the great circle. Throws ParameterError("axis") when the axes are

@@ -112,6 +112,8 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
   // Modal state.
   MachineAxes axes = options.start;
   bool tcp = options.tcp;
+  bool vector = false;
+  std::array<int, 2> pending_reset{0, 0};
   FeedMode feed_mode = FeedMode::PerMinute;
   double feed = 0;
   int tool = 0;
@@ -162,9 +164,20 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           continue;
         }
         if (k == "FUNCTION") {
-          if (t + 1 < tokens.size() && tokens[t + 1].text == "TCPM") tcp = true;
-          else if (t + 2 < tokens.size() && tokens[t + 1].text == "RESET" && tokens[t + 2].text == "TCPM") tcp = false;
-          else reader.fail(tok.column, "expected FUNCTION TCPM or FUNCTION RESET TCPM");
+          if (t + 1 < tokens.size() && tokens[t + 1].text == "TCPM") {
+            tcp = true;
+            vector = false;  // PATHCTRL AXIS unless the block says VECTOR
+            for (size_t j = t + 2; j + 1 < tokens.size(); ++j) {
+              if (tokens[j].kind != Token::Keyword || tokens[j].text != "PATHCTRL") continue;
+              if (tokens[j + 1].text == "VECTOR") vector = true;
+              else if (tokens[j + 1].text != "AXIS") reader.fail(tokens[j + 1].column, "expected PATHCTRL AXIS or PATHCTRL VECTOR");
+            }
+          } else if (t + 2 < tokens.size() && tokens[t + 1].text == "RESET" && tokens[t + 2].text == "TCPM") {
+            tcp = false;
+            vector = false;
+          } else {
+            reader.fail(tok.column, "expected FUNCTION TCPM or FUNCTION RESET TCPM");
+          }
           break;  // TCPM options follow
         }
         if (k == "L") { heidenhain_linear = true; continue; }
@@ -189,6 +202,24 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           if (!is_integer(v)) reader.fail(tok.column, "expected an integer M code");
           if (v == 128) tcp = true;
           if (v == 129) tcp = false;
+          if (v == 94) {
+            // M94 [axis]: the display of a rotary axis reduced to [0, 360).
+            std::array<bool, 2> which{true, true};
+            if (t + 1 < tokens.size() && tokens[t + 1].kind == Token::Keyword && tokens[t + 1].text.size() == 1) {
+              const char name = tokens[t + 1].text[0];
+              which = {machine.rotary[0].name.size() == 1 && machine.rotary[0].name[0] == name,
+                       machine.rotary[1].name.size() == 1 && machine.rotary[1].name[0] == name};
+              if (!which[0] && !which[1])
+                reader.fail(tokens[t + 1].column, std::string("M94: machine '") + machine.name + "' has no rotary axis " + name);
+              ++t;
+            }
+            for (int r = 0; r < 2; ++r) {
+              if (!which[r]) continue;
+              const int turns = static_cast<int>(std::floor(axes.rotary_rad[r] / (2 * kPi)));
+              axes.rotary_rad[r] -= 2 * kPi * turns;
+              pending_reset[r] += turns;
+            }
+          }
           break;
         }
         case 'G': {
@@ -242,6 +273,9 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
       m.kind = motion == 0 ? MoveKind::Rapid : MoveKind::Feed;
       m.axes = axes;
       m.tcp = tcp;
+      m.vector = tcp && vector;
+      m.rotary_reset = pending_reset;
+      pending_reset = {0, 0};
       m.feed_mode = feed_mode;
       m.feed = feed;
       m.tool = tool;

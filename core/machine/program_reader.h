@@ -10,7 +10,11 @@
 //     (mm; inch is refused), G40
 //     G43 G49 G54-G59 G61 G64 G80, G43.4 / G43.5 (TCP on), G49 (TCP off);
 //   - TRAORI / TRAFOOF (Siemens), M128 / M129 and FUNCTION TCPM / FUNCTION
-//     RESET TCPM (Heidenhain) switch TCP control on / off;
+//     RESET TCPM (Heidenhain) switch TCP control on / off; FUNCTION TCPM's
+//     PATHCTRL VECTOR makes the tool axis follow the great circle
+//     (ProgramMove::vector), PATHCTRL AXIS (the default) the rotary axes;
+//   - Heidenhain "M94 C" (or "M94" for both rotaries): the display of the
+//     rotary axis is reduced to [0, 360) deg without motion;
 //   - Heidenhain "L" blocks with FMAX (rapid) or F (feed) and R0;
 //     "TOOL CALL n Z Ssss";
 //   - words X Y Z and the machine's two rotary axes (A/B/C, degrees), F, S,
@@ -18,6 +22,7 @@
 //     coolant, tool change, end).
 // Anything else is an error "<file>:<line>: column <c>: ..." so a program we
 // cannot prove is never reported as proven.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -33,6 +38,10 @@ struct ProgramMove {
   // TCP control on, linear_mm is the programmed tool tip in the part frame.
   MachineAxes axes;
   bool tcp = false;
+  bool vector = false;  // TCP with the axis on the great circle (PATHCTRL VECTOR)
+  // Turns (360 deg) taken off each rotary axis' display before this block
+  // (M94), so the block starts from the reduced value.
+  std::array<int, 2> rotary_reset{0, 0};
   FeedMode feed_mode = FeedMode::PerMinute;
   double feed = 0;  // F in effect (mm/min or 1/min)
   int tool = 0;

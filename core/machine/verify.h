@@ -1,6 +1,7 @@
 #pragma once
 // Proving a program: read it back, replay every move through the machine's
-// kinematics and compare with the plan it was written from.
+// kinematics and compare with the plan it was written from — at every block
+// end, and swept between blocks as the controller interpolates them.
 //
 // Move i of the program must be move i of the plan (posts add no motion of
 // their own) and of the same kind. For each the replayed tip and axis (full
@@ -10,6 +11,17 @@
 // linear step per axis, and half a rotary step per rotary axis times the lever
 // arm from that axis to the tip (zero with TCP control, where the controller
 // places the tip itself).
+//
+// Between blocks. Each block is swept as its controller moves it
+// (ControllerMotion, from what the program says: TCP on or off, PATHCTRL
+// AXIS or VECTOR) and the whole tool compared with the planned motion
+// between the plan's poses (motion.h tool_deviation): the cutter must stay
+// within chord_tol_mm and the rest of the tool within body_tol_mm, plus what
+// the output resolution explains. This is the proof that what the machine
+// does is what the planner proved. Not swept, and counted: the first block
+// of a tool without a planned way in (it starts from wherever the tool
+// change left the machine), and the moves at the safe height (Retract,
+// Rotate, Position — each checked to move only its own axes).
 #include <string>
 #include <vector>
 
@@ -26,6 +38,11 @@ struct VerifyOptions {
   // With several tools: the tool number each plan tool index must be read
   // back as (T word, TOOL CALL); empty = not checked.
   std::vector<int> tool_numbers;
+  // The sweep: per plan tool index the tool's reach (empty: tip only) and
+  // the tolerances (the post's split tolerances).
+  std::vector<ToolReach> reaches;
+  double chord_tol_mm = 0.005;
+  double body_tol_mm = 0.05;
 };
 
 struct VerifyReport {
@@ -34,6 +51,15 @@ struct VerifyReport {
   double max_angle_rad = 0;     // largest tool-axis deviation from the plan
   int worst_position_line = 0;  // program line of the largest tip deviation
   int worst_angle_line = 0;
+  // The sweep between blocks: the largest departure of the cutter and of
+  // the whole tool from the planned motion, where.
+  double max_cutter_mm = 0;
+  double max_body_mm = 0;
+  int worst_cutter_line = 0;
+  long swept_moves = 0;
+  long unswept_moves = 0;   // from a tool change without a way in
+  long safe_moves = 0;      // Retract, Rotate, Position (checked by their axes)
+  ControllerMotion controller = ControllerMotion::JointLinear;  // of the last swept block
 };
 
 // Throws DataError at the program line of the first move beyond tolerance or

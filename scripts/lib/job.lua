@@ -830,20 +830,87 @@ function Job:link(a, b, tool, what, blade_a, blade_b)
   end
   poses[#poses + 1] = b
   local from = a
-  local iw = require("impeller_world")
   for i, to in ipairs(poses) do
-    local world, angle = self:leg_world(i, #poses, blade_a, blade_b)
-    local f, t = from, to
-    if angle ~= 0 then f, t = iw.turn(from, angle), iw.turn(to, angle) end
-    local m = world:check_motion(tool, f, t, {clearance = self.link_clearance})
-    if not m.clear then
-      error(string.format("job: %s: link motion %d of %d is not proved clear of the part (margin %.3f mm at t = %.3f)",
-                          what, i, #poses, m.min_margin or 0 / 0, m.t or 0 / 0), 0)
-    end
+    self:prove_motion(from, to, tool, i, #poses, blade_a, blade_b,
+                      string.format("%s: link motion %d of %d", what, i, #poses))
     from = to
   end
   table.remove(poses)  -- b itself is the next plan's first move
   return poses
+end
+
+-- Proves the motion from pose `a` to pose `b` clear of the part with the
+-- whole tool, in the world of link leg `leg` of `legs` (Job:leg_world);
+-- an error naming `what` otherwise.
+function Job:prove_motion(a, b, tool, leg, legs, blade_a, blade_b, what)
+  a, b = {tip = a.tip, axis = a.axis}, {tip = b.tip, axis = b.axis}
+  local world, angle = self:leg_world(leg, legs, blade_a, blade_b)
+  if angle ~= 0 then
+    local iw = require("impeller_world")
+    a, b = iw.turn(a, angle), iw.turn(b, angle)
+  end
+  local m = world:check_motion(tool, a, b, {clearance = self.link_clearance})
+  if not m.clear then
+    error(string.format("job: %s is not proved clear of the part (margin %.3f mm at t = %.3f)", what,
+                        m.min_margin or 0 / 0, m.t or 0 / 0), 0)
+  end
+end
+
+-- How far out along the tool axis a program's way in and out is proved
+-- clear of the part (mm): beyond the clearance surface up to the machine's
+-- safe height (core/machine/motion.h SafeMove; the post refuses a longer
+-- way than was proved).
+M.approach_length = 2000
+
+-- A program's ends on the clearance surface: the way in to its first move
+-- (backed out along its axis to the clearance surface, a rapid, then in to
+-- it) unless it is a link move there already, and the way out from its last
+-- one; and for the first and last move of each tool, the line out along
+-- the tool axis to approach_length, proved clear (the machine comes down
+-- and goes up along it). `moves` are the job's moves of the program (part
+-- frame, before any flip); returns the moves to post.
+function Job:program_ends(moves)
+  if #moves == 0 then return moves end
+  local surface = self.clearance_surface
+  local out = {}
+  local function entry(m, which)
+    local p = surface.back_out(m)
+    if not p then
+      error(string.format("job: the program's %s (job move of operation %d, blade %d): backed out along its axis the "
+                          .. "tool does not reach %s", which, m.operation or 0, m.blade or 0, surface.description), 0)
+    end
+    local e = {}
+    for key, value in pairs(m) do e[key] = value end
+    e.kind, e.tip, e.axis, e.motion, e.row, e.feed = "rapid", p.tip, p.axis, "link", nil, nil
+    e.operation_kind = "link"
+    return e
+  end
+  local first, last = moves[1], moves[#moves]
+  if first.motion ~= "link" then
+    local e = entry(first, "first move")
+    self:prove_motion(e, first, self:tool_entry(first.tool).tool, 1, 2, first.blade, first.blade,
+                      "the way in to the program's first move")
+    out[1] = e
+  end
+  for _, m in ipairs(moves) do out[#out + 1] = m end
+  if last.motion ~= "link" then
+    local e = entry(last, "last move")
+    self:prove_motion(last, e, self:tool_entry(last.tool).tool, 1, 2, last.blade, last.blade,
+                      "the way out from the program's last move")
+    out[#out + 1] = e
+  end
+  -- The lines along the axis at each tool's first and last move.
+  for i, m in ipairs(out) do
+    local starts = i == 1 or out[i - 1].tool ~= m.tool
+    local ends = i == #out or out[i + 1].tool ~= m.tool
+    if starts or ends then
+      local far = {tip = add(m.tip, m.axis, M.approach_length), axis = m.axis}
+      self:prove_motion(m, far, self:tool_entry(m.tool).tool, 2, 3, m.blade, m.blade,
+                        string.format("the line out along the tool axis (%g mm) at the %s move of tool %d",
+                                      M.approach_length, starts and "first" or "last", m.tool))
+    end
+  end
+  return out
 end
 
 -- Tool life (the impeller paper's grouping of blades per tool, §4): whole
@@ -1401,11 +1468,20 @@ end
 local function program_entry(m, r)
   local s = r.seconds
   print(string.format("  %s: %d blocks (%d positioning moves), tip within %.4f mm of the plan; %.1f s (path %.1f, "
-                      .. "machine motion %.1f, post %.1f, read back %.1f, write %.1f)", m.file, r.moves, r.positioning,
-                      r.max_position, s.read + s.motion + s.post + s.verify + s.write, s.read, s.motion, s.post,
-                      s.verify, s.write))
+                      .. "machine motion %.1f, post %.1f, read back and sweep %.1f, write %.1f)", m.file, r.moves,
+                      r.positioning, r.max_position, s.read + s.motion + s.post + s.verify + s.write, s.read, s.motion,
+                      s.post, s.verify, s.write))
+  print(string.format("    swept as the controller moves (%s): cutter within %.2f um, tool within %.1f um of the proved "
+                      .. "motion (tolerances %.1f / %.0f um); %d blocks slowed for the cutter or a rotary axis (cutter "
+                      .. "at most %.2f x the feed); %d rotary resets, largest rotary word %.1f deg", r.controller,
+                      1e3 * r.swept_cutter, 1e3 * r.swept_tool, 1e3 * r.chord_tol, 1e3 * r.body_tol, r.slowed,
+                      r.cutter_speed_ratio, r.rotary_resets, r.rotary_largest))
   return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
-          max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil}
+          max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil,
+          controller = r.controller, swept_cutter_mm = r.swept_cutter, swept_tool_mm = r.swept_tool,
+          swept_blocks = r.swept, unswept_blocks = r.unswept, safe_blocks = r.safe_moves, slowed_blocks = r.slowed,
+          cutter_speed_ratio = r.cutter_speed_ratio, rotary_speed_deg_per_min = r.rotary_speed,
+          rotary_resets = r.rotary_resets, rotary_largest_deg = r.rotary_largest, inserted_blocks = r.inserted}
 end
 
 -- Posts for one machine (j:post) and prints the one-line summary; returns
@@ -1459,11 +1535,18 @@ end
 function Job:program_path(o, level)
   check_post_options(o, level + 1)
   if not self.planned then error("job:post: plan the job first (j:plan())", level) end
-  if not o.setup then return self.planned.moves, 0 end
-  local first, last = o.setup.first or 1, o.setup.last or #self.planned.moves
+  local first, last = 1, #self.planned.moves
+  if o.setup then first, last = o.setup.first or 1, o.setup.last or #self.planned.moves end
+  local moves = {}
+  for i = first, last do moves[#moves + 1] = self.planned.moves[i] end
+  local ok, ends = pcall(self.program_ends, self, moves)
+  if not ok then error(tostring(ends), level) end
+  -- Job move numbers in messages count the program's moves from `first`;
+  -- a way in put before them shifts them by one.
+  local shift = #ends > 0 and ends[1] ~= moves[1] and 1 or 0
+  if not o.setup or not o.setup.flip then return ends, first - 1 - shift end
   local path = {}
-  for i = first, last do
-    local m = self.planned.moves[i]
+  for _, m in ipairs(ends) do
     if o.setup.flip then
       local t = {}
       for key, value in pairs(m) do t[key] = value end
@@ -1473,7 +1556,7 @@ function Job:program_path(o, level)
     end
     path[#path + 1] = m
   end
-  return path, first - 1
+  return path, first - 1 - shift
 end
 
 -- post.write's options for a program of `path`: the program's tools in the
@@ -1485,12 +1568,12 @@ function Job:post_options(o, path, level)
     if not order[m.tool] then
       order[m.tool] = true
       local t = self:tool_entry(m.tool)
-      tools[#tools + 1] = {number = m.tool, length = t.length, spindle_rpm = t.spindle_rpm}
+      tools[#tools + 1] = {number = m.tool, length = t.length, spindle_rpm = t.spindle_rpm, body = t.tool}
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
   return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
-          chord_tol = o.chord_tol or 0.002, start = o.start}
+          chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length}}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which

@@ -15,5 +15,6 @@ return generic "table_table_bc" {
   tool_length = "tip",
   feed = "inverse_time",
   resolution = { linear = 0.001, rotary = 0.001 },
+  speed = { b = 9000, c = 14400 },  -- 25 and 40 1/min, as such trunnions are rated
   rapid = { feed = 35000, linear = true },   -- TNC: L ... FMAX is a straight line
 }

@@ -18,5 +18,6 @@ return generic "table_table_ac" {
   tool_length = "tip",
   feed = "inverse_time",
   resolution = { linear = 0.001, rotary = 0.001 },
+  speed = { a = 7200, c = 10800 },  -- 20 and 30 1/min, as such cradles are rated
   rapid = { feed = 30000, linear = false },  -- Fanuc: rapids not set to interpolate linearly
 }

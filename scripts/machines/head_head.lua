@@ -21,6 +21,10 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "per_minute", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    speed       = { default = false,
+                    doc = "top speed of each rotary axis, deg/min: {c = ..., a = ...}; false = not stated" },
+    safe_z      = { default = false,
+                    doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
@@ -29,8 +33,8 @@ return parametric {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {  -- chain order: C carries the A fork
-        { name = "C", carrier = "tool", direction = { 0, 0, 1 }, pivot = p.c_offset, travel = p.c, iso841 = true },
-        { name = "A", carrier = "tool", direction = { 1, 0, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.a, iso841 = true },
+        { name = "C", carrier = "tool", direction = { 0, 0, 1 }, pivot = p.c_offset, travel = p.c, iso841 = true, speed = p.speed and p.speed.c or nil },
+        { name = "A", carrier = "tool", direction = { 1, 0, 0 }, pivot = { 0, 0, p.pivot_length }, travel = p.a, iso841 = true, speed = p.speed and p.speed.a or nil },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
@@ -38,6 +42,7 @@ return parametric {
       feed = p.feed,
       resolution = p.resolution,
       rapid = p.rapid,
+      safe_z = p.safe_z or nil,
     }
   end,
 }

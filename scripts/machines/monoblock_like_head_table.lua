@@ -19,5 +19,6 @@ return generic "head_table_bc" {
   tool_length = "tip",
   feed = "per_minute",
   resolution = { linear = 0.001, rotary = 0.001 },
+  speed = { b = 12600, c = 10800 },  -- 35 and 30 1/min, as such heads and tables are rated
   rapid = { feed = 30000, linear = true },   -- TNC: L ... FMAX is a straight line
 }

@@ -26,6 +26,10 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "inverse_time", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    speed       = { default = false,
+                    doc = "top speed of each rotary axis, deg/min: {a = ..., c = ...}; false = not stated" },
+    safe_z      = { default = false,
+                    doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
@@ -34,8 +38,8 @@ return parametric {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {  -- chain order: the cradle carries the table
-        { name = "A", carrier = "part", direction = { 1, 0, 0 }, pivot = p.a_pivot, travel = p.a, iso841 = false },
-        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false },
+        { name = "A", carrier = "part", direction = { 1, 0, 0 }, pivot = p.a_pivot, travel = p.a, iso841 = false, speed = p.speed and p.speed.a or nil },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false, speed = p.speed and p.speed.c or nil },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
@@ -43,6 +47,7 @@ return parametric {
       feed = p.feed,
       resolution = p.resolution,
       rapid = p.rapid,
+      safe_z = p.safe_z or nil,
     }
   end,
 }

@@ -22,6 +22,10 @@ return parametric {
     tool_length = { default = "tip", doc = "'tip' (controller length compensation) or 'gauge'" },
     feed        = { default = "inverse_time", doc = "'inverse_time' (G93) or 'per_minute' (G94)" },
     resolution  = { default = { linear = 0.001, rotary = 0.001 }, doc = "controller resolution, mm and deg" },
+    speed       = { default = false,
+                    doc = "top speed of each rotary axis, deg/min: {b = ..., c = ...}; false = not stated" },
+    safe_z      = { default = false,
+                    doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
   },
@@ -30,8 +34,8 @@ return parametric {
       name = p.name,
       linear = { X = p.x, Y = p.y, Z = p.z },
       rotary = {
-        { name = "B", carrier = "part", direction = { 0, 1, 0 }, pivot = p.b_pivot, travel = p.b, iso841 = false },
-        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false },
+        { name = "B", carrier = "part", direction = { 0, 1, 0 }, pivot = p.b_pivot, travel = p.b, iso841 = false, speed = p.speed and p.speed.b or nil },
+        { name = "C", carrier = "part", direction = { 0, 0, 1 }, pivot = p.c_pivot, travel = p.c, iso841 = false, speed = p.speed and p.speed.c or nil },
       },
       spindle = { 0, 0, 1 },
       part_origin = p.part_origin,
@@ -39,6 +43,7 @@ return parametric {
       feed = p.feed,
       resolution = p.resolution,
       rapid = p.rapid,
+      safe_z = p.safe_z or nil,
     }
   end,
 }

@@ -15,7 +15,14 @@
 -- degrees; under TCP control X, Y, Z are the tool tip in the part frame), F
 -- (the feed word, feed moves only), index, row, inserted, positioning (a
 -- planned rapid written as a feed move at the rapid feed), tool (index into
--- job.tools), tip and axis.
+-- job.tools), tip and axis; `safe` on the way in from the tool change
+-- position and out ("retract": Z alone, "rotate": the rotary axes alone —
+-- both with TCP control off, X, Y, Z then machine axes —, "position" X and
+-- Y at the safe height, "descend" and "lift" along the tool axis); `reset`
+-- the rotary axes whose display is reset before the move (step
+-- rotary_reset). job.controller says how the controller moves between
+-- blocks ("joint-linear", "TCP, rotaries linear", "TCP, vector
+-- orientation"): what the program was split and swept for.
 -- `out:line(text)` appends one line. `self` is a fresh instance per program:
 -- modal state lives in it, never in the post table.
 local P = {}
@@ -28,9 +35,18 @@ P.block_start = 10
 P.block_step = 10
 P.comment_open = "("
 P.comment_close = ")"
+-- How TCP moves the tool axis between blocks: "axis" (the rotary axes
+-- linearly) or "vector" (the great circle). What the program is split and
+-- swept for: it must be what the controller does (see tcp_on).
+P.orientation = "axis"
+P.rotary_reset = false         -- the post has a rotary_reset step (display reset)
+P.rotary_input_limit = nil     -- the controller's largest rotary value, deg
 
+-- The motion step switches TCP control on before the first move that needs
+-- it and off for the moves written in machine axes (the way in at the safe
+-- height) and at the end.
 function P.elements(self, job)
-  return { self.header, self.tool_change, self.tcp_on, self.motion, self.tcp_off, self.footer }
+  return { self.header, self.tool_change, self.motion, self.footer }
 end
 
 -- Runs the post: one instance per program, then every element in order.
@@ -144,25 +160,67 @@ function P.header(self, job, out) end
 function P.tool_change(self, job, out) end
 function P.tcp_on(self, job, out) end
 function P.tcp_off(self, job, out) end
+-- After tcp_off, before blocks in machine axes (the way in at the safe
+-- height) in a TCP program: what the controller needs for them (Fanuc:
+-- length compensation again, which G49 cancelled).
+function P.machine_axes_on(self, job, out) end
 function P.footer(self, job, out) end
 
 -- Every move in order; where the tool changes (move.tool indexes
 -- job.tools), the tool-centre control goes off, the next tool is called
--- (job.tool is that tool from then on) and the control comes back on. The
--- first move after a change starts from the tool change position.
+-- (job.tool is that tool from then on). TCP control (or, without TCP, the
+-- length compensation tcp_on writes) is on for every move but the way in at
+-- the safe height (move.safe "retract" and "rotate"), written in machine
+-- axes with it off; modal words start over wherever it changes.
 function P.motion(self, job, out)
   local current = 1
+  local on = false
+  local function set(want)
+    if want == on then return end
+    if want then self:tcp_on(job, out) else self:tcp_off(job, out) end
+    on = want
+    self.last = {}
+  end
   for move in job:moves() do
     if move.tool ~= current then
-      self:tcp_off(job, out)
+      set(false)
       current = move.tool
       job.tool = job.tools[current]
       self.last = {}  -- modal words start over after a tool change
       self:tool_change(job, out)
-      self:tcp_on(job, out)
     end
-    if move.kind == "rapid" then self:rapid(job, move, out) else self:feed_move(job, move, out) end
+    if move.reset then self:rotary_reset(job, move, out) end
+    if move.safe == "retract" or move.safe == "rotate" then
+      -- Length compensation stays on without TCP (it places the tip).
+      if job.tcp and on then
+        set(false)
+        self:machine_axes_on(job, out)
+      end
+      self:safe_block(job, move, out)
+    else
+      set(true)
+      if move.kind == "rapid" then self:rapid(job, move, out) else self:feed_move(job, move, out) end
+    end
   end
+  set(false)
+end
+
+-- A display reset of the rotary axes move.reset names, before the move.
+function P.rotary_reset(self, job, move, out)
+  error(self.name .. ": this post cannot reset a rotary axis' display (set P.rotary_reset and write the step)", 0)
+end
+
+-- The way in at the safe height: Z alone ("retract") or the rotary axes
+-- alone ("rotate"), as a rapid with only those words.
+function P.safe_block(self, job, move, out)
+  local names = move.safe == "retract" and {job.machine.linear[3]} or job.machine.rotary
+  local d = move.safe == "retract" and job.decimals.linear or job.decimals.rotary
+  local words = {}
+  for i, name in ipairs(names) do
+    words[i] = self:word(name, move[name], d)
+    self.last[name] = words[i]
+  end
+  self:rapid(job, move, out, words)
 end
 
 -- A block: the motion word (when it changes), then `words`. (The words'
@@ -174,8 +232,9 @@ local function block(self, out, code, words)
   self:emit(out, text)
 end
 
-function P.rapid(self, job, move, out)
-  block(self, out, "G0", self:axis_words(job, move))
+-- `words`: the axis words to write (default: those that changed).
+function P.rapid(self, job, move, out, words)
+  block(self, out, "G0", words or self:axis_words(job, move))
 end
 
 function P.feed_move(self, job, move, out)

@@ -9,6 +9,9 @@ local P = extend "base"
 
 P.name = "fanuc"
 P.block_numbers = true
+-- G43.4 (TCP type 1) moves the rotary axes linearly between blocks.
+P.orientation = "axis"
+P.rotary_input_limit = 99999.999
 P.program_number = 1000
 
 -- Fanuc comments cannot hold parentheses and are read upper case.
@@ -42,6 +45,12 @@ end
 
 function P.tcp_off(self, job, out)
   if job.tcp or job.machine.tool_length == "tip" then self:emit(out, "G49") end
+end
+
+-- Under TCP, G49 also cancels the length compensation that the way in at
+-- the safe height (machine axes, tip words) needs: it comes back as G43.
+function P.machine_axes_on(self, job, out)
+  if job.machine.tool_length == "tip" then self:emit(out, string.format("G43 H%d", job.tool.number)) end
 end
 
 function P.footer(self, job, out)

@@ -12,7 +12,24 @@ P.block_start = 0
 P.block_step = 1
 P.comment_open = "; "
 P.comment_close = ""
+-- PATHCTRL AXIS: the rotary axes move linearly between blocks; every block
+-- is split until the whole tool stays within tolerance of the proved motion
+-- under that interpolation (P.orientation = "axis"). A post that writes
+-- PATHCTRL VECTOR says P.orientation = "vector".
 P.tcp_function = "FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS"
+P.orientation = "axis"
+-- The TNC takes rotary values up to +-99 999.9999 deg; M94 reduces a
+-- continuous axis' display to [0, 360) deg without motion, written at links
+-- where the axis has wound past a turn.
+P.rotary_input_limit = 99999.9999
+P.rotary_reset = true
+
+function P.rotary_reset(self, job, move, out)
+  for _, name in ipairs(move.reset) do
+    self:emit(out, "M94 " .. name)
+    self.last[name] = nil  -- the next block writes the axis again
+  end
+end
 
 -- The TNC has no inverse-time feed; without TCPM a per-minute feed on a
 -- rotary move is not the tip's speed. So TCPM only.
@@ -53,8 +70,8 @@ end
 function P.tcp_on(self, job, out) self:emit(out, self.tcp_function) end
 function P.tcp_off(self, job, out) self:emit(out, "FUNCTION RESET TCPM") end
 
-function P.rapid(self, job, move, out)
-  local words = self:axis_words(job, move)
+function P.rapid(self, job, move, out, words)
+  words = words or self:axis_words(job, move)
   self.last.F = nil  -- FMAX holds for its block only: repeat F on the next feed block
   self:emit(out, "L " .. table.concat(words, " ") .. " R0 FMAX")
 end

@@ -146,8 +146,10 @@ TEST(MachineMotion, RapidsThatTurnARotaryAreSplitPositioningMoves) {
   EXPECT_FALSE(with_linear.moves.back().positioning);
 }
 
-// With TCP control the controller keeps the tip on the segment: no splitting.
-TEST(MachineMotion, TcpOutputIsNotSplit) {
+// With TCP control the controller keeps the tip on the segment: measured at
+// the tip alone (no tool reach given) there is nothing to split. (With a
+// reach the axis' departure counts: controller_motion_test.cpp.)
+TEST(MachineMotion, TcpOutputIsNotSplitAtTheTip) {
   const Kinematics kin(test::table_table_ac(), 80.0);
   std::vector<PlannedMove> path(2);
   path[0].kind = MoveKind::Rapid;
