@@ -1412,7 +1412,8 @@ end
 -- the program's entry for a run's JSON report. m = {machine = name or
 -- Machine, name = (how the report calls a Machine), post =, file =}.
 function Job:post_program(m)
-  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start})
+  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
+                                    work_offset = m.work_offset, notes = m.notes})
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -1423,7 +1424,8 @@ end
 function Job:post_programs(list)
   local options, offsets, paths = {}, {}, {}
   for i, m in ipairs(list) do
-    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start}
+    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
+               work_offset = m.work_offset, notes = m.notes}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, 3)}
     options[i], offsets[i] = self:post_options(o, paths[key][1], 3), paths[key][2]
@@ -1447,28 +1449,42 @@ local function check_post_options(o, level)
     file = {type = "string", required = true}, chord_tol = {type = "number", check = positive},
     setup = {type = "table"},
     start = {type = "table"},  -- the machine's axes before the first move (picks the rotary branch)
+    work_offset = {type = "number"},  -- G54 = 1 / the TNC's preset (post.write checks it)
+    notes = {type = "table"},         -- header lines of the recipe's own
   }, level)
 end
 
 -- The moves of a program and the job move before its first: o.setup =
--- {name =, first =, last =, flip = bool}: the job's moves first..last as one
--- program, with the part turned over (180 deg about X: the side of the part
--- that faced the table faces the spindle) when flip. A blisk's leading edges
--- face the table with its axis on C: no tool direction the A cradle reaches
--- cuts them in the first setup.
+-- {name =, first =, last =, flip = bool, clocking_deg = 0}: the job's moves
+-- first..last as one program, with the part turned over (180 deg about X: the
+-- side of the part that faced the table faces the spindle) when flip, then
+-- turned clocking_deg about Z (how it is clocked on the fixture). A blisk's
+-- leading edges face the table with its axis on C: no tool direction the A
+-- cradle reaches cuts them in the first setup. The program's header states
+-- both (post.write's setup).
 function Job:program_path(o, level)
   check_post_options(o, level + 1)
   if not self.planned then error("job:post: plan the job first (j:plan())", level) end
   if not o.setup then return self.planned.moves, 0 end
   local first, last = o.setup.first or 1, o.setup.last or #self.planned.moves
+  local clocking = o.setup.clocking_deg or 0
+  if type(clocking) ~= "number" then error("job:post: setup.clocking_deg: expected a number (degrees)", level) end
+  local clock = clocking ~= 0 and {c = math.cos(math.rad(clocking)), s = math.sin(math.rad(clocking))} or nil
   local path = {}
   for i = first, last do
     local m = self.planned.moves[i]
-    if o.setup.flip then
+    if o.setup.flip or clock then
       local t = {}
       for key, value in pairs(m) do t[key] = value end
-      t.tip = {m.tip[1], -m.tip[2], -m.tip[3]}
-      t.axis = {m.axis[1], -m.axis[2], -m.axis[3]}
+      local tip, axis = m.tip, m.axis
+      if o.setup.flip then
+        tip, axis = {tip[1], -tip[2], -tip[3]}, {axis[1], -axis[2], -axis[3]}
+      end
+      if clock then
+        tip = {clock.c * tip[1] - clock.s * tip[2], clock.s * tip[1] + clock.c * tip[2], tip[3]}
+        axis = {clock.c * axis[1] - clock.s * axis[2], clock.s * axis[1] + clock.c * axis[2], axis[3]}
+      end
+      t.tip, t.axis = tip, axis
       m = t
     end
     path[#path + 1] = m
@@ -1489,8 +1505,11 @@ function Job:post_options(o, path, level)
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
+  -- The header states the setup: which one, turned over or not, clocking.
+  local setup = o.setup and {name = o.setup.name, flip = o.setup.flip or false, clocking_deg = o.setup.clocking_deg or 0}
   return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
-          chord_tol = o.chord_tol or 0.002, start = o.start}
+          chord_tol = o.chord_tol or 0.002, start = o.start, setup = setup, work_offset = o.work_offset,
+          notes = o.notes}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which
