@@ -207,6 +207,43 @@ TEST(MachineLua, PostWriteHeaderOptionsAreValidatedAndWritten) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// job:post carries its setup into the program: the moves turned over
+// (180 deg about X) and clocked (about Z) as the setup says, and the header
+// says so; the work offset and the notes go through too. A planned move at
+// (10, 20, 30) with axis (0, -0.6, -0.8), turned over: (10, -20, -30) and
+// (0, 0.6, 0.8); then clocked 90 deg: (20, 10, -30) and (-0.6, 0, 0.8).
+TEST(MachineLua, JobPostCarriesItsSetupIntoTheProgram) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,\n"
+      "                                    shank = {diameter = 6, length = 50}}\n"
+      "local j = job.new{name = \"setup test\", part = bliskrun.blisk{}, clearance_radius = 110,\n"
+      "                  tools = {mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill}},\n"
+      "                  operations = {{kind = \"edge_finish\", tool = \"mill\"}}}\n"
+      "j.planned = {moves = {\n"
+      "  {kind = \"rapid\", tip = {10, 20, 60}, axis = {0, -0.6, -0.8}, tool = 7},\n"
+      "  {kind = \"feed\", tip = {10, 20, 30}, axis = {0, -0.6, -0.8}, tool = 7, feed = 500},\n"
+      "  {kind = \"feed\", tip = {11, 20, 30}, axis = {0, -0.6, -0.8}, tool = 7, feed = 500}}}\n"
+      "local setup = {name = \"turned over\", first = 2, last = 3, flip = true, clocking_deg = 90}\n"
+      "local o = {machine = \"monoblock_like_head_table\", post = \"heidenhain\", file = \"s.h\", setup = setup}\n"
+      "local path, offset = j:program_path(o, 1)\n"
+      "assert(#path == 2 and offset == 1)\n"
+      "local function near(a, b) return math.abs(a[1] - b[1]) + math.abs(a[2] - b[2]) + math.abs(a[3] - b[3]) < 1e-12 end\n"
+      "assert(near(path[1].tip, {20, 10, -30}) and near(path[1].axis, {-0.6, 0, 0.8}), table.concat(path[1].tip, ' '))\n"
+      "assert(near(path[2].tip, {20, 11, -30}) and j.planned.moves[2].tip[2] == 20)\n"
+      "o.work_offset, o.notes = 4, {\"check the clocking pin\"}\n"
+      "local report = j:post(o)\n"
+      "assert(report.moves == 2, report.moves)\n"
+      "local text = bliskrun.read_text(\"s.h\")\n"
+      "for _, line in ipairs{\"; setup: turned over\\n\", \"; part turned over: 180 deg about X\",\n"
+      "                      \"; clocking 90.000 deg: model turned 90.000 deg about part frame +Z after turning over\",\n"
+      "                      \"; tool 7 length 100.000 S12000\", \"; check the clocking pin\", \"Q339=+4 \"} do\n"
+      "  assert(text:find(line, 1, true), line .. \" not in:\\n\" .. text)\n"
+      "end\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // machine:placed moves the part's origin in the program zero: at home
 // orientation the same part point is reached 10 mm further along X, the
 // rotary axes unchanged; the original machine keeps its origin.
