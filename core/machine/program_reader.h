@@ -12,8 +12,10 @@
 //     (mm; inch is refused), G40 G43 G61 G64 G80, G43.4 / G43.5 (TCP on),
 //     G49 (TCP off);
 //   - work offsets: G54-G59 (offsets 1-6), G59.1-G59.3 (LinuxCNC, 7-9),
-//     G505-G599 (Siemens, 5-99); Heidenhain "CYCL DEF 247 DATUM SETTING"
-//     with its one parameter "Q339=+n" (preset table row n), no other cycle;
+//     G505-G599 (Siemens, 5-99; its G58/G59 are axial programmable offsets
+//     there, which no post writes: read as ISO's 5 and 6); Heidenhain "CYCL
+//     DEF 247 DATUM SETTING" with its one parameter "Q339=+n" (preset table
+//     row n), no other cycle;
 //   - TRAORI / TRAFOOF (Siemens), M128 / M129 and FUNCTION TCPM / FUNCTION
 //     RESET TCPM (Heidenhain) switch TCP control on / off;
 //   - Heidenhain "L" blocks with FMAX (rapid) or F (feed) and R0;
