@@ -658,6 +658,43 @@ int decimals_for(double resolution) {
   return std::clamp(static_cast<int>(std::lround(-std::log10(resolution))), 0, 9);
 }
 
+namespace {
+
+// job.machine.rotary_axes: {{name=, carrier = "part"|"tool", iso841 = bool}, ...}
+// in chain order; iso841 from the geometry (core's iso841_sense), so it holds
+// for machines whose file does not state it.
+void push_rotary_senses(lua_State* L, const MachineDefinition& def) {
+  lua_createtable(L, 2, 0);
+  for (int i = 0; i < 2; ++i) {
+    const RotaryAxis& a = def.rotary[i];
+    lua_createtable(L, 0, 3);
+    luax::set_string(L, "name", a.name);
+    luax::set_string(L, "carrier", a.carrier == AxisCarrier::Part ? "part" : "tool");
+    luax::set_bool(L, "iso841", iso841_sense(def, i) > 0);
+    lua_rawseti(L, -2, i + 1);
+  }
+}
+
+// job.work_offset, job.setup = {name=, flip=, clocking_deg=}, job.notes = {...}
+// into the job table on top of the stack.
+void push_setup(lua_State* L, const PostJob& job) {
+  lua_pushinteger(L, job.work_offset);
+  lua_setfield(L, -2, "work_offset");
+  lua_createtable(L, 0, 3);
+  if (!job.setup.name.empty()) luax::set_string(L, "name", job.setup.name);
+  luax::set_bool(L, "flip", job.setup.flip);
+  luax::set_number(L, "clocking_deg", job.setup.clocking_deg);
+  lua_setfield(L, -2, "setup");
+  lua_createtable(L, static_cast<int>(job.notes.size()), 0);
+  for (size_t i = 0; i < job.notes.size(); ++i) {
+    luax::push(L, job.notes[i]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "notes");
+}
+
+}  // namespace
+
 std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
                      const MachineProgram& program, const PostJob& job) {
   post_idx = lua_absindex(L, post_idx);
@@ -705,7 +742,10 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   lua_setfield(L, -2, "rapid_feed");
   lua_pushboolean(L, def.rapid.linear);
   lua_setfield(L, -2, "linear_rapids");
+  push_rotary_senses(L, def);
+  lua_setfield(L, -2, "rotary_axes");
   lua_setfield(L, -2, "machine");
+  push_setup(L, job);
   // job.tools: every tool in program order; job.tool: the one in the
   // spindle (the first; base.motion moves it on at each tool change).
   lua_createtable(L, static_cast<int>(job.tools.size()), 0);
@@ -729,6 +769,15 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   lua_setfield(L, -2, "tcp");
   lua_pushstring(L, to_string(program.controller));
   lua_setfield(L, -2, "controller");
+  // job.approach = {safe_z =}: the program comes in and leaves at the safe
+  // height (its first move is a Retract); nil when it starts wherever the
+  // tool change left the machine.
+  if (!program.moves.empty() && program.moves.front().safe == SafeMove::Retract) {
+    lua_createtable(L, 0, 1);
+    lua_pushnumber(L, program.moves.front().axes.linear_mm.z());
+    lua_setfield(L, -2, "safe_z");
+    lua_setfield(L, -2, "approach");
+  }
   lua_pushstring(L, program.feed_mode == FeedMode::InverseTime ? "inverse_time" : "per_minute");
   lua_setfield(L, -2, "feed_mode");
   lua_createtable(L, 0, 3);

@@ -75,9 +75,20 @@ struct PostTool {
   long spindle_rpm = 0;     // 0: no spindle word
 };
 
+// How the part sits in the program's setup, for the header. The path is
+// already in the part frame; this says how the model was turned into it.
+struct PostSetup {
+  std::string name;         // which setup ("inlet down"); empty: not named
+  bool flip = false;        // turned over: 180 deg about X
+  double clocking_deg = 0;  // then turned about the part frame's +Z
+};
+
 struct PostJob {
   std::string name;             // program name
   std::vector<PostTool> tools;  // in the order MachineMove::tool indexes them; at least one
+  int work_offset = 1;          // G54 = 1, G55 = 2, ...; the TNC's preset row
+  PostSetup setup;
+  std::vector<std::string> notes;  // header lines of the recipe's own
 };
 
 // Runs post:write(job, out) for the post table at `post_idx` over `program`

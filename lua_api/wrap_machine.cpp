@@ -429,8 +429,49 @@ const std::vector<luax::Field>& post_write_fields() {
        "no cutter point faster than this times the planned feed", {}},
       {"approach", luax::Kind::Table, false, {}, {},
        "{proved = mm, safe_z = mm}: the safe way in and out along the tool axis (the plan proved `proved` mm)", {}},
+      {"work_offset", luax::Kind::Integer, false, 1.0, 99.0, "work offset the program selects: 1 = G54 / preset 1", {}},
+      {"setup", luax::Kind::Table, false, {}, {}, "{name=, flip=, clocking_deg=}: how the part sits, for the header", {}},
+      {"notes", luax::Kind::Table, false, {}, {}, "{'text', ...}: header lines of the recipe's own", {}},
   };
   return fields;
+}
+
+// post.write's header options into `job`: the work offset, the setup and
+// the notes. Each note is one comment line, so a line break is refused
+// (the rest of the note would be a block the controller runs).
+void read_post_header(lua_State* L, const luax::Options& o, const std::string& what, PostJob& job) {
+  job.work_offset = static_cast<int>(o.integer("work_offset", 1));
+  if (o.has("setup")) {
+    o.push_raw("setup");
+    const luax::Options setup(L, lua_gettop(L), what + " setup", {
+        {"name", luax::Kind::String, false, {}, {}, "which setup this is", {}},
+        {"flip", luax::Kind::Boolean, false, {}, {}, "the part turned over: 180 deg about X", {}},
+        {"clocking_deg", luax::Kind::Number, false, -360.0, 360.0, "then turned about the part frame's +Z, deg", {}},
+    });
+    job.setup.name = setup.string("name", "");
+    job.setup.flip = setup.boolean("flip", false);
+    job.setup.clocking_deg = setup.number("clocking_deg", 0);
+    lua_pop(L, 1);
+  }
+  if (o.has("notes")) {
+    o.push_raw("notes");
+    const int notes_idx = lua_gettop(L);
+    const lua_Unsigned n = lua_rawlen(L, notes_idx);
+    lua_Unsigned entries = 0;
+    for (lua_pushnil(L); lua_next(L, notes_idx) != 0; lua_pop(L, 1)) ++entries;
+    if (entries != n) luax::error(L, what + " notes: expected a list of strings {'...', ...}");
+    for (lua_Unsigned i = 1; i <= n; ++i) {
+      lua_rawgeti(L, notes_idx, static_cast<lua_Integer>(i));
+      const std::string where = what + " notes[" + std::to_string(i) + "]";
+      if (lua_type(L, -1) != LUA_TSTRING) luax::error(L, where + ": expected a string");
+      std::string note = lua_tostring(L, -1);
+      if (note.find_first_of("\r\n") != std::string::npos)
+        luax::error(L, where + ": a note is one line (no line breaks)");
+      job.notes.push_back(std::move(note));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
 }
 
 // One program to post, read on the recipe's state from post.write's options:
@@ -554,13 +595,16 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
     o.push_raw("approach");
     const luax::Options a(L, lua_gettop(L), what + " approach", {
         {"proved", luax::Kind::Number, true, 0.0, {}, "mm along the tool axis the plan proved clear", {}},
+        {"proved_up", luax::Kind::Number, false, 0.0, {}, "mm up the part frame's +Z the plan proved clear", {}},
         {"safe_z", luax::Kind::Number, false, {}, {}, "the safe height's Z word (default: the machine's)", {}},
     });
     r.motion.approach.enabled = true;
     r.motion.approach.proved_mm = a.number("proved", 0);
+    r.motion.approach.proved_up_mm = a.number("proved_up", 0);
     if (a.has("safe_z")) r.motion.approach.safe_z_mm = a.number("safe_z", 0);
     lua_pop(L, 1);
   }
+  read_post_header(L, o, what, r.job);
   return r;
 }
 

@@ -576,33 +576,46 @@ struct SafeWay {
   std::vector<MachineMove> before;
 };
 
-// Machine axes of the point `s` mm out along the pose's tool axis, the
-// rotaries unchanged, and its height per mm (the Z word's rate).
-MachineAxes along_axis(const Kinematics& kin, const MachineMove& at, double s) {
-  MachineAxes q = at.axes;
-  q.linear_mm = kin.linear_for(at.pose.tip + s * at.pose.axis.normalized(), at.axes.rotary_rad);
-  return q;
+// The part-frame direction the tip moves for +1 mm of the machine's Z with
+// the rotaries of `q`: the tool axis on a table-table machine (the spindle
+// along Z), the part's own Z on a head-table machine with a C table.
+Vec3 z_direction_in_part(const Kinematics& kin, const MachineAxes& q) {
+  MachineAxes up = q;
+  up.linear_mm.z() += 1.0;
+  return kin.forward(up).tip - kin.forward(q).tip;
 }
 
-double out_along_axis_to_safe(const Kinematics& kin, const MachineMove& at, double safe_z,
-                              const ApproachOptions& approach, const char* what) {
-  const double rate = along_axis(kin, at, 1.0).linear_mm.z() - at.axes.linear_mm.z();
+// How far up the machine's Z from `at` to the safe height, checked against
+// what the plan proved: the line from `at` in the direction the Z slide
+// moves the tip, which must be the tool axis (approach.proved_mm) or the
+// part frame's +Z (approach.proved_up_mm).
+double up_to_safe(const Kinematics& kin, const MachineMove& at, double safe_z, const ApproachOptions& approach,
+                  const std::string& what) {
   std::ostringstream msg;
   msg.precision(6);
-  if (rate < 0.05) {
-    msg << what << ": the tool axis (" << at.pose.axis.x() << ", " << at.pose.axis.y() << ", " << at.pose.axis.z()
-        << ") does not point up the machine's Z (" << rate << " mm of Z per mm along it): no way along it to "
-        << "the safe height";
-    throw Error(msg.str());
-  }
-  const double s = (safe_z - at.axes.linear_mm.z()) / rate;
+  const double s = safe_z - at.axes.linear_mm.z();
   if (s < 0) {
     msg << what << ": the pose lies above the safe height (Z " << at.axes.linear_mm.z() << " > " << safe_z << ")";
     throw Error(msg.str());
   }
-  if (s > approach.proved_mm + 1e-9) {
-    msg << what << ": the way along the tool axis to the safe height (Z " << safe_z << ") is " << s
-        << " mm long; the plan proved " << approach.proved_mm << " mm of it clear (approach.proved)";
+  const Vec3 d = z_direction_in_part(kin, at.axes);
+  double proved = -1;
+  const char* along = "";
+  if ((d - at.pose.axis.normalized()).norm() < 1e-6) {
+    proved = approach.proved_mm;
+    along = "the tool axis";
+  } else if ((d - Vec3::UnitZ()).norm() < 1e-6) {
+    proved = approach.proved_up_mm;
+    along = "the part frame's +Z";
+  }
+  if (proved < 0) {
+    msg << what << ": the machine's Z moves the tip along (" << d.x() << ", " << d.y() << ", " << d.z()
+        << ") in the part frame here, neither the tool axis nor the part's +Z: no proved way to the safe height";
+    throw Error(msg.str());
+  }
+  if (s > proved + 1e-9) {
+    msg << what << ": the way up " << along << " to the safe height (Z " << safe_z << ") is " << s
+        << " mm long; the plan proved " << proved << " mm of it clear";
     throw Error(msg.str());
   }
   return s;
@@ -619,8 +632,8 @@ MachineMove safe_move(const Kinematics& kin, SafeMove kind, const MachineAxes& q
   return m;
 }
 
-// A move along the tool axis with fixed rotaries: a rapid where the
-// controller keeps it on the line by itself (one linear axis moves, or
+// A straight move with fixed rotaries (the descent, the lift): a rapid where
+// the controller keeps it on the line by itself (one linear axis moves, or
 // rapids are interpolated linearly), else a positioning feed move.
 void along_axis_kind(const Kinematics& kin, MachineMove& m, const MachineAxes& from, FeedMode mode) {
   int moving = 0;
@@ -637,35 +650,35 @@ void along_axis_kind(const Kinematics& kin, MachineMove& m, const MachineAxes& f
   m.feed = mode == FeedMode::InverseTime ? rapid.feed_mm_per_min / length : rapid.feed_mm_per_min;
 }
 
-// The point at the safe height on the tool axis line through `at`: its
-// axes (the rotaries of `at`, within travel) and pose.
-MachineMove up_the_axis(const Kinematics& kin, const MachineMove& at, const ApproachOptions& approach,
-                        const std::string& what) {
+// The point at the safe height straight up the machine's Z from `at`
+// (the rotaries of `at`; within travel): its axes and pose.
+MachineMove up_the_z(const Kinematics& kin, const MachineMove& at, const ApproachOptions& approach,
+                     const std::string& what) {
   const double safe_z = std::isfinite(approach.safe_z_mm) ? approach.safe_z_mm : kin.safe_z_mm();
-  const double s = out_along_axis_to_safe(kin, at, safe_z, approach, what.c_str());
+  const double s = up_to_safe(kin, at, safe_z, approach, what);
   MachineMove up = at;
-  up.axes = along_axis(kin, at, s);
-  up.axes.linear_mm.z() = safe_z;  // exactly, not to rounding
-  up.pose.tip = at.pose.tip + s * at.pose.axis.normalized();
+  up.axes.linear_mm.z() = safe_z;
+  up.pose = kin.forward(up.axes);
+  up.pose.axis = at.pose.axis;
   up.inserted = false;
   up.rotary_reset = {0, 0};
   up.cutter_speed_ratio = 0;
-  // Within travel: the same rotaries reach the point.
   try {
+    // Within travel: the same rotaries reach the point.
     const MachineAxes check = kin.inverse(up.pose, at.axes);
     if (std::abs(check.rotary_rad[0] - at.axes.rotary_rad[0]) > 1e-9 ||
         std::abs(check.rotary_rad[1] - at.axes.rotary_rad[1]) > 1e-9)
       throw ParameterError("approach", "it needs other rotary positions");
   } catch (const ParameterError& e) {
-    throw Error(what + ": the point at the safe height, " + std::to_string(s) +
-                " mm out along the tool axis, is out of travel: " + e.what());
+    throw Error(what + ": the point at the safe height, " + std::to_string(s) + " mm up the Z, is out of travel: " +
+                e.what());
   }
   return up;
 }
 
 SafeWay safe_way_in(const Kinematics& kin, const MachineMove& first, const MachineAxes& before,
                     const ApproachOptions& approach, const std::string& what) {
-  const MachineMove entry = up_the_axis(kin, first, approach, what);
+  const MachineMove entry = up_the_z(kin, first, approach, what);
   MachineAxes up = before;
   up.linear_mm.z() = entry.axes.linear_mm.z();
   MachineAxes turned = up;
@@ -719,7 +732,7 @@ MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, c
         part.moves.insert(part.moves.begin(), in.before.begin(), in.before.end());
         // ... and out: up the last pose's axis to the safe height.
         const MachineMove& last = part.moves.back();
-        MachineMove lift = up_the_axis(kin, last, options.approach, "the way out from this tool's last move");
+        MachineMove lift = up_the_z(kin, last, options.approach, "the way out from this tool's last move");
         lift.safe = SafeMove::Lift;
         along_axis_kind(kin, lift, last.axes, part.feed_mode);
         part.moves.push_back(lift);

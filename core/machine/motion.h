@@ -70,11 +70,12 @@ struct PlannedMove {
 //            the machine (one axis: a defined path);
 //   Rotate   the rotary axes alone, to those of the first pose, at the safe
 //            height;
-//   Position X and Y alone, at the safe height, over the entry point: the
-//            point on the first pose's tool axis line at the safe height;
-//   Descend  down the tool axis line from the entry point to the first pose
-//            (the plan proved that line clear: MotionOptions::approach);
-//   Lift     up the tool axis line from the last pose to the safe height.
+//   Position X and Y alone, at the safe height, over the first pose;
+//   Descend  Z alone, down to the first pose: in the part frame along the
+//            tool axis on a table-table machine (the spindle is the Z), along
+//            the part's +Z under a head over a C table — the plan proved
+//            that line clear (MotionOptions::approach);
+//   Lift     Z alone, up from the last pose to the safe height.
 // Retract, Rotate and Position run at the safe height, above the part by the
 // machine file's statement; the machine's own bodies are not modelled here.
 enum class SafeMove { None, Retract, Rotate, Position, Descend, Lift };
@@ -82,10 +83,12 @@ const char* to_string(SafeMove move);  // "", "retract", "rotate", "position", "
 
 struct ApproachOptions {
   bool enabled = false;
-  // How far out along the tool axis beyond each tool's first and the
-  // program's last planned pose the plan proved the line clear (mm): a
-  // descent or lift longer than this is refused.
+  // How far from each tool's first and last planned pose the plan proved
+  // the line clear (mm), out along the tool axis and up the part frame's
+  // +Z: a descent or lift longer than that (or along another line) is
+  // refused.
   double proved_mm = 0;
+  double proved_up_mm = 0;
   // The safe height as the machine's Z word (program zero frame); NaN: the
   // top of the Z slide's travel (Kinematics::safe_z_mm).
   double safe_z_mm = std::numeric_limits<double>::quiet_NaN();

@@ -12,12 +12,18 @@ namespace bliskrun {
 namespace {
 
 struct Token {
-  enum Kind { Word, Keyword, Number } kind;
+  enum Kind { Word, Keyword, Number, Parameter } kind;
   char letter = 0;       // Word
   std::string text;      // Keyword (upper case) / the raw text
-  double value = 0;      // Word, Number
+  double value = 0;      // Word, Number; Parameter: the value assigned
   int column = 0;        // 1-based
+  int line = 0;          // 1-based physical line (a Heidenhain block may span several)
+  int index = 0;         // Parameter: n of "Qn="
 };
+
+[[noreturn]] void fail_at(const std::string& file, const Token& tok, const std::string& message) {
+  throw DataError(file, tok.line, "column " + std::to_string(tok.column) + ": " + message);
+}
 
 class LineReader {
  public:
@@ -64,6 +70,14 @@ class LineReader {
           size_t k = j + (s[j] == '=' ? 1 : 0);
           Token t{Token::Word, run[0], run, 0, col};
           t.value = number(s, k, col + static_cast<int>(k - i));
+          // Heidenhain cycle parameters: "Q339=+1" assigns parameter 339.
+          if (run[0] == 'Q' && s[j] != '=' && k < s.size() && s[k] == '=') {
+            if (!is_index(t.value)) fail(col, "expected a parameter number after Q");
+            t.kind = Token::Parameter;
+            t.index = static_cast<int>(t.value);
+            ++k;
+            t.value = number(s, k, col + static_cast<int>(k - i));
+          }
           out.push_back(t);
           i = k;
         } else {
@@ -80,10 +94,13 @@ class LineReader {
       }
       fail(col, std::string("unexpected character '") + c + "'");
     }
+    for (Token& t : out) t.line = line_;
     return out;
   }
 
  private:
+  static bool is_index(double v) { return v >= 0 && v == static_cast<double>(static_cast<long>(v)); }
+
   // Reads a decimal number at s[i]; advances i.
   double number(const std::string& s, size_t& i, int col) const {
     const size_t start = i;
@@ -118,21 +135,48 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
   double feed = 0;
   int tool = 0;
   int motion = -1;  // 0 rapid, 1 feed, -1 not yet set
+  int work_offset = 0;  // none selected yet
 
   size_t pos = 0;
   int line_no = 0;
-  while (pos <= text.size()) {
+  // The next physical line, without its end of line; false at the end.
+  auto next_line = [&](std::string& line) {
+    if (pos > text.size()) return false;
     size_t end = text.find('\n', pos);
     if (end == std::string::npos) end = text.size();
-    std::string line = text.substr(pos, end - pos);
+    line = text.substr(pos, end - pos);
     pos = end + 1;
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  // A line ending in '~' (after its comment, if any) continues on the next
+  // one: the TNC writes a cycle's parameters one per line that way.
+  auto continues = [](std::string& line) {
+    const size_t last = line.find_last_not_of(" \t");
+    if (last == std::string::npos || line[last] != '~') return false;
+    line.erase(last);
+    return true;
+  };
+  std::string line;
+  while (next_line(line)) {
     const size_t first = line.find_first_not_of(" \t");
     if (first != std::string::npos && line[first] == '%') continue;  // tape start/end
+    const int block_line = line_no;
     const LineReader reader(options.file_name, line_no);
-    const std::vector<Token> tokens = reader.tokenize(line);
+    bool more = continues(line);
+    std::vector<Token> tokens = reader.tokenize(line);
+    while (more) {
+      if (!next_line(line)) reader.fail(1, "the block ends in '~' but no line follows");
+      more = continues(line);
+      const std::vector<Token> rest = LineReader(options.file_name, line_no).tokenize(line);
+      tokens.insert(tokens.end(), rest.begin(), rest.end());
+    }
     if (tokens.empty()) continue;
+    const auto fail = [&](const Token& tok, const std::string& message) { fail_at(options.file_name, tok, message); };
+    Token block_start = tokens.front();  // errors about the whole block name its first column
+    block_start.line = block_line;
+    block_start.column = 1;
 
     bool axis_word = false, heidenhain_linear = false, fmax = false;
     int block_motion = -1;
@@ -141,20 +185,22 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
       const Token& tok = tokens[t];
       if (tok.kind == Token::Number) {
         if (t == 0 && is_integer(tok.value) && tok.value >= 0) continue;  // Heidenhain block number
-        reader.fail(tok.column, "a number without an address letter");
+        fail(tok, "a number without an address letter");
       }
+      if (tok.kind == Token::Parameter)
+        fail(tok, "parameter Q" + std::to_string(tok.index) + " outside a cycle definition");
       if (tok.kind == Token::Keyword) {
         const std::string& k = tok.text;
         if (k == "BEGIN" || k == "END") {
           if (t + 1 >= tokens.size() || tokens[t + 1].text != "PGM")
-            reader.fail(tok.column, "expected PGM after " + k);
+            fail(tok, "expected PGM after " + k);
           end_of_program = k == "END";
           break;  // the program name and unit follow
         }
         if (k == "TOOL") {
           if (t + 2 >= tokens.size() || tokens[t + 1].text != "CALL" ||
               tokens[t + 2].kind != Token::Number || !is_integer(tokens[t + 2].value))
-            reader.fail(tok.column, "expected TOOL CALL <number>");
+            fail(tok, "expected TOOL CALL <number>");
           tool = static_cast<int>(tokens[t + 2].value);
           t += 2;
           // Spindle axis and speed follow: "Z S12000".
@@ -170,21 +216,42 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
             for (size_t j = t + 2; j + 1 < tokens.size(); ++j) {
               if (tokens[j].kind != Token::Keyword || tokens[j].text != "PATHCTRL") continue;
               if (tokens[j + 1].text == "VECTOR") vector = true;
-              else if (tokens[j + 1].text != "AXIS") reader.fail(tokens[j + 1].column, "expected PATHCTRL AXIS or PATHCTRL VECTOR");
+              else if (tokens[j + 1].text != "AXIS") fail(tokens[j + 1], "expected PATHCTRL AXIS or PATHCTRL VECTOR");
             }
           } else if (t + 2 < tokens.size() && tokens[t + 1].text == "RESET" && tokens[t + 2].text == "TCPM") {
             tcp = false;
             vector = false;
           } else {
-            reader.fail(tok.column, "expected FUNCTION TCPM or FUNCTION RESET TCPM");
+            fail(tok, "expected FUNCTION TCPM or FUNCTION RESET TCPM");
           }
           break;  // TCPM options follow
+        }
+        if (k == "CYCL") {
+          // "CYCL DEF 247 DATUM SETTING ~ Q339=+n ;DATUM NUMBER" activates
+          // row n of the preset table; no other cycle is read.
+          const bool datum_setting =
+              t + 4 < tokens.size() && tokens[t + 1].text == "DEF" && tokens[t + 2].kind == Token::Number &&
+              tokens[t + 2].value == 247 && tokens[t + 3].text == "DATUM" && tokens[t + 4].text == "SETTING";
+          if (!datum_setting) fail(tok, "unsupported cycle: expected CYCL DEF 247 DATUM SETTING");
+          t += 4;
+          int preset = -1;
+          for (++t; t < tokens.size(); ++t) {
+            const Token& q = tokens[t];
+            if (q.kind != Token::Parameter || q.index != 339)
+              fail(q, "expected Q339=<preset number> in CYCL DEF 247 (its only parameter)");
+            if (preset >= 0) fail(q, "Q339 is given twice");
+            if (!is_integer(q.value) || q.value < 0) fail(q, "expected a preset number >= 0 in Q339");
+            preset = static_cast<int>(std::lround(q.value));
+          }
+          if (preset < 0) fail(tok, "CYCL DEF 247 without Q339 (the preset number)");
+          work_offset = preset;
+          break;
         }
         if (k == "L") { heidenhain_linear = true; continue; }
         if (k == "FMAX") { fmax = true; continue; }
         if (k == "TRAORI") { tcp = true; continue; }
         if (k == "TRAFOOF") { tcp = false; continue; }
-        reader.fail(tok.column, "unknown word '" + k + "'");
+        fail(tok, "unknown word '" + k + "'");
       }
       // Address words.
       const double v = tok.value;
@@ -192,14 +259,14 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
         case 'N': case 'O': case 'S': case 'D': case 'H': break;
         case 'T': tool = static_cast<int>(v); break;
         case 'F':
-          if (!(v > 0)) reader.fail(tok.column, "expected a feed > 0");
+          if (!(v > 0)) fail(tok, "expected a feed > 0");
           feed = v;
           break;
         case 'R':
-          if (!heidenhain_linear || v != 0) reader.fail(tok.column, "radius compensation is not supported (expected R0 in an L block)");
+          if (!heidenhain_linear || v != 0) fail(tok, "radius compensation is not supported (expected R0 in an L block)");
           break;
         case 'M': {
-          if (!is_integer(v)) reader.fail(tok.column, "expected an integer M code");
+          if (!is_integer(v)) fail(tok, "expected an integer M code");
           if (v == 128) tcp = true;
           if (v == 129) tcp = false;
           if (v == 94) {
@@ -210,7 +277,7 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
               which = {machine.rotary[0].name.size() == 1 && machine.rotary[0].name[0] == name,
                        machine.rotary[1].name.size() == 1 && machine.rotary[1].name[0] == name};
               if (!which[0] && !which[1])
-                reader.fail(tokens[t + 1].column, std::string("M94: machine '") + machine.name + "' has no rotary axis " + name);
+                fail(tokens[t + 1], std::string("M94: machine '") + machine.name + "' has no rotary axis " + name);
               ++t;
             }
             for (int r = 0; r < 2; ++r) {
@@ -230,15 +297,16 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           else if (is(94)) feed_mode = FeedMode::PerMinute;
           else if (is(43.4) || is(43.5)) tcp = true;
           else if (is(49)) tcp = false;
-          else if (is(91)) reader.fail(tok.column, "incremental coordinates (G91) are not supported");
-          else if (is(20) || is(70)) reader.fail(tok.column, "inch units are not supported");
-          else if (is(2) || is(3)) reader.fail(tok.column, "arcs (G2/G3) are not supported");
-          else if (!(is(90) || is(17) || is(21) || is(71) || is(40) || is(43) || is(61) || is(64) || is(80) ||
-                     (g >= 54 && g <= 59 && is_integer(g))))
-            {
+          else if (is(91)) fail(tok, "incremental coordinates (G91) are not supported");
+          else if (is(20) || is(70)) fail(tok, "inch units are not supported");
+          else if (is(2) || is(3)) fail(tok, "arcs (G2/G3) are not supported");
+          else if (g >= 54 && g <= 59 && is_integer(g)) work_offset = static_cast<int>(g) - 53;
+          else if (is(59.1) || is(59.2) || is(59.3)) work_offset = 6 + static_cast<int>(std::lround((g - 59) * 10));
+          else if (g >= 505 && g <= 599 && is_integer(g)) work_offset = static_cast<int>(g) - 500;
+          else if (!(is(90) || is(17) || is(21) || is(71) || is(40) || is(43) || is(61) || is(64) || is(80))) {
             std::ostringstream code;
             code << "unsupported G code G" << g;
-            reader.fail(tok.column, code.str());
+            fail(tok, code.str());
           }
           break;
         }
@@ -251,25 +319,25 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           for (int i = 0; i < 2; ++i)
             if (machine.rotary[i].name.size() == 1 && machine.rotary[i].name[0] == tok.letter) index = i;
           if (index < 0)
-            reader.fail(tok.column, std::string("machine '") + machine.name + "' has no axis " + tok.letter);
+            fail(tok, std::string("machine '") + machine.name + "' has no axis " + tok.letter);
           axes.rotary_rad[index] = deg_to_rad(v);
           axis_word = true;
           break;
         }
         default:
-          reader.fail(tok.column, std::string("unsupported word '") + tok.letter + "'");
+          fail(tok, std::string("unsupported word '") + tok.letter + "'");
       }
     }
     // Kinematics that are always TCP (LinuxCNC trt) have no switch: G49 there
     // only cancels length compensation.
     if (options.tcp) tcp = true;
     if (heidenhain_linear) block_motion = fmax ? 0 : 1;
-    else if (fmax) reader.fail(1, "FMAX outside an L block");
+    else if (fmax) fail(block_start, "FMAX outside an L block");
     if (block_motion >= 0) motion = block_motion;
     if (axis_word || heidenhain_linear) {
-      if (motion < 0) reader.fail(1, "axis words before any G0/G1");
+      if (motion < 0) fail(block_start, "axis words before any G0/G1");
       ProgramMove m;
-      m.line = line_no;
+      m.line = block_line;
       m.kind = motion == 0 ? MoveKind::Rapid : MoveKind::Feed;
       m.axes = axes;
       m.tcp = tcp;
@@ -279,7 +347,8 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
       m.feed_mode = feed_mode;
       m.feed = feed;
       m.tool = tool;
-      if (m.kind == MoveKind::Feed && !(feed > 0)) reader.fail(1, "feed move without a feed (F)");
+      m.work_offset = work_offset;
+      if (m.kind == MoveKind::Feed && !(feed > 0)) fail(block_start, "feed move without a feed (F)");
       moves.push_back(m);
     }
     if (end_of_program) break;

@@ -3,12 +3,19 @@
 //
 // The subset understood is what the posts in scripts/posts emit, in the four
 // dialects (ISO/Fanuc, Siemens 840D, Heidenhain conversational, LinuxCNC):
-//   - comments "( ... )" and "; ..." ; "%" lines; block numbers "N10" or a
-//     leading Heidenhain block number; program numbers "O1000";
-//     "BEGIN PGM ... / END PGM ..." lines;
+//   - comments "( ... )" and "; ..." (the header's "VERDICT: ..." line is
+//     one); "%" lines; block numbers "N10" or a leading Heidenhain block
+//     number; program numbers "O1000"; "BEGIN PGM ... / END PGM ..." lines;
+//     a line ending in "~" (after its comment) continues the block on the
+//     next line, as the TNC writes cycle parameters;
 //   - G0 G1 (modal), G90 (G91 is refused), G93 G94 (feed mode), G17, G21/G71
-//     (mm; inch is refused), G40
-//     G43 G49 G54-G59 G61 G64 G80, G43.4 / G43.5 (TCP on), G49 (TCP off);
+//     (mm; inch is refused), G40 G43 G61 G64 G80, G43.4 / G43.5 (TCP on),
+//     G49 (TCP off);
+//   - work offsets: G54-G59 (offsets 1-6), G59.1-G59.3 (LinuxCNC, 7-9),
+//     G505-G599 (Siemens, 5-99; its G58/G59 are axial programmable offsets
+//     there, which no post writes: read as ISO's 5 and 6); Heidenhain "CYCL
+//     DEF 247 DATUM SETTING" with its one parameter "Q339=+n" (preset table
+//     row n), no other cycle;
 //   - TRAORI / TRAFOOF (Siemens), M128 / M129 and FUNCTION TCPM / FUNCTION
 //     RESET TCPM (Heidenhain) switch TCP control on / off; FUNCTION TCPM's
 //     PATHCTRL VECTOR makes the tool axis follow the great circle
@@ -45,6 +52,9 @@ struct ProgramMove {
   FeedMode feed_mode = FeedMode::PerMinute;
   double feed = 0;  // F in effect (mm/min or 1/min)
   int tool = 0;
+  // The work offset the program selected before this block: n of G54+n-1
+  // (G505 = 5 ...), of G59.n (6+n), or the TNC's preset n; 0: none selected.
+  int work_offset = 0;
 };
 
 struct ProgramReadOptions {

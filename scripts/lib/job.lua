@@ -557,6 +557,10 @@ function M.cylinder(R, z0, z1)
   local can = z0 and z1
   local c = {description = can and string.format("the clearance can (r = %g mm, z %g .. %g mm)", R, z0, z1)
                                or string.format("the clearance cylinder (r = %g mm)", R)}
+  -- Whether a point lies inside the clearance surface (strictly).
+  function c.contains(p)
+    return p[1] ^ 2 + p[2] ^ 2 < R * R - 1e-9 and (not can or (p[3] > z0 + 1e-9 and p[3] < z1 - 1e-9))
+  end
   function c.back_out(pose)
     local p, a = pose.tip, pose.axis
     -- |xy(p + t a)| = R: (a.a) t^2 + 2 (p.a) t + (p.p - R^2) = 0 in xy.
@@ -795,10 +799,11 @@ end
 -- 1's neighbourhood.
 function Job:leg_world(leg, legs, blade_a, blade_b)
   if self.part_kind == "blisk" then
-    return leg == 1 and self:link_world(blade_a) or leg == legs and self:link_world(blade_b) or self:part_world(), 0
+    return leg == 1 and blade_a and self:link_world(blade_a) or leg == legs and blade_b and self:link_world(blade_b)
+               or self:part_world(), 0
   end
   local iw = require("impeller_world")
-  if leg == 1 or leg == legs then
+  if (leg == 1 and blade_a) or (leg == legs and blade_b) then
     self.neighbourhood = self.neighbourhood or iw.neighbourhood(self.part, self:impeller_meshes(0.05))
     return self.neighbourhood, -iw.pitch_angle(self.part, leg == 1 and blade_a or blade_b)
   end
@@ -869,7 +874,7 @@ M.approach_length = 2000
 -- the tool axis to approach_length, proved clear (the machine comes down
 -- and goes up along it). `moves` are the job's moves of the program (part
 -- frame, before any flip); returns the moves to post.
-function Job:program_ends(moves)
+function Job:program_ends(moves, up)
   if #moves == 0 then return moves end
   local surface = self.clearance_surface
   local out = {}
@@ -886,28 +891,33 @@ function Job:program_ends(moves)
     return e
   end
   local first, last = moves[1], moves[#moves]
-  if first.motion ~= "link" then
+  local function inside(m) return not surface.contains or surface.contains(m.tip) end
+  if first.motion ~= "link" and inside(first) then
     local e = entry(first, "first move")
     self:prove_motion(e, first, self:tool_entry(first.tool).tool, 1, 2, first.blade, first.blade,
                       "the way in to the program's first move")
     out[1] = e
   end
   for _, m in ipairs(moves) do out[#out + 1] = m end
-  if last.motion ~= "link" then
+  if last.motion ~= "link" and inside(last) then
     local e = entry(last, "last move")
     self:prove_motion(last, e, self:tool_entry(last.tool).tool, 1, 2, last.blade, last.blade,
                       "the way out from the program's last move")
     out[#out + 1] = e
   end
-  -- The lines along the axis at each tool's first and last move.
+  -- The lines out at each tool's first and last move: along the tool axis
+  -- and up the program's +Z (`up`: the job frame's -Z when the part is
+  -- turned over), whichever the machine's Z slide moves it along.
   for i, m in ipairs(out) do
     local starts = i == 1 or out[i - 1].tool ~= m.tool
     local ends = i == #out or out[i + 1].tool ~= m.tool
     if starts or ends then
-      local far = {tip = add(m.tip, m.axis, M.approach_length), axis = m.axis}
-      self:prove_motion(m, far, self:tool_entry(m.tool).tool, 2, 3, m.blade, m.blade,
-                        string.format("the line out along the tool axis (%g mm) at the %s move of tool %d",
-                                      M.approach_length, starts and "first" or "last", m.tool))
+      for _, line in ipairs{{m.axis, "the tool axis"}, {up, "the program's +Z"}} do
+        local far = {tip = add(m.tip, line[1], M.approach_length), axis = m.axis}
+        self:prove_motion(m, far, self:tool_entry(m.tool).tool, 2, 3, m.blade, m.blade,
+                          string.format("the line out along %s (%g mm) at the %s move of tool %d", line[2],
+                                        M.approach_length, starts and "first" or "last", m.tool))
+      end
     end
   end
   return out
@@ -1488,7 +1498,8 @@ end
 -- the program's entry for a run's JSON report. m = {machine = name or
 -- Machine, name = (how the report calls a Machine), post =, file =}.
 function Job:post_program(m)
-  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start})
+  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
+                                    work_offset = m.work_offset, notes = m.notes})
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -1499,7 +1510,8 @@ end
 function Job:post_programs(list)
   local options, offsets, paths = {}, {}, {}
   for i, m in ipairs(list) do
-    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start}
+    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
+               work_offset = m.work_offset, notes = m.notes}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, 3)}
     options[i], offsets[i] = self:post_options(o, paths[key][1], 3), paths[key][2]
@@ -1523,15 +1535,19 @@ local function check_post_options(o, level)
     file = {type = "string", required = true}, chord_tol = {type = "number", check = positive},
     setup = {type = "table"},
     start = {type = "table"},  -- the machine's axes before the first move (picks the rotary branch)
+    work_offset = {type = "number"},  -- G54 = 1 / the TNC's preset (post.write checks it)
+    notes = {type = "table"},         -- header lines of the recipe's own
   }, level)
 end
 
 -- The moves of a program and the job move before its first: o.setup =
--- {name =, first =, last =, flip = bool}: the job's moves first..last as one
--- program, with the part turned over (180 deg about X: the side of the part
--- that faced the table faces the spindle) when flip. A blisk's leading edges
--- face the table with its axis on C: no tool direction the A cradle reaches
--- cuts them in the first setup.
+-- {name =, first =, last =, flip = bool, clocking_deg = 0}: the job's moves
+-- first..last as one program, with the part turned over (180 deg about X: the
+-- side of the part that faced the table faces the spindle) when flip, then
+-- turned clocking_deg about Z (how it is clocked on the fixture). A blisk's
+-- leading edges face the table with its axis on C: no tool direction the A
+-- cradle reaches cuts them in the first setup. The program's header states
+-- both (post.write's setup).
 function Job:program_path(o, level)
   check_post_options(o, level + 1)
   if not self.planned then error("job:post: plan the job first (j:plan())", level) end
@@ -1539,19 +1555,30 @@ function Job:program_path(o, level)
   if o.setup then first, last = o.setup.first or 1, o.setup.last or #self.planned.moves end
   local moves = {}
   for i = first, last do moves[#moves + 1] = self.planned.moves[i] end
-  local ok, ends = pcall(self.program_ends, self, moves)
+  local up = o.setup and o.setup.flip and {0, 0, -1} or {0, 0, 1}
+  local ok, ends = pcall(self.program_ends, self, moves, up)
   if not ok then error(tostring(ends), level) end
   -- Job move numbers in messages count the program's moves from `first`;
   -- a way in put before them shifts them by one.
   local shift = #ends > 0 and ends[1] ~= moves[1] and 1 or 0
-  if not o.setup or not o.setup.flip then return ends, first - 1 - shift end
+  if not o.setup then return ends, first - 1 - shift end
+  local clocking = o.setup.clocking_deg or 0
+  if type(clocking) ~= "number" then error("job:post: setup.clocking_deg: expected a number (degrees)", level) end
+  local clock = clocking ~= 0 and {c = math.cos(math.rad(clocking)), s = math.sin(math.rad(clocking))} or nil
   local path = {}
   for _, m in ipairs(ends) do
-    if o.setup.flip then
+    if o.setup.flip or clock then
       local t = {}
       for key, value in pairs(m) do t[key] = value end
-      t.tip = {m.tip[1], -m.tip[2], -m.tip[3]}
-      t.axis = {m.axis[1], -m.axis[2], -m.axis[3]}
+      local tip, axis = m.tip, m.axis
+      if o.setup.flip then
+        tip, axis = {tip[1], -tip[2], -tip[3]}, {axis[1], -axis[2], -axis[3]}
+      end
+      if clock then
+        tip = {clock.c * tip[1] - clock.s * tip[2], clock.s * tip[1] + clock.c * tip[2], tip[3]}
+        axis = {clock.c * axis[1] - clock.s * axis[2], clock.s * axis[1] + clock.c * axis[2], axis[3]}
+      end
+      t.tip, t.axis = tip, axis
       m = t
     end
     path[#path + 1] = m
@@ -1572,8 +1599,12 @@ function Job:post_options(o, path, level)
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
+  -- The header states the setup: which one, turned over or not, clocking.
+  local setup = o.setup and {name = o.setup.name, flip = o.setup.flip or false, clocking_deg = o.setup.clocking_deg or 0}
   return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
-          chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length}}
+          chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length, proved_up = M.approach_length},
+          setup = setup,
+          work_offset = o.work_offset, notes = o.notes}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which

@@ -6,9 +6,12 @@
 --
 -- Each step is function(self, job, out). `job` carries what the program is
 -- about (see docs/lua_api.md, post.write): job.name, job.machine (name,
--- linear = {"X","Y","Z"}, rotary = {"A","C"}, configuration, tool_length),
+-- linear = {"X","Y","Z"}, rotary = {"A","C"}, configuration, tool_length,
+-- rotary_axes = {{name=, carrier = "part"|"tool", iso841 = bool}, ...}),
 -- job.tool (number, length, spindle_rpm: the tool in the spindle), job.tools
--- (every tool of the program, in order), job.tcp, job.feed_mode
+-- (every tool of the program, in order), job.work_offset (1, 2, ...: G54,
+-- G55, ... / the TNC's preset), job.setup (name or nil, flip, clocking_deg),
+-- job.notes (lines for the header), job.tcp, job.feed_mode
 -- ("per_minute" | "inverse_time"), job.decimals (linear, rotary, feed) and
 -- job:moves(), an iterator over the machine moves. A move has kind ("rapid" |
 -- "feed"), one field per machine axis (X, Y, Z in mm; the rotary names in
@@ -49,6 +52,15 @@ function P.elements(self, job)
   return { self.header, self.tool_change, self.motion, self.footer }
 end
 
+-- The header is steps too: what a setter must know before pressing start
+-- (the verdict, the machine, the setup, the rotary senses, every tool, what
+-- the program assumes, the recipe's notes), then the blocks that put the
+-- controller in a known state and select the work offset.
+function P.header_elements(self, job)
+  return { self.program_start, self.verdict_line, self.machine_line, self.setup_lines, self.rotary_senses,
+           self.tool_lines, self.assumption_lines, self.note_lines, self.modal_line, self.work_offset }
+end
+
 -- Runs the post: one instance per program, then every element in order.
 function P.write(post, job, out)
   local self = setmetatable({ last = {}, block = post.block_start - post.block_step }, { __index = post })
@@ -76,8 +88,19 @@ function P.word(self, address, value, decimals)
   return address .. self:number(value, decimals)
 end
 
+-- A comment around `text`. Where comments close with ")", a parenthesis
+-- inside would end it early; a trailing "~" would continue the block on
+-- the next line (Heidenhain): both go.
 function P.comment(self, text)
+  text = text:gsub("%s*~+%s*$", "")
+  if self.comment_close == ")" then text = text:gsub("[()]", "") end
   return self.comment_open .. text .. self.comment_close
+end
+
+-- A header comment on a line of its own (a numbered block where every line
+-- must be one: Heidenhain).
+function P.comment_line(self, out, text)
+  out:line(self:comment(text))
 end
 
 -- A block, numbered when the post numbers blocks.
@@ -134,29 +157,132 @@ function P.feed_word(self, job, move)
   return nil
 end
 
+-- The block that selects job.work_offset, and how the header names it:
+-- ISO G54-G59 for 1-6 (posts with more offsets override).
+function P.work_offset_word(self, job)
+  local n = job.work_offset
+  if n > 6 then
+    error(string.format("%s: work_offset %d: this post selects G54-G59 (work offsets 1-6)", self.name, n), 0)
+  end
+  return "G" .. (53 + n)
+end
+
 -- What the program assumes of the setup, as comment texts for the header:
 -- where the work offset must be set, and how rapids are written.
 function P.setup_notes(self, job)
   local o = job.machine.part_origin
   local at = string.format("X%s Y%s Z%s", self:number(o[1], 3), self:number(o[2], 3), self:number(o[3], 3))
+  local offset = "work offset " .. self:work_offset_word(job)
   local notes = {}
   if job.tcp then
-    notes[#notes + 1] = "work offset: the part frame origin; it lies at " .. at ..
+    notes[#notes + 1] = offset .. ": the part frame origin; it lies at " .. at ..
                         " from the machine zero of the machine file with all axes at 0"
   else
-    notes[#notes + 1] = "work offset: the machine zero of the machine file; the part frame origin must lie at " ..
+    notes[#notes + 1] = offset .. ": the machine zero of the machine file; the part frame origin must lie at " ..
                         at .. " from it with all axes at 0"
   end
   notes[#notes + 1] = string.format("rapids that turn a rotary axis%s are feed moves at F%d mm/min",
                                     job.machine.linear_rapids and "" or " or move more than one linear axis",
                                     math.floor(job.machine.rapid_feed + 0.5))
-  notes[#notes + 1] = "the first move positions from the tool change point: start with the tool clear of the part"
+  if job.approach then
+    notes[#notes + 1] = string.format("each tool comes in from the safe height Z%s: Z alone, then the rotary axes, "
+                                      .. "then X and Y, then down its tool axis; the program ends up the tool axis to it",
+                                      self:number(job.approach.safe_z, 3))
+  else
+    notes[#notes + 1] = "the first move positions from the tool change point: start with the tool clear of the part"
+  end
+  notes[#notes + 1] = "between blocks the controller moves " .. job.controller ..
+                      ": the program was split and swept for that"
   return notes
 end
 
 -- ---- steps -------------------------------------------------------------
 
-function P.header(self, job, out) end
+function P.header(self, job, out)
+  for _, step in ipairs(self:header_elements(job)) do step(self, job, out) end
+end
+
+-- The program's first lines (tape start, program number or name): per post.
+function P.program_start(self, job, out) end
+
+-- The verdict of the program's proof. The post cannot know it: the job's
+-- sweep of the written program replaces the token after proving it.
+P.verdict_text = "VERDICT: @VERDICT@"
+function P.verdict_line(self, job, out)
+  self:comment_line(out, self.verdict_text)
+end
+
+function P.machine_line(self, job, out)
+  self:comment_line(out, "machine " .. job.machine.name)
+end
+
+-- Which setup, and how the part sits in it. The program's X, Y, Z are in the
+-- part frame; the model was turned into it as the job's setup says (turned
+-- over: 180 deg about X; then clocked about Z), so the setter mounts the
+-- part that way.
+function P.setup_lines(self, job, out)
+  local s = job.setup
+  if s.name then self:comment_line(out, "setup: " .. s.name) end
+  if s.flip then
+    self:comment_line(out, "part turned over: 180 deg about X, model +Z along part frame -Z")
+  else
+    self:comment_line(out, "part not turned over: model +Z along part frame +Z")
+  end
+  local clocking = self:number(s.clocking_deg, 3)
+  if s.clocking_deg == 0 then
+    self:comment_line(out, "clocking 0.000 deg: model +X along part frame +X")
+  else
+    self:comment_line(out, "clocking " .. clocking .. " deg: model turned " .. clocking .. " deg about part frame +Z" ..
+                           (s.flip and " after turning over" or ""))
+  end
+end
+
+-- ISO 841: a positive A, B, C turns the tool relative to the part
+-- right-handed about +X, +Y, +Z. A table that turns the part right-handed
+-- turns the tool relative to it left-handed, so a table's sense is said as
+-- both: what the setter sees the table do, and what that is against ISO 841.
+local iso_axis = {A = "+X", B = "+Y", C = "+Z"}
+function P.rotary_senses(self, job, out)
+  for _, a in ipairs(job.machine.rotary_axes) do
+    local about = iso_axis[a.name] or "its direction"
+    local iso = a.iso841 and "as ISO 841" or "against ISO 841"
+    if a.carrier == "part" then
+      local part = a.iso841 and "left" or "right"
+      local tool = a.iso841 and "right" or "left"
+      self:comment_line(out, string.format("rotary %s table: %s+ turns the part %s-handed about %s, the tool relative "
+                                           .. "to the part %s-handed: %s", a.name, a.name, part, about, tool, iso))
+    else
+      self:comment_line(out, string.format("rotary %s head: %s+ turns the tool %s-handed about %s: %s", a.name,
+                                           a.name, a.iso841 and "right" or "left", about, iso))
+    end
+  end
+end
+
+-- Every tool of the program, in the order they are called.
+function P.tool_lines(self, job, out)
+  for _, t in ipairs(job.tools) do
+    local text = string.format("tool %d length %s", t.number, self:number(t.length, job.decimals.linear))
+    if t.spindle_rpm then text = text .. string.format(" S%d", t.spindle_rpm) end
+    self:comment_line(out, text)
+  end
+end
+
+function P.assumption_lines(self, job, out)
+  for _, note in ipairs(self:setup_notes(job)) do self:comment_line(out, note) end
+end
+
+-- The recipe's own notes (post.write's `notes`), one comment each.
+function P.note_lines(self, job, out)
+  for _, note in ipairs(job.notes) do self:comment_line(out, note) end
+end
+
+-- Modal words that put the controller in a known state: per post.
+function P.modal_line(self, job, out) end
+
+function P.work_offset(self, job, out)
+  self:emit(out, self:work_offset_word(job))
+end
+
 function P.tool_change(self, job, out) end
 function P.tcp_on(self, job, out) end
 function P.tcp_off(self, job, out) end

@@ -19,15 +19,13 @@ function P.comment(self, text)
   return "(" .. text:upper():gsub("[()]", "") .. ")"
 end
 
-function P.header(self, job, out)
+function P.program_start(self, job, out)
   out:line("%")
   out:line(string.format("O%04d %s", self.program_number, self:comment(job.name)))
-  out:line(self:comment("MACHINE " .. job.machine.name))
-  out:line(self:comment(string.format("TOOL %d LENGTH %s", job.tool.number,
-                                      self:number(job.tool.length, job.decimals.linear))))
-  for _, note in ipairs(self:setup_notes(job)) do out:line(self:comment(note)) end
+end
+
+function P.modal_line(self, job, out)
   self:emit(out, "G90 G17 G21 G40 G49 G80 " .. (job.feed_mode == "inverse_time" and "G93" or "G94"))
-  self:emit(out, "G54")
 end
 
 function P.tool_change(self, job, out)

@@ -52,12 +52,24 @@ local function pgm_name(job)
   return (job.name:upper():gsub("[^%w_]", "_"))
 end
 
-function P.header(self, job, out)
+function P.program_start(self, job, out)
   self:emit(out, "BEGIN PGM " .. pgm_name(job) .. " MM")
-  self:emit(out, self:comment("machine " .. job.machine.name))
-  self:emit(out, self:comment(string.format("tool %d length %s", job.tool.number,
-                                            self:number(job.tool.length, job.decimals.linear))))
-  for _, note in ipairs(self:setup_notes(job)) do self:emit(out, self:comment(note)) end
+end
+
+-- Every line of a TNC program is a numbered block, comments too.
+function P.comment_line(self, out, text)
+  self:emit(out, self:comment(text))
+end
+
+-- The TNC has no G54: cycle 247 activates a row of the preset table (its
+-- parameter continues the block on the next line, as the TNC writes it).
+function P.work_offset_word(self, job)
+  return "preset " .. job.work_offset
+end
+
+function P.work_offset(self, job, out)
+  self:emit(out, "CYCL DEF 247 DATUM SETTING ~")
+  out:line(string.format("    Q339=+%d    ;DATUM NUMBER", job.work_offset))
 end
 
 function P.tool_change(self, job, out)

@@ -17,15 +17,24 @@ function P.check(self, job)
   end
 end
 
-function P.header(self, job, out)
+function P.program_start(self, job, out)
   out:line("%")
   out:line(self:comment(job.name))
+end
+
+function P.machine_line(self, job, out)
   out:line(self:comment("machine " .. job.machine.name .. ", kinematics xyzac-trt"))
-  out:line(self:comment(string.format("tool %d length %s", job.tool.number,
-                                      self:number(job.tool.length, job.decimals.linear))))
-  for _, note in ipairs(self:setup_notes(job)) do out:line(self:comment(note)) end
+end
+
+function P.modal_line(self, job, out)
   out:line("G21 G90 G17 G40 G49 G94")
-  out:line("G54")
+end
+
+-- G54-G59 are offsets 1-6, G59.1-G59.3 are 7-9 (LinuxCNC has nine).
+function P.work_offset_word(self, job)
+  local n = job.work_offset
+  if n > 9 then error(string.format("linuxcnc: work_offset %d: LinuxCNC has work offsets 1-9 (G54-G59.3)", n), 0) end
+  return n <= 6 and "G" .. (53 + n) or "G59." .. (n - 6)
 end
 
 function P.tool_change(self, job, out)

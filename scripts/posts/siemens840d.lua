@@ -11,14 +11,18 @@ P.block_numbers = true
 P.comment_open = "; "
 P.comment_close = ""
 
-function P.header(self, job, out)
+function P.program_start(self, job, out)
   out:line(self:comment(job.name))
-  out:line(self:comment("machine " .. job.machine.name))
-  out:line(self:comment(string.format("tool %d length %s", job.tool.number,
-                                      self:number(job.tool.length, job.decimals.linear))))
-  for _, note in ipairs(self:setup_notes(job)) do out:line(self:comment(note)) end
+end
+
+function P.modal_line(self, job, out)
   self:emit(out, "G90 G17 G71 G40 " .. (job.feed_mode == "inverse_time" and "G93" or "G94"))
-  self:emit(out, "G54")
+end
+
+-- The settable frames: G54-G57 are offsets 1-4, G505-G599 are 5-99.
+function P.work_offset_word(self, job)
+  local n = job.work_offset
+  return n <= 4 and "G" .. (53 + n) or "G" .. (500 + n)
 end
 
 function P.tool_change(self, job, out)

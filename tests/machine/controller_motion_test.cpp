@@ -216,6 +216,7 @@ TEST(ControllerMotion, WayInAndOutRunAlongTheToolAxisFromTheSafeHeight) {
   o.start.linear_mm = Vec3(100, -50, 120);
   o.approach.enabled = true;
   o.approach.proved_mm = 2000;
+  o.approach.proved_up_mm = 0;  // on the trunnion the Z slide moves the tip along the tool axis
   const MachineProgram program = plan_machine_motion_tools({{&kin, kReach}}, path, {0, 0, 0}, o);
   ASSERT_GE(program.moves.size(), 6u);
   const std::vector<MachineMove>& mv = program.moves;
@@ -233,12 +234,15 @@ TEST(ControllerMotion, WayInAndOutRunAlongTheToolAxisFromTheSafeHeight) {
   // Rotate: the rotaries alone, to the first pose's.
   EXPECT_EQ(mv[1].axes.linear_mm, mv[0].axes.linear_mm);
   EXPECT_EQ(mv[1].axes.rotary_rad, mv[3].axes.rotary_rad);
-  // Position at the safe height, on the first pose's axis line.
+  // Position at the safe height over the first pose (X, Y of the first
+  // pose's axes): on the trunnion that is on the first pose's axis line.
   EXPECT_EQ(mv[2].axes.linear_mm.z(), safe_z);
+  EXPECT_EQ(mv[2].axes.linear_mm.head<2>(), mv[3].axes.linear_mm.head<2>());
   const Vec3 out = mv[2].pose.tip - path[0].pose.tip;
   EXPECT_LT(out.cross(path[0].pose.axis).norm(), 1e-9);
   EXPECT_GT(out.dot(path[0].pose.axis), 0);
   EXPECT_LT((kin.forward(mv[2].axes).tip - mv[2].pose.tip).norm(), 1e-9);
+  EXPECT_EQ(mv[3].kind, MoveKind::Rapid);  // Z alone: a defined path
   // Lift: up the last pose's axis to the safe height.
   const Vec3 up = mv.back().pose.tip - path[2].pose.tip;
   EXPECT_LT(up.cross(path[2].pose.axis).norm(), 1e-9);
@@ -260,6 +264,18 @@ TEST(ControllerMotion, WayInAndOutRunAlongTheToolAxisFromTheSafeHeight) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("proved 50 mm"), std::string::npos) << e.what();
   }
+  // Under a B head over a C table the Z slide moves the tip up the part's
+  // +Z: that line must have been proved, not the tool axis.
+  MachineDefinition head = test::head_table_bc();
+  head.linear[2].max_mm = 400;
+  const Kinematics head_kin(head, 80.0);
+  o.approach.proved_mm = 2000;
+  EXPECT_THROW(plan_machine_motion_tools({{&head_kin, kReach}}, path, {0, 0, 0}, o), Error);
+  o.approach.proved_up_mm = 2000;
+  const MachineProgram on_head = plan_machine_motion_tools({{&head_kin, kReach}}, path, {0, 0, 0}, o);
+  const Vec3 up_head = on_head.moves[2].pose.tip - path[0].pose.tip;
+  EXPECT_LT(up_head.cross(Vec3::UnitZ()).norm(), 1e-9);
+  EXPECT_GT(up_head.z(), 0);
 }
 
 // Rows that each turn the C table by 200 deg, linked by rapids: the display

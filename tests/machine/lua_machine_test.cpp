@@ -56,7 +56,7 @@ TEST(MachineLua, EditedProgramFailsVerificationAtItsLine) {
       "bliskrun.write_text(\"edited.mpf\", edited)\n"
       "bliskrun.post.verify{program = r.program, file = \"out/edited.mpf\"}\n");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("edited.mpf:15: the replayed tool is 0.1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("edited.mpf:21: the replayed tool is 0.1"), std::string::npos) << r.output;
 }
 
 // One program, two tools: the second tool's moves follow a tool change
@@ -159,6 +159,91 @@ TEST(MachineLua, PostWriteOptionsAreValidated) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("recipe.lua:2:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("chord_tolerance"), std::string::npos) << r.output;
+}
+
+// The header's options: the work offset within 1-99 and within what the
+// post's controller has; the setup's keys and clocking range; notes one line
+// each (a line break would make the rest of a note a block). The header
+// states each where the options put it.
+TEST(MachineLua, PostWriteHeaderOptionsAreValidatedAndWritten) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local m = bliskrun.machine.load(\"dmg_like_ac_trunnion\")\n"
+      "local path = {{kind = \"rapid\", tip = {40, 0, 30}, axis = {0, 0, 1}},\n"
+      "              {kind = \"feed\", tip = {40, 1, 5}, axis = {0, 0, 1}, feed = 800}}\n"
+      "local function post(extra, name)\n"
+      "  local o = {machine = m, post = name or \"fanuc\", path = path, file = \"x.nc\", tool = {number = 1, length = 80}}\n"
+      "  for k, v in pairs(extra) do o[k] = v end\n"
+      "  return pcall(bliskrun.post.write, o)\n"
+      "end\n"
+      "local ok, err = post{work_offset = 0}\n"
+      "assert(not ok and err:find(\"option 'work_offset': 0 is out of range [1, 99]\", 1, true), err)\n"
+      "ok, err = post{work_offset = 1.5}\n"
+      "assert(not ok and err:find(\"option 'work_offset': expected integer\", 1, true), err)\n"
+      "ok, err = post{work_offset = 7}\n"
+      "assert(not ok and err:find(\"fanuc: work_offset 7: this post selects G54-G59 (work offsets 1-6)\", 1, true), err)\n"
+      "ok, err = post({work_offset = 10}, \"linuxcnc\")\n"
+      "assert(not ok and err:find(\"linuxcnc: work_offset 10: LinuxCNC has work offsets 1-9\", 1, true), err)\n"
+      "ok, err = post{setup = {name = \"a\", flipped = true}}\n"
+      "assert(not ok and err:find(\"bliskrun.post.write setup: unknown option 'flipped'; valid options: clocking_deg, \"\n"
+      "                           .. \"flip, name\", 1, true), err)\n"
+      "ok, err = post{setup = {clocking_deg = 400}}\n"
+      "assert(not ok and err:find(\"option 'clocking_deg': 400 is out of range [-360, 360]\", 1, true), err)\n"
+      "ok, err = post{notes = {\"one\", \"two\\nG0 Z-10\"}}\n"
+      "assert(not ok and err:find(\"notes[2]: a note is one line (no line breaks)\", 1, true), err)\n"
+      "ok, err = post{notes = {\"one\", 5}}\n"
+      "assert(not ok and err:find(\"notes[2]: expected a string\", 1, true), err)\n"
+      "ok, err = post{notes = {first = \"one\"}}\n"
+      "assert(not ok and err:find(\"notes: expected a list of strings\", 1, true), err)\n"
+      "ok, err = post{work_offset = 6, setup = {name = \"op 2\", flip = true, clocking_deg = -22.5},\n"
+      "               notes = {\"clamp (on the arm)\"}}\n"
+      "assert(ok, err)\n"
+      "local text = bliskrun.read_text(\"x.nc\")\n"
+      "for _, line in ipairs{\"(SETUP: OP 2)\", \"(PART TURNED OVER: 180 DEG ABOUT X, MODEL +Z ALONG PART FRAME -Z)\",\n"
+      "                      \"(CLOCKING -22.500 DEG: MODEL TURNED -22.500 DEG ABOUT PART FRAME +Z AFTER TURNING OVER)\",\n"
+      "                      \"(CLAMP ON THE ARM)\", \"N20 G59\", \"(WORK OFFSET G59: THE MACHINE ZERO\"} do\n"
+      "  assert(text:find(line, 1, true), line .. \" not in:\\n\" .. text)\n"
+      "end\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// job:post carries its setup into the program: the moves turned over
+// (180 deg about X) and clocked (about Z) as the setup says, and the header
+// says so; the work offset and the notes go through too. A planned move at
+// (10, 150, -60) with axis (0, -0.6, -0.8) — below the blisk, outside its
+// clearance can — turned over: (10, -150, 60) and (0, 0.6, 0.8); then
+// clocked 90 deg: (150, 10, 60) and (-0.6, 0, 0.8). The program comes in
+// and leaves at the safe height (Retract, Rotate, Position, Descend ... Lift).
+TEST(MachineLua, JobPostCarriesItsSetupIntoTheProgram) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local job = require(\"job\")\n"
+      "local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,\n"
+      "                                    shank = {diameter = 6, length = 50}}\n"
+      "local j = job.new{name = \"setup test\", part = bliskrun.blisk{}, clearance_radius = 110,\n"
+      "                  tools = {mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill}},\n"
+      "                  operations = {{kind = \"edge_finish\", tool = \"mill\"}}}\n"
+      "j.planned = {moves = {\n"
+      "  {kind = \"rapid\", tip = {10, 150, -30}, axis = {0, -0.6, -0.8}, tool = 7},\n"
+      "  {kind = \"feed\", tip = {10, 150, -60}, axis = {0, -0.6, -0.8}, tool = 7, feed = 500},\n"
+      "  {kind = \"feed\", tip = {11, 150, -60}, axis = {0, -0.6, -0.8}, tool = 7, feed = 500}}}\n"
+      "local setup = {name = \"turned over\", first = 2, last = 3, flip = true, clocking_deg = 90}\n"
+      "local o = {machine = \"monoblock_like_head_table\", post = \"heidenhain\", file = \"s.h\", setup = setup}\n"
+      "local path, offset = j:program_path(o, 1)\n"
+      "assert(#path == 2 and offset == 1)\n"
+      "local function near(a, b) return math.abs(a[1] - b[1]) + math.abs(a[2] - b[2]) + math.abs(a[3] - b[3]) < 1e-12 end\n"
+      "assert(near(path[1].tip, {150, 10, 60}) and near(path[1].axis, {-0.6, 0, 0.8}), table.concat(path[1].tip, ' '))\n"
+      "assert(near(path[2].tip, {150, 11, 60}) and j.planned.moves[2].tip[2] == 150)\n"
+      "o.work_offset, o.notes = 4, {\"check the clocking pin\"}\n"
+      "local report = j:post(o)\n"
+      "assert(report.moves == 6 and report.safe_moves == 3 and report.unswept == 0, report.moves)\n"
+      "local text = bliskrun.read_text(\"s.h\")\n"
+      "for _, line in ipairs{\"; setup: turned over\\n\", \"; part turned over: 180 deg about X\",\n"
+      "                      \"; clocking 90.000 deg: model turned 90.000 deg about part frame +Z after turning over\",\n"
+      "                      \"; tool 7 length 100.000 S12000\", \"; check the clocking pin\", \"Q339=+4 \"} do\n"
+      "  assert(text:find(line, 1, true), line .. \" not in:\\n\" .. text)\n"
+      "end\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 // machine:placed moves the part's origin in the program zero: at home

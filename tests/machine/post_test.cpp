@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <functional>
 #include <fstream>
 #include <memory>
 
 #include "core/common/error.h"
+#include "core/machine/program_reader.h"
 #include "core/machine/verify.h"
 #include "lua_api/machine_host.h"
 
@@ -80,7 +82,9 @@ struct Written {
   bool tcp_always = false;
 };
 
-Written write(lua_State* L, const std::string& machine_file, const std::string& post, bool tcp) {
+// `job` fills in what the test states beyond the name and the tool.
+Written write(lua_State* L, const std::string& machine_file, const std::string& post, bool tcp,
+              const std::function<void(lua_api::PostJob&)>& job_of = {}) {
   Written w;
   w.kin = std::make_unique<Kinematics>(load_machine(L, machine_file), 80.0);
   const std::string error = protect(L, [&](lua_State* S) {
@@ -95,6 +99,7 @@ Written write(lua_State* L, const std::string& machine_file, const std::string& 
     lua_api::PostJob job;
     job.name = "blade 1";
     job.tools.push_back({3, 80, 12000});
+    if (job_of) job_of(job);
     w.text = lua_api::run_post(S, -1, *w.kin, w.plan, job);
   });
   if (!error.empty()) throw Error(error);
@@ -108,11 +113,17 @@ TEST(MachinePosts, FanucMachineAxesProgramIsLiteral) {
   EXPECT_EQ(w.text,
             "%\n"
             "O1000 (BLADE 1)\n"
+            "(VERDICT: @VERDICT@)\n"
             "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
-            "(TOOL 3 LENGTH 80.000)\n"
-            "(WORK OFFSET: THE MACHINE ZERO OF THE MACHINE FILE; THE PART FRAME ORIGIN MUST LIE AT X0.000 Y0.000 Z120.000 FROM IT WITH ALL AXES AT 0)\n"
+            "(PART NOT TURNED OVER: MODEL +Z ALONG PART FRAME +Z)\n"
+            "(CLOCKING 0.000 DEG: MODEL +X ALONG PART FRAME +X)\n"
+            "(ROTARY A TABLE: A+ TURNS THE PART RIGHT-HANDED ABOUT +X, THE TOOL RELATIVE TO THE PART LEFT-HANDED: AGAINST ISO 841)\n"
+            "(ROTARY C TABLE: C+ TURNS THE PART RIGHT-HANDED ABOUT +Z, THE TOOL RELATIVE TO THE PART LEFT-HANDED: AGAINST ISO 841)\n"
+            "(TOOL 3 LENGTH 80.000 S12000)\n"
+            "(WORK OFFSET G54: THE MACHINE ZERO OF THE MACHINE FILE; THE PART FRAME ORIGIN MUST LIE AT X0.000 Y0.000 Z120.000 FROM IT WITH ALL AXES AT 0)\n"
             "(RAPIDS THAT TURN A ROTARY AXIS OR MOVE MORE THAN ONE LINEAR AXIS ARE FEED MOVES AT F30000 MM/MIN)\n"
             "(THE FIRST MOVE POSITIONS FROM THE TOOL CHANGE POINT: START WITH THE TOOL CLEAR OF THE PART)\n"
+            "(BETWEEN BLOCKS THE CONTROLLER MOVES JOINT-LINEAR: THE PROGRAM WAS SPLIT AND SWEPT FOR THAT)\n"
             "N10 G90 G17 G21 G40 G49 G80 G93\n"
             "N20 G54\n"
             "N30 T3 M6\n"
@@ -134,17 +145,33 @@ TEST(MachinePosts, FanucMachineAxesProgramIsLiteral) {
 
 TEST(MachinePosts, FanucTcpProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true);
+  // The second setup of a job: turned over, another work offset, a second
+  // tool the header lists though this short path never calls it, a note.
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
+    job.tools.push_back({7, 95.25, 0});
+    job.work_offset = 2;
+    job.setup = {"turned over (inlet up)", true, 0};
+    job.notes = {"fixture BR-22 (inlet side)"};
+  });
   EXPECT_EQ(w.text,
             "%\n"
             "O1000 (BLADE 1)\n"
+            "(VERDICT: @VERDICT@)\n"
             "(MACHINE DMG-LIKE A/C TRUNNION 650)\n"
-            "(TOOL 3 LENGTH 80.000)\n"
-            "(WORK OFFSET: THE PART FRAME ORIGIN; IT LIES AT X0.000 Y0.000 Z120.000 FROM THE MACHINE ZERO OF THE MACHINE FILE WITH ALL AXES AT 0)\n"
+            "(SETUP: TURNED OVER INLET UP)\n"
+            "(PART TURNED OVER: 180 DEG ABOUT X, MODEL +Z ALONG PART FRAME -Z)\n"
+            "(CLOCKING 0.000 DEG: MODEL +X ALONG PART FRAME +X)\n"
+            "(ROTARY A TABLE: A+ TURNS THE PART RIGHT-HANDED ABOUT +X, THE TOOL RELATIVE TO THE PART LEFT-HANDED: AGAINST ISO 841)\n"
+            "(ROTARY C TABLE: C+ TURNS THE PART RIGHT-HANDED ABOUT +Z, THE TOOL RELATIVE TO THE PART LEFT-HANDED: AGAINST ISO 841)\n"
+            "(TOOL 3 LENGTH 80.000 S12000)\n"
+            "(TOOL 7 LENGTH 95.250)\n"
+            "(WORK OFFSET G55: THE PART FRAME ORIGIN; IT LIES AT X0.000 Y0.000 Z120.000 FROM THE MACHINE ZERO OF THE MACHINE FILE WITH ALL AXES AT 0)\n"
             "(RAPIDS THAT TURN A ROTARY AXIS OR MOVE MORE THAN ONE LINEAR AXIS ARE FEED MOVES AT F30000 MM/MIN)\n"
             "(THE FIRST MOVE POSITIONS FROM THE TOOL CHANGE POINT: START WITH THE TOOL CLEAR OF THE PART)\n"
+            "(BETWEEN BLOCKS THE CONTROLLER MOVES TCP, ROTARIES LINEAR: THE PROGRAM WAS SPLIT AND SWEPT FOR THAT)\n"
+            "(FIXTURE BR-22 INLET SIDE)\n"
             "N10 G90 G17 G21 G40 G49 G80 G94\n"
-            "N20 G54\n"
+            "N20 G55\n"
             "N30 T3 M6\n"
             "N40 S12000 M3\n"
             "N50 G43.4 H3\n"
@@ -160,16 +187,29 @@ TEST(MachinePosts, FanucTcpProgramIsLiteral) {
 
 TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true);
+  // Work offset 5 is the first settable frame past G57; a part clocked on
+  // its fixture; a note whose trailing '~' would have continued the block.
+  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
+    job.work_offset = 5;
+    job.setup = {"", false, 16.3636};
+    job.notes = {"blade 1 at the fixture's pin ~"};
+  });
   EXPECT_EQ(w.text,
             "; blade 1\n"
+            "; VERDICT: @VERDICT@\n"
             "; machine gantry C/A fork head\n"
-            "; tool 3 length 80.000\n"
-            "; work offset: the part frame origin; it lies at X0.000 Y0.000 Z0.000 from the machine zero of the machine file with all axes at 0\n"
+            "; part not turned over: model +Z along part frame +Z\n"
+            "; clocking 16.364 deg: model turned 16.364 deg about part frame +Z\n"
+            "; rotary C head: C+ turns the tool right-handed about +Z: as ISO 841\n"
+            "; rotary A head: A+ turns the tool right-handed about +X: as ISO 841\n"
+            "; tool 3 length 80.000 S12000\n"
+            "; work offset G505: the part frame origin; it lies at X0.000 Y0.000 Z0.000 from the machine zero of the machine file with all axes at 0\n"
             "; rapids that turn a rotary axis or move more than one linear axis are feed moves at F20000 mm/min\n"
             "; the first move positions from the tool change point: start with the tool clear of the part\n"
+            "; between blocks the controller moves TCP, rotaries linear: the program was split and swept for that\n"
+            "; blade 1 at the fixture's pin\n"
             "N10 G90 G17 G71 G40 G94\n"
-            "N20 G54\n"
+            "N20 G505\n"
             "N30 T3 D1\n"
             "N40 M6\n"
             "N50 S12000 M3\n"
@@ -185,43 +225,69 @@ TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
 
 TEST(MachinePosts, HeidenhainTcpmProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true);
+  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
+    job.tools.push_back({9, 112.5, 6000});
+    job.work_offset = 3;
+    job.setup = {"turned over (inlet up)", true, 0};
+  });
   EXPECT_EQ(w.text,
             "0 BEGIN PGM BLADE_1 MM\n"
-            "1 ; machine monoBLOCK-like B head / C table\n"
-            "2 ; tool 3 length 80.000\n"
-            "3 ; work offset: the part frame origin; it lies at X0.000 Y0.000 Z100.000 from the machine zero of the machine file with all axes at 0\n"
-            "4 ; rapids that turn a rotary axis are feed moves at F30000 mm/min\n"
-            "5 ; the first move positions from the tool change point: start with the tool clear of the part\n"
-            "6 TOOL CALL 3 Z S12000\n"
-            "7 M3\n"
-            "8 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n"
-            "9 L X+40.000 Y+0.000 Z+30.000 C-90.000 B+20.000 R0 FMAX\n"
-            "10 L Z+5.000 F800.0\n"
-            "11 L Y+2.000 C-92.000 B+21.000\n"
-            "12 L Y+4.000 Z+5.500 C-94.000 B+22.000\n"
-            "13 FUNCTION RESET TCPM\n"
-            "14 M5\n"
-            "15 M30\n"
-            "16 END PGM BLADE_1 MM\n");
+            "1 ; VERDICT: @VERDICT@\n"
+            "2 ; machine monoBLOCK-like B head / C table\n"
+            "3 ; setup: turned over (inlet up)\n"
+            "4 ; part turned over: 180 deg about X, model +Z along part frame -Z\n"
+            "5 ; clocking 0.000 deg: model +X along part frame +X\n"
+            "6 ; rotary C table: C+ turns the part right-handed about +Z, the tool relative to the part left-handed: against ISO 841\n"
+            "7 ; rotary B head: B+ turns the tool right-handed about +Y: as ISO 841\n"
+            "8 ; tool 3 length 80.000 S12000\n"
+            "9 ; tool 9 length 112.500 S6000\n"
+            "10 ; work offset preset 3: the part frame origin; it lies at X0.000 Y0.000 Z100.000 from the machine zero of the machine file with all axes at 0\n"
+            "11 ; rapids that turn a rotary axis are feed moves at F30000 mm/min\n"
+            "12 ; the first move positions from the tool change point: start with the tool clear of the part\n"
+            "13 ; between blocks the controller moves TCP, rotaries linear: the program was split and swept for that\n"
+            "14 CYCL DEF 247 DATUM SETTING ~\n"
+            "    Q339=+3    ;DATUM NUMBER\n"
+            "15 TOOL CALL 3 Z S12000\n"
+            "16 M3\n"
+            "17 FUNCTION TCPM F TCP AXIS POS PATHCTRL AXIS\n"
+            "18 L X+40.000 Y+0.000 Z+30.000 C-90.000 B+20.000 R0 FMAX\n"
+            "19 L Z+5.000 F800.0\n"
+            "20 L Y+2.000 C-92.000 B+21.000\n"
+            "21 L Y+4.000 Z+5.500 C-94.000 B+22.000\n"
+            "22 FUNCTION RESET TCPM\n"
+            "23 M5\n"
+            "24 M30\n"
+            "25 END PGM BLADE_1 MM\n");
+  // The program reads back with the preset it selects.
+  const std::vector<ProgramMove> read = read_program(w.text, w.kin->machine(), ProgramReadOptions{});
+  ASSERT_EQ(read.size(), 4u);
+  EXPECT_EQ(read.front().work_offset, 3);
+  EXPECT_EQ(read.front().line, 20);
   LuaState again;
   EXPECT_THROW(write(again.L, "monoblock_like_head_table.lua", "heidenhain", false), Error);
 }
 
 TEST(MachinePosts, LinuxcncTrtProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "linuxcnc", false);  // trt: TCP anyway
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "linuxcnc", false,  // trt: TCP anyway
+                          [](lua_api::PostJob& job) { job.work_offset = 8; });
   EXPECT_TRUE(w.tcp_always);
   EXPECT_EQ(w.text,
             "%\n"
             "(blade 1)\n"
+            "(VERDICT: @VERDICT@)\n"
             "(machine DMG-like A/C trunnion 650, kinematics xyzac-trt)\n"
-            "(tool 3 length 80.000)\n"
-            "(work offset: the part frame origin; it lies at X0.000 Y0.000 Z120.000 from the machine zero of the machine file with all axes at 0)\n"
+            "(part not turned over: model +Z along part frame +Z)\n"
+            "(clocking 0.000 deg: model +X along part frame +X)\n"
+            "(rotary A table: A+ turns the part right-handed about +X, the tool relative to the part left-handed: against ISO 841)\n"
+            "(rotary C table: C+ turns the part right-handed about +Z, the tool relative to the part left-handed: against ISO 841)\n"
+            "(tool 3 length 80.000 S12000)\n"
+            "(work offset G59.2: the part frame origin; it lies at X0.000 Y0.000 Z120.000 from the machine zero of the machine file with all axes at 0)\n"
             "(rapids that turn a rotary axis or move more than one linear axis are feed moves at F30000 mm/min)\n"
             "(the first move positions from the tool change point: start with the tool clear of the part)\n"
+            "(between blocks the controller moves TCP, rotaries linear: the program was split and swept for that)\n"
             "G21 G90 G17 G40 G49 G94\n"
-            "G54\n"
+            "G59.2\n"
             "T3 M6\n"
             "G43 H3\n"
             "S12000 M3\n"

@@ -106,6 +106,55 @@ TEST(MachineProgramReader, ReadsHeidenhainAndSiemensBlocks) {
   EXPECT_NEAR(s[0].axes.rotary_rad[0], 4 * kDeg, 1e-15);
 }
 
+// The work offset a program selects by a block, in each dialect; the
+// header's verdict line is a comment. A TNC cycle's parameters continue the
+// block on the next line ("~"), and the block keeps its first line.
+TEST(MachineProgramReader, ReadsTheWorkOffsetAProgramSelects) {
+  const std::string heidenhain =
+      "0 BEGIN PGM P MM\n"
+      "1 ; VERDICT: @VERDICT@\n"
+      "2 CYCL DEF 247 DATUM SETTING ~\n"
+      "  Q339=+3    ;DATUM NUMBER\n"
+      "3 TOOL CALL 3 Z S12000\n"
+      "4 L X+1.000 Y+0.000 Z+30.000 B+0.000 C+0.000 R0 FMAX\n"
+      "5 END PGM P MM\n";
+  const auto h = read_program(heidenhain, test::head_table_bc(), named("h.h"));
+  ASSERT_EQ(h.size(), 1u);
+  EXPECT_EQ(h[0].work_offset, 3);
+  EXPECT_EQ(h[0].line, 6);
+  const auto no_preset = read_program("0 BEGIN PGM P MM\n1 L X+1 B+0 C+0 R0 FMAX\n", test::head_table_bc(), named("h.h"));
+  EXPECT_EQ(no_preset[0].work_offset, 0);
+
+  struct Case { const char* word; int offset; };
+  for (const Case& c : {Case{"G54", 1}, Case{"G55", 2}, Case{"G59", 6}, Case{"G59.1", 7}, Case{"G59.3", 9},
+                        Case{"G505", 5}, Case{"G599", 99}}) {
+    const std::string iso = std::string("(VERDICT: @VERDICT@)\nN10 G90 ") + c.word + "\nN20 G0 X1 Y2 Z3\n";
+    const auto moves = read_program(iso, test::table_table_ac(), named("a.nc"));
+    ASSERT_EQ(moves.size(), 1u) << c.word;
+    EXPECT_EQ(moves[0].work_offset, c.offset) << c.word;
+  }
+  // A later selection holds from its block on.
+  const auto two = read_program("G54\nG0 X1\nG56\nG0 X2\n", test::table_table_ac(), named("a.nc"));
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].work_offset, 1);
+  EXPECT_EQ(two[1].work_offset, 3);
+}
+
+TEST(MachineProgramReader, RefusesAMalformedPresetCycle) {
+  const MachineDefinition bc = test::head_table_bc();
+  EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING\n", bc), "prog.nc:1: column 3: CYCL DEF 247 without Q339 (the preset number)");
+  EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING ~\n  Q339=+1.5 ;DATUM NUMBER\n", bc),
+            "prog.nc:2: column 3: expected a preset number >= 0 in Q339");
+  EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING ~\n  Q339=+1 ~\n  Q339=+2\n", bc),
+            "prog.nc:3: column 3: Q339 is given twice");
+  EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING ~\n  Q305=+1 ;NUMBER IN TABLE\n", bc),
+            "prog.nc:2: column 3: expected Q339=<preset number> in CYCL DEF 247 (its only parameter)");
+  EXPECT_EQ(error_of("1 CYCL DEF 7.0 DATUM SHIFT\n", bc), "prog.nc:1: column 3: unsupported cycle: expected CYCL DEF 247 DATUM SETTING");
+  EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING ~", bc), "prog.nc:1: column 1: the block ends in '~' but no line follows");
+  EXPECT_EQ(error_of("1 Q339=+1\n", bc), "prog.nc:1: column 3: parameter Q339 outside a cycle definition");
+  EXPECT_EQ(error_of("G54.1 P1\n", test::table_table_ac()), "prog.nc:1: column 1: unsupported G code G54.1");
+}
+
 TEST(MachineProgramReader, ErrorsNameLineAndColumn) {
   const MachineDefinition ac = test::table_table_ac();
   EXPECT_EQ(error_of("G0 X0 Y0 Z0\nN10 G1 X10 Q5 F100\n", ac),
