@@ -635,7 +635,7 @@ PostTraits post_traits(lua_State* L, int post_idx) {
   PostTraits t;
   t.tcp = post_wants_tcp(L, post_idx);
   t.tcp_always = post_tcp_always(L, post_idx);
-  t.rotary_reset = post_flag(L, post_idx, "rotary_reset");
+  t.rotary_reset = post_flag(L, post_idx, "resets_rotary_display");
   lua_getfield(L, post_idx, "orientation");
   if (!lua_isnil(L, -1)) {
     const char* o = lua_tostring(L, -1);

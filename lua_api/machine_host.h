@@ -106,7 +106,7 @@ bool post_tcp_always(lua_State* L, int post_idx);
 //                                     blocks (rotaries linear, e.g. PATHCTRL
 //                                     AXIS; or the great circle, PATHCTRL
 //                                     VECTOR); default "axis"
-//   rotary_reset = true               the post writes a display reset of a
+//   resets_rotary_display = true      the post writes a display reset of a
 //                                     continuous rotary axis (step
 //                                     rotary_reset, e.g. Heidenhain M94)
 //   rotary_input_limit = deg          the largest rotary value the

@@ -42,7 +42,7 @@ P.comment_close = ")"
 -- linearly) or "vector" (the great circle). What the program is split and
 -- swept for: it must be what the controller does (see tcp_on).
 P.orientation = "axis"
-P.rotary_reset = false         -- the post has a rotary_reset step (display reset)
+P.resets_rotary_display = false  -- the post writes a display reset (its step rotary_reset)
 P.rotary_input_limit = nil     -- the controller's largest rotary value, deg
 
 -- The motion step switches TCP control on before the first move that needs
@@ -333,7 +333,7 @@ end
 
 -- A display reset of the rotary axes move.reset names, before the move.
 function P.rotary_reset(self, job, move, out)
-  error(self.name .. ": this post cannot reset a rotary axis' display (set P.rotary_reset and write the step)", 0)
+  error(self.name .. ": this post cannot reset a rotary axis' display (set P.resets_rotary_display and write the step rotary_reset)", 0)
 end
 
 -- The way in at the safe height: Z alone ("retract") or the rotary axes

@@ -22,7 +22,7 @@ P.orientation = "axis"
 -- continuous axis' display to [0, 360) deg without motion, written at links
 -- where the axis has wound past a turn.
 P.rotary_input_limit = 99999.9999
-P.rotary_reset = true
+P.resets_rotary_display = true
 
 function P.rotary_reset(self, job, move, out)
   for _, name in ipairs(move.reset) do
