@@ -255,12 +255,17 @@ function M.edge_finish(o)
           error(string.format("job.edge_finish: blade %d %s edge: %d contacts and %d links refused; nothing of it is "
                               .. "emitted (see plan:report().refusal_reasons)", k, edge, r.refusals, r.refused_links), 0)
         end
-        -- The first row's highest point above the hub: the hub finish's
-        -- root strip reaches over it (job.hub_finish, top = "edges").
-        local hub_m, first = blisk:hub_meridian(), -math.huge
-        for i = 0, 40 do first = math.max(first, meridian_height(hub_m, region.surface:point(i / 40, r.span_v0))) end
-        j.edge_first_rows = j.edge_first_rows or {}
-        j.edge_first_rows[#j.edge_first_rows + 1] = {blade = k, edge = edge, height_mm = first}
+        -- Where the hub narrowed the window (its first row the lowest the
+        -- hub allows), the first row's highest point above the hub: the hub
+        -- finish's root strip reaches over it (job.hub_finish's top). A
+        -- window the recipe starts higher borders nothing below: the job's
+        -- seams report it.
+        if r.span_v0 > self.span[1] + 1e-9 then
+          local hub_m, first = blisk:hub_meridian(), -math.huge
+          for i = 0, 40 do first = math.max(first, meridian_height(hub_m, region.surface:point(i / 40, r.span_v0))) end
+          j.edge_first_rows = j.edge_first_rows or {}
+          j.edge_first_rows[#j.edge_first_rows + 1] = {blade = k, edge = edge, height_mm = first}
+        end
         units[#units + 1] = {side = edge .. " edge", plan = plan, report = r, moves_list = plan:moves(),
                              flanks = {first, second}, surface = region.surface}
       end
@@ -1322,7 +1327,7 @@ end
 -- unfinished. A seam beyond any of these is a FAIL with its reason — in the
 -- result, never an error: the caller reports it.
 -- o = {spacing = 0.1 (mm between samples), margin = 1 (mm), slack = 0.0005
--- (mm)}. Returns {seams = {{name, surface, operations, u, v, heights_mm =
+-- (mm), only = {names} (those seams alone)}. Returns {seams = {{name, surface, operations, u, v, heights_mm =
 -- {lo, hi} (above the hub), samples, unreached, material_left_max_mm,
 -- material_left_min_mm, material_left_at = {x, y, z, height_mm, u, v},
 -- overcut_mm, overcut_move, overcut_operation, overcut_at, tolerance =
@@ -1334,8 +1339,14 @@ function Job:simulate_seams(o)
     spacing = {type = "number", check = positive},
     margin = {type = "number", check = positive},
     slack = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    only = {type = "table"},
   }, 2)
   if not self.planned then error("job:simulate_seams: plan the job first (j:plan())", 2) end
+  local wanted
+  if o.only then
+    wanted = {}
+    for _, name in ipairs(o.only) do wanted[name] = true end
+  end
   if self.part_kind == "impeller" then error("job:simulate_seams: a blisk job's seams (impellers: j:simulate)", 2) end
   local t0 = os.clock()
   local spacing, margin, slack = o.spacing or 0.1, o.margin or 1, o.slack or 0.0005
@@ -1360,6 +1371,7 @@ function Job:simulate_seams(o)
   -- One band: spec = {name, surface, surface_name, owners = {f, ...}, u, v,
   -- samples_u, samples_v, keep (a function of the point, or a list), flip_normal}.
   local function seam(spec)
+    if wanted and not wanted[spec.name] then return end
     local t = os.clock()
     local su, sv = spec.samples_u, spec.samples_v
     local keep, kept, lo_h, hi_h = nil, 0, math.huge, -math.huge
@@ -1512,7 +1524,7 @@ function Job:simulate_seams(o)
            keep = on_part}
     end
   end
-  if hub then
+  if hub and (not wanted or wanted["channel floor / fillet"]) then
     -- The channel floor where its rows end on the fillet row (the floor's
     -- samples within 1 mm of the rows' ends); the ball's regions at the hub
     -- plan's own sweep step (0.1 mm).
