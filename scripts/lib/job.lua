@@ -278,7 +278,8 @@ end
 -- The hub and the blade roots with a tapered ball end (bliskrun.hub_finish,
 -- core/planning/hub_finish.h): blade k's root strip all around it — what the
 -- drum finish and the edge finish leave above the hub, from the fillet row
--- (the ball on hub and blade at once) up to `top` mm, overlapping both — and
+-- (the ball on hub and blade at once) up to `top` mm (default: 4, or
+-- top_over_edges above the edges' first rows), overlapping both — and
 -- the channel floor from blade k to blade k+1. A refused contact or link
 -- stops the job. Periodic by default (job.drum_finish).
 function M.hub_finish(o)
@@ -1040,8 +1041,11 @@ end
 -- that machine it: o = {samples_u = 200, samples_v = 1000}. Returns per flank
 -- {operation, blade, side, undercut_max, undercut_mean, overcut, overcut_move
 -- (index in the job's moves), overcut_motion} and the totals (undercut_max,
--- overcut, where). Link moves stay 0.05 mm or more off every surface
--- (proved in plan()), so they remove nothing and need no sweep. An
+-- overcut, where), and for a blisk the seams between the operations'
+-- windows (simulate_seams; o.seams = false skips them, o.seam_spacing its
+-- spacing): out.seams, out.seam_failures. Link moves stay 0.05 mm or more
+-- off every surface (proved in plan()), so they remove nothing and need no
+-- sweep. An
 -- impeller job is simulated on its surfaces instead (simulate_impeller;
 -- sweep_step, search_above and search_below apply there).
 function Job:simulate(o)
