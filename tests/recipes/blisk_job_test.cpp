@@ -78,7 +78,8 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
   }
   // The seams between operations on blade 1: each edge's ends (the gap to
   // the root strip, the strip to the casing) unfinished — samples no tool
-  // comes within 0.5 mm of — and failed with that reason; the flanks' seams
+  // comes within 0.5 mm of, 0.4-0.5 mm left where one passes — and failed
+  // with that reason; the flanks' seams
   // (each edge region's overlap, the root strip over the drum's first rows)
   // and the channel floor's ends on the fillet finished: every sample
   // reached, material left within the looser of the two operations'
@@ -96,7 +97,10 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
     EXPECT_GT(seam["samples"].get<int>(), 50) << seams[i];
     if (i < 4) {
       EXPECT_FALSE(seam["ok"].get<bool>()) << seams[i];
-      EXPECT_GT(seam["unreached"].get<int>(), seam["samples"].get<int>() / 4) << seams[i];
+      // Some samples no tool comes near; the rest keep up to the stock a
+      // passing tool grazes within the 0.5 mm tracked.
+      EXPECT_GT(seam["unreached"].get<int>(), 0) << seams[i];
+      EXPECT_GT(seam["material_left_max_mm"].get<double>(), 0.1) << seams[i];
       EXPECT_NE(seam["reason"].get<std::string>().find("never reached"), std::string::npos) << seams[i];
       continue;
     }
