@@ -1331,8 +1331,9 @@ end
 -- unfinished. A seam beyond any of these is a FAIL with its reason — in the
 -- result, never an error: the caller reports it.
 -- o = {spacing = 0.1 (mm between samples), margin = 1 (mm), slack = 0.0005
--- (mm), only = {names} (those seams alone)}. Returns {seams = {{name, surface, operations, u, v, heights_mm =
--- {lo, hi} (above the hub), samples, unreached, material_left_max_mm,
+-- (mm), only = {names} (those seams alone)}. Returns {seams = {{name,
+-- surface, operations, u, v, heights_mm = {lo, hi} (above the hub),
+-- samples, unreached, material_left_max_mm,
 -- material_left_min_mm, material_left_at = {x, y, z, height_mm, u, v},
 -- overcut_mm, overcut_move, overcut_operation, overcut_at, tolerance =
 -- {material_left_mm, overcut_mm}, ok, reason, seconds}, ...}, failures,
@@ -1374,7 +1375,9 @@ function Job:simulate_seams(o)
   local seams, failures = {}, 0
   -- One band: spec = {name, surface, surface_name, owners = {f, ...}, u, v,
   -- samples_u, samples_v, keep (a function of the point, or a list), flip_normal}.
+  local known = {}
   local function seam(spec)
+    known[#known + 1] = spec.name
     if wanted and not wanted[spec.name] then return end
     local t = os.clock()
     local su, sv = spec.samples_u, spec.samples_v
@@ -1526,6 +1529,15 @@ function Job:simulate_seams(o)
       seam{name = "root strip / " .. f.side .. " flank", surface = ts, surface_name = f.side .. " flank (trimmed)",
            owners = {hub, f}, u = {0, u1}, v = {0, 1}, samples_u = count(u1 * span), samples_v = count(chord),
            keep = on_part}
+    end
+  end
+  if hub then known[#known + 1] = "channel floor / fillet" end
+  for name in pairs(wanted or {}) do
+    local found = false
+    for _, k in ipairs(known) do found = found or k == name end
+    if not found then
+      error(string.format("job:simulate_seams: option 'only': no seam '%s' in this job, expected one of: %s", name,
+                          table.concat(known, ", ")), 2)
     end
   end
   if hub and (not wanted or wanted["channel floor / fillet"]) then

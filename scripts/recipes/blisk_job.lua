@@ -17,6 +17,8 @@
 --            [--set edge_samples_u=200 --set edge_samples_v=400]   (per edge region)
 --            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
 --            [--set blade_map=lean|false]   (blade 1's one map: coarse samples, or none)
+--            [--set hub_top=MM]   (the root strip's top; default 0.5 mm over the edges' first rows)
+--            [--set seam_spacing=MM]   (samples of the seams between operations, default 0.1)
 -- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first flanks),
 -- blisk_job_blade1_map.png (blade 1's whole surface after the job),
 -- blisk_job.pvd (job toolpath, flanks with their undercut, for ParaView), report.html.
@@ -72,8 +74,9 @@ if with_hub then
   -- strips: its top 0.5 mm over the edges' first rows, job.hub_finish —
   -- at 4 mm the LE kept 48-60 um between the two) and the channel floor to
   -- the next blade, from above.
+  -- (--set hub_top=MM: the strip's top given instead.)
   operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, scallop = 0.005, feed = 800,
-                                               periodic = periodic}
+                                               periodic = periodic, top = args.hub_top and tonumber(args.hub_top)}
 end
 if with_edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = edge_span,
