@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/sim/undercut.h"
@@ -41,8 +42,18 @@ struct PassGroup {
 void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, const Surface& design, long poses,
                  double seconds) {
   double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
-  for (double x : u.residual_mm)
-    if (std::isfinite(x)) lowest = std::min(lowest, x), highest = std::max(highest, x);
+  long highest_at = -1;  // the sample with the most material left (a seam's report says where)
+  for (size_t i = 0; i < u.residual_mm.size(); ++i) {
+    const double x = u.residual_mm[i];
+    if (!std::isfinite(x)) continue;
+    lowest = std::min(lowest, x);
+    if (x > highest) highest = x, highest_at = static_cast<long>(i);
+  }
+  const auto sample_uv = [&](long sample) {
+    const long row = sample / so.samples_v, col = sample % so.samples_v;
+    return std::make_pair(so.u0 + (so.u1 - so.u0) * static_cast<double>(row) / (so.samples_u - 1),
+                          so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1));
+  };
   lua_createtable(L, 0, 20);
   luax::set_number(L, "undercut_max", u.undercut_max_mm);
   luax::set_number(L, "undercut_mean", u.undercut_mean_mm);
@@ -53,17 +64,22 @@ void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, cons
   if (std::isfinite(lowest)) {
     luax::set_number(L, "residual_min", lowest);
     luax::set_number(L, "residual_max", highest);
+    const auto [hu, hv] = sample_uv(highest_at);
+    luax::set_number(L, "residual_max_u", hu);
+    luax::set_number(L, "residual_max_v", hv);
+    luax::set_vec3(L, "residual_max_point", design.point(hu, hv));
   }
   if (u.overcut_sample >= 0) {
     // Which motion cut deepest: pass (1-based, in the order given) and the
-    // pose its motion ends at (1-based; the motion from pose k - 1 to k).
-    lua_pushinteger(L, u.overcut_pass + 1);
-    lua_setfield(L, -2, "overcut_pass");
-    lua_pushinteger(L, u.overcut_pose + 1);
-    lua_setfield(L, -2, "overcut_pose");
-    const long row = u.overcut_sample / so.samples_v, col = u.overcut_sample % so.samples_v;
-    const double su = so.u0 + (so.u1 - so.u0) * static_cast<double>(row) / (so.samples_u - 1);
-    const double sv = so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1);
+    // pose its motion ends at (1-based; the motion from pose k - 1 to k) —
+    // unknown (-1) when `keep` dropped the sample the sweep found deepest.
+    if (u.overcut_pass >= 0) {
+      lua_pushinteger(L, u.overcut_pass + 1);
+      lua_setfield(L, -2, "overcut_pass");
+      lua_pushinteger(L, u.overcut_pose + 1);
+      lua_setfield(L, -2, "overcut_pose");
+    }
+    const auto [su, sv] = sample_uv(u.overcut_sample);
     luax::set_number(L, "overcut_u", su);
     luax::set_number(L, "overcut_v", sv);
     luax::set_vec3(L, "overcut_point", design.point(su, sv));

@@ -91,6 +91,28 @@ local function turned_moves(list, angle)
 end
 M.turned_moves = turned_moves
 
+-- Heights over a meridian ({{z, r}, ...}, a polyline about Z): the signed
+-- distance of p from it in p's meridian plane, + away from the axis — the
+-- hub's radial offset, as the hub plan measures its rows' heights.
+local function meridian_height(meridian, p)
+  local r, z = math.sqrt(p.x * p.x + p.y * p.y), p.z
+  local best, sign = math.huge, 1
+  for i = 2, #meridian do
+    local z0, r0, z1, r1 = meridian[i - 1][1], meridian[i - 1][2], meridian[i][1], meridian[i][2]
+    local dz, dr = z1 - z0, r1 - r0
+    local t = math.max(0, math.min(1, ((z - z0) * dz + (r - r0) * dr) / (dz * dz + dr * dr)))
+    local ez, er = z - (z0 + t * dz), r - (r0 + t * dr)
+    local d = math.sqrt(ez * ez + er * er)
+    if d < best then
+      -- The segment's normal away from the axis: (-dr, dz) or its opposite.
+      local nz, nr = -dr, dz
+      if nr < 0 then nz, nr = -nz, -nr end
+      best, sign = d, (ez * nz + er * nr >= 0) and 1 or -1
+    end
+  end
+  return sign * best
+end
+
 -- The blades of an operation planned once and turned (periodic) or each
 -- planned: plan_blade(k) -> {{side =, plan =, report =, moves_list =}, ...}.
 -- Returns the job's flank entries in blade order.
@@ -233,6 +255,17 @@ function M.edge_finish(o)
           error(string.format("job.edge_finish: blade %d %s edge: %d contacts and %d links refused; nothing of it is "
                               .. "emitted (see plan:report().refusal_reasons)", k, edge, r.refusals, r.refused_links), 0)
         end
+        -- Where the hub narrowed the window (its first row the lowest the
+        -- hub allows), the first row's highest point above the hub: the hub
+        -- finish's root strip reaches over it (job.hub_finish's top). A
+        -- window the recipe starts higher borders nothing below: the job's
+        -- seams report it.
+        if r.span_v0 > self.span[1] + 1e-9 then
+          local hub_m, first = blisk:hub_meridian(), -math.huge
+          for i = 0, 40 do first = math.max(first, meridian_height(hub_m, region.surface:point(i / 40, r.span_v0))) end
+          j.edge_first_rows = j.edge_first_rows or {}
+          j.edge_first_rows[#j.edge_first_rows + 1] = {blade = k, edge = edge, height_mm = first}
+        end
         units[#units + 1] = {side = edge .. " edge", plan = plan, report = r, moves_list = plan:moves(),
                              flanks = {first, second}, surface = region.surface}
       end
@@ -245,7 +278,8 @@ end
 -- The hub and the blade roots with a tapered ball end (bliskrun.hub_finish,
 -- core/planning/hub_finish.h): blade k's root strip all around it — what the
 -- drum finish and the edge finish leave above the hub, from the fillet row
--- (the ball on hub and blade at once) up to `top` mm, overlapping both — and
+-- (the ball on hub and blade at once) up to `top` mm (default: 4, or
+-- top_over_edges above the edges' first rows), overlapping both — and
 -- the channel floor from blade k to blade k+1. A refused contact or link
 -- stops the job. Periodic by default (job.drum_finish).
 function M.hub_finish(o)
@@ -256,20 +290,40 @@ function M.hub_finish(o)
       for _, b in ipairs(v) do if math.type(b) ~= "integer" or b < 1 then return "expected blade numbers 1, 2, ..." end end
     end},
     top = {type = "number", check = positive},
+    top_over_edges = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     scallop = {type = "number", check = positive},
     chord_tol = {type = "number", check = positive},
     periodic = {type = "boolean"},
     feed = {type = "number", check = positive},
   }, 2)
-  local op = {kind = "hub_finish", tool = o.tool, blades = o.blades, top = o.top or 4, scallop = o.scallop or 0.005,
-              chord_tol = o.chord_tol or 0.001, periodic = o.periodic ~= false, feed = o.feed or 800}
+  local op = {kind = "hub_finish", tool = o.tool, blades = o.blades, top = o.top, top_over_edges = o.top_over_edges or 0.5,
+              scallop = o.scallop or 0.005, chord_tol = o.chord_tol or 0.001, periodic = o.periodic ~= false,
+              feed = o.feed or 800}
   function op.plan_flanks(self, j)
     local blisk = j.part
     local n = blisk:blade_count()
+    -- The root strip's top (issue 34 item 8): given, or 4 mm, raised to
+    -- top_over_edges above the highest point of any edge finish's first
+    -- row in the job (Job:plan plans the edges first). Around a leading
+    -- edge a row at constant edge-region span climbs the conical hub's
+    -- slope: the built-in LE's first row lies 3.9-4.9 mm above the hub,
+    -- and with the strip's top at 4 mm the band between (4.2-4.5 mm) kept
+    -- 48-60 um, beyond the edges' e2, measured by neither operation.
+    local top, top_from = self.top or 4, self.top and "given" or "default"
+    if not self.top then
+      for _, e in ipairs(j.edge_first_rows or {}) do
+        if e.height_mm + self.top_over_edges > top then
+          top = e.height_mm + self.top_over_edges
+          top_from = string.format("blade %d %s edge's first row (%.2f mm) + %.2f mm", e.blade, e.edge, e.height_mm,
+                                   self.top_over_edges)
+        end
+      end
+    end
+    self.top_used, self.top_from = top, top_from
     local function faces(k) return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction")} end
     return blades_of(self, j, function(k)
       local plan = bliskrun.hub_finish{blade = faces(k), next = faces(k % n + 1), previous = faces((k - 2) % n + 1),
-                                       hub = blisk:hub(), tool = j.tools[self.tool].tool, top = self.top,
+                                       hub = blisk:hub(), tool = j.tools[self.tool].tool, top = top,
                                        scallop = self.scallop, chord_tol = self.chord_tol}
       local r = plan:report()
       local refused = r.root.refusals + r.channel.refusals
@@ -279,6 +333,7 @@ function M.hub_finish(o)
                             .. "it is emitted (see plan:report().refusals)", k, refused, refused_links), 0)
       end
       r.row_count = r.root.rows + r.channel.rows
+      r.top_from = top_from
       -- The root strip, then the channel: joined through the clearance can
       -- like any two plans (the channel's first pose is a plain "start"
       -- from the root's last: straight across, that rapid ran through the
@@ -994,9 +1049,19 @@ function Job:plan()
   local moves, flanks, links = {}, {}, 0
   local last = nil
   local groups = {}
+  -- The hub finish after the others: its root strip's top reaches over
+  -- the edge finishes' first rows (job.hub_finish). Planned in that order,
+  -- emitted and linked in the job's.
+  self.edge_first_rows = nil
+  local planned_of = {}
+  for pass = 1, 2 do
+    for i, op in ipairs(self.operations) do
+      if (op.kind == "hub_finish") == (pass == 2) then planned_of[i] = op:plan_flanks(self, i) end
+    end
+  end
   for i, op in ipairs(self.operations) do
     local t = self.tools[op.tool]
-    local planned_flanks = op:plan_flanks(self, i)
+    local planned_flanks = planned_of[i]
     -- Blades in order with their cutting length, then the tool of each.
     local blade_order, blade_length, index_of = {}, {}, {}
     for _, f in ipairs(planned_flanks) do
@@ -1053,8 +1118,11 @@ end
 -- that machine it: o = {samples_u = 200, samples_v = 1000}. Returns per flank
 -- {operation, blade, side, undercut_max, undercut_mean, overcut, overcut_move
 -- (index in the job's moves), overcut_motion} and the totals (undercut_max,
--- overcut, where). Link moves stay 0.05 mm or more off every surface
--- (proved in plan()), so they remove nothing and need no sweep. An
+-- overcut, where), and for a blisk the seams between the operations'
+-- windows (simulate_seams; o.seams = false skips them, o.seam_spacing its
+-- spacing): out.seams, out.seam_failures. Link moves stay 0.05 mm or more
+-- off every surface (proved in plan()), so they remove nothing and need no
+-- sweep. An
 -- impeller job is simulated on its surfaces instead (simulate_impeller;
 -- sweep_step, search_above and search_below apply there).
 function Job:simulate(o)
@@ -1067,6 +1135,8 @@ function Job:simulate(o)
     sweep_step = {type = "number", check = positive},
     search_above = {type = "number", check = positive},
     search_below = {type = "number", check = positive},
+    seams = {type = "boolean"},
+    seam_spacing = {type = "number", check = positive},
   }, 2)
   if not self.planned then error("job:simulate: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then return self:simulate_impeller(o) end
@@ -1106,7 +1176,85 @@ function Job:simulate(o)
       out.overcut_at = r
     end
   end
+  -- And across the boundaries between operations (simulate_seams): each
+  -- plan above is measured over its own window only.
+  if o.seams ~= false then
+    local s = self:simulate_seams{spacing = o.seam_spacing}
+    out.seams, out.seam_failures = s.seams, s.failures
+  end
   return out
+end
+
+-- Blade 1's passes (simulate_blade, simulate_seams): each operation's moves
+-- on a blade, in job order, each with its tool — blade 1's drum, edge and
+-- hub moves and the neighbours' hub moves (blade N's channel ends on blade
+-- 1's pressure root, blade 2's root rows border blade 1's channel floor).
+-- moves_of[pass][pose] is the pose's index in the job's moves.
+local function blade_passes(self)
+  local n = self.part:blade_count()
+  local passes, last, moves_of = {}, nil, {}
+  for i, m in ipairs(self.planned.moves) do
+    local key = m.operation_kind ~= "link" and (m.blade == 1 or (m.operation_kind == "hub_finish" and
+                (m.blade == n or m.blade == 2))) and (m.operation .. ":" .. m.blade) or nil
+    if key then
+      if key ~= last then
+        passes[#passes + 1] = {tool = self:tool_entry(m.tool).tool, poses = {}}
+        moves_of[#passes] = {}
+      end
+      local poses = passes[#passes].poses
+      poses[#poses + 1] = m
+      moves_of[#passes][#poses] = i
+    end
+    last = key
+  end
+  return passes, moves_of
+end
+
+-- Only what can reach a window (spec = {surface, u, v, search_above}): the
+-- stretches of each pass whose poses come within the tool's reach of the
+-- window's box, with the pose before and after (a motion from or to a far
+-- pose can still cut) — as the hub plan's own simulation does; most of a
+-- job's moves are far from any one surface of blade 1. `reach` caches each
+-- tool's reach. Returns the passes and their poses' job move indices.
+local function passes_near(passes, moves_of, spec, reach)
+  local lo, hi = {math.huge, math.huge, math.huge}, {-math.huge, -math.huge, -math.huge}
+  for i = 0, 16 do
+    for k = 0, 64 do
+      local p = spec.surface:point(spec.u[1] + (spec.u[2] - spec.u[1]) * i / 16,
+                                   spec.v[1] + (spec.v[2] - spec.v[1]) * k / 64)
+      local x = {p.x, p.y, p.z}
+      for c = 1, 3 do lo[c], hi[c] = math.min(lo[c], x[c]), math.max(hi[c], x[c]) end
+    end
+  end
+  local out, out_moves = {}, {}
+  for pi, pass in ipairs(passes) do
+    reach[pass.tool] = reach[pass.tool] or pass.tool:reach()
+    local r2 = (reach[pass.tool] + (spec.search_above or 0.5) + 1) ^ 2
+    local inside = {}
+    for k, m in ipairs(pass.poses) do
+      local d2 = 0
+      for c = 1, 3 do
+        local x = m.tip[c]
+        local e = x < lo[c] and lo[c] - x or (x > hi[c] and x - hi[c] or 0)
+        d2 = d2 + e * e
+      end
+      inside[k] = d2 < r2
+    end
+    local cur, cur_moves = nil, nil
+    for k, m in ipairs(pass.poses) do
+      if inside[k] or inside[k - 1] or inside[k + 1] then
+        if not cur then
+          cur, cur_moves = {tool = pass.tool, poses = {}}, {}
+          out[#out + 1], out_moves[#out + 1] = cur, cur_moves
+        end
+        cur.poses[#cur.poses + 1] = m
+        cur_moves[#cur.poses] = moves_of[pi][k]
+      else
+        cur = nil
+      end
+    end
+  end
+  return out, out_moves
 end
 
 -- One map of blade 1 (issue 18 item 4): the material left and the gouges
@@ -1141,71 +1289,11 @@ function Job:simulate_blade(o)
   }, 2)
   if not self.planned then error("job:simulate_blade: plan the job first (j:plan())", 2) end
   if self.part_kind == "impeller" then error("job:simulate_blade: a blisk job's blade (impellers: j:simulate)", 2) end
-  local n = self.part:blade_count()
   local fs, es = o.flank_samples or {40, 200}, o.edge_samples or {80, 40}
   local rs, ls = o.root_samples or {40, 400}, o.floor_samples or {100, 80}
-  -- The passes: each operation's moves on a blade, in job order, its tool's.
-  local passes, last, moves_of = {}, nil, {}
-  for i, m in ipairs(self.planned.moves) do
-    local key = m.operation_kind ~= "link" and (m.blade == 1 or (m.operation_kind == "hub_finish" and
-                (m.blade == n or m.blade == 2))) and (m.operation .. ":" .. m.blade) or nil
-    if key then
-      if key ~= last then
-        passes[#passes + 1] = {tool = self:tool_entry(m.tool).tool, poses = {}}
-        moves_of[#passes] = {}
-      end
-      local poses = passes[#passes].poses
-      poses[#poses + 1] = m
-      moves_of[#passes][#poses] = i
-    end
-    last = key
-  end
-  -- Only what can reach a region: the stretches of each pass whose poses
-  -- come within the tool's reach of the window's box, with the pose before
-  -- and after (a motion from or to a far pose can still cut) — as the hub
-  -- plan's own simulation does; most of a job's moves are far from any one
-  -- surface of blade 1.
+  local passes, moves_of = blade_passes(self)
   local reach = {}
-  local function near(spec)
-    local lo, hi = {math.huge, math.huge, math.huge}, {-math.huge, -math.huge, -math.huge}
-    for i = 0, 16 do
-      for k = 0, 64 do
-        local p = spec.surface:point(spec.u[1] + (spec.u[2] - spec.u[1]) * i / 16,
-                                     spec.v[1] + (spec.v[2] - spec.v[1]) * k / 64)
-        local x = {p.x, p.y, p.z}
-        for c = 1, 3 do lo[c], hi[c] = math.min(lo[c], x[c]), math.max(hi[c], x[c]) end
-      end
-    end
-    local out, out_moves = {}, {}
-    for pi, pass in ipairs(passes) do
-      reach[pass.tool] = reach[pass.tool] or pass.tool:reach()
-      local r2 = (reach[pass.tool] + (spec.search_above or 0.5) + 1) ^ 2
-      local inside = {}
-      for k, m in ipairs(pass.poses) do
-        local d2 = 0
-        for c = 1, 3 do
-          local x = m.tip[c]
-          local e = x < lo[c] and lo[c] - x or (x > hi[c] and x - hi[c] or 0)
-          d2 = d2 + e * e
-        end
-        inside[k] = d2 < r2
-      end
-      local cur, cur_moves = nil, nil
-      for k, m in ipairs(pass.poses) do
-        if inside[k] or inside[k - 1] or inside[k + 1] then
-          if not cur then
-            cur, cur_moves = {tool = pass.tool, poses = {}}, {}
-            out[#out + 1], out_moves[#out + 1] = cur, cur_moves
-          end
-          cur.poses[#cur.poses + 1] = m
-          cur_moves[#cur.poses] = moves_of[pi][k]
-        else
-          cur = nil
-        end
-      end
-    end
-    return out, out_moves
-  end
+  local function near(spec) return passes_near(passes, moves_of, spec, reach) end
   local regions = {}
   local function simulate(name, spec, keep)
     local near_passes, near_moves = near(spec)
@@ -1275,6 +1363,274 @@ function Job:simulate_blade(o)
     .. "left up to %.1f um, %d unreached (fillet apart), overcut %.1f um", 1e3 * out.material_left_max_mm,
     out.unreached, 1e3 * out.overcut_mm)}
   return out
+end
+
+-- What an operation promises where it finishes (material left, deepest
+-- cut; mm), from its own options: the drum finish its residual (scallop)
+-- plus the chord tolerance and the chord as overcut; the edge finish its
+-- band e2 / e1; the hub finish its scallop plus the chord of the ball
+-- centre's path twice (where a floor row ends on the fillet row, the row
+-- and the step along the fillet to the next both pass a sample, each up to
+-- its chord off on the concave corner) and the planner's allowed overcut
+-- (2 um, HubFinishRequest::allowed_overcut_mm).
+local function promise(op)
+  if op.kind == "drum_finish" then return {left = op.residual + op.chord_tol, cut = -op.chord_tol} end
+  if op.kind == "edge_finish" then return {left = op.e2, cut = op.e1} end
+  if op.kind == "hub_finish" then return {left = op.scallop + 2 * op.chord_tol, cut = -0.002} end
+  return {left = 0, cut = 0}
+end
+
+-- Seams between operations on blade 1 (issue 34 item 8): each operation
+-- reports the window it machines, so a band between two windows — or a
+-- window's end that borders nothing — is measured by none of them (the
+-- built-in LE kept 48.6 um in a band 4.2-4.5 mm above the hub, between the
+-- root strip and the edge rows, beyond e2). Here every boundary between two
+-- operations' regions is a band a margin either side of both boundaries,
+-- simulated (bliskrun.simulate, core/sim) under every pass of every
+-- operation that can reach it, each with its own tool and moves:
+--   - root strip / edge: on each edge region, from the root strip's top
+--     and the edge window's first row, `margin` below the lower to `margin`
+--     above the higher (above the ball's fillet);
+--   - edge window top: on each edge region, from `margin` below the window's
+--     last row to the casing (what lies past the window is nobody's unless
+--     the window reaches the blade's tip);
+--   - edge / flank: on each drum-finished flank, the edge region's overlap
+--     and `margin` more onto the flank at that edge's end, hub to casing;
+--   - root strip / flank: on each flank, from above the ball's fillet to
+--     `margin` above the root strip's top, edge to edge;
+--   - channel floor / fillet (the hub by the blade's root): the floor's
+--     samples within 1 mm of its rows' ends, where the floor rows meet the
+--     fillet row (plan:regions: floor minus middle).
+-- Tolerances: material left at most the looser of the two operations'
+-- promises (the band is finished by either), the deepest cut at least the
+-- promise of the operation whose move cut it, less `slack` (the sweep's
+-- sampling); a sample no tool reaches within search_above (0.5 mm) is
+-- unfinished. A seam beyond any of these is a FAIL with its reason — in the
+-- result, never an error: the caller reports it.
+-- o = {spacing = 0.1 (mm between samples), margin = 1 (mm), slack = 0.0005
+-- (mm), only = {names} (those seams alone)}. Returns {seams = {{name,
+-- surface, operations, u, v, heights_mm = {lo, hi} (above the hub),
+-- samples, unreached, material_left_max_mm,
+-- material_left_min_mm, material_left_at = {x, y, z, height_mm, u, v},
+-- overcut_mm, overcut_move, overcut_operation, overcut_at, tolerance =
+-- {material_left_mm, overcut_mm}, ok, reason, seconds}, ...}, failures,
+-- seconds}.
+function Job:simulate_seams(o)
+  o = o or {}
+  check_options("job:simulate_seams", o, {
+    spacing = {type = "number", check = positive},
+    margin = {type = "number", check = positive},
+    slack = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    only = {type = "table"},
+  }, 2)
+  if not self.planned then error("job:simulate_seams: plan the job first (j:plan())", 2) end
+  local wanted
+  if o.only then
+    wanted = {}
+    for _, name in ipairs(o.only) do wanted[name] = true end
+  end
+  if self.part_kind == "impeller" then error("job:simulate_seams: a blisk job's seams (impellers: j:simulate)", 2) end
+  local t0 = os.clock()
+  local spacing, margin, slack = o.spacing or 0.1, o.margin or 1, o.slack or 0.0005
+  local hub_m, casing_m = self.part:hub_meridian(), self.part:casing_meridian()
+  local function height(p) return meridian_height(hub_m, p) end
+  local function below_casing(p) return -meridian_height(casing_m, p) end
+  local function dist(a, b) return math.sqrt((a.x - b.x) ^ 2 + (a.y - b.y) ^ 2 + (a.z - b.z) ^ 2) end
+  local function count(len) return math.max(4, math.min(600, math.ceil(len / spacing) + 1)) end
+  local passes, moves_of = blade_passes(self)
+  local reach = {}
+  local hub, edges, flanks = nil, {}, {}
+  for _, f in ipairs(self.planned.flanks) do
+    if f.blade == 1 and not f.turned_from then
+      if f.kind == "hub_finish" then hub = f
+      elseif f.kind == "edge_finish" then edges[#edges + 1] = f
+      elseif f.kind == "drum_finish" then flanks[#flanks + 1] = f end
+    end
+  end
+  local floor_h = hub and hub.report.fillet.contact_max + 0.1 or 0.05
+  local function op_name(f) return string.format("%s (operation %d)", f.kind, f.operation) end
+  local seams, failures = {}, 0
+  -- One band: spec = {name, surface, surface_name, owners = {f, ...}, u, v,
+  -- samples_u, samples_v, keep (a function of the point, or a list), flip_normal}.
+  local known = {}
+  local function seam(spec)
+    known[#known + 1] = spec.name
+    if wanted and not wanted[spec.name] then return end
+    local t = os.clock()
+    local su, sv = spec.samples_u, spec.samples_v
+    local keep, kept, lo_h, hi_h = nil, 0, math.huge, -math.huge
+    if type(spec.keep) == "table" then keep = spec.keep end
+    local tested = type(spec.keep) == "function"
+    if tested then keep = {} end
+    for i = 0, su - 1 do
+      for k = 0, sv - 1 do
+        local idx = i * sv + k + 1
+        local p = spec.surface:point(spec.u[1] + (spec.u[2] - spec.u[1]) * i / (su - 1),
+                                     spec.v[1] + (spec.v[2] - spec.v[1]) * k / (sv - 1))
+        local ok = true
+        if tested then ok = spec.keep(p); keep[idx] = ok elseif keep then ok = keep[idx] end
+        if ok then
+          kept = kept + 1
+          local h = height(p)
+          lo_h, hi_h = math.min(lo_h, h), math.max(hi_h, h)
+        end
+      end
+    end
+    local tol = {left = 0, cut = 0}
+    local names = {}
+    for _, f in ipairs(spec.owners) do
+      local p = promise(self.operations[f.operation])
+      tol.left, tol.cut = math.max(tol.left, p.left), math.min(tol.cut, p.cut)
+      names[#names + 1] = op_name(f)
+    end
+    local out = {name = spec.name, surface = spec.surface_name, operations = names, u = spec.u, v = spec.v,
+                 samples = kept, heights_mm = kept > 0 and {lo_h, hi_h} or nil,
+                 tolerance = {material_left_mm = tol.left, overcut_mm = tol.cut}}
+    if kept == 0 then
+      out.ok, out.unreached, out.overcut_mm, out.seconds = true, 0, 0, os.clock() - t
+      out.reason = "no sample of the band lies on the part"
+      seams[#seams + 1] = out
+      return out
+    end
+    local near, near_moves = passes_near(passes, moves_of, spec, reach)
+    local r
+    if #near > 0 then
+      r = bliskrun.simulate{surface = spec.surface, passes = near, u = spec.u, v = spec.v, samples_u = su,
+                            samples_v = sv, flip_normal = spec.flip_normal, search_above = 0.5,
+                            sweep_step = spec.sweep_step, keep = keep}
+    else
+      r = {untouched = kept, overcut = 0}
+    end
+    out.unreached, out.overcut_mm = r.untouched, r.overcut
+    out.material_left_max_mm, out.material_left_min_mm = r.residual_max, r.residual_min
+    if r.residual_max_point then
+      local p = r.residual_max_point
+      out.material_left_at = {x = p.x, y = p.y, z = p.z, height_mm = height(p), u = r.residual_max_u,
+                              v = r.residual_max_v}
+    end
+    -- The deepest cut against the promise of the operation that cut it
+    -- (the looser of the owners' when the sweep's deepest sample lies
+    -- outside the band and the band's deepest motion is not known).
+    local cut_limit = tol.cut
+    if r.overcut_pass then
+      local move = near_moves[r.overcut_pass][r.overcut_pose]
+      local m = self.planned.moves[move]
+      out.overcut_move, out.overcut_operation = move, m.operation
+      cut_limit = promise(self.operations[m.operation]).cut
+    end
+    if r.overcut_point then
+      local p = r.overcut_point
+      out.overcut_at = {x = p.x, y = p.y, z = p.z, height_mm = height(p), u = r.overcut_u, v = r.overcut_v}
+    end
+    out.tolerance.overcut_mm = cut_limit
+    local reasons = {}
+    if r.untouched > 0 then
+      reasons[#reasons + 1] = string.format("%d of %d samples never reached (no tool within 0.5 mm: unfinished)",
+                                            r.untouched, kept)
+    end
+    if r.residual_max and r.residual_max > tol.left then
+      local at = out.material_left_at
+      reasons[#reasons + 1] = string.format("%.1f um left, beyond %.1f um, %.2f mm above the hub", 1e3 * r.residual_max,
+                                            1e3 * tol.left, at.height_mm)
+    end
+    if r.overcut < cut_limit - slack then
+      reasons[#reasons + 1] = string.format("cut %.2f um deep (job move %s), beyond %.2f um", -1e3 * r.overcut,
+                                            tostring(out.overcut_move), -1e3 * cut_limit)
+    end
+    out.ok = #reasons == 0
+    out.reason = #reasons > 0 and table.concat(reasons, "; ") or nil
+    if not out.ok then failures = failures + 1 end
+    out.seconds = os.clock() - t
+    seams[#seams + 1] = out
+    return out
+  end
+  local function on_part(p) local h = height(p) return h >= floor_h and below_casing(p) >= 0 end
+  -- The height range of an edge region's row v (over u around).
+  local function row_heights(surface, v)
+    local lo, hi = math.huge, -math.huge
+    for i = 0, 20 do
+      local h = height(surface:point(i / 20, v))
+      lo, hi = math.min(lo, h), math.max(hi, h)
+    end
+    return lo, hi
+  end
+  -- The edge-region v where the row's lowest (highest) point is at height h.
+  local function v_at(surface, h, highest)
+    local a, b = 0, 1
+    for _ = 1, 40 do
+      local m = 0.5 * (a + b)
+      local lo, hi = row_heights(surface, m)
+      if (highest and hi or lo) < h then a = m else b = m end
+    end
+    return 0.5 * (a + b)
+  end
+  for _, e in ipairs(edges) do
+    local surf, rep = e.surface, e.report
+    local around = 0
+    for i = 1, 20 do around = around + dist(surf:point((i - 1) / 20, 0.5), surf:point(i / 20, 0.5)) end
+    local span = dist(surf:point(0.5, 0), surf:point(0.5, 1))
+    local owners = {e}
+    local first_lo, first_hi = row_heights(surf, rep.span_v0)
+    local lo_h, hi_h = first_lo, first_hi
+    if hub then
+      lo_h, hi_h = math.min(lo_h, hub.report.heights[2]), math.max(hi_h, hub.report.heights[2])
+      owners = {e, hub}
+    end
+    local v0 = v_at(surf, math.max(floor_h, lo_h - margin), true)
+    local v1 = v_at(surf, hi_h + margin, false)
+    seam{name = (hub and "root strip / " or "") .. e.side .. (hub and "" or ", window bottom"), surface = surf,
+         surface_name = e.side .. " region", owners = owners, u = {0, 1}, v = {v0, v1}, samples_u = count(around),
+         samples_v = count((v1 - v0) * span), keep = on_part}
+    -- The top: past the window's last row up to the casing.
+    local top_v = v_at(surf, select(2, row_heights(surf, rep.span_v1)) - margin, true)
+    local casing_v = 1
+    seam{name = e.side .. ", window top", surface = surf, surface_name = e.side .. " region", owners = {e},
+         u = {0, 1}, v = {math.min(top_v, rep.span_v1), casing_v}, samples_u = count(around),
+         samples_v = count((casing_v - math.min(top_v, rep.span_v1)) * span), keep = on_part}
+  end
+  for _, f in ipairs(flanks) do
+    local ts = f.plan:trimmed()
+    local span = dist(ts:point(0, 0.5), ts:point(1, 0.5))
+    local chord = 0
+    for i = 1, 40 do chord = chord + dist(ts:point(0.5, (i - 1) / 40), ts:point(0.5, i / 40)) end
+    for _, e in ipairs(edges) do
+      -- Pressure flank v: LE -> TE; suction: TE -> LE.
+      local at_start = (f.side == "pressure") == (e.side == "leading edge")
+      local w = math.min(0.5, (self.operations[e.operation].overlap + margin) / chord)
+      local v = at_start and {0, w} or {1 - w, 1}
+      seam{name = e.side .. " / " .. f.side .. " flank", surface = ts, surface_name = f.side .. " flank (trimmed)",
+           owners = {e, f}, u = {0, 1}, v = v, samples_u = count(span), samples_v = count(w * chord), keep = on_part}
+    end
+    if hub then
+      local u1 = math.min(1, (hub.report.heights[2] + margin) / span)
+      seam{name = "root strip / " .. f.side .. " flank", surface = ts, surface_name = f.side .. " flank (trimmed)",
+           owners = {hub, f}, u = {0, u1}, v = {0, 1}, samples_u = count(u1 * span), samples_v = count(chord),
+           keep = on_part}
+    end
+  end
+  if hub then known[#known + 1] = "channel floor / fillet" end
+  for name in pairs(wanted or {}) do
+    local found = false
+    for _, k in ipairs(known) do found = found or k == name end
+    if not found then
+      error(string.format("job:simulate_seams: option 'only': no seam '%s' in this job, expected one of: %s", name,
+                          table.concat(known, ", ")), 2)
+    end
+  end
+  if hub and (not wanted or wanted["channel floor / fillet"]) then
+    -- The channel floor where its rows end on the fillet row (the floor's
+    -- samples within 1 mm of the rows' ends); the ball's regions at the hub
+    -- plan's own sweep step (0.1 mm).
+    local w = hub.plan:regions{root_samples = {4, 4}, floor_samples = {count(20), count(10)}}
+    local f = w.floor
+    if f then
+      local keep = {}
+      for i, k in ipairs(f.floor) do keep[i] = k and not f.middle[i] end
+      seam{name = "channel floor / fillet", surface = f.surface, surface_name = "hub", owners = {hub}, u = f.u, v = f.v,
+           samples_u = f.samples_u, samples_v = f.samples_v, flip_normal = f.flip_normal, keep = keep}
+    end
+  end
+  return {seams = seams, failures = failures, seconds = os.clock() - t0}
 end
 
 -- The tools-table entry of a tool number, sisters included (a sister has

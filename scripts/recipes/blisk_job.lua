@@ -17,6 +17,8 @@
 --            [--set edge_samples_u=200 --set edge_samples_v=400]   (per edge region)
 --            [--set tool_life=MM]   (blades grouped per wheel by cutting length; sister wheels T15, T25, ...)
 --            [--set blade_map=lean|false]   (blade 1's one map: coarse samples, or none)
+--            [--set hub_top=MM]   (the root strip's top; default 0.5 mm over the edges' first rows)
+--            [--set seam_spacing=MM]   (samples of the seams between operations, default 0.1)
 -- Outputs: the two programs, blisk_job.json, blisk_job_undercut_*.png (the first flanks),
 -- blisk_job_blade1_map.png (blade 1's whole surface after the job),
 -- blisk_job.pvd (job toolpath, flanks with their undercut, for ParaView), report.html.
@@ -69,9 +71,12 @@ if with_edges then
 end
 if with_hub then
   -- The root strip all around each blade (above the drum's and the edges'
-  -- strips) and the channel floor to the next blade, from above.
-  operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, top = 4, scallop = 0.005, feed = 800,
-                                               periodic = periodic}
+  -- strips: its top 0.5 mm over the edges' first rows, job.hub_finish —
+  -- at 4 mm the LE kept 48-60 um between the two) and the channel floor to
+  -- the next blade, from above.
+  -- (--set hub_top=MM: the strip's top given instead.)
+  operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, scallop = 0.005, feed = 800,
+                                               periodic = periodic, top = args.hub_top and tonumber(args.hub_top)}
 end
 if with_edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = edge_span,
@@ -115,7 +120,8 @@ for _, f in ipairs(planned.flanks) do
 end
 -- Every flank simulated after the moves that machine it (core/sim).
 local sim = j:simulate{samples_u = args.samples_u or 100, samples_v = args.samples_v or 500,
-                       edge_samples_u = args.edge_samples_u, edge_samples_v = args.edge_samples_v}
+                       edge_samples_u = args.edge_samples_u, edge_samples_v = args.edge_samples_v,
+                       seam_spacing = args.seam_spacing}
 report.simulation = {undercut_max_mm = sim.undercut_max, overcut_mm = sim.overcut, flanks = {}}
 for _, f in ipairs(sim.flanks) do
   report.simulation.flanks[#report.simulation.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind,
@@ -137,73 +143,32 @@ print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 
                     sim.overcut_at and sim.overcut_at.overcut_move and string.format(" (job move %d, %s, blade %d %s)",
                       sim.overcut_at.overcut_move, sim.overcut_at.overcut_motion, sim.overcut_at.blade,
                       sim.overcut_at.side) or ""))
--- Seams between operations on blade 1 (issue 18 item 4): windows of its
--- flanks (the drum finish's trimmed flank) across each seam, simulated
--- (bliskrun.simulate) under every operation that cuts there, each with its
--- own tool — blade 1's drum, edge and root moves and blade N's channel
--- floor, which ends on blade 1's pressure root. The seams: the root strip's
--- top over the drum finish's first rows (above the ball's fillet), and
--- each edge region's overlap onto the flank. A step across a seam is at
--- most the spread of the material left over its window (the scallops
--- included), and no sample may be left unreached.
-local seams = {}
-if with_edges or with_hub then
-  local n = blisk:blade_count()
-  local function passes_of(blade_ok)
-    local passes, last = {}, nil
-    for _, m in ipairs(planned.moves) do
-      local key = m.operation_kind ~= "link" and blade_ok(m) and (m.operation .. ":" .. m.blade) or nil
-      if key then
-        if key ~= last then
-          passes[#passes + 1] = {tool = j:tool_entry(m.tool).tool, poses = {}, group = m.operation_kind}
-        end
-        local poses = passes[#passes].poses
-        poses[#poses + 1] = m
-      end
-      last = key
-    end
-    return passes
-  end
-  local passes = passes_of(function(m) return m.blade == 1 or (m.blade == n and m.operation_kind == "hub_finish") end)
-  local root_top, fillet_top
-  for _, f in ipairs(planned.flanks) do
-    if f.kind == "hub_finish" and f.blade == 1 then root_top, fillet_top = f.report.heights[2], f.report.fillet.contact_max end
-  end
-  for _, f in ipairs(planned.flanks) do
-    if f.kind == "drum_finish" and f.blade == 1 then
-      local ts = f.plan:trimmed()
-      local function dist(a, b) return math.sqrt((a.x - b.x) ^ 2 + (a.y - b.y) ^ 2 + (a.z - b.z) ^ 2) end
-      local span = dist(ts:point(0, 0.5), ts:point(1, 0.5))
-      local chord = dist(ts:point(0.5, 0), ts:point(0.5, 1))
-      local windows = {}
-      if with_hub and root_top then
-        windows[#windows + 1] = {name = "root strip / drum finish", u = {(fillet_top + 0.1) / span, (root_top + 1.5) / span},
-                                 v = {0.05, 0.95}}
-      end
-      if with_edges then
-        -- Pressure flank v: LE -> TE; suction: TE -> LE.
-        local first, second = "leading", "trailing"
-        if f.side == "suction" then first, second = second, first end
-        local w = 1.5 / chord
-        windows[#windows + 1] = {name = first .. " edge / drum finish", u = {0.25, 0.8}, v = {0, w}}
-        windows[#windows + 1] = {name = second .. " edge / drum finish", u = {0.25, 0.8}, v = {1 - w, 1}}
-      end
-      for _, win in ipairs(windows) do
-        local r = bliskrun.simulate{surface = ts, passes = passes, u = win.u, v = win.v, samples_u = 30,
-                                    samples_v = 120, search_above = 0.5}
-        local seam = {flank = f.side, seam = win.name, material_left_max_mm = r.residual_max,
-                      material_left_min_mm = r.residual_min, overcut_mm = r.overcut, unreached = r.untouched,
-                      samples = r.samples, step_bound_mm = r.residual_max and (r.residual_max - math.max(0, r.residual_min))}
-        seams[#seams + 1] = seam
-        print(string.format("  seam, blade 1 %s flank, %-28s material left %s, unreached %d of %d, overcut %.2f um",
-                            f.side, win.name .. ":", r.residual_max and string.format("%.2f..%.2f um (step <= %.2f um)",
-                              1e3 * r.residual_min, 1e3 * r.residual_max, 1e3 * seam.step_bound_mm) or "none reached",
-                            r.untouched, r.samples, 1e3 * r.overcut))
-      end
-    end
-  end
+-- Seams between operations on blade 1 (issue 34 item 8, j:simulate_seams):
+-- every boundary between two operations' regions — root strip / edges,
+-- the edges' window tops, edges / flanks, root strip / flanks, channel
+-- floor / fillet — simulated under every operation's moves that reach it,
+-- each with its own tool, against the two operations' promises. A seam
+-- beyond them fails the run after the report (non-zero exit; a gouge there
+-- posts nothing).
+report.seams = {}
+for _, s in ipairs(sim.seams or {}) do
+  report.seams[#report.seams + 1] = {seam = s.name, surface = s.surface, operations = s.operations,
+    heights_mm = s.heights_mm, samples = s.samples, unreached = s.unreached, material_left_max_mm = s.material_left_max_mm,
+    material_left_min_mm = s.material_left_min_mm, material_left_at = s.material_left_at, overcut_mm = s.overcut_mm,
+    overcut_move = s.overcut_move, overcut_at = s.overcut_at, tolerance = s.tolerance, ok = s.ok, reason = s.reason}
+  print(string.format("  seam, blade 1 %-34s %s, heights %s mm: material left %s, unreached %d of %d, deepest cut %.2f um "
+                      .. "(within %.1f / %.1f um): %s", s.name .. ",", s.surface,
+                      s.heights_mm and string.format("%.2f-%.2f", s.heights_mm[1], s.heights_mm[2]) or "-",
+                      s.material_left_max_mm and string.format("up to %.2f um at %.2f mm", 1e3 * s.material_left_max_mm,
+                        s.material_left_at.height_mm) or "none reached", s.unreached, s.samples, 1e3 * s.overcut_mm,
+                      1e3 * s.tolerance.material_left_mm, -1e3 * s.tolerance.overcut_mm,
+                      s.ok and "ok" or "FAIL (" .. s.reason .. ")"))
 end
-report.seams = seams
+local seam_failures = {}
+for _, s in ipairs(sim.seams or {}) do
+  if not s.ok then seam_failures[#seam_failures + 1] = string.format("%s: %s", s.name, s.reason) end
+end
+report.seam_failures = #seam_failures
 
 -- One map of blade 1 (issue 18 item 4): every surface of the blade — both
 -- flanks, both edges, the root strip and the fillet below it, the channel
@@ -239,6 +204,12 @@ if sim.overcut < -chord_tol - 1e-4 then
   bliskrun.write_json("blisk_job.json", report)
   error(string.format("the simulation finds an overcut of %.2f um, beyond the %.0f um chord tolerance; nothing posted",
                       -1e3 * sim.overcut, 1e3 * chord_tol), 0)
+end
+for _, s in ipairs(sim.seams or {}) do
+  if s.overcut_mm < s.tolerance.overcut_mm - 0.0005 then
+    bliskrun.write_json("blisk_job.json", report)
+    error(string.format("seam %s: %s; nothing posted", s.name, s.reason), 0)
+  end
 end
 
 -- Setups: the blisk's axis on the table's C axis, its inlet face down. The
@@ -315,3 +286,10 @@ require("run_report").write{title = "Job: " .. j.name, settings = {blades = coun
            {"blisk_job_bc_heidenhain*.h", "Heidenhain programs, B/C head-table (one per setup)"},
            {"blisk_job_undercut_*.png", "the undercut maps above"},
            {"blisk_job_blade1_map.png", "blade 1's whole surface after the job, one map"}}}
+-- Material left beyond a seam's tolerance: the programs are proved safe and
+-- written, the part is not finished within tolerance — the run says so and
+-- fails (the report has each seam's reason).
+if #seam_failures > 0 then
+  error(string.format("%d seam%s between operations beyond tolerance (blisk_job.json, seams): %s", #seam_failures,
+                      #seam_failures > 1 and "s" or "", table.concat(seam_failures, "; ")), 0)
+end
