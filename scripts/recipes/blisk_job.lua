@@ -244,6 +244,15 @@ for _, m in ipairs({{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "b
   end
 end
 report.programs = j:post_programs(programs)
+-- One budget: what the programs can cut below the design is the plan's
+-- deepest cut (the simulation) plus how far the program's cutter leaves
+-- the proved motion as its controller moves (the sweep: the split
+-- tolerance and the output resolution's rounding).
+for _, p in ipairs(report.programs) do
+  p.overcut_bound_mm = sim.overcut - p.swept_cutter_mm
+  print(string.format("  %s: overcut at most %.2f um (plan %.2f um, program off the plan by at most %.2f um)", p.file,
+                      -1e3 * p.overcut_bound_mm, -1e3 * sim.overcut, 1e3 * p.swept_cutter_mm))
+end
 bliskrun.write_json("blisk_job.json", report)
 
 -- The run's page and the ParaView collection: every flank painted with its
@@ -262,7 +271,8 @@ for i, f in ipairs(sim.flanks) do
 end
 local program_rows = {}
 for i, p in ipairs(report.programs) do
-  program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm}
+  program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm,
+                     1e3 * p.swept_cutter_mm, 1e3 * p.swept_tool_mm, -1e3 * p.overcut_bound_mm}
 end
 local sections = {
   {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
@@ -270,8 +280,9 @@ local sections = {
    table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (um)", "mean (um)",
                        "overcut (um)"},
             rows = flank_rows}},
-  {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
-    "positioning moves", "tip deviation (um)"}, rows = program_rows}}}
+  {title = "Programs, read back and swept as each controller moves", table = {columns = {"file", "machine", "post",
+    "blocks", "positioning moves", "tip deviation (um)", "cutter off the proved motion (um)",
+    "tool off the proved motion (um)", "overcut at most (um)"}, rows = program_rows}}}
 if report.blade_map then
   pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                              image = report.blade_map.picture}
