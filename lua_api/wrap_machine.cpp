@@ -372,9 +372,14 @@ std::string with_verdict(std::string text, const std::string& verdict) {
   const std::string token = "@VERDICT@";
   const size_t at = text.find(token);
   if (at == std::string::npos) return text;
-  const size_t line_start = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+  // A header without a lower-case letter (Fanuc: comments are read upper
+  // case) gets the verdict in upper case.
   bool lower = false;
-  for (size_t i = line_start; i < at; ++i) lower = lower || std::islower(static_cast<unsigned char>(text[i]));
+  const size_t header_end = std::min(text.size(), at + 3000);
+  for (size_t i = 0; i < header_end; ++i) {
+    if (i >= at && i < at + token.size()) continue;
+    lower = lower || std::islower(static_cast<unsigned char>(text[i]));
+  }
   std::string v = verdict;
   if (!lower)
     for (char& c : v) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));

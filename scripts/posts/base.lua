@@ -186,7 +186,7 @@ function P.setup_notes(self, job)
                                     math.floor(job.machine.rapid_feed + 0.5))
   if job.approach then
     notes[#notes + 1] = string.format("each tool comes in from the safe height Z%s: Z alone, then the rotary axes, "
-                                      .. "then X and Y, then down its tool axis; the program ends up the tool axis to it",
+                                      .. "then X and Y, then Z down; each tool leaves up Z to it",
                                       self:number(job.approach.safe_z, 3))
   else
     notes[#notes + 1] = "the first move positions from the tool change point: start with the tool clear of the part"
@@ -317,10 +317,16 @@ function P.motion(self, job, out)
     end
     if move.reset then self:rotary_reset(job, move, out) end
     if move.safe == "retract" or move.safe == "rotate" then
-      -- Length compensation stays on without TCP (it places the tip).
-      if job.tcp and on then
-        set(false)
-        self:machine_axes_on(job, out)
+      -- Machine axes: under TCP with its control off (and what the
+      -- controller needs for tip words then); without TCP with the length
+      -- compensation tcp_on writes, which places the tip.
+      if job.tcp then
+        if on then
+          set(false)
+          self:machine_axes_on(job, out)
+        end
+      else
+        set(true)
       end
       self:safe_block(job, move, out)
     else

@@ -269,5 +269,42 @@ TEST(MachineLua, PlacedMovesThePartOriginAndLeavesTheOriginalAlone) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// The way in from the safe height, as each post writes it: Fanuc (machine
+// axes) with its length compensation on before the first Z; the TNC with
+// TCPM off for Z and the rotaries, on for the rest; the verdict filled in;
+// every block swept. A descent longer than the plan proved is refused.
+TEST(MachineLua, PostsWriteTheWayInFromTheSafeHeight) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local path = {}\n"
+      "for i = 0, 10 do\n"
+      "  path[#path + 1] = {kind = i == 0 and 'rapid' or 'feed', tip = {40, i, 5}, axis = {0, -0.5, 0.8660254}, feed = 500}\n"
+      "end\n"
+      "local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,\n"
+      "                                    shank = {diameter = 6, length = 50}}\n"
+      "local tool = {number = 1, length = 80, body = mill}\n"
+      "local m = bliskrun.machine.load('dmg_like_ac_trunnion')\n"
+      "local r = bliskrun.post.write{machine = m, post = 'fanuc', path = path, file = 'a.nc', tool = tool,\n"
+      "                              approach = {proved = 2000}}\n"
+      "local text = bliskrun.read_text('a.nc')\n"
+      "local g43, z = text:find('N%d+ G43 H1'), text:find('N%d+ G0 Z')\n"
+      "assert(g43 and z and g43 < z, text:sub(1, 1500))\n"
+      "assert(r.safe_moves == 3 and r.unswept == 0 and r.swept == r.moves - 3, r.swept)\n"
+      "assert(r.swept_tool > 0 and r.swept_cutter <= 0.005 + 0.01, r.swept_cutter)\n"
+      "assert(text:find('(VERDICT: PROVED, EVERY BLOCK', 1, true))\n"
+      "local h = bliskrun.machine.load('monoblock_like_head_table')\n"
+      "bliskrun.post.write{machine = h, post = 'heidenhain', path = path, file = 'a.h', tool = tool,\n"
+      "                    approach = {proved = 2000, proved_up = 2000}}\n"
+      "local tnc = bliskrun.read_text('a.h')\n"
+      "local up, rotate, tcpm = tnc:find('\\n%d+ L Z%+[%d.]+ R0 FMAX\\n'), tnc:find('\\n%d+ L C[-+][%d.]+ B[-+][%d.]+ R0 FMAX'),\n"
+      "                         tnc:find('FUNCTION TCPM F TCP')\n"
+      "assert(up and rotate and tcpm and up < rotate and rotate < tcpm, tnc:sub(1, 2000))\n"
+      "assert(tnc:find('; VERDICT: PROVED, every block', 1, true), tnc:sub(1, 400))\n"
+      "local ok, err = pcall(bliskrun.post.write, {machine = m, post = 'fanuc', path = path, file = 'b.nc', tool = tool,\n"
+      "                                            approach = {proved = 10}})\n"
+      "assert(not ok and tostring(err):find('the plan proved 10 mm of it clear'), tostring(err))\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test
