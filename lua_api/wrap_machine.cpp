@@ -342,6 +342,10 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "rotary_speed");  // deg/min, the fastest block of each axis
   lua_pushinteger(L, p.plan.rotary_resets);
   lua_setfield(L, -2, "rotary_resets");
+  lua_pushnumber(L, p.plan.minutes);
+  lua_setfield(L, -2, "feed_minutes");  // the feed moves' time as the F words ask it
+  lua_pushnumber(L, p.plan.tip_feed_minutes);
+  lua_setfield(L, -2, "tip_feed_minutes");  // ... and with the tip alone at the planned feeds
   double largest = 0;
   for (const MachineMove& m : p.plan.moves)
     for (int i = 0; i < 2; ++i) largest = std::max(largest, std::abs(rad_to_deg(m.axes.rotary_rad[i])));

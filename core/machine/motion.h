@@ -155,6 +155,10 @@ struct MachineProgram {
   double max_cutter_speed_ratio = 0;   // over the feed moves, after slowing
   std::array<double, 2> max_rotary_speed_rad_per_min{0.0, 0.0};  // over the feed moves
   long rotary_resets = 0;
+  // Time of the feed moves (cutting and positioning) as the F words ask
+  // it, and as the tip alone at the planned feeds would take: what the
+  // slowing for the cutter and the rotary axes costs. Rapids not counted.
+  double minutes = 0, tip_feed_minutes = 0;
 };
 
 // The tool's departure from the planned motion while the controller moves
