@@ -9,12 +9,14 @@
 #   --data DIR   also run the cheap recipes on real part data
 #   --bench      also run build/bench/bliskrun_bench (built if missing)
 #   --runs DIR   where the runs' out folders go (default build/results)
+#   --resume     keep the runs already finished in DIR (after an interrupted run)
 # The built-in part's recipes take a few minutes on the 2-core machine.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 data=""
 bench=0
+resume=0
 threads=2
 runs=build/results
 while [ $# -gt 0 ]; do
@@ -23,12 +25,13 @@ while [ $# -gt 0 ]; do
     --bench) bench=1; shift ;;
     --threads) threads="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
+    --resume) resume=1; shift ;;
     *) echo "bench/results.sh: unknown option '$1'" >&2; exit 2 ;;
   esac
 done
 [ -x build/bliskrun ] || { echo "bench/results.sh: build/bliskrun not found; build first (README)" >&2; exit 2; }
 [ -x /usr/bin/time ] || { echo "bench/results.sh: needs GNU time (/usr/bin/time; apt-get install time)" >&2; exit 2; }
-rm -rf "$runs"
+[ "$resume" = 1 ] || rm -rf "$runs"
 mkdir -p "$runs"
 runs="$(cd "$runs" && pwd)"
 
@@ -43,17 +46,31 @@ run() {
     if [ "$skip" = 1 ]; then skip=0; continue; fi
     case "$a" in --set) ;; --data) skip=1; settings="${settings:+$settings }--data" ;; *) settings="${settings:+$settings }$a" ;; esac
   done
-  echo "== $recipe $settings" >&2
   local code=0
-  /usr/bin/time -o "$runs/$name.time" -f "%e %U %S %M" \
-    build/bliskrun "scripts/recipes/$recipe" --out "$runs/$name" --threads "$threads" --quiet "$@" \
-    > "$runs/$name.log" 2>&1 || code=$?
+  if [ "$resume" = 1 ] && [ -f "$runs/$name.code" ]; then
+    code="$(cat "$runs/$name.code")"
+    echo "== $recipe $settings (kept from the interrupted run)" >&2
+  else
+    echo "== $recipe $settings" >&2
+    rm -rf "${runs:?}/$name"
+    /usr/bin/time -o "$runs/$name.time" -f "%e %U %S %M" \
+      build/bliskrun "scripts/recipes/$recipe" --out "$runs/$name" --threads "$threads" --quiet "$@" \
+      > "$runs/$name.log" 2>&1 || code=$?
+    echo "$code" > "$runs/$name.code"
+  fi
   # GNU time appends "Command exited with non-zero status N" before its line on failure.
   read -r wall user sys rss < <(tail -n 1 "$runs/$name.time")
   entries+=("{\"recipe\": $(json_string "$recipe"), \"settings\": $(json_string "$settings"), \"out\": $(json_string "$name"), \"exit_code\": $code, \"wall_s\": $wall, \"user_s\": $user, \"sys_s\": $sys, \"max_rss_kb\": $rss}")
 }
 
-load="$(cut -d' ' -f1-3 /proc/loadavg)"
+# When the runs started and how loaded the machine was then: kept across --resume.
+if [ ! -f "$runs/started" ]; then
+  { date -u '+%Y-%m-%d %H:%M UTC'; cut -d' ' -f1-3 /proc/loadavg;
+    git rev-parse --short HEAD; git diff --quiet HEAD -- core lua_api scripts/recipes scripts/lib scripts/posts scripts/machines || echo dirty; } > "$runs/started"
+fi
+started_at="$(sed -n 1p "$runs/started")"
+load="$(sed -n 2p "$runs/started")"
+commit="$(sed -n 3p "$runs/started")$(grep -q '^dirty$' "$runs/started" && echo ' + local changes' || true)"
 run wheel_design blisk_wheel_design.lua
 run drum_finish blisk_drum_finish.lua
 run drum_study blisk_drum_study.lua
@@ -82,8 +99,7 @@ fi
 
 {
   printf '{"date": %s, "commit": %s, "nproc": %d, "cpu": %s, "mem_total_kb": %d, "load": %s, "threads": %d, "runs": [\n' \
-    "$(json_string "$(date -u '+%Y-%m-%d %H:%M UTC')")" \
-    "$(json_string "$(git rev-parse --short HEAD)$(git diff --quiet HEAD -- core lua_api scripts || echo ' + local changes')")" \
+    "$(json_string "$started_at")" "$(json_string "$commit")" \
     "$(nproc)" \
     "$(json_string "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1)")" \
     "$(sed -n 's/^MemTotal: *\([0-9]*\) kB/\1/p' /proc/meminfo)" \

@@ -179,7 +179,7 @@ out()
 
 -- Per recipe, the declared figures of its JSON report.
 for _, run in ipairs(index.runs) do
-  local spec = FIGURES[run.recipe]
+  local spec = FIGURES[run.recipe .. " " .. run.settings] or FIGURES[run.recipe]
   if spec then
     local report = read_json(run.out .. "/" .. spec.json)
     out("## `" .. run.recipe .. "`" .. (run.settings ~= "" and (" `" .. run.settings .. "`") or ""))
