@@ -49,7 +49,7 @@ run() {
   local code=0
   if [ "$resume" = 1 ] && [ -f "$runs/$name.code" ]; then
     code="$(cat "$runs/$name.code")"
-    echo "== $recipe $settings (kept from the interrupted run)" >&2
+    echo "== $recipe $settings (kept: --resume)" >&2
   else
     echo "== $recipe $settings" >&2
     rm -rf "${runs:?}/$name"

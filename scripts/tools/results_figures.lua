@@ -399,7 +399,8 @@ M["impeller_job.lua"] = {
   json = "impeller_job.json",
   about = "The built-in impeller as one job: channels notched and widened (the widening finishing the hub), "
           .. "faces flank-finished, blade 1 planned and turned onto the others, simulated, posted for two B/C "
-          .. "trunnions (Heidenhain with TCPM, Fanuc without).",
+          .. "trunnions (Heidenhain with TCPM, Fanuc without). A quick run (2 blades, one channel, one face) "
+          .. "leaves the stock on what it does not finish: those surfaces show up to 1 mm (faces) or 2 mm (hub) left.",
   rows = {
     {"blades, moves, links", fmt("%d, %d, %d", "blades", "moves", "links")},
     {"moves: notch, widen, flank finish, link",
