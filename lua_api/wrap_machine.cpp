@@ -530,6 +530,8 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
         {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
         {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
         {"body", luax::Kind::Any, false, {}, {}, "the Tool (its reach: the whole tool is swept)", {}},
+        {"active_reach", luax::Kind::Number, false, 0.0, {},
+         "farthest point from the tip of the cutter's part that cuts (feed at the cutter), mm", {}},
     });
     ToolReach reach;
     if (tool.has("body")) {
@@ -540,6 +542,7 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
       reach.cutter_mm = body->tool.cutter().reach();
       lua_pop(L, 1);
     }
+    reach.active_mm = tool.number("active_reach", 0);
     r.reaches.push_back(reach);
     PostTool t;
     t.number = static_cast<int>(tool.integer("number", 1));

@@ -86,7 +86,7 @@ BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed
                      bool cutting) {
   const double d0 = b.rotary_rad[0] - a.rotary_rad[0], d1 = b.rotary_rad[1] - a.rotary_rad[1];
   const double turn = std::sqrt(std::max(0.0, d0 * d0 + d1 * d1 + 2 * std::abs(d0 * d1) * kin.rotary_axes_cos()));
-  const double cutter_mm = tip_mm + reach.cutter_mm * turn;
+  const double cutter_mm = tip_mm + reach.active() * turn;
   double minutes = tip_mm / feed_mm_per_min;
   const double tip_minutes = minutes;
   if (cutting && factor > 0) minutes = std::max(minutes, cutter_mm / (factor * feed_mm_per_min));

@@ -54,6 +54,11 @@ const char* to_string(ControllerMotion motion);
 struct ToolReach {
   double cutter_mm = 0;  // farthest point of the cutting part (Tool::cutter) from the tip
   double body_mm = 0;    // farthest point of the whole tool (cutter, shank, holder)
+  // Farthest point of the part of the cutter that cuts in this program
+  // (e.g. a flat-end mill's bottom and corner in edge finishing): what
+  // the feed at the cutter is measured on; <= 0: cutter_mm.
+  double active_mm = 0;
+  double active() const { return active_mm > 0 ? active_mm : cutter_mm; }
 };
 
 struct PlannedMove {

@@ -1948,12 +1948,27 @@ end
 -- order they are first used (a sister tool has its tool's length and speed).
 function Job:post_options(o, path, level)
   check_post_options(o, level + 1)
-  local tools, order = {}, {}
+  local tools, order, bottom_only = {}, {}, {}
   for _, m in ipairs(path) do
     if not order[m.tool] then
       order[m.tool] = true
       local t = self:tool_entry(m.tool)
       tools[#tools + 1] = {number = m.tool, length = t.length, spindle_rpm = t.spindle_rpm, body = t.tool}
+      bottom_only[m.tool] = true
+    end
+    if m.operation_kind ~= "edge_finish" and m.operation_kind ~= "link" then bottom_only[m.tool] = false end
+  end
+  -- The feed at the cutter is measured on the part of it that cuts: the
+  -- edge finish cuts with a flat-end mill's bottom and corner (the profile
+  -- up to the end of its first arc), not its flutes.
+  for _, t in ipairs(tools) do
+    if bottom_only[t.number] and t.body:kind() == "flat-end mill" then
+      local reach = 0
+      for _, e in ipairs(t.body:profile()) do
+        for _, rz in ipairs{e.from, e.to} do reach = math.max(reach, math.sqrt(rz[1] ^ 2 + rz[2] ^ 2)) end
+        if e.kind == "arc" then break end
+      end
+      t.active_reach = reach
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine
