@@ -332,6 +332,8 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   // Feed at the cutter and rotary speeds.
   lua_pushinteger(L, p.plan.slowed_moves);
   lua_setfield(L, -2, "slowed");
+  lua_pushinteger(L, p.plan.untimed_moves);
+  lua_setfield(L, -2, "untimed");
   lua_pushnumber(L, p.plan.max_cutter_speed_ratio);
   lua_setfield(L, -2, "cutter_speed_ratio");
   lua_createtable(L, 0, 2);

@@ -76,6 +76,7 @@ std::string describe(long index, const PlannedMove& m) {
 struct BlockFeed {
   double word = 0;
   double minutes = 0, tip_minutes = 0;  // the block's duration, and the tip's alone at the planned feed
+  bool untimed = false;  // TCP: the tip moves too little for F to time the block
   double cutter_ratio = 0;  // fastest cutter point / planned feed
   bool slowed = false;
   std::array<double, 2> rotary_rad_per_min{0.0, 0.0};
@@ -113,7 +114,17 @@ BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed
   f.tip_minutes = tip_minutes;
   if (mode == FeedMode::InverseTime) f.word = 1 / minutes;
   else if (!cutting) f.word = feed_mm_per_min;  // positioning: the rapid feed as the controller reads it
-  else if (tcp) f.word = tip_mm > 1e-6 ? tip_mm / minutes : feed_mm_per_min;  // F is the tip's speed
+  else if (tcp) {
+    // F is the tip's speed. A block that hardly moves the tip cannot be
+    // timed by it: at least 1 mm/min is written (what the post's one
+    // decimal keeps), and the block counted — its time is then the
+    // controller's, its rotary axes at their own speed limits.
+    f.word = tip_mm / minutes;
+    if (f.word < 1.0) {
+      f.word = std::max(1.0, std::min(feed_mm_per_min, tip_mm > 1e-9 ? 1.0 : feed_mm_per_min));
+      f.untimed = true;
+    }
+  }
   else f.word = combined / minutes;
   // Under TCP a block that hardly moves the tip is timed by the controller
   // (its rotary speed), not by F: its ratio is measured at the top speeds.
@@ -164,7 +175,12 @@ class Planner {
       const MachineAxes to_axes = inverse(to, from_axes, planned, index);
       feed(from, from_axes, to, to_axes, planned, index, depth + 1, last_piece && i == pieces);
       from = to;
-      from_axes = to_axes;
+      // The next piece starts where this one's blocks ended: splitting it
+      // re-solves its own pieces, and near the pole the last of them may
+      // land on the other branch of the same tool axis (B -> -B, C + 180).
+      // Starting from to_axes would then put a 180 deg turn of C between
+      // two blocks that no check saw.
+      from_axes = program_.moves.back().axes;
     }
   }
 
@@ -191,6 +207,7 @@ class Planner {
         program_.max_cutter_speed_ratio = std::max(program_.max_cutter_speed_ratio, f.cutter_ratio);
       }
       program_.slowed_moves += f.slowed;
+      program_.untimed_moves += f.untimed;
       for (int i = 0; i < 2; ++i)
         program_.max_rotary_speed_rad_per_min[i] =
             std::max(program_.max_rotary_speed_rad_per_min[i], f.rotary_rad_per_min[i]);
@@ -763,6 +780,7 @@ MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, c
     program.skipped_moves += part.skipped_moves;
     program.positioning_moves += part.positioning_moves;
     program.slowed_moves += part.slowed_moves;
+    program.untimed_moves += part.untimed_moves;
     program.minutes += part.minutes;
     program.tip_feed_minutes += part.tip_feed_minutes;
     program.rotary_resets += part.rotary_resets;

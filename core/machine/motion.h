@@ -157,6 +157,9 @@ struct MachineProgram {
   long skipped_moves = 0;       // planned moves that did not move any axis
   long positioning_moves = 0;   // planned rapids posted as feed moves at the rapid feed
   long slowed_moves = 0;        // feed moves whose F was lowered for the cutter or a rotary axis
+  // TCP feed moves that hardly move the tip: F (the tip's speed) cannot time
+  // them; the controller's rotary speed limits do.
+  long untimed_moves = 0;
   double max_cutter_speed_ratio = 0;   // over the feed moves, after slowing
   std::array<double, 2> max_rotary_speed_rad_per_min{0.0, 0.0};  // over the feed moves
   long rotary_resets = 0;
