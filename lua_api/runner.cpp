@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "core/common/atomic_file.h"
+#include "core/common/cancel_after.h"
 #include "core/common/error.h"
 #include "core/common/memory_budget.h"
 #include "lua_api/luax.h"
@@ -149,10 +150,18 @@ class Watchdog {
   std::atomic<bool> expired_{false};
 };
 
+// RunOptions::test_cancel_at, parsed; armed at most once per run.
+struct TestCancel {
+  std::string at;     // "recipe.lua:7"; empty = none
+  long points = 0;
+  bool armed = false;
+};
+
 struct RunState {
   RunContext* context;
   Allocator* allocator;
   Watchdog* watchdog;
+  TestCancel test_cancel;
   // "recipe.lua:12", refreshed by the count hook; read by the watchdog's
   // hard stop from its own thread, hence the mutex.
   std::string last_position;
@@ -187,13 +196,35 @@ void record_position(lua_State* L, RunState& s) {
   }
 }
 
+// Whether some level of L's stack is at `at` ("recipe.lua:7"): a frame's
+// "source:line" ends with it, after a folder separator or nothing.
+bool stack_is_at(lua_State* L, const std::string& at) {
+  lua_Debug ar;
+  for (int level = 0; lua_getstack(L, level, &ar); ++level) {
+    lua_getinfo(L, "Sl", &ar);
+    if (ar.currentline <= 0) continue;
+    const std::string here = std::string(ar.short_src) + ":" + std::to_string(ar.currentline);
+    if (here.size() < at.size() || here.compare(here.size() - at.size(), at.size(), at) != 0) continue;
+    if (here.size() == at.size() || here[here.size() - at.size() - 1] == '/') return true;
+  }
+  return false;
+}
+
 // Before each core call (luax::guarded): the line that made it, so that the
-// watchdog's last resort can name it even when no hook ran in between.
+// watchdog's last resort can name it even when no hook ran in between; and
+// the test cancellation, armed by the first call from its line.
 void observe_call(lua_State* L) {
   lua_getfield(L, LUA_REGISTRYINDEX, kContextKey);
   auto* s = static_cast<RunState*>(lua_touserdata(L, -1));
   lua_pop(L, 1);
-  if (s) record_position(L, *s);
+  if (!s) return;
+  record_position(L, *s);
+  TestCancel& t = s->test_cancel;
+  if (!t.at.empty() && !t.armed && stack_is_at(L, t.at)) {
+    t.armed = true;
+    request_cancel_all_after(t.points, "test cancellation after " + std::to_string(t.points) +
+                                           " cancellation points of the call at " + t.at);
+  }
 }
 
 void count_hook(lua_State* L, lua_Debug*) {
@@ -488,7 +519,19 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   struct BudgetReset {
     ~BudgetReset() { set_memory_budget(0); }
   } budget_reset;
-  RunState run_state{&ctx, &allocator, nullptr, {}, {}};
+  RunState run_state{&ctx, &allocator, nullptr, {}, {}, {}};
+  if (!options.test_cancel_at.empty()) {
+    const auto colon = options.test_cancel_at.rfind(':');
+    char* end = nullptr;
+    const long points =
+        colon == std::string::npos ? 0 : std::strtol(options.test_cancel_at.c_str() + colon + 1, &end, 10);
+    if (points < 1 || !end || *end != '\0') {
+      err << "bliskrun: test_cancel_at '" << options.test_cancel_at << "' is not FILE:LINE:N with N >= 1\n";
+      return kExitUsage;
+    }
+    run_state.test_cancel.at = options.test_cancel_at.substr(0, colon);
+    run_state.test_cancel.points = points;
+  }
   Watchdog::HardStop hard_stop;
   if (options.hard_time_limit)
     hard_stop = [&err, &run_state](const std::string& message) {

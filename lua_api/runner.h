@@ -28,6 +28,14 @@ struct RunOptions {
   // bliskrun command sets it; in-process callers (tests, fuzzers) do not.
   bool hard_time_limit = false;
   int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
+  // Tests only, not reachable from the command line: "FILE:LINE:N" cancels
+  // the run at the N-th cancellation point (core/common/progress.h) after a
+  // core call is first made from line LINE of FILE (a path's tail, e.g.
+  // "recipe.lua:7", on any level of the Lua stack). The call then stops
+  // part-way by an amount of work, as a time limit would stop it, whatever
+  // the machine's speed; its error reads "cancelled: test cancellation after
+  // N cancellation points of the call at FILE:LINE".
+  std::string test_cancel_at;
 };
 
 // What a running recipe may touch, and where progress goes. One per Lua

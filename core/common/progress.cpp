@@ -5,30 +5,49 @@
 
 #include <mutex>
 
+#include "core/common/cancel_after.h"
 #include "core/common/error.h"
 
 namespace bliskrun {
 
 namespace {
+// cancel_all alone decides the fast path (one relaxed load per point); the
+// countdown of request_cancel_all_after() is read only once it is set, and
+// is 0 for a request that takes effect at once.
 std::atomic<bool> cancel_all{false};
+std::atomic<long> points_left{0};
 std::mutex cancel_all_mutex;
 std::string cancel_all_reason;
-}  // namespace
 
-void request_cancel_all(const std::string& reason) {
+void request(long points, const std::string& reason) {
   {
     std::lock_guard<std::mutex> lock(cancel_all_mutex);
     cancel_all_reason = reason;
   }
+  points_left.store(points);
   cancel_all.store(true);
 }
+}  // namespace
 
-void clear_cancel_all() { cancel_all.store(false); }
+void request_cancel_all(const std::string& reason) { request(0, reason); }
 
-bool cancel_all_requested() { return cancel_all.load(std::memory_order_relaxed); }
+void request_cancel_all_after(long points, const std::string& reason) { request(std::max(points, 1L), reason); }
+
+void clear_cancel_all() {
+  cancel_all.store(false);
+  points_left.store(0);
+}
+
+bool cancel_all_requested() {
+  return cancel_all.load(std::memory_order_relaxed) && points_left.load(std::memory_order_relaxed) <= 0;
+}
 
 void cancellation_point() {
   if (!cancel_all.load(std::memory_order_relaxed)) return;
+  // A countdown: points before the last one pass. Once it has run out the
+  // count goes on below zero and every point throws.
+  std::atomic_thread_fence(std::memory_order_acquire);  // see the countdown stored before the flag
+  if (points_left.fetch_sub(1, std::memory_order_relaxed) > 1) return;
   std::string reason;
   {
     std::lock_guard<std::mutex> lock(cancel_all_mutex);

@@ -1,16 +1,18 @@
-// Cancellation from another thread reaches every long core loop, also the
-// ones that take no Progress: the run's watchdog requests it process-wide
-// (request_cancel_all) and the loop throws Cancelled at its next
-// cancellation point. One test per subsystem; each workload takes seconds
-// to finish, so finishing instead of throwing fails the test.
+// Cancellation reaches every long core loop, also the ones that take no
+// Progress: the run's watchdog requests it process-wide (request_cancel_all,
+// from its own thread) and the loop throws Cancelled at its next
+// cancellation point. One test per subsystem. The request here takes effect
+// part-way by a count of cancellation points (request_cancel_all_after), not
+// after a delay, so the test does not depend on the machine's speed; each
+// workload passes far more points than that, and finishing instead of
+// throwing fails the test.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <functional>
 #include <sstream>
-#include <thread>
 
 #include "core/analysis/passage.h"
+#include "core/common/cancel_after.h"
 #include "core/common/error.h"
 #include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
@@ -22,16 +24,11 @@
 namespace bliskrun {
 namespace {
 
-// Runs `work` while another thread requests cancellation after 20 ms;
-// expects Cancelled, and clears the request afterwards.
+// Runs `work` with cancellation requested to take effect at its 50th
+// cancellation point; expects Cancelled, and clears the request afterwards.
 void expect_cancelled(const std::function<void()>& work) {
-  clear_cancel_all();
-  std::thread canceller([] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    request_cancel_all("test");
-  });
+  request_cancel_all_after(50, "test");
   EXPECT_THROW(work(), Cancelled);
-  canceller.join();
   clear_cancel_all();
 }
 
@@ -74,13 +71,24 @@ TEST(Cancellation, PartGridsStop) {
 }
 
 // Progress::none(), which loops get when the caller passes no Progress,
-// answers the process-wide request too.
+// answers the process-wide request too; a counted request takes effect at
+// its count and not before.
 TEST(Cancellation, ProgressNoneAnswersTheRequest) {
   clear_cancel_all();
   EXPECT_NO_THROW(Progress::none().check());
   request_cancel_all("test");
   EXPECT_THROW(Progress::none().check(), Cancelled);
   EXPECT_THROW(cancellation_point(), Cancelled);
+  clear_cancel_all();
+  EXPECT_NO_THROW(cancellation_point());
+
+  request_cancel_all_after(3, "test");
+  EXPECT_FALSE(cancel_all_requested());
+  EXPECT_NO_THROW(Progress::none().check());  // 1
+  EXPECT_NO_THROW(cancellation_point());      // 2
+  EXPECT_THROW(cancellation_point(), Cancelled);  // 3
+  EXPECT_TRUE(cancel_all_requested());
+  EXPECT_THROW(Progress::none().check(), Cancelled);
   clear_cancel_all();
   EXPECT_NO_THROW(cancellation_point());
 }

@@ -1,12 +1,11 @@
-// Tessellation under the run's limits: cancelled from another thread while
+// Tessellation under the run's limits: cancelled while
 // refining towards an absurd tolerance, and refused before allocating when
 // the mesh it would build exceeds the memory budget.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cstdio>
-#include <thread>
 
+#include "core/common/cancel_after.h"
 #include "core/common/error.h"
 #include "core/common/memory_budget.h"
 #include "core/geometry/mesh.h"
@@ -15,17 +14,15 @@
 namespace bliskrun {
 namespace {
 
-TEST(TessellateLimits, CancelledFromAnotherThread) {
+TEST(TessellateLimits, CancelledPartWay) {
   // 1e-7 mm on a 20 mm sphere refines to the 4096 x 4096 cap: minutes of
-  // sampling without cancellation points.
+  // sampling without cancellation. Cancelled at its 50th cancellation point
+  // (a count, not a delay: whatever the machine's speed, part-way).
   const test::Sphere s(20);
   Progress progress;
-  std::thread canceller([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    progress.cancel("test");
-  });
+  request_cancel_all_after(50, "test");
   EXPECT_THROW(tessellate(s, 1e-7, 0, 1, 0, 1, progress), Cancelled);
-  canceller.join();
+  clear_cancel_all();
 }
 
 TEST(TessellateLimits, RefusesAMeshOverTheBudgetWithItsEstimate) {
