@@ -9,6 +9,7 @@
 
 #include "core/common/error.h"
 #include "core/planning/channel_roughing.h"
+#include "core/toolpath/move.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
@@ -188,13 +189,13 @@ void push_channel_plan(lua_State* L, const ChannelPlan& plan) {
   lua_setfield(L, -2, "refusals");
   // The toolpath in the form bliskrun.write_vtk and the posts take; row =
   // the pass (1-based).
-  const std::vector<ChannelMove> moves = channel_moves(plan);
+  const Toolpath moves = channel_moves(plan);
   lua_createtable(L, static_cast<int>(moves.size()), 0);
   for (size_t i = 0; i < moves.size(); ++i) {
     push_pose(L, moves[i].pose);
-    luax::set_string(L, "kind", moves[i].feed ? "feed" : "rapid");
+    luax::set_string(L, "kind", to_string(moves[i].kind));
     luax::set_string(L, "motion", moves[i].motion);
-    luax::set_number(L, "row", moves[i].pass + 1);
+    luax::set_number(L, "row", moves[i].row + 1);
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "moves");

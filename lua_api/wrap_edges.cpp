@@ -417,7 +417,7 @@ struct LocatedMove {
   std::string motion;
   int row = -1;
 };
-LocatedMove locate(const std::vector<DrumFinishMove>& moves, const DrumFinishPasses& passes, int pass, long pose) {
+LocatedMove locate(const Toolpath& moves, const ToolpathPasses& passes, int pass, long pose) {
   LocatedMove out;
   if (pass < 0 || pose < 0) return out;
   const long i = passes.first_move.at(static_cast<size_t>(pass)) + pose;
@@ -451,8 +451,8 @@ int w_plan_simulate(lua_State* L) {
     so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
     so.v0 = r.v0;
     so.v1 = r.v1;
-    const std::vector<DrumFinishMove> moves = edge_finish_moves(r);
-    const DrumFinishPasses split = passes_of_moves(moves);
+    const Toolpath moves = edge_finish_moves(r);
+    const ToolpathPasses split = toolpath_passes(moves);
     const std::vector<ToolPass>& passes = split.passes;
     const auto t0 = std::chrono::steady_clock::now();
     UndercutResult u = simulate_undercut(*p.edge, *p.tool, passes, so, context(L).progress);

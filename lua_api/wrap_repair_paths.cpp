@@ -8,6 +8,7 @@
 
 #include "core/parts/closed_blade.h"
 #include "core/planning/repair_paths.h"
+#include "core/toolpath/move.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
@@ -75,14 +76,6 @@ int w_close_blade(lua_State* L) {
   });
 }
 
-const char* kind_name(DrumFinishMove::Kind k) {
-  switch (k) {
-    case DrumFinishMove::Kind::Feed: return "feed";
-    case DrumFinishMove::Kind::Rapid: return "rapid";
-    case DrumFinishMove::Kind::Stop: return "stop";
-  }
-  return "?";
-}
 
 void push_result(lua_State* L, const RepairPathResult& r) {
   lua_createtable(L, 0, 24);
@@ -163,13 +156,13 @@ void push_result(lua_State* L, const RepairPathResult& r) {
   long first_finish = 0;
   lua_createtable(L, static_cast<int>(m.moves.size()), 0);
   for (size_t i = 0; i < m.moves.size(); ++i) {
-    const DrumFinishMove& mv = m.moves[i];
+    const Move& mv = m.moves[i];
     const int layer = m.layer_of[i];
     if (!first_finish && r.layers[layer].finishing) first_finish = static_cast<long>(i + 1);
     lua_createtable(L, 0, 7);
-    luax::set_string(L, "kind", kind_name(mv.kind));
+    luax::set_string(L, "kind", to_string(mv.kind));
     luax::set_string(L, "motion", mv.motion);
-    if (mv.kind != DrumFinishMove::Kind::Stop) {
+    if (mv.kind != Move::Kind::Stop) {
       luax::set_vec3(L, "tip", mv.pose.tip);
       luax::set_vec3(L, "axis", mv.pose.axis);
     } else {

@@ -523,24 +523,24 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   return plan;
 }
 
-std::vector<ChannelMove> channel_moves(const ChannelPlan& plan) {
-  std::vector<ChannelMove> moves;
-  if (plan.lead_in.clear) moves.push_back({false, plan.lead_in.away, 0, "start"});
+Toolpath channel_moves(const ChannelPlan& plan) {
+  Toolpath moves;
+  if (plan.lead_in.clear) moves.push_back({Move::Kind::Rapid, plan.lead_in.away, 0, "start", {}});
   for (size_t i = 0; i < plan.passes.size(); ++i) {
     const int pass = static_cast<int>(i);
     if (i > 0 && i - 1 < plan.links.size()) {
       const PlannedLink& link = plan.links[i - 1];
-      for (size_t k = 0; k < link.via.size(); ++k) moves.push_back({false, link.via[k], pass, link_leg_name(link.legs[k])});
+      for (size_t k = 0; k < link.via.size(); ++k) moves.push_back({Move::Kind::Rapid, link.via[k], pass, link_leg_name(link.legs[k]), {}});
     } else if (i > 0 && !plan.complete) {
       break;  // an unproved link: nothing after it
     }
     const ChannelPass& p = plan.passes[i];
     const bool step = i > 0 && i - 1 < plan.links.size() && plan.links[i - 1].via.empty();
     for (size_t k = 0; k < p.poses.size(); ++k)
-      moves.push_back({true, p.poses[k], pass, k > 0 ? "cut" : step ? "step" : "approach"});
+      moves.push_back({Move::Kind::Feed, p.poses[k], pass, k > 0 ? "cut" : step ? "step" : "approach", {}});
   }
   if (plan.lead_out.clear && plan.links.size() + 1 == plan.passes.size())
-    moves.push_back({false, plan.lead_out.away, static_cast<int>(plan.passes.size()) - 1, "retract"});
+    moves.push_back({Move::Kind::Rapid, plan.lead_out.away, static_cast<int>(plan.passes.size()) - 1, "retract", {}});
   return moves;
 }
 

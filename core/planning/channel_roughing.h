@@ -78,6 +78,7 @@
 #include "core/planning/flank_milling.h"
 #include "core/planning/links.h"
 #include "core/tools/pose.h"
+#include "core/toolpath/move.h"
 
 namespace bliskrun {
 
@@ -152,18 +153,13 @@ struct ChannelPlan {
   double hub_stock_mm = 0;               // as planned (the request's, or the stock)
 };
 
-// The toolpath in cutting order: the lead-in's away pose (rapid), each
-// pass's poses (feed, "cut"; the first "approach", or "step" after a
-// direct step), the links' via poses
-// (rapid, named by their leg), the lead-out's away pose (rapid). Nothing
-// after a link that could not be proved.
-struct ChannelMove {
-  bool feed = true;
-  ToolPose pose;
-  int pass = 0;             // index into ChannelPlan::passes
-  const char* motion = "";  // "cut", "approach", "start", "retract", or a link leg
-};
-std::vector<ChannelMove> channel_moves(const ChannelPlan& plan);
+// The toolpath in cutting order (core/toolpath/move.h; row = the index into
+// ChannelPlan::passes): the lead-in's away pose (Rapid, "start"), each
+// pass's poses (Feed, "cut"; the first "approach", or "step" after a direct
+// step), the links' via poses (Rapid, named by their leg), the lead-out's
+// away pose (Rapid, "retract"). Nothing after a link that could not be
+// proved, and no Stop: the plan's `stopped` says why it ends there.
+Toolpath channel_moves(const ChannelPlan& plan);
 
 // Throws ParameterError naming the missing or impossible option, Error when
 // the channel's geometry cannot be found (a face not meeting the hub's

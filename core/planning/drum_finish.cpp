@@ -11,6 +11,7 @@
 #include "core/common/error.h"
 #include "core/common/parallel.h"
 #include "core/geometry/differential.h"
+#include "core/toolpath/apt.h"
 
 namespace bliskrun {
 namespace {
@@ -523,34 +524,15 @@ std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishR
   return results;
 }
 
-DrumFinishPasses drum_finish_passes(const DrumFinishResult& result) {
-  return passes_of_moves(drum_finish_moves(result));
-}
-
-DrumFinishPasses passes_of_moves(const std::vector<DrumFinishMove>& moves) {
-  DrumFinishPasses out;
-  std::vector<ToolPose> pass;
-  auto close = [&] {
-    if (!pass.empty()) out.passes.push_back(std::move(pass));
-    pass.clear();
-  };
-  for (size_t i = 0; i < moves.size(); ++i) {
-    if (moves[i].kind == DrumFinishMove::Kind::Stop) {
-      close();
-      continue;
-    }
-    if (pass.empty()) out.first_move.push_back(static_cast<long>(i));
-    pass.push_back(moves[i].pose);
-  }
-  close();
-  return out;
+ToolpathPasses drum_finish_passes(const DrumFinishResult& result) {
+  return toolpath_passes(drum_finish_moves(result));
 }
 
 DrumFinishSimulation simulate_drum_finish(const DrumFinishResult& result, const DrumFinishRequest& request,
                                           UndercutOptions o, Progress& progress) {
   if (!result.trimmed) throw ParameterError("result", "a drum-finish plan with its trimmed flank");
   if (!request.tool) throw ParameterError("tool", "the plan's drum wheel");
-  const DrumFinishPasses passes = drum_finish_passes(result);
+  const ToolpathPasses passes = drum_finish_passes(result);
   // The machined window's samples as the caller asked (samples_u over
   // [first_row_u, 1]), continued at the same spacing down to the hub curve.
   DrumFinishSimulation sim;
@@ -565,31 +547,22 @@ DrumFinishSimulation simulate_drum_finish(const DrumFinishResult& result, const 
   o.flip_normal = request.flip_normal;
   sim.undercut = simulate_undercut(*result.trimmed, *request.tool, passes.passes, o, progress);
   if (sim.undercut.overcut_pass >= 0) {
-    const std::vector<DrumFinishMove> moves = drum_finish_moves(result);
+    const Toolpath moves = drum_finish_moves(result);
     sim.overcut_move = passes.first_move.at(sim.undercut.overcut_pass) + sim.undercut.overcut_pose;
-    const DrumFinishMove& m = moves.at(sim.overcut_move);
+    const Move& m = moves.at(sim.overcut_move);
     sim.overcut_motion = m.motion;
     sim.overcut_row = m.row;
   }
   return sim;
 }
 
-namespace {
-void put_goto(std::ostream& os, const ToolPose& p) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "GOTO/%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.tip.x(), p.tip.y(), p.tip.z(),
-                p.axis.x(), p.axis.y(), p.axis.z());
-  os << buf;
-}
-}  // namespace
-
-std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
-  std::vector<DrumFinishMove> moves;
+Toolpath drum_finish_moves(const DrumFinishResult& result) {
+  Toolpath moves;
   bool started = false;
   int prev_row = -1;
   auto stop = [&](int row, const std::string& reason) {
-    DrumFinishMove m;
-    m.kind = DrumFinishMove::Kind::Stop;
+    Move m;
+    m.kind = Move::Kind::Stop;
     m.row = row;
     m.motion = "stop";
     m.reason = reason;
@@ -602,7 +575,7 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
     const int ri = static_cast<int>(r);
     last_row = ri;
     if (!started) {
-      if (result.lead_in.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_in.away, ri, "start", {}});
+      if (result.lead_in.clear) moves.push_back({Move::Kind::Rapid, result.lead_in.away, ri, "start", {}});
       else stop(ri, result.lead_in.reason);
     }
     if (started) {
@@ -619,21 +592,21 @@ std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result) {
       } else {
         const DrumFinishLink& l = *found;
         for (size_t k = 0; k < l.moves.size(); ++k)
-          moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
+          moves.push_back({Move::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
     }
     for (size_t k = 0; k < row.poses.size(); ++k) {
       // After a refused link the program stops: the row's first pose is
       // reached by the operator, not by a proved move.
-      const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
+      const bool after_stop = !moves.empty() && moves.back().kind == Move::Kind::Stop;
       const char* motion = k > 0 ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
-      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[k].pose, ri, motion, {}});
+      moves.push_back({Move::Kind::Feed, row.poses[k].pose, ri, motion, {}});
     }
     started = true;
     prev_row = ri;
   }
   if (started) {
-    if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
+    if (result.lead_out.clear) moves.push_back({Move::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
     else stop(last_row, result.lead_out.reason);
   }
   return moves;
@@ -656,29 +629,6 @@ std::string drum_finish_apt(const DrumFinishResult& result, const DrumFinishRequ
   }, "LINK REFUSED");
   os << "FINI\n";
   return os.str();
-}
-
-void write_apt_moves(std::ostream& os, const std::vector<DrumFinishMove>& moves,
-                     const std::function<std::string(int row)>& row_header, const char* stop_label) {
-  int row = -1;
-  for (const DrumFinishMove& m : moves) {
-    switch (m.kind) {
-      case DrumFinishMove::Kind::Stop:
-        os << "$$ " << stop_label << ": " << m.reason << "\nSTOP\n";
-        break;
-      case DrumFinishMove::Kind::Rapid:
-        os << "RAPID\n";
-        put_goto(os, m.pose);
-        break;
-      case DrumFinishMove::Kind::Feed:
-        if (m.row != row) {
-          row = m.row;
-          os << row_header(row);
-        }
-        put_goto(os, m.pose);
-        break;
-    }
-  }
 }
 
 void write_drum_finish_apt(const std::string& path, const DrumFinishResult& result,

@@ -5,9 +5,7 @@
 // (§3.1 Fig. 6), step along each row to the chord tolerance, orient the
 // axis by the paper's λ/w rule with tilt-until-clear (§3.3), and link the
 // rows with collision-checked retract/traverse/approach moves.
-#include <functional>
 #include <memory>
-#include <ostream>
 #include <string>
 #include <vector>
 
@@ -21,6 +19,7 @@
 #include "core/planning/trimmed_surface.h"
 #include "core/sim/undercut.h"
 #include "core/tools/tool.h"
+#include "core/toolpath/move.h"
 
 namespace bliskrun {
 
@@ -141,41 +140,16 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& request, Progress& pr
 std::vector<DrumFinishResult> plan_drum_finish_all(const std::vector<DrumFinishRequest>& requests, int threads,
                                                    Progress& progress = Progress::none());
 
-// The toolpath of a plan in cutting order: the lead-in pose (Rapid), each
-// row's poses (Feed), the proved link poses to the next row (Rapid), the
-// lead-out pose (Rapid); where a link (or the lead-in/out) was refused a
-// Stop carrying the reason — so no unchecked move is implied. `motion`
-// names the motion that ends at the move: "start" (the first), "cut"
-// (along a row), "retract", "traverse", "approach" (a link's or the
-// lead-in's last leg ends at a row's first pose, a Feed).
-struct DrumFinishMove {
-  enum class Kind { Feed, Rapid, Stop };
-  Kind kind = Kind::Feed;
-  ToolPose pose;       // Feed, Rapid
-  int row = 0;         // the row the move leads into or cuts
-  std::string motion;  // see above; "stop" for a Stop
-  std::string reason;  // Stop
-};
-std::vector<DrumFinishMove> drum_finish_moves(const DrumFinishResult& result);
+// The toolpath of a plan in cutting order (core/toolpath/move.h): the
+// lead-in pose (Rapid, "start"), each row's poses (Feed, "cut"; a row's
+// first "approach", or "start" after a Stop), the proved link poses to the
+// next row (Rapid, named by their leg), the lead-out pose (Rapid,
+// "retract"); where a link (or the lead-in/out) was refused a Stop carrying
+// the reason — so no unchecked move is implied.
+Toolpath drum_finish_moves(const DrumFinishResult& result);
 
-// The APT/CL body of any plan's move list (after the caller's header and
-// MULTAX, before FINI): RAPID before each rapid, GOTO/x,y,z,i,j,k, and
-// "$$ <stop_label>: reason" with STOP where a move was refused;
-// `row_header(row)` is written before the first feed of each row.
-void write_apt_moves(std::ostream& os, const std::vector<DrumFinishMove>& moves,
-                     const std::function<std::string(int row)>& row_header, const char* stop_label = "REFUSED");
-
-// The program's motion for the undercut simulation (core/sim): every move
-// of drum_finish_moves — rows and links — as passes, one per stretch of
-// continuous motion (a Stop ends one). `first_move[p]` is the index in
-// drum_finish_moves of pass p's first pose.
-struct DrumFinishPasses {
-  std::vector<std::vector<ToolPose>> passes;
-  std::vector<long> first_move;
-};
-DrumFinishPasses drum_finish_passes(const DrumFinishResult& result);
-// The same for any such move list (the edge finish's too).
-DrumFinishPasses passes_of_moves(const std::vector<DrumFinishMove>& moves);
+// drum_finish_moves as simulation passes (toolpath_passes).
+ToolpathPasses drum_finish_passes(const DrumFinishResult& result);
 
 // The undercut simulation (core/sim) of the whole program against its
 // design flank: the whole trimmed flank u' in [0, 1] is sampled and swept

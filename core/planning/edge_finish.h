@@ -13,9 +13,9 @@
 // the paper's comparison (Fig. 8: strip width along a row; Fig. 9: row
 // counts, 31 vs 48) comes out of the same run.
 //
-// The result has the drum finish's shape (rows of poses, links, moves() as
-// DrumFinishMove: Feed/Rapid/Stop), so the posts and a whole-blisk job can
-// take it as they take a drum-finish plan.
+// The result has the drum finish's shape (rows of poses, links) and its
+// program is the one toolpath type (core/toolpath/move.h), so the posts and
+// a whole-blisk job take it as they take a drum-finish plan.
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,7 +25,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
-#include "core/planning/drum_finish.h"
+#include "core/toolpath/move.h"
 #include "core/planning/edge_strip.h"
 #include "core/planning/links.h"
 #include "core/planning/row_steps.h"
@@ -223,12 +223,12 @@ struct EdgeFinishResult {
 EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& progress = Progress::none());
 
 // Rows' poses (Feed), link poses (Rapid), Stop where a contact or link was
-// refused — the same move list as drum_finish_moves.
-std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result);
+// refused — a Toolpath like drum_finish_moves'.
+Toolpath edge_finish_moves(const EdgeFinishResult& result);
 
 // Every move as simulation passes (a Stop ends a pass), rows and links,
-// with the index of each pass's first move (passes_of_moves).
-DrumFinishPasses edge_finish_passes(const EdgeFinishResult& result);
+// with the index of each pass's first move (toolpath_passes).
+ToolpathPasses edge_finish_passes(const EdgeFinishResult& result);
 
 // The edge's thickness after machining against the design (issue 14 item
 // 7), from the simulation's material left on the edge region. At span v the

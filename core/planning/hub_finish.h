@@ -49,8 +49,8 @@
 // and the hub around both — with `allowed_overcut_mm` less what the
 // guards' samples miss; every step between rows, every link and lead by
 // prove_chain / plan_link (core/planning/links.h, up the tool axis) against
-// the world (whole tool) and the guards. The moves come out in the drum
-// finish's shape (DrumFinishMove), so posts and core/sim take them.
+// the world (whole tool) and the guards. The moves come out as the one
+// toolpath type (core/toolpath/move.h), so posts and core/sim take them.
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,7 +60,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
-#include "core/planning/drum_finish.h"
+#include "core/toolpath/move.h"
 #include "core/planning/links.h"
 #include "core/planning/row_steps.h"
 #include "core/sim/undercut.h"
@@ -242,8 +242,8 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& request, Progress& progr
 // "approach") in place of the root's lead-out and the channel's lead-in;
 // where no route proved, the lead-out, a Stop with the join's reason and
 // the lead-in: nothing implies a motion from one part to the other.
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishResult& result);
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part);
+Toolpath hub_finish_moves(const HubFinishResult& result);
+Toolpath hub_finish_moves(const HubFinishPart& part);
 
 // The material left by every move of the plan (core/sim), on blade k's
 // closed surface over the root strip and on the hub over the channel.

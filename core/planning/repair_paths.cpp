@@ -706,9 +706,9 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
 
 RepairMoves repair_moves(const RepairPathResult& r) {
   RepairMoves out;
-  auto add = [&](DrumFinishMove::Kind kind, const ToolPose& pose, int row, const std::string& motion, int layer,
+  auto add = [&](Move::Kind kind, const ToolPose& pose, int row, const std::string& motion, int layer,
                  const std::string& reason = "") {
-    DrumFinishMove m;
+    Move m;
     m.kind = kind;
     m.pose = pose;
     m.row = row;
@@ -725,36 +725,27 @@ RepairMoves repair_moves(const RepairPathResult& r) {
     const RepairConnection& c = r.connections[p];
     const int layer = r.passes[std::min(p, r.passes.size() - 1)].layer;
     if (!c.clear) {
-      add(DrumFinishMove::Kind::Stop, ToolPose{}, static_cast<int>(p), "stop", layer, c.reason);
+      add(Move::Kind::Stop, ToolPose{}, static_cast<int>(p), "stop", layer, c.reason);
     } else {
       for (size_t i = 0; i < c.poses.size(); ++i)
-        add(c.rapid ? DrumFinishMove::Kind::Rapid : DrumFinishMove::Kind::Feed, c.poses[i], static_cast<int>(p),
+        add(c.rapid ? Move::Kind::Rapid : Move::Kind::Feed, c.poses[i], static_cast<int>(p),
             c.motion[i], layer);
     }
     reach = c.kind == RepairConnection::Kind::Bridge ? "lead-in" : "approach";
     if (p == r.passes.size()) break;
     const RepairPass& pass = r.passes[p];
     for (size_t i = 0; i < pass.poses.size(); ++i)
-      add(DrumFinishMove::Kind::Feed, pass.poses[i].pose, static_cast<int>(p), i == 0 ? reach : "cut", pass.layer);
+      add(Move::Kind::Feed, pass.poses[i].pose, static_cast<int>(p), i == 0 ? reach : "cut", pass.layer);
   }
   return out;
 }
 
 std::vector<ToolPass> repair_passes(const RepairPathResult& r, int first_layer) {
   const RepairMoves m = repair_moves(r);
-  std::vector<ToolPass> out;
-  ToolPass cur;
-  for (size_t i = 0; i < m.moves.size(); ++i) {
-    if (m.layer_of[i] < first_layer) continue;
-    if (m.moves[i].kind == DrumFinishMove::Kind::Stop) {
-      if (!cur.empty()) out.push_back(std::move(cur));
-      cur.clear();
-      continue;
-    }
-    cur.push_back(m.moves[i].pose);
-  }
-  if (!cur.empty()) out.push_back(std::move(cur));
-  return out;
+  Toolpath layers;
+  for (size_t i = 0; i < m.moves.size(); ++i)
+    if (m.layer_of[i] >= first_layer) layers.push_back(m.moves[i]);
+  return toolpath_passes(layers).passes;
 }
 
 }  // namespace bliskrun

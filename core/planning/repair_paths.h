@@ -66,7 +66,7 @@
 #include "core/collision/tilt.h"
 #include "core/common/progress.h"
 #include "core/geometry/surface.h"
-#include "core/planning/drum_finish.h"
+#include "core/toolpath/move.h"
 #include "core/planning/links.h"
 #include "core/planning/row_steps.h"
 #include "core/sim/undercut.h"
@@ -206,7 +206,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& request, Progress& p
 // with the reason where a connection was refused. `row` is the pass index;
 // layer_of[i] the layer of move i.
 struct RepairMoves {
-  std::vector<DrumFinishMove> moves;
+  Toolpath moves;
   std::vector<int> layer_of;
 };
 RepairMoves repair_moves(const RepairPathResult& result);

@@ -15,7 +15,7 @@ set(layers
     common:0
     geometry:1
     tools:2 io:2
-    parts:3 collision:3 sim:3
+    parts:3 collision:3 sim:3 toolpath:3
     repair:4 analysis:4
     planning:5
     machine:6)

@@ -265,14 +265,14 @@ TEST(ChannelRoughing, StepsAcrossAConicalHubFollowItToo) {
   const ChannelPlan plan = plan_channel(rq);
   ASSERT_TRUE(plan.complete) << plan.stopped;
   EXPECT_TRUE(plan.refusals.empty());
-  const std::vector<ChannelMove> moves = channel_moves(plan);
+  const Toolpath moves = channel_moves(plan);
   double worst = 0;
   int steps = 0;
   for (size_t i = 1; i < moves.size(); ++i) {
-    if (!moves[i].feed || !moves[i - 1].feed) continue;
-    const ChannelPass& pass = plan.passes[static_cast<size_t>(moves[i].pass)];
+    if (moves[i].kind != Move::Kind::Feed || moves[i - 1].kind != Move::Kind::Feed) continue;
+    const ChannelPass& pass = plan.passes[static_cast<size_t>(moves[i].row)];
     if (pass.kind == ChannelPassKind::Notch && pass.index < plan.notch_levels) continue;
-    steps += std::string(moves[i].motion) == "step";
+    steps += moves[i].motion == "step";
     const Vec3 mid = 0.5 * ((moves[i].pose.tip + 3 * moves[i].pose.axis) + (moves[i - 1].pose.tip + 3 * moves[i - 1].pose.axis));
     worst = std::max(worst, std::abs(project_to_surface(s.hub, mid, ProjectionOptions{}).distance - 3));
   }
@@ -312,7 +312,7 @@ TEST(ChannelRoughing, WithAWorldEveryMoveIsClearAndObstaclesAreLinkedAround) {
   rq.body = &body;
   rq.clearances.cutter_mm = 0.1;
   const auto every_move_clear = [&](const ChannelPlan& plan, const CollisionWorld& w) {
-    const std::vector<ChannelMove> moves = channel_moves(plan);
+    const Toolpath moves = channel_moves(plan);
     for (size_t i = 0; i < moves.size(); ++i) {
       EXPECT_TRUE(w.check(body, moves[i].pose, Clearances{}, 0.0).clear) << i;
       if (i > 0) EXPECT_TRUE(w.check_motion(body, moves[i - 1].pose, moves[i].pose, Clearances{}, 1e-2).clear) << i;
@@ -328,10 +328,10 @@ TEST(ChannelRoughing, WithAWorldEveryMoveIsClearAndObstaclesAreLinkedAround) {
   ASSERT_EQ(open.links.size() + 1, open.passes.size());
   for (const PlannedLink& l : open.links) EXPECT_TRUE(l.via.empty());
   EXPECT_TRUE(open.lead_in.clear && open.lead_out.clear);
-  const std::vector<ChannelMove> moves = every_move_clear(open, world);
+  const Toolpath moves = every_move_clear(open, world);
   EXPECT_EQ(static_cast<long>(moves.size()), open.poses + 2);
-  EXPECT_FALSE(moves.front().feed);  // the lead-in's away pose
-  EXPECT_FALSE(moves.back().feed);
+  EXPECT_EQ(moves.front().kind, Move::Kind::Rapid);  // the lead-in's away pose
+  EXPECT_EQ(moves.back().kind, Move::Kind::Rapid);
 
   // The plate: the poses where it stands are refused, each split pass
   // resumes past it through a link up the tool axis, and still every move
@@ -367,7 +367,7 @@ TEST(ChannelRoughing, ChannelsOnTwoThreadsMatchOneByOne) {
   const std::vector<ChannelPlan> both = plan_channels(requests, 2);
   ASSERT_EQ(both.size(), requests.size());
   for (size_t k = 0; k < requests.size(); ++k) {
-    const std::vector<ChannelMove> a = channel_moves(plan_channel(requests[k])), b = channel_moves(both[k]);
+    const Toolpath a = channel_moves(plan_channel(requests[k])), b = channel_moves(both[k]);
     ASSERT_EQ(a.size(), b.size()) << k;
     for (size_t i = 0; i < a.size(); ++i) {
       EXPECT_EQ(a[i].pose.tip, b[i].pose.tip) << k << " " << i;

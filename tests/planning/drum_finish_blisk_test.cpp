@@ -78,12 +78,12 @@ TEST(DrumFinishBlisk, EveryEmittedMoveOfThePressureFlankPlanClearsTheMachinedFla
   // The flank points are about 0.2 mm apart: between them the wheel (radius
   // 4 mm about its axis) can dip up to 0.2^2 / (8 * 4) = 1.3 um more.
   const double allowed = rq.links.allowed_overcut_mm + 0.0013;
-  const std::vector<DrumFinishMove> moves = drum_finish_moves(plan);
+  const Toolpath moves = drum_finish_moves(plan);
   int link_positions = 0, cutting_poses = 0;
   double worst_link = std::numeric_limits<double>::infinity(), worst_cut = worst_link;
   for (size_t i = 1; i < moves.size(); ++i) {
-    const DrumFinishMove& m = moves[i];
-    ASSERT_NE(m.kind, DrumFinishMove::Kind::Stop);
+    const Move& m = moves[i];
+    ASSERT_NE(m.kind, Move::Kind::Stop);
     if (m.motion == "cut") {
       worst_cut = std::min(worst_cut, clearance(wheel, m.pose, flank));
       ++cutting_poses;
@@ -93,7 +93,7 @@ TEST(DrumFinishBlisk, EveryEmittedMoveOfThePressureFlankPlanClearsTheMachinedFla
     // the positions checked.
     const PoseMotion motion(moves[i - 1].pose, m.pose);
     const int steps = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(wheel.cutter().reach()) / 0.02)));
-    const int last = m.kind == DrumFinishMove::Kind::Rapid ? steps : steps - 1;  // the next row's pose is a cut
+    const int last = m.kind == Move::Kind::Rapid ? steps : steps - 1;  // the next row's pose is a cut
     for (int s = 1; s <= last; ++s) {
       const double c = clearance(wheel, motion.pose_at(static_cast<double>(s) / steps), flank);
       worst_link = std::min(worst_link, c);

@@ -232,7 +232,7 @@ TEST(DrumFinish, SimulationSweepsTheLinksAndCatchesAnInjectedGougingLink) {
   EXPECT_TRUE(gouged.overcut_motion == "retract" || gouged.overcut_motion == "traverse" ||
               gouged.overcut_motion == "approach")
       << gouged.overcut_motion;
-  const std::vector<DrumFinishMove> moves = drum_finish_moves(injected);
+  const Toolpath moves = drum_finish_moves(injected);
   EXPECT_EQ(moves.at(gouged.overcut_move).motion, gouged.overcut_motion);
 }
 

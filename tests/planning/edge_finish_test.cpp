@@ -120,9 +120,9 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   }
   EXPECT_GT(round_contacts, 5);
   // The move list: feeds of every pose, rapids of every clear link.
-  const std::vector<DrumFinishMove> moves = edge_finish_moves(res);
+  const Toolpath moves = edge_finish_moves(res);
   long feeds = 0;
-  for (const DrumFinishMove& m : moves) feeds += m.kind == DrumFinishMove::Kind::Feed;
+  for (const Move& m : moves) feeds += m.kind == Move::Kind::Feed;
   EXPECT_EQ(feeds, res.total_poses);
 }
 

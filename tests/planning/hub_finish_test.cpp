@@ -209,7 +209,7 @@ TEST(HubFinish, EveryEmittedPoseIsClearOfTheWorldByBruteForce) {
     return pts;
   };
   const std::vector<Vec3> prev = faces(n - 1), own = faces(0), next = faces(1);
-  const std::vector<DrumFinishMove> moves = hub_finish_moves(p.plan);
+  const Toolpath moves = hub_finish_moves(p.plan);
 #ifdef BLISKRUN_SANITIZED
   const size_t every = 97;  // the 4 mm slice: 46 poses checked
   const int at_least = 40;
@@ -219,8 +219,8 @@ TEST(HubFinish, EveryEmittedPoseIsClearOfTheWorldByBruteForce) {
 #endif
   int checked = 0;
   for (size_t i = 0; i < moves.size(); ++i) {
-    const DrumFinishMove& m = moves[i];
-    if (m.kind == DrumFinishMove::Kind::Stop) continue;
+    const Move& m = moves[i];
+    if (m.kind == Move::Kind::Stop) continue;
     if (m.motion == "cut" && i % every != 0) continue;
     ++checked;
     const ToolPose& pose = m.pose;
@@ -267,8 +267,8 @@ TEST(HubFinish, APoseBlockedByAnObstacleIsRefusedNotEmitted) {
   std::vector<Vec3> pts;
   for (int i = 0; i <= 150; ++i)
     for (int k = 0; k <= 10; ++k) pts.push_back((55.0 + 75.0 * i / 150) * e + Vec3(0, 0, -0.5 + 0.1 * k));
-  for (const DrumFinishMove& m : hub_finish_moves(plan)) {
-    if (m.kind == DrumFinishMove::Kind::Stop) continue;
+  for (const Move& m : hub_finish_moves(plan)) {
+    if (m.kind == Move::Kind::Stop) continue;
     for (ToolPartId part : {ToolPartId::Cutter, ToolPartId::Shank, ToolPartId::Holder})
       ASSERT_GT(part_clearance(s.tool, part, m.pose, pts), 0) << m.motion << " row " << m.row;
   }
@@ -305,21 +305,21 @@ TEST(HubFinishMoves, TheJoinReplacesTheLeadsOrAStopSeparatesThem) {
   r.root = part(HubFinishOp::Root, 10);
   r.channel = part(HubFinishOp::Channel, 100);
   r.join.reason = "no route";
-  auto xs = [](const std::vector<DrumFinishMove>& moves) {
+  auto xs = [](const Toolpath& moves) {
     std::vector<double> out;
-    for (const DrumFinishMove& m : moves) out.push_back(m.kind == DrumFinishMove::Kind::Stop ? -1 : m.pose.tip.x());
+    for (const Move& m : moves) out.push_back(m.kind == Move::Kind::Stop ? -1 : m.pose.tip.x());
     return out;
   };
-  const std::vector<DrumFinishMove> stopped = hub_finish_moves(r);
+  const Toolpath stopped = hub_finish_moves(r);
   EXPECT_EQ(xs(stopped), (std::vector<double>{5, 10, 11, 16, -1, 95, 100, 101, 106}));
   EXPECT_EQ(stopped[4].reason, "no route");
   r.join.clear = true;
   r.join.poses = {pose(40), pose(60)};
-  const std::vector<DrumFinishMove> joined = hub_finish_moves(r);
+  const Toolpath joined = hub_finish_moves(r);
   EXPECT_EQ(xs(joined), (std::vector<double>{5, 10, 11, 40, 60, 100, 101, 106}));
-  EXPECT_EQ(joined[3].kind, DrumFinishMove::Kind::Rapid);
+  EXPECT_EQ(joined[3].kind, Move::Kind::Rapid);
   EXPECT_EQ(joined[3].motion, "link");
-  EXPECT_EQ(joined[5].kind, DrumFinishMove::Kind::Feed);
+  EXPECT_EQ(joined[5].kind, Move::Kind::Feed);
   EXPECT_EQ(joined[5].motion, "approach");
   // Each part on its own keeps its leads.
   EXPECT_EQ(xs(hub_finish_moves(r.root)), (std::vector<double>{5, 10, 11, 16}));
@@ -347,22 +347,22 @@ TEST(HubFinish, RootAndChannelAreJoinedByAProvedLinkNotAStop) {
   };
   // The program: no Stop anywhere; from the root's last cut the join's
   // rapids ("link") lead straight to the channel's first pose.
-  const std::vector<DrumFinishMove> moves = hub_finish_moves(plan);
+  const Toolpath moves = hub_finish_moves(plan);
   size_t from = moves.size();
   for (size_t i = 0; i < moves.size(); ++i) {
-    EXPECT_NE(moves[i].kind, DrumFinishMove::Kind::Stop) << moves[i].reason;
-    if (moves[i].kind == DrumFinishMove::Kind::Feed && same(moves[i].pose, last_cut)) from = i;
+    EXPECT_NE(moves[i].kind, Move::Kind::Stop) << moves[i].reason;
+    if (moves[i].kind == Move::Kind::Feed && same(moves[i].pose, last_cut)) from = i;
   }
   ASSERT_LT(from + plan.join.poses.size() + 1, moves.size());
   std::vector<ToolPose> chain{last_cut};
   for (size_t k = 1; k <= plan.join.poses.size(); ++k) {
-    EXPECT_EQ(moves[from + k].kind, DrumFinishMove::Kind::Rapid);
+    EXPECT_EQ(moves[from + k].kind, Move::Kind::Rapid);
     EXPECT_EQ(moves[from + k].motion, "link");
     chain.push_back(moves[from + k].pose);
   }
-  const DrumFinishMove& arrive = moves[from + plan.join.poses.size() + 1];
+  const Move& arrive = moves[from + plan.join.poses.size() + 1];
   ASSERT_TRUE(same(arrive.pose, first_cut));
-  EXPECT_EQ(arrive.kind, DrumFinishMove::Kind::Feed);
+  EXPECT_EQ(arrive.kind, Move::Kind::Feed);
   chain.push_back(first_cut);
 
   CollisionWorld world;

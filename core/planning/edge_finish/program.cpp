@@ -6,11 +6,12 @@
 #include <string>
 
 #include "core/planning/edge_finish.h"
+#include "core/toolpath/apt.h"
 
 namespace bliskrun {
 
-std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
-  std::vector<DrumFinishMove> moves;
+Toolpath edge_finish_moves(const EdgeFinishResult& result) {
+  Toolpath moves;
   size_t link = 0;
   bool started = false;
   int last_row = -1;
@@ -20,32 +21,32 @@ std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
     for (size_t i = 0; i < row.poses.size(); ++i) {
       const bool starts_pass = i == 0 || row.poses[i].segment != row.poses[i - 1].segment;
       if (!started) {
-        if (result.lead_in.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_in.away, ri, "start", {}});
-        else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", result.lead_in.reason});
+        if (result.lead_in.clear) moves.push_back({Move::Kind::Rapid, result.lead_in.away, ri, "start", {}});
+        else moves.push_back({Move::Kind::Stop, ToolPose{}, ri, "stop", result.lead_in.reason});
       }
       last_row = ri;
       if (starts_pass && started) {
         const EdgeFinishLink& l = result.links.at(link++);
-        if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
+        if (!l.clear) moves.push_back({Move::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
         else
           for (size_t k = 0; k < l.moves.size(); ++k)
-            moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
+            moves.push_back({Move::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
-      const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
+      const bool after_stop = !moves.empty() && moves.back().kind == Move::Kind::Stop;
       const char* motion = !starts_pass ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
-      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, motion, {}});
+      moves.push_back({Move::Kind::Feed, row.poses[i].pose, ri, motion, {}});
       started = true;
     }
   }
   if (started) {
-    if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
-    else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, last_row, "stop", result.lead_out.reason});
+    if (result.lead_out.clear) moves.push_back({Move::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
+    else moves.push_back({Move::Kind::Stop, ToolPose{}, last_row, "stop", result.lead_out.reason});
   }
   return moves;
 }
 
-DrumFinishPasses edge_finish_passes(const EdgeFinishResult& result) {
-  return passes_of_moves(edge_finish_moves(result));
+ToolpathPasses edge_finish_passes(const EdgeFinishResult& result) {
+  return toolpath_passes(edge_finish_moves(result));
 }
 
 std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& rq, const std::string& name) {

@@ -341,7 +341,7 @@ void plan_join(HubFinishResult& res, const LinkChecks& checks, const LinkOptions
 // The whole program in three pieces: the root, the join (its rapids, or a
 // Stop), the channel.
 struct Program {
-  std::vector<DrumFinishMove> root, join, channel;
+  Toolpath root, join, channel;
 };
 Program program_of(const HubFinishResult& r);
 

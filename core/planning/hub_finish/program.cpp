@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/planning/hub_finish/internal.h"
+#include "core/toolpath/apt.h"
 
 namespace bliskrun {
 namespace hub_detail {
@@ -15,11 +16,11 @@ namespace {
 
 // One part's program (hub_finish_moves(part)), without its lead-in or its
 // lead-out where the join replaces them.
-std::vector<DrumFinishMove> part_moves(const HubFinishPart& part, bool lead_in, bool lead_out) {
-  std::vector<DrumFinishMove> out;
-  auto add = [&](DrumFinishMove::Kind kind, const ToolPose& pose, int row, const std::string& motion,
+Toolpath part_moves(const HubFinishPart& part, bool lead_in, bool lead_out) {
+  Toolpath out;
+  auto add = [&](Move::Kind kind, const ToolPose& pose, int row, const std::string& motion,
                  const std::string& reason = "") {
-    DrumFinishMove m;
+    Move m;
     m.kind = kind;
     m.pose = pose;
     m.row = row;
@@ -35,17 +36,17 @@ std::vector<DrumFinishMove> part_moves(const HubFinishPart& part, bool lead_in, 
     if ((p == 0 && !lead_in) || (p == part.passes.size() && !lead_out)) {
       // the join's
     } else if (!c.clear) {
-      add(DrumFinishMove::Kind::Stop, ToolPose{}, row, "stop", c.reason);
+      add(Move::Kind::Stop, ToolPose{}, row, "stop", c.reason);
     } else {
-      const DrumFinishMove::Kind kind =
-          c.kind == HubFinishConnection::Kind::Step ? DrumFinishMove::Kind::Feed : DrumFinishMove::Kind::Rapid;
+      const Move::Kind kind =
+          c.kind == HubFinishConnection::Kind::Step ? Move::Kind::Feed : Move::Kind::Rapid;
       for (size_t i = 0; i < c.poses.size(); ++i) add(kind, c.poses[i], row, c.motion[i]);
       if (c.kind == HubFinishConnection::Kind::Step) reach = "step";
     }
     if (p == part.passes.size()) break;
     const HubFinishPass& pass = part.passes[p];
     for (size_t i = 0; i < pass.poses.size(); ++i)
-      add(DrumFinishMove::Kind::Feed, pass.poses[i].pose, pass.row, i == 0 ? reach : "cut");
+      add(Move::Kind::Feed, pass.poses[i].pose, pass.row, i == 0 ? reach : "cut");
   }
   return out;
 }
@@ -62,16 +63,16 @@ Program program_of(const HubFinishResult& r) {
   const int row = r.channel.passes.front().row;
   if (joined) {
     for (const ToolPose& pose : r.join.poses) {
-      DrumFinishMove m;
-      m.kind = DrumFinishMove::Kind::Rapid;
+      Move m;
+      m.kind = Move::Kind::Rapid;
       m.pose = pose;
       m.row = row;
       m.motion = "link";
       p.join.push_back(std::move(m));
     }
   } else {
-    DrumFinishMove stop;
-    stop.kind = DrumFinishMove::Kind::Stop;
+    Move stop;
+    stop.kind = Move::Kind::Stop;
     stop.row = row;
     stop.motion = "stop";
     stop.reason = r.join.reason;
@@ -86,11 +87,11 @@ using hub_detail::part_moves;
 using hub_detail::Program;
 using hub_detail::program_of;
 
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishPart& part) { return part_moves(part, true, true); }
+Toolpath hub_finish_moves(const HubFinishPart& part) { return part_moves(part, true, true); }
 
-std::vector<DrumFinishMove> hub_finish_moves(const HubFinishResult& r) {
+Toolpath hub_finish_moves(const HubFinishResult& r) {
   Program p = program_of(r);
-  std::vector<DrumFinishMove> out = std::move(p.root);
+  Toolpath out = std::move(p.root);
   out.insert(out.end(), p.join.begin(), p.join.end());
   out.insert(out.end(), p.channel.begin(), p.channel.end());
   return out;

@@ -239,15 +239,15 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
   };
   // The join as one pass from the root's last pose to the channel's first.
   const Program program = program_of(result);
-  std::vector<DrumFinishMove> join_moves;
+  Toolpath join_moves;
   if (result.join.clear && !program.root.empty() && !program.channel.empty()) {
     join_moves.push_back(program.root.back());
     join_moves.insert(join_moves.end(), program.join.begin(), program.join.end());
     join_moves.push_back(program.channel.front());
   }
-  const std::vector<ToolPass> root = passes_of_moves(program.root).passes;
-  const std::vector<ToolPass> channel = passes_of_moves(program.channel).passes;
-  const std::vector<ToolPass> link = passes_of_moves(join_moves).passes;
+  const std::vector<ToolPass> root = toolpath_passes(program.root).passes;
+  const std::vector<ToolPass> channel = toolpath_passes(program.channel).passes;
+  const std::vector<ToolPass> link = toolpath_passes(join_moves).passes;
   const double pitch = result.pitch_rad;
   // Blade k - 1's join runs through channel k - 1, beside blade k's pressure
   // flank; blade k + 1's starts on its root, beside the floor.
