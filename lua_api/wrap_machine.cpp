@@ -342,6 +342,10 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "rotary_speed");  // deg/min, the fastest block of each axis
   lua_pushinteger(L, p.plan.rotary_resets);
   lua_setfield(L, -2, "rotary_resets");
+  lua_pushnumber(L, p.plan.minutes);
+  lua_setfield(L, -2, "feed_minutes");  // the feed moves' time as the F words ask it
+  lua_pushnumber(L, p.plan.tip_feed_minutes);
+  lua_setfield(L, -2, "tip_feed_minutes");  // ... and with the tip alone at the planned feeds
   double largest = 0;
   for (const MachineMove& m : p.plan.moves)
     for (int i = 0; i < 2; ++i) largest = std::max(largest, std::abs(rad_to_deg(m.axes.rotary_rad[i])));
@@ -526,6 +530,8 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
         {"length", luax::Kind::Number, true, 0.0, {}, "tip to spindle gauge point, mm", {}},
         {"spindle_rpm", luax::Kind::Integer, false, 1.0, {}, "spindle speed, 1/min", {}},
         {"body", luax::Kind::Any, false, {}, {}, "the Tool (its reach: the whole tool is swept)", {}},
+        {"active_reach", luax::Kind::Number, false, 0.0, {},
+         "farthest point from the tip of the cutter's part that cuts (feed at the cutter), mm", {}},
     });
     ToolReach reach;
     if (tool.has("body")) {
@@ -536,6 +542,7 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
       reach.cutter_mm = body->tool.cutter().reach();
       lua_pop(L, 1);
     }
+    reach.active_mm = tool.number("active_reach", 0);
     r.reaches.push_back(reach);
     PostTool t;
     t.number = static_cast<int>(tool.integer("number", 1));

@@ -46,7 +46,7 @@ ClosedCurve interpolate_closed_cubic(const std::vector<Vec3>& loop);
 // (n + 1 knots, strictly increasing, period knots[n] - knots[0]). Loops
 // interpolated at one knot vector share their basis, so their control points
 // can be the rows of a surface closed around them (a loft through sections,
-// core/repair/section_loft.h). Returns the periodic spline itself: control
+// core/geometry/section_loft.h). Returns the periodic spline itself: control
 // points c_{-3} .. c_{n-1}, the first three repeating as the last three,
 // domain [knots[0], knots[n]]. Throws ParameterError as above, and
 // ("knots") for a wrong count or knots that are not finite and increasing.

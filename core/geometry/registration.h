@@ -15,9 +15,13 @@
 #include <vector>
 
 #include "core/common/types.h"
-#include "core/machine/robot.h"  // Frame
 
 namespace bliskrun {
+
+// A rigid transform, here scan frame -> model frame; the same type as
+// core/machine/robot.h's Frame (a flange pose), declared here so that
+// geometry does not include machine.
+using Frame = Eigen::Isometry3d;
 
 struct ModelSample {
   std::vector<Vec3> points;

@@ -23,7 +23,7 @@
 // or repeated list.
 #include <string>
 
-#include "core/parts/impeller.h"
+#include "core/io/impeller_definition.h"
 
 namespace bliskrun {
 

@@ -5,9 +5,6 @@
 
 #include "core/common/error.h"
 #include "core/io/data_lines.h"
-// The flank grids are the blade model's loft (one implementation for every
-// part); the reader only turns stream surfaces into section loops.
-#include "core/parts/blade_model.h"
 
 namespace bliskrun {
 
@@ -125,15 +122,6 @@ BladeSections blade_sections(const StreamSurfaceRotor& rotor) {
     b.sections.push_back(std::move(loop));
   }
   return b;
-}
-
-RotorFlanks rotor_flank_grids(const StreamSurfaceRotor& rotor, int cols, double margin) {
-  LoftOptions o;
-  o.cols = cols;
-  o.edge_margin = margin;
-  o.span_extension = 0;  // rows are the stream surfaces
-  BladeLoft loft = loft_blade(blade_sections(rotor), o);
-  return {std::move(loft.pressure), std::move(loft.suction)};
 }
 
 }  // namespace bliskrun

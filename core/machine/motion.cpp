@@ -75,6 +75,7 @@ std::string describe(long index, const PlannedMove& m) {
 // skip the cutter's term.
 struct BlockFeed {
   double word = 0;
+  double minutes = 0, tip_minutes = 0;  // the block's duration, and the tip's alone at the planned feed
   double cutter_ratio = 0;  // fastest cutter point / planned feed
   bool slowed = false;
   std::array<double, 2> rotary_rad_per_min{0.0, 0.0};
@@ -85,7 +86,7 @@ BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed
                      bool cutting) {
   const double d0 = b.rotary_rad[0] - a.rotary_rad[0], d1 = b.rotary_rad[1] - a.rotary_rad[1];
   const double turn = std::sqrt(std::max(0.0, d0 * d0 + d1 * d1 + 2 * std::abs(d0 * d1) * kin.rotary_axes_cos()));
-  const double cutter_mm = tip_mm + reach.cutter_mm * turn;
+  const double cutter_mm = tip_mm + reach.active() * turn;
   double minutes = tip_mm / feed_mm_per_min;
   const double tip_minutes = minutes;
   if (cutting && factor > 0) minutes = std::max(minutes, cutter_mm / (factor * feed_mm_per_min));
@@ -108,6 +109,8 @@ BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed
     if (!(minutes > 0)) minutes = 1e-9;
   }
   f.slowed = minutes > tip_minutes * (1 + 1e-9) + 1e-15;
+  f.minutes = minutes;
+  f.tip_minutes = tip_minutes;
   if (mode == FeedMode::InverseTime) f.word = 1 / minutes;
   else if (!cutting) f.word = feed_mm_per_min;  // positioning: the rapid feed as the controller reads it
   else if (tcp) f.word = tip_mm > 1e-6 ? tip_mm / minutes : feed_mm_per_min;  // F is the tip's speed
@@ -181,6 +184,8 @@ class Planner {
                                      (pose.tip - last_tip_).norm(), from, to, reach_, options_.cutter_feed_factor,
                                      !positioning_);
       m.feed = f.word;
+      program_.minutes += f.minutes;
+      program_.tip_feed_minutes += f.tip_minutes;
       if (!positioning_) {
         m.cutter_speed_ratio = f.cutter_ratio;
         program_.max_cutter_speed_ratio = std::max(program_.max_cutter_speed_ratio, f.cutter_ratio);
@@ -758,6 +763,8 @@ MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, c
     program.skipped_moves += part.skipped_moves;
     program.positioning_moves += part.positioning_moves;
     program.slowed_moves += part.slowed_moves;
+    program.minutes += part.minutes;
+    program.tip_feed_minutes += part.tip_feed_minutes;
     program.rotary_resets += part.rotary_resets;
     program.max_cutter_speed_ratio = std::max(program.max_cutter_speed_ratio, part.max_cutter_speed_ratio);
     for (int r = 0; r < 2; ++r)

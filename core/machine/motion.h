@@ -54,6 +54,11 @@ const char* to_string(ControllerMotion motion);
 struct ToolReach {
   double cutter_mm = 0;  // farthest point of the cutting part (Tool::cutter) from the tip
   double body_mm = 0;    // farthest point of the whole tool (cutter, shank, holder)
+  // Farthest point of the part of the cutter that cuts in this program
+  // (e.g. a flat-end mill's bottom and corner in edge finishing): what
+  // the feed at the cutter is measured on; <= 0: cutter_mm.
+  double active_mm = 0;
+  double active() const { return active_mm > 0 ? active_mm : cutter_mm; }
 };
 
 struct PlannedMove {
@@ -155,6 +160,10 @@ struct MachineProgram {
   double max_cutter_speed_ratio = 0;   // over the feed moves, after slowing
   std::array<double, 2> max_rotary_speed_rad_per_min{0.0, 0.0};  // over the feed moves
   long rotary_resets = 0;
+  // Time of the feed moves (cutting and positioning) as the F words ask
+  // it, and as the tip alone at the planned feeds would take: what the
+  // slowing for the cutter and the rotary axes costs. Rapids not counted.
+  double minutes = 0, tip_feed_minutes = 0;
 };
 
 // The tool's departure from the planned motion while the controller moves

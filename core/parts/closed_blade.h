@@ -16,13 +16,13 @@
 // cylinder of the section's radius; the plane half circle departs from that
 // by at most r_e^2 / (2 r) (1.3 um for r_e = 0.4 mm at r = 63 mm).
 //
-// The sections are lofted by loft_sections (core/repair/section_loft.h):
+// The sections are lofted by loft_sections (core/geometry/section_loft.h):
 // closed C2 around (no seam), u from the first section to the last, v once
 // around starting at the trailing edge's apex, pu x pv out of the material.
 #include <memory>
 
 #include "core/geometry/surface.h"
-#include "core/repair/section_loft.h"
+#include "core/geometry/section_loft.h"
 
 namespace bliskrun {
 

@@ -38,18 +38,9 @@
 #include "core/geometry/curve.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
+#include "core/io/impeller_definition.h"
 
 namespace bliskrun {
-
-struct CamberPoint {
-  Vec3 p = Vec3::Zero();
-  double half_thickness_mm = 0;  // h of the paper: half the blade thickness there
-};
-
-// One blade's design data. Both lists LE -> TE, at least 4 points each.
-struct BladeCamber {
-  std::vector<CamberPoint> shroud, hub;
-};
 
 enum class CamberSide { kPlus, kMinus };  // side of +N / -N (eq. 5–6)
 
@@ -95,17 +86,8 @@ class RuledBlade {
   BSplineCurve h_shroud_, h_hub_;  // (h, 0, 0) against t
 };
 
-struct ImpellerDefinition {
-  BladeCamber main;
-  std::optional<BladeCamber> splitter;
-  int blade_count = 17;
-  double splitter_offset_pitch = 0.5;  // splitter k sits at (k + this) pitches, (0, 1)
-  // The hub of revolution runs this far past the main blade's LE and TE
-  // along the hub curve's end tangents (a hub face reaches past the blades).
-  double hub_extension_mm = 10.0;
-};
-
-// Throws ParameterError naming the first invalid field.
+// The design data (ImpellerDefinition, core/io/impeller_definition.h) checked:
+// throws ParameterError naming the first invalid field.
 void validate(const ImpellerDefinition& d);
 
 enum class BladeKind { kMain, kSplitter };

@@ -49,7 +49,7 @@
 
 #include "core/common/types.h"
 #include "core/io/blade_sections.h"
-#include "core/repair/section_loft.h"
+#include "core/geometry/section_loft.h"
 
 namespace bliskrun {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/common/types.h"
-#include "core/repair/section_loft.h"
+#include "core/geometry/section_loft.h"
 #include "core/repair/section_points.h"
 
 namespace bliskrun {

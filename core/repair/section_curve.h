@@ -43,6 +43,7 @@
 
 #include "core/common/types.h"
 #include "core/geometry/closed_curve.h"
+#include "core/geometry/curve_profile.h"  // curvature_profile
 
 namespace bliskrun {
 
@@ -58,21 +59,6 @@ struct SmoothedSection {
 // non-finite point or two consecutive points that coincide, and
 // ("smoothing_length") unless L >= 0 and finite.
 SmoothedSection smooth_section(const std::vector<Vec3>& loop, double smoothing_length_mm);
-
-struct CurvatureProfile {
-  std::vector<double> t;          // curve parameters of the samples, from t_min
-  std::vector<double> curvature;  // 1/mm, signed (positive: convex)
-  double length_mm = 0;           // arc length of the whole loop
-  double period = 0;              // the curve's parameter period (t of sample n)
-};
-
-// `samples` points of equal arc length around the loop from its start (arc
-// length by 5-point Gauss–Legendre per knot span). The paper asks for many,
-// so the short, sharply curved edges get enough: the default 2048 puts ~13
-// samples on the half-circle of a 0.3 mm edge radius of a 150 mm profile; a
-// count with small prime factors keeps the FFT of align_start fast. Throws
-// ParameterError ("samples") below 16.
-CurvatureProfile curvature_profile(const ClosedCurve& curve, int samples = 2048);
 
 struct StartAlignment {
   double shift_samples = 0;  // in [0, samples): how far the start moved, in samples

@@ -564,17 +564,6 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
   return out;
 }
 
-Vec3 vector_area(const std::vector<Vec3>& loop) {
-  if (loop.empty()) return Vec3::Zero();
-  Vec3 centre = Vec3::Zero();
-  for (const Vec3& p : loop) centre += p;
-  centre /= static_cast<double>(loop.size());
-  Vec3 area = Vec3::Zero();
-  for (size_t i = 0; i < loop.size(); ++i)
-    area += (loop[i] - centre).cross(loop[(i + 1) % loop.size()] - centre);
-  return 0.5 * area;
-}
-
 std::vector<OrientedSection> orient_sections(const std::vector<std::vector<Vec3>>& loops, const Vec3& axis) {
   if (!axis.allFinite() || !(axis.norm() > 0)) throw ParameterError("axis", "expected a non-zero direction");
   const Vec3 a = axis.normalized();

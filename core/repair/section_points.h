@@ -59,6 +59,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/geometry/curve_profile.h"  // vector_area
 
 namespace bliskrun {
 
@@ -114,10 +115,6 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
 
 // points[order[0]], points[order[1]], ...
 std::vector<Vec3> pick(const std::vector<Vec3>& points, const std::vector<int>& order);
-
-// ½ Σ p_i × p_{i+1} over the closed loop: its direction is the loop's normal
-// (right-handed with the order), its length the area enclosed.
-Vec3 vector_area(const std::vector<Vec3>& loop);
 
 struct OrientedSection {
   std::vector<Vec3> loop;

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/parts/impeller.h"  // builtin_impeller_definition
 
 namespace bliskrun {
 namespace {

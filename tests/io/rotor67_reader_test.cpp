@@ -10,6 +10,7 @@
 #include "core/common/error.h"
 #include "core/geometry/differential.h"
 #include "core/geometry/interpolation.h"
+#include "core/parts/rotor67_flanks.h"
 #include "test_support.h"
 
 namespace bliskrun {

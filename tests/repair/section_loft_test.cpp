@@ -11,7 +11,7 @@
 #include <string>
 
 #include "core/common/error.h"
-#include "core/repair/section_loft.h"
+#include "core/geometry/section_loft.h"
 #include "core/repair/rebuild.h"
 #include "repair/section_shapes.h"
 

@@ -83,15 +83,17 @@ local function program_entry(m, r)
                       s.post, s.verify, s.write))
   print(string.format("    swept as the controller moves (%s): cutter within %.2f um, tool within %.1f um of the proved "
                       .. "motion (tolerances %.1f / %.0f um); %d blocks slowed for the cutter or a rotary axis (cutter "
-                      .. "at most %.2f x the feed); %d rotary resets, largest rotary word %.1f deg", r.controller,
-                      1e3 * r.swept_cutter, 1e3 * r.swept_tool, 1e3 * r.chord_tol, 1e3 * r.body_tol, r.slowed,
-                      r.cutter_speed_ratio, r.rotary_resets, r.rotary_largest))
+                      .. "at most %.2f x the feed; feed moves %.1f min, %.1f min at the planned tip feed); %d rotary "
+                      .. "resets, largest rotary word %.1f deg", r.controller, 1e3 * r.swept_cutter, 1e3 * r.swept_tool,
+                      1e3 * r.chord_tol, 1e3 * r.body_tol, r.slowed, r.cutter_speed_ratio, r.feed_minutes,
+                      r.tip_feed_minutes, r.rotary_resets, r.rotary_largest))
   return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
           max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil,
           controller = r.controller, swept_cutter_mm = r.swept_cutter, swept_tool_mm = r.swept_tool,
           swept_blocks = r.swept, unswept_blocks = r.unswept, safe_blocks = r.safe_moves, slowed_blocks = r.slowed,
           cutter_speed_ratio = r.cutter_speed_ratio, rotary_speed_deg_per_min = r.rotary_speed,
-          rotary_resets = r.rotary_resets, rotary_largest_deg = r.rotary_largest, inserted_blocks = r.inserted}
+          rotary_resets = r.rotary_resets, rotary_largest_deg = r.rotary_largest, inserted_blocks = r.inserted,
+          feed_minutes = r.feed_minutes, tip_feed_minutes = r.tip_feed_minutes}
 end
 
 -- Posts for one machine (j:post) and prints the one-line summary; returns
@@ -192,12 +194,27 @@ end
 -- order they are first used (a sister tool has its tool's length and speed).
 function Job:post_options(o, path, level)
   check_post_options(o, level + 1)
-  local tools, order = {}, {}
+  local tools, order, bottom_only = {}, {}, {}
   for _, m in ipairs(path) do
     if not order[m.tool] then
       order[m.tool] = true
       local t = self:tool_entry(m.tool)
       tools[#tools + 1] = {number = m.tool, length = t.length, spindle_rpm = t.spindle_rpm, body = t.tool}
+      bottom_only[m.tool] = true
+    end
+    if m.operation_kind ~= "edge_finish" and m.operation_kind ~= "link" then bottom_only[m.tool] = false end
+  end
+  -- The feed at the cutter is measured on the part of it that cuts: the
+  -- edge finish cuts with a flat-end mill's bottom and corner (the profile
+  -- up to the end of its first arc), not its flutes.
+  for _, t in ipairs(tools) do
+    if bottom_only[t.number] and t.body:kind() == "flat-end mill" then
+      local reach = 0
+      for _, e in ipairs(t.body:profile()) do
+        for _, rz in ipairs{e.from, e.to} do reach = math.max(reach, math.sqrt(rz[1] ^ 2 + rz[2] ^ 2)) end
+        if e.kind == "arc" then break end
+      end
+      t.active_reach = reach
     end
   end
   local machine = type(o.machine) == "string" and bliskrun.machine.load(o.machine) or o.machine

@@ -4,7 +4,7 @@
 // points from it (the paper reports a mean of 3.51 um).
 //
 // Loft. Each section — a closed curve, ordered, oriented, smoothed and
-// start-aligned (section_points.h, section_curve.h) — is sampled at the same
+// start-aligned (core/repair/section_points.h, section_curve.h) — is sampled at the same
 // M fractions of its arc length from its start, so sample j of every section
 // is the same place on the profile (the §1.3 alignment is what makes that
 // true). The N x M samples are interpolated as interpolate_grid does an open

@@ -1,4 +1,4 @@
-#include "core/repair/section_loft.h"
+#include "core/geometry/section_loft.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,9 +10,8 @@
 #include "core/common/progress.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/point_index.h"
+#include "core/geometry/curve_profile.h"
 #include "core/geometry/projection.h"
-#include "core/repair/section_curve.h"
-#include "core/repair/section_points.h"
 
 namespace bliskrun {
 

@@ -1,0 +1,211 @@
+// What a pose and a cutting motion are proved against: the world (the whole
+// tool), the machine's reach, and the design guards (the edge region and
+// both flanks near their edge ends, swept as the independent simulation
+// sweeps them); and each row checked in cutting order, split into passes
+// where a motion is not proved.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "core/common/parallel.h"
+#include "core/planning/edge_finish/internal.h"
+
+namespace bliskrun::edge_detail {
+
+double DesignGuards::allowed(const GougeGuard& g) const {
+  return std::max(0.0, -e1_mm - g.between_samples_mm(corner_mm));
+}
+double DesignGuards::least_allowed() const {
+  double a = allowed(*edge);
+  for (const auto& g : flanks) a = std::min(a, allowed(*g));
+  return a;
+}
+double DesignGuards::deepest(const Tool& tool, const ToolPose& a, const ToolPose& b, bool ends) const {
+  double d = edge->deepest_cut(tool, a, b, allowed(*edge), ends, ends).depth_mm;
+  for (const auto& g : flanks) d = std::min(d, g->deepest_cut(tool, a, b, allowed(*g), ends, ends).depth_mm);
+  return d;
+}
+
+std::string PoseChecks::gouge(const Tool& tool, const ToolPose& pose, bool liftable) const {
+  const double d = guards.deepest(tool, pose, pose, true);
+  if (d >= 0 || (liftable && -d - guards.least_allowed() < kMaxLiftMm)) return "";
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "the tool cuts %.1f um into the blade beside its contact strip", -1e3 * d);
+  return buf;
+}
+
+// Samples h apart miss at most h² / (8 r) for the corner radius r: h is
+// chosen so that is a quarter of |e1| (0.032 mm for r 0.5, e1 -1 um), the
+// counts from the window's longest parameter lines in mm — the allowance
+// keeps three quarters of e1, wherever the window and however long the
+// blade.
+DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
+  DesignGuards guards;
+  guards.e1_mm = rq.band.e1_mm;
+  guards.corner_mm = std::max(fe.corner_mm, 1e-3);
+  const double spacing = std::sqrt(2 * guards.corner_mm * std::max(-rq.band.e1_mm, 1e-3));
+  guards.edge = std::make_unique<GougeGuard>(*rq.edge, guard_sampling(*rq.edge, spacing, 0, 1, rq.v0, rq.v1));
+  // The flanks near their edge ends (first: v = 0, second: v = 1), where the
+  // flat bottom of a pose reaches over them: 12 % of the chord, over the
+  // machined span window and a tool radius + 1 mm either side of it.
+  for (int k = 0; k < 2; ++k) {
+    const std::shared_ptr<const Surface>& flank = k == 0 ? rq.first : rq.second;
+    if (!flank) continue;
+    const double fu0 = rq.span_u0 + rq.v0 * (rq.span_u1 - rq.span_u0);
+    const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
+    const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
+    const double margin = (fe.radius_mm + 1.0) / per_u;
+    guards.flanks.push_back(std::make_unique<GougeGuard>(
+        *flank, guard_sampling(*flank, spacing, std::max(0.0, std::min(fu0, fu1) - margin),
+                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0)));
+  }
+  return guards;
+}
+
+// Whether a pose's axis is within the machine's reach (EdgeFinishRequest::
+// reach_axis, reach_min_rad, reach_max_rad).
+bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose) {
+  if (rq.reach_axis.isZero()) return true;
+  const double c = pose.axis.normalized().dot(rq.reach_axis);
+  return c >= std::cos(rq.reach_max_rad) - 1e-12 && c <= std::cos(rq.reach_min_rad) + 1e-12;
+}
+
+namespace {
+
+// Whether the motion a -> b is one the design guards sweep: only where the
+// contact strips' view is least to be trusted — a change of contact family
+// (bottom <-> corner), a tilted or lifted pose, or an axis turning more
+// than 5 degrees between the poses (the swept tool then leaves the strips'
+// samples). Smooth motions within one family stay with the strips' check,
+// and the independent simulation checks every move after.
+bool risky(const EdgeFinishPose& a, const EdgeFinishPose& b) {
+  return a.position.contact != b.position.contact || a.tilted || b.tilted || a.lift_mm > 0 || b.lift_mm > 0 ||
+         a.pose.axis.normalized().dot(b.pose.axis.normalized()) < std::cos(deg_to_rad(5.0));
+}
+
+bool motion_gouges(const EdgeFinishRequest& rq, const PoseChecks& checks, const EdgeFinishPose& pa,
+                   const EdgeFinishPose& pb) {
+  return risky(pa, pb) && checks.guards.deepest(*rq.tool, pa.pose, pb.pose, false) < 0;
+}
+
+// Why a pose clear_row did not prove fails (the world, the reach, the
+// guards less a lift); "" if it passes. A pose clear_row proved (clear of
+// the world within reach, and of the design guards) is taken as proved:
+// the same queries again.
+std::string pose_refusal(const EdgeFinishRequest& rq, const PoseChecks& checks, EdgeFinishPose& p, bool proved) {
+  std::string reason;
+  if (!proved) {
+    const PoseCheck pc = rq.world->check(checks.body, p.pose, rq.clearances, 0);
+    if (!pc.clear) reason = describe(pc, *rq.world);
+    else if (!within_reach(rq, p.pose)) reason = "axis beyond the machine's reach";
+    else if (!(reason = checks.gouge(*rq.tool, p.pose)).empty() && lift_clear(rq, checks, p))
+      reason.clear();
+  }
+  return reason;
+}
+
+}  // namespace
+
+// Each row on its own: its passes, tilts and breaks depend on nothing
+// outside it.
+long check_row(const EdgeFinishRequest& rq, const PoseChecks& checks, const std::vector<double>& ls, PlannedRow& pr,
+               bool reversed, Progress& row_progress) {
+  const ToolBody& body = checks.body;
+  long gouge_breaks = 0;
+  EdgeFinishRow& row = pr.row;
+  std::vector<EdgeFinishPose> candidates = std::move(row.poses);
+  row.poses.clear();
+  row.reversed = reversed;
+  if (row.reversed) reverse_poses(candidates);
+  std::vector<char> proved = pr.design_proved;
+  proved.resize(candidates.size(), 0);
+  if (row.reversed) std::reverse(proved.begin(), proved.end());
+  int segment = 0;
+  long last = -1;  // index in row.poses of the previous emitted pose of this pass
+  TiltAccepted last_tilt;    // the row's last tilted contact's axis (index -1: none yet)
+  last_tilt.index = -1;
+  for (size_t ci = 0; ci < candidates.size(); ++ci) {
+    EdgeFinishPose& p = candidates[ci];
+    row_progress.check();
+    if (p.break_before && last >= 0) {
+      ++segment;
+      last = -1;
+    }
+    std::string reason = pose_refusal(rq, checks, p, proved[ci]);
+    if (reason.empty() && last >= 0 &&
+        !rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear) {
+      // The pose is clear, the cutting motion into it is not: a new pass,
+      // reached by a proved link.
+      ++segment;
+      last = -1;
+    }
+    TiltOutcome tilt;
+    if (!reason.empty()) {
+      // The pose alone must clear (the interference loop's cheap query);
+      // the motion from the previous pose is asked once below, and a
+      // pose it cannot reach by cutting is reached by a link — asking it
+      // of every candidate axis cost a swept FCL query each, minutes per
+      // edge beside the neighbouring blade.
+      tilt = clear_alternative(rq, checks, p, last_tilt.index >= 0 ? &last_tilt : nullptr);
+      if (!tilt.accepted) reason += "; tilting: " + tilt.refusal.reason;
+    }
+    bool motion_proved = false;  // the cutting motion into p, by the strips and the guards
+    if (tilt.accepted) {
+      reason.clear();
+      ++row.tilted_contacts;
+      last_tilt = tilt.pose;
+      // A tilted pose is a different family from its neighbours: reach it
+      // by a link unless the motion is proved clear of the world and
+      // within e1 of the blade.
+      if (last >= 0 &&
+          (!rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear ||
+           motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+           motion_gouges(rq, checks, row.poses[last], p))) {
+        ++segment;
+        last = -1;
+      }
+      motion_proved = last >= 0;
+    }
+    if (!reason.empty()) {
+      row.refusals.push_back({p.u, p.contact, reason});
+      if (last >= 0) ++segment;  // the row is split: no straight move across the refused contact
+      last = -1;
+      continue;
+    }
+    // Every cutting motion within e1 of the blade (a tilted neighbour, a
+    // pose after a refused one): otherwise reach this pose by a link. The
+    // guards' sweep only where the strips' cheaper test passes.
+    if (last >= 0 && !motion_proved &&
+        (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+         motion_gouges(rq, checks, row.poses[last], p))) {
+      ++segment;
+      ++gouge_breaks;
+    }
+    p.segment = segment;
+    row.poses.push_back(p);
+    last = static_cast<long>(row.poses.size()) - 1;
+  }
+  // Rows whose contacts had no feasible position at all.
+  for (size_t i = 0; i < pr.contacts.size(); ++i) {
+    EdgePosition pos;
+    const ContactPlan& c = pr.contacts[i];
+    if (!chosen_position(rq, c, pr.emitted.l_index[i], ls, pos))
+      row.refusals.push_back({c.u, c.frame.point, "no gouge-free position within the band"});
+  }
+  return gouge_breaks;
+}
+
+long check_rows(const EdgeFinishRequest& rq, const PoseChecks& checks, const std::vector<double>& ls,
+                std::vector<PlannedRow>& planned, Progress& progress) {
+  long gouge_breaks = 0;
+  std::vector<long> row_gouge_breaks(planned.size(), 0);
+  run_parallel(planned.size(), rq.threads, progress, "edge finish checks", [&](size_t r, Progress& row_progress) {
+    row_gouge_breaks[r] = check_row(rq, checks, ls, planned[r], rq.zigzag && r % 2 == 1, row_progress);
+  });
+  for (long b : row_gouge_breaks) gouge_breaks += b;
+  return gouge_breaks;
+}
+
+}  // namespace bliskrun::edge_detail

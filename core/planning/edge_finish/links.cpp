@@ -1,0 +1,298 @@
+// The links between passes, in cutting order: the shared link builder
+// (core/planning/links.h), up the tool axis — a bottom-cutting tool leaves
+// along its axis — every leg proved against the world with the whole tool
+// and, by the gouge guards, against the edge region and both flanks within
+// e1 (less what the guards' samples can miss); other routes where that one
+// is refused, and (zigzag) rows cut the other way or in the other order
+// where that proves a refused link.
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "core/common/parallel.h"
+#include "core/planning/edge_finish/internal.h"
+
+namespace bliskrun::edge_detail {
+namespace {
+
+// The traverse's waypoint round the edge's front, for a link between passes
+// whose axes turn by more than 90 degrees (one-way rows: the passes lie on
+// either side of the edge): the mean of the two normals points off the
+// edge; the tool goes there at the retract distance plus its radius. None
+// otherwise.
+std::vector<ToolPose> round_the_front(const EdgeFinishRequest& rq, const EdgeFinishPose& a, const EdgeFinishPose& b) {
+  if (a.pose.axis.dot(b.pose.axis) >= 0) return {};
+  Vec3 front = a.normal + b.normal;
+  if (front.norm() < 1e-6) front = a.normal.cross(b.contact - a.contact).cross(a.normal);
+  front.normalize();
+  return {{0.5 * (a.contact + b.contact) + (rq.retract_mm + flat_end_of(*rq.tool).radius_mm) * front, front}};
+}
+
+// Waypoints in front of the edge between two passes: the round's middle
+// (u = 0.5) at the passes' mean span, out along its normal by the retract
+// distance plus the tool's diameter, with the first pass's axis and then
+// the second's (the axis turns there, clear of the blades).
+std::vector<ToolPose> in_front(const EdgeFinishRequest& rq, const EdgeFinishPose& a, const EdgeFinishPose& b,
+                               double retract_mm) {
+  const EdgeFrame f = edge_frame(rq.edge->eval(0.5, 0.5 * (a.v + b.v)));
+  const Vec3 at = f.point + (retract_mm + 2 * flat_end_of(*rq.tool).radius_mm) * f.z;
+  return {{at, a.pose.axis}, {at, b.pose.axis}};
+}
+
+// The row cut the other way: its poses and passes in reverse.
+EdgeFinishRow reversed_row(EdgeFinishRow row) {
+  if (row.poses.empty()) return row;
+  const int last = row.poses.back().segment;
+  reverse_poses(row.poses);
+  for (EdgeFinishPose& p : row.poses) p.segment = last - p.segment;
+  row.reversed = !row.reversed;
+  return row;
+}
+
+// The links between consecutive passes of rows[0 .. n) — standing at row
+// indices r0 .. in the cutting order — the first from `prev` (the last
+// pose before them, in row prev_row; null: none). prev / prev_row end at
+// the rows' last pose.
+struct LinkEnds {
+  const EdgeFinishPose *from, *to;
+  int from_row, to_row;
+};
+std::vector<LinkEnds> pass_links(const EdgeFinishRow* rows, size_t n, int r0, const EdgeFinishPose*& prev,
+                                 int& prev_row) {
+  std::vector<LinkEnds> out;
+  for (size_t j = 0; j < n; ++j) {
+    const std::vector<EdgeFinishPose>& poses = rows[j].poses;
+    const int r = r0 + static_cast<int>(j);
+    for (size_t i = 0; i < poses.size(); ++i) {
+      const bool starts_pass = i == 0 || poses[i].segment != poses[i - 1].segment;
+      if (starts_pass && prev) out.push_back({prev, &poses[i], prev_row, r});
+      prev = &poses[i];
+      prev_row = r;
+    }
+  }
+  return out;
+}
+
+// The link builder's checks and options for the edge, and the routes it
+// tries.
+struct EdgeLinker {
+  const EdgeFinishRequest& rq;
+  LinkChecks checks;
+  LinkOptions options;
+
+  // A link tried up the axes (round the front where the axis turns past
+  // 90 deg), then out in front of the edge, then retracted three times as
+  // far in front, then (with a hub) radially out.
+  EdgeFinishLink link(const EdgeFinishPose& from, const EdgeFinishPose& to, int from_row, int to_row) const;
+  PlannedLink radially_out(const EdgeFinishPose& from, const EdgeFinishPose& to, PlannedLink pl) const;
+};
+
+EdgeLinker edge_linker(const EdgeFinishRequest& rq, const ToolBody& body, const DesignGuards& guards) {
+  EdgeLinker linker{rq, {}, {}};
+  LinkChecks& link_checks = linker.checks;
+  link_checks.world = rq.world;
+  link_checks.body = &body;
+  link_checks.clearances = rq.clearances;
+  link_checks.motion_tol_mm = rq.motion_tol_mm;
+  link_checks.guard = guards.edge.get();
+  link_checks.guard_margin_mm = guards.edge->between_samples_mm(guards.corner_mm);
+  for (const auto& g : guards.flanks) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(guards.corner_mm)});
+  // A traverse out in front of the edge or up the span leaves the guards'
+  // reach: proved against the whole blade with the cutter too (a route
+  // radially out, tried for Rotor 67's TE near the hub, was found by the
+  // recipe's simulation cutting 0.1 mm into a flank the guards did not
+  // sample).
+  link_checks.traverse_world = rq.world->unchecked_pairs();
+  LinkOptions& link_options = linker.options;
+  link_options.direction = RetractDirection::ToolAxis;
+  link_options.retract_mm = rq.retract_mm;
+  link_options.min_retract_mm = std::min(0.1, rq.retract_mm);
+  link_options.allowed_overcut_mm = -rq.band.e1_mm;
+  return linker;
+}
+
+EdgeFinishLink EdgeLinker::link(const EdgeFinishPose& from, const EdgeFinishPose& to, int from_row, int to_row) const {
+  const LinkChecks& link_checks = checks;
+  const LinkOptions& link_options = options;
+  PlannedLink pl = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
+                             round_the_front(rq, from, to));
+  if (!pl.clear) {
+    // Beside the neighbouring blade a traverse between two retracted
+    // poses can graze it (their shanks are both at the clearance): out in
+    // front of the edge instead, turning the axis there, away from both.
+    const PlannedLink out_front = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks,
+                                            link_options, in_front(rq, from, to, rq.retract_mm));
+    if (out_front.clear) pl = out_front;
+    else pl.reason += "; in front of the edge: " + out_front.reason;
+  }
+  if (!pl.clear) {
+    // Near the hub a holder turning with the axis between two retracted
+    // poses can graze it by nanometres (Rotor 67's TE, 2 of 300 links):
+    // retracted three times as far, in front of the edge.
+    LinkOptions farther = link_options;
+    farther.retract_mm = 3 * link_options.retract_mm;
+    const PlannedLink far_out = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, farther,
+                                          in_front(rq, from, to, farther.retract_mm));
+    if (far_out.clear) pl = far_out;
+    else pl.reason += "; retracted " + std::to_string(farther.retract_mm) + " mm: " + far_out.reason;
+  }
+  if (!pl.clear && rq.hub) pl = radially_out(from, to, std::move(pl));
+  EdgeFinishLink link;
+  link.from_row = from_row;
+  link.to_row = to_row;
+  link.clear = pl.clear;
+  link.moves = pl.via;
+  link.legs = pl.legs;
+  link.offset_mm = pl.offset_mm;
+  if (!pl.clear)
+    link.reason = "link from row " + std::to_string(from_row) + " to row " + std::to_string(to_row) + ": " + pl.reason;
+  return link;
+}
+
+// Where an axis leans towards the blisk's axis (Rotor 67's TE near the hub:
+// 0.4 of it radial inwards) the holder sits at its clearance of the hub at
+// the pose, and any turn of the axis near there sweeps it inside: up the
+// span first, radially out from both retracted poses, turning the axis out
+// there, and back in (2 of Rotor 67's TE links). The traverse passes the
+// blade beyond the guards' samples: proved by the traverse world, which
+// refuses it where the cutter would touch the blade (it cut 0.1 mm into a
+// flank before that proof). `pl`: the refused link, returned with the
+// reasons added if no radial route proves either.
+PlannedLink EdgeLinker::radially_out(const EdgeFinishPose& from, const EdgeFinishPose& to, PlannedLink pl) const {
+  const LinkChecks& link_checks = checks;
+  const LinkOptions& link_options = options;
+  const Vec3 mid = 0.5 * (from.contact + to.contact);
+  const Vec3 out_dir = Vec3(mid.x(), mid.y(), 0).normalized();
+  const Vec3 up_a = from.pose.tip + rq.retract_mm * from.pose.axis.normalized();
+  const Vec3 up_b = to.pose.tip + rq.retract_mm * to.pose.axis.normalized();
+  for (double s : {5.0, 20.0}) {
+    const PlannedLink radial =
+        plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
+                  {{up_a + s * out_dir, from.pose.axis}, {up_b + s * out_dir, to.pose.axis}});
+    if (radial.clear) {
+      pl = radial;
+      break;
+    }
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "; %.0f mm radially out: ", s);
+    pl.reason += buf + radial.reason;
+  }
+  return pl;
+}
+
+// A link no route proves — into a row reached across the round near Rotor
+// 67's hub, the axis turning 70-165 deg, the holder 120 mm up the tool
+// sweeping inside its clearance on every route — may be provable with the
+// rows either side cut the other way, or in the other order: the finished
+// surface is the envelope of every pass whatever the order (each pass's
+// cuts are proved on their own), and a row cut the other way makes the same
+// motions reversed. `rows` put at r0 .. in place of out.rows there, kept
+// (with their links, and `ends` updated) where fewer of the links touching
+// them are refused.
+bool rearrange_rows(const EdgeLinker& linker, std::vector<LinkEnds>& ends, EdgeFinishResult& out, size_t r0,
+                    std::vector<EdgeFinishRow> rows) {
+  const size_t r1 = r0 + rows.size();
+  auto in_range = [&](int row) { return static_cast<size_t>(row) >= r0 && static_cast<size_t>(row) < r1; };
+  size_t k0 = 0;
+  while (k0 < ends.size() && !in_range(ends[k0].from_row) && !in_range(ends[k0].to_row)) ++k0;
+  size_t k1 = k0;
+  while (k1 < ends.size() && (in_range(ends[k1].from_row) || in_range(ends[k1].to_row))) ++k1;
+  if (k0 == k1) return false;
+  // The range's links in cutting order over rows rs[0 .. n) standing at
+  // r0 ..: from the pass before the range, between every two passes, to
+  // the pass after it.
+  auto range_ends = [&](const EdgeFinishRow* rs) {
+    const EdgeFinishPose* prev = in_range(ends[k0].from_row) ? nullptr : ends[k0].from;
+    int prev_row = ends[k0].from_row;
+    std::vector<LinkEnds> es = pass_links(rs, r1 - r0, static_cast<int>(r0), prev, prev_row);
+    if (!in_range(ends[k1 - 1].to_row)) es.push_back({prev, ends[k1 - 1].to, prev_row, ends[k1 - 1].to_row});
+    return es;
+  };
+  const std::vector<LinkEnds> tried = range_ends(rows.data());
+  if (tried.size() != k1 - k0) return false;
+  std::vector<EdgeFinishLink> relinked;
+  for (const LinkEnds& e : tried) relinked.push_back(linker.link(*e.from, *e.to, e.from_row, e.to_row));
+  auto refused = [](auto first, auto last) {
+    return std::count_if(first, last, [](const EdgeFinishLink& l) { return !l.clear; });
+  };
+  const auto was = refused(out.links.begin() + static_cast<long>(k0), out.links.begin() + static_cast<long>(k1));
+  if (refused(relinked.begin(), relinked.end()) >= was) return false;
+  for (size_t j = 0; j < rows.size(); ++j) out.rows[r0 + j] = std::move(rows[j]);
+  const std::vector<LinkEnds> placed = range_ends(&out.rows[r0]);  // the same ends, pointing into out.rows
+  for (size_t k = k0; k < k1; ++k) {
+    ends[k] = placed[k - k0];
+    out.links[k] = std::move(relinked[k - k0]);
+  }
+  return true;
+}
+
+// Zigzag only (one-way keeps its cutting direction): for each refused link
+// between two rows, either row the other way; then the two in the other
+// order, each either way. Returns how many were rearranged.
+int rearrange_refused(const EdgeLinker& linker, std::vector<LinkEnds>& ends, EdgeFinishResult& out) {
+  int count = 0;
+  auto rearranged = [&](size_t r0, std::vector<EdgeFinishRow> rows) {
+    return rearrange_rows(linker, ends, out, r0, std::move(rows));
+  };
+  for (size_t k = 0; k < out.links.size(); ++k) {
+    if (out.links[k].clear || ends[k].from_row == ends[k].to_row) continue;
+    const size_t a = static_cast<size_t>(ends[k].from_row), b = static_cast<size_t>(ends[k].to_row);
+    const EdgeFinishRow &ra = out.rows[a], &rb = out.rows[b];
+    const bool done =
+        rearranged(b, {reversed_row(rb)}) || rearranged(a, {reversed_row(ra)}) ||
+        (b == a + 1 && (rearranged(a, {rb, ra}) || rearranged(a, {reversed_row(rb), ra}) ||
+                        rearranged(a, {rb, reversed_row(ra)}) || rearranged(a, {reversed_row(rb), reversed_row(ra)})));
+    count += done ? 1 : 0;
+  }
+  return count;
+}
+
+}  // namespace
+
+// Poses in the other cutting order. A break belongs to the pair it
+// separates: it moves to the pose that now comes second.
+void reverse_poses(std::vector<EdgeFinishPose>& ps) {
+  const size_t n = ps.size();
+  std::vector<bool> breaks(n);
+  for (size_t i = 0; i < n; ++i) breaks[i] = ps[i].break_before;
+  std::reverse(ps.begin(), ps.end());
+  for (size_t j = 0; j < n; ++j) ps[j].break_before = j > 0 && breaks[n - j];
+}
+
+void link_passes(const EdgeFinishRequest& rq, const ToolBody& body, const DesignGuards& guards, EdgeFinishResult& out,
+                 Progress& progress) {
+  const EdgeLinker linker = edge_linker(rq, body, guards);
+  // The passes' ends in cutting order, then every link on rq.threads
+  // workers: each is proved on its own (the world and the guards are
+  // read-only), so the plan does not depend on the thread count.
+  const EdgeFinishPose* before_first = nullptr;
+  int before_row = -1;
+  std::vector<LinkEnds> ends = pass_links(out.rows.data(), out.rows.size(), 0, before_first, before_row);
+  out.links.resize(ends.size());
+  run_parallel(ends.size(), rq.threads, progress, "edge finish links", [&](size_t k, Progress&) {
+    out.links[k] = linker.link(*ends[k].from, *ends[k].to, ends[k].from_row, ends[k].to_row);
+  });
+  if (rq.zigzag) out.rearranged_rows += rearrange_refused(linker, ends, out);
+  for (const EdgeFinishLink& link : out.links) out.refused_links += link.clear ? 0 : 1;
+  const EdgeFinishPose* first = nullptr;
+  const EdgeFinishPose* last = nullptr;
+  for (const EdgeFinishRow& row : out.rows)
+    if (!row.poses.empty()) {
+      if (!first) first = &row.poses.front();
+      last = &row.poses.back();
+    }
+  if (first) {
+    auto departure = [&](const EdgeFinishPose& p, const char* what) {
+      PlannedDeparture d = plan_departure({p.pose, p.normal}, linker.checks, linker.options);
+      if (!d.clear) {
+        d.reason = std::string(what) + ": " + d.reason;
+        ++out.refused_links;
+      }
+      return d;
+    };
+    out.lead_in = departure(*first, "lead-in");
+    out.lead_out = departure(*last, "lead-out");
+  }
+}
+
+}  // namespace bliskrun::edge_detail

@@ -1,0 +1,67 @@
+// The edge finish as a program: its moves in cutting order (rows' passes,
+// links, lead-in and lead-out; a Stop where a link is refused) and the APT
+// text written from them.
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+#include "core/planning/edge_finish.h"
+
+namespace bliskrun {
+
+std::vector<DrumFinishMove> edge_finish_moves(const EdgeFinishResult& result) {
+  std::vector<DrumFinishMove> moves;
+  size_t link = 0;
+  bool started = false;
+  int last_row = -1;
+  for (size_t r = 0; r < result.rows.size(); ++r) {
+    const EdgeFinishRow& row = result.rows[r];
+    const int ri = static_cast<int>(r);
+    for (size_t i = 0; i < row.poses.size(); ++i) {
+      const bool starts_pass = i == 0 || row.poses[i].segment != row.poses[i - 1].segment;
+      if (!started) {
+        if (result.lead_in.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_in.away, ri, "start", {}});
+        else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", result.lead_in.reason});
+      }
+      last_row = ri;
+      if (starts_pass && started) {
+        const EdgeFinishLink& l = result.links.at(link++);
+        if (!l.clear) moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
+        else
+          for (size_t k = 0; k < l.moves.size(); ++k)
+            moves.push_back({DrumFinishMove::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
+      }
+      const bool after_stop = !moves.empty() && moves.back().kind == DrumFinishMove::Kind::Stop;
+      const char* motion = !starts_pass ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
+      moves.push_back({DrumFinishMove::Kind::Feed, row.poses[i].pose, ri, motion, {}});
+      started = true;
+    }
+  }
+  if (started) {
+    if (result.lead_out.clear) moves.push_back({DrumFinishMove::Kind::Rapid, result.lead_out.away, last_row, "retract", {}});
+    else moves.push_back({DrumFinishMove::Kind::Stop, ToolPose{}, last_row, "stop", result.lead_out.reason});
+  }
+  return moves;
+}
+
+DrumFinishPasses edge_finish_passes(const EdgeFinishResult& result) {
+  return passes_of_moves(edge_finish_moves(result));
+}
+
+std::string edge_finish_apt(const EdgeFinishResult& result, const EdgeFinishRequest& rq, const std::string& name) {
+  std::ostringstream os;
+  char buf[240];
+  os << "$$ bliskrun blade edge finish (flat-end bottom) " << name << "\n";
+  os << "$$ TOOL " << (rq.tool ? rq.tool->description() : std::string("?")) << "\n";
+  std::snprintf(buf, sizeof buf, "$$ BAND %.6f %.6f CHORD_TOL %.6f ROWS %zu POSES %d REFUSALS %d\n", rq.band.e1_mm,
+                rq.band.e2_mm, rq.steps.chord_tol_mm, result.rows.size(), result.total_poses, result.total_refusals);
+  os << buf << "MULTAX\n";
+  write_apt_moves(os, edge_finish_moves(result), [&](int row) {
+    std::snprintf(buf, sizeof buf, "$$ ROW %d V %.6f WIDTH %.6f\n", row, result.rows[row].v, result.rows[row].width_mm);
+    return std::string(buf);
+  });
+  os << "FINI\n";
+  return os.str();
+}
+
+}  // namespace bliskrun
