@@ -65,6 +65,6 @@ j:run{name = "blisk_job",
   setups = {{name = "inlet down"}, {name = "turned over (inlet up)", flip = true, from = "leading edge"}},
   programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}},
-  settings = {blades = #blades, sides = args.sides or "both", edges = edges, edge_span = string.format("%g, %g", span[1], span[2]),
-              periodic = periodic, tool_life_mm = args.tool_life or "none", samples_u = args.samples_u or 100,
+  settings = {blades = #blades, sides = args.sides or "both", edges = edges,
+              edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = args.tool_life or "none", samples_u = args.samples_u or 100,
               samples_v = args.samples_v or 500}}

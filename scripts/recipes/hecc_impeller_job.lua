@@ -1,22 +1,18 @@
 -- The NASA HECC impeller (15 main + 15 splitter blades) machined as one job
--- (issue 13), as impeller_job.lua machines the built-in one: notched,
--- widened (finishing the hub, a true surface of revolution here), both faces
--- of every blade flank-finished, simulated, posted for two B/C trunnions.
+-- (issue 13), as impeller_job.lua machines the built-in one. Its faces
+-- (scripts/lib/hecc_impeller_part.lua) are planned on their ruled fits and
+-- proved against, simulated on and measured against the lofted faces. The
+-- blades are not ruled (fits 0.7-1 mm off): roughing leaves the largest fit
+-- error + 0.5 mm as stock, and flank finishing with a ruled cutter spreads
+-- the fit error + and - over the lofted face, far beyond a 0.05 mm thickness
+-- tolerance — the run says so per face (finish.<face>.within_tolerance):
+-- these faces need point milling.
 --
 --   bliskrun scripts/recipes/hecc_impeller_job.lua --data ../shared/data --out out [--set blades=15]
---            [--set stations=41] [--set stock=MM] [--set min_stock=0.2] [--set depth_step=5]
---            [--set scallop=0.01] [--set hub_stock=0] [--set chord_tol=0.005] [--set finish_life=MM] [--set rough_life=MM]
+--            [--set stations=41] [--set stock=MM] [--set min_stock=0.2] [--set depth_step=5] [--set scallop=0.01]
+--            [--set hub_stock=0] [--set chord_tol=0.005] [--set finish_life=MM] [--set rough_life=MM]
 --            [--set channels=inlet,left,right] [--set "faces=main plus,main minus,splitter plus,splitter minus"]
 --            [--set sim_u=60] [--set sim_v=300] [--set simulate=false] [--set tolerance=0.05] [--set set=design|cold]
---
--- The faces (scripts/lib/hecc_impeller_part.lua) are planned on their ruled
--- fits and proved against, simulated on and measured against the lofted
--- faces. The blades are not ruled (fits 0.7-1 mm off), and the run says what
--- that means: roughing leaves the largest fit error + 0.5 mm as stock, so
--- the last pass stays off the real face; flank finishing with a ruled cutter
--- cannot follow the lofted face — its residual (flank_mill{design=}, balanced)
--- spreads the fit error + and -, far beyond a 0.05 mm thickness tolerance
--- (the JSON's finish.<face>.within_tolerance = false): point milling is needed.
 local job = require("job")
 
 local part = require("hecc_impeller_part").load{set = args.set or "design"}
@@ -30,10 +26,12 @@ end
 local min_stock = args.min_stock or 0.2
 local stock = args.stock or math.max(0.5, math.ceil((fit_max + 0.5) * 10 - 1e-9) / 10)
 print(string.format("HECC impeller: %d main + %d splitter blades; ruled fits of the lofted faces %.3f mm at worst; "
-                    .. "roughing stock %.2f mm (min %.2f)", part:blade_count(), part:blade_count(), fit_max, stock, min_stock))
+                    .. "roughing stock %.2f mm (min %.2f)", part:blade_count(), part:blade_count(), fit_max, stock,
+                    min_stock))
 -- The HECC flank recipe's tapered ball ends (its inlet channels are narrower than the built-in impeller's).
 local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, flute_length = 90,
-                                              shank = {diameter = 12, length = 60}, holder = {diameter = 40, length = 60}}
+                                              shank = {diameter = 12, length = 60},
+                                              holder = {diameter = 40, length = 60}}
 local finish_life = args.finish_life or 4000
 local j = job.new{
   name = "hecc impeller", part = part, clearance = 10,
@@ -44,8 +42,9 @@ local j = job.new{
                 life_mm = finish_life, sisters = {12, 22, 32, 42, 52, 62, 72}},
   },
   operations = {
-    job.notch{tool = "rougher", blades = blades, stock = stock, min_stock = min_stock, depth_step = args.depth_step or 5,
-              stations = args.stations or 41, channels = job.split_list(args.channels), feed = 800},
+    job.notch{tool = "rougher", blades = blades, stock = stock, min_stock = min_stock,
+              depth_step = args.depth_step or 5, stations = args.stations or 41,
+              channels = job.split_list(args.channels), feed = 800},
     job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, hub_stock = args.hub_stock or 0,
               feed = 1000},
     job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005,

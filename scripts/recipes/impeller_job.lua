@@ -1,9 +1,14 @@
--- The built-in impeller machined as one job and posted as one verified
--- program per machine (impeller paper §4; issue 13): every channel notched
--- and widened, the widening finishing the hub as in the paper (the faces
--- keep the stock), then both faces of every main blade and splitter
--- flank-finished, the finishing cutters grouped per blade by tool life as in
--- the paper (17 blades: 5, 4, 4, 4 per cutter).
+-- The built-in impeller machined as one job (impeller paper §4; issue 13):
+-- every channel notched and widened, the widening finishing the hub as in
+-- the paper (the faces keep the stock), then both faces of every main blade
+-- and splitter flank-finished, the finishing cutters grouped per blade by
+-- tool life as in the paper (17 blades: 5, 4, 4, 4 per cutter). Blade 1's
+-- plans are proved with the whole tool (scripts/lib/impeller_world.lua), the
+-- other blades' are them turned; links run 10 mm over the part, every leg
+-- proved; blade 1's faces and one pitch of the hub simulated (core/sim);
+-- posted for two B/C trunnions (Heidenhain TCPM, Fanuc), each program read
+-- back and replayed. Nothing is posted after an overcut the operations do
+-- not allow (a face: its flank finish's residual, eq. 33-36, + 5 um).
 --
 --   bliskrun scripts/recipes/impeller_job.lua --out out [--set blades=17] [--set stations=41]
 --            [--set finish_life=MM] [--set rough_life=MM]   (cutting length per cutter; sisters follow)
@@ -11,17 +16,6 @@
 --            [--set hub_stock=0]   (left on the hub by the widening; the faces keep the stock)
 --            [--set channels=inlet,left,right] [--set "faces=main plus,main minus,splitter plus,splitter minus"]
 --            [--set sim_u=60] [--set sim_v=300] [--set simulate=false]   (samples of the simulated surfaces)
---
--- Blade 1's channel and face plans are proved with the whole tool against
--- the blades either side and the hub (scripts/lib/impeller_world.lua); every
--- other blade's are them turned by the pitch. Units are linked over a
--- clearance surface 10 mm above the part, every link leg proved. The material
--- each operation and the whole job leave on blade 1's faces and one pitch of
--- the hub is simulated (core/sim) and mapped; nothing is posted after an
--- overcut the operations do not allow (a face: its flank finish's residual,
--- eq. 33-36, + 5 um). Outputs: impeller_job_bc_heidenhain.h,
--- impeller_job_bc_fanuc.nc, impeller_job.json, impeller_job_left_*.png,
--- impeller_job.pvd, report.html.
 local job = require("job")
 
 local imp = bliskrun.impeller{}
@@ -29,7 +23,8 @@ local blades = job.first_blades(imp, args.blades)
 -- The paper's tapered ball-end mill for roughing and finishing (two tools of
 -- the same form: the rougher wears, the finisher holds the size).
 local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 2, flute_length = 90,
-                                              shank = {diameter = 16, length = 60}, holder = {diameter = 50, length = 60}}
+                                              shank = {diameter = 16, length = 60},
+                                              holder = {diameter = 50, length = 60}}
 -- Finishing cutting length per cutter: the default puts the 17 blades on 4 cutters (5, 4, 4, 4).
 local finish_life = args.finish_life or 4000
 local j = job.new{

@@ -118,13 +118,13 @@ function Job:post_programs(list, level)
                work_offset = m.work_offset, notes = m.notes}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, level)}
-    requests[i], offsets[i] = self:post_options(o, paths[key][1], level), paths[key][2]
+    requests[i], offsets[i] = self:post_options(o, paths[key][1], level), {paths[key][2], paths[key][3]}
   end
   local ok, result = pcall(bliskrun.post.write_all, requests)
   if not ok then
     local message = tostring(result)
     local k = tonumber(message:match("programs%[(%d+)%]"))
-    self:raise_post_error(message, k and offsets[k] or 0, level)
+    self:raise_post_error(message, k and offsets[k][1] or 0, level, k and offsets[k][2])
   end
   local entries = {}
   for i, m in ipairs(list) do entries[i] = program_entry(m, result[i]) end
@@ -144,7 +144,8 @@ local function check_post_options(o, level)
   }, level)
 end
 
--- The moves of a program and the job move before its first: o.setup =
+-- The moves of a program, the job move before its first (offset) and
+-- {first =, last =}, its job moves (for messages): o.setup =
 -- {name =, first =, last =, flip = bool, clocking_deg = 0}: the job's moves
 -- first..last as one program, with the part turned over (180 deg about X: the
 -- side of the part that faced the table faces the spindle) when flip, then
@@ -165,7 +166,7 @@ function Job:program_path(o, level)
   -- Job move numbers in messages count the program's moves from `first`;
   -- a way in put before them shifts them by one.
   local shift = #ends > 0 and ends[1] ~= moves[1] and 1 or 0
-  if not o.setup then return ends, first - 1 - shift end
+  if not o.setup then return ends, first - 1 - shift, {first = first, last = last} end
   local clocking = o.setup.clocking_deg or 0
   if type(clocking) ~= "number" then error("job:post: setup.clocking_deg: expected a number (degrees)", level) end
   local clock = clocking ~= 0 and {c = math.cos(math.rad(clocking)), s = math.sin(math.rad(clocking))} or nil
@@ -187,7 +188,7 @@ function Job:program_path(o, level)
     end
     path[#path + 1] = m
   end
-  return path, first - 1 - shift
+  return path, first - 1 - shift, {first = first, last = last}
 end
 
 -- post.write's options for a program of `path`: the program's tools in the
@@ -228,14 +229,19 @@ end
 
 -- A move out of travel (or out of reach) names the job's move: say which
 -- operation, blade and flank it belongs to. `offset`: the job move before
--- the program's first.
-function Job:raise_post_error(message, offset, level)
+-- the program's first; `span` = {first, last}: the program's job moves
+-- (j:program_path), so a move before or after them is named as the
+-- program's way in to its first or out from its last.
+function Job:raise_post_error(message, offset, level, span)
   local start = tonumber(message:match("moves start at move (%d+)")) or 1
   local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
-  local m = n and self.planned.moves[offset + start + n - 1]
+  local k, what = n and offset + start + n - 1, "job move %d"
+  if k and span and k < span.first then k, what = span.first, "the way in to job move %d" end
+  if k and span and k > span.last then k, what = span.last, "the way out from job move %d" end
+  local m = k and self.planned.moves[k]
   if m then
-    error(string.format("job:post: job move %d (operation %d %s, blade %d %s flank, %s): %s", offset + start + n - 1,
-                        m.operation, m.operation_kind, m.blade, m.side, m.motion or m.kind, message), level)
+    error(string.format("job:post: " .. what .. " (operation %d %s, blade %d %s flank, %s): %s", k, m.operation,
+                        m.operation_kind, m.blade, m.side, m.motion or m.kind, message), level)
   end
   error(message, level)
 end
@@ -244,10 +250,10 @@ end
 -- post = name or post table, file =, chord_tol = 0.002, setup =, start =}.
 -- Returns the post.write report (the program read back and replayed).
 function Job:post(o)
-  local path, offset = self:program_path(o, 3)
+  local path, offset, span = self:program_path(o, 3)
   local ok, result = pcall(bliskrun.post.write, self:post_options(o, path, 3))
   if ok then return result end
-  self:raise_post_error(tostring(result), offset, 3)
+  self:raise_post_error(tostring(result), offset, 3, span)
 end
 
 return M

@@ -250,7 +250,9 @@ function Job:blisk_overcut(sim)
                          .. "nothing posted", -1e3 * sim.overcut, -1e3 * allowed)
   end
   for _, s in ipairs(sim.seams or {}) do
-    if s.overcut_mm < s.tolerance.overcut_mm - 0.0005 then return string.format("seam %s: %s; nothing posted", s.name, s.reason) end
+    if s.overcut_mm < s.tolerance.overcut_mm - 0.0005 then
+      return string.format("seam %s: %s; nothing posted", s.name, s.reason)
+    end
   end
 end
 
