@@ -246,8 +246,33 @@ TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
             std::string::npos) << tool.output;
 }
 
+// j:run checks its options, and its simulate table against j:simulate's,
+// at the recipe's line before anything is planned or written.
+TEST(BliskJobRecipe, ARunOptionFailsAtItsLineAndWritesNothing) {
+  TempDir dir;
+  const std::string programs = "programs = {{machine = \"dmg_like_ac_trunnion\", post = \"fanuc\", file = \"x.nc\"}}";
+  const RecipeResult unknown = run_recipe_text(dir, one_blade_job("110", "") + "j:run{name = \"x\", " + programs +
+                                                        ", simulat = {}}\n");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.output.find("recipe.lua:7: job:run: unknown option 'simulat', expected one of:"), std::string::npos)
+      << unknown.output;
+  const RecipeResult samples = run_recipe_text(dir, one_blade_job("110", "") + "j:run{name = \"x\", " + programs +
+                                                        ", simulate = {samples_u = 1}}\n");
+  EXPECT_EQ(samples.exit_code, 1);
+  EXPECT_NE(samples.output.find("recipe.lua:7: job:run simulate: option 'samples_u': expected an integer >= 2"),
+            std::string::npos) << samples.output;
+  const RecipeResult none = run_recipe_text(dir, one_blade_job("110", "") + "j:run{name = \"x\", programs = {}}\n");
+  EXPECT_EQ(none.exit_code, 1);
+  EXPECT_NE(none.output.find("recipe.lua:7: job:run: option 'programs': expected a list of programs"),
+            std::string::npos) << none.output;
+  EXPECT_FALSE(fs::exists(dir.path() + "/out/x.nc"));
+  EXPECT_FALSE(fs::exists(dir.path() + "/out/x.json"));
+}
+
 // A machine too small for the part: the travel error names the recipe line,
 // the job move and its operation, blade and flank, and nothing is written.
+// Here the program's way in (job move 1 backed out to the clearance can)
+// is the first move out of travel, and is named as that.
 TEST(BliskJobRecipe, AMoveOutOfTravelNamesItsOperationAndBlade) {
   TempDir dir;
   const RecipeResult r = run_recipe_text(dir,
@@ -256,7 +281,7 @@ TEST(BliskJobRecipe, AMoveOutOfTravelNamesItsOperationAndBlade) {
       "local small = bliskrun.machine.load(\"table_table_ac\", {name = \"small\", y = {-50, 50}})\n"
       "j:post{machine = small, post = \"fanuc\", file = \"x.nc\"}\n");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("recipe.lua:9: job:post: job move 1 (operation 1 drum_finish, blade 1 suction flank, start)"),
+  EXPECT_NE(r.output.find("recipe.lua:9: job:post: the way in to job move 1 (operation 1 drum_finish, blade 1 suction flank, start)"),
             std::string::npos) << r.output;
   EXPECT_NE(r.output.find("outside travel"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir.path() + "/out/x.nc"));

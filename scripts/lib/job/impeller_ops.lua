@@ -1,0 +1,223 @@
+-- The impeller operations of a job (impeller paper §4; scripts/lib/job.lua
+-- is the entry): notching, widening with hub finishing, flank finishing.
+-- Each plans blade 1's channels or faces, proved against the blades either
+-- side and the hub with the whole tool (scripts/lib/impeller_world.lua), and
+-- turns them onto every blade of the operation: the model is symmetric
+-- under the blade pitch, so the proofs carry over.
+local options = require("job.options")
+local geometry = require("job.geometry")
+
+local check_options, positive, blade_list = options.check, options.positive, options.blade_list
+local add = geometry.add
+
+local M = {}
+
+local function require_impeller(j, what)
+  if j.part_kind ~= "impeller" then error(what .. ": this operation machines an impeller; the job's part is a blisk", 0) end
+end
+
+-- Blade 1's units turned onto each blade of the operation: the model is
+-- symmetric under turns of the blade pitch about Z, so the proofs carry over.
+local function per_blade(j, units, blades)
+  local iw = require("impeller_world")
+  local out = {}
+  for _, k in ipairs(blades) do
+    local angle = iw.pitch_angle(j.part, k)
+    for _, u in ipairs(units) do
+      local moves = {}
+      for i, m in ipairs(u.moves) do
+        local p = iw.turn(m, angle)
+        moves[i] = {kind = m.kind, tip = p.tip, axis = p.axis, row = m.row, motion = m.motion,
+                    operation = m.operation}
+      end
+      out[#out + 1] = {blade = k, side = u.name, moves_list = moves, report = u.report}
+    end
+  end
+  return out
+end
+
+-- Notching (§4.1): the channel's middle opened in depth levels from the
+-- shroud contour to the stock above the hub (bliskrun.channel_rough). When a
+-- job.widen follows it (same tool, same blades), each channel is notched and
+-- widened in one plan, its passes linked inside the channel.
+function M.notch(o)
+  check_options("job.notch", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    stock = {type = "number", check = function(v) if not (v > 0 and v < 10) then return "expected 0 < stock < 10 mm" end end},
+    min_stock = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    depth_step = {type = "number", check = positive},
+    stations = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    splitter_gap = {type = "number", check = positive},
+    channels = {type = "table", check = function(v)
+      if #v == 0 then return "expected a list of channel names" end
+      for _, c in ipairs(v) do
+        if c ~= "inlet" and c ~= "left" and c ~= "right" and c ~= "channel" then
+          return "expected 'inlet', 'left', 'right' (with splitters) or 'channel' (without)"
+        end
+      end
+    end},
+    mesh_tol = {type = "number", check = positive},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "notch", channels = o.channels, tool = o.tool, blades = o.blades, stock = o.stock or 0.5, depth_step = o.depth_step or 5,
+              stations = o.stations or 41, splitter_gap = o.splitter_gap or 20, mesh_tol = o.mesh_tol or 0.05,
+              feed = o.feed or 800}
+  op.min_stock = o.min_stock or math.min(0.2, op.stock / 2)
+  if op.min_stock > op.stock then error("job.notch: option 'min_stock': expected at most the stock", 2) end
+  function op.plan_flanks(self, j, index)
+    require_impeller(j, "job.notch")
+    local iw = require("impeller_world")
+    local widen = self.widen_op
+    local meshes = j:impeller_meshes(self.mesh_tol)
+    -- Where the widening leaves less on the hub than the cutter's clearance
+    -- (the paper finishes it), the ball is meant to touch the hub.
+    local hub_stock = widen and widen.hub_stock or self.stock
+    local world = iw.channel_world(j.part, meshes, hub_stock < self.min_stock
+                                   and {hub_finish = {cutter_clearance = self.min_stock - hub_stock}} or nil)
+    local tool = j.tools[self.tool]
+    local wanted, chosen, requests = {}, {}, {}
+    for _, name in ipairs(self.channels or {}) do wanted[name] = true end
+    for _, c in ipairs(iw.channels(j.part, {gap = self.splitter_gap})) do
+      if not self.channels or wanted[c.name] then
+        chosen[#chosen + 1] = c
+        requests[#requests + 1] = {left = c.left, left_v = c.left_v, right = c.right, right_v = c.right_v,
+                                   hub = j.part:hub(), tool = tool.tool, ball_radius = tool.ball_radius,
+                                   world = world, stations = self.stations, stock = self.stock, hub_stock = hub_stock,
+                                   scallop = widen and widen.scallop or nil, widen = widen ~= nil,
+                                   depth_step = self.depth_step, cutter_clearance = self.min_stock}
+      end
+    end
+    if #chosen == 0 then error("job.notch: none of the channels asked for is in this impeller", 0) end
+    -- The channels are independent: planned side by side on --threads.
+    local plans = bliskrun.channel_rough_all{channels = requests}
+    local units = {}
+    for k, c in ipairs(chosen) do
+      local plan = plans[k]
+      if #plan.refusals > 0 or not plan.complete then
+        local first = plan.refusals[1]
+        error(string.format("job.notch: channel %s: %d poses refused%s%s; nothing of it is emitted", c.name,
+                            #plan.refusals, first and string.format(" (first: %s %d at t = %.3f: %s)", first.kind,
+                                                                     first.index, first.t, first.reason) or "",
+                            plan.complete and "" or ", stopped: " .. plan.stopped), 0)
+      end
+      -- A move belongs to the widening operation where its pass widens.
+      local moves = {}
+      for i, m in ipairs(plan.moves) do
+        moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion,
+                    operation = widen and plan.passes[m.row].kind ~= "notch" and index + 1 or index}
+      end
+      units[#units + 1] = {name = c.name, moves = moves,
+                           report = {notch_levels = plan.notch_levels, widen_left = plan.widen_left,
+                                     widen_right = plan.widen_right, step_over = plan.step_over,
+                                     scallop_max = plan.scallop_max, paths_added = plan.paths_added,
+                                     poses = plan.poses, passes = #plan.passes, turned = plan.turned,
+                                     inserted = plan.inserted, hub_stock = plan.hub_stock}}
+    end
+    return per_blade(j, units, self.blades)
+  end
+  return op
+end
+
+-- Widening with hub finishing (§4.2, eq. 12–14): from the notch towards both
+-- faces along the hub, paths f = 2 sqrt(2rh - h^2) apart for the scallop h,
+-- the last on each side the finishing pose of the cutter grown by the
+-- faces' stock. As in the paper the widening finishes the hub in the same
+-- passes: hub_stock (default 0) is what it leaves there, the faces keep the
+-- notch's stock for flank finishing. Planned with the job.notch it must
+-- directly follow (same tool and blades).
+function M.widen(o)
+  check_options("job.widen", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    scallop = {type = "number", check = positive},
+    hub_stock = {type = "number", check = function(v) if not (v >= 0 and v < 10) then return "expected 0 <= hub_stock < 10 mm" end end},
+    feed = {type = "number", check = positive},
+  }, 2)
+  return {kind = "widen", tool = o.tool, blades = o.blades, scallop = o.scallop or 0.01, hub_stock = o.hub_stock or 0,
+          feed = o.feed or 1000, plan_flanks = function() return {} end}  -- its moves come with the notch's plan
+end
+
+-- Flank finishing (§4.3) of blade faces with the side of a (tapered)
+-- ball-end mill (bliskrun.flank_mill): faces = list of "main plus", "main
+-- minus", "splitter plus", "splitter minus" (default all four).
+function M.flank_finish(o)
+  local face_names = {["main plus"] = true, ["main minus"] = true, ["splitter plus"] = true,
+                      ["splitter minus"] = true}
+  check_options("job.flank_finish", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    faces = {type = "table", check = function(v)
+      if #v == 0 then return "expected a list of faces" end
+      for _, f in ipairs(v) do
+        if not face_names[f] then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
+      end
+    end},
+    chord_tol = {type = "number", check = positive},
+    clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    mesh_tol = {type = "number", check = positive},
+    balance = {type = "boolean"},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "flank_finish", tool = o.tool, blades = o.blades,
+              faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
+              chord_tol = o.chord_tol or 0.005, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
+              balance = o.balance ~= false, feed = o.feed or 600, lift = 5}
+  function op.plan_flanks(self, j, index)
+    require_impeller(j, "job.flank_finish")
+    local iw = require("impeller_world")
+    local meshes = j:impeller_meshes(self.mesh_tol)
+    local tool = j.tools[self.tool]
+    local units = {}
+    for _, name in ipairs(self.faces) do
+      local kind, side = name:match("^(%a+) (%a+)$")
+      if kind == "splitter" and not j.part:has_splitter() then
+        error("job.flank_finish: the impeller has no splitters; faces = {'" .. name .. "'}", 0)
+      end
+      local world = iw.face_world(j.part, meshes, kind, side)
+      local plan = bliskrun.flank_mill{face = j.part:face(1, side, kind), design = iw.design_face(j.part, 1, side, kind),
+                                       hub = j.part:hub(), tool = tool.tool,
+                                       ball_radius = tool.ball_radius, world = world,
+                                       chord_tol = self.chord_tol, clearance = self.clearance, balance = self.balance,
+                                       residual_points = 10}
+      if #plan.refusals > 0 or not plan.lead_in.clear or not plan.lead_out.clear then
+        error(string.format("job.flank_finish: %s face: %d poses refused%s; nothing of it is emitted", name,
+                            #plan.refusals, (plan.lead_in.clear and plan.lead_out.clear) and ""
+                              or ", lead not clear: " .. (plan.lead_in.reason or "") .. (plan.lead_out.reason or "")), 0)
+      end
+      -- The plan's leads slide the ball along the hub, off the face; the
+      -- unit starts and ends up the tool axis from there, off the hub, so
+      -- the job's links never touch the finished surfaces. Those two motions
+      -- are proved here like the plan's own.
+      local function lifted(pose) return {tip = add(pose.tip, pose.axis, self.lift), axis = pose.axis} end
+      local start, finish = lifted(plan.lead_in.away), lifted(plan.lead_out.away)
+      for _, leg in ipairs{{start, plan.lead_in.away}, {plan.lead_out.away, finish}} do
+        local m = world:check_motion(tool.tool, leg[1], leg[2],
+                                     {clearance = {cutter = 0, shank = self.clearance, holder = self.clearance}})
+        if not m.clear then
+          error(string.format("job.flank_finish: %s face: the lift of %.1f mm off the hub at the %s is not clear "
+                              .. "(margin %.3f mm)", name, self.lift, leg[1] == start and "lead-in" or "lead-out",
+                              m.min_margin or 0 / 0), 0)
+        end
+      end
+      local moves = {{kind = "rapid", tip = start.tip, axis = start.axis, row = 1, motion = "start", operation = index},
+                     {kind = "feed", tip = plan.lead_in.away.tip, axis = plan.lead_in.away.axis, row = 1,
+                      motion = "approach", operation = index}}
+      for _, p in ipairs(plan.poses) do
+        moves[#moves + 1] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1,
+                             motion = #moves == 2 and "approach" or "cut", operation = index}
+      end
+      moves[#moves + 1] = {kind = "feed", tip = plan.lead_out.away.tip, axis = plan.lead_out.away.axis, row = 1,
+                           motion = "retract", operation = index}
+      moves[#moves + 1] = {kind = "feed", tip = finish.tip, axis = finish.axis, row = 1, motion = "retract",
+                           operation = index}
+      units[#units + 1] = {name = name, moves = moves,
+                           report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
+                                     residual_max = plan.residual.max, residual_min = plan.residual.min}}
+    end
+    return per_blade(j, units, self.blades)
+  end
+  return op
+end
+
+return M

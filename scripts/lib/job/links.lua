@@ -1,0 +1,149 @@
+-- Links and their proofs (Job methods; scripts/lib/job.lua is the entry):
+-- the collision worlds a motion is proved in — around a blade, the whole
+-- part, an impeller's blade-1 neighbourhood — and the link from one unit's
+-- last pose to the next's first through the job's clearance surface
+-- (job/clearance.lua), every motion proved clear of the part with the
+-- whole tool before it joins the path.
+local geometry = require("job.geometry")
+local Job = require("job.model").Job
+
+local add, unit = geometry.add, geometry.unit
+
+-- The impeller's faces and hub tessellated once per tolerance, shared by
+-- every operation and the links.
+function Job:impeller_meshes(tol)
+  self.meshes = self.meshes or {}
+  if not self.meshes[tol] then self.meshes[tol] = require("impeller_world").meshes(self.part, tol) end
+  return self.meshes[tol]
+end
+
+-- The check surfaces around blade k (neighbours, hub, the blade itself for
+-- the shank), built once per blade.
+function Job:world_around(k)
+  if not self.worlds[k] then
+    -- Beyond a few blades, tessellate every flank once and share the meshes.
+    local blisk_world = require("blisk_world")
+    if self.part:blade_count() > 4 and self:blade_count_used() > 3 then
+      self.worlds = blisk_world.all_blades(self.part)
+    else
+      self.worlds[k] = blisk_world.around_blade(self.part, k)
+    end
+  end
+  return self.worlds[k]
+end
+
+-- What a link's back-out from, or approach to, blade k's flanks is proved
+-- against: the neighbours and the hub as the plans see them (0.01 mm), and
+-- blade k itself for every tool part, the cutter included (0.01 mm, added as
+-- margin): the back-out and approach slide the wheel along its own blade,
+-- where the plan's lead-in/out left it, and must not touch it.
+function Job:link_world(k)
+  self.link_worlds = self.link_worlds or {}
+  if not self.link_worlds[k] then
+    local n, tol = self.part:blade_count(), 0.01
+    local surfaces = {}
+    for _, b in ipairs{(k - 2) % n + 1, k % n + 1} do
+      for _, side in ipairs{"pressure", "suction"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self.part:flank(b, side),
+                                   chord_tol = tol}
+      end
+    end
+    surfaces[#surfaces + 1] = {name = "hub", surface = self.part:hub(), chord_tol = tol}
+    for _, side in ipairs{"pressure", "suction"} do
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = self.part:flank(k, side),
+                                 chord_tol = tol, margin = tol}
+    end
+    self.link_worlds[k] = bliskrun.collision_world{surfaces = surfaces}
+  end
+  return self.link_worlds[k]
+end
+
+-- Every blade and the hub, coarser (0.05 mm, added as margin): what a link
+-- between two flanks, which may pass any blade, is proved against. With the
+-- margin, clearance 0 for the cutter still keeps it 0.05 mm off every
+-- surface: a link never cuts.
+function Job:part_world()
+  if not self.whole then
+    local surfaces = {}
+    for b = 1, self.part:blade_count() do
+      for _, side in ipairs{"pressure", "suction"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self.part:flank(b, side),
+                                   chord_tol = 0.05, margin = 0.05}
+      end
+    end
+    surfaces[#surfaces + 1] = {name = "hub", surface = self.part:hub(), chord_tol = 0.05, margin = 0.05}
+    self.whole = bliskrun.collision_world{surfaces = surfaces}
+  end
+  return self.whole
+end
+
+-- Where a link leg is proved, and the turn that brings it there: the first
+-- leg leaves blade a, the last reaches blade b, the ones between travel over
+-- the part. An impeller's legs near blade k are turned back onto blade 1
+-- (its model is symmetric under the blade pitch) and proved against blade
+-- 1's neighbourhood.
+function Job:leg_world(leg, legs, blade_a, blade_b)
+  if self.part_kind == "blisk" then
+    return leg == 1 and blade_a and self:link_world(blade_a) or leg == legs and blade_b and self:link_world(blade_b)
+               or self:part_world(), 0
+  end
+  local iw = require("impeller_world")
+  if (leg == 1 and blade_a) or (leg == legs and blade_b) then
+    self.neighbourhood = self.neighbourhood or iw.neighbourhood(self.part, self:impeller_meshes(0.05))
+    return self.neighbourhood, -iw.pitch_angle(self.part, leg == 1 and blade_a or blade_b)
+  end
+  self.impeller_whole = self.impeller_whole or iw.whole(self.part, self:impeller_meshes(0.5))
+  return self.impeller_whole, 0
+end
+
+-- Link from pose `a` to pose `b` through the clearance surface: back out
+-- along a's axis, travel over the surface (the axis turning from a's to
+-- b's), then in along b's axis. Each motion is proved clear of the part with
+-- the whole tool.
+function Job:link(a, b, tool, what, blade_a, blade_b)
+  local surface = self.clearance_surface
+  local function back_out(pose, which)
+    local p = surface.back_out(pose)
+    if not p then
+      error(string.format("job: %s (%s): backed out along its axis (%.3f, %.3f, %.3f) the tool does not reach %s",
+                          what, which, pose.axis[1], pose.axis[2], pose.axis[3], surface.description), 0)
+    end
+    return p
+  end
+  local out, into = back_out(a, "back out"), back_out(b, "approach")
+  local travel = surface.travel(out, into)
+  local poses = {out}
+  for i, tip in ipairs(travel) do
+    local s = i / #travel
+    local axis = unit(add(out.axis, {into.axis[1] - out.axis[1], into.axis[2] - out.axis[2], into.axis[3] - out.axis[3]}, s))
+    poses[#poses + 1] = {tip = tip, axis = i == #travel and into.axis or axis}
+  end
+  poses[#poses + 1] = b
+  local from = a
+  for i, to in ipairs(poses) do
+    self:prove_motion(from, to, tool, i, #poses, blade_a, blade_b,
+                      string.format("%s: link motion %d of %d", what, i, #poses))
+    from = to
+  end
+  table.remove(poses)  -- b itself is the next plan's first move
+  return poses
+end
+
+-- Proves the motion from pose `a` to pose `b` clear of the part with the
+-- whole tool, in the world of link leg `leg` of `legs` (Job:leg_world);
+-- an error naming `what` otherwise.
+function Job:prove_motion(a, b, tool, leg, legs, blade_a, blade_b, what)
+  a, b = {tip = a.tip, axis = a.axis}, {tip = b.tip, axis = b.axis}
+  local world, angle = self:leg_world(leg, legs, blade_a, blade_b)
+  if angle ~= 0 then
+    local iw = require("impeller_world")
+    a, b = iw.turn(a, angle), iw.turn(b, angle)
+  end
+  local m = world:check_motion(tool, a, b, {clearance = self.link_clearance})
+  if not m.clear then
+    error(string.format("job: %s is not proved clear of the part (margin %.3f mm at t = %.3f)", what,
+                        m.min_margin or 0 / 0, m.t or 0 / 0), 0)
+  end
+end
+
+return {}

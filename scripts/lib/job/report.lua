@@ -1,0 +1,293 @@
+-- The report of a job's run (scripts/lib/job.lua is the entry; j:run,
+-- job/run.lua, calls it): what the job planned, simulated and posted,
+-- printed as it goes, gathered into the run's JSON report and laid out as
+-- its report.html. One list of steps per part kind — planned, simulated,
+-- posted, page — each a function of the run's state `r`:
+--   r = {job, o (j:run's options), json (the JSON report), planned,
+--        plan_seconds, sim, blade_map}.
+local Job = require("job.model").Job
+
+local M = {blisk = {}, impeller = {}}
+
+-- ---- a blisk -------------------------------------------------------------
+
+function M.blisk.planned(r)
+  local j, planned, json = r.job, r.planned, r.json
+  json.flanks, json.links, json.moves, json.tool_groups = {}, planned.links, #planned.moves, planned.tool_groups
+  print(string.format("Job '%s': %d plans, %d moves, %d links through %s, each proved clear",
+                      j.name, #planned.flanks, #planned.moves, planned.links, j.clearance_surface.description))
+  for _, g in ipairs(planned.tool_groups) do
+    print(string.format("  tool T%d: blades %d-%d, cutting length %.0f mm", g.tool, g.blades[1], g.blades[#g.blades],
+                        g.cutting_length_mm))
+  end
+  -- Turned units are their first blade's: the first two blades and the
+  -- last are printed, the others elided.
+  for _, f in ipairs(planned.flanks) do
+    if not f.turned_from or f.blade <= 2 or f.blade == j.part:blade_count() then
+      print(string.format("  blade %2d %-14s  rows %3d%s  poses %5d  refused 0%s", f.blade, f.side, f.report.row_count,
+                          f.report.infill_rows and string.format(" (+%d partial)", f.report.infill_rows) or "",
+                          f.report.poses, f.turned_from and string.format("  (blade %d's, turned)", f.turned_from) or ""))
+    elseif f.blade == 3 and f.side ~= "suction" then
+      print("  ...")
+    end
+    json.flanks[#json.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind, rows = f.report.row_count,
+                                     partial_rows = f.report.infill_rows, poses = f.report.poses, moves = f.moves,
+                                     turned_from = f.turned_from}
+  end
+end
+
+-- Every unit simulated after the moves that machine it, and the seams
+-- between the operations on blade 1 (j:simulate, j:simulate_seams).
+function M.blisk.simulated(r)
+  local sim, json = r.sim, r.json
+  json.simulation = {undercut_max_mm = sim.undercut_max, overcut_mm = sim.overcut, flanks = {}}
+  for _, f in ipairs(sim.flanks) do
+    json.simulation.flanks[#json.simulation.flanks + 1] = {blade = f.blade, side = f.side, operation = f.kind,
+      undercut_max_mm = f.undercut_max, undercut_mean_mm = f.undercut_mean, overcut_mm = f.overcut,
+      overcut_move = f.overcut_move, overcut_motion = f.overcut_motion, turned_from = f.turned_from,
+      unreached = f.unreached, fillet_left_max_mm = f.fillet_left_max}
+  end
+  for _, f in ipairs(sim.flanks) do
+    if f.kind == "edge_finish" and not f.turned_from then
+      print(string.format("  simulated blade %d %s: material left up to %.2f um (e2 20 um), overcut %.2f um (edge and "
+                          .. "flanks)", f.blade, f.side, 1e3 * f.undercut_max, 1e3 * f.overcut))
+    elseif f.kind == "hub_finish" and not f.turned_from then
+      print(string.format("  simulated blade %d root strip and channel floor: material left up to %.2f um, %d samples "
+                          .. "unreached, overcut %.2f um; the fillet (the ball's radius in the sharp corner) up to %.3f mm",
+                          f.blade, 1e3 * f.undercut_max, f.unreached, 1e3 * f.overcut, f.fillet_left_max))
+    end
+  end
+  print(string.format("  simulated: undercut max %.2f um, overcut %.2f um%s", 1e3 * sim.undercut_max, 1e3 * sim.overcut,
+                      sim.overcut_at and sim.overcut_at.overcut_move and string.format(" (job move %d, %s, blade %d %s)",
+                        sim.overcut_at.overcut_move, sim.overcut_at.overcut_motion, sim.overcut_at.blade,
+                        sim.overcut_at.side) or ""))
+  json.seams, r.seam_failures = {}, {}
+  for _, s in ipairs(sim.seams or {}) do
+    json.seams[#json.seams + 1] = {seam = s.name, surface = s.surface, operations = s.operations,
+      heights_mm = s.heights_mm, samples = s.samples, unreached = s.unreached, material_left_max_mm = s.material_left_max_mm,
+      material_left_min_mm = s.material_left_min_mm, material_left_at = s.material_left_at, overcut_mm = s.overcut_mm,
+      overcut_move = s.overcut_move, overcut_at = s.overcut_at, tolerance = s.tolerance, ok = s.ok, reason = s.reason}
+    print(string.format("  seam, blade 1 %-34s %s, heights %s mm: material left %s, unreached %d of %d, deepest cut "
+                        .. "%.2f um (within %.1f / %.1f um): %s", s.name .. ",", s.surface,
+                        s.heights_mm and string.format("%.2f-%.2f", s.heights_mm[1], s.heights_mm[2]) or "-",
+                        s.material_left_max_mm and string.format("up to %.2f um at %.2f mm", 1e3 * s.material_left_max_mm,
+                          s.material_left_at.height_mm) or "none reached", s.unreached, s.samples, 1e3 * s.overcut_mm,
+                        1e3 * s.tolerance.material_left_mm, -1e3 * s.tolerance.overcut_mm,
+                        s.ok and "ok" or "FAIL (" .. s.reason .. ")"))
+    if not s.ok then r.seam_failures[#r.seam_failures + 1] = string.format("%s: %s", s.name, s.reason) end
+  end
+  json.seam_failures = #r.seam_failures
+end
+
+-- One map of blade 1 (j:simulate_blade): every surface of the blade swept
+-- by every operation's moves with their own tools, one picture and one
+-- summary per region. `lean` samples coarsely.
+function M.blisk.blade_map(r, lean)
+  local t_map = os.clock()
+  local bm = r.job:simulate_blade(lean and {flank_samples = {16, 60}, edge_samples = {40, 12}, root_samples = {12, 160},
+                                            floor_samples = {40, 30}} or {})
+  print(string.format("  blade 1 map: %.1f s CPU", os.clock() - t_map))
+  local map = {material_left_max_mm = bm.material_left_max_mm, overcut_mm = bm.overcut_mm,
+               unreached = bm.unreached, picture = r.o.name .. "_blade1_map.png", regions = {}}
+  for _, g in ipairs(bm.regions) do
+    map.regions[#map.regions + 1] = {name = g.name, material_left_max_mm = g.material_left_max_mm,
+      material_left_min_mm = g.material_left_min_mm, overcut_mm = g.overcut_mm, overcut_move = g.overcut_move,
+      unreached = g.unreached, samples = g.samples}
+    print(string.format("  blade 1 map, %-14s material left %s, overcut %.2f um%s, unreached %d of %d (%.1f s)",
+                        g.name .. ":", g.material_left_max_mm and string.format("%.2f..%.2f um",
+                          1e3 * g.material_left_min_mm, 1e3 * g.material_left_max_mm) or "none reached",
+                        1e3 * g.overcut_mm, g.overcut_move and string.format(" (job move %d)", g.overcut_move) or "",
+                        g.unreached, g.samples, g.seconds))
+  end
+  -- The scale: twice the drum finish's residual (the fillet's ball radius is clamped to it).
+  bm.map:write_png(map.picture, {title = "Blade 1 after the job: material left (mm; red above the design, blue below), "
+                                         .. "every operation's moves", scale = 0.03, width = 1200, height = 480})
+  r.json.blade_map = map
+end
+
+-- One budget per program: what it can cut below the design is the plan's
+-- deepest cut (the simulation) plus how far the program's cutter leaves
+-- the proved motion as its controller moves (the sweep: the split
+-- tolerance and the output resolution's rounding).
+function M.blisk.posted(r)
+  if not r.sim then return end
+  for _, p in ipairs(r.json.programs) do
+    p.overcut_bound_mm = r.sim.overcut - p.swept_cutter_mm
+    print(string.format("  %s: overcut at most %.2f um (plan %.2f um, program off the plan by at most %.2f um)", p.file,
+                        -1e3 * p.overcut_bound_mm, -1e3 * r.sim.overcut, 1e3 * p.swept_cutter_mm))
+  end
+end
+
+-- The page's sections, pictures and ParaView blocks: every unit with its
+-- simulation, the first four painted with their undercut.
+function M.blisk.page(r)
+  local planned, json, name = r.planned, r.json, r.o.name
+  local unit_rows, blocks, pictures = {}, {{name = "job toolpath", moves = planned.moves}}, {}
+  for i, f in ipairs(r.sim and r.sim.flanks or {}) do
+    unit_rows[i] = {f.blade, f.side, planned.flanks[i].report.row_count, planned.flanks[i].report.poses,
+                    1e3 * f.undercut_max, 1e3 * f.undercut_mean, 1e3 * f.overcut}
+    if i <= 4 and f.map then
+      local picture = string.format("%s_undercut_blade%d_%s.png", name, f.blade, f.side)
+      f.map:write_png(picture, {title = string.format("Undercut after the job, blade %d %s flank (mm)", f.blade, f.side)})
+      pictures[#pictures + 1] = {title = string.format("Undercut, blade %d %s", f.blade, f.side), image = picture}
+      blocks[#blocks + 1] = {name = string.format("blade %d %s, undercut", f.blade, f.side),
+                             surface = planned.flanks[i].plan:trimmed(), map = f.map, samples_u = 60, samples_v = 150}
+    end
+  end
+  local program_rows = {}
+  for i, p in ipairs(json.programs) do
+    program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm,
+                       1e3 * p.swept_cutter_mm, 1e3 * p.swept_tool_mm, p.overcut_bound_mm and -1e3 * p.overcut_bound_mm}
+  end
+  local sections = {
+    {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
+                                                r.job.clearance_surface.description),
+     table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (um)", "mean (um)",
+                         "overcut (um)"}, rows = unit_rows}},
+    {title = "Programs, read back and swept as each controller moves", table = {columns = {"file", "machine", "post",
+      "blocks", "positioning moves", "tip deviation (um)", "cutter off the proved motion (um)",
+      "tool off the proved motion (um)", "overcut at most (um)"}, rows = program_rows}}}
+  if json.blade_map then
+    pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
+                               image = json.blade_map.picture}
+  end
+  for _, p in ipairs(pictures) do sections[#sections + 1] = p end
+  local files = {{name .. "_undercut_*.png", "the undercut maps above"}}
+  if json.blade_map then files[2] = {json.blade_map.picture, "blade 1's whole surface after the job, one map"} end
+  return sections, blocks, files
+end
+
+-- ---- an impeller -----------------------------------------------------------
+
+-- The units of blade 1 (every other blade's are them turned), the moves per
+-- operation, and with a thickness tolerance the flank finish's verdict per
+-- face: its residual against the face as designed within it or not.
+function M.impeller.planned(r)
+  local j, planned, json = r.job, r.planned, r.json
+  local poses = 0
+  for _, f in ipairs(planned.flanks) do poses = poses + (f.report.poses or 0) end
+  json.blades, json.moves, json.links, json.tool_groups = j:blade_count_used(), #planned.moves, planned.links,
+                                                          planned.tool_groups
+  json.poses, json.refusals, json.units = poses, 0, {}
+  print(string.format("Job '%s': %d blades, %d channel and face plans (%d poses, none refused: a refusal stops the "
+                      .. "job and names the channel or face), %d moves, %d links over %s, each proved clear; planned "
+                      .. "in %.1f s CPU", j.name, json.blades, #planned.flanks, poses, #planned.moves, planned.links,
+                      j.clearance_surface.description, r.plan_seconds))
+  for _, g in ipairs(planned.tool_groups) do
+    print(string.format("  operation %d, tool T%d: blades %d-%d, cutting length %.0f mm", g.operation, g.tool,
+                        g.blades[1], g.blades[#g.blades], g.cutting_length_mm))
+  end
+  local by_op = {}
+  for _, m in ipairs(planned.moves) do by_op[m.operation_kind] = (by_op[m.operation_kind] or 0) + 1 end
+  json.moves_by_operation = by_op
+  print(string.format("  moves: notch %d, widen %d, flank finish %d, links %d", by_op.notch or 0, by_op.widen or 0,
+                      by_op.flank_finish or 0, by_op.link or 0))
+  local tolerance = r.o.thickness_tolerance
+  if tolerance then json.thickness_tolerance_mm, json.finish = tolerance, {} end
+  for _, f in ipairs(planned.flanks) do
+    if f.blade == 1 then
+      json.units[#json.units + 1] = {operation = f.kind, name = f.side, moves = f.moves, report = f.report}
+      if tolerance and f.kind == "flank_finish" then M.impeller.verdict(r, f, tolerance) end
+    end
+  end
+end
+
+-- A face's flank finish against the thickness tolerance. A part planned on
+-- ruled fits of faces that are not ruled (part:ruled_fit) says what the fit
+-- cost: flank finishing on it cannot follow the face as designed.
+function M.impeller.verdict(r, f, tolerance)
+  local part = r.job.part
+  local p, fit = f.report, type(part) == "table" and part.ruled_fit and part:ruled_fit(f.side:match("^(%a+) (%a+)$"))
+  local ok = p.residual_max <= tolerance and p.residual_min >= -tolerance
+  r.json.finish[f.side] = {ruled_fit_max_mm = fit and fit.max, residual_max_mm = p.residual_max,
+    residual_min_mm = p.residual_min, within_tolerance = ok,
+    note = ok and "flank finishing holds the design within the tolerance"
+      or fit and "NOT within tolerance: the blade is not ruled; flank finishing on its ruled fit undercuts and "
+                 .. "overcuts the lofted face (point milling needed to finish it)"
+      or "NOT within tolerance"}
+  print(string.format("  %s: flank finish%s leaves %+.3f .. %+.3f mm against the face as designed: %s", f.side,
+                      fit and string.format(" on the ruled fit (fit %.3f mm)", fit.max) or "", p.residual_min,
+                      p.residual_max, ok and "within tolerance" or string.format("NOT within +-%.3f mm", tolerance)))
+end
+
+function M.impeller.simulated(r)
+  local search_below = r.o.simulate and r.o.simulate.search_below
+  r.simulated = r.job:report_simulation(r.sim, {pictures = r.o.name .. "_left_", search_below = search_below})
+  r.json.simulation = r.simulated.json
+  print(string.format("  simulation: %.1f s CPU%s", r.sim.seconds, search_below
+                        and string.format(" (overcut measured down to %.3f mm)", search_below) or ""))
+end
+
+function M.impeller.posted() end
+
+function M.impeller.page(r)
+  local planned, json = r.planned, r.json
+  local unit_rows, program_rows = {}, {}
+  for _, u in ipairs(json.units) do unit_rows[#unit_rows + 1] = {u.operation, u.name, u.moves, u.report.poses} end
+  for i, p in ipairs(json.programs) do
+    program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm}
+  end
+  local sections = {
+    {title = "Blade 1's plans", text = string.format("%d moves in all, %d links over %s.", #planned.moves,
+                                                     planned.links, r.job.clearance_surface.description),
+     table = {columns = {"operation", "channel / face", "moves", "poses"}, rows = unit_rows}}}
+  if json.finish then
+    local rows = {}
+    for _, u in ipairs(json.units) do
+      local f = json.finish[u.name]
+      if u.operation == "flank_finish" and f then
+        rows[#rows + 1] = {u.name, 1e3 * f.residual_min_mm, 1e3 * f.residual_max_mm, f.within_tolerance and "yes" or "NO"}
+      end
+    end
+    sections[#sections + 1] = {title = "Flank finishing against the faces as designed", text = string.format(
+      "Residual of the ruled cutter's axes (balanced) against the design; thickness tolerance %.3f mm.",
+      json.thickness_tolerance_mm),
+      table = {columns = {"face", "residual min (um)", "residual max (um)", "within tolerance"}, rows = rows}}
+  end
+  sections[#sections + 1] = {title = "Material left (simulated, blade 1's faces and one pitch of the hub)",
+    table = {columns = {"surface", "moves of", "left min (um)", "left max (um)", "undercut mean (um)", "overcut (um)",
+                        "overcut at move", "untouched samples"}, rows = r.simulated.rows}}
+  sections[#sections + 1] = {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post",
+    "blocks", "positioning moves", "tip deviation (um)"}, rows = program_rows}}
+  for _, p in ipairs(r.simulated.pictures) do sections[#sections + 1] = p end
+  return sections, {{name = "job toolpath", moves = planned.moves}},
+         {{r.o.name .. "_left_*.png", "the maps of the material left above"}}
+end
+
+-- An impeller job's simulation (j:simulate) for a run's report: prints each
+-- surface's state after the job, writes its map (o.pictures .. name ..
+-- ".png") and returns {json = {surfaces, seconds}, rows = (the report
+-- table's rows), pictures = {{title, image}, ...}}. o.search_below: the
+-- depth an overcut was measured to — one reaching it is printed "AT LEAST"
+-- and flagged overcut_at_window_depth.
+function Job:report_simulation(sim, o)
+  local out = {json = {surfaces = {}, seconds = sim.seconds}, rows = {}, pictures = {}}
+  for _, s in ipairs(sim.surfaces) do
+    local entry = {name = s.name, groups = {}}
+    for _, g in ipairs(s.groups) do
+      entry.groups[#entry.groups + 1] = {name = g.name, operation = g.operation, residual_min_mm = g.residual_min,
+        residual_max_mm = g.residual_max, undercut_mean_mm = g.undercut_mean, overcut_mm = g.overcut,
+        overcut_move = g.overcut_move, overcut_operation = g.overcut_operation, untouched = g.untouched,
+        samples = g.samples, seconds = g.seconds}
+      out.rows[#out.rows + 1] = {s.name, g.name, g.residual_min and 1e3 * g.residual_min or "-",
+                                 g.residual_max and 1e3 * g.residual_max or "-", 1e3 * g.undercut_mean, 1e3 * g.overcut,
+                                 g.overcut_move or "-", g.untouched}
+    end
+    out.json.surfaces[#out.json.surfaces + 1] = entry
+    local t = s.total
+    if t then
+      entry.overcut_at_window_depth = o.search_below and t.overcut <= -o.search_below + 1e-9 or nil
+      print(string.format("  simulated %-14s after the job: %s, overcut %s%.1f um%s", s.name,
+                          t.residual_min and string.format("material left %.3f..%.3f mm", t.residual_min, t.residual_max)
+                            or "not reached by this job", entry.overcut_at_window_depth and "AT LEAST " or "",
+                          -1e3 * t.overcut,
+                          t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
+      local picture = o.pictures .. s.name:gsub(" ", "_") .. ".png"
+      t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
+      out.pictures[#out.pictures + 1] = {title = "Material left, " .. s.name, image = picture}
+    end
+  end
+  return out
+end
+
+return M

@@ -1,0 +1,132 @@
+-- A whole job run (Job:run; scripts/lib/job.lua is the entry): planned,
+-- simulated, stopped before posting on an overcut its operations do not
+-- allow, posted for every machine (and setup), and reported — printed as it
+-- goes, the JSON report and report.html assembled from what it planned,
+-- simulated and posted (job/report.lua), with the recipe's own entries and
+-- sections added where it gives them.
+local options = require("job.options")
+local simulate = require("job.simulate")
+local report = require("job.report")
+local Job = require("job.model").Job
+
+local check_options, positive = options.check, options.positive
+
+-- The job's moves as setups: setups = {{name=, flip=, clocking_deg=, from=},
+-- ...}; the first starts at the first move, each later one at the first unit
+-- whose side is `from` ("leading edge"), and is left out when the job has
+-- none; each ends with the last move of the unit before the next (the link
+-- between them belongs to neither: each program has its own ways in and out).
+local function split_setups(planned, setups)
+  local out = {{name = setups[1].name, flip = setups[1].flip, clocking_deg = setups[1].clocking_deg, first = 1}}
+  for k = 2, #setups do
+    for i, f in ipairs(planned.flanks) do
+      if f.side == setups[k].from and i > 1 then
+        local before = planned.flanks[i - 1]
+        out[#out].last = before.first_move + before.moves - 1
+        out[#out + 1] = {name = setups[k].name, flip = setups[k].flip, clocking_deg = setups[k].clocking_deg,
+                         first = f.first_move}
+        break
+      end
+    end
+  end
+  out[#out].last = #planned.moves
+  return out
+end
+
+-- One program per machine and setup: file "x.nc" becomes "x_setup1.nc", ...
+-- when there is more than one setup.
+local function program_list(programs, setups)
+  local list = {}
+  for _, m in ipairs(programs) do
+    for k, setup in ipairs(setups or {false}) do
+      local p = {}
+      for key, value in pairs(m) do p[key] = value end
+      if setup then
+        p.setup = setup
+        if #setups > 1 then p.file = m.file:gsub("(%.[^.]*)$", string.format("_setup%d%%1", k)) end
+      end
+      list[#list + 1] = p
+    end
+  end
+  return list
+end
+
+-- j:run{name=, programs=, ...}: the whole job (docs/lua_api.md, Jobs).
+-- Returns the run's state {json, planned, sim, ...}.
+function Job:run(o)
+  check_options("job:run", o, {
+    name = {type = "string", required = true},  -- the run's files: <name>.json, <name>.pvd, <name>_*.png
+    title = {type = "string"},
+    settings = {type = "table"},
+    simulate = {type = "any", check = function(v)
+      if v ~= false and type(v) ~= "table" then return "expected j:simulate's options, or false" end
+    end},
+    blade_map = {type = "any", check = function(v)
+      if v ~= false and v ~= true and v ~= "lean" then return "expected true, \"lean\" or false" end
+    end},
+    thickness_tolerance = {type = "number", check = positive},
+    overcut_slack = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    setups = {type = "table", check = function(v)
+      if #v == 0 or type(v[1]) ~= "table" then return "expected a list of setups {name=, flip=, from=}" end
+    end},
+    programs = {type = "table", required = true, check = function(v)
+      if #v == 0 then return "expected a list of programs {machine=, post=, file=}" end
+    end},
+    json = {type = "table"},
+    sections = {type = "function"},
+  }, 2)
+  if type(o.simulate) == "table" then check_options("job:run simulate", o.simulate, simulate.options, 2) end
+  local steps = report[self.part_kind]
+  local r = {job = self, o = o, json = {programs = {}}}
+  for k, v in pairs(o.json or {}) do r.json[k] = v end
+  local t0 = os.clock()
+  r.planned = self:plan()
+  r.plan_seconds = os.clock() - t0
+  steps.planned(r)
+  if o.simulate ~= false then
+    r.sim = self:simulate(o.simulate or {})
+  elseif self.part_kind == "impeller" then
+    r.sim = {surfaces = {}, seconds = 0}
+  end
+  if r.sim then steps.simulated(r) end
+  if o.blade_map and self.part_kind == "blisk" then steps.blade_map(r, o.blade_map == "lean") end
+  -- Nothing is posted after a simulated overcut the operations do not allow.
+  if self.part_kind == "blisk" then
+    local stop = r.sim and self:blisk_overcut(r.sim)
+    if stop then
+      bliskrun.write_json(o.name .. ".json", r.json)
+      error(stop, 0)
+    end
+  else
+    self:check_overcut(r.sim, r.json.units, o.overcut_slack or 0.005)
+  end
+  local setups = o.setups and split_setups(r.planned, o.setups)
+  r.json.programs = self:post_programs(program_list(o.programs, setups), 4)
+  steps.posted(r)
+  bliskrun.write_json(o.name .. ".json", r.json)
+
+  local sections, blocks, files = steps.page(r)
+  if o.sections then
+    local own = o.sections(r.json)
+    for i = #own, 1, -1 do table.insert(sections, 1, own[i]) end
+  end
+  local listed = {{o.name .. ".json", "the report"}}
+  for _, p in ipairs(r.json.programs) do
+    listed[#listed + 1] = {p.file, string.format("%s program, %s%s", p.post, p.machine,
+                                                 p.setup and ", setup " .. p.setup or "")}
+  end
+  for _, f in ipairs(files) do listed[#listed + 1] = f end
+  require("run_report").write{title = o.title or "Job: " .. self.name, settings = o.settings, sections = sections,
+                              vtk = {path = o.name .. ".pvd", blocks = blocks}, files = listed}
+  -- Material left beyond a seam's tolerance: the programs are proved safe
+  -- and written, the part is not finished within tolerance — the run says
+  -- so and fails (the JSON report has each seam's reason).
+  local failures = r.seam_failures or {}
+  if #failures > 0 then
+    error(string.format("%d seam%s between operations beyond tolerance (%s.json, seams): %s", #failures,
+                        #failures > 1 and "s" or "", o.name, table.concat(failures, "; ")), 0)
+  end
+  return r
+end
+
+return {}
