@@ -590,13 +590,6 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
 
 namespace {
 
-// The safe way in to a tool's first move `first` (MachineMove of the
-// segment, already solved) from `before` (the axes the tool change left):
-// see SafeMove. The moves to put before `first` (Retract, Rotate,
-// Position); `first` itself becomes the Descend.
-struct SafeWay {
-  std::vector<MachineMove> before;
-};
 
 // The part-frame direction the tip moves for +1 mm of the machine's Z with
 // the rotaries of `q`: the tool axis on a table-table machine (the spindle
@@ -698,19 +691,23 @@ MachineMove up_the_z(const Kinematics& kin, const MachineMove& at, const Approac
   return up;
 }
 
-SafeWay safe_way_in(const Kinematics& kin, const MachineMove& first, const MachineAxes& before,
+// The safe way in to a tool's first move `first` (MachineMove of the
+// segment, already solved) from `before` (the axes the tool change left):
+// the moves to put before it — Retract, Rotate, Position (SafeMove); `first`
+// itself becomes the Descend.
+std::vector<MachineMove> safe_way_in(const Kinematics& kin, const MachineMove& first, const MachineAxes& before,
                     const ApproachOptions& approach, const std::string& what) {
   const MachineMove entry = up_the_z(kin, first, approach, what);
   MachineAxes up = before;
   up.linear_mm.z() = entry.axes.linear_mm.z();
   MachineAxes turned = up;
   turned.rotary_rad = first.axes.rotary_rad;
-  SafeWay way;
-  way.before.push_back(safe_move(kin, SafeMove::Retract, up, first.source, first.tool));
-  way.before.push_back(safe_move(kin, SafeMove::Rotate, turned, first.source, first.tool));
+  std::vector<MachineMove> way;
+  way.push_back(safe_move(kin, SafeMove::Retract, up, first.source, first.tool));
+  way.push_back(safe_move(kin, SafeMove::Rotate, turned, first.source, first.tool));
   MachineMove position = safe_move(kin, SafeMove::Position, entry.axes, first.source, first.tool);
   position.pose = entry.pose;  // the entry point on the first pose's axis line
-  way.before.push_back(position);
+  way.push_back(position);
   return way;
 }
 
@@ -747,11 +744,11 @@ MachineProgram plan_machine_motion_tools(const std::vector<MotionTool>& tools, c
         // In from the tool change position: Retract, Rotate, Position, then
         // the segment's first move becomes the Descend along its axis.
         MachineMove& descend = part.moves.front();
-        const SafeWay in = safe_way_in(kin, descend, left, options.approach,
+        const std::vector<MachineMove> in = safe_way_in(kin, descend, left, options.approach,
                                        "the way in to move 1 (the first of this tool)");
         descend.safe = SafeMove::Descend;
-        along_axis_kind(kin, descend, in.before.back().axes, part.feed_mode);
-        part.moves.insert(part.moves.begin(), in.before.begin(), in.before.end());
+        along_axis_kind(kin, descend, in.back().axes, part.feed_mode);
+        part.moves.insert(part.moves.begin(), in.begin(), in.end());
         // ... and out: up the last pose's axis to the safe height.
         const MachineMove& last = part.moves.back();
         MachineMove lift = up_the_z(kin, last, options.approach, "the way out from this tool's last move");

@@ -197,8 +197,9 @@ ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, con
 ToolPose controller_pose(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
                          const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t);
 
-// The departure of the tip from the straight segment tip_from -> tip_to (part
-// frame) while the machine moves its axes linearly from `from` to `to`.
+// The departure of the tip alone from the straight segment tip_from -> tip_to
+// (part frame) while the machine moves its axes linearly from `from` to `to`
+// (the planner and the sweep measure the whole tool: tool_deviation).
 // `sampled_mm` is the largest distance seen at evenly spaced samples;
 // `bound_mm` adds the most the tip can stray between two samples, from a bound
 // on its acceleration (rotations at constant rates summing to W about pivots
