@@ -6,6 +6,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <fcl/fcl.h>
+
 #include "core/common/error.h"
 
 namespace bliskrun {

@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include <fcl/fcl.h>
+#include "core/tools/fcl_fwd.h"
 
 #include "core/geometry/mesh.h"
 #include "core/geometry/revolution_distance.h"

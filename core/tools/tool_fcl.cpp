@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fcl/fcl.h>
+
 #include "core/common/error.h"
 
 namespace bliskrun {

@@ -17,7 +17,7 @@
 #include <memory>
 #include <vector>
 
-#include <fcl/fcl.h>
+#include "core/tools/fcl_fwd.h"
 
 #include "core/tools/sphere_cover.h"
 #include "core/tools/tool.h"

@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include <fcl/geometry/bvh/BVH_model.h>  // the test counts the meshes' triangles
+
 #include "collision/test_meshes.h"
 #include "core/collision/collision_world.h"
 #include "core/common/error.h"
