@@ -62,7 +62,7 @@ BladeFaces faces_option(lua_State* L, const luax::Options& o, const char* what, 
   return f;
 }
 
-LuaHubPlan& check_plan(lua_State* L) { return luax::check<LuaHubPlan>(L, 1); }
+LuaHubPlan& check_hub_plan(lua_State* L) { return luax::check<LuaHubPlan>(L, 1); }
 
 void push_part(lua_State* L, const HubFinishPart& p) {
   lua_createtable(L, 0, 14);
@@ -90,8 +90,8 @@ void push_part(lua_State* L, const HubFinishPart& p) {
 }
 
 // plan:report() -> {root = {...}, channel = {...}, refusals = {...}, fillet = {...}, ...}
-int w_plan_report(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_report(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   const HubFinishResult& r = *p.result;
   const HubFinishRequest& rq = p.request;
   lua_createtable(L, 0, 16);
@@ -153,8 +153,8 @@ int w_plan_report(lua_State* L) {
 // "root" or "channel" (each with its lead-in and lead-out), or the whole
 // program (root, the join, channel); up to the first refused connection
 // (nothing unproven is implied).
-int w_plan_moves(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_moves(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   const std::string part = lua_isnoneornil(L, 2) ? "both" : luax::check_string(L, 2, "part");
   if (part != "both" && part != "root" && part != "channel")
     luax::error(L, "plan:moves: expected \"root\", \"channel\" or nothing (both), got '" + part + "'");
@@ -212,8 +212,8 @@ HubFinishSimOptions read_sim_options(lua_State* L, const char* what) {
 // flip_normal =, floor = {bool...}, middle = {bool...}}}: the surfaces, windows and per-sample regions
 // plan:simulate measures (core hub_finish_regions), for a simulation of other moves over them
 // (bliskrun.simulate{..., keep = regions.root.strip}). A part the plan does not have is absent.
-int w_plan_regions(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_regions(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   const HubFinishSimOptions so = read_sim_options(L, "plan:regions");
   return luax::guarded(L, [&] {
     const HubFinishRegions r = hub_finish_regions(*p.result, p.request, so);
@@ -262,8 +262,8 @@ int w_plan_regions(lua_State* L) {
 }
 
 // plan:simulate{root_samples = {u, v}, floor_samples = {u, v}, sweep_step =, threads =}
-int w_plan_simulate(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_simulate(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   const HubFinishSimOptions so = read_sim_options(L, "plan:simulate");
   return luax::guarded(L, [&] {
     const HubFinishSimulation s = simulate_hub_finish(*p.result, p.request, so, context(L).progress);
@@ -283,8 +283,8 @@ int w_plan_simulate(lua_State* L) {
   });
 }
 
-int w_plan_write_apt(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_write_apt(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
   return luax::guarded(L, [&] {
     write_file_atomic(path, hub_finish_apt(*p.result, p.request));
@@ -292,8 +292,8 @@ int w_plan_write_apt(lua_State* L) {
   });
 }
 
-int w_plan_tostring(lua_State* L) {
-  const LuaHubPlan& p = check_plan(L);
+int w_hub_plan_tostring(lua_State* L) {
+  const LuaHubPlan& p = check_hub_plan(L);
   lua_pushfstring(L, "bliskrun.HubFinishPlan(root %d rows, channel %d rows, %d poses, %d refusals)", p.result->root.rows,
                   p.result->channel.rows, p.result->root.poses + p.result->channel.poses,
                   static_cast<int>(p.result->refusals.size()));
@@ -401,12 +401,12 @@ int w_hub_finish(lua_State* L) {
 }  // namespace
 
 void open_hub_finish(lua_State* L) {
-  static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"moves", w_plan_moves},
-                                          {"simulate", w_plan_simulate},   {"write_apt", w_plan_write_apt},
-                                          {"regions", w_plan_regions},
+  static const luaL_Reg plan_methods[] = {{"report", w_hub_plan_report},       {"moves", w_hub_plan_moves},
+                                          {"simulate", w_hub_plan_simulate},   {"write_apt", w_hub_plan_write_apt},
+                                          {"regions", w_hub_plan_regions},
                                           {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaHubPlan>::name, plan_methods, &luax::gc_value<LuaHubPlan>,
-                      w_plan_tostring);
+                      w_hub_plan_tostring);
   static const luaL_Reg functions[] = {{"hub_finish", w_hub_finish}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstdio>
+#include <sstream>
 
 #include "core/common/error.h"
 
@@ -22,6 +23,12 @@ std::string fixed_text(double value, int decimals) {
   // "-0.000" -> "0.000": a negative value that rounds to zero.
   if (text.size() > 1 && text[0] == '-' && text.find_first_not_of("0.", 1) == std::string::npos) text.erase(0, 1);
   return text;
+}
+
+std::string short_text(double value) {
+  std::ostringstream os;
+  os << value;
+  return os.str();
 }
 
 }  // namespace bliskrun

@@ -12,4 +12,8 @@ namespace bliskrun {
 // must not read "-0".
 std::string fixed_text(double value, int decimals);
 
+// A number for a message: what a default std::ostream writes (6 significant
+// digits, exponent when large or small), e.g. "0.5", "1e-07".
+std::string short_text(double value);
+
 }  // namespace bliskrun

@@ -11,8 +11,6 @@ namespace bliskrun {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 struct Seed {
   double u, v, d2;
 };

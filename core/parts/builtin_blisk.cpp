@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/common/progress.h"
 
 namespace bliskrun {
@@ -14,12 +15,6 @@ namespace {
 
 void require(bool ok, const char* name, const std::string& expected) {
   if (!ok) throw ParameterError(name, "expected " + expected);
-}
-
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
 }
 
 double lerp(double a, double b, double w) { return a + (b - a) * w; }
@@ -57,9 +52,9 @@ void validate(const BliskParams& p) {
   require(p.hub_radius_inlet_mm > 0, "hub_radius_inlet", "a positive radius");
   require(p.hub_radius_outlet_mm > 0, "hub_radius_outlet", "a positive radius");
   require(p.casing_radius_inlet_mm > p.hub_radius_inlet_mm, "casing_radius_inlet",
-          "a radius above hub_radius_inlet (" + num(p.hub_radius_inlet_mm) + ")");
+          "a radius above hub_radius_inlet (" + short_text(p.hub_radius_inlet_mm) + ")");
   require(p.casing_radius_outlet_mm > p.hub_radius_outlet_mm, "casing_radius_outlet",
-          "a radius above hub_radius_outlet (" + num(p.hub_radius_outlet_mm) + ")");
+          "a radius above hub_radius_outlet (" + short_text(p.hub_radius_outlet_mm) + ")");
   require(p.chord_mm > 0, "chord", "a positive length");
   const double half_axial = 0.5 * p.chord_mm + p.le_radius_mm + p.te_radius_mm;
   require(-half_axial > p.z_inlet_mm && half_axial < p.z_outlet_mm, "chord",
@@ -177,7 +172,7 @@ std::vector<Vec3> BuiltinBlisk::section_loop(int blade, double r, int points_per
     throw ParameterError("blade", "expected an index in [0, " + std::to_string(blade_count() - 1) +
                                       "], got " + std::to_string(blade));
   if (!(r > 0.5 * params_.chord_mm && std::isfinite(r)))
-    throw ParameterError("radius", "expected a radius above half the chord, got " + num(r));
+    throw ParameterError("radius", "expected a radius above half the chord, got " + short_text(r));
   if (points_per_flank < 8) throw ParameterError("points", "expected at least 8 per flank");
   const Section s(params_, r);
   const double angle = 2 * kPi * blade / blade_count();

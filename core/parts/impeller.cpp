@@ -6,17 +6,12 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/geometry/interpolation.h"
 
 namespace bliskrun {
 
 namespace {
-
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
 
 void require(bool ok, const std::string& name, const std::string& expected) {
   if (!ok) throw ParameterError(name, "expected " + expected);
@@ -30,7 +25,7 @@ void check_camber_list(const std::vector<CamberPoint>& pts, const std::string& n
             "finite (x, y, z, h) at point " + std::to_string(i));
     require(c.half_thickness_mm > 0, name,
             "half thickness h > 0 at point " + std::to_string(i) + ", got " +
-                num(c.half_thickness_mm));
+                short_text(c.half_thickness_mm));
     if (i > 0)
       require((c.p - pts[i - 1].p).norm() > 1e-9, name,
               "distinct consecutive points, points " + std::to_string(i - 1) + " and " +
@@ -136,7 +131,7 @@ RuledBlade::RuledBlade(const BladeCamber& camber, const std::string& name) {
     const Vec3 d = shroud_.point(t) - hub_.point(t);
     for (const CurveDerivs& c : {shroud_.eval(t), hub_.eval(t)})
       require(c.dt.cross(d).norm() > 1e-9 * c.dt.norm() * std::max(d.norm(), 1e-12), name,
-              "hub and shroud curves apart and not tangent to the rulings (t = " + num(t) + ")");
+              "hub and shroud curves apart and not tangent to the rulings (t = " + short_text(t) + ")");
   }
 }
 
@@ -275,7 +270,7 @@ void validate(const BuiltinImpellerParams& p) {
   require(p.outlet_radius_mm > 0, "outlet_radius", "a positive radius");
   require(p.outlet_width_mm > 0, "outlet_width", "a positive length");
   require(p.inlet_z_mm > p.outlet_width_mm, "inlet_z",
-          "an inlet plane above the outlet width (" + num(p.outlet_width_mm) + " mm)");
+          "an inlet plane above the outlet width (" + short_text(p.outlet_width_mm) + " mm)");
   require(p.hub_inlet_radius_mm > 0, "hub_inlet_radius", "a positive radius");
   require(p.shroud_inlet_radius_mm > p.hub_inlet_radius_mm &&
               p.shroud_inlet_radius_mm < p.outlet_radius_mm,

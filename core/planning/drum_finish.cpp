@@ -10,16 +10,13 @@
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
 #include "core/common/parallel.h"
+#include "core/common/timing.h"
 #include "core/geometry/differential.h"
 #include "core/toolpath/apt.h"
 
 namespace bliskrun {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 Vec3 outward_normal(const SurfaceDerivs& d, bool flip) {
   Vec3 n = d.pu.cross(d.pv).normalized();
@@ -293,7 +290,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   if (!(rq.hub_clearance_mm >= 0)) throw ParameterError("hub_clearance_mm", "must be >= 0");
 
   DrumFinishResult res;
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
   // §3.1 Fig. 5: trim between hub (u1) and casing (u2), eq. 16.
   res.trimmed = trim_between(rq.flank, *rq.hub, *rq.casing, rq.trim_samples_v);
   const TrimmedSurface& ts = *res.trimmed;
@@ -308,7 +305,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
 
   // §3.1 Fig. 6: rows from the first row up to the tip (u' = 1), spaced
   // for the initial axis.
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   const Tool& tool = *rq.tool;
   std::vector<DrumFinishRow> rows;
   double u = res.first_row_u;
@@ -335,7 +332,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   ToolBody body(tool, rq.tool_tol_mm);
   // The finished flank, sampled once, for proving the cutting moves and the
   // links against it (core/sim GougeGuard).
-  const auto guard_t0 = Clock::now();
+  const auto guard_t0 = SteadyClock::now();
   const GougeGuard guard(ts, link_guard_sampling(ts, rq.guard_spacing_mm, rq.flip_normal));
   res.guard_spacing_mm = guard.spacing_mm();
   res.link_seconds += seconds_since(guard_t0);
@@ -349,7 +346,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     for (size_t r = 0; r < rows.size(); ++r) {
       DrumFinishRow& row = rows[r];
       row.reversed = rq.zigzag && (r % 2 == 1);
-      t0 = Clock::now();
+      t0 = SteadyClock::now();
       auto cached = steps_cache.find(row.u);
       if (cached == steps_cache.end()) {
         IsoUCurve curve(ts, row.u);
@@ -358,7 +355,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
       const RowSteps& steps = cached->second;
       res.rows_seconds += seconds_since(t0);
 
-      t0 = Clock::now();
+      t0 = SteadyClock::now();
       // Tilted once per row, along +v: the same axes serve the row run
       // backwards (X, Y and w0 all flip, the axis does not), and a motion
       // proved clear one way is clear the other. So inserting a row, which
@@ -450,7 +447,7 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
   // Links: leave along the flank normal, traverse, approach along the
   // normal (plan_link); every leg proved against the world and against the
   // finished flank itself, sampled over the whole trimmed flank.
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   LinkChecks checks;
   checks.world = rq.world;
   checks.body = &body;

@@ -10,13 +10,11 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/timing.h"
 #include "core/planning/edge_finish/internal.h"
 
 namespace bliskrun {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void validate(const EdgeFinishRequest& rq) {
   if (!rq.edge) throw ParameterError("edge", "missing edge region surface");
@@ -52,7 +50,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   const std::vector<double> ls = l_grid(fe, request.r_e_mm, request.l_count);
   // The window as hub and casing leave it; everything below plans in it.
   EdgeFinishRequest rq = request;
-  const auto t_rows = Clock::now();  // the rows the window's fit plans count as rows
+  const auto t_rows = SteadyClock::now();  // the rows the window's fit plans count as rows
   out.hub_strip_mm = fit_window_to_hub_and_casing(rq, ls, progress);
   out.v0 = rq.v0;
   out.v1 = rq.v1;
@@ -63,7 +61,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   out.rows_seconds = seconds_since(t_rows);
   // ---- comparison row (Fig. 8) and the side-edge positioning's rows (Fig. 9) ----
   out.comparison = compare_widths(rq, planned);
-  const auto t_side = Clock::now();
+  const auto t_side = SteadyClock::now();
   plan_side_rows(rq, ls, out, progress);
   out.side_seconds = seconds_since(t_side);
 
@@ -71,16 +69,16 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   const PoseChecks checks{body, guards};
 
   // ---- poses tilted clear of the world; partial rows where that leaves material ----
-  const auto t_clear = Clock::now();
+  const auto t_clear = SteadyClock::now();
   clear_rows(rq, checks, planned, progress);
   out.infill_rows += fill_partial_rows(rq, checks, ls, planned, progress);
   out.clear_seconds = seconds_since(t_clear);
 
   // ---- order, checks, links ----
-  const auto t_checks = Clock::now();
+  const auto t_checks = SteadyClock::now();
   out.gouge_breaks += check_rows(rq, checks, ls, planned, progress);
   // ---- partial rows where the rows as checked still leave material ----
-  const auto t_sim = Clock::now();
+  const auto t_sim = SteadyClock::now();
   fill_simulated_gaps(rq, checks, ls, planned, out, progress);
   // Cutting order: by v, a partial row cut after the row above it just
   // after that row.
@@ -96,7 +94,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
     out.max_deviation_mm = std::max(out.max_deviation_mm, row.max_deviation_mm);
     out.rows.push_back(std::move(row));
   }
-  const auto t_links = Clock::now();
+  const auto t_links = SteadyClock::now();
   link_passes(rq, body, guards, out, progress);
   progress.end();
   out.links_seconds = seconds_since(t_links);

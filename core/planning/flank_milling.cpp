@@ -8,14 +8,13 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/geometry/projection.h"
 #include "core/geometry/root_find.h"
 
 namespace bliskrun {
 
 namespace {
-
-std::string num(double x) { return std::to_string(x); }
 
 Vec3 unit_normal(const SurfaceDerivs& d) { return d.pu.cross(d.pv).normalized(); }
 
@@ -80,7 +79,7 @@ FlankCutter::FlankCutter(Tool tool, double ball_radius_mm) : tool_(std::move(too
   if (std::abs(tool_.radius_at(z) - circle) > 1e-6 * std::max(1.0, r_) ||
       std::abs(inscribed - r_) > 1e-6 * std::max(1.0, r_))
     throw ParameterError("ball_radius", "the tool (" + tool_.description() + ") has no ball end of radius " +
-                                            num(r_) + " mm");
+                                            short_text(r_) + " mm");
   top_ = tool_.cutter().z_max() - r_;
 }
 
@@ -128,8 +127,8 @@ FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* h
       const double channel = hub->radial_offset(ax.c1) >= 0 ? 1.0 : -1.0;
       const std::optional<double> s = meet_hub_offset(*hub, channel * r, ax.d2, a, span + 4 * r);
       if (!s)
-        throw Error("flank_axis: the cutter axis at v = " + num(v) +
-                    " does not meet the hub offset surface (ball radius " + num(r) + " mm)");
+        throw Error("flank_axis: the cutter axis at v = " + short_text(v) +
+                    " does not meet the hub offset surface (ball radius " + short_text(r) + " mm)");
       ax.ball_centre = ax.d2 + *s * a;
     } else {
       ax.ball_centre = ax.d2;
@@ -137,8 +136,8 @@ FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* h
     ax.s1 = (ax.d1 - ax.ball_centre).dot(a);
     ax.s2 = (ax.d2 - ax.ball_centre).dot(a);
     if (ax.s1 > cutter.flute_top_mm())
-      throw Error("flank_axis: at v = " + num(v) + " the shroud contact lies " + num(ax.s1) +
-                  " mm above the ball centre, above the flutes (" + num(cutter.flute_top_mm()) +
+      throw Error("flank_axis: at v = " + short_text(v) + " the shroud contact lies " + short_text(ax.s1) +
+                  " mm above the ball centre, above the flutes (" + short_text(cutter.flute_top_mm()) +
                   " mm): use a longer cutter");
     // Below the ball centre the ball meets the hub, not the face: the hub
     // contact uses the ball radius there.
@@ -206,8 +205,8 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
       opts.seed = seed ? seed : std::optional<Eigen::Vector2d>(Eigen::Vector2d(f, ax.v));
       const SurfaceProjection foot = project_to_surface(face, p, opts);  // eq. 33–35
       if (!foot.ok)
-        throw Error("flank_residual: no foot on the face for the axis point at v = " + num(ax.v) +
-                    ", height " + num(s) + " mm: " + foot.failure);
+        throw Error("flank_residual: no foot on the face for the axis point at v = " + short_text(ax.v) +
+                    ", height " + short_text(s) + " mm: " + foot.failure);
       seed = Eigen::Vector2d(foot.u, foot.v);
       // Signed by the face normal: an axis point behind the face (deep gouge)
       // counts its distance negative.
@@ -381,7 +380,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
         deepest = std::min(deepest, channel * rq.hub->radial_offset(from + (to - from) * (double(k) / n)) - r);
       if (deepest < -kHubToleranceMm) {
         lead.clear = false;
-        lead.reason = "the ball would dip " + num(-deepest) + " mm into the hub";
+        lead.reason = "the ball would dip " + short_text(-deepest) + " mm into the hub";
       }
     };
     plan.lead_in = plan_departure({plan.axes.front().pose, end_normal(plan.axes.front())}, checks, rq.lead);

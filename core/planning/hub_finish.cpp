@@ -115,7 +115,7 @@ LinkChecks link_checks(const HubFinishRequest& rq, const CollisionWorld& world, 
 HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) {
   validate(rq);
   HubFinishResult res;
-  const auto t_setup = Clock::now();
+  const auto t_setup = SteadyClock::now();
   const Tool& tool = *rq.tool;
   const double r = ball_radius(tool);
   const SurfaceOfRevolution& hub = *rq.hub;

@@ -10,6 +10,7 @@
 
 #include "core/common/error.h"
 #include "core/common/parallel.h"
+#include "core/common/timing.h"
 #include "core/geometry/differential.h"
 #include "core/planning/belt_paths.h"
 
@@ -38,11 +39,8 @@ double ball_step_over(double scallop_mm, double ball_radius_mm, double curvature
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 // Sweep step of the cutting segments' gouge check (see plan_curve).
 constexpr double kCutSweepMm = 0.15;
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 Vec3 outward(const SurfaceDerivs& d, bool flip) {
   const Vec3 n = d.pu.cross(d.pv);
@@ -472,7 +470,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   const Tool& tool = *rq.tool;
   const double ball_r = tool.cutter().max_radius();
   const ToolBody body(tool, rq.tool_tol_mm);
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
   const GougeGuard guard(s, link_guard_sampling(s, rq.guard_spacing_mm, rq.flip_normal));
   res.guard_spacing_mm = guard.spacing_mm();
   const double margin = guard.between_samples_mm(ball_r);
@@ -613,7 +611,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
 
   // Connections: arcs and bridges between the passes of a layer (zigzag),
   // the shared link elsewhere, departures at the ends.
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   LinkChecks checks;
   checks.world = rq.world;
   checks.body = &body;

@@ -9,6 +9,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/common/progress.h"
 #include "core/geometry/closed_curve.h"
 #include "core/io/data_lines.h"
@@ -23,17 +24,6 @@ Vec3 centroid(const std::vector<Vec3>& loop) {
   Vec3 c = Vec3::Zero();
   for (const Vec3& p : loop) c += p;
   return c / static_cast<double>(loop.size());
-}
-
-std::string num(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-Vec2 rotate(const Vec2& p, double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
 }
 
 }  // namespace
@@ -100,8 +90,8 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
     double g_lo = frame.height(loft.surface.point(lo, v)) - h;
     const double g_hi = frame.height(loft.surface.point(hi, v)) - h;
     if (g_lo > 0 || g_hi < 0)
-      throw ParameterError("height", "the plane at height " + num(h) + " mm does not cut the blade all round (v = " +
-                                         num(v) + ")");
+      throw ParameterError("height", "the plane at height " + short_text(h) + " mm does not cut the blade all round (v = " +
+                                         short_text(v) + ")");
     // Newton on u, kept inside the bracket (bisection where it leaves it).
     double u = g_lo / (g_lo - g_hi);
     SurfaceDerivs d;
@@ -127,7 +117,7 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
 
 DamagedBlade::DamagedBlade(DesignBlade design, const BladeDamage& d) : design_(std::move(design)), damage_(d) {
   auto fraction = [](double x, const char* name) {
-    if (!(x >= 0 && x <= 1)) throw ParameterError(name, "expected a span fraction in [0, 1], got " + num(x));
+    if (!(x >= 0 && x <= 1)) throw ParameterError(name, "expected a span fraction in [0, 1], got " + short_text(x));
   };
   fraction(d.deform_from, "deform_from");
   if (d.deform_from >= 1) throw ParameterError("deform_from", "expected a span below 1");
@@ -323,7 +313,7 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
       const std::vector<double> v = lines.numbers(body, -1, "x,y,z or x,y,z,section", ',');
       if (v.size() != 3 && v.size() != 4)
         lines.fail("expected 3 or 4 comma-separated numbers (x,y,z or x,y,z,section), got " + std::to_string(v.size()));
-      if (v.size() == 4 && v[3] != std::floor(v[3])) lines.fail("expected a whole section number in column 4, got " + num(v[3]));
+      if (v.size() == 4 && v[3] != std::floor(v[3])) lines.fail("expected a whole section number in column 4, got " + short_text(v[3]));
       const long key = v.size() == 4 ? static_cast<long>(v[3]) : std::lround(v[2] * 1000);
       csv_section(key, v[2]).points.emplace_back(v[0], v[1], v[2]);
       continue;
@@ -342,12 +332,12 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
       m.has_frame = true;
     } else if (key == "section") {
       const std::vector<double> v = lines.numbers(body.substr(body.find("section") + 7), 2, "section <number> <height>");
-      if (v[0] != std::floor(v[0]) || v[0] < 1) lines.fail("expected a section number >= 1, got " + num(v[0]));
+      if (v[0] != std::floor(v[0]) || v[0] < 1) lines.fail("expected a section number >= 1, got " + short_text(v[0]));
       MeasuredSection s;
       s.index = static_cast<int>(v[0]);
       s.height_mm = scale * v[1];
       if (!m.sections.empty() && s.height_mm <= m.sections.back().height_mm)
-        lines.fail("expected sections in increasing height, section " + num(v[0]) + " at " + num(s.height_mm) +
+        lines.fail("expected sections in increasing height, section " + short_text(v[0]) + " at " + short_text(s.height_mm) +
                    " mm is not above the previous one");
       m.sections.push_back(s);
       block = kSection;

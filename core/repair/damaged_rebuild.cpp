@@ -9,6 +9,7 @@
 #include "core/common/error.h"
 #include "core/common/parallel.h"
 #include "core/common/progress.h"
+#include "core/common/statistics.h"
 #include "core/geometry/point_index.h"
 #include "core/repair/section_curve.h"
 
@@ -16,18 +17,7 @@ namespace bliskrun {
 
 namespace {
 
-Vec2 rotate(const Vec2& p, double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y());
-}
-
 Vec3 lift(const Vec2& p) { return Vec3(p.x(), p.y(), 0); }
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 // Least-squares polynomial of degree `degree` through (x, y), evaluated at x0.
 double extrapolate(const std::vector<double>& x, const std::vector<double>& y, int degree, double x0) {

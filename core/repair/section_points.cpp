@@ -11,19 +11,12 @@
 
 #include "core/common/error.h"
 #include "core/common/progress.h"
+#include "core/common/statistics.h"
 #include "core/geometry/point_index.h"
 
 namespace bliskrun {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-double median(std::vector<double> v) {
-  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // Distance from point i to its nearest other point, in boxes growing from r.
 double nearest_other_distance(const PointIndex& index, int i, double r) {

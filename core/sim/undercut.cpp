@@ -15,7 +15,6 @@ namespace bliskrun {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kFan = 4;     // cells per group side, at every level of a SampleIndex
 constexpr int kLevels = 4;  // tiles of 4 x 4 samples, then 16 x 16, 64 x 64, 256 x 256
 

@@ -5,27 +5,22 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 
 namespace bliskrun {
 namespace {
 
 using Kind = ProfileElement::Kind;
 
-std::string fmt(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
 void require_positive(const char* name, double v, const char* what) {
   if (!std::isfinite(v) || !(v > 0)) {
-    throw ParameterError(name, std::string(what) + " must be a positive length in mm, got " + fmt(v));
+    throw ParameterError(name, std::string(what) + " must be a positive length in mm, got " + short_text(v));
   }
 }
 
 void require_non_negative(const std::string& name, double v, const char* what) {
   if (!std::isfinite(v) || v < 0) {
-    throw ParameterError(name, std::string(what) + " must be a non-negative length in mm, got " + fmt(v));
+    throw ParameterError(name, std::string(what) + " must be a non-negative length in mm, got " + short_text(v));
   }
 }
 
@@ -37,7 +32,7 @@ Profile cylinder_profile(double r, double z0, double z1) {
 
 std::string cylinder_text(const char* name, const CylinderSpec& c) {
   if (c.length_mm <= 0) return "";
-  return std::string(" ") + name + " d=" + fmt(c.diameter_mm) + " h=" + fmt(c.length_mm);
+  return std::string(" ") + name + " d=" + short_text(c.diameter_mm) + " h=" + short_text(c.length_mm);
 }
 
 }  // namespace
@@ -126,24 +121,24 @@ Tool Tool::drum_wheel(const DrumWheelSpec& s) {
   require_positive("head_length", s.head_length_mm, "L_c");
   const double rt = s.max_diameter_mm / 2, rc = s.barrel_radius_mm, half = s.head_length_mm / 2;
   if (rc < rt) {
-    throw ParameterError("barrel_radius", "R_c = " + fmt(rc) + " mm is below D_t/2 = " + fmt(rt) +
+    throw ParameterError("barrel_radius", "R_c = " + short_text(rc) + " mm is below D_t/2 = " + short_text(rt) +
                                               " mm: a barrel rounder than the wheel's own radius is not a drum "
                                               "wheel (use a ball or bull-nose tool)");
   }
   if (rc <= half) {
-    throw ParameterError("barrel_radius", "R_c = " + fmt(rc) + " mm must exceed L_c/2 = " + fmt(half) +
+    throw ParameterError("barrel_radius", "R_c = " + short_text(rc) + " mm must exceed L_c/2 = " + short_text(half) +
                                               " mm so that the barrel arc spans the head height");
   }
   // Barrel arc centred at mid-height (paper Fig. 2), on the far side of the axis.
   const Vec2 centre(rt - rc, half);
   const double r_end = centre.x() + std::sqrt(rc * rc - half * half);
   if (!(r_end > 0)) {
-    throw ParameterError("head_length", "L_c = " + fmt(s.head_length_mm) +
+    throw ParameterError("head_length", "L_c = " + short_text(s.head_length_mm) +
                                             " mm is too long for D_t and R_c: the barrel reaches the axis");
   }
   Tool t;
   t.kind_ = ToolKind::DrumWheel;
-  t.description_ = "drum wheel D_t=" + fmt(s.max_diameter_mm) + " R_c=" + fmt(rc) + " L_c=" + fmt(s.head_length_mm);
+  t.description_ = "drum wheel D_t=" + short_text(s.max_diameter_mm) + " R_c=" + short_text(rc) + " L_c=" + short_text(s.head_length_mm);
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::segment({0, 0}, {r_end, 0}),
                       ProfileElement::arc(centre, rc, {r_end, 0}, {r_end, s.head_length_mm}),
@@ -161,20 +156,20 @@ Tool Tool::conical_drum_wheel(const ConicalDrumWheelSpec& s) {
   const Vec2 p0(s.bottom_diameter_mm / 2, 0), p1(s.top_diameter_mm / 2, s.head_length_mm);
   const double rc = s.barrel_radius_mm, half_chord = (p1 - p0).norm() / 2;
   if (rc <= half_chord) {
-    throw ParameterError("barrel_radius", "R_c = " + fmt(rc) + " mm must exceed half the end-to-end chord " +
-                                              fmt(half_chord) + " mm");
+    throw ParameterError("barrel_radius", "R_c = " + short_text(rc) + " mm must exceed half the end-to-end chord " +
+                                              short_text(half_chord) + " mm");
   }
   const Vec2 d = (p1 - p0).normalized(), towards_axis(-d.y(), d.x());
   const Vec2 centre = (p0 + p1) / 2 + std::sqrt(rc * rc - half_chord * half_chord) * towards_axis;
   if (p0.x() < centre.x() || p1.x() < centre.x()) {
-    throw ParameterError("barrel_radius", "R_c = " + fmt(rc) +
+    throw ParameterError("barrel_radius", "R_c = " + short_text(rc) +
                                               " mm is too small for the end diameters: the barrel would turn back "
                                               "towards the axis");
   }
   Tool t;
   t.kind_ = ToolKind::ConicalDrumWheel;
-  t.description_ = "conical drum wheel D_bottom=" + fmt(s.bottom_diameter_mm) + " D_top=" + fmt(s.top_diameter_mm) +
-                   " R_c=" + fmt(rc) + " L_c=" + fmt(s.head_length_mm);
+  t.description_ = "conical drum wheel D_bottom=" + short_text(s.bottom_diameter_mm) + " D_top=" + short_text(s.top_diameter_mm) +
+                   " R_c=" + short_text(rc) + " L_c=" + short_text(s.head_length_mm);
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::segment({0, 0}, p0), ProfileElement::arc(centre, rc, p0, p1),
                       ProfileElement::segment(p1, {0, s.head_length_mm})}));
@@ -206,16 +201,16 @@ Tool Tool::flat_end_mill(const FlatEndMillSpec& s) {
   require_non_negative("corner_radius", s.corner_radius_mm, "r");
   require_positive("flute_length", s.flute_length_mm, "flute length");
   if (s.corner_radius_mm > s.radius_mm) {
-    throw ParameterError("corner_radius", "r = " + fmt(s.corner_radius_mm) + " mm exceeds the tool radius R = " +
-                                              fmt(s.radius_mm) + " mm");
+    throw ParameterError("corner_radius", "r = " + short_text(s.corner_radius_mm) + " mm exceeds the tool radius R = " +
+                                              short_text(s.radius_mm) + " mm");
   }
   if (s.flute_length_mm < s.corner_radius_mm) {
-    throw ParameterError("flute_length", "must be at least the corner radius r = " + fmt(s.corner_radius_mm) + " mm");
+    throw ParameterError("flute_length", "must be at least the corner radius r = " + short_text(s.corner_radius_mm) + " mm");
   }
   Tool t;
   t.kind_ = ToolKind::FlatEndMill;
-  t.description_ = "flat-end mill R=" + fmt(s.radius_mm) + " r=" + fmt(s.corner_radius_mm) +
-                   " L=" + fmt(s.flute_length_mm);
+  t.description_ = "flat-end mill R=" + short_text(s.radius_mm) + " r=" + short_text(s.corner_radius_mm) +
+                   " L=" + short_text(s.flute_length_mm);
   t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.corner_radius_mm, s.flute_length_mm));
   t.flank_contact_height_mm_ = (s.corner_radius_mm + s.flute_length_mm) / 2;
   t.stack_shank_and_holder(s.shank, s.holder);
@@ -226,11 +221,11 @@ Tool Tool::ball_end_mill(const BallEndMillSpec& s) {
   require_positive("radius", s.radius_mm, "R");
   require_positive("flute_length", s.flute_length_mm, "flute length");
   if (s.flute_length_mm < s.radius_mm) {
-    throw ParameterError("flute_length", "must be at least the ball radius R = " + fmt(s.radius_mm) + " mm");
+    throw ParameterError("flute_length", "must be at least the ball radius R = " + short_text(s.radius_mm) + " mm");
   }
   Tool t;
   t.kind_ = ToolKind::BallEndMill;
-  t.description_ = "ball-end mill R=" + fmt(s.radius_mm) + " L=" + fmt(s.flute_length_mm);
+  t.description_ = "ball-end mill R=" + short_text(s.radius_mm) + " L=" + short_text(s.flute_length_mm);
   t.set_part(ToolPartId::Cutter, corner_radius_profile(s.radius_mm, s.radius_mm, s.flute_length_mm));
   t.flank_contact_height_mm_ = (s.radius_mm + s.flute_length_mm) / 2;
   t.stack_shank_and_holder(s.shank, s.holder);
@@ -249,13 +244,13 @@ Tool Tool::tapered_ball_end_mill(const TaperedBallEndMillSpec& s) {
   const Vec2 tangent(rb * std::cos(beta), rb * (1 - std::sin(beta)));
   if (s.flute_length_mm <= tangent.y()) {
     throw ParameterError("flute_length", "must exceed the height of the ball-cone tangent circle, " +
-                                             fmt(tangent.y()) + " mm");
+                                             short_text(tangent.y()) + " mm");
   }
   const double r_top = tangent.x() + (s.flute_length_mm - tangent.y()) * std::tan(beta);
   Tool t;
   t.kind_ = ToolKind::TaperedBallEndMill;
-  t.description_ = "tapered ball-end mill r=" + fmt(rb) + " half_angle=" + fmt(rad_to_deg(beta)) +
-                   "deg L=" + fmt(s.flute_length_mm);
+  t.description_ = "tapered ball-end mill r=" + short_text(rb) + " half_angle=" + short_text(rad_to_deg(beta)) +
+                   "deg L=" + short_text(s.flute_length_mm);
   t.set_part(ToolPartId::Cutter,
              Profile({ProfileElement::arc({0, rb}, rb, {0, 0}, tangent),
                       ProfileElement::segment(tangent, {r_top, s.flute_length_mm}),
@@ -270,7 +265,7 @@ Tool Tool::contact_wheel(const ContactWheelSpec& s) {
   require_positive("width", s.width_mm, "wheel width");
   Tool t;
   t.kind_ = ToolKind::ContactWheel;
-  t.description_ = "contact wheel R=" + fmt(s.radius_mm) + " W=" + fmt(s.width_mm);
+  t.description_ = "contact wheel R=" + short_text(s.radius_mm) + " W=" + short_text(s.width_mm);
   t.set_part(ToolPartId::Cutter, cylinder_profile(s.radius_mm, -s.width_mm / 2, s.width_mm / 2));
   t.flank_contact_height_mm_ = 0;
   t.stack_shank_and_holder(s.shank, s.holder);

@@ -448,7 +448,10 @@ TEST(CollisionWorld, AMotionProofKeepsTheCoarseBodysDistanceOnlyFarFromTheCleara
     // bottom to 4 mm up its 9 mm side: the shank above is not beside it.
     world.add("wall", grid_mesh(Vec3((3 + D) * out - 50 * along + Vec3(0, 0, -2)), Vec3(100 * along),
                                 Vec3(0, 0, 6), 4, 4));
-    const ToolPose from{Vec3(-10 * along), Vec3::UnitZ()}, to{Vec3(10 * along), Vec3::UnitZ()};
+    // 4 mm of travel: long enough for many samples near the clearance, short
+    // enough that 36 walls x 3 proofs stay a unit test.
+    const double travel = 4;
+    const ToolPose from{Vec3(-travel / 2 * along), Vec3::UnitZ()}, to{Vec3(travel / 2 * along), Vec3::UnitZ()};
     const MotionCheck near_out = world.check_motion(body, from, to, Clearances{D - 0.005, 0, 0}, 1e-3);
     const MotionCheck near_in = world.check_motion(body, from, to, Clearances{D + 0.005, 0, 0}, 1e-3);
     proved += near_out.clear;
@@ -458,7 +461,7 @@ TEST(CollisionWorld, AMotionProofKeepsTheCoarseBodysDistanceOnlyFarFromTheCleara
     // Far from it: proved, in the few samples the coarse distance allows.
     const MotionCheck far = world.check_motion(body, from, to, Clearances{D - 0.25, 0, 0}, 1e-3);
     EXPECT_TRUE(far.clear);
-    EXPECT_LE(far.samples, static_cast<int>(std::ceil(20 / (0.25 - 2 * kCoarsePieceTolMm))) + 1);
+    EXPECT_LE(far.samples, static_cast<int>(std::ceil(travel / (0.25 - 2 * kCoarsePieceTolMm))) + 1);
   }
   EXPECT_EQ(proved, 36);
   EXPECT_EQ(refused, 36);

@@ -86,7 +86,7 @@ bool step_between(const HubFinishRequest& rq, const LinkChecks& checks, const Fl
 
 void connect_part(const HubFinishRequest& rq, const LinkChecks& checks, const LinkOptions& lo,
                   const FloorGeometry* floor, HubFinishPart& part, Progress& own) {
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   const int n = static_cast<int>(part.passes.size());
   if (n == 0) return;
   part.connections.resize(static_cast<size_t>(n) + 1);

@@ -20,15 +20,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/timing.h"
 #include "core/common/error.h"
 #include "core/geometry/closed_curve.h"
 #include "core/geometry/root_find.h"
 #include "core/planning/hub_finish.h"
 
 namespace bliskrun::hub_detail {
-
-using Clock = std::chrono::steady_clock;
-inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // Sweep step of the cutting segments' gouge check (as the repair paths'):
 // the independent simulation, at 0.05 mm, measures what is left.

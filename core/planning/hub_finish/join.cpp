@@ -94,7 +94,7 @@ void plan_join(HubFinishResult& res, const LinkChecks& checks, const LinkOptions
     join.reason = "nothing to join: the plan has only one part";
     return;
   }
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   const HubFinishPose& a = res.root.passes.back().poses.back();
   const HubFinishPose& b = res.channel.passes.front().poses.front();
   join.from_pass = static_cast<int>(res.root.passes.size()) - 1;

@@ -143,7 +143,7 @@ double plan_passes(const Planner& planner, const TiltSettings& base, const RootG
   refusals.resize(n_root + n_floor);
   splits.assign(n_root + n_floor, 0);
   devs.assign(n_root + n_floor, 0.0);
-  auto t_rows = Clock::now();
+  auto t_rows = SteadyClock::now();
   run_parallel(n_root + n_floor, rq.threads, progress, "hub finish rows", [&](size_t k, Progress& own) {
     std::vector<Planner::Contact> contacts;
     double dev = 0;

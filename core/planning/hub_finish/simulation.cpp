@@ -165,11 +165,9 @@ void floor_region(const HubFinishResult& result, const HubFinishRequest& rq, con
 }  // namespace
 }  // namespace hub_detail
 
-using hub_detail::Clock;
 using hub_detail::Program;
 using hub_detail::program_of;
 using hub_detail::region_stats;
-using hub_detail::seconds_since;
 
 HubFinishRegions hub_finish_regions(const HubFinishResult& result, const HubFinishRequest& rq,
                                     const HubFinishSimOptions& options) {
@@ -193,7 +191,7 @@ HubFinishSimulation simulate_hub_finish(const HubFinishResult& result, const Hub
                                         const HubFinishSimOptions& options, Progress& progress) {
   if (!(options.sweep_step_mm > 0)) throw ParameterError("sweep_step", "expected > 0");
   const HubFinishRegions regions = hub_finish_regions(result, rq, options);
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   HubFinishSimulation sim;
   // Every move of the plan, root and channel: either can cut the other's region.
   // The plan is blade k's and channel k's; the blisk is periodic and a job
