@@ -218,6 +218,11 @@ void observe_call(lua_State* L) {
   auto* s = static_cast<RunState*>(lua_touserdata(L, -1));
   lua_pop(L, 1);
   if (!s) return;
+  // A --help run that reaches the core before the recipe declared its
+  // options would plan: the recipe reads args itself, so it cannot say.
+  if (s->context->options.recipe_help)
+    luax::error(L, "this recipe declares no options (scripts/lib/recipe_options.lua), so --help cannot list "
+                   "them without running it; read its header for the --set values it takes");
   record_position(L, *s);
   TestCancel& t = s->test_cancel;
   if (!t.at.empty() && !t.armed && stack_is_at(L, t.at)) {
@@ -379,6 +384,21 @@ void push_args(lua_State* L, const std::vector<std::pair<std::string, std::strin
     lua_setfield(L, -2, key.c_str());
   }
   lua_setglobal(L, "args");
+}
+
+// bliskrun.options_help(text): in a `--help` run, remembers the recipe's
+// option listing and ends the run (before anything is planned); in any
+// other run does nothing. Called by scripts/lib/recipe_options.lua.
+const char* const kHelpDone = "bliskrun.help_done";  // the error that ends a --help run
+
+int options_help(lua_State* L) {
+  const char* text = luaL_checkstring(L, 1);
+  RunContext& ctx = *state(L).context;
+  ctx.options_declared = true;
+  if (!ctx.options.recipe_help) return 0;
+  ctx.options_help = text;
+  lua_pushlightuserdata(L, const_cast<char*>(kHelpDone));
+  return lua_error(L);
 }
 
 // Error handler: the message plus the recipe frames of the traceback.
@@ -558,6 +578,10 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     open_sandbox(L);
     open_all(L);
     push_args(L, options.sets);
+    lua_getglobal(L, "bliskrun");
+    lua_pushcfunction(L, options_help);
+    lua_setfield(L, -2, "options_help");
+    lua_pop(L, 1);
     lua_sethook(L, count_hook, LUA_MASKCOUNT, 10000);
     luax::set_call_observer(observe_call);
 
@@ -575,6 +599,15 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     std::ostream& out = std::cout;
     out << "read-back verification: " << ctx.verified_programs.size() << " program(s)\n";
     for (const auto& line : ctx.verified_programs) out << "  " << line << "\n";
+  }
+  if (options.recipe_help) {
+    if (ctx.options_declared) {
+      std::cout << "options of " << options.recipe_path << " (--set NAME=VALUE):\n" << ctx.options_help << std::flush;
+      return kExitOk;
+    }
+    err << "bliskrun: " << options.recipe_path << ": "
+        << (status != LUA_OK ? message : "this recipe declares no options (scripts/lib/recipe_options.lua)") << "\n";
+    return kExitUsage;
   }
   if (status == LUA_OK) return kExitOk;
   // A Lua allocation refused for the budget raises a bare "not enough

@@ -28,6 +28,10 @@ struct RunOptions {
   // bliskrun command sets it; in-process callers (tests, fuzzers) do not.
   bool hard_time_limit = false;
   int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
+  // `bliskrun RECIPE.lua --help`: run the recipe only up to its option
+  // declaration (scripts/lib/recipe_options.lua), print the options on
+  // stdout and exit 0; nothing is planned or written.
+  bool recipe_help = false;
   // Tests only, not reachable from the command line: "FILE:LINE:N" cancels
   // the run at the N-th cancellation point (core/common/progress.h) after a
   // core call is first made from line LINE of FILE (a path's tail, e.g.
@@ -49,6 +53,9 @@ struct RunContext {
   // One line per NC program posted during the run: its read-back verification
   // (post.write proves every program before writing it). Printed by --verify.
   std::vector<std::string> verified_programs;
+  // A --help run: the recipe's option listing, once it has declared them.
+  std::string options_help;
+  bool options_declared = false;
 
   // Resolves a path a recipe wants to read: relative paths are tried against
   // the recipe folder then each data folder; the result must lie inside the
