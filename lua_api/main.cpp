@@ -31,7 +31,8 @@ const char* const kUsage =
     "                       unit, default, range) and exit without planning\n"
     "  --version\n"
     "\n"
-    "exit codes: 0 ok, 1 recipe or data error, 2 usage error\n";
+    "exit codes: 0 ok, 1 recipe or data error, 2 usage error, 130/143 stopped by\n"
+    "SIGINT/SIGTERM (unfinished files removed)\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "bliskrun: " << message << "\n" << kUsage;
@@ -109,6 +110,7 @@ int main(int argc, char** argv) {
   if (options.recipe_path.empty()) return usage_error("no recipe given");
   options.recipe_help = help;
   options.hard_time_limit = true;
+  options.handle_signals = true;
   // A file-size limit (ulimit -f) then fails the write with EFBIG, reported
   // as a clean error naming the file, instead of killing the process.
   std::signal(SIGXFSZ, SIG_IGN);

@@ -2,6 +2,8 @@
 
 #include <memory>
 
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -132,7 +134,21 @@ class Watchdog {
     clear_cancel_all();  // the next run in this process starts clean
   }
   bool expired() const { return expired_.load(); }
+  // Stops the run now, for `reason` (a signal), as the deadline would.
+  void interrupt(const std::string& reason) {
+    {
+      std::lock_guard<std::mutex> lock(reason_mutex_);
+      if (reason_.empty()) reason_ = reason;
+    }
+    expired_ = true;
+    progress_.cancel(reason);
+    request_cancel_all(reason);
+  }
   std::string message() const {
+    {
+      std::lock_guard<std::mutex> lock(reason_mutex_);
+      if (!reason_.empty()) return reason_;
+    }
     std::ostringstream s;
     s << "time limit of " << seconds_ << " s exceeded (--time-limit)";
     return s.str();
@@ -148,6 +164,66 @@ class Watchdog {
   std::condition_variable cv_;
   bool done_ = false;
   std::atomic<bool> expired_{false};
+  mutable std::mutex reason_mutex_;  // not mutex_: the thread holds that while it calls message()
+  std::string reason_;               // an interrupt's, which message() reports instead of the limit
+};
+
+// SIGINT and SIGTERM, taken synchronously by a thread of their own (no
+// async-signal-safety to worry about): the first interrupts the run through
+// the watchdog's cooperative path; a second one, or a run not stopped
+// within kGrace, ends the process at once through `hard_stop`. The signals
+// are blocked in the calling thread before any other thread of the run is
+// started (the watchdog, the workers), so that every thread inherits the
+// mask and only this one receives them.
+class SignalStop {
+ public:
+  static constexpr double kGrace = 5.0;  // seconds: generous for a loaded machine
+  using HardStop = std::function<void(int signal)>;
+
+  // Blocks the signals; watch() starts taking them.
+  explicit SignalStop(bool enabled) : enabled_(enabled) {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    if (enabled_) pthread_sigmask(SIG_BLOCK, &set_, &old_mask_);
+  }
+  void watch(Watchdog& watchdog, HardStop hard_stop) {
+    if (!enabled_) return;
+    thread_ = std::thread([this, &watchdog, hard_stop = std::move(hard_stop)] {
+      std::chrono::steady_clock::time_point deadline{};
+      while (!done_.load()) {
+        const timespec poll{0, 50 * 1000 * 1000};  // 50 ms: how soon the run's end is seen
+        const int sig = sigtimedwait(&set_, nullptr, &poll);
+        if (sig > 0) {
+          if (signal_.load() != 0) hard_stop(signal_.load());  // a second signal: now
+          signal_ = sig;
+          watchdog.interrupt(std::string("interrupted by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM"));
+          deadline = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                         std::chrono::duration<double>(kGrace));
+        }
+        if (signal_.load() != 0 && !done_.load() && std::chrono::steady_clock::now() > deadline)
+          hard_stop(signal_.load());
+      }
+    });
+  }
+  // Called when the run has stopped: no hard stop after this.
+  void finish() {
+    done_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  ~SignalStop() {
+    finish();
+    if (enabled_) pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
+  }
+  int signal() const { return signal_.load(); }
+
+ private:
+  bool enabled_;
+  sigset_t set_{}, old_mask_{};
+  std::thread thread_;
+  std::atomic<bool> done_{false};
+  std::atomic<int> signal_{0};
 };
 
 // RunOptions::test_cancel_at, parsed; armed at most once per run.
@@ -224,6 +300,10 @@ void observe_call(lua_State* L) {
     luax::error(L, "this recipe declares no options (scripts/lib/recipe_options.lua), so --help cannot list "
                    "them without running it; read its header for the --set values it takes");
   record_position(L, *s);
+  // A stopped run (a signal, the time limit) makes no further core call:
+  // a loop of short calls (writes) may run few Lua instructions between
+  // them, so the count hook alone would see the stop late.
+  if (s->watchdog && s->watchdog->expired()) luax::error(L, s->watchdog->message());
   TestCancel& t = s->test_cancel;
   if (!t.at.empty() && !t.armed && stack_is_at(L, t.at)) {
     t.armed = true;
@@ -562,8 +642,22 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
       remove_unfinished_writes();
       std::_Exit(kExitRecipeError);
     };
+  SignalStop signals(options.handle_signals);  // blocked before the watchdog's thread starts
   Watchdog watchdog(ctx.progress, options.time_limit_s, std::move(hard_stop));
   run_state.watchdog = &watchdog;
+  signals.watch(watchdog, [&err, &run_state](int sig) {
+    const std::string at = run_state.position();
+    err << "bliskrun: " << (at.empty() ? "" : at + ": ") << "interrupted by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+        << " (stopped at once: the run did not stop within " << SignalStop::kGrace
+        << " s, or a second signal came); unfinished temporary files removed\n"
+        << std::flush;
+    remove_unfinished_writes();
+    std::_Exit(128 + sig);
+  });
+  struct FinishSignals {  // the watcher uses the watchdog: stopped before it goes
+    SignalStop& s;
+    ~FinishSignals() { s.finish(); }
+  } finish_signals{signals};
 
   lua_State* L = lua_newstate(limited_alloc, &allocator);
   if (!L) {
@@ -595,6 +689,16 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   }
   luax::set_call_observer(nullptr);
   lua_close(L);
+  signals.finish();
+  if (const int sig = signals.signal()) {
+    // Every write either finished or removed its temporary as it unwound;
+    // this is for one a worker thread may have left.
+    remove_unfinished_writes();
+    if (status == LUA_OK) message = "interrupted by " + std::string(sig == SIGINT ? "SIGINT" : "SIGTERM");
+    err << "bliskrun: " << message << "\nbliskrun: stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+        << "; outputs written before it are complete, unfinished ones removed\n";
+    return 128 + sig;
+  }
   if (options.verify_report) {
     std::ostream& out = std::cout;
     out << "read-back verification: " << ctx.verified_programs.size() << " program(s)\n";

@@ -27,6 +27,12 @@ struct RunOptions {
   // watchdog prints the message and ends the whole process with exit 1. The
   // bliskrun command sets it; in-process callers (tests, fuzzers) do not.
   bool hard_time_limit = false;
+  // SIGINT and SIGTERM stop the run like the time limit does (the recipe
+  // line raises, core loops cancel at their next point), remove the
+  // temporaries of unfinished writes and exit with 128 + the signal; a
+  // second signal, or a run still going 5 s after the first, ends the
+  // process at once (temporaries removed too). The bliskrun command sets it.
+  bool handle_signals = false;
   int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
   // `bliskrun RECIPE.lua --help`: run the recipe only up to its option
   // declaration (scripts/lib/recipe_options.lua), print the options on
@@ -89,7 +95,7 @@ class WorkerLuaState {
 };
 
 // Exit codes of the bliskrun command.
-enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };
+enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };  // a signal: 128 + its number (SIGINT 130)
 
 // Runs the recipe; writes errors (and, unless quiet, progress) to `err`.
 int run_recipe(const RunOptions& options, std::ostream& err);
