@@ -481,6 +481,63 @@ int options_help(lua_State* L) {
   return lua_error(L);
 }
 
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// "1m05s" / "42s": durations a person reads at a glance.
+std::string duration_text(double s) {
+  char text[32];
+  const long whole = std::lround(std::max(0.0, s));
+  if (whole >= 60) std::snprintf(text, sizeof text, "%ldm%02lds", whole / 60, whole % 60);
+  else std::snprintf(text, sizeof text, "%lds", whole);
+  return text;
+}
+
+// The run's one progress line while a job goes on: step k of n and what it
+// does, the running core task's percent, elapsed, and the remaining time
+// estimated from the steps done so far (each step counted as one unit; the
+// running one by its task's fraction).
+std::string job_line(const RunContext::JobStep& job, const std::string& task, double task_fraction) {
+  const double elapsed = now_s() - job.started_s;
+  const double done = static_cast<double>(job.step - 1) + std::clamp(task_fraction, 0.0, 1.0);
+  std::ostringstream line;
+  line << "[step " << job.step << "/" << job.steps << "] " << job.what;
+  if (!task.empty()) line << " - " << task << " " << static_cast<int>(task_fraction * 100) << "%";
+  line << "  elapsed " << duration_text(elapsed);
+  if (done > 0) line << "  remaining ~" << duration_text(elapsed * (job.steps - done) / done);
+  return line.str();
+}
+
+// bliskrun.progress_step(k, n, what): the run is at step k of n of a job,
+// doing `what` ("plan drum_finish: blade 1 pressure, suction"); while a job
+// goes on, the run's progress is one line naming the step instead of one
+// per core task. bliskrun.progress_step() ends the job.
+int progress_step(lua_State* L) {
+  RunContext& ctx = *state(L).context;
+  RunContext::JobStep& job = ctx.job;
+  const bool terminal = ctx.progress_terminal;
+  std::ostream& err = *ctx.progress_stream;
+  if (lua_gettop(L) == 0) {
+    if (job.steps > 0 && !ctx.options.quiet)
+      err << (terminal ? "\r\x1b[K" : "") << "[job] " << job.steps << " steps done in "
+          << duration_text(now_s() - job.started_s) << "\n" << std::flush;
+    job = RunContext::JobStep{};
+    return 0;
+  }
+  const lua_Integer k = luaL_checkinteger(L, 1), n = luaL_checkinteger(L, 2);
+  const char* what = luaL_checkstring(L, 3);
+  if (n < 1 || k < 1 || k > n) return luaL_error(L, "progress_step: expected 1 <= step <= steps, got %d of %d",
+                                                 static_cast<int>(k), static_cast<int>(n));
+  if (job.steps == 0 || k == 1) job.started_s = now_s();
+  job.step = k;
+  job.steps = n;
+  job.what = what;
+  if (!ctx.options.quiet)
+    err << (terminal ? "\r" : "") << job_line(job, "", 0) << (terminal ? "\x1b[K" : "\n") << std::flush;
+  return 0;
+}
+
 // Error handler: the message plus the recipe frames of the traceback.
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -598,8 +655,20 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   // otherwise (CI logs, pipes, tests) plain lines at 0, 25, 50, 75, 100 %.
   const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO);
   auto task_start = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
-  ctx.progress.set_reporter([&err, quiet, terminal, task_start](const std::string& task, long done, long total) {
+  ctx.progress_terminal = terminal;
+  ctx.progress_stream = &err;
+  RunContext* job_ctx = &ctx;
+  ctx.progress.set_reporter([&err, quiet, terminal, task_start, job_ctx](const std::string& task, long done,
+                                                                          long total) {
     if (quiet || total <= 0) return;
+    const RunContext::JobStep& job = job_ctx->job;
+    if (job.steps > 0) {
+      // Within a job: its one line, redrawn on a terminal; in a log, the
+      // line each step printed as it began is enough.
+      if (terminal)
+        err << "\r" << job_line(job, task, static_cast<double>(done) / total) << "\x1b[K" << std::flush;
+      return;
+    }
     const long pct = done * 100 / total;
     if (!terminal) {
       if (pct % 25 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
@@ -675,6 +744,8 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     lua_getglobal(L, "bliskrun");
     lua_pushcfunction(L, options_help);
     lua_setfield(L, -2, "options_help");
+    lua_pushcfunction(L, progress_step);
+    lua_setfield(L, -2, "progress_step");
     lua_pop(L, 1);
     lua_sethook(L, count_hook, LUA_MASKCOUNT, 10000);
     luax::set_call_observer(observe_call);
@@ -689,6 +760,7 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   }
   luax::set_call_observer(nullptr);
   lua_close(L);
+  if (ctx.job.steps > 0 && terminal && !quiet) err << "\n";  // a job's line a failure left open
   signals.finish();
   if (const int sig = signals.signal()) {
     // Every write either finished or removed its temporary as it unwound;

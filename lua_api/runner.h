@@ -59,6 +59,15 @@ struct RunContext {
   // One line per NC program posted during the run: its read-back verification
   // (post.write proves every program before writing it). Printed by --verify.
   std::vector<std::string> verified_programs;
+  // The job's step (bliskrun.progress_step): the whole run's one progress
+  // line names it; 0 steps = no job going on.
+  struct JobStep {
+    long step = 0, steps = 0;
+    std::string what;
+    double started_s = 0;  // steady-clock seconds when step 1 began
+  } job;
+  bool progress_terminal = false;          // progress redrawn in place (stderr is a terminal)
+  std::ostream* progress_stream = nullptr;  // where progress goes
   // A --help run: the recipe's option listing, once it has declared them.
   std::string options_help;
   bool options_declared = false;
