@@ -675,11 +675,17 @@ void push_rotary_senses(lua_State* L, const MachineDefinition& def) {
   }
 }
 
-// job.work_offset, job.setup = {name=, flip=, clocking_deg=}, job.notes = {...}
+// job.work_offset, job.coolant, job.program_number (each only when given),
+// job.setup = {name=, flip=, clocking_deg=}, job.notes = {...}
 // into the job table on top of the stack.
 void push_setup(lua_State* L, const PostJob& job) {
   lua_pushinteger(L, job.work_offset);
   lua_setfield(L, -2, "work_offset");
+  if (!job.coolant.empty()) luax::set_string(L, "coolant", job.coolant);
+  if (job.program_number > 0) {
+    lua_pushinteger(L, job.program_number);
+    lua_setfield(L, -2, "program_number");
+  }
   lua_createtable(L, 0, 3);
   if (!job.setup.name.empty()) luax::set_string(L, "name", job.setup.name);
   luax::set_bool(L, "flip", job.setup.flip);

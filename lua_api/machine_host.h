@@ -87,6 +87,8 @@ struct PostJob {
   std::string name;             // program name
   std::vector<PostTool> tools;  // in the order MachineMove::tool indexes them; at least one
   int work_offset = 1;          // G54 = 1, G55 = 2, ...; the TNC's preset row
+  std::string coolant;          // "flood", "mist", "through", "off"; empty: none written (the post's default)
+  long program_number = 0;      // Fanuc O-number, the TNC's PGM name; 0: the post's default
   PostSetup setup;
   std::vector<std::string> notes;  // header lines of the recipe's own
 };

@@ -27,9 +27,12 @@ const char* const kUsage =
     "  --verify             after the run, print the read-back verification of every\n"
     "                       NC program the recipe posted (each is replayed through the\n"
     "                       machine's kinematics before it is written)\n"
-    "  --help, --version\n"
+    "  --help               with a recipe: list the options it declares (name, type,\n"
+    "                       unit, default, range) and exit without planning\n"
+    "  --version\n"
     "\n"
-    "exit codes: 0 ok, 1 recipe or data error, 2 usage error\n";
+    "exit codes: 0 ok, 1 recipe or data error, 2 usage error, 130/143 stopped by\n"
+    "SIGINT/SIGTERM (unfinished files removed)\n";
 
 int usage_error(const std::string& message) {
   std::cerr << "bliskrun: " << message << "\n" << kUsage;
@@ -48,6 +51,7 @@ int main(int argc, char** argv) {
   bliskrun::lua_api::RunOptions options;
   if (const char* data = std::getenv("BLISKRUN_DATA")) options.data_dirs.push_back(data);
   bool explicit_data = false;
+  bool help = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto value = [&](const char* flag) -> const char* {
@@ -56,8 +60,7 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
+      help = true;  // with a recipe: its options; without: this usage
     } else if (arg == "--version") {
       std::cout << "bliskrun 0.1.0\n";
       return 0;
@@ -100,8 +103,14 @@ int main(int argc, char** argv) {
       return usage_error("more than one recipe given ('" + options.recipe_path + "' and '" + arg + "')");
     }
   }
+  if (help && options.recipe_path.empty()) {
+    std::cout << kUsage;
+    return 0;
+  }
   if (options.recipe_path.empty()) return usage_error("no recipe given");
+  options.recipe_help = help;
   options.hard_time_limit = true;
+  options.handle_signals = true;
   // A file-size limit (ulimit -f) then fails the write with EFBIG, reported
   // as a clean error naming the file, instead of killing the process.
   std::signal(SIGXFSZ, SIG_IGN);

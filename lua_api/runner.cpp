@@ -2,6 +2,8 @@
 
 #include <memory>
 
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -132,7 +134,21 @@ class Watchdog {
     clear_cancel_all();  // the next run in this process starts clean
   }
   bool expired() const { return expired_.load(); }
+  // Stops the run now, for `reason` (a signal), as the deadline would.
+  void interrupt(const std::string& reason) {
+    {
+      std::lock_guard<std::mutex> lock(reason_mutex_);
+      if (reason_.empty()) reason_ = reason;
+    }
+    expired_ = true;
+    progress_.cancel(reason);
+    request_cancel_all(reason);
+  }
   std::string message() const {
+    {
+      std::lock_guard<std::mutex> lock(reason_mutex_);
+      if (!reason_.empty()) return reason_;
+    }
     std::ostringstream s;
     s << "time limit of " << seconds_ << " s exceeded (--time-limit)";
     return s.str();
@@ -148,6 +164,66 @@ class Watchdog {
   std::condition_variable cv_;
   bool done_ = false;
   std::atomic<bool> expired_{false};
+  mutable std::mutex reason_mutex_;  // not mutex_: the thread holds that while it calls message()
+  std::string reason_;               // an interrupt's, which message() reports instead of the limit
+};
+
+// SIGINT and SIGTERM, taken synchronously by a thread of their own (no
+// async-signal-safety to worry about): the first interrupts the run through
+// the watchdog's cooperative path; a second one, or a run not stopped
+// within kGrace, ends the process at once through `hard_stop`. The signals
+// are blocked in the calling thread before any other thread of the run is
+// started (the watchdog, the workers), so that every thread inherits the
+// mask and only this one receives them.
+class SignalStop {
+ public:
+  static constexpr double kGrace = 5.0;  // seconds: generous for a loaded machine
+  using HardStop = std::function<void(int signal)>;
+
+  // Blocks the signals; watch() starts taking them.
+  explicit SignalStop(bool enabled) : enabled_(enabled) {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    if (enabled_) pthread_sigmask(SIG_BLOCK, &set_, &old_mask_);
+  }
+  void watch(Watchdog& watchdog, HardStop hard_stop) {
+    if (!enabled_) return;
+    thread_ = std::thread([this, &watchdog, hard_stop = std::move(hard_stop)] {
+      std::chrono::steady_clock::time_point deadline{};
+      while (!done_.load()) {
+        const timespec poll{0, 50 * 1000 * 1000};  // 50 ms: how soon the run's end is seen
+        const int sig = sigtimedwait(&set_, nullptr, &poll);
+        if (sig > 0) {
+          if (signal_.load() != 0) hard_stop(signal_.load());  // a second signal: now
+          signal_ = sig;
+          watchdog.interrupt(std::string("interrupted by ") + (sig == SIGINT ? "SIGINT" : "SIGTERM"));
+          deadline = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                         std::chrono::duration<double>(kGrace));
+        }
+        if (signal_.load() != 0 && !done_.load() && std::chrono::steady_clock::now() > deadline)
+          hard_stop(signal_.load());
+      }
+    });
+  }
+  // Called when the run has stopped: no hard stop after this.
+  void finish() {
+    done_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+  ~SignalStop() {
+    finish();
+    if (enabled_) pthread_sigmask(SIG_SETMASK, &old_mask_, nullptr);
+  }
+  int signal() const { return signal_.load(); }
+
+ private:
+  bool enabled_;
+  sigset_t set_{}, old_mask_{};
+  std::thread thread_;
+  std::atomic<bool> done_{false};
+  std::atomic<int> signal_{0};
 };
 
 // RunOptions::test_cancel_at, parsed; armed at most once per run.
@@ -218,7 +294,16 @@ void observe_call(lua_State* L) {
   auto* s = static_cast<RunState*>(lua_touserdata(L, -1));
   lua_pop(L, 1);
   if (!s) return;
+  // A --help run that reaches the core before the recipe declared its
+  // options would plan: the recipe reads args itself, so it cannot say.
+  if (s->context->options.recipe_help)
+    luax::error(L, "this recipe declares no options (scripts/lib/recipe_options.lua), so --help cannot list "
+                   "them without running it; read its header for the --set values it takes");
   record_position(L, *s);
+  // A stopped run (a signal, the time limit) makes no further core call:
+  // a loop of short calls (writes) may run few Lua instructions between
+  // them, so the count hook alone would see the stop late.
+  if (s->watchdog && s->watchdog->expired()) luax::error(L, s->watchdog->message());
   TestCancel& t = s->test_cancel;
   if (!t.at.empty() && !t.armed && stack_is_at(L, t.at)) {
     t.armed = true;
@@ -381,6 +466,78 @@ void push_args(lua_State* L, const std::vector<std::pair<std::string, std::strin
   lua_setglobal(L, "args");
 }
 
+// bliskrun.options_help(text): in a `--help` run, remembers the recipe's
+// option listing and ends the run (before anything is planned); in any
+// other run does nothing. Called by scripts/lib/recipe_options.lua.
+const char* const kHelpDone = "bliskrun.help_done";  // the error that ends a --help run
+
+int options_help(lua_State* L) {
+  const char* text = luaL_checkstring(L, 1);
+  RunContext& ctx = *state(L).context;
+  ctx.options_declared = true;
+  if (!ctx.options.recipe_help) return 0;
+  ctx.options_help = text;
+  lua_pushlightuserdata(L, const_cast<char*>(kHelpDone));
+  return lua_error(L);
+}
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// "1m05s" / "42s": durations a person reads at a glance.
+std::string duration_text(double s) {
+  char text[32];
+  const long whole = std::lround(std::max(0.0, s));
+  if (whole >= 60) std::snprintf(text, sizeof text, "%ldm%02lds", whole / 60, whole % 60);
+  else std::snprintf(text, sizeof text, "%lds", whole);
+  return text;
+}
+
+// The run's one progress line while a job goes on: step k of n and what it
+// does, the running core task's percent, elapsed, and the remaining time
+// estimated from the steps done so far (each step counted as one unit; the
+// running one by its task's fraction).
+std::string job_line(const RunContext::JobStep& job, const std::string& task, double task_fraction) {
+  const double elapsed = now_s() - job.started_s;
+  const double done = static_cast<double>(job.step - 1) + std::clamp(task_fraction, 0.0, 1.0);
+  std::ostringstream line;
+  line << "[step " << job.step << "/" << job.steps << "] " << job.what;
+  if (!task.empty()) line << " - " << task << " " << static_cast<int>(task_fraction * 100) << "%";
+  line << "  elapsed " << duration_text(elapsed);
+  if (done > 0) line << "  remaining ~" << duration_text(elapsed * (job.steps - done) / done);
+  return line.str();
+}
+
+// bliskrun.progress_step(k, n, what): the run is at step k of n of a job,
+// doing `what` ("plan drum_finish: blade 1 pressure, suction"); while a job
+// goes on, the run's progress is one line naming the step instead of one
+// per core task. bliskrun.progress_step() ends the job.
+int progress_step(lua_State* L) {
+  RunContext& ctx = *state(L).context;
+  RunContext::JobStep& job = ctx.job;
+  const bool terminal = ctx.progress_terminal;
+  std::ostream& err = *ctx.progress_stream;
+  if (lua_gettop(L) == 0) {
+    if (job.steps > 0 && !ctx.options.quiet)
+      err << (terminal ? "\r\x1b[K" : "") << "[job] " << job.steps << " steps done in "
+          << duration_text(now_s() - job.started_s) << "\n" << std::flush;
+    job = RunContext::JobStep{};
+    return 0;
+  }
+  const lua_Integer k = luaL_checkinteger(L, 1), n = luaL_checkinteger(L, 2);
+  const char* what = luaL_checkstring(L, 3);
+  if (n < 1 || k < 1 || k > n) return luaL_error(L, "progress_step: expected 1 <= step <= steps, got %d of %d",
+                                                 static_cast<int>(k), static_cast<int>(n));
+  if (job.steps == 0 || k == 1) job.started_s = now_s();
+  job.step = k;
+  job.steps = n;
+  job.what = what;
+  if (!ctx.options.quiet)
+    err << (terminal ? "\r" : "") << job_line(job, "", 0) << (terminal ? "\x1b[K" : "\n") << std::flush;
+  return 0;
+}
+
 // Error handler: the message plus the recipe frames of the traceback.
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -498,8 +655,20 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   // otherwise (CI logs, pipes, tests) plain lines at 0, 25, 50, 75, 100 %.
   const bool terminal = &err == &std::cerr && isatty(STDERR_FILENO);
   auto task_start = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
-  ctx.progress.set_reporter([&err, quiet, terminal, task_start](const std::string& task, long done, long total) {
+  ctx.progress_terminal = terminal;
+  ctx.progress_stream = &err;
+  RunContext* job_ctx = &ctx;
+  ctx.progress.set_reporter([&err, quiet, terminal, task_start, job_ctx](const std::string& task, long done,
+                                                                          long total) {
     if (quiet || total <= 0) return;
+    const RunContext::JobStep& job = job_ctx->job;
+    if (job.steps > 0) {
+      // Within a job: its one line, redrawn on a terminal; in a log, the
+      // line each step printed as it began is enough.
+      if (terminal)
+        err << "\r" << job_line(job, task, static_cast<double>(done) / total) << "\x1b[K" << std::flush;
+      return;
+    }
     const long pct = done * 100 / total;
     if (!terminal) {
       if (pct % 25 == 0) err << "[" << task << "] " << pct << "%\n" << std::flush;
@@ -542,8 +711,22 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
       remove_unfinished_writes();
       std::_Exit(kExitRecipeError);
     };
+  SignalStop signals(options.handle_signals);  // blocked before the watchdog's thread starts
   Watchdog watchdog(ctx.progress, options.time_limit_s, std::move(hard_stop));
   run_state.watchdog = &watchdog;
+  signals.watch(watchdog, [&err, &run_state](int sig) {
+    const std::string at = run_state.position();
+    err << "bliskrun: " << (at.empty() ? "" : at + ": ") << "interrupted by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+        << " (stopped at once: the run did not stop within " << SignalStop::kGrace
+        << " s, or a second signal came); unfinished temporary files removed\n"
+        << std::flush;
+    remove_unfinished_writes();
+    std::_Exit(128 + sig);
+  });
+  struct FinishSignals {  // the watcher uses the watchdog: stopped before it goes
+    SignalStop& s;
+    ~FinishSignals() { s.finish(); }
+  } finish_signals{signals};
 
   lua_State* L = lua_newstate(limited_alloc, &allocator);
   if (!L) {
@@ -558,6 +741,12 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
     open_sandbox(L);
     open_all(L);
     push_args(L, options.sets);
+    lua_getglobal(L, "bliskrun");
+    lua_pushcfunction(L, options_help);
+    lua_setfield(L, -2, "options_help");
+    lua_pushcfunction(L, progress_step);
+    lua_setfield(L, -2, "progress_step");
+    lua_pop(L, 1);
     lua_sethook(L, count_hook, LUA_MASKCOUNT, 10000);
     luax::set_call_observer(observe_call);
 
@@ -571,10 +760,30 @@ int run_recipe(const RunOptions& options, std::ostream& err) {
   }
   luax::set_call_observer(nullptr);
   lua_close(L);
+  if (ctx.job.steps > 0 && terminal && !quiet) err << "\n";  // a job's line a failure left open
+  signals.finish();
+  if (const int sig = signals.signal()) {
+    // Every write either finished or removed its temporary as it unwound;
+    // this is for one a worker thread may have left.
+    remove_unfinished_writes();
+    if (status == LUA_OK) message = "interrupted by " + std::string(sig == SIGINT ? "SIGINT" : "SIGTERM");
+    err << "bliskrun: " << message << "\nbliskrun: stopped by " << (sig == SIGINT ? "SIGINT" : "SIGTERM")
+        << "; outputs written before it are complete, unfinished ones removed\n";
+    return 128 + sig;
+  }
   if (options.verify_report) {
     std::ostream& out = std::cout;
     out << "read-back verification: " << ctx.verified_programs.size() << " program(s)\n";
     for (const auto& line : ctx.verified_programs) out << "  " << line << "\n";
+  }
+  if (options.recipe_help) {
+    if (ctx.options_declared) {
+      std::cout << "options of " << options.recipe_path << " (--set NAME=VALUE):\n" << ctx.options_help << std::flush;
+      return kExitOk;
+    }
+    err << "bliskrun: " << options.recipe_path << ": "
+        << (status != LUA_OK ? message : "this recipe declares no options (scripts/lib/recipe_options.lua)") << "\n";
+    return kExitUsage;
   }
   if (status == LUA_OK) return kExitOk;
   // A Lua allocation refused for the budget raises a bare "not enough

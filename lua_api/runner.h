@@ -27,7 +27,17 @@ struct RunOptions {
   // watchdog prints the message and ends the whole process with exit 1. The
   // bliskrun command sets it; in-process callers (tests, fuzzers) do not.
   bool hard_time_limit = false;
+  // SIGINT and SIGTERM stop the run like the time limit does (the recipe
+  // line raises, core loops cancel at their next point), remove the
+  // temporaries of unfinished writes and exit with 128 + the signal; a
+  // second signal, or a run still going 5 s after the first, ends the
+  // process at once (temporaries removed too). The bliskrun command sets it.
+  bool handle_signals = false;
   int threads = 2;                 // --threads: planning/simulation workers; outputs do not depend on it
+  // `bliskrun RECIPE.lua --help`: run the recipe only up to its option
+  // declaration (scripts/lib/recipe_options.lua), print the options on
+  // stdout and exit 0; nothing is planned or written.
+  bool recipe_help = false;
   // Tests only, not reachable from the command line: "FILE:LINE:N" cancels
   // the run at the N-th cancellation point (core/common/progress.h) after a
   // core call is first made from line LINE of FILE (a path's tail, e.g.
@@ -49,6 +59,18 @@ struct RunContext {
   // One line per NC program posted during the run: its read-back verification
   // (post.write proves every program before writing it). Printed by --verify.
   std::vector<std::string> verified_programs;
+  // The job's step (bliskrun.progress_step): the whole run's one progress
+  // line names it; 0 steps = no job going on.
+  struct JobStep {
+    long step = 0, steps = 0;
+    std::string what;
+    double started_s = 0;  // steady-clock seconds when step 1 began
+  } job;
+  bool progress_terminal = false;          // progress redrawn in place (stderr is a terminal)
+  std::ostream* progress_stream = nullptr;  // where progress goes
+  // A --help run: the recipe's option listing, once it has declared them.
+  std::string options_help;
+  bool options_declared = false;
 
   // Resolves a path a recipe wants to read: relative paths are tried against
   // the recipe folder then each data folder; the result must lie inside the
@@ -82,7 +104,7 @@ class WorkerLuaState {
 };
 
 // Exit codes of the bliskrun command.
-enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };
+enum ExitCode { kExitOk = 0, kExitRecipeError = 1, kExitUsage = 2 };  // a signal: 128 + its number (SIGINT 130)
 
 // Runs the recipe; writes errors (and, unless quiet, progress) to `err`.
 int run_recipe(const RunOptions& options, std::ostream& err);

@@ -440,7 +440,13 @@ const std::vector<luax::Field>& post_write_fields() {
        "no cutter point faster than this times the planned feed", {}},
       {"approach", luax::Kind::Table, false, {}, {},
        "{proved = mm, safe_z = mm}: the safe way in and out along the tool axis (the plan proved `proved` mm)", {}},
-      {"work_offset", luax::Kind::Integer, false, 1.0, 99.0, "work offset the program selects: 1 = G54 / preset 1", {}},
+      {"work_offset", luax::Kind::Integer, false, 1.0, 99.0,
+       "work offset the program selects: 1 = G54 / preset 1; Fanuc 7.. = G54.1 P1..", {}},
+      {"coolant", luax::Kind::String, false, {}, {},
+       "coolant on after each tool change, off at the end (default: no coolant words)",
+       {"flood", "mist", "through", "off"}},
+      {"program_number", luax::Kind::Integer, false, 1.0, 99999999.0,
+       "program number: Fanuc O-number (default 1000), the TNC's PGM name, a header line elsewhere", {}},
       {"setup", luax::Kind::Table, false, {}, {}, "{name=, flip=, clocking_deg=}: how the part sits, for the header", {}},
       {"notes", luax::Kind::Table, false, {}, {}, "{'text', ...}: header lines of the recipe's own", {}},
   };
@@ -452,6 +458,8 @@ const std::vector<luax::Field>& post_write_fields() {
 // (the rest of the note would be a block the controller runs).
 void read_post_header(lua_State* L, const luax::Options& o, const std::string& what, PostJob& job) {
   job.work_offset = static_cast<int>(o.integer("work_offset", 1));
+  job.coolant = o.string("coolant", "");
+  job.program_number = static_cast<long>(o.integer("program_number", 0));
   if (o.has("setup")) {
     o.push_raw("setup");
     const luax::Options setup(L, lua_gettop(L), what + " setup", {

@@ -23,15 +23,22 @@ namespace {
 std::mutex unfinished_mutex;
 std::set<std::string> unfinished;
 
+// Creates the temporary and lists it under one lock, so that a hard stop
+// (remove_unfinished_writes from another thread, then _Exit) cannot come
+// between the two and leave it behind.
 struct Unfinished {
-  explicit Unfinished(const std::string& tmp) : tmp_(tmp) {
+  explicit Unfinished(std::string& tmp) {
     std::lock_guard<std::mutex> lock(unfinished_mutex);
+    fd = mkstemp(tmp.data());
+    if (fd < 0) return;
+    tmp_ = tmp;
     unfinished.insert(tmp_);
   }
   ~Unfinished() {
     std::lock_guard<std::mutex> lock(unfinished_mutex);
-    unfinished.erase(tmp_);
+    if (fd >= 0) unfinished.erase(tmp_);
   }
+  int fd = -1;
   std::string tmp_;
 };
 
@@ -53,9 +60,9 @@ void write_file_atomic(const std::string& path, const std::string& contents) {
   // The temporary lives beside the target so rename() stays on one file
   // system and is atomic.
   std::string tmp = path + ".tmp.XXXXXX";
-  const int fd = mkstemp(tmp.data());
-  if (fd < 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
   const Unfinished in_progress(tmp);
+  const int fd = in_progress.fd;
+  if (fd < 0) throw Error("cannot write '" + path + "': " + std::strerror(errno));
   const char* data = contents.data();
   size_t left = contents.size();
   while (left > 0) {

@@ -181,6 +181,8 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
     bool axis_word = false, heidenhain_linear = false, fmax = false;
     int block_motion = -1;
     bool end_of_program = false;
+    bool g54_1 = false;  // Fanuc's additional work offsets: G54.1 P<n> is offset 6 + n
+    long p_word = -1;
     for (size_t t = 0; t < tokens.size(); ++t) {
       const Token& tok = tokens[t];
       if (tok.kind == Token::Number) {
@@ -257,6 +259,10 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
       const double v = tok.value;
       switch (tok.letter) {
         case 'N': case 'O': case 'S': case 'D': case 'H': break;
+        case 'P':
+          if (!is_integer(v) || v < 1) fail(tok, "expected P<n>, n >= 1 (G54.1 P<n>)");
+          p_word = std::lround(v);
+          break;
         case 'T': tool = static_cast<int>(v); break;
         case 'F':
           if (!(v > 0)) fail(tok, "expected a feed > 0");
@@ -301,6 +307,7 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
           else if (is(20) || is(70)) fail(tok, "inch units are not supported");
           else if (is(2) || is(3)) fail(tok, "arcs (G2/G3) are not supported");
           else if (g >= 54 && g <= 59 && is_integer(g)) work_offset = static_cast<int>(g) - 53;
+          else if (is(54.1)) g54_1 = true;
           else if (is(59.1) || is(59.2) || is(59.3)) work_offset = 6 + static_cast<int>(std::lround((g - 59) * 10));
           else if (g >= 505 && g <= 599 && is_integer(g)) work_offset = static_cast<int>(g) - 500;
           else if (!(is(90) || is(17) || is(21) || is(71) || is(40) || is(43) || is(61) || is(64) || is(80))) {
@@ -327,6 +334,12 @@ std::vector<ProgramMove> read_program(const std::string& text, const MachineDefi
         default:
           fail(tok, std::string("unsupported word '") + tok.letter + "'");
       }
+    }
+    if (g54_1) {
+      if (p_word < 1) fail(block_start, "G54.1 without P<n> (the additional work offset)");
+      work_offset = 6 + static_cast<int>(p_word);
+    } else if (p_word >= 0) {
+      fail(block_start, "a P word outside G54.1 P<n>");
     }
     // Kinematics that are always TCP (LinuxCNC trt) have no switch: G49 there
     // only cancels length compensation.

@@ -53,6 +53,34 @@ function M.c_axis_limit_at(flank, c_range)
           min = -c_range, max = c_range}
 end
 
+-- The widest diameter of the tool's cutter, mm: its profile's points and
+-- 256 heights between them (the barrel bulges between its ends).
+local function cutter_diameter(tool)
+  local r_max, z_lo, z_hi = 0, math.huge, -math.huge
+  for _, piece in ipairs(tool:profile("cutter")) do
+    for _, p in ipairs{piece.from, piece.to} do
+      r_max, z_lo, z_hi = math.max(r_max, p[1]), math.min(z_lo, p[2]), math.max(z_hi, p[2])
+    end
+  end
+  for i = 0, 256 do r_max = math.max(r_max, tool:radius_at(z_lo + (z_hi - z_lo) * i / 256)) end
+  return 2 * r_max
+end
+
+-- A drum wheel must pass between two blades: one as wide as the narrowest
+-- passage (blisk paper eq. 13, d_min) can reach no flank, and the planner
+-- would tilt every pose in vain before refusing them all. Refused here,
+-- before planning, with the two numbers.
+function M.check_wheel_fits(blisk, tool)
+  if not tool:kind():find("drum wheel", 1, true) then return end
+  local d, d_min = cutter_diameter(tool), blisk:narrowest_passage()
+  if d >= d_min then
+    error(string.format("%s: its diameter %.3f mm is not below the narrowest passage between the "
+                        .. "blades, d_min = %.3f mm (blisk:narrowest_passage()); it cannot enter the channel. "
+                        .. "Expected a wheel narrower than %.3f mm (finish.design_wheels sizes one)",
+                        tool:description(), d, d_min, d_min), 2)
+  end
+end
+
 -- Options for bliskrun.drum_finish / drum_finish_all common to every flank.
 -- opts: residual (mm, 0.014), chord_tol (mm, 0.002), steps ("variable"),
 -- guarantee (true), zigzag (true), link ("normal"), link_overcut (chord_tol),
@@ -67,6 +95,7 @@ end
 -- blisk may be nil (a real part): set hub and casing yourself.
 function M.settings(blisk, tool, opts)
   opts = opts or {}
+  if blisk then M.check_wheel_fits(blisk, tool) end
   return {
     hub = blisk and blisk:hub(), casing = blisk and blisk:casing(), tool = tool,
     residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,

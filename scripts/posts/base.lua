@@ -10,7 +10,9 @@
 -- rotary_axes = {{name=, carrier = "part"|"tool", iso841 = bool}, ...}),
 -- job.tool (number, length, spindle_rpm: the tool in the spindle), job.tools
 -- (every tool of the program, in order), job.work_offset (1, 2, ...: G54,
--- G55, ... / the TNC's preset), job.setup (name or nil, flip, clocking_deg),
+-- G55, ... / the TNC's preset), job.coolant ("flood" | "mist" | "through" |
+-- "off"; nil: no coolant words), job.program_number (nil: the post's
+-- default), job.setup (name or nil, flip, clocking_deg),
 -- job.notes (lines for the header), job.tcp, job.feed_mode
 -- ("per_minute" | "inverse_time"), job.decimals (linear, rotary, feed) and
 -- job:moves(), an iterator over the machine moves. A move has kind ("rapid" |
@@ -49,7 +51,7 @@ P.rotary_input_limit = nil     -- the controller's largest rotary value, deg
 -- it and off for the moves written in machine axes (the way in at the safe
 -- height) and at the end.
 function P.elements(self, job)
-  return { self.header, self.tool_change, self.motion, self.footer }
+  return { self.header, self.tool_change, self.coolant_on, self.motion, self.coolant_off, self.footer }
 end
 
 -- The header is steps too: what a setter must know before pressing start
@@ -57,7 +59,7 @@ end
 -- the program assumes, the recipe's notes), then the blocks that put the
 -- controller in a known state and select the work offset.
 function P.header_elements(self, job)
-  return { self.program_start, self.verdict_line, self.machine_line, self.setup_lines, self.rotary_senses,
+  return { self.program_start, self.program_number_line, self.verdict_line, self.machine_line, self.setup_lines, self.rotary_senses,
            self.tool_lines, self.assumption_lines, self.note_lines, self.modal_line, self.work_offset }
 end
 
@@ -276,6 +278,48 @@ function P.note_lines(self, job, out)
   for _, note in ipairs(job.notes) do self:comment_line(out, note) end
 end
 
+-- job.program_number on a controller whose programs carry none (their
+-- file name is the number): a header line. A post that writes it in the
+-- program's own words (Fanuc's O-number, the TNC's PGM name) sets
+-- P.writes_program_number and leaves this out.
+P.writes_program_number = false
+function P.program_number_line(self, job, out)
+  if job.program_number and not self.writes_program_number then
+    self:comment_line(out, "program number " .. job.program_number)
+  end
+end
+
+-- Coolant (job.coolant): its code after every tool change (the spindle
+-- is running) and the off code after the last move, before the footer
+-- stops the spindle. Codes differ between machine builders, through-spindle
+-- coolant most: a post (or a recipe, on a loaded post) replaces these
+-- tables; a coolant with no code here is refused, naming the ones there are.
+P.coolant_codes = {flood = "M8", mist = "M7", through = "M88"}
+P.coolant_off_codes = {flood = "M9", mist = "M9", through = "M89", off = "M9"}
+
+function P.coolant_code(self, job)
+  local c = job.coolant
+  if c == nil then return nil end
+  local code = c == "off" and self.coolant_off_codes.off or self.coolant_codes[c]
+  if not code then
+    local have = {}
+    for name, word in pairs(self.coolant_codes) do have[#have + 1] = name .. " (" .. word .. ")" end
+    table.sort(have)
+    error(string.format("%s: coolant '%s': this post has no code for it; it has %s", self.name, c,
+                        #have > 0 and table.concat(have, ", ") or "none"), 0)
+  end
+  return code
+end
+
+function P.coolant_on(self, job, out)
+  local code = self:coolant_code(job)
+  if code then self:emit(out, code) end
+end
+
+function P.coolant_off(self, job, out)
+  if job.coolant and job.coolant ~= "off" then self:emit(out, self.coolant_off_codes[job.coolant] or "M9") end
+end
+
 -- Modal words that put the controller in a known state: per post.
 function P.modal_line(self, job, out) end
 
@@ -314,6 +358,7 @@ function P.motion(self, job, out)
       job.tool = job.tools[current]
       self.last = {}  -- modal words start over after a tool change
       self:tool_change(job, out)
+      self:coolant_on(job, out)
     end
     if move.reset then self:rotary_reset(job, move, out) end
     if move.safe == "retract" or move.safe == "rotate" then

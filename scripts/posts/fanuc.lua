@@ -12,7 +12,8 @@ P.block_numbers = true
 -- G43.4 (TCP type 1) moves the rotary axes linearly between blocks.
 P.orientation = "axis"
 P.rotary_input_limit = 99999.999
-P.program_number = 1000
+P.program_number = 1000  -- the O-number unless post.write's program_number says another
+P.writes_program_number = true
 
 -- Fanuc comments cannot hold parentheses and are read upper case.
 function P.comment(self, text)
@@ -21,7 +22,20 @@ end
 
 function P.program_start(self, job, out)
   out:line("%")
-  out:line(string.format("O%04d %s", self.program_number, self:comment(job.name)))
+  out:line(string.format("O%04d %s", job.program_number or self.program_number, self:comment(job.name)))
+end
+
+-- O-numbers run from 1 to 9999.
+function P.check(self, job)
+  local n = job.program_number
+  if n and n > 9999 then error(string.format("fanuc: program_number %d: O-numbers are 1-9999", n), 0) end
+end
+
+-- G54-G59 are offsets 1-6; 7 on are the additional work offsets G54.1 P1,
+-- P2, ... (48 standard, 300 with the option).
+function P.work_offset_word(self, job)
+  local n = job.work_offset
+  return n <= 6 and "G" .. (53 + n) or "G54.1 P" .. (n - 6)
 end
 
 function P.modal_line(self, job, out)

@@ -48,7 +48,11 @@ function P.word(self, address, value, decimals)
   return address .. text
 end
 
+-- The program's name, or its number when post.write gives program_number
+-- (the TNC calls programs by name; a number is a name too).
+P.writes_program_number = true
 local function pgm_name(job)
+  if job.program_number then return tostring(job.program_number) end
   return (job.name:upper():gsub("[^%w_]", "_"))
 end
 

@@ -9,6 +9,11 @@ P.name = "linuxcnc"
 P.tcp = true
 P.tcp_always = true
 
+-- LinuxCNC has flood (M8) and mist (M7), both off by M9; coolant through
+-- the spindle is a machine's own M code (an M1xx user command): set
+-- P.coolant_codes.through on a loaded post.
+P.coolant_codes = {flood = "M8", mist = "M7"}
+
 function P.check(self, job)
   local r = job.machine.rotary
   if job.machine.configuration ~= "table-table" or r[1] ~= "A" or r[2] ~= "C" then

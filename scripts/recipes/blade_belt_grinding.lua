@@ -26,9 +26,7 @@
 -- than its speed.
 --
 --   bliskrun scripts/recipes/blade_belt_grinding.lua --out out/
---   options: --set part=builtin|rotor67  --set sides=both|pressure|suction
---            --set feed=20 (mm/s along the path)  --set robots=both|kuka|abb
---            --set clamp_angle=0.5 --set clamp_dx=0.3 (the simulated clamping error, deg / mm)
+--   options: --help lists them (--set NAME=VALUE)
 --
 --   0. Before planning, a simulated laser scan of the blade as clamped is
 --      registered to the model (point-to-plane ICP) and the measured clamping
@@ -40,16 +38,22 @@
 --   with the part turned, then refused. The report gives the poses checked
 --   and the deepest conformity each program asks of the wheel.
 
+local opt = require("recipe_options"){
+  part = {type = "string", default = "builtin", choices = {"builtin", "rotor67"}, help = "whose blade is ground"},
+  sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"}, help = "flanks ground"},
+  feed = {type = "number", unit = "mm/s", default = 20, range = {0.1, 1000}, help = "feed along the path"},
+  robots = {type = "string", default = "both", choices = {"both", "kuka", "abb"}, help = "robots posted for"},
+  body_spacing = {type = "number", unit = "mm", default = 1, range = {0.05, 20}, help = "sample spacing of the blade body"},
+  clamp_angle = {type = "number", unit = "deg", default = 0.5, range = {-10, 10}, help = "simulated clamping error, angle"},
+  clamp_dx = {type = "number", unit = "mm", default = 0.3, range = {-10, 10}, help = "simulated clamping error, x"},
+  seed = {type = "integer", default = 7, range = {0, 2147483647}, help = "seed of the simulated scan"},
+}
 local run_report = require("run_report")
 local chart = require("svg_chart")
-local part_name = args.part or "builtin"
-assert(part_name == "builtin" or part_name == "rotor67", "--set part= expects 'builtin' or 'rotor67'")
-local sides = args.sides or "both"
-assert(sides == "both" or sides == "pressure" or sides == "suction",
-       "--set sides= expects 'both', 'pressure' or 'suction'")
-local feed = args.feed or 20
-local robots = ({both = {"kuka", "abb"}, kuka = {"kuka"}, abb = {"abb"}})[args.robots or "both"]
-assert(robots, "--set robots= expects 'both', 'kuka' or 'abb'")
+local part_name = opt.part
+local sides = opt.sides
+local feed = opt.feed
+local robots = ({both = {"kuka", "abb"}, kuka = {"kuka"}, abb = {"abb"}})[opt.robots]
 
 -- The cells (wheels, belts and stations are the cell's) and the process
 -- tolerances per station: chord error and scallop tighten station by station.
@@ -89,7 +93,7 @@ else
   local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
   add_faces(function(side) return part[side]:surface() end, part.hub, part.casing)
 end
-local blade_body = bliskrun.blade_body{faces = body_faces, spacing = args.body_spacing or 1}
+local blade_body = bliskrun.blade_body{faces = body_faces, spacing = opt.body_spacing}
 
 -- The grip: the blade's radial direction along the flange's z axis, the root
 -- 150 mm out from the flange, its axial direction along the flange's y (or,
@@ -110,8 +114,8 @@ local grips = {
 -- is registered to the model (bliskrun.register_scan, point-to-plane ICP);
 -- the estimated error corrects the grip every program is planned with.
 local frames = require("frames")
-local clamp = frames.from_axis_angle({1, 2, 3}, args.clamp_angle or 0.5, {args.clamp_dx or 0.3, 0.2, -0.25})
-math.randomseed(args.seed or 7)
+local clamp = frames.from_axis_angle({1, 2, 3}, opt.clamp_angle, {opt.clamp_dx, 0.2, -0.25})
+math.randomseed(opt.seed)
 local scan = {}
 for _, f in ipairs(faces) do
   for i = 0, 119 do
@@ -293,7 +297,7 @@ local function with_pictures(sections)
 end
 run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
   subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
-  settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = args.robots or "both"},
+  settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = opt.robots},
   sections = with_pictures{{title = "Measured scallop per path", text = "The scallop between each path and the next, measured "
                  .. "by sampled distances (the wheel as a cylinder through each contact), over the station's tolerance h.",
                svg = chart.lines{title = "Measured scallop / h", x_label = "path", y_label = "scallop / h",

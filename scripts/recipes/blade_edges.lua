@@ -38,28 +38,40 @@
 --
 --   bliskrun scripts/recipes/blade_edges.lua --out out/
 --   bliskrun scripts/recipes/blade_edges.lua --data ../shared/data --out out/
---   options: --set part=builtin|rotor67 --set edges=both|leading|trailing --set R=3 --set r=0.5
---            --set shank=50 (mm; 120 on Rotor 67)
---            --set e1=-0.001 --set e2=0.02 --set overlap=0.3 --set v0=0.1 --set v1=0.9
---            --set chord_tol=0.001 --set optimum=paper|joint --set side_min_lead=3
---            --set samples_u=200 --set samples_v=400
+--   options: --help lists them (--set NAME=VALUE)
 
+local opt = require("recipe_options"){
+  part = {type = "string", choices = {"builtin", "rotor67"}, default_text = "rotor67 when its data is found, else builtin",
+          help = "whose blade's edges are finished"},
+  edges = {type = "string", default = "both", choices = {"both", "leading", "trailing"}, help = "edges finished"},
+  R = {type = "number", unit = "mm", default = 3, range = {0.5, 25}, help = "radius of the flat-end mill"},
+  r = {type = "number", unit = "mm", default = 0.5, range = {0, 10}, help = "corner radius of the mill"},
+  shank = {type = "number", unit = "mm", range = {5, 500}, default_text = "120 (rotor67), 50",
+           help = "shank length (the holder must stay out of the passage)"},
+  e1 = {type = "number", unit = "mm", default = -0.001, range = {-0.1, 0}, help = "overcut limit of the tolerance band"},
+  e2 = {type = "number", unit = "mm", default = 0.02, range = {0, 0.5}, help = "undercut limit of the tolerance band"},
+  overlap = {type = "number", unit = "mm", default = 0.3, range = {0, 10}, help = "the edge region's overlap onto the flanks"},
+  v0 = {type = "number", default = 0.1, range = {0, 1}, help = "span fraction where the window starts"},
+  v1 = {type = "number", default = 0.9, range = {0, 1}, help = "span fraction where the window ends"},
+  chord_tol = {type = "number", unit = "mm", default = 0.001, range = {1e-5, 0.1}, help = "chord height around the edge"},
+  optimum = {type = "string", default = "paper", choices = {"paper", "joint"}, help = "how phi and l are chosen (section 3.2)"},
+  side_min_lead = {type = "number", unit = "deg", default = 3, range = {0, 45}, help = "smallest lead of the side-edge comparison"},
+  samples_u = {type = "integer", default = 200, range = {2, 5000}, help = "simulation samples around the edge"},
+  samples_v = {type = "integer", default = 400, range = {2, 20000}, help = "simulation samples along the span"},
+}
 local chart = require("svg_chart")
 local blisk_world = require("blisk_world")
 
 local rotor67_file = "nasa_rotor67/rotor67geometry.dat"
-local part_name = args.part
+local part_name = opt.part
 if part_name == nil then
   part_name = pcall(bliskrun.read_text, rotor67_file) and "rotor67" or "builtin"
 end
-assert(part_name == "builtin" or part_name == "rotor67", "--set part= expects 'builtin' or 'rotor67'")
-local which = args.edges or "both"
-assert(which == "both" or which == "leading" or which == "trailing",
-       "--set edges= expects 'both', 'leading' or 'trailing'")
-local R, r = args.R or 3, args.r or 0.5
-local settings = {e1 = args.e1 or -0.001, e2 = args.e2 or 0.02, overlap = args.overlap or 0.3,
-                  v0 = args.v0 or 0.1, v1 = args.v1 or 0.9, chord_tol = args.chord_tol or 0.001,
-                  optimum = args.optimum or "paper", side_min_lead = args.side_min_lead or 3}
+local which = opt.edges
+local R, r = opt.R, opt.r
+local settings = {e1 = opt.e1, e2 = opt.e2, overlap = opt.overlap,
+                  v0 = opt.v0, v1 = opt.v1, chord_tol = opt.chord_tol,
+                  optimum = opt.optimum, side_min_lead = opt.side_min_lead}
 
 -- The part: both flanks of blade 1, its neighbours and the hub as check
 -- surfaces (the blade itself for shank and holder).
@@ -105,7 +117,7 @@ end
 -- blades are 100-150 mm tall against the built-in blisk's 40: with a 50 mm
 -- shank the holder met the neighbouring blade at 649 LE contacts near the
 -- hub (no tilt out of the passage cleared them); a long-neck mill reaches.
-local shank_length = args.shank or (part_name == "rotor67" and 120 or 50)
+local shank_length = opt.shank or (part_name == "rotor67" and 120 or 50)
 local tool = bliskrun.flat_end_mill{radius = R, corner_radius = r, flute_length = 3 * R,
                                     shank = {diameter = 2 * R, length = shank_length},
                                     holder = {diameter = 4 * R, length = 40}}
@@ -140,7 +152,7 @@ for _, edge in ipairs(edges) do
   local spans = {}
   for _, f in ipairs{0.25, 0.5, 0.75} do spans[#spans + 1] = rep.span_v0 + f * (rep.span_v1 - rep.span_v0) end
   local behind = {0.05, 0.1, 0.2, 0.4, 0.6}
-  local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 400,
+  local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v,
                             flanks = {pressure, suction}, picture = stem .. "_undercut.png",
                             thickness = {spans = spans, behind = behind}}
   local cpu_sim = os.clock() - cpu0 - cpu_plan

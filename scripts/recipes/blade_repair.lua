@@ -10,29 +10,46 @@
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set damage=edge    (leading-edge nick)
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --data ../shared/data --set part=rotor37
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set measured=my_cmm.csv   (sections from a file)
--- Options: --set damage=tip|edge part=builtin|rotor37 noise=0.002 (mm) sections=30 points=2000
---          twist=1.5 (deg) bend=0.3 (mm) smoothing=0.1 (mm) seed=1 layer=0.2 layers=3
---          paths=false (stop after the region) path_layer=1.0 (mm, roughing) guard_spacing=0.05 (mm)
+-- Options: --help lists them (--set NAME=VALUE).
 -- Outputs: blade_repair.json (deviation and curvature next to the paper's),
 -- blade_repair_sections.txt (the measurement), blade_repair_{design,rebuilt,region}.stl,
 -- blade_repair_deviation.png (measured points to the rebuilt blade),
 -- blade_repair_region.png (thickness of the damaged region),
 -- blade_repair_material_left.png (after the finishing layer), report.html.
 
+local opt = require("recipe_options"){
+  damage = {type = "string", default = "tip", choices = {"tip", "edge"}, help = "tip broken off or leading edge nicked"},
+  part = {type = "string", default = "builtin", choices = {"builtin", "rotor37"}, help = "whose blade 1 is repaired"},
+  noise = {type = "number", unit = "mm", default = 0.002, range = {0, 1}, help = "noise of the simulated measurement"},
+  sections = {type = "integer", default = 30, range = {3, 1000}, help = "measured sections"},
+  points = {type = "integer", default = 2000, range = {50, 1000000}, help = "measured points"},
+  twist = {type = "number", unit = "deg", default = 1.5, range = {-30, 30}, help = "twist of the damaged blade above 30 % span"},
+  bend = {type = "number", unit = "mm", default = 0.3, range = {-10, 10}, help = "bend of the damaged blade above 30 % span"},
+  smoothing = {type = "number", unit = "mm", default = 0.1, range = {0, 10}, help = "smoothing of the rebuilt sections"},
+  seed = {type = "integer", default = 1, range = {0, 2147483647}, help = "seed of the simulated measurement"},
+  layer = {type = "number", unit = "mm", default = 0.2, range = {0.01, 5}, help = "offset layer thickness of the region"},
+  layers = {type = "integer", default = 3, range = {1, 100}, help = "offset layers of the region"},
+  measured = {type = "string", default_text = "simulated", help = "a file of measured sections instead of the simulated ones"},
+  stl_tol = {type = "number", unit = "mm", range = {1e-4, 1}, default_text = "0.05 (rotor37), 0.02",
+             help = "chord tolerance of the STL meshes"},
+  tip_tilt = {type = "number", unit = "deg", default = 0, range = {-45, 45}, help = "damage=tip: tilt of the fracture face"},
+  edge_depth = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "damage=edge: depth of the nick"},
+  paths = {type = "boolean", default = true, help = "plan the repair toolpaths (false: stop after the region)"},
+  path_layer = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "roughing layer of the paths"},
+  guard_spacing = {type = "number", unit = "mm", default = 0.05, range = {0.001, 5}, help = "spacing of the guard samples"},
+}
 local clock0 = os.clock()
 local function lap(what) bliskrun.log(string.format("%-28s %6.2f s CPU", what, os.clock() - clock0)) end
 local function xyz(v) return {v.x, v.y, v.z} end
 
-local damage = args.damage or "tip"
-if damage ~= "tip" and damage ~= "edge" then error("--set damage= expects tip or edge, got " .. tostring(damage)) end
-local part = args.part or "builtin"
-if part ~= "builtin" and part ~= "rotor37" then error("--set part= expects builtin or rotor37, got " .. tostring(part)) end
-local noise = args.noise or 0.002
-local settings = {damage = damage, part = part, noise_mm = noise, sections = args.sections or 30,
-                  points = args.points or 2000, twist_deg = args.twist or 1.5, bend_mm = args.bend or 0.3,
-                  smoothing_mm = args.smoothing or 0.1, seed = args.seed or 1, layer_mm = args.layer or 0.2,
-                  layers = args.layers or 3, measured = args.measured,
-                  stl_tol_mm = args.stl_tol or (part == "rotor37" and 0.05 or 0.02)}
+local damage = opt.damage
+local part = opt.part
+local noise = opt.noise
+local settings = {damage = damage, part = part, noise_mm = noise, sections = opt.sections,
+                  points = opt.points, twist_deg = opt.twist, bend_mm = opt.bend,
+                  smoothing_mm = opt.smoothing, seed = opt.seed, layer_mm = opt.layer,
+                  layers = opt.layers, measured = opt.measured,
+                  stl_tol_mm = opt.stl_tol or (part == "rotor37" and 0.05 or 0.02)}
 
 -- 1. The damaged blade (item 1): the built-in blisk's blade 1 or Rotor 37's,
 -- twisted and bent above 30 % span, with the tip broken off at 80 % span or
@@ -40,9 +57,9 @@ local settings = {damage = damage, part = part, noise_mm = noise, sections = arg
 local opts = {twist = settings.twist_deg, bend = settings.bend_mm}
 if part == "rotor37" then opts.rotor37 = "nasa_rotor37" end
 if damage == "tip" then
-  opts.tip_span, opts.tip_tilt = 0.8, args.tip_tilt or 0
+  opts.tip_span, opts.tip_tilt = 0.8, opt.tip_tilt
 else
-  opts.edge_from, opts.edge_to, opts.edge_depth = 0.4, 0.65, args.edge_depth or 1.0
+  opts.edge_from, opts.edge_to, opts.edge_depth = 0.4, 0.65, opt.edge_depth
 end
 local blade = bliskrun.damaged_blade(opts)
 local info = blade:info()
@@ -113,7 +130,7 @@ lap("damaged region")
 -- the rebuilt surface over the region and a band of undamaged blade beside
 -- it. `--set paths=false` stops after the region.
 local paths = {}
-if args.paths ~= false and not region.empty then
+if opt.paths and not region.empty then
   local repair = require("repair")
   local tool = bliskrun.ball_end_mill{radius = 3, flute_length = 12, shank = {diameter = 6, length = 60},
                                       holder = {diameter = 25, length = 50}}
@@ -134,9 +151,9 @@ if args.paths ~= false and not region.empty then
   local scallop, chord_tol = 0.005, 0.002
   local plan = bliskrun.repair_paths{design = rebuilt, tool = tool, world = world,
                                      pattern = damage == "tip" and "spiral" or "zigzag", u = w.u, v = w.v,
-                                     deposit = region.max_thickness, layer = args.path_layer or 1.0,
+                                     deposit = region.max_thickness, layer = opt.path_layer,
                                      stock = 0.2, scallop = scallop, chord_tol = chord_tol, clearance = 0.5,
-                                     guard_spacing = args.guard_spacing or 0.05}
+                                     guard_spacing = opt.guard_spacing}
   lap("repair toolpaths")
   for _, r in ipairs(plan.refusals) do
     bliskrun.log(string.format("  layer %d: refused at u = %.4f, v = %.4f: %s", r.layer, r.u, r.v, r.reason))

@@ -23,39 +23,38 @@
 -- its tip), closed by its edge circles (bliskrun.close_blade).
 --
 --   bliskrun scripts/recipes/blade_repair_paths.lua --out out
---            [--set tip_span=0.85] [--set deposit=2] [--set layer=0.5] [--set stock=0.2]
---            [--set scallop=0.005] [--set chord_tol=0.002] [--set ball=3]
---            [--set edge_span=0.3:0.6] [--set edge_width=4] [--set regions=tip,edge]
+--            [--set NAME=VALUE]... (--help lists them)
 -- Outputs: blade_repair_paths.json, blade_repair_tip_fanuc.nc, the material-left maps,
 -- blade_repair_paths.pvd (design blade and toolpaths), report.html.
+local opt = require("recipe_options"){
+  tip_span = {type = "number", default = 0.85, range = {0.05, 0.98}, help = "span fraction above which the tip is welded"},
+  deposit = {type = "number", unit = "mm", default = 2.0, range = {0, 10}, help = "weld deposit"},
+  layer = {type = "number", unit = "mm", default = 0.5, range = {0.05, 10}, help = "offset layer thickness"},
+  stock = {type = "number", unit = "mm", default = 0.2, range = {0, 5}, help = "stock the roughing layers leave"},
+  scallop = {type = "number", unit = "mm", default = 0.005, range = {1e-4, 0.5}, help = "scallop height between passes"},
+  chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-4, 0.1}, help = "chord deviation allowed between steps"},
+  ball = {type = "number", unit = "mm", default = 3, range = {0.5, 10}, help = "ball radius"},
+  edge_width = {type = "number", unit = "mm", default = 4, range = {0.5, 20}, help = "edge: width either side of the apex"},
+  edge_span = {type = "string", default = "0.3:0.6", help = "edge: span range lo:hi, 0 <= lo < hi <= 1",
+               check = function(v)
+                 local a, b = v:match("^([%d.]+):([%d.]+)$")
+                 a, b = tonumber(a), tonumber(b)
+                 if not (a and b and 0 <= a and a < b and b <= 1) then return "expected lo:hi with 0 <= lo < hi <= 1" end
+               end},
+  regions = {type = "string", default = "tip,edge", help = "regions to repair, a comma list of tip and edge",
+             check = function(v)
+               for name in v:gmatch("[^,]+") do
+                 if name ~= "tip" and name ~= "edge" then return "expected a list of tip and edge, got " .. name end
+               end
+             end},
+}
 local t_start = os.clock()
-local function number_arg(key, default, lo, hi)
-  local v = args[key]
-  if v == nil then return default end
-  assert(type(v) == "number" and v >= lo and v <= hi,
-         string.format("--set %s= expects a number in [%g, %g], got %s", key, lo, hi, tostring(v)))
-  return v
-end
-local tip_span = number_arg("tip_span", 0.85, 0.05, 0.98)
-local deposit = number_arg("deposit", 2.0, 0, 10)
-local layer = number_arg("layer", 0.5, 0.05, 10)
-local stock = number_arg("stock", 0.2, 0, 5)
-local scallop = number_arg("scallop", 0.005, 1e-4, 0.5)
-local chord_tol = number_arg("chord_tol", 0.002, 1e-4, 0.5)
-local ball = number_arg("ball", 3, 0.5, 10)
-local edge_width = number_arg("edge_width", 4, 0.5, 20)
-local edge_span = {0.3, 0.6}
-if args.edge_span then
-  local a, b = tostring(args.edge_span):match("^([%d.]+):([%d.]+)$")
-  a, b = tonumber(a), tonumber(b)
-  assert(a and b and 0 <= a and a < b and b <= 1, "--set edge_span= expects lo:hi with 0 <= lo < hi <= 1")
-  edge_span = {a, b}
-end
+local tip_span, deposit, layer, stock = opt.tip_span, opt.deposit, opt.layer, opt.stock
+local scallop, chord_tol, ball, edge_width = opt.scallop, opt.chord_tol, opt.ball, opt.edge_width
+local a, b = opt.edge_span:match("^([%d.]+):([%d.]+)$")
+local edge_span = {tonumber(a), tonumber(b)}
 local regions = {}
-for name in tostring(args.regions or "tip,edge"):gmatch("[^,]+") do
-  assert(name == "tip" or name == "edge", "--set regions= expects a list of tip and edge, got " .. name)
-  regions[#regions + 1] = name
-end
+for name in opt.regions:gmatch("[^,]+") do regions[#regions + 1] = name end
 
 -- The design blade, root r = 63 to tip r = 93, closed around its section.
 local blisk = bliskrun.blisk{}

@@ -25,32 +25,55 @@
 -- tolerance or a pose was refused.
 --
 --   bliskrun scripts/recipes/blisk_drum_finish.lua --out out/
---   options: --set blade=1 --set wheel=extended|traditional --set residual=0.014
---            --set chord_tol=0.002 --set steps=variable|constant --set c_range=30
---            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
---            --set link=normal|axis --set link_overcut=0.002 (how links leave the flank, and how far
---                                     below it they may dip; see docs/lua_api.md "Links")
---            --set all_blades=true   (also plan and simulate both flanks of every blade, on --threads;
---                                     --set all_samples_u=100 --set all_samples_v=500)
+--   bliskrun scripts/recipes/blisk_drum_finish.lua --help lists the options (--set NAME=VALUE);
+--   link=normal|axis and link_overcut: how links leave the flank, and how far below it they may
+--   dip (docs/lua_api.md "Links"); all_blades=true also plans and simulates both flanks of every
+--   blade, on --threads.
 
+local opt = require("recipe_options"){
+  blade = {type = "integer", default = 1, range = {1, 1000}, help = "the blade to finish"},
+  wheel = {type = "string", default = "extended", choices = {"extended", "traditional"},
+           help = "wheel of Table 2: by 1/k_e within the C range (extended) or by 1/k1 (traditional)"},
+  wheel_diameter = {type = "number", unit = "mm", range = {0.5, 100}, default_text = "Table 2's",
+                    help = "the wheel's largest diameter D_t instead of the designed one"},
+  residual = {type = "number", unit = "mm", default = 0.014, range = {0.0005, 0.5},
+              help = "residual (scallop) height between rows"},
+  chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-5, 0.1},
+               help = "chord deviation allowed between steps along a row"},
+  steps = {type = "string", default = "variable", choices = {"variable", "constant"}, help = "step rule along a row"},
+  c_range = {type = "number", unit = "deg", default = 30, range = {1, 90}, help = "C-axis range of the extended wheel"},
+  shank_clearance = {type = "number", unit = "mm", default = 0.1, range = {0, 5}, help = "clearance of the shank"},
+  link = {type = "string", choices = {"normal", "axis"}, default_text = "normal",
+          help = "links leave along the flank normal or the wheel's axis"},
+  link_overcut = {type = "number", unit = "mm", range = {0, 0.1}, default_text = "chord_tol",
+                  help = "how far below the flank a link may dip"},
+  samples_u = {type = "integer", default = 200, range = {2, 5000}, help = "simulation samples along the span"},
+  samples_v = {type = "integer", default = 1000, range = {2, 20000}, help = "simulation samples along the chord"},
+  all_blades = {type = "boolean", default = false, help = "also plan and simulate both flanks of every blade"},
+  all_samples_u = {type = "integer", default = 100, range = {2, 5000}, help = "all_blades: samples along the span"},
+  all_samples_v = {type = "integer", default = 500, range = {2, 20000}, help = "all_blades: samples along the chord"},
+}
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
 local run_report = require("run_report")
 
-local blade = args.blade or 1
-local wheel_rule = args.wheel or "extended"
-local c_range = args.c_range or 30
-local settings = {residual = args.residual or 0.014, chord_tol = args.chord_tol or 0.002,
-                  steps = args.steps or "variable", shank_clearance = args.shank_clearance or 0.1,
-                  link = args.link, link_overcut = args.link_overcut}
-assert(wheel_rule == "extended" or wheel_rule == "traditional",
-       "--set wheel= expects 'extended' or 'traditional', got " .. tostring(wheel_rule))
+local blade = opt.blade
+local wheel_rule = opt.wheel
+local c_range = opt.c_range
+local settings = {residual = opt.residual, chord_tol = opt.chord_tol,
+                  steps = opt.steps, shank_clearance = opt.shank_clearance,
+                  link = opt.link, link_overcut = opt.link_overcut}
 
 local blisk = bliskrun.blisk{}
 assert(math.type(blade) == "integer" and blade >= 1 and blade <= blisk:blade_count(),
        string.format("--set blade= expects 1..%d", blisk:blade_count()))
 local design = finish.design_wheels(blisk, {c_range = c_range})
 local tool = design.wheels[wheel_rule]
+if opt.wheel_diameter then
+  tool = bliskrun.drum_wheel{max_diameter = opt.wheel_diameter, barrel_radius = design.table2[wheel_rule].barrel_radius,
+                             head_length = 4, shank = {diameter = 6, length = 96}}
+end
+finish.check_wheel_fits(blisk, tool)  -- before planning: a wheel must enter the passage
 -- The extended wheel is only valid within the C range it was designed for.
 if wheel_rule == "extended" then settings.c_range = c_range end
 bliskrun.log(string.format("wheel %s: %s", wheel_rule, tool:description()))
@@ -73,7 +96,7 @@ for _, side in ipairs{"pressure", "suction"} do
   local r = plan:report()
   local apt = string.format("blade%d_%s.apt", blade, side)
   plan:write_apt(apt)
-  local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
+  local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
   local picture = string.format("undercut_blade%d_%s.png", blade, side)
   sim.map:write_png(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
   table.insert(vtk_blocks, {name = side .. " flank, undercut", surface = plan:trimmed(), map = sim.map,
@@ -121,7 +144,7 @@ print(string.format("  first row raised above the hub by the wheel's hub clearan
                     .. "%.2f mm (suction), left for the hub-fillet operation",
                     report.flanks.pressure.hub_strip, report.flanks.suction.hub_strip))
 
-if args.all_blades then
+if opt.all_blades then
   local worlds = blisk_world.all_blades(blisk)
   local common = finish.settings(blisk, tool, settings)
   common.jobs = {}
@@ -136,7 +159,7 @@ if args.all_blades then
   local plans = bliskrun.drum_finish_all(common)
   local all = {flanks = {}, poses = 0, refusals = 0, overcut_mm = 0}
   -- Every flank's whole program simulated too (coarser by default: 44 flanks).
-  local su, sv = args.all_samples_u or 100, args.all_samples_v or 500
+  local su, sv = opt.all_samples_u, opt.all_samples_v
   for i, plan in ipairs(plans) do
     local r = plan:report()
     local apt = string.format("blade%02d_%s.apt", (i + 1) // 2, i % 2 == 1 and "pressure" or "suction")

@@ -10,20 +10,31 @@
 -- group's undercut, the four toolpaths), report.html.
 --
 --   bliskrun scripts/recipes/blisk_drum_study.lua --out out/
---   options: --set side=pressure|suction --set blade=1 --set residual=0.014
---            --set chord_tol=0.002 --set c_range=30 --set row_u=0.93
---            --set samples_u=200 --set samples_v=1000 --set shank_clearance=0.1
+--   (--help lists the options, --set NAME=VALUE)
 
+local opt = require("recipe_options"){
+  side = {type = "string", default = "pressure", choices = {"pressure", "suction"}, help = "the flank studied"},
+  blade = {type = "integer", default = 1, range = {1, 1000}, help = "the blade studied"},
+  residual = {type = "number", unit = "mm", default = 0.014, range = {0.0005, 0.5},
+              help = "residual (scallop) height between rows"},
+  chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-5, 0.1},
+               help = "chord deviation allowed between steps along a row"},
+  c_range = {type = "number", unit = "deg", default = 30, range = {1, 90}, help = "C-axis range of wheel 2"},
+  row_u = {type = "number", default = 0.93, range = {0, 1}, help = "span fraction of the row of Fig. 13"},
+  samples_u = {type = "integer", default = 200, range = {2, 5000}, help = "simulation samples along the span"},
+  samples_v = {type = "integer", default = 1000, range = {2, 20000}, help = "simulation samples along the chord"},
+  shank_clearance = {type = "number", unit = "mm", default = 0.1, range = {0, 5}, help = "clearance of the shank"},
+}
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
 local chart = require("svg_chart")
 
-local side = args.side or "pressure"
-local blade = args.blade or 1
-local residual, chord_tol = args.residual or 0.014, args.chord_tol or 0.002
-local c_range = args.c_range or 30
-local row_u = args.row_u or 0.93  -- the row of Fig. 13
-local shank_clearance = args.shank_clearance or 0.1
+local side = opt.side
+local blade = opt.blade
+local residual, chord_tol = opt.residual, opt.chord_tol
+local c_range = opt.c_range
+local row_u = opt.row_u  -- the row of Fig. 13
+local shank_clearance = opt.shank_clearance
 
 local blisk = bliskrun.blisk{}
 local design = finish.design_wheels(blisk, {c_range = c_range})
@@ -47,7 +58,7 @@ for _, g in ipairs(groups) do
     c_range = g.rule == "extended" and c_range or nil,
   })
   local r = plan:report()
-  local sim = plan:simulate{samples_u = args.samples_u or 200, samples_v = args.samples_v or 1000}
+  local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
   local picture = "fig15_undercut_" .. g.id .. ".png"
   -- One colour scale for all four maps, so they compare.
   sim.map:write_png(picture, {title = string.format("Fig. 15 (%s): undercut, wheel %d, %s chord height (mm)", g.id,

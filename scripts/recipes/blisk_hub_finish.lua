@@ -21,24 +21,20 @@
 -- channel, the neighbours' copies of the plan included (the blisk is
 -- periodic: a job turns this plan onto every blade).
 --
---   bliskrun scripts/recipes/blisk_hub_finish.lua --out out
---            [--set ball=1.5] [--set taper=2.5] [--set top=4] [--set scallop=0.005]
---            [--set chord_tol=0.001] [--set simulate=true]
+--   bliskrun scripts/recipes/blisk_hub_finish.lua --out out [--set NAME=VALUE]... (--help lists them)
 -- Outputs: blisk_hub_finish.json, blisk_hub_finish.apt.
 local t_start = os.clock()
-local function number_arg(key, default, lo, hi)
-  local v = args[key]
-  if v == nil then return default end
-  assert(type(v) == "number" and v >= lo and v <= hi,
-         string.format("--set %s= expects a number in [%g, %g], got %s", key, lo, hi, tostring(v)))
-  return v
-end
-local ball = number_arg("ball", 1.5, 0.5, 3)
-local taper = number_arg("taper", 2.5, 0, 5)
-local top = number_arg("top", 4, 0.5, 20)
-local scallop = number_arg("scallop", 0.005, 1e-4, 0.1)
-local chord_tol = number_arg("chord_tol", 0.001, 1e-4, 0.05)
-local simulate = args.simulate ~= false and args.simulate ~= "false"
+local opt = require("recipe_options"){
+  ball = {type = "number", unit = "mm", default = 1.5, range = {0.5, 3}, help = "tip (ball) radius of the tapered ball"},
+  taper = {type = "number", unit = "deg", default = 2.5, range = {0, 5}, help = "half angle of the taper"},
+  top = {type = "number", unit = "mm", default = 4, range = {0.5, 20}, help = "height of the root strip above the hub"},
+  scallop = {type = "number", unit = "mm", default = 0.005, range = {1e-4, 0.1}, help = "scallop height between rows"},
+  chord_tol = {type = "number", unit = "mm", default = 0.001, range = {1e-4, 0.05},
+               help = "chord deviation allowed between steps"},
+  simulate = {type = "boolean", default = true, help = "simulate the plan on the blade and the hub"},
+}
+local ball, taper, top, scallop, chord_tol = opt.ball, opt.taper, opt.top, opt.scallop, opt.chord_tol
+local simulate = opt.simulate
 
 local blisk = bliskrun.blisk{}
 local n = blisk:blade_count()

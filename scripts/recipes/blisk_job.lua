@@ -7,20 +7,41 @@
 -- a B/C head-table (Heidenhain TCPM), each program read back and replayed.
 -- Blade 1 is planned, the others get its paths turned by the pitch.
 --
---   bliskrun scripts/recipes/blisk_job.lua --out out [--set blades=2] [--set sides=both|pressure|suction]
---     [--set edges=false] [--set hub=false] [--set edge_span=0.1,0.9] [--set periodic=false] [--set hub_top=MM]
---     [--set samples_u=100 --set samples_v=500] [--set edge_samples_u=200 --set edge_samples_v=400]
---     [--set tool_life=MM] (sister wheels T15, T25, ...) [--set blade_map=lean|false] [--set seam_spacing=0.1]
+--   bliskrun scripts/recipes/blisk_job.lua --out out [--set NAME=VALUE]...
+--   (bliskrun scripts/recipes/blisk_job.lua --help lists the options below)
+local opt = require("recipe_options"){
+  blades = {type = "integer", default = 2, range = {1, 1000}, help = "blades to machine, from blade 1"},
+  sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"},
+           help = "flanks the drum wheel finishes"},
+  edges = {type = "boolean", default = true, help = "finish the leading and trailing edges (flat-end mill)"},
+  hub = {type = "boolean", default = true, help = "finish the roots and the channel floor (tapered ball)"},
+  edge_span = {type = "string", default = "0.1,0.9", help = "span fractions a,b of the edge finish, 0 <= a < b <= 1",
+               check = function(v)
+                 local a, b = v:match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
+                 a, b = tonumber(a), tonumber(b)
+                 if not (a and b and 0 <= a and a < b and b <= 1) then return "expected two numbers a,b with 0 <= a < b <= 1" end
+               end},
+  periodic = {type = "boolean", default = true, help = "plan blade 1 and turn its paths by the pitch onto the others"},
+  hub_top = {type = "number", unit = "mm", range = {0.1, 30}, default_text = "4 (the hub finish's)",
+             help = "height of the root strip's top above the hub"},
+  samples_u = {type = "integer", default = 100, range = {2, 5000}, help = "simulation samples along the span"},
+  samples_v = {type = "integer", default = 500, range = {2, 20000}, help = "simulation samples along the chord"},
+  edge_samples_u = {type = "integer", range = {2, 5000}, default_text = "the job's", help = "edge simulation samples, span"},
+  edge_samples_v = {type = "integer", range = {2, 20000}, default_text = "the job's", help = "edge simulation samples, chord"},
+  seam_spacing = {type = "number", unit = "mm", range = {0.001, 10}, default_text = "the job's",
+                  help = "sample spacing of the seams between operations"},
+  tool_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
+               help = "cutting length per wheel, then the next sister wheel (T15, T25, ...)"},
+  blade_map = {type = "choice", default = true, choices = {true, false, "lean"},
+               help = "the blade-1 map of every operation (lean: fewer samples)"},
+}
 local job, finish = require("job"), require("blisk_finish")
-local function on(v) return v ~= false and v ~= "false" end
 
 local blisk = bliskrun.blisk{}
-local blades = job.first_blades(blisk, args.blades or 2)
-local sides = ({both = {"pressure", "suction"}, pressure = {"pressure"}, suction = {"suction"}})[args.sides or "both"]
-assert(sides, "--set sides= expects both, pressure or suction")
-local a, b = tostring(args.edge_span or "0.1,0.9"):match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
-assert(a, "--set edge_span= expects two numbers a,b with 0 <= a < b <= 1")
-local span, periodic, edges, hub = {tonumber(a), tonumber(b)}, on(args.periodic), on(args.edges), on(args.hub)
+local blades = job.first_blades(blisk, opt.blades)
+local sides = ({both = {"pressure", "suction"}, pressure = {"pressure"}, suction = {"suction"}})[opt.sides]
+local a, b = opt.edge_span:match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
+local span, periodic, edges, hub = {tonumber(a), tonumber(b)}, opt.periodic, opt.edges, opt.hub
 
 local wheel = finish.design_wheels(blisk, {c_range = 30}).wheels.extended  -- the extended wheel of Table 2
 local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,
@@ -39,7 +60,7 @@ if edges then
 end
 if hub then  -- the root strip's top 0.5 mm over the edges' first rows (or --set hub_top=MM)
   operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, scallop = 0.005, feed = 800,
-                                               periodic = periodic, top = args.hub_top and tonumber(args.hub_top)}
+                                               periodic = periodic, top = opt.hub_top}
 end
 if edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = span,
@@ -50,8 +71,8 @@ local j = job.new{
   name = "blisk blades" .. (edges and ", edges" or "") .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
   -- --set tool_life=MM: whole blades per wheel up to that cutting length, then the next sister wheel.
-  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = args.tool_life,
-                    sisters = args.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
+  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
+                    sisters = opt.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
            mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill},
            ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}},
 }
@@ -59,12 +80,12 @@ local j = job.new{
 -- in a second setup, turned over. A seam beyond its operations' promises
 -- fails the run after the report.
 j:run{name = "blisk_job",
-  simulate = {samples_u = args.samples_u or 100, samples_v = args.samples_v or 500, seam_spacing = args.seam_spacing,
-              edge_samples_u = args.edge_samples_u, edge_samples_v = args.edge_samples_v},
-  blade_map = edges and hub and on(args.blade_map) and (args.blade_map == "lean" and "lean" or true),
+  simulate = {samples_u = opt.samples_u, samples_v = opt.samples_v, seam_spacing = opt.seam_spacing,
+              edge_samples_u = opt.edge_samples_u, edge_samples_v = opt.edge_samples_v},
+  blade_map = edges and hub and opt.blade_map ~= false and (opt.blade_map == "lean" and "lean" or true),
   setups = {{name = "inlet down"}, {name = "turned over (inlet up)", flip = true, from = "leading edge"}},
   programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}},
-  settings = {blades = #blades, sides = args.sides or "both", edges = edges,
-              edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = args.tool_life or "none", samples_u = args.samples_u or 100,
-              samples_v = args.samples_v or 500}}
+  settings = {blades = #blades, sides = opt.sides, edges = edges,
+              edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
+              samples_v = opt.samples_v}}

@@ -12,18 +12,20 @@
 -- docs/lua_api.md, post.write). Each header states where the work offset
 -- must be set.
 --
---   bliskrun scripts/recipes/blisk_post.lua --out out [--set side=suction|pressure]
---            [--set blade=1] [--set feed=600]
+--   bliskrun scripts/recipes/blisk_post.lua --out out [--set NAME=VALUE]... (--help lists them)
 -- Outputs: the two programs, blisk_post.json, blisk_post.pvd (flank and
 -- toolpath for ParaView), report.html.
+local opt = require("recipe_options"){
+  blade = {type = "integer", default = 1, range = {1, 1000}, help = "the blade whose flank is posted"},
+  side = {type = "string", default = "suction", choices = {"suction", "pressure"}, help = "the flank posted"},
+  feed = {type = "number", unit = "mm/min", default = 600, range = {1, 100000}, help = "feed along the flank"},
+}
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
 
-local blade = args.blade or 1
-local side = args.side or "suction"
-local feed = args.feed or 600                  -- mm/min along the flank
-assert(side == "suction" or side == "pressure", "--set side= expects 'suction' or 'pressure'")
-assert(type(feed) == "number" and feed > 0, "--set feed= expects a feed > 0 mm/min")
+local blade = opt.blade
+local side = opt.side
+local feed = opt.feed                  -- mm/min along the flank
 
 local blisk = bliskrun.blisk{}
 assert(math.type(blade) == "integer" and blade >= 1 and blade <= blisk:blade_count(),

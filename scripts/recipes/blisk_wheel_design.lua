@@ -12,11 +12,17 @@
 -- blisk_wheel_design.pvd (the machined flanks, for ParaView), report.html.
 --
 --   bliskrun scripts/recipes/blisk_wheel_design.lua --out out/
---   options: --set blades=22 --set c_range=30 --set rows=100 --set cols=500
+--   (--help lists the options, --set NAME=VALUE)
 
-local blades = args.blades or 22
-local c_range = args.c_range or 30 * deg
-local rows, cols = args.rows or 100, args.cols or 500
+local opt = require("recipe_options"){
+  blades = {type = "integer", default = 22, range = {3, 200}, help = "blades of the built-in blisk"},
+  c_range = {type = "number", unit = "deg", default = 30 * deg, range = {1, 90}, help = "C-axis range of the extended rule"},
+  rows = {type = "integer", default = 100, range = {4, 2000}, help = "grid rows of each flank (span)"},
+  cols = {type = "integer", default = 500, range = {4, 10000}, help = "grid columns of each flank (chord)"},
+}
+local blades = opt.blades
+local c_range = opt.c_range
+local rows, cols = opt.rows, opt.cols
 
 local blisk = bliskrun.blisk{blade_count = blades, grid_rows = rows, grid_cols = cols}
 bliskrun.log(tostring(blisk))

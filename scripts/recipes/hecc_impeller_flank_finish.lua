@@ -15,17 +15,26 @@
 --   hecc_<main|splitter>_<pressure|suction>.apt, ..._residual.png, hecc_ruled_<...>.stl
 --   hecc_impeller_flank_finish.json   ruled fit, poses, refusals, residual per face
 --   hecc_impeller_flank_finish.pvd, report.html  faces and cutter axes for ParaView; the run's page
--- Options: --set chord_tol=0.005 --set mesh_tol=0.05 --set residual_points=40
---          --set tolerance=0.05 (thickness tolerance, mm) --set set=design|cold
---          --set balance=false (the paper's axes, no shift centring each axis's residual)
+-- Options: --help lists them (--set NAME=VALUE).
 
-local set = args.set or "design"
-local chord_tol = args.chord_tol or 0.005
-local mesh_tol = args.mesh_tol or 0.05
-local residual_points = args.residual_points or 40
-local tolerance = args.tolerance or 0.05
-local tip_radius, half_angle = args.tip_radius or 2, args.half_angle or 2
-local balance = args.balance ~= false
+local opt = require("recipe_options"){
+  set = {type = "string", default = "design", choices = {"design", "cold"}, help = "which HECC geometry set"},
+  chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-5, 0.1}, help = "chord deviation allowed between steps"},
+  mesh_tol = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "chord tolerance of the collision meshes"},
+  residual_points = {type = "integer", default = 40, range = {2, 1000}, help = "points per ruling where the residual is measured"},
+  tolerance = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "blade thickness tolerance"},
+  tip_radius = {type = "number", unit = "mm", default = 2, range = {0.5, 20}, help = "tip (ball) radius of the tapered ball end"},
+  half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
+  balance = {type = "boolean", default = true, help = "centre each axis's residual band on zero (false: the paper's axes)"},
+  flute_length = {type = "number", unit = "mm", default = 90, range = {5, 300}, help = "flute length of the cutter"},
+}
+local set = opt.set
+local chord_tol = opt.chord_tol
+local mesh_tol = opt.mesh_tol
+local residual_points = opt.residual_points
+local tolerance = opt.tolerance
+local tip_radius, half_angle = opt.tip_radius, opt.half_angle
+local balance = opt.balance
 
 local parts = {}
 for _, blade in ipairs{"main", "splitter"} do
@@ -35,7 +44,7 @@ local n = parts.main.blades
 local pitch = 360 / n
 local hub = parts.main.hub
 local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle = half_angle,
-                                            flute_length = args.flute_length or 90,
+                                            flute_length = opt.flute_length,
                                             shank = {diameter = 12, length = 60},
                                             holder = {diameter = 40, length = 60}}
 

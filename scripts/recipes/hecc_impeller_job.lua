@@ -8,23 +8,53 @@
 -- tolerance — the run says so per face (finish.<face>.within_tolerance):
 -- these faces need point milling.
 --
---   bliskrun scripts/recipes/hecc_impeller_job.lua --data ../shared/data --out out [--set blades=15]
---            [--set stations=41] [--set stock=MM] [--set min_stock=0.2] [--set depth_step=5] [--set scallop=0.01]
---            [--set hub_stock=0] [--set chord_tol=0.005] [--set finish_life=MM] [--set rough_life=MM]
---            [--set channels=inlet,left,right] [--set "faces=main plus,main minus,splitter plus,splitter minus"]
---            [--set sim_u=60] [--set sim_v=300] [--set simulate=false] [--set tolerance=0.05] [--set set=design|cold]
+--   bliskrun scripts/recipes/hecc_impeller_job.lua --data ../shared/data --out out [--set NAME=VALUE]...
+--            (--help lists them)
+-- A comma list of names from `known`: nil, or what was expected.
+local function list_of(v, known)
+  for item in v:gmatch("[^,]+") do
+    local ok = false
+    for _, k in ipairs(known) do ok = ok or k == item end
+    if not ok then return "'" .. item .. "' is not one of " .. table.concat(known, ", ") end
+  end
+end
+local opt = require("recipe_options"){
+  blades = {type = "integer", range = {1, 1000}, default_text = "all", help = "blades to machine, from blade 1"},
+  stations = {type = "integer", default = 41, range = {3, 1000}, help = "stations of the notch along the channel"},
+  finish_life = {type = "number", unit = "mm", default = 4000, range = {1, 1e7},
+                 help = "cutting length per finishing cutter; sisters T12, T22, ... follow"},
+  rough_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
+                help = "cutting length per roughing cutter; sisters T11, T21, ... follow"},
+  scallop = {type = "number", unit = "mm", default = 0.01, range = {1e-4, 1}, help = "scallop height of the widening"},
+  depth_step = {type = "number", unit = "mm", default = 5, range = {0.1, 50}, help = "depth step of the notch"},
+  hub_stock = {type = "number", unit = "mm", default = 0, range = {0, 10}, help = "left on the hub by the widening"},
+  chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-5, 0.1},
+               help = "chord deviation allowed between steps of the flank finish"},
+  channels = {type = "string", default_text = "inlet,left,right", help = "channels to notch, a comma list",
+              check = function(v) return list_of(v, {"inlet", "left", "right"}) end},
+  faces = {type = "string", default_text = "every face", help = "faces to finish, a comma list",
+           check = function(v) return list_of(v, {"main plus", "main minus", "splitter plus", "splitter minus"}) end},
+  sim_u = {type = "integer", default = 60, range = {2, 5000}, help = "simulation samples along the span"},
+  sim_v = {type = "integer", default = 300, range = {2, 20000}, help = "simulation samples along the chord"},
+  simulate = {type = "boolean", default = true, help = "simulate blade 1's faces and one pitch of the hub"},
+  stock = {type = "number", unit = "mm", range = {0, 10}, default_text = "largest fit error + 0.5, at least 0.5",
+           help = "stock the roughing leaves on the faces"},
+  min_stock = {type = "number", unit = "mm", default = 0.2, range = {0, 10}, help = "least stock the notch leaves"},
+  tolerance = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "blade thickness tolerance"},
+  set = {type = "string", default = "design", choices = {"design", "cold"}, help = "which HECC geometry set"},
+}
 local job = require("job")
 
-local part = require("hecc_impeller_part").load{set = args.set or "design"}
-local blades = job.first_blades(part, args.blades)
+local part = require("hecc_impeller_part").load{set = opt.set}
+local blades = job.first_blades(part, opt.blades)
 local fits, fit_max = {}, 0
 for _, face in ipairs{"main plus", "main minus", "splitter plus", "splitter minus"} do
   local f = part:ruled_fit(face:match("^(%a+) (%a+)$"))
   fits[face], fit_max = {max_mm = f.max, rms_mm = f.rms, worst_row = f.worst_row, worst_col = f.worst_col},
                         math.max(fit_max, f.max)
 end
-local min_stock = args.min_stock or 0.2
-local stock = args.stock or math.max(0.5, math.ceil((fit_max + 0.5) * 10 - 1e-9) / 10)
+local min_stock = opt.min_stock
+local stock = opt.stock or math.max(0.5, math.ceil((fit_max + 0.5) * 10 - 1e-9) / 10)
 print(string.format("HECC impeller: %d main + %d splitter blades; ruled fits of the lofted faces %.3f mm at worst; "
                     .. "roughing stock %.2f mm (min %.2f)", part:blade_count(), part:blade_count(), fit_max, stock,
                     min_stock))
@@ -32,32 +62,32 @@ print(string.format("HECC impeller: %d main + %d splitter blades; ruled fits of 
 local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, flute_length = 90,
                                               shank = {diameter = 12, length = 60},
                                               holder = {diameter = 40, length = 60}}
-local finish_life = args.finish_life or 4000
+local finish_life = opt.finish_life
 local j = job.new{
   name = "hecc impeller", part = part, clearance = 10,
   tools = {
     rougher = {number = 1, length = 150, spindle_rpm = 15000, tool = cutter, ball_radius = 2,
-               life_mm = args.rough_life, sisters = args.rough_life and {11, 21, 31, 41, 51, 61, 71} or nil},
+               life_mm = opt.rough_life, sisters = opt.rough_life and {11, 21, 31, 41, 51, 61, 71} or nil},
     finisher = {number = 2, length = 150, spindle_rpm = 18000, tool = cutter, ball_radius = 2,
                 life_mm = finish_life, sisters = {12, 22, 32, 42, 52, 62, 72}},
   },
   operations = {
     job.notch{tool = "rougher", blades = blades, stock = stock, min_stock = min_stock,
-              depth_step = args.depth_step or 5, stations = args.stations or 41,
-              channels = job.split_list(args.channels), feed = 800},
-    job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, hub_stock = args.hub_stock or 0,
+              depth_step = opt.depth_step, stations = opt.stations,
+              channels = job.split_list(opt.channels), feed = 800},
+    job.widen{tool = "rougher", blades = blades, scallop = opt.scallop, hub_stock = opt.hub_stock,
               feed = 1000},
-    job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005,
-                     faces = job.split_list(args.faces), feed = 600},
+    job.flank_finish{tool = "finisher", blades = blades, chord_tol = opt.chord_tol,
+                     faces = job.split_list(opt.faces), feed = 600},
   },
 }
 -- Simulated: stock up to the roughing stock + the fit error tracked; an
 -- overcut measured down to half the thinnest blade. A face may be cut what
 -- its flank finish's plan says (+ 20 um for sampling a residual of tenths).
 local thinnest = job.thinnest_blade(part)
-local search_below, tolerance = math.min(fit_max + 0.5, thinnest / 2), args.tolerance or 0.05
+local search_below, tolerance = math.min(fit_max + 0.5, thinnest / 2), opt.tolerance
 j:run{name = "hecc_impeller_job", title = "Job: NASA HECC impeller", thickness_tolerance = tolerance,
-  simulate = args.simulate ~= false and {samples_u = args.sim_u or 60, samples_v = args.sim_v or 300,
+  simulate = opt.simulate ~= false and {samples_u = opt.sim_u, samples_v = opt.sim_v,
                                          search_above = stock + fit_max + 0.5, search_below = search_below},
   overcut_slack = 0.02,
   programs = {{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "hecc_impeller_job_bc_heidenhain.h"},
@@ -65,7 +95,7 @@ j:run{name = "hecc_impeller_job", title = "Job: NASA HECC impeller", thickness_t
                name = "table_table_bc", post = "fanuc", file = "hecc_impeller_job_bc_fanuc.nc"}},
   json = {part = tostring(part), frame = part.frame, ruled_fit = fits, roughing_stock_mm = stock,
           min_stock_mm = min_stock, blade_thickness_min_mm = thinnest, simulation_search_below_mm = search_below},
-  settings = {blades = #blades, stations = args.stations or 41, roughing_stock_mm = stock,
+  settings = {blades = #blades, stations = opt.stations, roughing_stock_mm = stock,
               finish_life_mm = finish_life, thickness_tolerance_mm = tolerance, tool = cutter:description()},
   -- The recipe's own section: the fits the faces are planned on.
   sections = function()

@@ -11,11 +11,16 @@
 --                                         of each section left out of the loft
 --   hecc_impeller_model.json              fit numbers, edge circles, files
 --   hecc_impeller_model.pvd, report.html  the meshes for ParaView, the run's page
--- Options: --set set=design|cold  --set cols=200  --set chord_tol=0.01
+-- Options: --help lists them (--set NAME=VALUE).
 
-local set = args.set or "design"
-local chord_tol = args.chord_tol or 0.01
-local cols = args.cols or 200
+local opt = require("recipe_options"){
+  set = {type = "string", default = "design", choices = {"design", "cold"}, help = "which HECC geometry set"},
+  chord_tol = {type = "number", unit = "mm", default = 0.01, range = {1e-5, 1}, help = "chord tolerance of the STL meshes"},
+  cols = {type = "integer", default = 200, range = {4, 10000}, help = "points per section of the loft"},
+}
+local set = opt.set
+local chord_tol = opt.chord_tol
+local cols = opt.cols
 
 -- Per section, on a log scale in um: the given points against the lofted
 -- flanks (max dark, RMS light) and against the loft without that section

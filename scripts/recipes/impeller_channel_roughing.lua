@@ -17,22 +17,33 @@
 --   impeller_channel_<name>.apt       APT/CL per channel (GOTO tip, axis; RAPID before links and leads)
 --   impeller_channel_roughing.json    passes, widths, step-over, measured scallop, refusals per channel
 --   impeller_channel_roughing.pvd, report.html   faces, hub and toolpaths for ParaView; the run's page
--- Options: --set stations=41  --set stock=0.5  --set min_stock=0.2  --set scallop=0.01  --set depth_step=5
---          --set tip_radius=3  --set mesh_tol=0.05  --set channels=inlet,left,right  --set splitter_gap=20
+-- Options: --help lists them (--set NAME=VALUE).
 
-local stations = args.stations or 41
-local stock = args.stock or 0.5
+local opt = require("recipe_options"){
+  stations = {type = "integer", default = 41, range = {3, 1000}, help = "stations along the channel"},
+  stock = {type = "number", unit = "mm", default = 0.5, range = {0, 10}, help = "stock left on the faces"},
+  min_stock = {type = "number", unit = "mm", default = 0.2, range = {0, 10}, help = "least stock any move may leave on a face or the hub"},
+  scallop = {type = "number", unit = "mm", default = 0.01, range = {1e-4, 1}, help = "scallop height of the widening"},
+  depth_step = {type = "number", unit = "mm", default = 5, range = {0.1, 50}, help = "depth step of the notch"},
+  tip_radius = {type = "number", unit = "mm", default = 3, range = {0.5, 20}, help = "tip (ball) radius of the tapered ball end"},
+  half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
+  mesh_tol = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "chord tolerance of the collision meshes"},
+  channels = {type = "string", default = "inlet,left,right", check = function(v) for c in v:gmatch("[^,]+") do if c ~= "inlet" and c ~= "left" and c ~= "right" then return "'" .. c .. "' is not inlet, left or right" end end end, help = "channels to rough, a comma list of inlet, left, right"},
+  splitter_gap = {type = "number", unit = "mm", default = 20, range = {0, 200}, help = "how far (meridional) the inlet channel stops short of the splitter's leading edge"},
+}
+local stations = opt.stations
+local stock = opt.stock
 -- The least stock any move may leave on a face or the hub (the cutter's
 -- clearance): the last widening path is the finishing (swarf) pose of the
 -- cutter grown by the stock, which on these twisted faces cuts up to
 -- ~0.17 mm into the grown offset mid-ruling (the flank-milling residual).
-local min_stock = args.min_stock or 0.2
-local scallop = args.scallop or 0.01
-local depth_step = args.depth_step or 5
-local tip_radius, half_angle = args.tip_radius or 3, args.half_angle or 2
-local mesh_tol = args.mesh_tol or 0.05
+local min_stock = opt.min_stock
+local scallop = opt.scallop
+local depth_step = opt.depth_step
+local tip_radius, half_angle = opt.tip_radius, opt.half_angle
+local mesh_tol = opt.mesh_tol
 local wanted = {}
-for name in tostring(args.channels or "inlet,left,right"):gmatch("[^,]+") do wanted[name] = true end
+for name in tostring(opt.channels):gmatch("[^,]+") do wanted[name] = true end
 
 local imp = bliskrun.impeller{}
 local hub = imp:hub()
@@ -43,7 +54,7 @@ local tool = bliskrun.tapered_ball_end_mill{tip_radius = tip_radius, half_angle 
 -- The channel between main blades 1 and 2, as three channels around the
 -- splitter, and what they are proved against (scripts/lib/impeller_world.lua).
 local iw = require("impeller_world")
-local gap = args.splitter_gap or 20  -- mm (meridional) the inlet channel stops short of the splitter's leading edge
+local gap = opt.splitter_gap  -- mm (meridional) the inlet channel stops short of the splitter's leading edge
 local channels = iw.channels(imp, {gap = gap})
 local meshes = iw.meshes(imp, mesh_tol)
 local world = iw.channel_world(imp, meshes)

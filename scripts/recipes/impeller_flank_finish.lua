@@ -20,17 +20,25 @@
 --   impeller_blade1_<...>.stl, impeller_hub.stl  the model
 --   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose
 --   impeller_flank_finish.pvd, report.html   faces, hub and cutter axes for ParaView; the run's page
--- Options: --set chord_tol=0.005  --set mesh_tol=0.05  --set residual_points=40
---          --set clearance=0.5  --set apt_blades=1 (blades written to APT, by rotation)
---          --set balance=false (the paper's axes: no shift centring each axis's residual on zero)
+-- Options: --help lists them (--set NAME=VALUE).
 
-local chord_tol = args.chord_tol or 0.005
-local mesh_tol = args.mesh_tol or 0.05
-local residual_points = args.residual_points or 40
-local clearance = args.clearance or 0.5
-local apt_blades = args.apt_blades or 1
-local balance = args.balance ~= false  -- centre each axis's residual band on zero (before/after reported)
-local tip_radius, half_angle = args.tip_radius or 3, args.half_angle or 2
+local opt = require("recipe_options"){
+  chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-5, 0.1}, help = "chord deviation allowed between steps"},
+  mesh_tol = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "chord tolerance of the collision meshes"},
+  residual_points = {type = "integer", default = 40, range = {2, 1000}, help = "points per ruling where the residual is measured"},
+  clearance = {type = "number", unit = "mm", default = 0.5, range = {0, 10}, help = "clearance of the whole tool from the neighbouring faces and the hub"},
+  apt_blades = {type = "integer", default = 1, range = {1, 1000}, help = "blades written to APT, by rotation"},
+  balance = {type = "boolean", default = true, help = "centre each axis's residual band on zero (false: the paper's axes)"},
+  tip_radius = {type = "number", unit = "mm", default = 3, range = {0.5, 20}, help = "tip (ball) radius of the tapered ball end"},
+  half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
+}
+local chord_tol = opt.chord_tol
+local mesh_tol = opt.mesh_tol
+local residual_points = opt.residual_points
+local clearance = opt.clearance
+local apt_blades = opt.apt_blades
+local balance = opt.balance  -- centre each axis's residual band on zero (before/after reported)
+local tip_radius, half_angle = opt.tip_radius, opt.half_angle
 
 local imp = bliskrun.impeller{}
 local n = imp:blade_count()

@@ -10,48 +10,73 @@
 -- back and replayed. Nothing is posted after an overcut the operations do
 -- not allow (a face: its flank finish's residual, eq. 33-36, + 5 um).
 --
---   bliskrun scripts/recipes/impeller_job.lua --out out [--set blades=17] [--set stations=41]
---            [--set finish_life=MM] [--set rough_life=MM]   (cutting length per cutter; sisters follow)
---            [--set scallop=0.01] [--set depth_step=5] [--set stock=0.5] [--set chord_tol=0.005]
---            [--set hub_stock=0]   (left on the hub by the widening; the faces keep the stock)
---            [--set channels=inlet,left,right] [--set "faces=main plus,main minus,splitter plus,splitter minus"]
---            [--set sim_u=60] [--set sim_v=300] [--set simulate=false]   (samples of the simulated surfaces)
+--   bliskrun scripts/recipes/impeller_job.lua --out out [--set NAME=VALUE]...
+--            (--help lists them; e.g. --set "faces=main plus,splitter minus" --set finish_life=MM)
+-- A comma list of names from `known`: nil, or what was expected.
+local function list_of(v, known)
+  for item in v:gmatch("[^,]+") do
+    local ok = false
+    for _, k in ipairs(known) do ok = ok or k == item end
+    if not ok then return "'" .. item .. "' is not one of " .. table.concat(known, ", ") end
+  end
+end
+local opt = require("recipe_options"){
+  blades = {type = "integer", range = {1, 1000}, default_text = "all", help = "blades to machine, from blade 1"},
+  stations = {type = "integer", default = 41, range = {3, 1000}, help = "stations of the notch along the channel"},
+  finish_life = {type = "number", unit = "mm", default = 4000, range = {1, 1e7},
+                 help = "cutting length per finishing cutter; sisters T12, T22, ... follow"},
+  rough_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
+                help = "cutting length per roughing cutter; sisters T11, T21, ... follow"},
+  scallop = {type = "number", unit = "mm", default = 0.01, range = {1e-4, 1}, help = "scallop height of the widening"},
+  depth_step = {type = "number", unit = "mm", default = 5, range = {0.1, 50}, help = "depth step of the notch"},
+  hub_stock = {type = "number", unit = "mm", default = 0, range = {0, 10}, help = "left on the hub by the widening"},
+  chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-5, 0.1},
+               help = "chord deviation allowed between steps of the flank finish"},
+  channels = {type = "string", default_text = "inlet,left,right", help = "channels to notch, a comma list",
+              check = function(v) return list_of(v, {"inlet", "left", "right"}) end},
+  faces = {type = "string", default_text = "every face", help = "faces to finish, a comma list",
+           check = function(v) return list_of(v, {"main plus", "main minus", "splitter plus", "splitter minus"}) end},
+  sim_u = {type = "integer", default = 60, range = {2, 5000}, help = "simulation samples along the span"},
+  sim_v = {type = "integer", default = 300, range = {2, 20000}, help = "simulation samples along the chord"},
+  stock = {type = "number", unit = "mm", default = 0.5, range = {0, 10}, help = "stock the roughing leaves on the faces"},
+  simulate = {type = "boolean", default = true, help = "simulate blade 1's faces and one pitch of the hub"},
+}
 local job = require("job")
 
 local imp = bliskrun.impeller{}
-local blades = job.first_blades(imp, args.blades)
+local blades = job.first_blades(imp, opt.blades)
 -- The paper's tapered ball-end mill for roughing and finishing (two tools of
 -- the same form: the rougher wears, the finisher holds the size).
 local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 2, flute_length = 90,
                                               shank = {diameter = 16, length = 60},
                                               holder = {diameter = 50, length = 60}}
 -- Finishing cutting length per cutter: the default puts the 17 blades on 4 cutters (5, 4, 4, 4).
-local finish_life = args.finish_life or 4000
+local finish_life = opt.finish_life
 local j = job.new{
   name = "impeller", part = imp,
   clearance = 10,  -- links run 10 mm over the impeller's outline (hub, shroud, blade ends)
   tools = {
     rougher = {number = 1, length = 150, spindle_rpm = 12000, tool = cutter, ball_radius = 3,
-               life_mm = args.rough_life, sisters = args.rough_life and {11, 21, 31, 41, 51, 61, 71} or nil},
+               life_mm = opt.rough_life, sisters = opt.rough_life and {11, 21, 31, 41, 51, 61, 71} or nil},
     finisher = {number = 2, length = 150, spindle_rpm = 15000, tool = cutter, ball_radius = 3,
                 life_mm = finish_life, sisters = {12, 22, 32, 42, 52, 62, 72}},
   },
   operations = {
-    job.notch{tool = "rougher", blades = blades, stock = args.stock or 0.5, depth_step = args.depth_step or 5,
-              stations = args.stations or 41, channels = job.split_list(args.channels), feed = 800},
-    job.widen{tool = "rougher", blades = blades, scallop = args.scallop or 0.01, hub_stock = args.hub_stock or 0,
+    job.notch{tool = "rougher", blades = blades, stock = opt.stock, depth_step = opt.depth_step,
+              stations = opt.stations, channels = job.split_list(opt.channels), feed = 800},
+    job.widen{tool = "rougher", blades = blades, scallop = opt.scallop, hub_stock = opt.hub_stock,
               feed = 1000},
-    job.flank_finish{tool = "finisher", blades = blades, chord_tol = args.chord_tol or 0.005,
-                     faces = job.split_list(args.faces), feed = 600},
+    job.flank_finish{tool = "finisher", blades = blades, chord_tol = opt.chord_tol,
+                     faces = job.split_list(opt.faces), feed = 600},
   },
 }
 -- B/C trunnions, whose cradle swivels both ways: at the outlet the widening
 -- carries the tool axis over the pole of the table's C axis, where an A/C
 -- cradle that tilts one way (-120..+30 deg) runs out of travel.
 j:run{name = "impeller_job", json = {part = "built-in impeller"},
-  simulate = args.simulate ~= false and {samples_u = args.sim_u or 60, samples_v = args.sim_v or 300},
+  simulate = opt.simulate ~= false and {samples_u = opt.sim_u, samples_v = opt.sim_v},
   programs = {{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "impeller_job_bc_heidenhain.h"},
               {machine = bliskrun.machine.load("table_table_bc", {name = "B/C trunnion 600 (Fanuc)"}),
                name = "table_table_bc", post = "fanuc", file = "impeller_job_bc_fanuc.nc"}},
-  settings = {blades = #blades, stations = args.stations or 41, finish_life_mm = finish_life,
+  settings = {blades = #blades, stations = opt.stations, finish_life_mm = finish_life,
               tool = cutter:description()}}

@@ -8,11 +8,15 @@
 -- measures the narrowest passage to the next blade (one pitch, 360/36
 -- degrees, away) and sizes the drum wheel by the traditional and the
 -- extended rule.
--- Options: --set c_range=30 --set cols=200
+-- Options: --help lists them (--set NAME=VALUE).
 
+local opt = require("recipe_options"){
+  c_range = {type = "number", unit = "deg", default = 30, range = {1, 90}, help = "C-axis range of the extended rule"},
+  cols = {type = "integer", default = 200, range = {4, 10000}, help = "points per section of the loft"},
+}
 local wheel_design = require("blade_wheel_design")
 
-local rotor = bliskrun.read_rotor37("nasa_rotor37", {cols = args.cols or 200, span_extension = 0})
+local rotor = bliskrun.read_rotor37("nasa_rotor37", {cols = opt.cols, span_extension = 0})
 bliskrun.log(string.format("Rotor 37: %d blades, %d sections, pressure side from the %s", rotor.blades,
                            rotor.sections, rotor.rotation_from))
-wheel_design.run(rotor, {name = "NASA Rotor 37", prefix = "rotor37", c_range = args.c_range or 30})
+wheel_design.run(rotor, {name = "NASA Rotor 37", prefix = "rotor37", c_range = opt.c_range})

@@ -13,16 +13,30 @@
 -- toolpath, for ParaView), report.html, and the design's rotor67_finish_design_* files.
 --
 --   bliskrun scripts/recipes/rotor67_finish.lua --data ../shared/data --out out/
---   options: --set side=pressure|suction --set residual=0.014 --set chord_tol=0.002
---            --set c_range=30 --set samples_u=600 --set samples_v=1000 --set link=normal|axis
+--   (--help lists the options, --set NAME=VALUE)
 
+local opt = require("recipe_options"){
+  side = {type = "string", default = "pressure", choices = {"pressure", "suction"}, help = "the flank to finish"},
+  c_range = {type = "number", unit = "deg", default = 30, range = {1, 90}, help = "C-axis range of the extended wheel"},
+  residual = {type = "number", unit = "mm", default = 0.014, range = {0.0005, 0.5},
+              help = "residual (scallop) height between rows"},
+  chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-5, 0.1},
+               help = "chord deviation allowed between steps along a row"},
+  wheel = {type = "string", default = "extended", choices = {"extended", "traditional"}, help = "wheel of Table 2"},
+  shank_ratio = {type = "number", default = 0.4, range = {0.05, 1}, help = "shank diameter over the wheel's diameter"},
+  link = {type = "string", choices = {"normal", "axis"}, default_text = "normal",
+          help = "links leave along the flank normal or the wheel's axis"},
+  link_overcut = {type = "number", unit = "mm", range = {0, 0.1}, default_text = "chord_tol",
+                  help = "how far below the flank a link may dip"},
+  samples_u = {type = "integer", default = 600, range = {2, 5000}, help = "simulation samples along the span"},
+  samples_v = {type = "integer", default = 1000, range = {2, 20000}, help = "simulation samples along the chord"},
+}
 local wheel_design = require("blade_wheel_design")
 local finish = require("blisk_finish")
 
-local side = args.side or "pressure"
-assert(side == "pressure" or side == "suction", "--set side= expects 'pressure' or 'suction'")
-local c_range = args.c_range or 30
-local residual, chord_tol = args.residual or 0.014, args.chord_tol or 0.002
+local side = opt.side
+local c_range = opt.c_range
+local residual, chord_tol = opt.residual, opt.chord_tol
 local file = "nasa_rotor67/rotor67geometry.dat"
 
 -- Tables 1-2 between hub and tip; the planning part extends past them (as
@@ -30,12 +44,11 @@ local file = "nasa_rotor67/rotor67geometry.dat"
 local design = wheel_design.run(bliskrun.read_rotor67(file, {span_extension = 0}),
                                 {name = "NASA Rotor 67", prefix = "rotor67_finish_design", c_range = c_range})
 local part = bliskrun.read_rotor67(file)
-local rule = args.wheel or "extended"
-assert(rule == "extended" or rule == "traditional", "--set wheel= expects 'extended' or 'traditional'")
+local rule = opt.wheel
 local ext = design.table2[rule]
 local tool = bliskrun.drum_wheel{max_diameter = ext.max_diameter, barrel_radius = ext.barrel_radius,
                                  head_length = ext.max_diameter / 2,
-                                 shank = {diameter = (args.shank_ratio or 0.4) * ext.max_diameter, length = 120}}
+                                 shank = {diameter = (opt.shank_ratio) * ext.max_diameter, length = 120}}
 bliskrun.log("wheel: " .. tool:description())
 
 -- Check surfaces: both flanks of the two neighbouring blades, the hub, and
@@ -58,8 +71,8 @@ end
 local world = bliskrun.collision_world{surfaces = surfaces}
 
 local flank = part[side]:surface()
-local settings = finish.settings(nil, tool, {residual = residual, chord_tol = chord_tol, link = args.link,
-                                             link_overcut = args.link_overcut})
+local settings = finish.settings(nil, tool, {residual = residual, chord_tol = chord_tol, link = opt.link,
+                                             link_overcut = opt.link_overcut})
 settings.hub, settings.casing = part.hub, part.casing
 settings.flank, settings.world, settings.name = flank, world, "Rotor 67 blade 1 " .. side
 settings.axis_limit = finish.c_axis_limit_at(flank, c_range)
@@ -67,7 +80,7 @@ local plan = bliskrun.drum_finish(settings)
 local r = plan:report()
 local apt = "rotor67_blade1_" .. side .. ".apt"
 plan:write_apt(apt)
-local sim = plan:simulate{samples_u = args.samples_u or 600, samples_v = args.samples_v or 1000}
+local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
 local picture = "rotor67_undercut_" .. side .. ".png"
 sim.map:write_png(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: undercut (mm)"})
 bliskrun.log(string.format("timings: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s",

@@ -6,10 +6,14 @@
 -- surfaces (edge circles left out), analyses their curvature over K < 0 with
 -- the C-axis range, measures the narrowest passage to the next blade and
 -- sizes the drum wheel by the traditional and the extended rule.
--- Options: --set c_range=30 --set cols=200
+-- Options: --help lists them (--set NAME=VALUE).
 
+local opt = require("recipe_options"){
+  c_range = {type = "number", unit = "deg", default = 30, range = {1, 90}, help = "C-axis range of the extended rule"},
+  cols = {type = "integer", default = 200, range = {4, 10000}, help = "points per section of the loft"},
+}
 local wheel_design = require("blade_wheel_design")
 
-local rotor = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat", {cols = args.cols or 200, span_extension = 0})
+local rotor = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat", {cols = opt.cols, span_extension = 0})
 bliskrun.log(string.format("Rotor 67: %d blades, %d stream surfaces", rotor.blades, rotor.sections))
-wheel_design.run(rotor, {name = "NASA Rotor 67", prefix = "rotor67", c_range = args.c_range or 30})
+wheel_design.run(rotor, {name = "NASA Rotor 67", prefix = "rotor67", c_range = opt.c_range})

@@ -162,7 +162,8 @@ TEST(MachineLua, PostWriteOptionsAreValidated) {
 }
 
 // The header's options: the work offset within 1-99 and within what the
-// post's controller has; the setup's keys and clocking range; notes one line
+// post's controller has; coolant one of four and one the post has a code
+// for; the program number within what the controller numbers; the setup's keys and clocking range; notes one line
 // each (a line break would make the rest of a note a block). The header
 // states each where the options put it.
 TEST(MachineLua, PostWriteHeaderOptionsAreValidatedAndWritten) {
@@ -180,8 +181,16 @@ TEST(MachineLua, PostWriteHeaderOptionsAreValidatedAndWritten) {
       "assert(not ok and err:find(\"option 'work_offset': 0 is out of range [1, 99]\", 1, true), err)\n"
       "ok, err = post{work_offset = 1.5}\n"
       "assert(not ok and err:find(\"option 'work_offset': expected integer\", 1, true), err)\n"
-      "ok, err = post{work_offset = 7}\n"
-      "assert(not ok and err:find(\"fanuc: work_offset 7: this post selects G54-G59 (work offsets 1-6)\", 1, true), err)\n"
+      "ok, err = post({work_offset = 7}, \"siemens840d\")\n"
+      "assert(ok, err)\n"
+      "ok, err = post{coolant = \"air\"}\n"
+      "assert(not ok and err:find(\"option 'coolant': 'air' is not one of 'flood', 'mist', 'through', 'off'\", 1, true), err)\n"
+      "ok, err = post({coolant = \"through\"}, \"linuxcnc\")\n"
+      "assert(not ok and err:find(\"linuxcnc: coolant 'through': this post has no code for it; it has flood (M8), mist (M7)\", 1, true), err)\n"
+      "ok, err = post{program_number = 0}\n"
+      "assert(not ok and err:find(\"option 'program_number': 0 is out of range\", 1, true), err)\n"
+      "ok, err = post{program_number = 12345}\n"
+      "assert(not ok and err:find(\"fanuc: program_number 12345: O-numbers are 1-9999\", 1, true), err)\n"
       "ok, err = post({work_offset = 10}, \"linuxcnc\")\n"
       "assert(not ok and err:find(\"linuxcnc: work_offset 10: LinuxCNC has work offsets 1-9\", 1, true), err)\n"
       "ok, err = post{setup = {name = \"a\", flipped = true}}\n"

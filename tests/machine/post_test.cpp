@@ -7,6 +7,7 @@
 #include <functional>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "core/common/error.h"
 #include "core/machine/program_reader.h"
@@ -183,6 +184,82 @@ TEST(MachinePosts, FanucTcpProgramIsLiteral) {
             "N110 M5\n"
             "N120 M30\n"
             "%\n");
+}
+
+// The shop's options (issue 37 item 4): program number, coolant, the
+// additional work offsets. Each word where the controller needs it: the
+// O-number / PGM name first, coolant on after the spindle starts (every
+// tool change) and off after the last move before the spindle stops.
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// Index of the first line that ends with `tail` (block numbers vary), or -1.
+int line_ending(const std::vector<std::string>& lines, const std::string& tail) {
+  for (size_t i = 0; i < lines.size(); ++i)
+    if (lines[i].size() >= tail.size() && lines[i].compare(lines[i].size() - tail.size(), tail.size(), tail) == 0)
+      return static_cast<int>(i);
+  return -1;
+}
+
+TEST(MachinePosts, FanucShopOptions) {
+  LuaState lua;
+  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
+    job.work_offset = 9;  // G54.1 P3
+    job.coolant = "through";
+    job.program_number = 4711;
+  });
+  const auto lines = lines_of(w.text);
+  ASSERT_GE(lines.size(), 3u);
+  EXPECT_EQ(lines[1], "O4711 (BLADE 1)");
+  EXPECT_NE(w.text.find("(WORK OFFSET G54.1 P3: "), std::string::npos) << w.text;
+  const int offset = line_ending(lines, " G54.1 P3"), spindle = line_ending(lines, " S12000 M3"),
+            on = line_ending(lines, " M88"), first_move = line_ending(lines, " G43.4 H3"),
+            tcp_off = line_ending(lines, " G49"), off = line_ending(lines, " M89"), stop = line_ending(lines, " M5");
+  EXPECT_TRUE(offset > 0 && spindle > offset && on == spindle + 1 && first_move == on + 1) << w.text;
+  EXPECT_TRUE(off == tcp_off + 1 && stop == off + 1) << w.text;
+  // It reads back with the offset it selects.
+  const std::vector<ProgramMove> read = read_program(w.text, w.kin->machine(), ProgramReadOptions{});
+  ASSERT_FALSE(read.empty());
+  EXPECT_EQ(read.front().work_offset, 9);
+}
+
+TEST(MachinePosts, HeidenhainShopOptions) {
+  LuaState lua;
+  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
+    job.coolant = "flood";
+    job.program_number = 1234;
+  });
+  const auto lines = lines_of(w.text);
+  EXPECT_EQ(lines.front(), "0 BEGIN PGM 1234 MM");
+  EXPECT_EQ(lines.back(), std::to_string(lines.size() - 2) + " END PGM 1234 MM");
+  const int m3 = line_ending(lines, " M3"), on = line_ending(lines, " M8"), off = line_ending(lines, " M9"),
+            stop = line_ending(lines, " M5"), reset = line_ending(lines, " FUNCTION RESET TCPM");
+  EXPECT_TRUE(m3 > 0 && on == m3 + 1 && off == reset + 1 && stop == off + 1) << w.text;
+  EXPECT_EQ(read_program(w.text, w.kin->machine(), ProgramReadOptions{}).size(), 4u);
+}
+
+TEST(MachinePosts, SiemensShopOptionsAndOff) {
+  LuaState lua;
+  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
+    job.coolant = "mist";
+    job.program_number = 42;
+  });
+  const auto lines = lines_of(w.text);
+  EXPECT_EQ(lines[1], "; program number 42");
+  EXPECT_EQ(line_ending(lines, " M7"), line_ending(lines, " S12000 M3") + 1) << w.text;
+  EXPECT_EQ(line_ending(lines, " M9"), line_ending(lines, " TRAFOOF") + 1) << w.text;
+  // "off": coolant off after the tool change, nothing to switch off at the end.
+  LuaState again;
+  const Written off = write(again.L, "gantry_head_head.lua", "siemens840d", true,
+                            [](lua_api::PostJob& job) { job.coolant = "off"; });
+  const auto off_lines = lines_of(off.text);
+  const int m9 = line_ending(off_lines, " M9");
+  EXPECT_EQ(m9, line_ending(off_lines, " S12000 M3") + 1) << off.text;
+  EXPECT_EQ(off.text.find(" M9", off.text.find(" M9") + 1), std::string::npos) << off.text;
 }
 
 TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {

@@ -152,7 +152,15 @@ TEST(MachineProgramReader, RefusesAMalformedPresetCycle) {
   EXPECT_EQ(error_of("1 CYCL DEF 7.0 DATUM SHIFT\n", bc), "prog.nc:1: column 3: unsupported cycle: expected CYCL DEF 247 DATUM SETTING");
   EXPECT_EQ(error_of("1 CYCL DEF 247 DATUM SETTING ~", bc), "prog.nc:1: column 1: the block ends in '~' but no line follows");
   EXPECT_EQ(error_of("1 Q339=+1\n", bc), "prog.nc:1: column 3: parameter Q339 outside a cycle definition");
-  EXPECT_EQ(error_of("G54.1 P1\n", test::table_table_ac()), "prog.nc:1: column 1: unsupported G code G54.1");
+  // Fanuc's additional work offsets read as G54.1 P<n> (offset 6 + n, the
+  // post's numbering), with P only there.
+  EXPECT_EQ(error_of("G54.1\n", test::table_table_ac()),
+            "prog.nc:1: column 1: G54.1 without P<n> (the additional work offset)");
+  EXPECT_EQ(error_of("G54 P2\n", test::table_table_ac()), "prog.nc:1: column 1: a P word outside G54.1 P<n>");
+  EXPECT_EQ(error_of("G54.1 P0\n", test::table_table_ac()), "prog.nc:1: column 7: expected P<n>, n >= 1 (G54.1 P<n>)");
+  const auto moves = read_program("G54.1 P2\nG0 X1 Y0 Z0 A0 C0\n", test::table_table_ac(), ProgramReadOptions{});
+  ASSERT_EQ(moves.size(), 1u);
+  EXPECT_EQ(moves[0].work_offset, 8);
 }
 
 TEST(MachineProgramReader, ErrorsNameLineAndColumn) {

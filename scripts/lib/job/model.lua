@@ -243,7 +243,10 @@ function Job:plan()
   local planned_of = {}
   for pass = 1, 2 do
     for i, op in ipairs(self.operations) do
-      if (op.kind == "hub_finish") == (pass == 2) then planned_of[i] = op:plan_flanks(self, i) end
+      if (op.kind == "hub_finish") == (pass == 2) then
+        if self.on_plan_step then self.on_plan_step(op) end  -- j:run's progress line
+        planned_of[i] = op:plan_flanks(self, i)
+      end
     end
   end
   for i, op in ipairs(self.operations) do

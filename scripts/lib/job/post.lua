@@ -101,7 +101,8 @@ end
 -- Machine, name = (how the report calls a Machine), post =, file =}.
 function Job:post_program(m)
   return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
-                                    work_offset = m.work_offset, notes = m.notes})
+                                    work_offset = m.work_offset, coolant = m.coolant,
+                                    program_number = m.program_number, notes = m.notes})
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -115,7 +116,7 @@ function Job:post_programs(list, level)
   local requests, offsets, paths = {}, {}, {}
   for i, m in ipairs(list) do
     local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
-               work_offset = m.work_offset, notes = m.notes}
+               work_offset = m.work_offset, coolant = m.coolant, program_number = m.program_number, notes = m.notes}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, level)}
     requests[i], offsets[i] = self:post_options(o, paths[key][1], level), {paths[key][2], paths[key][3]}
@@ -140,6 +141,8 @@ local function check_post_options(o, level)
     setup = {type = "table"},
     start = {type = "table"},  -- the machine's axes before the first move (picks the rotary branch)
     work_offset = {type = "number"},  -- G54 = 1 / the TNC's preset (post.write checks it)
+    coolant = {type = "string"},      -- flood, mist, through, off (post.write checks it)
+    program_number = {type = "number"},  -- O-number / PGM name (post.write checks it)
     notes = {type = "table"},         -- header lines of the recipe's own
   }, level)
 end
@@ -224,7 +227,7 @@ function Job:post_options(o, path, level)
   return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
           chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length, proved_up = M.approach_length},
           setup = setup,
-          work_offset = o.work_offset, notes = o.notes}
+          work_offset = o.work_offset, coolant = o.coolant, program_number = o.program_number, notes = o.notes}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which

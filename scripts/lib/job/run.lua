@@ -53,6 +53,19 @@ end
 
 -- j:run{name=, programs=, ...}: the whole job (docs/lua_api.md, Jobs).
 -- Returns the run's state {json, planned, sim, ...}.
+-- "drum finish, blades 1-2, pressure, suction": an operation and its
+-- surfaces, for the run's progress line.
+local function describe(op)
+  local parts = {(op.kind:gsub("_", " "))}
+  local b = op.blades
+  if type(b) == "table" and #b > 0 then
+    parts[#parts + 1] = #b == 1 and "blade " .. b[1] or string.format("blades %d-%d", b[1], b[#b])
+  end
+  local surfaces = op.sides or op.edges or op.faces or op.channels
+  if type(surfaces) == "table" and #surfaces > 0 then parts[#parts + 1] = table.concat(surfaces, ", ") end
+  return table.concat(parts, ", ")
+end
+
 function Job:run(o)
   check_options("job:run", o, {
     name = {type = "string", required = true},  -- the run's files: <name>.json, <name>.pvd, <name>_*.png
@@ -79,17 +92,32 @@ function Job:run(o)
   local steps = report[self.part_kind]
   local r = {job = self, o = o, json = {programs = {}}}
   for k, v in pairs(o.json or {}) do r.json[k] = v end
+  -- One progress line for the whole job (bliskrun.progress_step): each
+  -- operation's planning, the simulation, the blade map, posting, the report.
+  local total = #self.operations + (o.simulate ~= false and 1 or 0) + 2
+                + ((o.blade_map and self.part_kind == "blisk") and 1 or 0)
+  local k = 0
+  local function step(what)
+    k = k + 1
+    bliskrun.progress_step(k, total, what)
+  end
+  self.on_plan_step = function(op) step("plan " .. describe(op)) end
   local t0 = os.clock()
   r.planned = self:plan()
+  self.on_plan_step = nil
   r.plan_seconds = os.clock() - t0
   steps.planned(r)
   if o.simulate ~= false then
+    step("simulate every operation's moves on the part")
     r.sim = self:simulate(o.simulate or {})
   elseif self.part_kind == "impeller" then
     r.sim = {surfaces = {}, seconds = 0}
   end
   if r.sim then steps.simulated(r) end
-  if o.blade_map and self.part_kind == "blisk" then steps.blade_map(r, o.blade_map == "lean") end
+  if o.blade_map and self.part_kind == "blisk" then
+    step("map blade 1 after the whole job")
+    steps.blade_map(r, o.blade_map == "lean")
+  end
   -- Nothing is posted after a simulated overcut the operations do not allow.
   if self.part_kind == "blisk" then
     local stop = r.sim and self:blisk_overcut(r.sim)
@@ -100,11 +128,14 @@ function Job:run(o)
   else
     self:check_overcut(r.sim, r.json.units, o.overcut_slack or 0.005)
   end
+  step(string.format("post and read back %d program%s", #o.programs * (o.setups and #o.setups or 1),
+                     #o.programs * (o.setups and #o.setups or 1) == 1 and "" or "s"))
   local setups = o.setups and split_setups(r.planned, o.setups)
   r.json.programs = self:post_programs(program_list(o.programs, setups), 4)
   steps.posted(r)
   bliskrun.write_json(o.name .. ".json", r.json)
 
+  step("write the report")
   local sections, blocks, files = steps.page(r)
   if o.sections then
     local own = o.sections(r.json)
@@ -121,6 +152,7 @@ function Job:run(o)
   -- Material left beyond a seam's tolerance: the programs are proved safe
   -- and written, the part is not finished within tolerance — the run says
   -- so and fails (the JSON report has each seam's reason).
+  bliskrun.progress_step()  -- the job's line ends
   local failures = r.seam_failures or {}
   if #failures > 0 then
     error(string.format("%d seam%s between operations beyond tolerance (%s.json, seams): %s", #failures,
