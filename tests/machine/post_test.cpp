@@ -347,7 +347,7 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      good_rotary + "}\n"), "");
   EXPECT_EQ(error_of("-- comment\nreturn machine {\n  name = 'm', speed = 3,\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
                      good_rotary + "}\n"),
-            path + ":2: machine: unknown key 'speed', expected one of: feed, linear, name, part_origin, "
+            path + ":2: machine: unknown key 'speed', expected one of: dynamics, feed, linear, name, part_origin, "
                    "rapid, resolution, rotary, safe_z, spindle, tool_length");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Z = {-1, 1} },\n" + good_rotary + "}\n"),
             path + ":1: machine: linear: missing axis Y");
@@ -356,7 +356,7 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      "             { name = 'C', carrier = 'part', direction = {1, 0, 0} } },\n}\n"),
             path + ":1: machine: rotary[2].direction: parallel to rotary[1]: the two rotary axes cannot orient the tool");
   EXPECT_EQ(error_of("return generic 'table_table_ac' {\n  name = 'x', a_travel = {0, 1} }\n"),
-            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, feed, name, "
+            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, dynamics, feed, name, "
                    "part_origin, rapid, resolution, safe_z, speed, tool_length, x, y, z");
   EXPECT_NE(error_of("return 42\n").find("expected the file to return machine"), std::string::npos);
 }
