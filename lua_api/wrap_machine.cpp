@@ -18,6 +18,7 @@
 #include "core/common/parallel.h"
 #include "core/machine/verify.h"
 #include <sstream>
+#include <tuple>
 #include "lua_api/lua_tool.h"
 #include "core/machine/cycle_time.h"
 #include "lua_api/luax.h"
@@ -337,6 +338,18 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "swept_tool");
   lua_pushinteger(L, r.worst_cutter_line);
   lua_setfield(L, -2, "swept_worst_line");
+  // The block nearest its allowance: {deviation, allowed} (mm), cutter and tool.
+  for (const auto& [name, value, allowed] :
+       {std::tuple<const char*, double, double>{"swept_cutter_tightest", r.tightest_cutter_mm,
+                                                r.tightest_cutter_allowed_mm},
+        {"swept_tool_tightest", r.tightest_body_mm, r.tightest_body_allowed_mm}}) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, value);
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, allowed);
+    lua_rawseti(L, -2, 2);
+    lua_setfield(L, -2, name);
+  }
   lua_pushinteger(L, r.swept_moves);
   lua_setfield(L, -2, "swept");
   lua_pushinteger(L, r.unswept_moves);
