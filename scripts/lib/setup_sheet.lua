@@ -102,6 +102,21 @@ function M.write(sheet)
   return sheet.files.json, sheet.files.html
 end
 
+-- What a posted program is judged by (a run's verdict): the cutter and the
+-- whole tool within the post's tolerances plus what the output resolution
+-- explains, at the block nearest its allowance (post.write's *_tightest;
+-- post.write itself fails beyond them, so these pass when there is a
+-- program), and the tip at every block end within the read-back tolerance.
+function M.requirements(file, r)
+  return {
+    {name = file .. ": cutter off the proved motion (read back, swept; tightest block)", unit = "µm",
+     measured = 1e3 * r.swept_cutter_tightest[1], at_most = 1e3 * r.swept_cutter_tightest[2],
+     note = string.format("largest %.3g µm; tolerance %.3g µm + output resolution", 1e3 * r.swept_cutter,
+                          1e3 * r.chord_tol)},
+    {name = file .. ": tool body off the proved motion (tightest block)", unit = "µm",
+     measured = 1e3 * r.swept_tool_tightest[1], at_most = 1e3 * r.swept_tool_tightest[2]}}
+end
+
 -- A run's report: one section with every program's cycle time, then each
 -- program's tools.
 function M.sections(sheets)
