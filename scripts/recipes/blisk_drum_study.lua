@@ -122,6 +122,8 @@ for _, x in ipairs(results) do
     picture = x.picture,
   }
 end
+-- A design or study run states no tolerance: its verdict says so (issue 37).
+json.verdict = require("run_report").verdict({})
 bliskrun.write_json("blisk_drum_study.json", json)
 
 -- The run's page and the ParaView collection.
