@@ -68,7 +68,7 @@ local function tables(sheet)
   local c = sheet.cycle_time
   ops[#ops + 1] = {"", "whole program", c.rapid_s, c.cut_s, c.tool_change_s, minutes(c.total_s)}
   return {
-    tools = {columns = {"tool", "type and dimensions", "stick-out (mm)", "spindle (1/min)", "feeds (mm/min)",
+    tools = {columns = {"tool", "type, dimensions and holder", "stick-out (mm)", "spindle (1/min)", "feeds (mm/min)",
                         "sister tools"}, rows = tools},
     axes = {columns = {"axis", "unit", "min", "max"}, rows = axes},
     operations = {columns = {"#", "operation", "positioning (s)", "cutting (s)", "tool changes (s)", "total (min)"},
