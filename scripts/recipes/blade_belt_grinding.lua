@@ -322,7 +322,7 @@ run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" an
                  scan_report.rms_um, scan_report.outliers, scan_report.blade_error_corrected_um)},
               {title = "Stations", text = "Chord error and scallop measured by sampled distances; steps / "
                                           .. "step-overs cut: shortened where the measurement exceeded the tolerance.",
-               table = {columns = {"station", "flank", "paths", "points", "chord max (um)", "scallop max (um)",
+               table = {columns = {"station", "flank", "paths", "points", "chord max (µm)", "scallop max (µm)",
                                    "steps cut", "step-overs cut"}, rows = station_rows}},
               {title = "Robot programs", text = "Joint speed: the largest joint speed on a grinding move over "
                                                 .. "the joint's maximum (at the feed along the path). Wheel poses: "
@@ -330,7 +330,7 @@ run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" an
                                                 .. "blade; conformity: the deepest the wheel's rubber must give (mm), "
                                                 .. "within each station's compliance.",
                table = {columns = {"file", "station", "flank", "grip", "moves", "branch changes", "singular",
-                                   "joint speed / max", "wheel poses", "conformity (mm)", "read-back (um)",
+                                   "joint speed / max", "wheel poses", "conformity (mm)", "read-back (µm)",
                                    "read-back (deg)"}, rows = program_rows}}},
   vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
   files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes, programs"},

@@ -260,7 +260,7 @@ end
 report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("blade_edges.json", report)
 table.insert(sections, 1, {title = "Edges", table = {columns = {"edge", "rows", "side-edge rows", "width min (mm)",
-  "width max (mm)", "poses", "refused", "undercut max (um)", "overcut edge (um)", "overcut flanks (um)"},
+  "width max (mm)", "poses", "refused", "undercut max (µm)", "overcut edge (µm)", "overcut flanks (µm)"},
   rows = edge_rows}})
 require("run_report").write{title = "Edge finishing with the bottom of a flat-end mill, " .. label,
   verdict = report.verdict,

@@ -236,7 +236,7 @@ require("run_report").write{
               chord_tol_mm = chord_tol, ball_radius_mm = ball, edge_width_mm = edge_width,
               edge_span = edge_span[1] .. ".." .. edge_span[2]},
   sections = {{title = "Regions, planned and simulated", table = {columns = {"region", "pattern", "layers", "passes",
-    "poses", "bridges", "links", "refused", "chord max (um)", "material left max (um)", "overcut (um)"}, rows = rows}},
+    "poses", "bridges", "links", "refused", "chord max (µm)", "material left max (µm)", "overcut (µm)"}, rows = rows}},
     table.unpack(pictures)},
   numbers = report,
   vtk = {path = "blade_repair_paths.pvd", blocks = vtk_blocks},

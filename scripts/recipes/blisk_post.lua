@@ -82,7 +82,7 @@ for i, p in ipairs(report.programs) do
   rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm, p.max_angle_deg}
 end
 local sections = {{title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
-  "positioning moves", "tip deviation (um)", "axis deviation (deg)"}, rows = rows}}}
+  "positioning moves", "tip deviation (µm)", "axis deviation (deg)"}, rows = rows}}}
 for _, section in ipairs(setup_sheet.sections(sheets)) do sections[#sections + 1] = section end
 require("run_report").write{title = "Posting the drum finish of " .. name, verdict = report.verdict,
   settings = {blade = blade, side = side, feed_mm_min = feed, planned_moves = #path, rows = r.row_count},

@@ -121,7 +121,7 @@ end
 report.verdict = require("run_report").verdict({})
 bliskrun.write_json("hecc_impeller_model.json", report)
 table.insert(sections, 1, {title = "Fit of the lofted flanks to the given section points", table = {columns = {"blade",
-  "sections", "max (um)", "RMS (um)", "points", "left-out max (um)", "left-out RMS (um)"}, rows = fit_rows}})
+  "sections", "max (µm)", "RMS (µm)", "points", "left-out max (µm)", "left-out RMS (µm)"}, rows = fit_rows}})
 require("run_report").write{title = "NASA HECC impeller: main and splitter blades rebuilt",
   settings = {set = set, chord_tol_mm = chord_tol, cols = cols}, sections = sections,
   vtk = {path = "hecc_impeller_model.pvd", blocks = blocks},

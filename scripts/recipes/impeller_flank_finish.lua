@@ -95,8 +95,8 @@ for _, kind in ipairs{"main", "splitter"} do
     blocks[#blocks + 1] = {name = name, mesh = meshes.face(kind, 1, side)}
     blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
     face_rows[#face_rows + 1] = {name, plan.stations, #plan.poses, #plan.refusals, plan.tilted,
-                                 plan.residual.max, plan.residual.min, plan.residual_unbalanced.max,
-                                 plan.residual_unbalanced.min}
+                                 1e3 * plan.residual.max, 1e3 * plan.residual.min, 1e3 * plan.residual_unbalanced.max,
+                                 1e3 * plan.residual_unbalanced.min}
     local per_pose = {}
     for i, p in ipairs(plan.poses) do
       local r = plan.residual_per_pose[i]
@@ -139,7 +139,7 @@ end
 report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("impeller_flank_finish.json", report)
 local sections = {{title = "Faces of blade 1", table = {columns = {"face", "stations", "poses", "refused", "tilted",
-  "residual max (mm)", "residual min (mm)", "paper's axes max (mm)", "paper's axes min (mm)"}, rows = face_rows}}}
+  "residual max (µm)", "residual min (µm)", "paper's axes max (µm)", "paper's axes min (µm)"}, rows = face_rows}}}
 for _, p in ipairs(pictures) do sections[#sections + 1] = p end
 require("run_report").write{title = "Flank finishing of the built-in impeller", verdict = report.verdict,
   settings = {chord_tol_mm = chord_tol, mesh_tol_mm = mesh_tol, clearance_mm = clearance, balance = balance,

@@ -170,11 +170,11 @@ function M.blisk.page(r)
   local sections = {
     {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
                                                 r.job.clearance_surface.description),
-     table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (um)", "mean (um)",
-                         "overcut (um)"}, rows = unit_rows}},
+     table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (µm)", "mean (µm)",
+                         "overcut (µm)"}, rows = unit_rows}},
     {title = "Programs, read back and swept as each controller moves", table = {columns = {"file", "machine", "post",
-      "blocks", "positioning moves", "tip deviation (um)", "cutter off the proved motion (um)",
-      "tool off the proved motion (um)", "overcut at most (um)"}, rows = program_rows}}}
+      "blocks", "positioning moves", "tip deviation (µm)", "cutter off the proved motion (µm)",
+      "tool off the proved motion (µm)", "overcut at most (µm)"}, rows = program_rows}}}
   if json.blade_map then
     pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                                image = json.blade_map.picture}
@@ -330,13 +330,13 @@ function M.impeller.page(r)
     sections[#sections + 1] = {title = "Flank finishing against the faces as designed", text = string.format(
       "Residual of the ruled cutter's axes (balanced) against the design; thickness tolerance %.3f mm.",
       json.thickness_tolerance_mm),
-      table = {columns = {"face", "residual min (um)", "residual max (um)", "within tolerance"}, rows = rows}}
+      table = {columns = {"face", "residual min (µm)", "residual max (µm)", "within tolerance"}, rows = rows}}
   end
   sections[#sections + 1] = {title = "Material left (simulated, blade 1's faces and one pitch of the hub)",
-    table = {columns = {"surface", "moves of", "left min (um)", "left max (um)", "undercut mean (um)", "overcut (um)",
+    table = {columns = {"surface", "moves of", "left min (µm)", "left max (µm)", "undercut mean (µm)", "overcut (µm)",
                         "overcut at move", "untouched samples"}, rows = r.simulated.rows}}
   sections[#sections + 1] = {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post",
-    "blocks", "positioning moves", "tip deviation (um)"}, rows = program_rows}}
+    "blocks", "positioning moves", "tip deviation (µm)"}, rows = program_rows}}
   for _, p in ipairs(r.simulated.pictures) do sections[#sections + 1] = p end
   return sections, {{name = "job toolpath", moves = planned.moves}},
          {{r.o.name .. "_left_*.png", "the maps of the material left above"}}
