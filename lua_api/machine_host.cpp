@@ -221,11 +221,56 @@ RotaryAxis read_rotary(lua_State* L, int idx, const std::string& what) {
   return a;
 }
 
+// `dynamics = {X = {max_velocity=, max_accel=, max_jerk=}, ..., <rotary name>
+// = {...}, tool_change_s=}`: linear axes in mm/min, mm/s^2, mm/s^3, rotary
+// axes in deg/min, deg/s^2, deg/s^3 (the cycle-time estimate's limits; what
+// is not stated takes MachineDynamics' defaults).
+static void read_dynamics(lua_State* L, int idx, MachineDefinition& m) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx))
+    table_error("dynamics: expected { X = {max_velocity=, max_accel=, max_jerk=}, ..., tool_change_s = s }");
+  std::set<std::string> keys = {"X", "Y", "Z", "tool_change_s"};
+  for (const RotaryAxis& r : m.rotary) keys.insert(r.name);
+  check_keys(L, idx, "dynamics: ", keys);
+  for (size_t i = 0; i < 5; ++i) {
+    const bool rotary = i >= 3;
+    const std::string name = rotary ? m.rotary[i - 3].name : m.linear[i].name;
+    lua_getfield(L, idx, name.c_str());
+    if (!lua_isnil(L, -1)) {
+      const std::string what = "dynamics." + name;
+      if (!lua_istable(L, -1)) table_error(what + ": expected { max_velocity=, max_accel=, max_jerk= }");
+      check_keys(L, -1, what + ": ", {"max_velocity", "max_accel", "max_jerk"});
+      const char* unit = rotary ? "deg" : "mm";
+      double* targets[3] = {&m.dynamics.axes[i].velocity_per_min, &m.dynamics.axes[i].accel_per_s2,
+                            &m.dynamics.axes[i].jerk_per_s3};
+      const char* fields[3] = {"max_velocity", "max_accel", "max_jerk"};
+      const char* units[3] = {"/min", "/s^2", "/s^3"};
+      for (int k = 0; k < 3; ++k) {
+        lua_getfield(L, -1, fields[k]);
+        if (!lua_isnil(L, -1)) {
+          const double v = read_number(L, -1, what + "." + fields[k]);
+          if (!(v > 0)) table_error(what + "." + fields[k] + ": expected > 0 " + unit + units[k]);
+          *targets[k] = rotary ? deg_to_rad(v) : v;
+        }
+        lua_pop(L, 1);
+      }
+    }
+    lua_pop(L, 1);
+  }
+  lua_getfield(L, idx, "tool_change_s");
+  if (!lua_isnil(L, -1)) {
+    const double v = read_number(L, -1, "dynamics.tool_change_s");
+    if (!(v >= 0)) table_error("dynamics.tool_change_s: expected >= 0 s (chip to chip)");
+    m.dynamics.tool_change_s = v;
+  }
+  lua_pop(L, 1);
+}
+
 MachineDefinition read_definition(lua_State* L, int idx) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(std::string("expected a table, got ") + type_of(L, idx));
   check_keys(L, idx, "", {"name", "linear", "rotary", "spindle", "part_origin", "tool_length", "feed",
-                          "rapid", "resolution", "safe_z"});
+                          "rapid", "resolution", "safe_z", "dynamics"});
   MachineDefinition m;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error("missing name");
@@ -303,6 +348,9 @@ MachineDefinition read_definition(lua_State* L, int idx) {
     lua_pop(L, 2);
   }
   lua_pop(L, 5);
+  lua_getfield(L, idx, "dynamics");
+  if (!lua_isnil(L, -1)) read_dynamics(L, -1, m);
+  lua_pop(L, 1);
   try {
     validate(m);
   } catch (const ParameterError& e) {

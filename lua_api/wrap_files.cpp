@@ -106,7 +106,18 @@ int w_write_json(lua_State* L) {
   return luax::guarded(L, [&] {
     // Strings are Lua bytes, not necessarily UTF-8: replace invalid sequences
     // rather than let dump() throw.
-    write_file_atomic(target, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    // A run's verdict is the first thing its report says (issue 37): a
+    // top-level "verdict" is written before the other keys, which stay sorted.
+    if (j.is_object() && j.contains("verdict")) {
+      const auto replace = nlohmann::json::error_handler_t::replace;
+      nlohmann::ordered_json first = nlohmann::ordered_json::object();
+      first["verdict"] = nlohmann::ordered_json::parse(j["verdict"].dump(-1, ' ', false, replace));
+      for (const auto& [key, value] : j.items())
+        if (key != "verdict") first[key] = nlohmann::ordered_json::parse(value.dump(-1, ' ', false, replace));
+      write_file_atomic(target, first.dump(2, ' ', false, replace) + "\n");
+    } else {
+      write_file_atomic(target, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    }
     lua_pushstring(L, target.c_str());
     return 1;
   });

@@ -2,12 +2,14 @@
 // posting a toolpath with a Lua post and proving the program by read-back.
 // Degrees and mm at this boundary; core works in radians.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -16,7 +18,9 @@
 #include "core/common/parallel.h"
 #include "core/machine/verify.h"
 #include <sstream>
+#include <tuple>
 #include "lua_api/lua_tool.h"
+#include "core/machine/cycle_time.h"
 #include "lua_api/luax.h"
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
@@ -248,9 +252,13 @@ int w_post_load(lua_State* L) {
 }
 
 // The toolpath: a list of {kind = "rapid"|"feed", tip =, axis =, feed =, row =,
-// tool =}. `tool_numbers` receives each move's tool number (0 where absent:
-// the tool of the move before, or the first tool).
-std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* tool_numbers = nullptr) {
+// tool =, operation =}. `tool_numbers` receives each move's tool number (0
+// where absent: the tool of the move before, or the first tool);
+// `operations` each move's operation (a name, or "operation n" for a
+// number; that of the move before where absent) for the cycle time per
+// operation.
+std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* tool_numbers = nullptr,
+                                    std::vector<std::string>* operations = nullptr) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) luax::error(L, "path: expected a list of moves {kind=, tip=, axis=, feed=}");
   const lua_Unsigned n = lua_rawlen(L, idx);
@@ -281,7 +289,18 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* too
     if (!lua_isnil(L, -1) && !lua_isinteger(L, -1))
       luax::error(L, where + ".tool: expected a tool number (an integer)");
     if (tool_numbers) tool_numbers->push_back(lua_isinteger(L, -1) ? static_cast<int>(lua_tointeger(L, -1)) : 0);
-    lua_pop(L, 7);
+    lua_getfield(L, -7, "operation");
+    if (operations) {
+      std::string op = operations->empty() ? "" : operations->back();
+      if (lua_isinteger(L, -1))
+        op = "operation " + std::to_string(lua_tointeger(L, -1));
+      else if (lua_type(L, -1) == LUA_TSTRING)
+        op = lua_tostring(L, -1);
+      else if (!lua_isnil(L, -1))
+        luax::error(L, where + ".operation: expected an operation's name or number");
+      operations->push_back(op);
+    }
+    lua_pop(L, 8);
     path.push_back(m);
   }
   return path;
@@ -319,6 +338,18 @@ void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_setfield(L, -2, "swept_tool");
   lua_pushinteger(L, r.worst_cutter_line);
   lua_setfield(L, -2, "swept_worst_line");
+  // The block nearest its allowance: {deviation, allowed} (mm), cutter and tool.
+  for (const auto& [name, value, allowed] :
+       {std::tuple<const char*, double, double>{"swept_cutter_tightest", r.tightest_cutter_mm,
+                                                r.tightest_cutter_allowed_mm},
+        {"swept_tool_tightest", r.tightest_body_mm, r.tightest_body_allowed_mm}}) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, value);
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, allowed);
+    lua_rawseti(L, -2, 2);
+    lua_setfield(L, -2, name);
+  }
   lua_pushinteger(L, r.swept_moves);
   lua_setfield(L, -2, "swept");
   lua_pushinteger(L, r.unswept_moves);
@@ -504,6 +535,7 @@ struct PostRequest {
   PostJob job;
   std::vector<PlannedMove> path;
   std::vector<int> tool_of;  // each move's index into job.tools
+  std::vector<std::string> operations;  // each move's operation ("" where none is named)
   std::string file, target;
   MotionOptions motion;      // all but .tcp, which is the post's
   std::vector<ToolReach> reaches;  // per job tool: from its `body`, or tip only
@@ -583,7 +615,7 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
   const auto t0 = Clock::now();
   o.push_raw("path");
   std::vector<int> move_tools;
-  r.path = check_path(L, -1, &move_tools);
+  r.path = check_path(L, -1, &move_tools, &r.operations);
   r.read_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   lua_pop(L, 1);
   // Each move's tool index; a move without `tool` keeps the one before.
@@ -644,6 +676,12 @@ struct PostOutcome {
   PostedProgram posted;
   VerifyReport report;
   PostSeconds seconds;
+  CycleTime cycle;
+  std::vector<std::string> block_operation;  // per block of the program: its path move's operation
+  // The range of each axis word over the blocks read back: X Y Z (mm), the
+  // rotaries (deg), as the program writes them (with TCP: the tip, part frame).
+  std::array<double, 5> axis_min{}, axis_max{};
+  std::array<std::string, 5> axis_names{"X", "Y", "Z", "", ""};
 };
 
 // The Lua post's part: the program's text from its machine motion.
@@ -693,10 +731,77 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
   out.report = verify_text(posted, text, r.verify_tol, 0.001);
   text = with_verdict(std::move(text), verdict_text(out.report, posted));
   out.seconds.verify = since(t0);
+  // The cycle time of the blocks as read back (block i is plan move i,
+  // which verify_text has just proved), each block charged to the
+  // operation of the path move it ends or belongs to.
+  ProgramReadOptions read;
+  read.file_name = posted.file;
+  read.tcp = posted.tcp_always;
+  read.start = posted.start;
+  const std::vector<ProgramMove> blocks = read_program(text, posted.machine, read);
+  CycleTimeOptions timing;
+  timing.start = posted.start;
+  for (const MachineMove& m : posted.plan.moves) timing.positioning.push_back(m.positioning);
+  out.cycle = estimate_cycle_time(blocks, posted.machine, timing);
+  out.axis_min.fill(std::numeric_limits<double>::infinity());
+  out.axis_max.fill(-std::numeric_limits<double>::infinity());
+  for (int i = 0; i < 2; ++i) out.axis_names[static_cast<size_t>(3 + i)] = posted.machine.rotary[static_cast<size_t>(i)].name;
+  for (const ProgramMove& b : blocks) {
+    const double words[5] = {b.axes.linear_mm.x(), b.axes.linear_mm.y(), b.axes.linear_mm.z(),
+                             rad_to_deg(b.axes.rotary_rad[0]), rad_to_deg(b.axes.rotary_rad[1])};
+    for (size_t k = 0; k < 5; ++k) {
+      out.axis_min[k] = std::min(out.axis_min[k], words[k]);
+      out.axis_max[k] = std::max(out.axis_max[k], words[k]);
+    }
+  }
+  for (const MachineMove& m : posted.plan.moves) {
+    const size_t k = static_cast<size_t>(m.source);
+    out.block_operation.push_back(k < r.operations.size() ? r.operations[k] : std::string());
+  }
   t0 = Clock::now();
   write_file_atomic(r.target, text);
   out.seconds.write = since(t0);
   return out;
+}
+
+// {total_s, rapid_s, cut_s, tool_change_s, tool_changes, per_operation =
+// {{operation=, total_s=, rapid_s=, cut_s=, tool_change_s=}, ...}} in the
+// order the operations first run; blocks of no named operation are one
+// entry "" (a path without `operation`).
+void push_cycle_time(lua_State* L, const CycleTime& c, const std::vector<std::string>& block_operation) {
+  struct Sum {
+    std::string name;
+    double rapid = 0, cut = 0, change = 0;
+  };
+  std::vector<Sum> sums;
+  for (size_t i = 0; i < c.block_s.size(); ++i) {
+    const std::string& name = i < block_operation.size() ? block_operation[i] : std::string();
+    auto it = std::find_if(sums.begin(), sums.end(), [&](const Sum& s) { return s.name == name; });
+    if (it == sums.end()) it = sums.insert(sums.end(), Sum{name});
+    // The same split as the totals: rapids and positioning feeds position.
+    const bool positioning = i < c.block_positioning.size() && c.block_positioning[i];
+    (positioning ? it->rapid : it->cut) += c.block_s[i];
+    it->change += c.block_tool_change_s[i];
+  }
+  lua_createtable(L, 0, 6);
+  luax::set_number(L, "total_s", c.total_s);
+  luax::set_number(L, "rapid_s", c.rapid_s);
+  luax::set_number(L, "cut_s", c.cut_s);
+  luax::set_number(L, "tool_change_s", c.tool_change_s);
+  lua_pushinteger(L, c.tool_changes);
+  lua_setfield(L, -2, "tool_changes");
+  lua_createtable(L, static_cast<int>(sums.size()), 0);
+  for (size_t k = 0; k < sums.size(); ++k) {
+    lua_createtable(L, 0, 5);
+    luax::push(L, sums[k].name);
+    lua_setfield(L, -2, "operation");
+    luax::set_number(L, "rapid_s", sums[k].rapid);
+    luax::set_number(L, "cut_s", sums[k].cut);
+    luax::set_number(L, "tool_change_s", sums[k].change);
+    luax::set_number(L, "total_s", sums[k].rapid + sums[k].cut + sums[k].change);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, "per_operation");
 }
 
 // The result of post.write: the read-back report, `seconds` per stage and
@@ -711,6 +816,18 @@ void push_outcome(lua_State* L, PostOutcome&& out) {
     context(L).verified_programs.push_back(line.str());
   }
   push_report(L, report, out.posted);
+  push_cycle_time(L, out.cycle, out.block_operation);
+  lua_setfield(L, -2, "cycle_time");
+  lua_createtable(L, 0, 5);  // axis_ranges = {X = {min, max}, ..., A|B|C = {min, max} (deg)}
+  for (size_t k = 0; k < 5 && !out.cycle.block_s.empty(); ++k) {
+    lua_createtable(L, 2, 0);
+    lua_pushnumber(L, out.axis_min[k]);
+    lua_rawseti(L, -2, 1);
+    lua_pushnumber(L, out.axis_max[k]);
+    lua_rawseti(L, -2, 2);
+    lua_setfield(L, -2, out.axis_names[k].c_str());
+  }
+  lua_setfield(L, -2, "axis_ranges");
   const PostSeconds& seconds = out.seconds;
   lua_createtable(L, 0, 5);
   for (const auto& [name, value] : {std::pair<const char*, double>{"read", seconds.read}, {"motion", seconds.motion},

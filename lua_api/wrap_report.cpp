@@ -43,18 +43,89 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-// A table cell: numbers with up to 6 significant digits, strings as they are.
+// A number as an engineer reads it in a table: 3 significant digits, never
+// an exponent for the magnitudes a run reports (1234.5 -> "1235", 0.0013089
+// -> "0.00131", 14.25 -> "14.3"); below 1e-4 the exponent is the readable
+// form. Integers are written as they are.
+std::string number_text(double x) {
+  if (!std::isfinite(x)) return std::isnan(x) ? "NaN" : (x > 0 ? "inf" : "-inf");
+  if (x == 0) return "0";
+  char buf[48];
+  const double a = std::fabs(x);
+  if (a < 1e-4) {
+    std::snprintf(buf, sizeof buf, "%.2e", x);
+  } else {
+    const int digits = static_cast<int>(std::floor(std::log10(a)));
+    const int decimals = digits >= 2 ? 0 : 2 - digits;
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, x);
+  }
+  std::string out = buf;
+  if (out == "-0" || out.find_first_not_of("-0.") == std::string::npos) out = "0";
+  return out;
+}
+
+// A table cell: numbers to 3 significant digits, strings as they are.
 std::string cell(lua_State* L, int idx) {
   if (lua_type(L, idx) == LUA_TNUMBER) {
     if (lua_isinteger(L, idx)) return std::to_string(lua_tointeger(L, idx));
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", lua_tonumber(L, idx));
-    return buf;
+    return number_text(lua_tonumber(L, idx));
   }
   if (lua_type(L, idx) == LUA_TBOOLEAN) return lua_toboolean(L, idx) ? "yes" : "no";
   if (lua_type(L, idx) == LUA_TSTRING) return xml_escape(lua_tostring(L, idx));
   if (lua_isnil(L, idx)) return "";
   throw ParameterError("table", "expected numbers, strings or booleans in the cells");
+}
+
+// The verdict block {pass=, requirements = {{name=, unit=, measured=,
+// at_most= | at_least=, pass=, note=}, ...}} at idx, drawn before the table of
+// contents so it is the first thing read. The caller (run_report.verdict)
+// decides each requirement's pass; this only lays it out.
+std::string html_verdict(lua_State* L, int idx) {
+  const luax::Options v(
+      L, idx, "bliskrun.report verdict",
+      {Field{"pass", Kind::Boolean, true, std::nullopt, std::nullopt, "overall: every requirement passed", {}},
+       Field{"overall", Kind::String, false, std::nullopt, std::nullopt, "\"PASS\" or \"FAIL\" (pass, in words)", {}},
+       Field{"summary", Kind::String, false, std::nullopt, std::nullopt, "one line under the verdict", {}},
+       Field{"requirements", Kind::Table, true, std::nullopt, std::nullopt, "list of requirements", {}}});
+  const bool pass = v.boolean("pass", false);
+  std::string out = std::string("<section id=\"verdict\" class=\"verdict ") + (pass ? "pass" : "fail") +
+                    "\">\n<p class=\"overall\">Verdict: <strong>" + (pass ? "PASS" : "FAIL") + "</strong></p>\n";
+  if (v.has("summary")) out += "<p>" + xml_escape(v.string("summary", "")) + "</p>\n";
+  out +=
+      "<table>\n<thead><tr><th>requirement</th><th>unit</th><th>limit</th><th>measured</th><th>result</th></tr>"
+      "</thead>\n<tbody>\n";
+  v.push_raw("requirements");
+  const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+  for (lua_Integer k = 1; k <= n; ++k) {
+    const std::string where = "verdict.requirements[" + std::to_string(k) + "]";
+    if (lua_geti(L, -1, k) != LUA_TTABLE) throw ParameterError(where, "expected a table");
+    const luax::Options r(
+        L, lua_gettop(L), "bliskrun.report " + where,
+        {Field{"name", Kind::String, true, std::nullopt, std::nullopt, "what is required", {}},
+         Field{"unit", Kind::String, true, std::nullopt, std::nullopt, "unit of the limit and the measure", {}},
+         Field{"measured", Kind::Any, false, std::nullopt, std::nullopt, "the run's value (nil: not measured)", {}},
+         Field{"at_most", Kind::Number, false, std::nullopt, std::nullopt, "upper limit", {}},
+         Field{"at_least", Kind::Number, false, std::nullopt, std::nullopt, "lower limit", {}},
+         Field{"pass", Kind::Boolean, true, std::nullopt, std::nullopt, "this requirement passed", {}},
+         Field{"note", Kind::String, false, std::nullopt, std::nullopt, "where or why", {}}});
+    std::string limit;
+    if (r.has("at_least")) limit = "&ge; " + number_text(r.number("at_least", 0));
+    if (r.has("at_most")) limit += (limit.empty() ? "" : ", ") + std::string("&le; ") + number_text(r.number("at_most", 0));
+    std::string measured = "not measured";
+    if (r.has("measured")) {
+      r.push_raw("measured");
+      measured = cell(L, -1);
+      lua_pop(L, 1);
+    }
+    if (r.has("note")) measured += " <span class=\"meta\">(" + xml_escape(r.string("note", "")) + ")</span>";
+    const bool ok = r.boolean("pass", false);
+    out += std::string("<tr class=\"") + (ok ? "pass" : "fail") + "\"><td>" + xml_escape(r.string("name", "")) +
+           "</td><td>" + xml_escape(r.string("unit", "")) + "</td><td class=\"n\">" + limit +
+           "</td><td class=\"n\">" + measured + "</td><td>" + (ok ? "PASS" : "FAIL") + "</td></tr>\n";
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  return out + "</tbody>\n</table>\n</section>\n";
 }
 
 // {columns = {...}, rows = {{...}, ...}} at idx -> <table>.
@@ -101,7 +172,10 @@ const char* kStyle =
     "table{border-collapse:collapse;margin:1em 0}th,td{border:1px solid #bbb;padding:.25em .6em}"
     "th{background:#f0f0f0;text-align:left}td.n{text-align:right;font-variant-numeric:tabular-nums}"
     "figure{margin:1em 0}img,svg{max-width:100%;height:auto}figcaption{color:#555;font-size:.9em}"
-    "nav ol{padding-left:1.5em}.meta{color:#555}";
+    "nav ol{padding-left:1.5em}.meta{color:#555}"
+    ".verdict{border:3px solid;padding:.2em 1em;margin:1em 0}.verdict.pass{border-color:#2a7a2a;background:#eef8ee}"
+    ".verdict.fail{border-color:#b00020;background:#fdeef0}.overall{font-size:1.5em;margin:.3em 0}"
+    "tr.fail td{color:#b00020;font-weight:bold}";
 
 int w_report(lua_State* L) {
   const luax::Options o(
@@ -109,6 +183,8 @@ int w_report(lua_State* L) {
       {Field{"path", Kind::String, true, std::nullopt, std::nullopt, "the page, an .html file", {}},
        Field{"title", Kind::String, true, std::nullopt, std::nullopt, "page title", {}},
        Field{"subtitle", Kind::String, false, std::nullopt, std::nullopt, "one line under the title", {}},
+       Field{"verdict", Kind::Table, false, std::nullopt, std::nullopt,
+             "{pass=, summary=, requirements=}: drawn first, above the contents", {}},
        Field{"sections", Kind::Table, true, std::nullopt, std::nullopt,
              "list of {title=, text=, table=, svg=, image=, caption=}", {}}});
   const std::string path = context(L).resolve_write(L, o.string("path", ""));
@@ -118,7 +194,12 @@ int w_report(lua_State* L) {
   const int sections = lua_gettop(L);
   return luax::guarded(L, [&] {
     const std::string title = o.string("title", "");
-    std::string toc, body;
+    std::string toc, body, verdict;
+    if (o.has("verdict")) {
+      o.push_raw("verdict");
+      verdict = html_verdict(L, lua_gettop(L));
+      lua_pop(L, 1);
+    }
     const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, sections));
     for (lua_Integer k = 1; k <= n; ++k) {
       const std::string where = "sections[" + std::to_string(k) + "]";
@@ -185,7 +266,7 @@ int w_report(lua_State* L) {
                        xml_escape(title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<h1>" +
                        xml_escape(title) + "</h1>\n";
     if (o.has("subtitle")) page += "<p class=\"meta\">" + xml_escape(o.string("subtitle", "")) + "</p>\n";
-    page += "<nav>\n<h2>Contents</h2>\n<ol>\n" + toc + "</ol>\n</nav>\n" + body + "</body>\n</html>\n";
+    page += verdict + "<nav>\n<h2>Contents</h2>\n<ol>\n" + toc + "</ol>\n</nav>\n" + body + "</body>\n</html>\n";
     write_file_atomic(path, page);
     lua_pushstring(L, path.c_str());
     return 1;

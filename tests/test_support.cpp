@@ -120,6 +120,10 @@ std::string shared_data_dir() {
   if (html.empty()) return ::testing::AssertionFailure() << "no report.html in " << out;
   if (html.find("<table") == std::string::npos || html.find("</html>") == std::string::npos)
     return ::testing::AssertionFailure() << "report.html has no table or is cut short";
+  // Issue 37: every run's page opens with its verdict, above the contents.
+  const size_t verdict = html.find("<section id=\"verdict\"");
+  if (verdict == std::string::npos || verdict > html.find("<nav>"))
+    return ::testing::AssertionFailure() << "report.html does not open with the verdict";
   for (const char* external : {"src=\"http", "href=\"http", "src=\"//", "<script"})
     if (html.find(external) != std::string::npos)
       return ::testing::AssertionFailure() << "report.html is not self-contained: " << external;

@@ -61,7 +61,7 @@ inline std::string error_case_name(const ::testing::TestParamInfo<RecipeErrorCas
 RecipeResult run_bliskrun(const std::vector<std::string>& args);
 
 // What every recipe run leaves for a person to look at (issue 19): a
-// self-contained report.html in `out` (tables, no external src/href) and the
+// self-contained report.html in `out` (opening with the verdict, issue 37; tables, no external src/href) and the
 // ParaView collection `pvd` whose every listed .vtp exists beside it.
 ::testing::AssertionResult has_run_report(const std::string& out, const std::string& pvd);
 

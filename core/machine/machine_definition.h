@@ -22,6 +22,7 @@
 // spindle gauge point (the program carries the length itself). Head pivots are
 // given relative to the gauge point, because that is where the head is
 // measured; the tool length then decides how far the tip swings.
+#include <array>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -77,6 +78,32 @@ struct RapidMotion {
   bool linear = false;
 };
 
+// What the cycle-time estimate (cycle_time.h) takes of an axis: the machine
+// file's `dynamics = {X = {max_velocity=, max_accel=, max_jerk=}, ...}`, in
+// mm or rad per minute, per s^2, per s^3. NaN: not stated; then the
+// defaults below apply (docs/lua_api/machines_and_posts.md).
+struct AxisDynamics {
+  double velocity_per_min = std::numeric_limits<double>::quiet_NaN();
+  double accel_per_s2 = std::numeric_limits<double>::quiet_NaN();
+  double jerk_per_s3 = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Defaults for what a machine file does not state: moderate figures of a
+// 5-axis machining centre, so an estimate errs on the slow side rather than
+// promise a time no machine keeps. Linear: the rapid feed as top speed,
+// 2 m/s^2, 50 m/s^3. Rotary: the axis' `speed` if stated, else 25 rpm;
+// 1000 deg/s^2, 10000 deg/s^3. A tool change 8 s (chip to chip).
+struct MachineDynamics {
+  std::array<AxisDynamics, 5> axes;  // X, Y, Z, then the rotaries in chain order
+  double tool_change_s = std::numeric_limits<double>::quiet_NaN();
+  static constexpr double kLinearAccelMmPerS2 = 2000;
+  static constexpr double kLinearJerkMmPerS3 = 50000;
+  static constexpr double kRotarySpeedDegPerMin = 9000;
+  static constexpr double kRotaryAccelDegPerS2 = 1000;
+  static constexpr double kRotaryJerkDegPerS3 = 10000;
+  static constexpr double kToolChangeS = 8;
+};
+
 struct MachineDefinition {
   std::string name;
   std::vector<LinearAxis> linear;    // X, Y, Z in this order
@@ -96,6 +123,8 @@ struct MachineDefinition {
   // the top of the Z slide's travel (Kinematics::safe_z_mm). Everything on
   // the table (part, fixture) must lie below it.
   double safe_z_mm = std::numeric_limits<double>::quiet_NaN();
+  // Axis limits for the cycle-time estimate only (no effect on the motion).
+  MachineDynamics dynamics;
 };
 
 // Checks the definition: three linear axes named X, Y, Z; two rotary axes with

@@ -200,6 +200,15 @@ VerifyReport verify_program(const std::string& text, const std::vector<const Kin
       report.worst_cutter_line = got.line;
     }
     report.max_body_mm = std::max(report.max_body_mm, dev.body_bound_mm);
+    // The block nearest its allowance, for a verdict that states the limit.
+    if (dev.cutter_bound_mm / cutter_allowed > report.tightest_cutter_mm / report.tightest_cutter_allowed_mm) {
+      report.tightest_cutter_mm = dev.cutter_bound_mm;
+      report.tightest_cutter_allowed_mm = cutter_allowed;
+    }
+    if (dev.body_bound_mm / body_allowed > report.tightest_body_mm / report.tightest_body_allowed_mm) {
+      report.tightest_body_mm = dev.body_bound_mm;
+      report.tightest_body_allowed_mm = body_allowed;
+    }
     if (dev.cutter_bound_mm > cutter_allowed || dev.body_bound_mm > body_allowed) {
       std::ostringstream msg;
       msg.precision(4);

@@ -56,6 +56,11 @@ struct VerifyReport {
   double max_cutter_mm = 0;
   double max_body_mm = 0;
   int worst_cutter_line = 0;
+  // The swept block nearest its allowance (the tolerance plus what the
+  // output resolution explains there), cutter and whole tool: its deviation
+  // and that allowance (0 / 1 when nothing was swept).
+  double tightest_cutter_mm = 0, tightest_cutter_allowed_mm = 1;
+  double tightest_body_mm = 0, tightest_body_allowed_mm = 1;
   long swept_moves = 0;
   long unswept_moves = 0;   // from a tool change without a way in
   long safe_moves = 0;      // Retract, Rotate, Position (checked by their axes)

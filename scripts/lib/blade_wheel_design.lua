@@ -91,6 +91,8 @@ function M.run(part, opts)
     c_range_deg = c_range, table1 = table1, flanks = flanks,
     table2 = {traditional = wheel.traditional, extended = wheel.extended},
   }
+  -- A design or study run states no tolerance: its verdict says so (issue 37).
+  report.verdict = require("run_report").verdict({})
   bliskrun.write_json(prefix .. "_wheel_design.json", report)
   M.write_report(name, prefix, report, surfaces, c_range)
   return report

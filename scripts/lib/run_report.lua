@@ -6,10 +6,61 @@
 --
 --   local run_report = require("run_report")
 --   run_report.write{title =, subtitle =, settings = {key = value, ...},
+--                    verdict = run_report.verdict{...},
 --                    sections = {...}, numbers = report_table,
 --                    vtk = {path = "run.pvd", blocks = {...}},
 --                    files = {{"name", "what it holds"}, ...}}
+--
+-- Every page opens with the run's verdict (issue 37): PASS or FAIL per
+-- requirement the run states, with its limit and measured value, and the
+-- overall verdict. A failed verdict fails the run — after the page is
+-- written, so the engineer reads why — with an error naming each failed
+-- requirement: the process exits non-zero. Put the same verdict in the
+-- run's JSON as `verdict` (bliskrun.write_json writes it first).
 local M = {}
+
+-- run_report.verdict({{name=, unit=, measured=, at_most= | at_least=
+-- [, pass=] [, note=]}, ...} [, summary]) -> {pass=, summary=,
+-- requirements=}. A requirement passes when `measured` is a number within
+-- its limits (unless `pass` is given: a judgement the limits cannot state);
+-- one not measured fails. Deviations are given in µm (unit "µm").
+function M.verdict(requirements, summary)
+  local out, pass = {requirements = {}, summary = summary}, true
+  for i, q in ipairs(requirements) do
+    assert(type(q.name) == "string" and type(q.unit) == "string",
+           string.format("run_report.verdict: requirement %d: expected name= and unit= (strings)", i))
+    local ok = q.pass
+    if ok == nil then
+      local m = q.measured
+      ok = type(m) == "number" and m == m and (q.at_most == nil or m <= q.at_most)
+           and (q.at_least == nil or m >= q.at_least)
+    end
+    out.requirements[i] = {name = q.name, unit = q.unit, measured = q.measured, at_most = q.at_most,
+                           at_least = q.at_least, note = q.note, pass = ok and true or false}
+    pass = pass and ok and true or false
+  end
+  out.pass, out.overall = pass, pass and "PASS" or "FAIL"
+  if #requirements == 0 and not summary then
+    out.summary = "This run states no tolerance to judge it by (a design or study run); nothing failed."
+  end
+  return out
+end
+
+-- The failed requirements of a verdict as one line.
+function M.failures(verdict)
+  local list = {}
+  for _, q in ipairs(verdict.requirements) do
+    if not q.pass then
+      local limit = q.at_most and string.format("<= %.3g", q.at_most) or q.at_least and string.format(">= %.3g", q.at_least)
+                    or "required"
+      list[#list + 1] = string.format("%s %s %s (limit %s %s)%s", q.name,
+                                      type(q.measured) == "number" and string.format("%.3g", q.measured)
+                                        or tostring(q.measured or "not measured"), q.unit, limit, q.unit,
+                                      q.note and " — " .. q.note or "")
+    end
+  end
+  return table.concat(list, "; ")
+end
 
 -- {key = value} -> {columns, rows} sorted by key; nested tables are skipped.
 function M.settings_table(settings)
@@ -68,8 +119,14 @@ function M.write(opts)
                                text = "Beside this page in the out folder; see docs/looking_at_results.md.",
                                table = {columns = {"file", "what"}, rows = files}}
   end
-  return bliskrun.report{path = opts.path or "report.html", title = opts.title, subtitle = opts.subtitle,
-                         sections = sections}
+  local verdict = opts.verdict or M.verdict({})
+  local path = opts.path or "report.html"
+  local written = bliskrun.report{path = path, title = opts.title, subtitle = opts.subtitle, verdict = verdict,
+                                  sections = sections}
+  if not verdict.pass and opts.fail ~= false then
+    error(string.format("verdict FAIL: %s (see %s)", M.failures(verdict), path), 0)
+  end
+  return written
 end
 
 -- A picture section for a PNG written by this run.

@@ -17,4 +17,11 @@ return generic "table_table_bc" {
   resolution = { linear = 0.001, rotary = 0.001 },
   speed = { b = 9000, c = 14400 },  -- 25 and 40 1/min, as such trunnions are rated
   rapid = { feed = 35000, linear = true },   -- TNC: L ... FMAX is a straight line
+  -- Axis limits for the cycle-time estimate (mm or deg per min, per s^2, per s^3).
+  dynamics = { X = { max_velocity = 35000, max_accel = 5000, max_jerk = 75000 },
+               Y = { max_velocity = 35000, max_accel = 5000, max_jerk = 75000 },
+               Z = { max_velocity = 35000, max_accel = 5000, max_jerk = 75000 },
+               B = { max_velocity = 9000, max_accel = 1200, max_jerk = 12000 },
+               C = { max_velocity = 14400, max_accel = 2400, max_jerk = 24000 },
+               tool_change_s = 5 },
 }

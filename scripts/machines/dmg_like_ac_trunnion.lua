@@ -20,4 +20,11 @@ return generic "table_table_ac" {
   resolution = { linear = 0.001, rotary = 0.001 },
   speed = { a = 7200, c = 10800 },  -- 20 and 30 1/min, as such cradles are rated
   rapid = { feed = 30000, linear = false },  -- Fanuc: rapids not set to interpolate linearly
+  -- Axis limits for the cycle-time estimate (mm or deg per min, per s^2, per s^3).
+  dynamics = { X = { max_velocity = 30000, max_accel = 3000, max_jerk = 50000 },
+               Y = { max_velocity = 30000, max_accel = 3000, max_jerk = 50000 },
+               Z = { max_velocity = 30000, max_accel = 3000, max_jerk = 50000 },
+               A = { max_velocity = 7200, max_accel = 1200, max_jerk = 12000 },
+               C = { max_velocity = 10800, max_accel = 1800, max_jerk = 18000 },
+               tool_change_s = 6 },
 }

@@ -15,5 +15,10 @@ return generic "head_head" {
   tool_length = "tip",
   feed = "per_minute",
   resolution = { linear = 0.001, rotary = 0.001 },
-  rapid = { feed = 20000, linear = false }
+  rapid = { feed = 20000, linear = false },
+  -- Axis limits for the cycle-time estimate (mm or deg per min, per s^2, per s^3).
+  dynamics = { X = { max_velocity = 20000, max_accel = 2000, max_jerk = 30000 },
+               Y = { max_velocity = 20000, max_accel = 2000, max_jerk = 30000 },
+               Z = { max_velocity = 20000, max_accel = 2000, max_jerk = 30000 },
+               tool_change_s = 10 },
 }

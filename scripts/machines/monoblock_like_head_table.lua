@@ -21,4 +21,11 @@ return generic "head_table_bc" {
   resolution = { linear = 0.001, rotary = 0.001 },
   speed = { b = 12600, c = 10800 },  -- 35 and 30 1/min, as such heads and tables are rated
   rapid = { feed = 30000, linear = true },   -- TNC: L ... FMAX is a straight line
+  -- Axis limits for the cycle-time estimate (mm or deg per min, per s^2, per s^3).
+  dynamics = { X = { max_velocity = 30000, max_accel = 4000, max_jerk = 60000 },
+               Y = { max_velocity = 30000, max_accel = 4000, max_jerk = 60000 },
+               Z = { max_velocity = 30000, max_accel = 4000, max_jerk = 60000 },
+               B = { max_velocity = 12600, max_accel = 1500, max_jerk = 15000 },
+               C = { max_velocity = 10800, max_accel = 1800, max_jerk = 18000 },
+               tool_change_s = 7 },
 }

@@ -32,6 +32,10 @@ return parametric {
                     doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
+    dynamics    = { default = false,
+                    doc = "axis limits for the cycle-time estimate: {X = {max_velocity = mm/min, max_accel = mm/s^2, "
+                          .. "max_jerk = mm/s^3}, ..., <rotary> = {deg/min, deg/s^2, deg/s^3}, tool_change_s = s}; "
+                          .. "false = the documented defaults" },
   },
   build = function(p)
     return machine {
@@ -47,6 +51,7 @@ return parametric {
       feed = p.feed,
       resolution = p.resolution,
       rapid = p.rapid,
+      dynamics = p.dynamics or nil,
       safe_z = p.safe_z or nil,
     }
   end,

@@ -181,6 +181,7 @@ local wheels = {}
 for _, s in ipairs(loaded[robots[1]]:stations()) do wheels[s.name] = s end
 
 local ok = true
+local requirements = {}  -- the verdict: per station and flank, per robot program
 print(string.format("%-7s %-9s %6s %7s %12s %12s %9s %9s", "station", "flank", "paths", "points",
                     "chord max", "scallop max", "steps cut", "overs cut"))
 for _, name in ipairs(station_order) do
@@ -197,6 +198,10 @@ for _, name in ipairs(station_order) do
     end
     print(string.format("%-7s %-9s %6d %7d %9.2f µm %9.2f µm %9d %9d", name, f.side, #plan.paths, plan.points,
                         plan.chord_max * 1000, plan.scallop_max * 1000, plan.step_halvings, plan.step_over_shrinks))
+    requirements[#requirements + 1] = {name = name .. " " .. f.side .. ": chord error (measured)", unit = "µm",
+                                       measured = 1e3 * plan.chord_max, at_most = 1e3 * tol.chord_tol * (1 + 1e-9)}
+    requirements[#requirements + 1] = {name = name .. " " .. f.side .. ": scallop (measured)", unit = "µm",
+                                       measured = 1e3 * plan.scallop_max, at_most = 1e3 * tol.scallop * (1 + 1e-9)}
     station_rows[#station_rows + 1] = {name, f.side, #plan.paths, plan.points, 1e3 * plan.chord_max,
                                        1e3 * plan.scallop_max, plan.step_halvings, plan.step_over_shrinks}
     -- The paths as polylines for ParaView: the contact points, the wheel axis as the "tool axis".
@@ -262,6 +267,11 @@ for _, name in ipairs(station_order) do
                     link_joint_speed_ratio = rr.max_link_joint_speed_ratio, refusals = rr.refusals,
                     wheel_poses_checked = rr.wheel.poses, wheel_conformity_mm = rr.wheel.max_conformity,
                     wheel_rejected = rr.wheel.rejected}
+      local who = string.format("%s %s %s", robot, name, f.side)
+      requirements[#requirements + 1] = {name = who .. ": refused paths", unit = "count", measured = #rr.refusals,
+                                         at_most = 0}
+      requirements[#requirements + 1] = {name = who .. ": joint speed over its maximum (grinding moves)",
+                                         unit = "ratio", measured = rr.max_joint_speed_ratio, at_most = 1}
       if #rr.refusals > 0 or rr.max_joint_speed_ratio > 1 then
         ok = false
         bliskrun.log(string.format("%s %s %s: %d refused paths (%s), joint speed ratio %.2f", robot, name, f.side,
@@ -290,6 +300,7 @@ for _, p in ipairs(report.programs) do
                         or ", NOT posted"))
 end
 report.verified = ok
+report.verdict = run_report.verdict(requirements)
 bliskrun.write_json("blade_belt_grinding.json", report)
 local function with_pictures(sections)
   for i, p in ipairs(path_pictures) do table.insert(sections, 2 + i, p) end
@@ -297,6 +308,7 @@ local function with_pictures(sections)
 end
 run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
   subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
+  verdict = report.verdict,
   settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = opt.robots},
   sections = with_pictures{{title = "Measured scallop per path", text = "The scallop between each path and the next, measured "
                  .. "by sampled distances (the wheel as a cylinder through each contact), over the station's tolerance h.",
@@ -314,7 +326,7 @@ run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" an
                  scan_report.rms_um, scan_report.outliers, scan_report.blade_error_corrected_um)},
               {title = "Stations", text = "Chord error and scallop measured by sampled distances; steps / "
                                           .. "step-overs cut: shortened where the measurement exceeded the tolerance.",
-               table = {columns = {"station", "flank", "paths", "points", "chord max (um)", "scallop max (um)",
+               table = {columns = {"station", "flank", "paths", "points", "chord max (µm)", "scallop max (µm)",
                                    "steps cut", "step-overs cut"}, rows = station_rows}},
               {title = "Robot programs", text = "Joint speed: the largest joint speed on a grinding move over "
                                                 .. "the joint's maximum (at the feed along the path). Wheel poses: "
@@ -322,11 +334,8 @@ run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" an
                                                 .. "blade; conformity: the deepest the wheel's rubber must give (mm), "
                                                 .. "within each station's compliance.",
                table = {columns = {"file", "station", "flank", "grip", "moves", "branch changes", "singular",
-                                   "joint speed / max", "wheel poses", "conformity (mm)", "read-back (um)",
+                                   "joint speed / max", "wheel poses", "conformity (mm)", "read-back (µm)",
                                    "read-back (deg)"}, rows = program_rows}}},
   vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
   files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes, programs"},
            {"kuka_*.src", "KUKA KRL programs"}, {"abb_*.mod", "ABB RAPID modules"}}}
-if not ok then
-  error("a path was refused or a grinding move needs a joint beyond its speed; see blade_belt_grinding.json")
-end

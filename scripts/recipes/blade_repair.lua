@@ -227,6 +227,8 @@ local report = {
   sections = rep.sections,
   repair_paths = paths,
 }
+-- A design or study run states no tolerance: its verdict says so (issue 37).
+report.verdict = require("run_report").verdict({})
 bliskrun.write_json("blade_repair.json", report)
 require("run_report").write{
   title = "Damaged-blade repair: rebuild and damaged region (" .. damage .. ", " .. part .. ")",

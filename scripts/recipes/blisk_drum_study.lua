@@ -83,7 +83,7 @@ for _, x in ipairs(results) do
                       x.group.steps, x.report.row_count, x.report.poses, 1e3 * x.report.max_deviation,
                       x.rows_over_tolerance, 1e3 * x.sim.undercut_max, 1e3 * x.sim.overcut))
 end
-print("Table 5  undercut analysis (um)")
+print("Table 5  undercut analysis (µm)")
 print("  wheel  group  max     mean    median  std")
 for _, x in ipairs(results) do
   print(string.format("  %d      %s      %6.2f  %6.2f  %6.2f  %6.2f", x.group.wheel, x.group.id, 1e3 * x.sim.undercut_max,
@@ -111,7 +111,7 @@ for _, x in ipairs(results) do
 end
 bliskrun.write_text("fig13_chord_error.svg", chart.lines{
   title = string.format("Fig. 13: chord error along the row at u' ~ %.2f", row_u), x_label = "v (chord)",
-  y_label = "chord error (um)", series = series13, limit = {y = 1e3 * chord_tol, name = "tolerance"}})
+  y_label = "chord error (µm)", series = series13, limit = {y = 1e3 * chord_tol, name = "tolerance"}})
 
 local json = {part = {kind = "built-in blisk", blade = blade, flank = side}, residual_mm = residual,
               chord_tol_mm = chord_tol, c_range_deg = c_range, shank_clearance_mm = shank_clearance, table1 = design.table1, table2 = design.table2,
@@ -133,6 +133,8 @@ for _, x in ipairs(results) do
     picture = x.picture,
   }
 end
+-- A design or study run states no tolerance: its verdict says so (issue 37).
+json.verdict = require("run_report").verdict({})
 bliskrun.write_json("blisk_drum_study.json", json)
 
 -- The run's page and the ParaView collection.
@@ -149,8 +151,8 @@ for _, x in ipairs(results) do
   blocks[#blocks + 1] = {name = "toolpath " .. x.group.id, moves = x.plan:moves()}
 end
 table.insert(sections, 1, {title = "Tables 4 and 5", table = {columns = {"group", "wheel", "chord height", "rows",
-  "poses", "max chord (um)", "rows > tol", "undercut max (um)", "mean (um)", "median (um)", "std (um)",
-  "overcut (um)"}, rows = table4}})
+  "poses", "max chord (µm)", "rows > tol", "undercut max (µm)", "mean (µm)", "median (µm)", "std (µm)",
+  "overcut (µm)"}, rows = table4}})
 table.insert(sections, 2, {title = "Fig. 12: contact points per row", svg = bliskrun.read_text("fig12_points_per_row.svg")})
 table.insert(sections, 3, {title = "Fig. 13: chord error along a row", svg = bliskrun.read_text("fig13_chord_error.svg")})
 require("run_report").write{title = string.format("Drum-finish planning study, blade %d %s flank", blade, side),

@@ -22,7 +22,8 @@
 -- periodic: a job turns this plan onto every blade).
 --
 --   bliskrun scripts/recipes/blisk_hub_finish.lua --out out [--set NAME=VALUE]... (--help lists them)
--- Outputs: blisk_hub_finish.json, blisk_hub_finish.apt.
+-- Outputs: blisk_hub_finish.json, blisk_hub_finish.apt, report.html (opening with the verdict; the run
+-- fails after writing it when a requirement fails).
 local t_start = os.clock()
 local opt = require("recipe_options"){
   ball = {type = "number", unit = "mm", default = 1.5, range = {0.5, 3}, help = "tip (ball) radius of the tapered ball"},
@@ -89,11 +90,42 @@ if simulate then
                       .. "simulation %.2f s", s.fillet.samples, s.fillet.left_max, s.seconds))
   report.simulation = {strip = s.strip, floor = s.floor, floor_middle = s.floor_middle,
                        root_overcut = s.root_overcut, floor_overcut = s.floor_overcut}
-  local allowed = 0.002 + 0.0002
-  assert(s.root_overcut >= -allowed and s.floor_overcut >= -allowed,
-         string.format("overcut beyond the allowance: root %.2f um, floor %.2f um", -s.root_overcut * 1000,
-                       -s.floor_overcut * 1000))
 end
+-- The verdict: no refusal, the chord within its tolerance, and simulated
+-- no cut deeper than the planner's allowed 2 um (+ 0.2 um for the sweep's
+-- sampling), the floor's middle (away from the fillet's corner) within the
+-- scallop plus twice the chord (job/seams.lua's promise) and every sample
+-- of it reached.
+local refused = #r.refusals + r.root.refused_links + r.channel.refused_links
+local requirements = {
+  {name = "refused contacts and links", unit = "count", measured = refused, at_most = 0},
+  {name = "chord error (largest step, root and channel)", unit = "µm",
+   measured = 1e3 * math.max(r.root.max_deviation, r.channel.max_deviation), at_most = 1e3 * chord_tol * (1 + 1e-9)},
+  {name = "root joined to the channel by a proved link", unit = "yes/no", measured = r.join.clear and "yes" or "no",
+   pass = r.join.clear and true or false}}
+if report.simulation then
+  local s = report.simulation
+  local allowed_um = 2.2
+  requirements[#requirements + 1] = {name = "overcut, root strip (simulated)", unit = "µm",
+                                     measured = math.max(0, -1e3 * s.root_overcut), at_most = allowed_um}
+  requirements[#requirements + 1] = {name = "overcut, channel floor (simulated)", unit = "µm",
+                                     measured = math.max(0, -1e3 * s.floor_overcut), at_most = allowed_um}
+  requirements[#requirements + 1] = {name = "material left, channel floor's middle (scallop, simulated)", unit = "µm",
+                                     measured = 1e3 * s.floor_middle.left_max, at_most = 1e3 * (scallop + 2 * chord_tol)}
+  requirements[#requirements + 1] = {name = "samples never reached, channel floor's middle", unit = "count",
+                                     measured = s.floor_middle.unreached, at_most = 0}
+end
+report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("blisk_hub_finish.json", report)
 plan:write_apt("blisk_hub_finish.apt")
+local rows = {}
+for _, name in ipairs{"root", "channel"} do
+  local p = r[name]
+  rows[#rows + 1] = {name, p.rows, p.poses, p.refusals + p.refused_links, 1e3 * p.max_deviation}
+end
+require("run_report").write{title = "Hub and blade-root finish, blade 1 and its channel", verdict = report.verdict,
+  settings = {tool = r.tool, scallop_mm = scallop, chord_tol_mm = chord_tol, top_mm = top, simulate = simulate},
+  sections = {{title = "Root strip and channel floor", table = {columns = {"region", "rows", "poses", "refused",
+                                                                          "chord error max (µm)"}, rows = rows}}},
+  files = {{"blisk_hub_finish.json", "the report"}, {"blisk_hub_finish.apt", "APT/CL toolpath"}}}
 print(string.format("wrote blisk_hub_finish.json and blisk_hub_finish.apt (%.1f s CPU)", os.clock() - t_start))

@@ -48,6 +48,8 @@ end
 local tool = {number = 5, length = 110, spindle_rpm = 8000}
 local name = string.format("blisk blade %d %s", blade, side)
 local report = {planned_moves = #path, rows = r.row_count, blade = blade, side = side, programs = {}}
+local setup_sheet = require("setup_sheet")
+local requirements, sheets = {}, {}
 for _, job in ipairs({
   {machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blade_ac_fanuc.nc"},
   {machine = "monoblock_like_head_table", post = "heidenhain", file = "blade_bc_heidenhain.h"},
@@ -62,18 +64,33 @@ for _, job in ipairs({
     file = job.file, machine = m:name(), post = job.post, blocks = w.moves, inserted = w.inserted,
     positioning = w.positioning, max_position_mm = w.max_position, max_angle_deg = w.max_angle,
     max_departure_mm = w.max_deviation}
+  for _, q in ipairs(setup_sheet.requirements(job.file, w)) do requirements[#requirements + 1] = q end
+  local sheet = setup_sheet.build{file = job.file, machine = job.machine, post = job.post, report = w,
+    tools = {{number = tool.number, description = wheel:description(), stick_out_mm = tool.length,
+              spindle_rpm = tool.spindle_rpm, feeds_mm_per_min = {feed}, sisters = {}}},
+    operations = {[""] = "drum finish, " .. name}, work_offset = 1,
+    origin = "the part frame's origin: on the blisk's axis at z = 0 of its model; the machine file's part_origin "
+             .. "places it from the machine's zero (the header's setup notes)",
+    fixture = "not modelled (the machine file's part_origin stands for it)", stock = "not stated"}
+  setup_sheet.write(sheet)
+  sheets[#sheets + 1] = sheet
+  report.programs[#report.programs].cycle_time = sheet.cycle_time
 end
+report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("blisk_post.json", report)
 
 local rows = {}
 for i, p in ipairs(report.programs) do
   rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm, p.max_angle_deg}
 end
-require("run_report").write{title = "Posting the drum finish of " .. name,
+local sections = {{title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
+  "positioning moves", "tip deviation (µm)", "axis deviation (deg)"}, rows = rows}}}
+for _, section in ipairs(setup_sheet.sections(sheets)) do sections[#sections + 1] = section end
+require("run_report").write{title = "Posting the drum finish of " .. name, verdict = report.verdict,
   settings = {blade = blade, side = side, feed_mm_min = feed, planned_moves = #path, rows = r.row_count},
-  sections = {{title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post", "blocks",
-    "positioning moves", "tip deviation (um)", "axis deviation (deg)"}, rows = rows}}},
+  sections = sections,
   vtk = {path = "blisk_post.pvd", blocks = {{name = "flank", surface = plan:trimmed(), samples_u = 60,
                                             samples_v = 200}, {name = "toolpath", moves = plan:moves()}}},
   files = {{"blisk_post.json", "the figures above"}, {"blade_ac_fanuc.nc", "Fanuc program, A/C trunnion"},
-           {"blade_bc_heidenhain.h", "Heidenhain program, B/C head-table"}}}
+           {"blade_bc_heidenhain.h", "Heidenhain program, B/C head-table"},
+           {"blade_*_setup.html", "each program's setup sheet (and its .json)"}}}

@@ -105,5 +105,5 @@ j:run{name = "hecc_impeller_job", title = "Job: NASA HECC impeller", thickness_t
     end
     return {{title = "Ruled fits of the lofted faces (blade 1)", text = "The faces are planned on these fits; the "
                .. "roughing stock is the largest fit error + 0.5 mm.",
-             table = {columns = {"face", "fit max (um)", "fit RMS (um)"}, rows = rows}}}
+             table = {columns = {"face", "fit max (µm)", "fit RMS (µm)"}, rows = rows}}}
   end}

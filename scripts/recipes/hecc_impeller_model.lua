@@ -122,9 +122,11 @@ for _, blade in ipairs{"main", "splitter"} do
                      1e3 * part.fit.left_out.max_mm, 1e3 * part.fit.left_out.rms_mm}
   sections[#sections + 1] = {title = "Section fit, " .. blade .. " blade", svg = bliskrun.read_text(figure)}
 end
+-- A design or study run states no tolerance: its verdict says so (issue 37).
+report.verdict = require("run_report").verdict({})
 bliskrun.write_json("hecc_impeller_model.json", report)
 table.insert(sections, 1, {title = "Fit of the lofted flanks to the given section points", table = {columns = {"blade",
-  "sections", "max (um)", "RMS (um)", "points", "left-out max (um)", "left-out RMS (um)"}, rows = fit_rows}})
+  "sections", "max (µm)", "RMS (µm)", "points", "left-out max (µm)", "left-out RMS (µm)"}, rows = fit_rows}})
 require("run_report").write{title = "NASA HECC impeller: main and splitter blades rebuilt",
   settings = {set = set, chord_tol_mm = chord_tol, cols = cols}, sections = sections,
   vtk = {path = "hecc_impeller_model.pvd", blocks = blocks},

@@ -122,8 +122,20 @@ for k, c in ipairs(chosen) do
                       #plan.passes, plan.poses, plan.turned, #plan.refusals))
 end
 report.totals = totals
+-- The verdict, per channel: the cusps between widening paths within the
+-- scallop h (measured), no pose refused.
+local requirements = {}
+for _, c in ipairs(chosen) do
+  local ch = report.channels[c.name]
+  requirements[#requirements + 1] = {name = "channel " .. c.name .. ": scallop between widening paths (measured)",
+                                     unit = "µm", measured = 1e3 * ch.scallop_max, at_most = 1e3 * scallop * (1 + 1e-9)}
+  requirements[#requirements + 1] = {name = "channel " .. c.name .. ": refused poses", unit = "count",
+                                     measured = #ch.refusals, at_most = 0}
+end
+report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("impeller_channel_roughing.json", report)
 require("run_report").write{title = "Notching and widening of the built-in impeller's channel",
+  verdict = report.verdict,
   settings = {stations = stations, stock_mm = stock, min_stock_mm = min_stock, scallop_mm = scallop,
               depth_step_mm = depth_step, splitter_gap_mm = gap,
               mesh_tol_mm = mesh_tol, tool = tool:description()},

@@ -103,8 +103,8 @@ for _, kind in ipairs{"main", "splitter"} do
     blocks[#blocks + 1] = {name = name, mesh = meshes.face(kind, 1, side)}
     blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
     face_rows[#face_rows + 1] = {name, plan.stations, #plan.poses, #plan.refusals, plan.tilted,
-                                 plan.residual.max, plan.residual.min, plan.residual_unbalanced.max,
-                                 plan.residual_unbalanced.min}
+                                 1e3 * plan.residual.max, 1e3 * plan.residual.min, 1e3 * plan.residual_unbalanced.max,
+                                 1e3 * plan.residual_unbalanced.min}
     local per_pose = {}
     for i, p in ipairs(plan.poses) do
       local r = plan.residual_per_pose[i]
@@ -127,11 +127,29 @@ for _, kind in ipairs{"main", "splitter"} do
   end
 end
 report.totals = totals
+-- The verdict: every station's pose clear (a refused station is a face
+-- left unfinished there) and each face's lead-in and lead-out proved. The
+-- residual against the face is reported, not judged: this recipe states
+-- no thickness tolerance (hecc_impeller_flank_finish.lua does).
+local requirements = {}
+local face_names = {}
+for name in pairs(report.faces) do face_names[#face_names + 1] = name end
+table.sort(face_names)
+for _, name in ipairs(face_names) do
+  local f = report.faces[name]
+  requirements[#requirements + 1] = {name = name .. ": refused stations", unit = "count", measured = f.refused,
+                                     at_most = 0}
+  requirements[#requirements + 1] = {name = name .. ": lead-in and lead-out proved clear", unit = "yes/no",
+                                     measured = (f.lead_in and f.lead_out) and "yes" or "no",
+                                     pass = (f.lead_in and f.lead_out) and true or false,
+                                     note = f.lead_reason ~= "" and f.lead_reason or nil}
+end
+report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("impeller_flank_finish.json", report)
 local sections = {{title = "Faces of blade 1", table = {columns = {"face", "stations", "poses", "refused", "tilted",
-  "residual max (mm)", "residual min (mm)", "paper's axes max (mm)", "paper's axes min (mm)"}, rows = face_rows}}}
+  "residual max (µm)", "residual min (µm)", "paper's axes max (µm)", "paper's axes min (µm)"}, rows = face_rows}}}
 for _, p in ipairs(pictures) do sections[#sections + 1] = p end
-require("run_report").write{title = "Flank finishing of the built-in impeller",
+require("run_report").write{title = "Flank finishing of the built-in impeller", verdict = report.verdict,
   settings = {chord_tol_mm = chord_tol, mesh_tol_mm = mesh_tol, clearance_mm = clearance, balance = balance,
               residual_points = residual_points, tool = tool:description()},
   sections = sections, vtk = {path = "impeller_flank_finish.pvd", blocks = blocks},

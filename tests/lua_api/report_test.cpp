@@ -29,7 +29,7 @@ local svg = st.map:write_svg("k.svg", {width = 200, height = 100})
 bliskrun.report{path = "report.html", title = "Test <run>", subtitle = "two sections",
   sections = {
     {title = "Numbers", text = {"First paragraph & more.", "Second."},
-     table = {columns = {"flank", "rows", "undercut max (um)"}, rows = {{"pressure", 32, 14.25}, {"suction", 30, 13.5}}}},
+     table = {columns = {"flank", "rows", "undercut max (um)"}, rows = {{"pressure", 32, 14.26}, {"suction", 30, 1234.56}}}},
     {title = "Pictures", svg = bliskrun.read_text(svg), image = "k.png", caption = "K over (u, v)"},
   }}
 )LUA";
@@ -72,11 +72,67 @@ TEST(Report, WellFormedSelfContainedPageWithTocTablesChartsAndPictures) {
   EXPECT_NE(html.find("<li><a href=\"#s2\">Pictures</a></li>"), std::string::npos);
   EXPECT_NE(html.find("<p>First paragraph &amp; more.</p>"), std::string::npos);
   EXPECT_NE(html.find("<th>undercut max (um)</th>"), std::string::npos);
-  EXPECT_NE(html.find("<td class=\"n\">14.25</td>"), std::string::npos);
+  // Numbers to 3 significant digits, no exponent, integers as they are.
+  EXPECT_NE(html.find("<td class=\"n\">14.3</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"n\">1235</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"n\">32</td>"), std::string::npos);
+  // No verdict given to bliskrun.report: none drawn.
+  EXPECT_EQ(html.find("id=\"verdict\""), std::string::npos);
   EXPECT_EQ(html.find("<?xml"), std::string::npos);  // the SVG's declaration is dropped
   EXPECT_NE(html.find("<svg"), std::string::npos);
   // The PNG inlined is the file, byte for byte (base64 of its 8-byte signature).
   EXPECT_NE(html.find("src=\"data:image/png;base64,iVBORw0KGgo"), std::string::npos);
+}
+
+// run_report.write: the verdict first, PASS or FAIL per requirement with
+// its limit and measured value; a failed one fails the run after the page
+// and the JSON (verdict first there too) are written.
+std::string verdict_recipe(const char* overcut_tol_um) {
+  return std::string("local tiny = ") + overcut_tol_um + R"LUA(
+local run_report = require("run_report")
+local verdict = run_report.verdict{
+  {name = "overcut: deepest cut below the design", unit = "µm", measured = 0.0013089e3, at_most = tiny},
+  {name = "material left", unit = "µm", measured = 12.345, at_most = 20},
+  {name = "refused poses", unit = "count", measured = 0, at_most = 0},
+}
+bliskrun.write_json("run.json", {a = 1, verdict = verdict, z = {b = 2}})
+run_report.write{title = "Verdict test", verdict = verdict, sections = {{title = "Numbers", text = "x"}}}
+)LUA";
+}
+
+TEST(Report, VerdictFirstPassesWithinTheTolerances) {
+  test::TempDir dir;
+  const auto r = test::run_recipe_text(dir, verdict_recipe("5"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string html = slurp(fs::path(dir.path()) / "out" / "report.html");
+  expect_well_formed_and_self_contained(html);
+  const size_t verdict = html.find("<section id=\"verdict\" class=\"verdict pass\">");
+  ASSERT_NE(verdict, std::string::npos);
+  EXPECT_LT(verdict, html.find("<nav>"));  // above the table of contents
+  EXPECT_NE(html.find("Verdict: <strong>PASS</strong>"), std::string::npos);
+  EXPECT_NE(html.find("<td>material left</td><td>µm</td><td class=\"n\">&le; 20.0</td><td class=\"n\">12.3</td>"
+                      "<td>PASS</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td class=\"n\">1.31</td>"), std::string::npos);
+  // The JSON report starts with the verdict; the other keys stay sorted.
+  const std::string json = slurp(fs::path(dir.path()) / "out" / "run.json");
+  EXPECT_EQ(json.find("{\n  \"verdict\": {"), 0u) << json.substr(0, 80);
+  EXPECT_LT(json.find("\"a\": 1"), json.find("\"z\""));
+  EXPECT_NE(json.find("\"overall\": \"PASS\""), std::string::npos);
+}
+
+TEST(Report, VerdictFailsWhenATolerancesIsExceededAndTheRunExitsNonZeroAfterThePage) {
+  test::TempDir dir;
+  // A tolerance of 1 µm on an overcut of 1.31 µm.
+  const auto r = test::run_recipe_text(dir, verdict_recipe("1"));
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("verdict FAIL: overcut: deepest cut below the design 1.31 µm (limit <= 1 µm)"),
+            std::string::npos) << r.output;
+  const std::string html = slurp(fs::path(dir.path()) / "out" / "report.html");
+  EXPECT_NE(html.find("Verdict: <strong>FAIL</strong>"), std::string::npos);
+  EXPECT_NE(html.find("<tr class=\"fail\"><td>overcut: deepest cut below the design</td>"), std::string::npos);
+  EXPECT_NE(html.find("<tr class=\"pass\"><td>material left</td>"), std::string::npos);
+  const std::string json = slurp(fs::path(dir.path()) / "out" / "run.json");
+  EXPECT_NE(json.find("\"overall\": \"FAIL\""), std::string::npos);
 }
 
 class ReportErrors : public ::testing::TestWithParam<test::RecipeErrorCase> {};
@@ -124,6 +180,17 @@ TEST(Report, OpensInHeadlessChromium) {
   size_t rows = 0;
   for (size_t p = d.find("<tr>"); p != std::string::npos; p = d.find("<tr>", p + 1)) ++rows;
   EXPECT_EQ(rows, 3u);  // heading + 2 rows
+  // A run_report page: the verdict's text is in the DOM before the
+  // contents, so it is the first thing on screen.
+  test::TempDir verdict_dir;
+  ASSERT_EQ(test::run_recipe_text(verdict_dir, verdict_recipe("5")).exit_code, 0);
+  const fs::path verdict_dom = fs::path(verdict_dir.path()) / "dom.html";
+  ASSERT_EQ(std::system((browser + " --headless --no-sandbox --disable-gpu --user-data-dir=" + verdict_dir.path() +
+                         "/profile --dump-dom file://" + verdict_dir.path() + "/out/report.html > " +
+                         verdict_dom.string() + " 2>/dev/null").c_str()), 0);
+  const std::string vd = slurp(verdict_dom);
+  ASSERT_NE(vd.find("Verdict: <strong>PASS</strong>"), std::string::npos);
+  EXPECT_LT(vd.find("Verdict: <strong>PASS</strong>"), vd.find("<nav>"));
   EXPECT_NE(d.find("data:image/png;base64,"), std::string::npos);
   EXPECT_NE(d.find("<svg"), std::string::npos);
   ASSERT_EQ(std::system((browser + flags + "--screenshot=" + shot.string() + " --window-size=1200,1600 file://" +

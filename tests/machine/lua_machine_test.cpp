@@ -82,6 +82,35 @@ TEST(MachineLua, TwoToolsInOneProgramAreChangedAndVerified) {
   EXPECT_NE(r.output.find("expected tool 7 here (plan move 5), the program has tool 3"), std::string::npos) << r.output;
 }
 
+// post.write's cycle time: the machine file's limits (monoblock: tool
+// change 7 s), two tool changes (the first tool call is one), positioning,
+// cutting and tool changes adding up to the total, per operation in the
+// order they run, and each axis word's range over the program.
+TEST(MachineLua, PostWriteEstimatesTheCycleTimePerOperation) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, std::string(kPath) +
+      "local m = bliskrun.machine.load(\"monoblock_like_head_table\")\n"
+      "local p = path({10, 12, 14})\n"
+      "for _, move in ipairs(p) do move.operation = \"rough\" end\n"
+      "for _, move in ipairs(path({20, 22})) do move.tool = 7; move.operation = \"finish\"; p[#p + 1] = move end\n"
+      "local r = bliskrun.post.write{machine = m, post = \"heidenhain\", path = p, file = \"two.h\",\n"
+      "  tools = {{number = 3, length = 80, spindle_rpm = 9000}, {number = 7, length = 120}}}\n"
+      "local c = r.cycle_time\n"
+      "assert(c.tool_changes == 2 and c.tool_change_s == 14, c.tool_changes .. ' ' .. c.tool_change_s)\n"
+      "assert(c.rapid_s > 0 and c.cut_s > 0)\n"
+      "assert(math.abs(c.total_s - c.rapid_s - c.cut_s - c.tool_change_s) < 1e-9)\n"
+      "assert(#c.per_operation == 2 and c.per_operation[1].operation == 'rough' and c.per_operation[2].operation == 'finish')\n"
+      "local sum = 0\n"
+      "for _, o in ipairs(c.per_operation) do sum = sum + o.total_s end\n"
+      "assert(math.abs(sum - c.total_s) < 1e-9)\n"
+      "assert(c.per_operation[2].tool_change_s == 7)\n"
+      "-- The feed moves: 1 mm steps at F700 (11.7 mm/s) take at least 1/11.7 s each.\n"
+      "assert(c.cut_s >= 3 / (700 / 60), c.cut_s)\n"
+      "local x = r.axis_ranges.X\n"
+      "assert(x[1] <= x[2] and r.axis_ranges.B and r.axis_ranges.C, 'axis ranges')\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // post.write_all posts several programs at once — a post named by its file
 // in a worker's own Lua state, a post table edited in the recipe on the
 // recipe's state — and gives every file and report post.write gives each

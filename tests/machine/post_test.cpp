@@ -424,7 +424,7 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      good_rotary + "}\n"), "");
   EXPECT_EQ(error_of("-- comment\nreturn machine {\n  name = 'm', speed = 3,\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
                      good_rotary + "}\n"),
-            path + ":2: machine: unknown key 'speed', expected one of: feed, linear, name, part_origin, "
+            path + ":2: machine: unknown key 'speed', expected one of: dynamics, feed, linear, name, part_origin, "
                    "rapid, resolution, rotary, safe_z, spindle, tool_length");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Z = {-1, 1} },\n" + good_rotary + "}\n"),
             path + ":1: machine: linear: missing axis Y");
@@ -433,9 +433,17 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      "             { name = 'C', carrier = 'part', direction = {1, 0, 0} } },\n}\n"),
             path + ":1: machine: rotary[2].direction: parallel to rotary[1]: the two rotary axes cannot orient the tool");
   EXPECT_EQ(error_of("return generic 'table_table_ac' {\n  name = 'x', a_travel = {0, 1} }\n"),
-            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, feed, name, "
+            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, dynamics, feed, name, "
                    "part_origin, rapid, resolution, safe_z, speed, tool_length, x, y, z");
   EXPECT_NE(error_of("return 42\n").find("expected the file to return machine"), std::string::npos);
+  // The cycle-time limits name the axis and the unit; axes are the machine's own.
+  const std::string xyz = "  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n";
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n" + xyz + good_rotary + "  dynamics = { B = {} } }\n"),
+            path + ":1: machine: dynamics: unknown key 'B', expected one of: A, C, X, Y, Z, tool_change_s");
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n" + xyz + good_rotary + "  dynamics = { C = { max_accel = 0 } } }\n"),
+            path + ":1: machine: dynamics.C.max_accel: expected > 0 deg/s^2");
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n" + xyz + good_rotary + "  dynamics = { X = { max_jerk = -1 } } }\n"),
+            path + ":1: machine: dynamics.X.max_jerk: expected > 0 mm/s^3");
 }
 
 // Every shipped concrete machine loads and is the configuration it says.

@@ -120,6 +120,38 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
   }
 }
 
+// Issue 37: the verdict comes first in the JSON and the page, PASS per
+// requirement on the default run; links retracting along the wheel's axis
+// (which drags the barrel into the concave flank) allowed to dip 100 um are
+// refused by the link guard, and a refusal FAILs the run: exit 1, after the
+// page and the JSON say so.
+TEST(BliskDrumFinishRecipe, VerdictFailsTheRunAfterThePageWhenARequirementFails) {
+  TempDir pass_dir, fail_dir;
+  const std::vector<std::string> small = {"--set", "samples_u=40", "--set", "samples_v=150"};
+  std::vector<std::string> args = {recipe("blisk_drum_finish.lua"), "--out", pass_dir.path(), "--quiet",
+                                   "--threads", "2"};
+  args.insert(args.end(), small.begin(), small.end());
+  const RecipeResult ok = run_bliskrun(args);
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string json = slurp(fs::path(pass_dir.path()) / "blisk_drum_finish.json");
+  EXPECT_EQ(json.find("{\n  \"verdict\": {"), 0u);
+  const nlohmann::json v = nlohmann::json::parse(json)["verdict"];
+  EXPECT_EQ(v["overall"], "PASS");
+  EXPECT_EQ(v["requirements"].size(), 10u);  // five per flank
+  for (const auto& q : v["requirements"]) EXPECT_TRUE(q["pass"].get<bool>()) << q.dump();
+  const std::string page = slurp(fs::path(pass_dir.path()) / "report.html");
+  EXPECT_LT(page.find("Verdict: <strong>PASS</strong>"), page.find("<nav>"));
+
+  args[2] = fail_dir.path();
+  for (const char* extra : {"--set", "link=axis", "--set", "link_overcut=0.1"}) args.push_back(extra);
+  const RecipeResult bad = run_bliskrun(args);
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find("verdict FAIL: pressure flank: refused poses and links"), std::string::npos) << bad.output;
+  const nlohmann::json fail = nlohmann::json::parse(slurp(fs::path(fail_dir.path()) / "blisk_drum_finish.json"));
+  EXPECT_EQ(fail["verdict"]["overall"], "FAIL");
+  EXPECT_NE(slurp(fs::path(fail_dir.path()) / "report.html").find("Verdict: <strong>FAIL</strong>"), std::string::npos);
+}
+
 // Issue 7: same recipe and inputs give the same bytes, whatever the thread
 // count (the simulation splits tool positions over the workers).
 TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {

@@ -7,6 +7,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <regex>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -36,7 +39,7 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
   // unfinished. The job's seam check finds both ends of both edges, and the
   // run fails after writing everything (issue 34 item 8; it exited 0).
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("seams between operations beyond tolerance"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("verdict FAIL: seam "), std::string::npos) << r.output;
   for (const char* seam : {"root strip / trailing edge: ", "trailing edge, window top: ", "root strip / leading edge: ",
                            "leading edge, window top: "})
     EXPECT_NE(r.output.find(seam), std::string::npos) << seam << "\n" << r.output;
@@ -124,6 +127,38 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
   }
   EXPECT_EQ(j["programs"][1]["setup"].get<std::string>(), "turned over (inlet up)");
   EXPECT_EQ(j["programs"][3]["setup"].get<std::string>(), "turned over (inlet up)");
+  // The verdict comes first and names the seams that failed.
+  EXPECT_EQ(j["verdict"]["overall"], "FAIL");
+  // Issue 37: each program's setup sheet lists every tool the program
+  // calls, by its number (T words on Fanuc, TOOL CALL on the TNC), each once,
+  // and its estimated cycle time adds up.
+  for (const auto& p : j["programs"]) {
+    const std::string file = p["file"].get<std::string>();
+    SCOPED_TRACE(file);
+    std::ifstream text_in(out + "/" + file);
+    const std::string text((std::istreambuf_iterator<char>(text_in)), std::istreambuf_iterator<char>());
+    std::set<int> called;
+    const std::regex call(file.size() > 2 && file.substr(file.size() - 2) == ".h" ? "TOOL CALL (\\d+)" : "\\bT(\\d+)");
+    for (std::sregex_iterator it(text.begin(), text.end(), call), end; it != end; ++it) called.insert(std::stoi((*it)[1]));
+    ASSERT_FALSE(called.empty());
+    const std::string stem = file.substr(0, file.rfind('.')) + "_setup";
+    std::ifstream sheet_in(out + "/" + stem + ".json");
+    const nlohmann::json sheet = nlohmann::json::parse(sheet_in);
+    std::set<int> listed;
+    for (const auto& t : sheet["tools"]) {
+      EXPECT_TRUE(listed.insert(t["number"].get<int>()).second) << "T" << t["number"] << " listed twice";
+      EXPECT_GT(t["stick_out_mm"].get<double>(), 0.0);
+      EXPECT_FALSE(t["description"].get<std::string>().empty());
+    }
+    EXPECT_EQ(listed, called);
+    const auto& c = sheet["cycle_time"];
+    EXPECT_NEAR(c["total_s"].get<double>(),
+                c["rapid_s"].get<double>() + c["cut_s"].get<double>() + c["tool_change_s"].get<double>(), 1e-6);
+    EXPECT_EQ(c["tool_changes"].get<int>(), static_cast<int>(called.size()));
+    // Cutting takes at least what the F words ask (acceleration only adds).
+    EXPECT_GE(c["cut_s"].get<double>() + c["rapid_s"].get<double>(), 60 * p["feed_minutes"].get<double>() * 0.999);
+    EXPECT_TRUE(fs::exists(out + "/" + stem + ".html"));
+  }
 
   // One map of blade 1 (issue 18 item 4): every surface of the blade swept
   // by every operation's moves, each with its own tool. Every region is

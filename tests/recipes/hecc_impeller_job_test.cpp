@@ -36,7 +36,12 @@ TEST(HeccImpellerJobRecipe, RoughingAndFlankFinishOfTwoBladesPlanSimulateAndPost
                                        "--set", "stations=9", "--set", "scallop=0.05", "--set", "depth_step=10",
                                        "--set", "channels=left", "--set", "faces=main minus", "--set", "sim_u=30",
                                        "--set", "sim_v=120"});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The flank finish cannot hold the thickness tolerance on blades that
+  // are not ruled (below): the verdict FAILs it, and the run exits 1 after
+  // writing the programs, the JSON and the page (issue 37).
+  ASSERT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("verdict FAIL: flank finish, main minus: largest deviation from the face as designed"),
+            std::string::npos) << r.output;
   EXPECT_TRUE(has_run_report(out, "hecc_impeller_job.pvd"));
   std::ifstream in(out + "/hecc_impeller_job.json");
   ASSERT_TRUE(in.good());
@@ -86,6 +91,7 @@ TEST(HeccImpellerJobRecipe, RoughingAndFlankFinishOfTwoBladesPlanSimulateAndPost
   const nlohmann::json& finish = j["finish"]["main minus"];
   const double face_fit = j["ruled_fit"]["main minus"]["max_mm"].get<double>();
   EXPECT_FALSE(finish["within_tolerance"].get<bool>());
+  EXPECT_EQ(j["verdict"]["overall"], "FAIL");
   EXPECT_LT(finish["residual_min_mm"].get<double>(), -0.05);
   EXPECT_GT(finish["residual_max_mm"].get<double>(), 0.05);
   EXPECT_GT(finish["residual_min_mm"].get<double>(), -face_fit);

@@ -13,13 +13,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// `exit_code`: what the run must exit with (1: a requirement of its verdict
+// fails, after every file is written).
 nlohmann::json run_recipe(const std::string& name, const TempDir& dir, const std::string& json,
-                          const std::vector<std::string>& extra = {}) {
+                          const std::vector<std::string>& extra = {}, int exit_code = 0) {
   std::vector<std::string> args = {std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name, "--data",
                                    shared_data_dir(), "--out", dir.path(), "--quiet"};
   args.insert(args.end(), extra.begin(), extra.end());
   const RecipeResult r = run_bliskrun(args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.exit_code, exit_code) << r.output;
   std::ifstream in(dir.path() + "/" + json);
   if (!in) {
     ADD_FAILURE() << "no " << json << "; output:\n" << r.output;
@@ -114,9 +116,11 @@ TEST(HeccImpellerRecipe, RuledFitAndFlankFinish) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC flank-finish recipe skipped";
   TempDir dir;
   const nlohmann::json j = run_recipe("hecc_impeller_flank_finish.lua", dir, "hecc_impeller_flank_finish.json",
-                                      {"--set", "chord_tol=0.05", "--set", "mesh_tol=0.2", "--set", "residual_points=8"});
+                                      {"--set", "chord_tol=0.05", "--set", "mesh_tol=0.2", "--set", "residual_points=8"},
+                                      1);  // the verdict FAILs the thickness tolerance (issue 37)
   ASSERT_FALSE(j.is_null());
   EXPECT_TRUE(has_run_report(dir.path(), "hecc_impeller_flank_finish.pvd"));
+  EXPECT_EQ(j["verdict"]["overall"], "FAIL");
   EXPECT_EQ(j["blades"].get<int>(), 15);
   for (const char* face : {"hecc_main_pressure", "hecc_main_suction", "hecc_splitter_pressure", "hecc_splitter_suction"}) {
     const nlohmann::json& f = j["faces"][face];

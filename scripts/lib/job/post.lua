@@ -6,6 +6,7 @@
 local options = require("job.options")
 local geometry = require("job.geometry")
 local Job = require("job.model").Job
+local setup_sheet = require("setup_sheet")
 
 local check_options, positive, add = options.check, options.positive, geometry.add
 
@@ -90,10 +91,49 @@ local function program_entry(m, r)
   return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
           max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil,
           controller = r.controller, swept_cutter_mm = r.swept_cutter, swept_tool_mm = r.swept_tool,
+          chord_tol_mm = r.chord_tol, body_tol_mm = r.body_tol,
+          swept_cutter_tightest_mm = r.swept_cutter_tightest, swept_tool_tightest_mm = r.swept_tool_tightest,
           swept_blocks = r.swept, unswept_blocks = r.unswept, safe_blocks = r.safe_moves, slowed_blocks = r.slowed,
           cutter_speed_ratio = r.cutter_speed_ratio, rotary_speed_deg_per_min = r.rotary_speed,
           rotary_resets = r.rotary_resets, rotary_largest_deg = r.rotary_largest, inserted_blocks = r.inserted,
           feed_minutes = r.feed_minutes, tip_feed_minutes = r.tip_feed_minutes}
+end
+
+-- The setup sheet of one posted program (setup_sheet.lua), written beside
+-- it: m as program_entry takes, `tools` post.write's tools (in the order the
+-- program calls them), r post.write's report.
+function Job:setup_sheet(m, tools, r)
+  local sheet_tools, names = {}, {}
+  for i, t in ipairs(tools) do
+    local entry = self:tool_entry(t.number)
+    local feeds, sisters = {}, {}
+    for _, op in ipairs(self.operations) do
+      if self.tools[op.tool] == entry and op.feed then feeds[#feeds + 1] = op.feed end
+    end
+    for _, k in ipairs({entry.number, table.unpack(entry.sisters or {})}) do
+      if k ~= t.number then sisters[#sisters + 1] = k end
+    end
+    sheet_tools[i] = {number = t.number, description = t.body and t.body:description() or nil,
+                      stick_out_mm = t.length, spindle_rpm = t.spindle_rpm, feeds_mm_per_min = feeds,
+                      sisters = sisters}
+  end
+  for k, op in ipairs(self.operations) do
+    local entry = self.tools[op.tool]
+    names["operation " .. k] = string.format("%d: %s%s", k, op.kind:gsub("_", " "),
+                                             entry and string.format(", T%d", entry.number) or "")
+  end
+  local setup = m.setup and string.format("%s%s%s", m.setup.name or "", m.setup.flip and ", turned over" or "",
+                                          (m.setup.clocking_deg or 0) ~= 0
+                                            and string.format(", clocked %g deg", m.setup.clocking_deg) or "")
+  local sheet = setup_sheet.build{file = m.file, machine = m.name or m.machine, post = m.post, report = r,
+    tools = sheet_tools, operations = names, work_offset = m.work_offset, setup = setup,
+    origin = "the part frame's origin: on the part's axis at z = 0 of its model" .. (m.setup and m.setup.flip
+      and " (turned over: the part's +Z points down the machine's -Z)" or "")
+      .. "; the machine file's part_origin places it from the machine's zero (the header's setup notes)",
+    fixture = self.fixture or "not modelled by the job (the machine file's part_origin stands for it)",
+    stock = self.stock or "not stated by the job"}
+  setup_sheet.write(sheet)
+  return sheet
 end
 
 -- Posts for one machine (j:post) and prints the one-line summary; returns
@@ -128,7 +168,15 @@ function Job:post_programs(list, level)
     self:raise_post_error(message, k and offsets[k][1] or 0, level, k and offsets[k][2])
   end
   local entries = {}
-  for i, m in ipairs(list) do entries[i] = program_entry(m, result[i]) end
+  for i, m in ipairs(list) do
+    entries[i] = program_entry(m, result[i])
+    local sheet = self:setup_sheet(m, requests[i].tools, result[i])
+    entries[i].cycle_time, entries[i].setup_sheet = sheet.cycle_time, sheet
+    print(string.format("    estimated cycle time %.1f min (positioning %.0f s, cutting %.0f s, %d tool changes %.0f s); "
+                        .. "setup sheet %s", sheet.cycle_time.total_s / 60, sheet.cycle_time.rapid_s,
+                        sheet.cycle_time.cut_s, sheet.cycle_time.tool_changes, sheet.cycle_time.tool_change_s,
+                        sheet.files.html))
+  end
   return entries
 end
 

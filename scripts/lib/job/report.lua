@@ -5,7 +5,35 @@
 -- posted, page — each a function of the run's state `r`:
 --   r = {job, o (j:run's options), json (the JSON report), planned,
 --        plan_seconds, sim, blade_map}.
+-- `requirements(r, stop)` lists what the run is judged by (its verdict,
+-- run_report.verdict): each with its limit and measured value, deviations
+-- in µm; `stop` is the reason nothing was posted, if so.
 local Job = require("job.model").Job
+local seams = require("job.seams")
+local simulate = require("job.simulate")
+
+-- What every job states: no refusal (planning stops at the first one and
+-- names it, so a run that got here has none), and every posted program's
+-- cutter and tool within the post's tolerances of the proved motion as its
+-- controller moves (the read-back sweep).
+local function common_requirements(r, q)
+  q[#q + 1] = {name = "refused poses and links", unit = "count", measured = r.json.refusals or 0, at_most = 0,
+               note = "planning stops at a refusal"}
+  -- The limit is the post's tolerance plus what the output resolution
+  -- explains at the block nearest it (post.write's *_tightest).
+  for _, p in ipairs(r.json.programs) do
+    local c, t = p.swept_cutter_tightest_mm, p.swept_tool_tightest_mm
+    if c then
+      q[#q + 1] = {name = p.file .. ": cutter off the proved motion (read back, swept; tightest block)", unit = "µm",
+                   measured = 1e3 * c[1], at_most = 1e3 * c[2],
+                   note = string.format("largest %.3g µm; tolerance %.3g µm + output resolution", 1e3 * p.swept_cutter_mm,
+                                        1e3 * p.chord_tol_mm)}
+      q[#q + 1] = {name = p.file .. ": tool body off the proved motion (tightest block)", unit = "µm",
+                   measured = 1e3 * t[1], at_most = 1e3 * t[2]}
+    end
+  end
+  return q
+end
 
 local M = {blisk = {}, impeller = {}}
 
@@ -142,11 +170,11 @@ function M.blisk.page(r)
   local sections = {
     {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
                                                 r.job.clearance_surface.description),
-     table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (um)", "mean (um)",
-                         "overcut (um)"}, rows = unit_rows}},
+     table = {columns = {"blade", "flank, edge or root", "rows", "poses", "material left max (µm)", "mean (µm)",
+                         "overcut (µm)"}, rows = unit_rows}},
     {title = "Programs, read back and swept as each controller moves", table = {columns = {"file", "machine", "post",
-      "blocks", "positioning moves", "tip deviation (um)", "cutter off the proved motion (um)",
-      "tool off the proved motion (um)", "overcut at most (um)"}, rows = program_rows}}}
+      "blocks", "positioning moves", "tip deviation (µm)", "cutter off the proved motion (µm)",
+      "tool off the proved motion (µm)", "overcut at most (µm)"}, rows = program_rows}}}
   if json.blade_map then
     pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                                image = json.blade_map.picture}
@@ -157,7 +185,67 @@ function M.blisk.page(r)
   return sections, blocks, files
 end
 
+-- A blisk job: the deepest cut within the loosest operation's promise,
+-- each operation's material left within its promise on the units it
+-- finished, and every seam between operations within its tolerances.
+function M.blisk.requirements(r, stop)
+  local q, sim = {}, r.sim
+  if sim then
+    local allowed, by_kind = 0, {}
+    for _, op in ipairs(r.job.operations) do
+      allowed = math.min(allowed, seams.promise(op).cut)
+      by_kind[op.kind] = by_kind[op.kind] or {promise = seams.promise(op), left = nil}
+    end
+    q[#q + 1] = {name = "overcut: deepest cut below the design (simulated, every unit)", unit = "µm",
+                 measured = math.max(0, -1e3 * sim.overcut), at_most = -1e3 * allowed + 0.1,
+                 note = stop and "nothing posted" or nil}
+    for _, f in ipairs(sim.flanks) do
+      local k = by_kind[f.kind]
+      if k then k.left = math.max(k.left or -math.huge, f.undercut_max) end
+    end
+    for _, op in ipairs(r.job.operations) do
+      local k = by_kind[op.kind]
+      if k and k.left and not k.listed then
+        k.listed = true
+        q[#q + 1] = {name = string.format("material left, %s (simulated, its units)", op.kind:gsub("_", " ")),
+                     unit = "µm", measured = 1e3 * k.left, at_most = 1e3 * k.promise.left}
+      end
+    end
+    for _, f in ipairs(sim.seams or {}) do
+      q[#q + 1] = {name = "seam " .. f.name .. ": material left", unit = "µm",
+                   measured = f.material_left_max_mm and 1e3 * f.material_left_max_mm,
+                   at_most = 1e3 * f.tolerance.material_left_mm, pass = f.ok, note = not f.ok and f.reason or nil}
+    end
+  end
+  return common_requirements(r, q)
+end
+
 -- ---- an impeller -----------------------------------------------------------
+
+-- An impeller job: each surface of blade 1 cut no deeper than its
+-- operations allow (a face its flank finish's planned residual, the rest
+-- the sweep's 2 µm), and with a thickness tolerance each flank-finished face
+-- within it.
+function M.impeller.requirements(r, stop)
+  local q = {}
+  local allowed = simulate.impeller_overcut_allowed(r.json.units, r.o.overcut_slack or 0.005)
+  for _, s in ipairs(r.sim and r.sim.surfaces or {}) do
+    if s.total then
+      q[#q + 1] = {name = "overcut, blade 1 " .. s.name .. " (simulated)", unit = "µm",
+                   measured = math.max(0, -1e3 * s.total.overcut), at_most = -1e3 * (allowed[s.name] or -0.002),
+                   note = stop and s.total.overcut < (allowed[s.name] or -0.002) and "nothing posted" or nil}
+    end
+  end
+  for _, u in ipairs(r.json.units) do
+    local f = r.json.finish and r.json.finish[u.name]
+    if u.operation == "flank_finish" and f then
+      q[#q + 1] = {name = "flank finish, " .. u.name .. ": largest deviation from the face as designed", unit = "µm",
+                   measured = 1e3 * math.max(f.residual_max_mm, -f.residual_min_mm),
+                   at_most = 1e3 * r.json.thickness_tolerance_mm}
+    end
+  end
+  return common_requirements(r, q)
+end
 
 -- The units of blade 1 (every other blade's are them turned), the moves per
 -- operation, and with a thickness tolerance the flank finish's verdict per
@@ -242,13 +330,13 @@ function M.impeller.page(r)
     sections[#sections + 1] = {title = "Flank finishing against the faces as designed", text = string.format(
       "Residual of the ruled cutter's axes (balanced) against the design; thickness tolerance %.3f mm.",
       json.thickness_tolerance_mm),
-      table = {columns = {"face", "residual min (um)", "residual max (um)", "within tolerance"}, rows = rows}}
+      table = {columns = {"face", "residual min (µm)", "residual max (µm)", "within tolerance"}, rows = rows}}
   end
   sections[#sections + 1] = {title = "Material left (simulated, blade 1's faces and one pitch of the hub)",
-    table = {columns = {"surface", "moves of", "left min (um)", "left max (um)", "undercut mean (um)", "overcut (um)",
+    table = {columns = {"surface", "moves of", "left min (µm)", "left max (µm)", "undercut mean (µm)", "overcut (µm)",
                         "overcut at move", "untouched samples"}, rows = r.simulated.rows}}
   sections[#sections + 1] = {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post",
-    "blocks", "positioning moves", "tip deviation (um)"}, rows = program_rows}}
+    "blocks", "positioning moves", "tip deviation (µm)"}, rows = program_rows}}
   for _, p in ipairs(r.simulated.pictures) do sections[#sections + 1] = p end
   return sections, {{name = "job toolpath", moves = planned.moves}},
          {{r.o.name .. "_left_*.png", "the maps of the material left above"}}

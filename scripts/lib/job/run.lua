@@ -8,6 +8,7 @@ local options = require("job.options")
 local simulate = require("job.simulate")
 local report = require("job.report")
 local Job = require("job.model").Job
+local run_report = require("run_report")
 
 local check_options, positive = options.check, options.positive
 
@@ -118,25 +119,30 @@ function Job:run(o)
     step("map blade 1 after the whole job")
     steps.blade_map(r, o.blade_map == "lean")
   end
-  -- Nothing is posted after a simulated overcut the operations do not allow.
+  -- Nothing is posted after a simulated overcut the operations do not
+  -- allow: the report is written with the verdict FAIL and no program.
+  local stop
   if self.part_kind == "blisk" then
-    local stop = r.sim and self:blisk_overcut(r.sim)
-    if stop then
-      bliskrun.write_json(o.name .. ".json", r.json)
-      error(stop, 0)
-    end
+    stop = r.sim and self:blisk_overcut(r.sim)
   else
-    self:check_overcut(r.sim, r.json.units, o.overcut_slack or 0.005)
+    stop = self:check_overcut(r.sim, r.json.units, o.overcut_slack or 0.005)
   end
-  step(string.format("post and read back %d program%s", #o.programs * (o.setups and #o.setups or 1),
-                     #o.programs * (o.setups and #o.setups or 1) == 1 and "" or "s"))
-  local setups = o.setups and split_setups(r.planned, o.setups)
-  r.json.programs = self:post_programs(program_list(o.programs, setups), 4)
-  steps.posted(r)
+  if not stop then
+    step(string.format("post and read back %d program%s", #o.programs * (o.setups and #o.setups or 1),
+                       #o.programs * (o.setups and #o.setups or 1) == 1 and "" or "s"))
+    local setups = o.setups and split_setups(r.planned, o.setups)
+    r.json.programs = self:post_programs(program_list(o.programs, setups), 4)
+    steps.posted(r)
+  end
+  local verdict = run_report.verdict(steps.requirements(r, stop), stop and "Nothing posted: " .. stop or nil)
+  r.json.verdict = verdict
   bliskrun.write_json(o.name .. ".json", r.json)
 
   step("write the report")
   local sections, blocks, files = steps.page(r)
+  local sheets = {}
+  for _, p in ipairs(r.json.programs) do sheets[#sheets + 1] = p.setup_sheet end
+  for _, s in ipairs(require("setup_sheet").sections(sheets)) do sections[#sections + 1] = s end
   if o.sections then
     local own = o.sections(r.json)
     for i = #own, 1, -1 do table.insert(sections, 1, own[i]) end
@@ -145,19 +151,15 @@ function Job:run(o)
   for _, p in ipairs(r.json.programs) do
     listed[#listed + 1] = {p.file, string.format("%s program, %s%s", p.post, p.machine,
                                                  p.setup and ", setup " .. p.setup or "")}
+    listed[#listed + 1] = {p.setup_sheet.files.html, "its setup sheet (and " .. p.setup_sheet.files.json .. ")"}
   end
   for _, f in ipairs(files) do listed[#listed + 1] = f end
-  require("run_report").write{title = o.title or "Job: " .. self.name, settings = o.settings, sections = sections,
-                              vtk = {path = o.name .. ".pvd", blocks = blocks}, files = listed}
-  -- Material left beyond a seam's tolerance: the programs are proved safe
-  -- and written, the part is not finished within tolerance — the run says
-  -- so and fails (the JSON report has each seam's reason).
   bliskrun.progress_step()  -- the job's line ends
-  local failures = r.seam_failures or {}
-  if #failures > 0 then
-    error(string.format("%d seam%s between operations beyond tolerance (%s.json, seams): %s", #failures,
-                        #failures > 1 and "s" or "", o.name, table.concat(failures, "; ")), 0)
-  end
+  -- A failed requirement fails the run after the page is written: an
+  -- overcut posts nothing; material left beyond a seam's tolerance posts
+  -- programs proved safe for a part not finished within tolerance.
+  run_report.write{title = o.title or "Job: " .. self.name, settings = o.settings, sections = sections,
+                   verdict = verdict, vtk = {path = o.name .. ".pvd", blocks = blocks}, files = listed}
   return r
 end
 

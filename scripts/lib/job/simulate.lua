@@ -217,22 +217,30 @@ function Job:simulate_impeller(o)
   return result
 end
 
--- The stop after an impeller job's simulation (j:simulate): a face may be
--- overcut by its own flank finish's planned residual (units: the plan's
--- {operation, name, report} of blade 1, `slack` mm for the simulation's
--- sampling), nothing else anywhere beyond the sweep's 2 um. An error names
--- the surface, the depth and the job move that cut it.
-function Job:check_overcut(sim, units, slack)
+-- The deepest cut (mm, negative) each of an impeller's surfaces allows:
+-- {[surface name] = mm}; a surface not listed allows the sweep's 2 um.
+function M.impeller_overcut_allowed(units, slack)
   local allowed = {}
   for _, u in ipairs(units) do
     if u.operation == "flank_finish" then allowed[u.name] = math.min(0, u.report.residual_min) - slack end
   end
+  return allowed
+end
+
+-- The stop after an impeller job's simulation (j:simulate): a face may be
+-- overcut by its own flank finish's planned residual (units: the plan's
+-- {operation, name, report} of blade 1, `slack` mm for the simulation's
+-- sampling), nothing else anywhere beyond the sweep's 2 um. Returns the
+-- reason naming the surface, the depth and the job move that cut it (nothing
+-- is to be posted), or nil.
+function Job:check_overcut(sim, units, slack)
+  local allowed = M.impeller_overcut_allowed(units, slack)
   for _, s in ipairs(sim.surfaces) do
     local t, floor = s.total, allowed[s.name] or -0.002
     if t and t.overcut < floor then
-      error(string.format("simulation: blade 1 %s is overcut %.1f um at job move %d (%s), beyond the %.1f um its "
-                          .. "operations allow; nothing is posted", s.name, -1e3 * t.overcut, t.overcut_move or -1,
-                          t.overcut_operation or "?", -1e3 * floor), 0)
+      return string.format("simulation: blade 1 %s is overcut %.1f um at job move %d (%s), beyond the %.1f um its "
+                           .. "operations allow; nothing is posted", s.name, -1e3 * t.overcut, t.overcut_move or -1,
+                           t.overcut_operation or "?", -1e3 * floor)
     end
   end
 end
