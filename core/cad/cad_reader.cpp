@@ -36,6 +36,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <optional>
@@ -143,7 +144,10 @@ class Reader {
     CadModel out;
     out.path = path_;
     out.format = iges_ ? "IGES" : "STEP";
-    if (!std::ifstream(path_)) fail(0, "cannot open the file for reading");
+    // A folder opens as a stream on Linux; OCCT must get a file.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path_, ec) || !std::ifstream(path_))
+      fail(0, "cannot open the file for reading");
     IGESControl_Reader ir;
     STEPControl_Reader sr;
     XSControl_Reader& r = iges_ ? static_cast<XSControl_Reader&>(ir) : sr;
