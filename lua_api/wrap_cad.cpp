@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/cad/cad.h"
+#include "core/parts/cad_blade.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
@@ -78,10 +79,61 @@ int w_read_cad(lua_State* L) {
   });
 }
 
+using luax::Field;
+using luax::Kind;
+
+// bliskrun.cad_blade{surface=, coordinates="cartesian"|"x_rtheta_r",
+// axial_origin=0, hub=curve, casing=curve} -> {pressure, suction, airfoil,
+// hub, casing, le, te}
+int w_cad_blade(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.cad_blade",
+      {Field{"surface", Kind::Any, true, std::nullopt, std::nullopt,
+             "the closed airfoil surface (a read_cad face's surface): around in one parameter, hub to tip in the other", {}},
+       Field{"coordinates", Kind::String, false, std::nullopt, std::nullopt,
+             "\"cartesian\" (axis Z; default) or \"x_rtheta_r\" (x axial, y = R theta, z = R: NASA's E3 files)",
+             {"cartesian", "x_rtheta_r"}},
+       luax::number_field("axial_origin", "the file's axial coordinate that becomes z = 0 (x_rtheta_r), mm; default 0"),
+       Field{"hub", Kind::Any, false, std::nullopt, std::nullopt, "hub meridian curve (a read_cad curve)", {}},
+       Field{"casing", Kind::Any, false, std::nullopt, std::nullopt, "casing meridian curve (a read_cad curve)", {}}});
+  o.push_raw("surface");
+  const std::shared_ptr<const Surface> surface = luax::check<SurfaceHandle>(L, -1).surface;
+  lua_pop(L, 1);
+  CadBladeOptions opts;
+  if (o.string("coordinates", "cartesian") == "x_rtheta_r") opts.coordinates = CadCoordinates::kAxialRthetaR;
+  opts.axial_origin_mm = o.number("axial_origin", 0);
+  std::shared_ptr<const Curve> curves[2];
+  const char* keys[2] = {"hub", "casing"};
+  for (int k = 0; k < 2; ++k)
+    if (o.has(keys[k])) {
+      o.push_raw(keys[k]);
+      curves[k] = luax::check<CurveHandle>(L, -1).curve;
+      lua_pop(L, 1);
+    }
+  return luax::guarded(L, [&] {
+    const CadBlade b = cad_blade(surface, opts);
+    lua_createtable(L, 0, 7);
+    push_surface(L, b.pressure);
+    lua_setfield(L, -2, "pressure");
+    push_surface(L, b.suction);
+    lua_setfield(L, -2, "suction");
+    push_surface(L, b.airfoil);
+    lua_setfield(L, -2, "airfoil");
+    luax::set_number(L, "le", b.le);
+    luax::set_number(L, "te", b.te);
+    for (int k = 0; k < 2; ++k)
+      if (curves[k]) {
+        push_surface(L, std::make_shared<SurfaceOfRevolution>(revolution_from_curve(*curves[k], opts)));
+        lua_setfield(L, -2, keys[k]);
+      }
+    return 1;
+  });
+}
+
 }  // namespace
 
 void open_cad(lua_State* L) {
-  static const luaL_Reg functions[] = {{"read_cad", w_read_cad}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"read_cad", w_read_cad}, {"cad_blade", w_cad_blade}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

@@ -16,7 +16,10 @@
 --      each read back and replayed through the arm before it is written.
 -- The blade: blade 1 of the built-in blisk, ground as a separate blade
 -- between its hub and tip curves; with --data ../shared/data and
--- --set part=rotor67, blade 1 of NASA Rotor 67.
+-- --set part=rotor67, blade 1 of NASA Rotor 67; with --set part=e3, the
+-- NASA/GE E3 high-pressure turbine's stage-1 rotor blade read from its IGES
+-- file (bliskrun.read_cad: the exact NURBS, split into flanks by
+-- bliskrun.cad_blade between the file's hub and casing curves).
 -- Outputs: blade_belt_grinding.json (per station and flank: paths, points,
 -- measured chord and scallop, the guarantee's corrections, every path's
 -- points, normals and wheel axes; per robot: moves, read-back figures),
@@ -26,7 +29,7 @@
 -- than its speed.
 --
 --   bliskrun scripts/recipes/blade_belt_grinding.lua --out out/
---   options: --set part=builtin|rotor67  --set sides=both|pressure|suction
+--   options: --set part=builtin|rotor67|e3  --set sides=both|pressure|suction
 --            --set feed=20 (mm/s along the path)  --set robots=both|kuka|abb
 --            --set clamp_angle=0.5 --set clamp_dx=0.3 (the simulated clamping error, deg / mm)
 --
@@ -43,7 +46,8 @@
 local run_report = require("run_report")
 local chart = require("svg_chart")
 local part_name = args.part or "builtin"
-assert(part_name == "builtin" or part_name == "rotor67", "--set part= expects 'builtin' or 'rotor67'")
+assert(part_name == "builtin" or part_name == "rotor67" or part_name == "e3",
+       "--set part= expects 'builtin', 'rotor67' or 'e3'")
 local sides = args.sides or "both"
 assert(sides == "both" or sides == "pressure" or sides == "suction",
        "--set sides= expects 'both', 'pressure' or 'suction'")
@@ -85,6 +89,16 @@ end
 if part_name == "builtin" then
   local blisk = bliskrun.blisk{grid_rows = 100, grid_cols = 500}
   add_faces(function(side) return bliskrun.interpolate_grid(blisk:flank_grid(1, side)) end, blisk:hub(), blisk:casing())
+elseif part_name == "e3" then
+  -- The rotor blade is the file named hpt_stator1.igs (the names are swapped:
+  -- e3_hpt_stage1/PROVENANCE.md). Unwrapped coordinates (x axial, y = R theta,
+  -- z = R, inches); the blade's axial middle, 250.6 in, becomes z = 0.
+  local blade = bliskrun.read_cad("e3_hpt_stage1/hpt_stator1.igs")
+  local part = bliskrun.cad_blade{surface = blade.faces[1].surface, coordinates = "x_rtheta_r",
+                                  axial_origin = 250.6 * inch,
+                                  hub = bliskrun.read_cad("e3_hpt_stage1/hub.igs").curves[1].curve,
+                                  casing = bliskrun.read_cad("e3_hpt_stage1/case.igs").curves[1].curve}
+  add_faces(function(side) return part[side] end, part.hub, part.casing)
 else
   local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
   add_faces(function(side) return part[side]:surface() end, part.hub, part.casing)
