@@ -40,7 +40,6 @@
 #include <fstream>
 #include <mutex>
 #include <optional>
-#include <sstream>
 
 #include "core/cad/cad.h"
 #include "core/cad/occt_setup.h"

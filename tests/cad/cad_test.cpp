@@ -298,6 +298,39 @@ TEST(CadErrors, TruncatedIgesFile) {
   expect_error(dir.write("cut.igs", text.substr(0, text.size() / 2)), "");
 }
 
+// A hand-made IGES file (fixed 80-column records) with one cubic Bezier as a
+// type 126 entity in mm: read exactly. The same with 2 control points for a
+// cubic (an invalid entity OCCT cannot convert): refused, naming the entity
+// and the line of its directory record.
+const char* const kGoodIges =
+    "bad curve test                                                          S      1\n"
+    "1H,,1H;,,,,,32,38,6,308,15,,1.,2,2HMM,1,0.01,,1.E-6,100.,,,11,0;       G      1\n"
+    "     126       1       0       0       0       0       0       000000000D      1\n"
+    "     126       0       0       2       0                               0D      2\n"
+    "126,3,3,0,0,1,0,0.,0.,0.,0.,1.,1.,1.,1.,1.,1.,1.,1.,0.,0.,0.,3.,       1P      1\n"
+    "1.,0.,6.,-1.,0.,10.,0.,0.,0.,1.,0.,0.,1.;                              1P      2\n"
+    "S      1G      1D      2P      2                                        T      1\n";
+const char* const kBadIges =
+    "bad curve test                                                          S      1\n"
+    "1H,,1H;,,,,,32,38,6,308,15,,1.,2,2HMM,1,0.01,,1.E-6,100.,,,11,0;       G      1\n"
+    "     126       1       0       0       0       0       0       000000000D      1\n"
+    "     126       0       0       2       0                               0D      2\n"
+    "126,1,3,0,0,1,0,0.,0.,0.,0.,1.,1.,1.,1.,1.,1.,0.,0.,0.,10.,0.,0.       1P      1\n"
+    ",0.,1.,0.,0.,1.;                                                       1P      2\n"
+    "S      1G      1D      2P      2                                        T      1\n";
+
+TEST(CadErrors, UnconvertibleIgesEntityNamesItsDirectoryLine) {
+  const TempDir dir;
+  const CadModel m = read_cad(dir.write("good.igs", kGoodIges));
+  EXPECT_EQ(m.file_units, "MM");
+  ASSERT_EQ(m.curves.size(), 1u);
+  EXPECT_EQ(m.curves[0].entity, "IGES D1 (type 126)");
+  // Bezier (0,0,0) (3,1,0) (6,-1,0) (10,0,0) at t = 1/2: (37/8, 0, 0).
+  EXPECT_NEAR((m.curves[0].curve->point(0.5) - Vec3(37.0 / 8, 0, 0)).norm(), 0, 1e-12);
+  const std::string bad = dir.write("bad.igs", kBadIges);
+  expect_error(bad, "bad.igs:3: IGES D1 (type 126): unsupported or invalid entity");
+}
+
 TEST(CadErrors, DegenerateSurfaceNamesItsEntity) {
   // A triangle-like patch: the u = 0 row of poles is one point.
   std::vector<Vec3> ctrl;
