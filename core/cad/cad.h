@@ -53,9 +53,11 @@ struct CadModel {
 CadModel read_cad(const std::string& path);
 
 // Writes the surfaces (each as a B-spline face bounded by its parameter
-// square) and curves to an AP214 STEP file in mm, atomically. For tests and
-// fixtures that need a file a CAD system would write.
+// square) and curves to a STEP file in mm, atomically, in OCCT's schema
+// `schema` ("AP203", "AP214IS", "AP242DIS"). For tests and fixtures that
+// need a file a CAD system would write.
 void write_step(const std::string& path, const std::vector<const NurbsSurface*>& surfaces,
-                const std::vector<const NurbsCurve*>& curves = {});
+                const std::vector<const NurbsCurve*>& curves = {},
+                const std::string& schema = "AP214IS");
 
 }  // namespace bliskrun

@@ -83,7 +83,9 @@ Handle(Geom_BSplineCurve) to_occt(const NurbsCurve& c) {
 }  // namespace
 
 void write_step(const std::string& path, const std::vector<const NurbsSurface*>& surfaces,
-                const std::vector<const NurbsCurve*>& curves) {
+                const std::vector<const NurbsCurve*>& curves, const std::string& schema) {
+  if (schema != "AP203" && schema != "AP214IS" && schema != "AP242DIS")
+    throw ParameterError("schema", "expected AP203, AP214IS or AP242DIS, got '" + schema + "'");
   // OCCT's writer settings are process-wide statics: one writer at a time.
   static std::mutex mutex;
   const std::lock_guard<std::mutex> lock(mutex);
@@ -98,7 +100,7 @@ void write_step(const std::string& path, const std::vector<const NurbsSurface*>&
     for (const NurbsCurve* c : curves) b.Add(all, BRepBuilderAPI_MakeEdge(to_occt(*c)).Edge());
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
     Interface_Static::SetCVal("write.step.unit", "MM");
-    Interface_Static::SetCVal("write.step.schema", "AP214IS");
+    Interface_Static::SetCVal("write.step.schema", schema.c_str());
     STEPControl_Writer w;
     if (w.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone)
       throw Error(path + ": OpenCASCADE could not transfer the shapes to STEP");

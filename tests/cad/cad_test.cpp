@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/geometry/differential.h"
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
 #include "core/parts/builtin_blisk.h"
@@ -101,6 +102,28 @@ TEST(CadStep, KnownBSplineAndRationalSurfacesReadBackToTheSamePoints) {
     const Vec3 p = rc.point(t);
     EXPECT_NEAR(std::hypot(p.x(), p.y()), 30, 1e-9);
     EXPECT_NEAR(p.z(), 7, 1e-12);
+  }
+}
+
+// The same surfaces through each STEP schema OCCT writes and the reader
+// claims: AP203, AP214, AP242.
+TEST(CadStep, EverySchemaReadsBack) {
+  const TempDir dir;
+  const NurbsSurface a = wavy_bspline(), b = quarter_cylinder();
+  for (const char* schema : {"AP203", "AP214IS", "AP242DIS"}) {
+    const std::string path = dir.path() + "/" + schema + ".step";
+    write_step(path, {&a, &b}, {}, schema);
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    const std::string expected = std::string(schema) == "AP203"      ? "CONFIG_CONTROL_DESIGN"
+                                 : std::string(schema) == "AP214IS" ? "AUTOMOTIVE_DESIGN"
+                                                                     : "AP242_MANAGED_MODEL_BASED_3D_ENGINEERING";
+    EXPECT_NE(text.str().find(expected), std::string::npos) << schema << ": FILE_SCHEMA is not " << expected;
+    const CadModel m = read_cad(path);
+    ASSERT_EQ(m.faces.size(), 2u) << schema;
+    EXPECT_LT(max_gap(*m.faces[0].surface, a), 1e-9 * 100) << schema;
+    EXPECT_LT(max_gap(*m.faces[1].surface, b), 1e-9 * 100) << schema;
   }
 }
 
@@ -244,6 +267,41 @@ TEST(CadIges, E3HubCurveIsPlanarInInches) {
   EXPECT_NEAR(b.lo.y() / 25.4, 12.05, 1e-2);
   EXPECT_NEAR(b.hi.y() / 25.4, 12.83, 1e-2);
   EXPECT_NEAR(b.hi.z() - b.lo.z(), 0, 1e-9);
+}
+
+// An analytic IGES surface: a tabulated cylinder (type 122) over a full
+// circle of radius 25 mm (type 100), 40 mm along Z. OCCT converts it to a
+// NURBS face (BRepBuilderAPI_NurbsConvert): on the exact radius, with
+// curvature 1/R around.
+const char* const kCylinderIges =
+    "tabulated cylinder test                                                 S      1\n"
+    "1H,,1H;,,,,,32,38,6,308,15,,1.,2,2HMM,1,0.01,,1.E-6,100.,,,11,0;        G      1\n"
+    "     100       1       0       0       0       0       0       000010000D      1\n"
+    "     100       0       0       1       0                               0D      2\n"
+    "     122       2       0       0       0       0       0       000000000D      3\n"
+    "     122       0       0       1       0                               0D      4\n"
+    "100,0.,0.,0.,25.,0.,25.,0.;                                            1P      1\n"
+    "122,1,25.,0.,40.;                                                       3P      2\n"
+    "S      1G      1D      4P      2                                        T      1\n";
+
+TEST(CadIges, AnalyticSurfaceIsConvertedExactly) {
+  const TempDir dir;
+  const CadModel m = read_cad(dir.write("cylinder.igs", kCylinderIges));
+  ASSERT_EQ(m.faces.size(), 1u);
+  EXPECT_EQ(m.faces[0].entity, "IGES D3 (type 122)");
+  EXPECT_TRUE(m.curves.empty());  // the circle is the cylinder's directrix, not a free curve
+  const NurbsSurface& s = *m.faces[0].surface;
+  EXPECT_FALSE(s.is_polynomial());
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 4; ++j) {
+      const double u = i / 40.0, v = j / 4.0;
+      const Vec3 p = s.point(u, v);
+      EXPECT_NEAR(std::hypot(p.x(), p.y()), 25, 1e-9) << u << " " << v;
+      EXPECT_NEAR(p.z(), 40 * v, 1e-9);
+      const SurfaceCurvature k = curvature(s.eval(u, v));
+      EXPECT_NEAR(std::abs(k.k1) + std::abs(k.k2), 1 / 25.0, 1e-9);
+      EXPECT_NEAR(k.K, 0, 1e-12);
+    }
 }
 
 // ---- bad input ---------------------------------------------------------------
