@@ -12,6 +12,7 @@
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_RectangularTrimmedSurface.hxx>
 #include <Geom_TrimmedCurve.hxx>
+#include <IGESControl_Controller.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_IGESEntity.hxx>
 #include <IGESData_IGESModel.hxx>
@@ -20,6 +21,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Reader.hxx>
 #include <StepRepr_RepresentationItem.hxx>
 #include <Standard_Failure.hxx>
@@ -66,7 +68,11 @@ void detail::quiet_occt() {
   std::call_once(once, [] {
     const Handle(Message_Messenger)& m = Message::DefaultMessenger();
     m->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-    // Lengths of transferred shapes in mm, whatever the file's unit.
+    // The controllers register the data-exchange parameters; only then can
+    // they be set. Lengths of transferred shapes in mm, whatever the file's
+    // unit (OCCT's default too, stated here as the reader's contract).
+    IGESControl_Controller::Init();
+    STEPControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
   });
 }

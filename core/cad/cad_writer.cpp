@@ -6,6 +6,7 @@
 #include <Geom_BSplineCurve.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Interface_Static.hxx>
+#include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
 #include <TColStd_Array1OfInteger.hxx>
@@ -98,9 +99,14 @@ void write_step(const std::string& path, const std::vector<const NurbsSurface*>&
     for (const NurbsSurface* s : surfaces)
       b.Add(all, BRepBuilderAPI_MakeFace(to_occt(*s), 1e-7).Face());
     for (const NurbsCurve* c : curves) b.Add(all, BRepBuilderAPI_MakeEdge(to_occt(*c)).Edge());
+    // The parameters exist once the controller has registered them, and
+    // the writer's constructor reads the schema for the file's header
+    // (the data follow the value at transfer): so Init, set, construct.
+    STEPControl_Controller::Init();
     Interface_Static::SetCVal("xstep.cascade.unit", "MM");
     Interface_Static::SetCVal("write.step.unit", "MM");
-    Interface_Static::SetCVal("write.step.schema", schema.c_str());
+    if (!Interface_Static::SetCVal("write.step.schema", schema.c_str()))
+      throw Error(path + ": OpenCASCADE does not know the STEP schema " + schema);
     STEPControl_Writer w;
     if (w.Transfer(all, STEPControl_AsIs) != IFSelect_RetDone)
       throw Error(path + ": OpenCASCADE could not transfer the shapes to STEP");
