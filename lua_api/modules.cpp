@@ -10,6 +10,7 @@ void open_all(lua_State* L) {
   open_report(L);
   open_geometry(L);
   open_io(L);
+  open_cad(L);
   open_parts(L);
   open_impeller(L);
   open_analysis(L);

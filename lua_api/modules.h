@@ -11,6 +11,7 @@ void open_units(lua_State* L);      // wrap_units.cpp: mm, um, deg globals
 void open_files(lua_State* L);      // wrap_files.cpp: write_json, write_text, read paths
 void open_geometry(lua_State* L);   // wrap_geometry.cpp
 void open_io(lua_State* L);         // wrap_io.cpp: point-grid reader
+void open_cad(lua_State* L);        // wrap_cad.cpp: read_cad (IGES, STEP through OpenCASCADE)
 void open_parts(lua_State* L);      // wrap_parts.cpp: built-in blisk
 void open_impeller(lua_State* L);   // wrap_impeller.cpp: impellers from camber data (built-in or file)
 void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel design

@@ -237,7 +237,7 @@ int w_blisk(lua_State* L) {
   });
 }
 
-int w_blade_count(lua_State* L) {
+int w_blisk_blade_count(lua_State* L) {
   lua_pushinteger(L, check_blisk(L).blade_count());
   return 1;
 }
@@ -262,7 +262,7 @@ int w_flank(lua_State* L) {
   });
 }
 
-int w_hub_meridian(lua_State* L) {
+int w_blisk_hub_meridian(lua_State* L) {
   push_meridian(L, check_blisk(L).hub_meridian());
   return 1;
 }
@@ -272,7 +272,7 @@ int w_casing_meridian(lua_State* L) {
   return 1;
 }
 
-int w_hub(lua_State* L) {
+int w_blisk_hub(lua_State* L) {
   const BuiltinBlisk& b = check_blisk(L);
   return luax::guarded(L, [&] {
     push_surface(L, std::make_shared<SurfaceOfRevolution>(b.hub_meridian()));
@@ -300,7 +300,7 @@ int w_casing_radius(lua_State* L) {
   return 1;
 }
 
-int w_narrowest_passage(lua_State* L) {
+int w_blisk_narrowest_passage(lua_State* L) {
   const BuiltinBlisk& b = check_blisk(L);
   return luax::guarded(L, [&] {
     lua_pushnumber(L, b.narrowest_passage_mm());
@@ -377,7 +377,7 @@ int w_loft_sections(lua_State* L) {
   });
 }
 
-int w_tostring(lua_State* L) {
+int w_blisk_tostring(lua_State* L) {
   const BliskParams& p = check_blisk(L).params();
   std::ostringstream s;
   s << "bliskrun.Blisk(" << p.blade_count << " blades, hub r " << p.hub_radius_inlet_mm << "->"
@@ -391,19 +391,19 @@ int w_tostring(lua_State* L) {
 }  // namespace
 
 void open_parts(lua_State* L) {
-  static const luaL_Reg methods[] = {{"blade_count", w_blade_count},
+  static const luaL_Reg methods[] = {{"blade_count", w_blisk_blade_count},
                                      {"flank_grid", w_flank_grid},
                                      {"flank", w_flank},
-                                     {"hub", w_hub},
+                                     {"hub", w_blisk_hub},
                                      {"casing", w_casing},
-                                     {"hub_meridian", w_hub_meridian},
+                                     {"hub_meridian", w_blisk_hub_meridian},
                                      {"casing_meridian", w_casing_meridian},
                                      {"hub_radius", w_hub_radius},
                                      {"casing_radius", w_casing_radius},
-                                     {"narrowest_passage", w_narrowest_passage},
+                                     {"narrowest_passage", w_blisk_narrowest_passage},
                                      {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<BliskHandle>::name, methods, &luax::gc_value<BliskHandle>,
-                      w_tostring);
+                      w_blisk_tostring);
   static const luaL_Reg functions[] = {{"blisk", w_blisk}, {"loft_sections", w_loft_sections}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

@@ -249,10 +249,10 @@ int w_drum_finish_all(lua_State* L) {
 
 // ---- plan methods ----------------------------------------------------------
 
-LuaDrumPlan& check_plan(lua_State* L) { return luax::check<LuaDrumPlan>(L, 1); }
+LuaDrumPlan& check_drum_plan(lua_State* L) { return luax::check<LuaDrumPlan>(L, 1); }
 
-int w_plan_report(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
+int w_drum_plan_report(lua_State* L) {
+  const LuaDrumPlan& p = check_drum_plan(L);
   const DrumFinishResult& r = *p.result;
   const DrumFinishRequest& rq = p.request;
   lua_createtable(L, 0, 24);
@@ -387,8 +387,8 @@ int w_plan_report(lua_State* L) {
 
 // plan:row(i) -> {u, v = {...}, deviation = {...}}: the contact parameters
 // of row i and the measured chord deviation of each segment (Fig. 13).
-int w_plan_row(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
+int w_drum_plan_row(lua_State* L) {
+  const LuaDrumPlan& p = check_drum_plan(L);
   const lua_Integer i = luaL_checkinteger(L, 2);
   const auto& rows = p.result->rows;
   if (i < 1 || i > static_cast<lua_Integer>(rows.size()))
@@ -414,13 +414,13 @@ int w_plan_row(lua_State* L) {
 // toolpath in cutting order, rows linked by their (proved) retract and
 // approach moves, in the form bliskrun.post.write takes. A refused link ends
 // the list there: nothing unproven is implied.
-int w_plan_moves(lua_State* L) {
-  push_finish_moves(L, drum_finish_moves(*check_plan(L).result));
+int w_drum_plan_moves(lua_State* L) {
+  push_finish_moves(L, drum_finish_moves(*check_drum_plan(L).result));
   return 1;
 }
 
-int w_plan_write_apt(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
+int w_drum_plan_write_apt(lua_State* L) {
+  const LuaDrumPlan& p = check_drum_plan(L);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
   return luax::guarded(L, [&] {
     write_drum_finish_apt(path, *p.result, p.request);
@@ -429,13 +429,13 @@ int w_plan_write_apt(lua_State* L) {
 }
 
 // plan:trimmed() -> the trimmed flank (u' = 0 on the hub curve, 1 on the casing).
-int w_plan_trimmed(lua_State* L) {
-  push_surface(L, check_plan(L).result->trimmed);
+int w_drum_plan_trimmed(lua_State* L) {
+  push_surface(L, check_drum_plan(L).result->trimmed);
   return 1;
 }
 
-int w_plan_simulate(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
+int w_drum_plan_simulate(lua_State* L) {
+  const LuaDrumPlan& p = check_drum_plan(L);
   return luax::guarded(L, [&] {
     const luax::Options o(
         L, 2, "DrumFinishPlan:simulate",
@@ -520,11 +520,11 @@ int write_undercut_map(lua_State* L, const char* where, bool png) {
     return 1;
   });
 }
-int w_map_write_svg(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_svg", false); }
-int w_map_write_png(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_png", true); }
+int w_drum_map_write_svg(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_svg", false); }
+int w_drum_map_write_png(lua_State* L) { return write_undercut_map(L, "UndercutMap:write_png", true); }
 
-int w_plan_tostring(lua_State* L) {
-  const LuaDrumPlan& p = check_plan(L);
+int w_drum_plan_tostring(lua_State* L) {
+  const LuaDrumPlan& p = check_drum_plan(L);
   lua_pushfstring(L, "bliskrun.DrumFinishPlan(%s%s%d rows, %d poses, %d refusals)", p.name.c_str(),
                   p.name.empty() ? "" : ": ", static_cast<int>(p.result->rows.size()), p.result->total_poses,
                   p.result->total_refusals);
@@ -534,14 +534,14 @@ int w_plan_tostring(lua_State* L) {
 }  // namespace
 
 void open_planning(lua_State* L) {
-  static const luaL_Reg plan_methods[] = {{"report", w_plan_report},       {"row", w_plan_row},
-                                          {"moves", w_plan_moves},
-                                          {"write_apt", w_plan_write_apt}, {"trimmed", w_plan_trimmed},
-                                          {"simulate", w_plan_simulate},   {nullptr, nullptr}};
+  static const luaL_Reg plan_methods[] = {{"report", w_drum_plan_report},       {"row", w_drum_plan_row},
+                                          {"moves", w_drum_plan_moves},
+                                          {"write_apt", w_drum_plan_write_apt}, {"trimmed", w_drum_plan_trimmed},
+                                          {"simulate", w_drum_plan_simulate},   {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaDrumPlan>::name, plan_methods, &luax::gc_value<LuaDrumPlan>,
-                      w_plan_tostring);
+                      w_drum_plan_tostring);
   static const luaL_Reg map_methods[] = {
-      {"write_svg", w_map_write_svg}, {"write_png", w_map_write_png}, {nullptr, nullptr}};
+      {"write_svg", w_drum_map_write_svg}, {"write_png", w_drum_map_write_png}, {nullptr, nullptr}};
   luax::register_type<LuaUndercutMap>(L, map_methods);
   static const luaL_Reg functions[] = {
       {"drum_finish", w_drum_finish}, {"drum_finish_all", w_drum_finish_all}, {"trim_flank", w_trim_flank},

@@ -1,8 +1,29 @@
 #include "core/geometry/bspline_basis.h"
 
 #include <algorithm>
+#include <string>
+
+#include "core/common/error.h"
 
 namespace bliskrun::detail {
+
+void check_knots(const char* name, int degree, const std::vector<double>& knots, size_t n_ctrl) {
+  if (degree < 1 || degree > kMaxDegree)
+    throw ParameterError(name, "degree must be in [1, " + std::to_string(kMaxDegree) + "], got " +
+                                   std::to_string(degree));
+  if (n_ctrl < static_cast<size_t>(degree) + 1)
+    throw ParameterError(name, "needs at least degree + 1 = " + std::to_string(degree + 1) +
+                                   " control points, got " + std::to_string(n_ctrl));
+  if (knots.size() != n_ctrl + degree + 1)
+    throw ParameterError(name, "needs control points + degree + 1 = " +
+                                   std::to_string(n_ctrl + degree + 1) + " knots, got " +
+                                   std::to_string(knots.size()));
+  for (size_t i = 1; i < knots.size(); ++i)
+    if (!(knots[i] >= knots[i - 1]))
+      throw ParameterError(name, "knots must not decrease (knot " + std::to_string(i) + ")");
+  if (!(knots[knots.size() - degree - 1] > knots[degree]))
+    throw ParameterError(name, "knot vector has an empty domain");
+}
 
 int find_span(int n, int p, double t, const std::vector<double>& U) {
   if (t >= U[n + 1]) return n;

@@ -10,8 +10,6 @@ namespace bliskrun {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 double stated_or(double value, double fallback) { return std::isnan(value) ? fallback : value; }
 
 // Time an S-curve takes to change speed by dv >= 0 beyond dv/a (what the

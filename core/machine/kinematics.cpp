@@ -30,7 +30,7 @@ Vec3 rotate(const Vec3& v, const Vec3& d, double angle_rad) {
   return v * c + d.cross(v) * s + d * (d.dot(v) * (1 - c));
 }
 
-std::string deg_text(double rad) {
+std::string fixed_deg_text(double rad) {
   std::ostringstream out;
   out.setf(std::ios::fixed);
   out.precision(3);
@@ -202,8 +202,8 @@ MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previou
   for (const RotarySolution* s : order) {
     if (!s->within_limits) {
       const RotaryAxis& a = machine_.rotary[s->violated_axis];
-      refuse(a.name, a.name + " = " + deg_text(s->violated_value_rad) + " deg, outside travel [" +
-                         deg_text(a.min_rad) + ", " + deg_text(a.max_rad) + "] deg");
+      refuse(a.name, a.name + " = " + fixed_deg_text(s->violated_value_rad) + " deg, outside travel [" +
+                         fixed_deg_text(a.min_rad) + ", " + fixed_deg_text(a.max_rad) + "] deg");
       continue;
     }
     MachineAxes q;
@@ -223,8 +223,8 @@ MachineAxes Kinematics::inverse(const ToolPose& pose, const MachineAxes& previou
         msg << a.name << " = " << q.linear_mm[i] << " mm (gauge point at " << slide
             << "), outside travel [" << a.min_mm << ", " << a.max_mm << "] mm";
         refuse(a.name, msg.str() + " with " + machine_.rotary[0].name + " = " +
-                           deg_text(q.rotary_rad[0]) + ", " + machine_.rotary[1].name + " = " +
-                           deg_text(q.rotary_rad[1]) + " deg");
+                           fixed_deg_text(q.rotary_rad[0]) + ", " + machine_.rotary[1].name + " = " +
+                           fixed_deg_text(q.rotary_rad[1]) + " deg");
       }
     }
     if (ok) return q;

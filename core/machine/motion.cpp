@@ -6,19 +6,13 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/geometry/segment.h"
 
 namespace bliskrun {
 
 namespace {
 
 constexpr int kMaxSamples = 4096;
-
-double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
 
 MachineAxes lerp(const MachineAxes& a, const MachineAxes& b, double t) {
   MachineAxes q;
@@ -133,9 +127,9 @@ BlockFeed block_feed(const Kinematics& kin, FeedMode mode, bool tcp, double feed
   return f;
 }
 
-class Planner {
+class MotionPlanner {
  public:
-  Planner(const Kinematics& kin, const MotionOptions& options, MachineProgram& program, const ToolReach& reach)
+  MotionPlanner(const Kinematics& kin, const MotionOptions& options, MachineProgram& program, const ToolReach& reach)
       : kin_(kin), options_(options), program_(program), reach_(reach) {}
 
   // Appends the feed move from (pose_a, axes_a) to (pose_b, axes_b), split
@@ -253,7 +247,7 @@ class Planner {
 // tool axis passes close to the primary axis (an impeller's outlet, the axis
 // along the part's) the secondary axis turns fast on the same branch.
 MachineAxes choose_branch(const Kinematics& kin, const std::vector<PlannedMove>& path, size_t i,
-                          const MachineAxes& previous, Planner& planner, const MotionOptions& options) {
+                          const MachineAxes& previous, MotionPlanner& planner, const MotionOptions& options) {
   const MachineAxes nearest = planner.inverse(path[i].pose, previous, path[i], static_cast<long>(i));
   const std::vector<RotarySolution> solutions = kin.rotary_solutions(path[i].pose.axis, previous.rotary_rad);
   if (solutions.size() < 2) return nearest;
@@ -492,7 +486,7 @@ MachineProgram plan_machine_motion(const Kinematics& kin, const std::vector<Plan
   program.feed_mode = options.tcp ? FeedMode::PerMinute : kin.machine().feed;
   program.tcp = options.tcp;
   program.controller = options.controller();
-  Planner planner(kin, options, program, reach);
+  MotionPlanner planner(kin, options, program, reach);
   progress.begin("machine motion", static_cast<long>(path.size()));
   MachineAxes axes = options.start;
   ToolPose pose = kin.forward(axes);

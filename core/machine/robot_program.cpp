@@ -15,7 +15,7 @@ namespace {
   throw Error("robot program line " + std::to_string(line) + ": " + what);
 }
 
-std::string trim(const std::string& s) {
+std::string trimmed(const std::string& s) {
   const size_t a = s.find_first_not_of(" \t\r");
   if (a == std::string::npos) return "";
   return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
@@ -80,22 +80,22 @@ std::vector<RobotTarget> read_rapid(const std::string& text) {
   int line = 0;
   while (std::getline(in, raw)) {
     ++line;
-    std::string s = trim(raw);
+    std::string s = trimmed(raw);
     if (s.empty() || s[0] == '!') continue;
     if (s.rfind("CONST robtarget ", 0) == 0 || s.rfind("PERS robtarget ", 0) == 0) {
       const size_t name_at = s.find("robtarget ") + 10, assign = s.find(":=");
       if (assign == std::string::npos) fail(line, "robtarget declaration without ':='");
-      named[trim(s.substr(name_at, assign - name_at))] = rapid_target(bracketed(s, assign), line);
+      named[trimmed(s.substr(name_at, assign - name_at))] = rapid_target(bracketed(s, assign), line);
       continue;
     }
     const bool move_l = starts_with_word(s, "MoveL"), move_j = starts_with_word(s, "MoveJ");
     if (!move_l && !move_j) continue;
-    const std::string rest = trim(s.substr(5));
+    const std::string rest = trimmed(s.substr(5));
     RobotTarget t;
     if (!rest.empty() && rest[0] == '[') {
       t = rapid_target(bracketed(rest, 0), line);
     } else {
-      const std::string name = trim(rest.substr(0, rest.find(',')));
+      const std::string name = trimmed(rest.substr(0, rest.find(',')));
       const auto it = named.find(name);
       if (it == named.end()) fail(line, "unknown robtarget '" + name + "'");
       t = it->second;
@@ -109,7 +109,7 @@ std::vector<RobotTarget> read_rapid(const std::string& text) {
 
 // KRL's S and T: a decimal integer or 'B0101' binary.
 int krl_bits(const std::string& s, int line) {
-  const std::string v = trim(s);
+  const std::string v = trimmed(s);
   if (v.size() > 2 && v[0] == '\'' && (v[1] == 'B' || v[1] == 'b')) {
     int bits = 0;
     for (size_t i = 2; i < v.size() && v[i] != '\''; ++i) {
@@ -131,7 +131,7 @@ std::vector<RobotTarget> read_krl(const std::string& text) {
   int line = 0;
   while (std::getline(in, raw)) {
     ++line;
-    std::string s = trim(raw.substr(0, raw.find(';')));
+    std::string s = trimmed(raw.substr(0, raw.find(';')));
     const bool lin = starts_with_word(s, "LIN"), ptp = starts_with_word(s, "PTP");
     if (!lin && !ptp) continue;
     const size_t a = s.find('{'), b = s.find('}');
@@ -142,10 +142,10 @@ std::vector<RobotTarget> read_krl(const std::string& text) {
     std::istringstream parts(body);
     std::string part;
     while (std::getline(parts, part, ',')) {
-      part = trim(part);
+      part = trimmed(part);
       const size_t sp = part.find(' ');
       if (sp == std::string::npos) fail(line, "expected 'NAME value' in '" + part + "'");
-      fields[part.substr(0, sp)] = trim(part.substr(sp + 1));
+      fields[part.substr(0, sp)] = trimmed(part.substr(sp + 1));
     }
     double v[6];
     const char* keys[6] = {"X", "Y", "Z", "A", "B", "C"};

@@ -120,7 +120,7 @@ double path_scallop(const FaceView& f, double r, const BeltPath& path, double c1
 }
 
 // Arc length of the path curve from t = 0, sampled (for trimming by w/2).
-struct ArcTable {
+struct PathArcTable {
   std::vector<double> t, s;
   double at_length(double len) const {
     const auto it = std::lower_bound(s.begin(), s.end(), len);
@@ -132,8 +132,8 @@ struct ArcTable {
   }
 };
 
-ArcTable arc_table(const Curve& c, int n) {
-  ArcTable a;
+PathArcTable arc_table(const Curve& c, int n) {
+  PathArcTable a;
   a.t.push_back(0);
   a.s.push_back(0);
   Vec3 prev = c.point(0);
@@ -157,7 +157,7 @@ BeltPath plan_path(const FaceView& f, const ContactWheel& wheel, const BeltPathO
   IsoUCurve along_v(f.face, across);
   IsoVCurve along_u(f.face, across);
   const Curve& curve = f.along_v ? static_cast<const Curve&>(along_v) : static_cast<const Curve&>(along_u);
-  const ArcTable arc = arc_table(curve, 2000);
+  const PathArcTable arc = arc_table(curve, 2000);
   const double length = arc.s.back();
   if (length <= wheel.width_mm)
     throw Error("belt path at " + where(f, across, 0.5) + ": the face is " + std::to_string(length) +

@@ -16,7 +16,7 @@ namespace bliskrun {
 
 namespace {
 
-Vec3 unit_normal(const SurfaceDerivs& d) { return d.pu.cross(d.pv).normalized(); }
+Vec3 face_normal(const SurfaceDerivs& d) { return d.pu.cross(d.pv).normalized(); }
 
 // Root of g(s) = hub.radial_offset(p + s a) - r nearest s = 0: brackets
 // grow outwards from 0 in both directions, then Illinois regula falsi.
@@ -111,8 +111,8 @@ FlankAxis flank_axis(const Surface& face, double v, const SurfaceOfRevolution* h
   const SurfaceDerivs hub_side = face.eval(ax.u_hub, v), shroud_side = face.eval(1, v);
   ax.c1 = shroud_side.p;
   ax.c2 = hub_side.p;
-  ax.n1 = unit_normal(shroud_side);  // eq. 21
-  ax.n2 = unit_normal(hub_side);     // eq. 22
+  ax.n1 = face_normal(shroud_side);  // eq. 21
+  ax.n2 = face_normal(hub_side);     // eq. 22
   const double r = cutter.ball_radius_mm();
   double rho1 = r, rho2 = r;
   Vec3 a = Vec3::UnitZ();
@@ -210,7 +210,7 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
       seed = Eigen::Vector2d(foot.u, foot.v);
       // Signed by the face normal: an axis point behind the face (deep gouge)
       // counts its distance negative.
-      const double side = (p - foot.point).dot(unit_normal(face.eval(foot.u, foot.v))) < 0 ? -1.0 : 1.0;
+      const double side = (p - foot.point).dot(face_normal(face.eval(foot.u, foot.v))) < 0 ? -1.0 : 1.0;
       out.residual_mm.push_back(side * foot.distance - cutter.radius_at(s));  // eq. 36
       out.height_mm.push_back(s);
       out.foot.push_back(foot.point);

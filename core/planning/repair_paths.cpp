@@ -49,7 +49,7 @@ Vec3 outward(const SurfaceDerivs& d, bool flip) {
   return flip ? Vec3(-n / len) : Vec3(n / len);
 }
 
-double wrap01(double v) { return v - std::floor(v); }
+double wrap_unit(double v) { return v - std::floor(v); }
 
 // §2.2, Fig. 19: the contacts of iso-u line u_j moved onto the slanted line
 // from (u_j, 0) to (u_j+1, 1) of the parameter plane. t counts turns: turn
@@ -119,13 +119,13 @@ AcrossStep across_step(const Surface& s, bool flip, double u, double v0, double 
   return out;
 }
 
-struct Contact {
+struct RepairContact {
   double t = 0, u = 0, v = 0;
 };
 
 // A contact's frame on the layer's offset: the point offset along the
 // outward normal, the tangent along the feed.
-ContactFrame frame_at(const Surface& s, bool flip, const Contact& c, const Vec3& feed, double offset_mm,
+ContactFrame frame_at(const Surface& s, bool flip, const RepairContact& c, const Vec3& feed, double offset_mm,
                       Vec3& surface_point) {
   const SurfaceDerivs d = s.eval(c.u, c.v);
   ContactFrame f;
@@ -138,7 +138,7 @@ ContactFrame frame_at(const Surface& s, bool flip, const Contact& c, const Vec3&
   return f;
 }
 
-struct Planner {
+struct RepairPlanner {
   const RepairPathRequest& rq;
   const ToolBody& body;
   const GougeGuard& guard;
@@ -156,7 +156,7 @@ struct Planner {
                                      const RowSteps& steps) {
     std::vector<RepairPass> pieces;
     auto make_pose = [&](double t, RepairPose& rp, ToolPose& lead_pose, double lift_mm) {
-      const Contact c = contact_of(t);
+      const RepairContact c = contact_of(t);
       Vec3 feed = curve.eval(t).dt;
       if (reversed) feed = -feed;
       Vec3 sp;
@@ -165,7 +165,7 @@ struct Planner {
       rp.normal = f.normal;
       rp.tangent = f.tangent;
       rp.u = c.u;
-      rp.v = wrap01(c.v);
+      rp.v = wrap_unit(c.v);
       rp.t = t;
       rp.lift_mm = lift_mm;
       lead_pose = place_tool(tool, f, axis_from_lead_tilt(f, rq.tilt.lead0_rad, rq.tilt.tilt0_rad));
@@ -516,7 +516,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   // and the world, never against another layer), so they are planned on
   // the request's threads and joined in order; the plan does not depend on
   // the thread count.
-  auto plan_layer = [&](size_t L, Planner& planner, RepairPathResult& part) {
+  auto plan_layer = [&](size_t L, RepairPlanner& planner, RepairPathResult& part) {
     const bool finishing = L + 1 == offsets.size();
     RepairLayer layer;
     layer.offset_mm = offsets[L];
@@ -540,7 +540,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
         const CurveSpan span(iso, rq.v0, rq.v1);
         const RowSteps st = plan_row_steps(span, so);
         const double u = us[k];
-        auto contact_of = [&](double t) { return Contact{t, u, t}; };
+        auto contact_of = [&](double t) { return RepairContact{t, u, t}; };
         std::vector<RepairPass> pieces =
             planner.plan_curve(span, contact_of, st.t, (k % 2 == 1) != zigzag[L].start_reversed,
                                static_cast<int>(L), layer.offset_mm, finishing, u, st);
@@ -568,7 +568,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
       const RowSteps st = plan_row_steps(spiral, so);
       auto contact_of = [&](double t) {
         const auto [u, v] = spiral.uv(t);
-        return Contact{t, u, v};
+        return RepairContact{t, u, v};
       };
       std::vector<RepairPass> pieces = planner.plan_curve(spiral, contact_of, st.t, !upward, static_cast<int>(L),
                                                           layer.offset_mm, finishing, rq.u0, st);
@@ -590,7 +590,7 @@ RepairPathResult plan_repair_paths(const RepairPathRequest& rq, Progress& progre
   // finer steps), and started last it would run alone at the end.
   run_parallel(offsets.size(), rq.threads, progress, "repair layers", [&](size_t k, Progress& own) {
     const size_t L = offsets.size() - 1 - k;
-    Planner planner{rq, body, guard, tool, ball_r, pose_allowed, parts[L], own};
+    RepairPlanner planner{rq, body, guard, tool, ball_r, pose_allowed, parts[L], own};
     layers[L] = plan_layer(L, planner, parts[L]);
   });
   for (size_t L = 0; L < offsets.size(); ++L) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/common/error.h"
+#include "core/geometry/segment.h"
 
 namespace bliskrun {
 
@@ -25,14 +26,6 @@ double curve_curvature(const Curve& c, double t) {
 }
 
 namespace {
-
-double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 == 0) return (p - a).norm();
-  const double s = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return (p - (a + s * ab)).norm();
-}
 
 // Parameter t > t0 where |C(t) - C(t0)| = length, or t_max if the rest of the
 // curve is shorter. Chord length grows monotonically from t0 for the gently

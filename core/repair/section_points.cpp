@@ -126,7 +126,7 @@ class Walker {
   double max_step_, cos_turn_, back_;
 };
 
-struct Chain {
+struct PointChain {
   std::vector<int> points;
   int seed = 0;
   bool closed = false;  // the walk came back to its seed
@@ -136,7 +136,7 @@ struct Chain {
 // the links between them, the closing one included, shortest: every order
 // for up to 7 chains, nearest end first beyond. chain_end[k]: the link after
 // position k joins two chains.
-std::vector<int> join_chains(const std::vector<Vec3>& p, const std::vector<Chain>& chains,
+std::vector<int> join_chains(const std::vector<Vec3>& p, const std::vector<PointChain>& chains,
                              std::vector<char>& chain_end) {
   const int k = static_cast<int>(chains.size());
   const auto first = [&](int c, bool rev) { return rev ? chains[c].points.back() : chains[c].points.front(); };
@@ -198,7 +198,7 @@ std::vector<int> join_chains(const std::vector<Vec3>& p, const std::vector<Chain
 // points) or kTurn (where the walks stopped because the profile turned back:
 // stays while no point is put back into it).
 enum GapKind : char { kNone = 0, kLong = 1, kTurn = 2 };
-struct Loop {
+struct SectionLoop {
   std::vector<int> at;
   std::vector<char> gap;
 };
@@ -229,7 +229,7 @@ struct GapRule {
 // Sets the kLong links, and keeps a kTurn link only while it still is one
 // (longer than two spacings, the profile turning back across it): a turn
 // gap that a stray point made at the end of a walk goes with the stray.
-void mark_gaps(const std::vector<Vec3>& p, Loop& loop, const GapRule& rule) {
+void mark_gaps(const std::vector<Vec3>& p, SectionLoop& loop, const GapRule& rule) {
   const size_t m = loop.at.size();
   for (size_t k = 0; k < m; ++k) {
     const double length = (p[loop.at[(k + 1) % m]] - p[loop.at[k]]).norm();
@@ -242,9 +242,9 @@ void mark_gaps(const std::vector<Vec3>& p, Loop& loop, const GapRule& rule) {
 
 // Drops the marked positions; a link that replaces dropped points is a turn
 // gap if one of the links it replaces was and it still turns back.
-void drop_positions(const std::vector<Vec3>& p, Loop& loop, const std::vector<char>& drop, const GapRule& rule,
+void drop_positions(const std::vector<Vec3>& p, SectionLoop& loop, const std::vector<char>& drop, const GapRule& rule,
                     std::vector<int>& rejected) {
-  Loop kept;
+  SectionLoop kept;
   bool carried = false;  // a turn gap among dropped points before the first kept one
   for (size_t i = 0; i < loop.at.size(); ++i) {
     if (drop[i]) {
@@ -422,14 +422,14 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
     if (nearest[i] <= 2 * h && (seed < 0 || points[i].dot(across) > points[seed].dot(across))) seed = i;
 
   Walker walker(points, index, out.max_step_mm, options.max_turn_rad, 2 * h);
-  std::vector<Chain> chains;
+  std::vector<PointChain> chains;
   std::vector<int> loose;  // points of chains too short to join
   for (int next_seed = 0; seed >= 0;) {
     cancellation_point();
     walker.use(seed);
     const Vec3 d = walker.seed_direction(seed, h);
     std::vector<int> forward{seed}, backward{seed};
-    Chain chain;
+    PointChain chain;
     chain.seed = seed;
     chain.closed = walker.walk(forward, d, seed);
     if (!chain.closed) walker.walk(backward, -d, -1);
@@ -446,11 +446,11 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
     throw ParameterError("points", "no three points follow each other within max_step (" +
                                        std::to_string(out.max_step_mm) + " mm): not a profile");
   out.chains = static_cast<int>(chains.size());
-  Loop loop;
+  SectionLoop loop;
   std::vector<char> chain_end;
   loop.at = join_chains(points, chains, chain_end);
   const double cos_turn = std::cos(options.max_turn_rad);
-  const auto length = [&](const Loop& l, size_t k) {
+  const auto length = [&](const SectionLoop& l, size_t k) {
     return (points[l.at[(k + 1) % l.at.size()]] - points[l.at[k]]).norm();
   };
   // Gaps: links longer than max_step, and links where a walk stopped because
@@ -518,7 +518,7 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
       }
       onto[where.first].emplace_back(where.second, u);
     }
-    Loop merged;
+    SectionLoop merged;
     for (int e = 0; e < m; ++e) {
       merged.at.push_back(loop.at[e]);
       merged.gap.push_back(loop.gap[e]);

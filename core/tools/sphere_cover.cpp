@@ -11,9 +11,9 @@ namespace {
 
 // The circumscribed polygon as a chain in (r, z), z never decreasing: its
 // radius at height z and its vertices within a slab.
-class Chain {
+class MeridianChain {
  public:
-  explicit Chain(std::vector<Vec2> points) : points_(std::move(points)) {}
+  explicit MeridianChain(std::vector<Vec2> points) : points_(std::move(points)) {}
   double z_min() const { return points_.front().y(); }
   double z_max() const { return points_.back().y(); }
 
@@ -80,7 +80,7 @@ SphereCover sphere_cover(const Profile& profile, double excess_mm, double tol_mm
   if (!(excess_mm > 0) || !std::isfinite(excess_mm))
     throw ParameterError("excess_mm", "must be a positive length");
   if (!(tol_mm > 0) || !std::isfinite(tol_mm)) throw ParameterError("tol_mm", "must be a positive length");
-  const Chain chain(profile.circumscribed_polyline(tol_mm));
+  const MeridianChain chain(profile.circumscribed_polyline(tol_mm));
   SphereCover cover;
   cover.overestimate_mm = tol_mm + excess_mm;
   const double top = chain.z_max();

@@ -16,7 +16,10 @@
 --      each read back and replayed through the arm before it is written.
 -- The blade: blade 1 of the built-in blisk, ground as a separate blade
 -- between its hub and tip curves; with --data ../shared/data and
--- --set part=rotor67, blade 1 of NASA Rotor 67.
+-- --set part=rotor67, blade 1 of NASA Rotor 67; with --set part=e3, the
+-- NASA/GE E3 high-pressure turbine's stage-1 rotor blade read from its IGES
+-- file (bliskrun.read_cad: the exact NURBS, split into flanks by
+-- bliskrun.cad_blade between the file's hub and casing curves).
 -- Outputs: blade_belt_grinding.json (per station and flank: paths, points,
 -- measured chord and scallop, the guarantee's corrections, every path's
 -- points, normals and wheel axes; per robot: moves, read-back figures),
@@ -39,7 +42,8 @@
 --   and the deepest conformity each program asks of the wheel.
 
 local opt = require("recipe_options"){
-  part = {type = "string", default = "builtin", choices = {"builtin", "rotor67"}, help = "whose blade is ground"},
+  part = {type = "string", default = "builtin", choices = {"builtin", "rotor67", "e3"},
+          help = "whose blade is ground (e3: the E3 HPT rotor blade from its IGES file)"},
   sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"}, help = "flanks ground"},
   feed = {type = "number", unit = "mm/s", default = 20, range = {0.1, 1000}, help = "feed along the path"},
   robots = {type = "string", default = "both", choices = {"both", "kuka", "abb"}, help = "robots posted for"},
@@ -89,6 +93,16 @@ end
 if part_name == "builtin" then
   local blisk = bliskrun.blisk{grid_rows = 100, grid_cols = 500}
   add_faces(function(side) return bliskrun.interpolate_grid(blisk:flank_grid(1, side)) end, blisk:hub(), blisk:casing())
+elseif part_name == "e3" then
+  -- The rotor blade is the file named hpt_stator1.igs (the names are swapped:
+  -- e3_hpt_stage1/PROVENANCE.md). Unwrapped coordinates (x axial, y = R theta,
+  -- z = R, inches); the blade's axial middle, 250.6 in, becomes z = 0.
+  local blade = bliskrun.read_cad("e3_hpt_stage1/hpt_stator1.igs")
+  local part = bliskrun.cad_blade{surface = blade.faces[1].surface, coordinates = "x_rtheta_r",
+                                  axial_origin = 250.6 * inch,
+                                  hub = bliskrun.read_cad("e3_hpt_stage1/hub.igs").curves[1].curve,
+                                  casing = bliskrun.read_cad("e3_hpt_stage1/case.igs").curves[1].curve}
+  add_faces(function(side) return part[side] end, part.hub, part.casing)
 else
   local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
   add_faces(function(side) return part[side]:surface() end, part.hub, part.casing)
@@ -306,7 +320,7 @@ local function with_pictures(sections)
   for i, p in ipairs(path_pictures) do table.insert(sections, 2 + i, p) end
   return sections
 end
-run_report.write{title = "Robotic belt grinding, " .. (part_name == "builtin" and "built-in blade 1" or "NASA Rotor 67 blade 1"),
+run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blade 1", rotor67 = "NASA Rotor 67 blade 1", e3 = "NASA/GE E3 HPT rotor blade"})[part_name],
   subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
   verdict = report.verdict,
   settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = opt.robots},

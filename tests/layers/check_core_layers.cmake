@@ -2,7 +2,8 @@
 # subsystem folder includes headers of its own folder and of folders in
 # lower layers only; no file of core includes Lua or the binding; a
 # planner's internal.h (core/planning/edge_finish/internal.h) is included
-# only by its own folder and the planner's .cpp beside it.
+# only by its own folder and the planner's .cpp beside it; OpenCASCADE
+# headers only by core/cad's .cpp files.
 # Run by ctest as CoreLayers:
 #   cmake -DROOT=<source dir> -P tests/layers/check_core_layers.cmake
 # A new folder under core/ needs a layer here and in the doc.
@@ -14,7 +15,7 @@ endif()
 set(layers
     common:0
     geometry:1
-    tools:2 io:2
+    tools:2 io:2 cad:2
     parts:3 collision:3 sim:3 toolpath:3
     repair:4 analysis:4
     planning:5
@@ -60,6 +61,12 @@ foreach(file IN LISTS files)
     math(EXPR checked "${checked} + 1")
     if(line MATCHES "[\"<](lua_api/|lua\\.h|lauxlib\\.h|lualib\\.h|lua\\.hpp)")
       list(APPEND problems "${file}: ${line}: core never includes Lua or the binding")
+      continue()
+    endif()
+    # OpenCASCADE headers (*.hxx) are heavy and stay in core/cad's .cpp
+    # files: no header of any folder and no other folder sees them.
+    if(line MATCHES "[\"<][A-Za-z0-9_]+\\.hxx[\">]" AND NOT file MATCHES "^core/cad/.*\\.cpp$")
+      list(APPEND problems "${file}: ${line}: OpenCASCADE is included only by core/cad/*.cpp")
       continue()
     endif()
     if(NOT line MATCHES "\"core/([a-z_]+)/")
