@@ -40,6 +40,11 @@ inline constexpr const char* kMachineType = "bliskrun.Machine";
 void ensure_machine_type(lua_State* L);
 MachineValue& push_machine(lua_State* L, MachineValue value);
 MachineValue* test_machine(lua_State* L, int idx);
+// The machine at idx (a Lua error naming the type otherwise), and a table of
+// axis values {X=, Y=, Z=, <rotaries in deg>=} read for that machine, the
+// argument `name` in messages. (wrap_machine.cpp)
+MachineValue& check_machine(lua_State* L, int idx);
+MachineAxes check_axes(lua_State* L, int idx, const MachineDefinition& m, const char* name);
 
 // Runs a machine file; if it returns a parametric definition, builds it with
 // the parameter table at `params_idx` (0: none, defaults). Pushes the

@@ -18,6 +18,7 @@ void open_all(lua_State* L) {
   open_collision(L);
   open_planning(L);
   open_machine(L);
+  open_post(L);
   open_edges(L);
   open_channel(L);
   open_sim(L);

@@ -18,7 +18,8 @@ void open_analysis(lua_State* L);   // wrap_analysis.cpp: curvature stats, wheel
 void open_tools(lua_State* L);      // wrap_tools.cpp: drum wheels, mills, contact wheel
 void open_collision(lua_State* L);  // wrap_collision.cpp: collision world, pose/motion checks, tilt
 void open_planning(lua_State* L);   // wrap_planning.cpp: drum_finish, drum_finish_all, plan report/APT/simulation
-void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics, posts, read-back
+void open_machine(lua_State* L);    // wrap_machine.cpp: machines, kinematics
+void open_post(lua_State* L);       // wrap_post.cpp: posts, read-back and sweep, cycle time
 void open_report(lua_State* L);     // wrap_report.cpp: report (one HTML page per run)
 void open_vtk(lua_State* L);        // wrap_vtk.cpp: write_vtk (ParaView collection)
 void open_flank(lua_State* L);      // wrap_flank.cpp: flank_mill (ruled faces: impeller flank finishing)
