@@ -48,6 +48,19 @@ std::vector<std::string> cloud_lines(const std::string& text) {
   return lines;
 }
 
+// The whitespace-separated words of `line` into `out` (cleared first).
+void cloud_words(const std::string& line, std::vector<std::string>* out) {
+  out->clear();
+  size_t i = 0;
+  const size_t n = line.size();
+  while (i < n) {
+    while (i < n && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const size_t start = i;
+    while (i < n && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > start) out->emplace_back(line, start, i - start);
+  }
+}
+
 // Fields split on commas when the line has any (each trimmed; an empty one
 // kept, so "1,,3" is caught), else on whitespace.
 std::vector<std::string> cloud_fields(const std::string& line) {
@@ -61,8 +74,7 @@ std::vector<std::string> cloud_fields(const std::string& line) {
       start = comma + 1;
     }
   } else {
-    std::istringstream in(line);
-    for (std::string f; in >> f;) fields.push_back(f);
+    cloud_words(line, &fields);
   }
   return fields;
 }
@@ -252,9 +264,8 @@ PointCloud parse_ply(const std::string& bytes, const std::string& file, double s
     pos = std::min(nl + 1, bytes.size());
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream in(line);
     std::vector<std::string> w;
-    for (std::string s; in >> s;) w.push_back(s);
+    cloud_words(line, &w);
     if (line_no == 1) {
       if (w.size() != 1 || w[0] != "ply") throw DataError(file, 1, "expected 'ply' on the first line of a PLY file");
       continue;
@@ -346,12 +357,11 @@ PointCloud parse_ply(const std::string& bytes, const std::string& file, double s
         continue;
       }
       cloud.points.reserve(static_cast<size_t>(e.count));
+      std::vector<std::string> w;
       for (long long i = 0; i < e.count; ++i, ++next) {
         if ((i & 4095) == 0) cancellation_point();
         const long at = line_no + static_cast<long>(next) + 1;
-        std::istringstream in(lines[next]);
-        std::vector<std::string> w;
-        for (std::string s; in >> s;) w.push_back(s);
+        cloud_words(lines[next], &w);
         size_t t = 0;
         double v[6] = {0, 0, 0, 0, 0, 0};
         for (size_t pi = 0; pi < e.properties.size(); ++pi) {
@@ -445,19 +455,34 @@ struct StlVertexKey {
   bool operator==(const StlVertexKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 struct StlVertexHash {
+  // splitmix64's finaliser over the three bit patterns: a float widened to a
+  // double has 29 zero low bits, which an identity hash would hand to the table.
+  static uint64_t mix(uint64_t h) {
+    h ^= h >> 30;
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 27;
+    h *= 0x94D049BB133111EBull;
+    return h ^ (h >> 31);
+  }
   size_t operator()(const StlVertexKey& k) const {
-    const auto h = [](double d) {
+    uint64_t h = 0;
+    for (double d : {k.x, k.y, k.z}) {
       uint64_t b;
-      d += 0.0;  // -0 and +0 are one point
-      std::memcpy(&b, &d, 8);
-      return std::hash<uint64_t>()(b);
-    };
-    return h(k.x) ^ (h(k.y) * 0x9E3779B97F4A7C15ull) ^ (h(k.z) * 0xC2B2AE3D27D4EB4Full);
+      std::memcpy(&b, &d, 8);  // -0 was made +0 by the caller
+      h = mix(h ^ b);
+    }
+    return static_cast<size_t>(h);
   }
 };
 
 class StlVertices {
  public:
+  // Room for `n` distinct vertices without rehashing (a mesh has about half
+  // as many as its triangles' corners, a triangle soup all of them).
+  void reserve(size_t n) {
+    index_.reserve(n);
+    points_.reserve(n);
+  }
   void add(double x, double y, double z) {
     const StlVertexKey k{x + 0.0, y + 0.0, z + 0.0};
     if (index_.emplace(k, points_.size()).second) points_.emplace_back(x + 0.0, y + 0.0, z + 0.0);
@@ -488,6 +513,7 @@ PointCloud parse_binary_stl(const std::string& bytes, const std::string& file, d
                                         std::to_string(size) + " bytes" +
                                         (84 + 50 * count > size ? " (truncated)" : ""));
   StlVertices vertices;
+  vertices.reserve(static_cast<size_t>(count) / 2 + 3);
   for (long long t = 0; t < count; ++t) {
     if ((t & 4095) == 0) cancellation_point();
     const long long base = 84 + 50 * t + 12;  // after the facet normal
@@ -516,12 +542,11 @@ PointCloud parse_ascii_stl(const std::string& text, const std::string& file, dou
   int in_loop = -1;  // vertices seen in the open loop, -1 outside one
   long loop_line = 0;
   bool solid = false;
+  std::vector<std::string> w;
   for (size_t k = 0; k < lines.size(); ++k) {
     const long line_no = static_cast<long>(k + 1);
     if ((k & 4095) == 0) cancellation_point();
-    std::istringstream in(lines[k]);
-    std::vector<std::string> w;
-    for (std::string s; in >> s;) w.push_back(s);
+    cloud_words(lines[k], &w);
     if (w.empty()) continue;
     const std::string key = cloud_lower(w[0]);
     if (!solid) {
