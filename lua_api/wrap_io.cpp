@@ -77,20 +77,20 @@ int w_read_points(lua_State* L) {
   opts.mm_per_unit = units == "m" ? 1000.0 : units == "mm" ? 1.0 : 25.4;
   return luax::guarded(L, [&] {
     const PointCloud cloud = read_point_cloud(path, opts);
-    auto push_list = [&](const std::vector<Vec3>& list) {
+    auto push_cloud_list = [&](const std::vector<Vec3>& list) {
       lua_createtable(L, static_cast<int>(list.size()), 0);
       for (size_t i = 0; i < list.size(); ++i) {
         luax::push(L, list[i]);
         lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
       }
     };
-    push_list(cloud.points);
+    push_cloud_list(cloud.points);
     lua_createtable(L, 0, 3);
     lua_pushstring(L, point_cloud_format_name(cloud.format));
     lua_setfield(L, -2, "format");
     luax::set_number(L, "count", static_cast<double>(cloud.points.size()));
     if (!cloud.normals.empty()) {
-      push_list(cloud.normals);
+      push_cloud_list(cloud.normals);
       lua_setfield(L, -2, "normals");
     }
     return 2;
