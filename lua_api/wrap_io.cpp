@@ -1,4 +1,5 @@
 // Point grids from CAD in Lua: bliskrun.read_point_grid, write_point_grid;
+// measured point clouds: read_points (XYZ, CSV, PLY, STL);
 // real parts: read_rotor37, read_rotor67, read_hecc (blade models, wrap_parts.h).
 // Reads resolve inside the recipe, data and out folders; writes go to the
 // out folder (write_file_atomic). Data errors name the file:line.
@@ -6,6 +7,7 @@
 #include <memory>
 
 #include "core/io/hecc_reader.h"
+#include "core/io/point_cloud_reader.h"
 #include "core/io/point_grid_reader.h"
 #include "core/io/rotor37_reader.h"
 #include "core/io/rotor67_reader.h"
@@ -54,6 +56,46 @@ int w_write_point_grid(lua_State* L) {
   });
 }
 
+// bliskrun.read_points(path [, {format="auto"|"xyz"|"csv"|"ply"|"stl", units="mm"|"in"|"inch"|"m"}])
+// -> {{x,y,z}, ...} (mm: what register_scan's scan and a measured section's
+// points take), {format=, count=, normals = {{x,y,z}, ...} or nil}
+int w_read_points(lua_State* L) {
+  const std::string path = context(L).resolve_read(L, luax::check_string(L, 1, "path"));
+  const luax::Options o(
+      L, 2, "bliskrun.read_points",
+      {Field{"format", Kind::String, false, std::nullopt, std::nullopt,
+             "\"auto\" (default: from the extension, else the content), \"xyz\", \"csv\", \"ply\" or \"stl\"",
+             {"auto", "xyz", "csv", "ply", "stl"}},
+       Field{"units", Kind::String, false, std::nullopt, std::nullopt,
+             "the file's length unit: \"mm\" (default), \"in\" or \"inch\" (x 25.4), \"m\" (x 1000)",
+             {"mm", "in", "inch", "m"}}});
+  PointCloudReadOptions opts;
+  const std::string format = o.string("format", "auto");
+  for (PointCloudFormat f : {PointCloudFormat::kXyz, PointCloudFormat::kCsv, PointCloudFormat::kPly, PointCloudFormat::kStl})
+    if (format == point_cloud_format_name(f)) opts.format = f;
+  const std::string units = o.string("units", "mm");
+  opts.mm_per_unit = units == "m" ? 1000.0 : units == "mm" ? 1.0 : 25.4;
+  return luax::guarded(L, [&] {
+    const PointCloud cloud = read_point_cloud(path, opts);
+    auto push_cloud_list = [&](const std::vector<Vec3>& list) {
+      lua_createtable(L, static_cast<int>(list.size()), 0);
+      for (size_t i = 0; i < list.size(); ++i) {
+        luax::push(L, list[i]);
+        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+      }
+    };
+    push_cloud_list(cloud.points);
+    lua_createtable(L, 0, 3);
+    lua_pushstring(L, point_cloud_format_name(cloud.format));
+    lua_setfield(L, -2, "format");
+    luax::set_number(L, "count", static_cast<double>(cloud.points.size()));
+    if (!cloud.normals.empty()) {
+      push_cloud_list(cloud.normals);
+      lua_setfield(L, -2, "normals");
+    }
+    return 2;
+  });
+}
 
 // bliskrun.read_rotor67(path [, {cols=200, edge_margin=0.03,
 // span_extension=0.03}]) -> blade model table (wrap_parts.h)
@@ -131,6 +173,7 @@ void open_io(lua_State* L) {
                                        {"read_rotor67", w_read_rotor67},
                                        {"read_rotor37", w_read_rotor37},
                                        {"read_hecc", w_read_hecc},
+                                       {"read_points", w_read_points},
                                        {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/common/error.h"
+#include "core/io/point_cloud_reader.h"
 #include "core/io/point_grid_reader.h"
 #include "core/machine/program_reader.h"
 #include "lua_api/runner.h"
@@ -39,6 +40,28 @@ TEST(FuzzCorpus, PointGridInputsParseOrSayWhere) {
       EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
     }
   }
+}
+
+// point_cloud_reader_fuzz: the first byte picks the format, the rest is the file.
+TEST(FuzzCorpus, PointCloudInputsParseOrSayWhere) {
+  const auto files = corpus("point_cloud");
+  ASSERT_GE(files.size(), 8u);
+  int parsed = 0;
+  std::string refused;
+  for (const auto& [name, bytes] : files) {
+    if (bytes.empty()) continue;
+    PointCloudReadOptions o;
+    o.format = static_cast<PointCloudFormat>(static_cast<unsigned char>(bytes[0]) % 5);
+    try {
+      const PointCloud c = parse_point_cloud(bytes.substr(1), name, o);
+      EXPECT_FALSE(c.points.empty()) << name;
+      ++parsed;
+    } catch (const DataError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(name + ":", 0), 0u) << e.what();
+      refused += std::string(e.what()) + "\n";
+    }
+  }
+  EXPECT_GE(parsed, 8) << refused;  // every seed but bad.ply
 }
 
 TEST(FuzzCorpus, ProgramInputsReadOrSayWhere) {
