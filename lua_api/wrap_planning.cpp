@@ -494,7 +494,19 @@ int w_drum_plan_simulate(lua_State* L) {
   });
 }
 
-// map:write_svg / map:write_png (path [, {title=, scale=, width=, height=}])
+// The default half range of a map written without scale_um: the largest
+// |value| rounded up to 1, 2 or 5 times a power of ten, so the colour bar's
+// labels read as round numbers (a run's maps share one scale: pass scale_um).
+double undercut_map_round_scale(double m) {
+  if (!(m > 0) || !std::isfinite(m)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(m)));
+  for (double f : {1.0, 2.0, 5.0, 10.0})
+    if (m <= f * p * (1 + 1e-12)) return f * p;
+  return 10 * p;
+}
+
+// map:write_svg / map:write_png (path [, {title=, scale_um=, width=, height=}]):
+// values in µm (the map holds mm) on a symmetric scale +-scale_um.
 int write_undercut_map(lua_State* L, const char* where, bool png) {
   const LuaUndercutMap& m = luax::check<LuaUndercutMap>(L, 1);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
@@ -502,20 +514,28 @@ int write_undercut_map(lua_State* L, const char* where, bool png) {
     const luax::Options o(
         L, 3, where,
         {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
-         Field{"scale", Kind::Number, false, 0.0, 10.0, "colour scale +-, mm (default: largest |value|)", {}},
+         Field{"scale_um", Kind::Number, false, 1e-3, 1e5,
+               "colour scale +-, µm: the same on every map of a run so they compare (default: the largest |value| "
+               "rounded up to 1, 2 or 5 x 10^k)", {}},
          Field{"width", Kind::Integer, false, 50, 10000, "plot width, px; default 800", {}},
          Field{"height", Kind::Integer, false, 50, 10000, "plot height, px; default 320", {}}});
+    HeatMap um = m.map;
+    for (double& x : um.values) x *= 1e3;  // NaN and +inf stay what they are
     HeatMapOptions h;
-    h.title = o.string("title", "Undercut (material left, mm): red above the design, blue below");
-    h.value_label = "mm";
+    h.title = o.string("title", "Material left (µm): red above the design, blue below");
+    h.value_label = "µm";
     h.footer = m.footer;
-    h.scale_max = o.number("scale", 0);
+    if (!m.u_label.empty()) h.u_label = m.u_label;
+    if (!m.v_label.empty()) h.v_label = m.v_label;
+    h.fraction_ticks = m.fraction_ticks;
+    h.labels = m.labels;
+    h.scale_max = o.has("scale_um") ? o.number("scale_um", 0) : undercut_map_round_scale(heat_map_scale(um, h));
     h.plot_width_px = static_cast<int>(o.integer("width", h.plot_width_px));
     h.plot_height_px = static_cast<int>(o.integer("height", h.plot_height_px));
     if (png)
-      write_heat_map_png(m.map, path, h);
+      write_heat_map_png(um, path, h);
     else
-      write_heat_map_svg(m.map, path, h);
+      write_heat_map_svg(um, path, h);
     lua_pushstring(L, path.c_str());
     return 1;
   });
