@@ -495,12 +495,12 @@ int w_drum_plan_simulate(lua_State* L) {
 }
 
 // The default half range of a map written without scale_um: the largest
-// |value| rounded up to 1, 2 or 5 times a power of ten, so the colour bar's
+// |value| rounded up to 1, 2, 3 or 5 times a power of ten, so the colour bar's
 // labels read as round numbers (a run's maps share one scale: pass scale_um).
 double undercut_map_round_scale(double m) {
   if (!(m > 0) || !std::isfinite(m)) return 1;
   const double p = std::pow(10.0, std::floor(std::log10(m)));
-  for (double f : {1.0, 2.0, 5.0, 10.0})
+  for (double f : {1.0, 2.0, 3.0, 5.0, 10.0})
     if (m <= f * p * (1 + 1e-12)) return f * p;
   return 10 * p;
 }
@@ -516,7 +516,7 @@ int write_undercut_map(lua_State* L, const char* where, bool png) {
         {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
          Field{"scale_um", Kind::Number, false, 1e-3, 1e5,
                "colour scale +-, µm: the same on every map of a run so they compare (default: the largest |value| "
-               "rounded up to 1, 2 or 5 x 10^k)", {}},
+               "rounded up to 1, 2, 3 or 5 x 10^k)", {}},
          Field{"width", Kind::Integer, false, 50, 10000, "plot width, px; default 800", {}},
          Field{"height", Kind::Integer, false, 50, 10000, "plot height, px; default 320", {}}});
     HeatMap um = m.map;
