@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/analysis/heat_map.h"
+#include "core/common/fixed_text.h"
 #include "core/planning/drum_finish.h"
 #include "core/sim/undercut.h"
 #include "lua_api/finish_moves.h"
@@ -482,12 +483,15 @@ int w_drum_plan_simulate(lua_State* L) {
     lua_pushinteger(L, sim.first_machined_row);
     lua_setfield(L, -2, "first_machined_row");
     set_number(L, "seconds", seconds);
-    char footer[240];
-    std::snprintf(footer, sizeof footer,
-                  "%d x %d samples of u' in [0, 1], machined from %.4f; undercut max %.2f, mean %.2f, median %.2f, "
-                  "std %.2f um; overcut %.2f um (every move); untouched %d",
-                  u.samples_u, u.samples_v, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
-                  1e3 * u.undercut_median_mm, 1e3 * u.undercut_std_mm, 1e3 * u.overcut_mm, u.untouched);
+    char head[120];
+    std::snprintf(head, sizeof head, "%d x %d samples of u' in [0, 1], machined from %.3f; ", u.samples_u, u.samples_v,
+                  r.first_row_u);
+    // 3 significant digits, no "-0.00": a footer reads at a glance.
+    const auto um = [](double mm) { return significant_text(1e3 * mm) + " µm"; };
+    const std::string footer = head + ("undercut max " + um(u.undercut_max_mm) + ", mean " + um(u.undercut_mean_mm) +
+                                       ", median " + um(u.undercut_median_mm) + ", std " + um(u.undercut_std_mm) +
+                                       "; overcut " + um(u.overcut_mm) + " (every move); untouched " +
+                                       std::to_string(u.untouched));
     push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
     lua_setfield(L, -2, "map");
     return 1;

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/fixed_text.h"
 #include "core/sim/undercut.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
@@ -93,12 +94,12 @@ void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, cons
   lua_pushinteger(L, poses);
   lua_setfield(L, -2, "poses");
   luax::set_number(L, "seconds", seconds);
-  char footer[240];
-  std::snprintf(footer, sizeof footer,
-                "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
-                "overcut %.1f um; untouched %d",
-                u.samples_u, u.samples_v, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
-                1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
+  char head[120];
+  std::snprintf(head, sizeof head, "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); ", u.samples_u, u.samples_v,
+                so.u0, so.u1, so.v0, so.v1);
+  const auto um = [](double mm) { return significant_text(1e3 * mm) + " µm"; };
+  const std::string footer = head + ("undercut max " + um(u.undercut_max_mm) + ", mean " + um(u.undercut_mean_mm) +
+                                     "; overcut " + um(u.overcut_mm) + "; untouched " + std::to_string(u.untouched));
   push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
   lua_setfield(L, -2, "map");
 }

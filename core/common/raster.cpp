@@ -82,6 +82,10 @@ const Glyph kGlyphs[] = {
     {'\xB5', {".....", ".....", "#...#", "#...#", "#...#", "##.##", "#.##."}},
 };
 
+// A lower-case m, drawn only right after µ: "µm" as a unit, where "µM"
+// would read as another unit (micromolar); every other letter is a capital.
+const Glyph kMicroMetreM = {'m', {".....", ".....", "##.#.", "#.#.#", "#.#.#", "#.#.#", "#.#.#"}};
+
 const Glyph& glyph(char c) {
   const char up = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   for (const Glyph& g : kGlyphs)
@@ -150,10 +154,12 @@ void RgbImage::frame(int x0, int y0, int x1, int y1, Rgb c) {
 
 void RgbImage::text(int x, int y, const std::string& s, Rgb c, int scale, bool vertical) {
   int pen = 0;
+  bool after_micro = false;
   for (size_t i = 0; i < s.size(); ++i) {
     char ch = s[i];
     if (ch == '\xC2' && i + 1 < s.size() && s[i + 1] == '\xB5') ch = s[++i];  // µ: one glyph
-    const Glyph& g = glyph(ch);
+    const Glyph& g = after_micro && ch == 'm' ? kMicroMetreM : glyph(ch);
+    after_micro = ch == '\xB5';
     for (int r = 0; r < 7; ++r)
       for (int k = 0; k < 5; ++k) {
         if (g.rows[r][k] != '#') continue;

@@ -196,6 +196,17 @@ TEST(HeatMapPng, FontDrawsTheGlyphItKnowsAndQuestionMarkOtherwise) {
   EXPECT_NE(mu.pixels, q.pixels);
   EXPECT_NE(mu.pixels, qq.pixels);
   EXPECT_EQ(mu.at(0, 6), (Rgb{0, 0, 0}));  // the descender on the left
+  // "µm": the m after µ is lower case (no ink in its top two rows), "M" elsewhere.
+  RgbImage um(20, 10, {255, 255, 255});
+  um.text(0, 0, "\xC2\xB5m", {0, 0, 0});
+  int top_ink = 0;
+  for (int y = 0; y < 2; ++y)
+    for (int x = 6; x < 11; ++x) top_ink += um.at(x, y) == Rgb{0, 0, 0};
+  EXPECT_EQ(top_ink, 0);
+  RgbImage lone(20, 10, {255, 255, 255}), capital(20, 10, {255, 255, 255});
+  lone.text(0, 0, "m", {0, 0, 0});
+  capital.text(0, 0, "M", {0, 0, 0});
+  EXPECT_EQ(lone.pixels, capital.pixels);
 }
 
 TEST(HeatMapPng, NoisyFlankSizedMapStaysWellUnderAMegabyte) {

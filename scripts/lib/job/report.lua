@@ -203,7 +203,8 @@ function M.blisk.page(r)
       -- A unit's map is its own operation's moves alone (the blade map
       -- sweeps every operation's), and says so.
       local swept = f.kind:gsub("_", " ") .. " moves only"
-      f.map:write_png(picture, {title = string.format("Blade %d %s, material left by the %s (µm)", f.blade, f.side,
+      local surface = (f.side == "pressure" or f.side == "suction") and f.side .. " flank" or f.side
+      f.map:write_png(picture, {title = string.format("Blade %d %s, material left by the %s (µm)", f.blade, surface,
                                                       swept), scale_um = M.map_scale_um(r)})
       pictures[#pictures + 1] = {title = string.format("Material left, blade %d %s: the %s", f.blade, f.side, swept),
                                  image = picture}

@@ -189,7 +189,7 @@ function Job:simulate_blade(o)
     v_label = "top row across: each flank's chord, round each edge; bottom row: the hub surfaces' own parameters",
     footer = string.format(
     "blade 1: flanks and edges around (span up), under them the root strip, the fillet and the channel floor; "
-    .. "left up to %.1f um, %d unreached (fillet apart), overcut %.1f um", 1e3 * out.material_left_max_mm,
+    .. "left up to %.1f µm, %d unreached (fillet apart), overcut %.1f µm", 1e3 * out.material_left_max_mm,
     out.unreached, 1e3 * out.overcut_mm)}
   return out
 end
