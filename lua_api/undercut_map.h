@@ -11,10 +11,15 @@
 
 namespace bliskrun::lua_api {
 
-// The undercut over the simulated window, rows along u, columns along v.
+// The undercut over the simulated window, rows along u, columns along v;
+// values in mm (+inf never reached, NaN not part of the map). A mosaic
+// (bliskrun.map_mosaic) carries its tiles' labels and its own axis names.
 struct LuaUndercutMap {
   HeatMap map;
   std::string footer;
+  std::vector<HeatMapLabel> labels;
+  std::string u_label, v_label;  // empty: HeatMapOptions' defaults (span up, chord across)
+  bool fraction_ticks = true;
 };
 
 }  // namespace bliskrun::lua_api

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/analysis/heat_map.h"
+#include "core/common/fixed_text.h"
 #include "core/planning/drum_finish.h"
 #include "core/sim/undercut.h"
 #include "lua_api/finish_moves.h"
@@ -482,19 +483,34 @@ int w_drum_plan_simulate(lua_State* L) {
     lua_pushinteger(L, sim.first_machined_row);
     lua_setfield(L, -2, "first_machined_row");
     set_number(L, "seconds", seconds);
-    char footer[240];
-    std::snprintf(footer, sizeof footer,
-                  "%d x %d samples of u' in [0, 1], machined from %.4f; undercut max %.2f, mean %.2f, median %.2f, "
-                  "std %.2f um; overcut %.2f um (every move); untouched %d",
-                  u.samples_u, u.samples_v, r.first_row_u, 1e3 * u.undercut_max_mm, 1e3 * u.undercut_mean_mm,
-                  1e3 * u.undercut_median_mm, 1e3 * u.undercut_std_mm, 1e3 * u.overcut_mm, u.untouched);
+    char head[120];
+    std::snprintf(head, sizeof head, "%d x %d samples of u' in [0, 1], machined from %.3f; ", u.samples_u, u.samples_v,
+                  r.first_row_u);
+    // 3 significant digits, no "-0.00": a footer reads at a glance.
+    const auto um = [](double mm) { return significant_text(1e3 * mm) + " µm"; };
+    const std::string footer = head + ("undercut max " + um(u.undercut_max_mm) + ", mean " + um(u.undercut_mean_mm) +
+                                       ", median " + um(u.undercut_median_mm) + ", std " + um(u.undercut_std_mm) +
+                                       "; overcut " + um(u.overcut_mm) + " (every move); untouched " +
+                                       std::to_string(u.untouched));
     push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
     lua_setfield(L, -2, "map");
     return 1;
   });
 }
 
-// map:write_svg / map:write_png (path [, {title=, scale=, width=, height=}])
+// The default half range of a map written without scale_um: the largest
+// |value| rounded up to 1, 2, 3 or 5 times a power of ten, so the colour bar's
+// labels read as round numbers (a run's maps share one scale: pass scale_um).
+double undercut_map_round_scale(double m) {
+  if (!(m > 0) || !std::isfinite(m)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(m)));
+  for (double f : {1.0, 2.0, 3.0, 5.0, 10.0})
+    if (m <= f * p * (1 + 1e-12)) return f * p;
+  return 10 * p;
+}
+
+// map:write_svg / map:write_png (path [, {title=, scale_um=, width=, height=}]):
+// values in µm (the map holds mm) on a symmetric scale +-scale_um.
 int write_undercut_map(lua_State* L, const char* where, bool png) {
   const LuaUndercutMap& m = luax::check<LuaUndercutMap>(L, 1);
   const std::string path = context(L).resolve_write(L, luax::check_string(L, 2, "path"));
@@ -502,20 +518,28 @@ int write_undercut_map(lua_State* L, const char* where, bool png) {
     const luax::Options o(
         L, 3, where,
         {Field{"title", Kind::String, false, std::nullopt, std::nullopt, "picture title", {}},
-         Field{"scale", Kind::Number, false, 0.0, 10.0, "colour scale +-, mm (default: largest |value|)", {}},
+         Field{"scale_um", Kind::Number, false, 1e-3, 1e5,
+               "colour scale +-, µm: the same on every map of a run so they compare (default: the largest |value| "
+               "rounded up to 1, 2, 3 or 5 x 10^k)", {}},
          Field{"width", Kind::Integer, false, 50, 10000, "plot width, px; default 800", {}},
          Field{"height", Kind::Integer, false, 50, 10000, "plot height, px; default 320", {}}});
+    HeatMap um = m.map;
+    for (double& x : um.values) x *= 1e3;  // NaN and +inf stay what they are
     HeatMapOptions h;
-    h.title = o.string("title", "Undercut (material left, mm): red above the design, blue below");
-    h.value_label = "mm";
+    h.title = o.string("title", "Material left (µm): red above the design, blue below");
+    h.value_label = "µm";
     h.footer = m.footer;
-    h.scale_max = o.number("scale", 0);
+    if (!m.u_label.empty()) h.u_label = m.u_label;
+    if (!m.v_label.empty()) h.v_label = m.v_label;
+    h.fraction_ticks = m.fraction_ticks;
+    h.labels = m.labels;
+    h.scale_max = o.has("scale_um") ? o.number("scale_um", 0) : undercut_map_round_scale(heat_map_scale(um, h));
     h.plot_width_px = static_cast<int>(o.integer("width", h.plot_width_px));
     h.plot_height_px = static_cast<int>(o.integer("height", h.plot_height_px));
     if (png)
-      write_heat_map_png(m.map, path, h);
+      write_heat_map_png(um, path, h);
     else
-      write_heat_map_svg(m.map, path, h);
+      write_heat_map_svg(um, path, h);
     lua_pushstring(L, path.c_str());
     return 1;
   });

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/common/fixed_text.h"
 #include "core/sim/undercut.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
@@ -93,12 +94,12 @@ void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, cons
   lua_pushinteger(L, poses);
   lua_setfield(L, -2, "poses");
   luax::set_number(L, "seconds", seconds);
-  char footer[240];
-  std::snprintf(footer, sizeof footer,
-                "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); undercut max %.1f, mean %.1f um; "
-                "overcut %.1f um; untouched %d",
-                u.samples_u, u.samples_v, so.u0, so.u1, so.v0, so.v1, 1e3 * u.undercut_max_mm,
-                1e3 * u.undercut_mean_mm, 1e3 * u.overcut_mm, u.untouched);
+  char head[120];
+  std::snprintf(head, sizeof head, "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); ", u.samples_u, u.samples_v,
+                so.u0, so.u1, so.v0, so.v1);
+  const auto um = [](double mm) { return significant_text(1e3 * mm) + " µm"; };
+  const std::string footer = head + ("undercut max " + um(u.undercut_max_mm) + ", mean " + um(u.undercut_mean_mm) +
+                                     "; overcut " + um(u.overcut_mm) + "; untouched " + std::to_string(u.untouched));
   push_undercut_map(L, u.samples_u, u.samples_v, std::move(u.residual_mm), footer);
   lua_setfield(L, -2, "map");
 }
@@ -270,22 +271,30 @@ int w_simulate(lua_State* L) {
   });
 }
 
-// bliskrun.map_mosaic{rows = {{tile, ...}, ...}, gap = 2, footer =} ->
-// UndercutMap: several maps as one picture, the tiles of a row side by side
-// (left to right), the rows top to bottom (the first row drawn highest),
-// each tile at its own samples; a tile is a map or {map =, transpose = bool}
-// (rows and columns swapped, e.g. an edge region's u around / v span set
-// beside flanks' u span / v across). The cells between and around tiles
-// are NaN (grey).
+// bliskrun.map_mosaic{rows = {{tile, ...}, ...}, gap = 2, footer =, u_label =,
+// v_label =} -> UndercutMap: several maps as one picture, the tiles of a row
+// side by side (left to right), the rows top to bottom (the first row drawn
+// highest), each tile at its own samples; a tile is a map or {map =,
+// transpose = bool, label = text} (rows and columns swapped, e.g. an edge
+// region's u around / v span set beside flanks' u span / v across; the
+// label written in the tile's top-left corner, e.g. its surface). The cells
+// between and around tiles are NaN ("not part of this map", hatched), so
+// they do not read as "never reached"; the axes are named by the options,
+// without 0..1 ticks (no one parameter runs across a mosaic).
 int w_map_mosaic(lua_State* L) {
   const luax::Options o(L, 1, "bliskrun.map_mosaic",
                         {Field{"rows", Kind::Table, true, std::nullopt, std::nullopt,
                                "{{map | {map =, transpose =}, ...}, ...}: tiles left to right, rows top to bottom", {}},
                          Field{"gap", Kind::Integer, false, 0, 1000, "NaN cells between tiles (default 2)", {}},
-                         Field{"footer", Kind::String, false, std::nullopt, std::nullopt, "line under the picture", {}}});
+                         Field{"footer", Kind::String, false, std::nullopt, std::nullopt, "line under the picture", {}},
+                         Field{"u_label", Kind::String, false, std::nullopt, std::nullopt,
+                               "what runs up the tiles (default \"up: each tile's own parameter\")", {}},
+                         Field{"v_label", Kind::String, false, std::nullopt, std::nullopt,
+                               "what runs across the tiles (default \"across: each tile's own parameter\")", {}}});
   struct Tile {
     const HeatMap* map;
     bool transpose;
+    std::string label;
     int rows() const { return transpose ? map->cols : map->rows; }
     int cols() const { return transpose ? map->rows : map->cols; }
     double at(int i, int j) const { return transpose ? map->at(j, i) : map->at(i, j); }
@@ -303,7 +312,7 @@ int w_map_mosaic(lua_State* L) {
     const lua_Unsigned nt = lua_rawlen(L, -1);
     for (lua_Unsigned t = 1; t <= nt; ++t) {
       lua_rawgeti(L, -1, static_cast<lua_Integer>(t));
-      Tile tile{nullptr, false};
+      Tile tile{nullptr, false, {}};
       if (const auto* m = luax::test<LuaUndercutMap>(L, -1)) {
         tile.map = &m->map;
       } else if (lua_istable(L, -1)) {
@@ -311,7 +320,11 @@ int w_map_mosaic(lua_State* L) {
         if (const auto* m2 = luax::test<LuaUndercutMap>(L, -1)) tile.map = &m2->map;
         lua_getfield(L, -2, "transpose");
         tile.transpose = lua_toboolean(L, -1);
-        lua_pop(L, 2);
+        lua_getfield(L, -3, "label");
+        if (!lua_isnil(L, -1) && !lua_isstring(L, -1))
+          luax::error(L, where + "[" + std::to_string(t) + "].label: expected text");
+        if (!lua_isnil(L, -1)) tile.label = lua_tostring(L, -1);
+        lua_pop(L, 3);
       }
       if (!tile.map || tile.map->rows < 1 || tile.map->cols < 1)
         luax::error(L, where + "[" + std::to_string(t) + "]: expected an UndercutMap or {map = UndercutMap, transpose =}");
@@ -332,6 +345,7 @@ int w_map_mosaic(lua_State* L) {
   // Map rows are drawn bottom up (row 0 lowest), so the first mosaic row
   // goes at the top: fill from the last row of cells down.
   std::vector<double> values(static_cast<size_t>(height) * width, std::numeric_limits<double>::quiet_NaN());
+  std::vector<HeatMapLabel> labels;
   int top = height - gap;  // one past the highest cell row of the next mosaic row
   for (const auto& row : rows) {
     int h = 0;
@@ -342,11 +356,23 @@ int w_map_mosaic(lua_State* L) {
       for (int i = 0; i < t.rows(); ++i)
         for (int j = 0; j < t.cols(); ++j)
           values[static_cast<size_t>(base + i) * width + left + j] = t.at(i, j);
+      if (!t.label.empty())
+        labels.push_back(HeatMapLabel{static_cast<double>(left) / width,
+                                      static_cast<double>(base + t.rows()) / height, t.label});
       left += t.cols() + gap;
     }
     top -= h + gap;
   }
-  push_undercut_map(L, height, width, std::move(values), o.string("footer", ""));
+  LuaUndercutMap mosaic;
+  mosaic.map.rows = height;
+  mosaic.map.cols = width;
+  mosaic.map.values = std::move(values);
+  mosaic.footer = o.string("footer", "");
+  mosaic.labels = std::move(labels);
+  mosaic.u_label = o.string("u_label", "up: each tile's own parameter");
+  mosaic.v_label = o.string("v_label", "across: each tile's own parameter");
+  mosaic.fraction_ticks = false;
+  luax::push_new(L, std::move(mosaic));
   return 1;
 }
 

@@ -6,8 +6,12 @@
 //
 // The colour scale is diverging and centred on 0 (blue < 0, white 0, red > 0)
 // over [-m, m], m = max |value| over the finite values (or `scale_max` when
-// set), so the sign reads at a glance. Non-finite values (e.g. samples a
-// simulation never reached) are grey. Values are quantised to `levels`
+// set: a run's maps share one scale so two of them compare), so the sign
+// reads at a glance; the colour bar's labels have 3 significant digits, no
+// exponent. Two kinds of "no value", each with its legend entry:
+// +-infinity is "never reached" (a sample no tool came near: plain grey),
+// NaN is "not part of this map" (outside a region measured, the gaps of a
+// mosaic: white, hatched with grey diagonals). Values are quantised to `levels`
 // colours and equal neighbours along a row merged into one rectangle, which
 // keeps a 100 x 500 curvature map at a few hundred kB (a 200 x 1000
 // undercut map, noisier along the chord, at 2-3 MB). Output bytes depend only on
@@ -25,6 +29,14 @@ struct HeatMap {
   double at(int i, int j) const { return values[static_cast<size_t>(i) * cols + j]; }
 };
 
+// Text over the plot, e.g. a mosaic tile's surface: its top-left corner at
+// fraction v of the plot's width from the left and u of its height from the
+// bottom; drawn on a white box.
+struct HeatMapLabel {
+  double v = 0, u = 1;
+  std::string text;
+};
+
 struct HeatMapOptions {
   std::string title;
   std::string value_label;  // over the colour bar, e.g. "K (mm^-2)"
@@ -33,6 +45,10 @@ struct HeatMapOptions {
   // span and the way round the edge).
   std::string v_label = "v (chord)";
   std::string u_label = "u (span, hub to tip)";
+  // Ticks 0 .. 1 along both axes; off where the axes are not one
+  // parameter (a mosaic of several surfaces).
+  bool fraction_ticks = true;
+  std::vector<HeatMapLabel> labels;
   double scale_max = 0;     // > 0: fixed scale [-scale_max, scale_max]; values beyond are clamped
   int plot_width_px = 800;
   int plot_height_px = 320;
@@ -55,12 +71,18 @@ void write_heat_map_svg(const HeatMap& map, const std::string& path, const HeatM
 struct HeatMapRasterLayout {
   int plot_x = 0, plot_y = 0;
   int bar_x = 0, bar_width = 0;  // colour bar, same rows as the plot, -m at the bottom
+  int legend_y = 0;              // top of the legend line (never reached, not part of this map)
   int width = 0, height = 0;     // whole picture
 };
 HeatMapRasterLayout heat_map_raster_layout(const HeatMapOptions& opts);
 // The scale's colour for `value` on [-m, m] quantised to `levels` colours;
-// grey (187, 187, 187) for a non-finite value. The SVG uses the same colours.
+// grey (187, 187, 187) for +-infinity (never reached), white for NaN (not
+// part of the map: the background of its hatching, heat_map_hatch). The
+// SVG uses the same colours.
 Rgb heat_map_colour(double value, double m, int levels);
+// "Not part of this map" at picture pixel (x, y): white with a grey
+// (150, 150, 150) diagonal every 6 pixels.
+Rgb heat_map_hatch(int x, int y);
 // The scale's half range m the picture uses: opts.scale_max if set, else the
 // largest |finite value| (1 if all are zero).
 double heat_map_scale(const HeatMap& map, const HeatMapOptions& opts);

@@ -1,6 +1,8 @@
 #include "core/common/fixed_text.h"
 
+#include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -29,6 +31,22 @@ std::string short_text(double value) {
   std::ostringstream os;
   os << value;
   return os.str();
+}
+
+std::string significant_text(double value, int digits) {
+  if (digits < 1 || digits > 17) throw ParameterError("digits", "expected 1..17");
+  if (!std::isfinite(value)) return short_text(value);
+  if (value == 0) return "0";
+  // The decimals that leave `digits` significant ones; a value that rounds
+  // up to the next power of ten (9.996 -> 10.0) has one decimal fewer.
+  int exponent = static_cast<int>(std::floor(std::log10(std::abs(value))));
+  const double scaled = std::abs(value) / std::pow(10.0, exponent - digits + 1);
+  if (std::round(scaled) >= std::pow(10.0, digits)) ++exponent;
+  const int decimals = std::clamp(digits - 1 - exponent, 0, 17);
+  if (decimals > 0) return fixed_text(value, decimals);
+  // Large: round to `digits` significant digits, then print the integer.
+  const double unit = std::pow(10.0, exponent - digits + 1);
+  return fixed_text(std::round(value / unit) * unit, 0);
 }
 
 }  // namespace bliskrun

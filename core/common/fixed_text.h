@@ -16,4 +16,10 @@ std::string fixed_text(double value, int decimals);
 // digits, exponent when large or small), e.g. "0.5", "1e-07".
 std::string short_text(double value);
 
+// A number to `digits` significant digits (1..17) in fixed point, never
+// with an exponent: what a reader takes in at a glance on a colour bar or
+// in a table, e.g. 14.04 -> "14.0", 0.0123456 -> "0.0123", 98765 -> "98800",
+// 0 -> "0". No sign on a value that rounds to zero.
+std::string significant_text(double value, int digits = 3);
+
 }  // namespace bliskrun

@@ -78,7 +78,13 @@ const Glyph kGlyphs[] = {
     {'*', {".....", "..#..", "#.#.#", ".###.", "#.#.#", "..#..", "....."}},
     {'#', {".#.#.", ".#.#.", "#####", ".#.#.", "#####", ".#.#.", ".#.#."}},
     {'?', {".###.", "#...#", "....#", "...#.", "..#..", ".....", "..#.."}},
+    // Micro sign (UTF-8 C2 B5, the one multi-byte character drawn): units read "µm", not "um".
+    {'\xB5', {".....", ".....", "#...#", "#...#", "#...#", "##.##", "#.##."}},
 };
+
+// A lower-case m, drawn only right after µ: "µm" as a unit, where "µM"
+// would read as another unit (micromolar); every other letter is a capital.
+const Glyph kMicroMetreM = {'m', {".....", ".....", "##.#.", "#.#.#", "#.#.#", "#.#.#", "#.#.#"}};
 
 const Glyph& glyph(char c) {
   const char up = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -148,8 +154,12 @@ void RgbImage::frame(int x0, int y0, int x1, int y1, Rgb c) {
 
 void RgbImage::text(int x, int y, const std::string& s, Rgb c, int scale, bool vertical) {
   int pen = 0;
-  for (char ch : s) {
-    const Glyph& g = glyph(ch);
+  bool after_micro = false;
+  for (size_t i = 0; i < s.size(); ++i) {
+    char ch = s[i];
+    if (ch == '\xC2' && i + 1 < s.size() && s[i + 1] == '\xB5') ch = s[++i];  // µ: one glyph
+    const Glyph& g = after_micro && ch == 'm' ? kMicroMetreM : glyph(ch);
+    after_micro = ch == '\xB5';
     for (int r = 0; r < 7; ++r)
       for (int k = 0; k < 5; ++k) {
         if (g.rows[r][k] != '#') continue;
@@ -164,7 +174,10 @@ void RgbImage::text(int x, int y, const std::string& s, Rgb c, int scale, bool v
 }
 
 int text_width(const std::string& s, int scale) {
-  return s.empty() ? 0 : (static_cast<int>(s.size()) * 6 - 1) * scale;
+  int n = static_cast<int>(s.size());
+  for (size_t i = 0; i + 1 < s.size(); ++i)
+    if (s[i] == '\xC2' && s[i + 1] == '\xB5') --n;  // µ is two bytes, one glyph
+  return n == 0 ? 0 : (n * 6 - 1) * scale;
 }
 
 std::string encode_png(const RgbImage& im) {

@@ -3,7 +3,8 @@
 // 5 x 7 bitmap font, and its PNG encoding through libpng (Debian libpng-dev).
 // The font is ours (drawn in raster.cpp); it covers digits, letters (lower
 // case is drawn as upper case), space and the punctuation labels use
-// (. , : ; - + = % / ( ) [ ] ^ ' _ < > * # ?); anything else draws as '?'.
+// (. , : ; - + = % / ( ) [ ] ^ ' _ < > * # ?) and the micro sign µ (UTF-8);
+// anything else draws as '?'.
 // Big enough for axis labels and titles, not a typesetting engine.
 #include <array>
 #include <cstdint>

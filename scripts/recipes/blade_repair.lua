@@ -173,7 +173,7 @@ if opt.paths and not region.empty then
   local band_sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
                                      samples_v = bv, search_above = 0.05, search_below = 0.05}
   lap("repair simulation")
-  sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (mm)"})
+  sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (µm)"})
   paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
            moves = #plan.moves, bridges = plan.bridges, links = plan.links, refusals = #plan.refusals,
            refused_connections = plan.refused_connections, tilted = plan.tilted,

@@ -140,7 +140,7 @@ for _, name in ipairs(regions) do
                                  samples_u = bu, samples_v = bv, search_above = 0.05, search_below = 0.05}
   bliskrun.log(string.format("  %s simulated in %.1f s CPU", name, os.clock() - t0))
   local picture = "repair_" .. name .. "_material_left.png"
-  sim.map:write_png(picture, {title = "Material left after the " .. name .. " finishing layer (mm)"})
+  sim.map:write_png(picture, {title = "Material left after the " .. name .. " finishing layer (µm)"})
   pictures[#pictures + 1] = {title = "Material left on the design after finishing, " .. name .. " region",
                              image = picture}
   local finish = plan.layers[#plan.layers]

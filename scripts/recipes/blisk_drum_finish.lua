@@ -38,6 +38,8 @@ local opt = require("recipe_options"){
                     help = "the wheel's largest diameter D_t instead of the designed one"},
   residual = {type = "number", unit = "mm", default = 0.014, range = {0.0005, 0.5},
               help = "residual (scallop) height between rows"},
+  map_scale_um = {type = "number", unit = "um", range = {0.1, 10000}, default_text = "2 x (residual + chord_tol)",
+                  help = "colour scale of both flanks' maps, +- um (one scale, so they compare)"},
   chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-5, 0.1},
                help = "chord deviation allowed between steps along a row"},
   steps = {type = "string", default = "variable", choices = {"variable", "constant"}, help = "step rule along a row"},
@@ -98,7 +100,9 @@ for _, side in ipairs{"pressure", "suction"} do
   plan:write_apt(apt)
   local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
   local picture = string.format("undercut_blade%d_%s.png", blade, side)
-  sim.map:write_png(picture, {title = string.format("Undercut, blade %d %s flank (mm)", blade, side)})
+  sim.map:write_png(picture, {title = string.format("Material left on blade %d %s flank by its drum-wheel moves (µm)",
+                                                    blade, side),
+                              scale_um = opt.map_scale_um or 2e3 * (settings.residual + settings.chord_tol)})
   table.insert(vtk_blocks, {name = side .. " flank, undercut", surface = plan:trimmed(), map = sim.map,
                             samples_u = 100, samples_v = 250})
   table.insert(vtk_blocks, {name = side .. " toolpath", moves = plan:moves()})
@@ -115,7 +119,7 @@ for _, side in ipairs{"pressure", "suction"} do
   flank_rows[#flank_rows + 1] = {side, r.row_count, r.poses, r.refusals + r.refused_links, 1e3 * r.max_deviation,
                                  1e3 * sim.undercut_max, 1e3 * sim.undercut_mean, 1e3 * sim.overcut}
   pictures[#pictures + 1] = {title = "Undercut, " .. side .. " flank", image = picture,
-                             caption = "Material left over (u', v) of the trimmed flank, mm: red above the design, "
+                             caption = "Material left over (u', v) of the trimmed flank, µm: red above the design, "
                                        .. "blue below, grey never reached."}
   -- Timings go to the log, not the report: same inputs, same bytes.
   bliskrun.log(string.format("%s: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s", side,

@@ -61,8 +61,8 @@ for _, g in ipairs(groups) do
   local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
   local picture = "fig15_undercut_" .. g.id .. ".png"
   -- One colour scale for all four maps, so they compare.
-  sim.map:write_png(picture, {title = string.format("Fig. 15 (%s): undercut, wheel %d, %s chord height (mm)", g.id,
-                                                    g.wheel, g.steps), scale = 2 * residual})
+  sim.map:write_png(picture, {title = string.format("Fig. 15 (%s): undercut, wheel %d, %s chord height (µm)", g.id,
+                                                    g.wheel, g.steps), scale_um = 2e3 * residual})
   -- Rows over chord tolerance: eq. 17 underestimates where curvature rises.
   local over = 0
   for _, row in ipairs(r.rows) do if row.max_deviation > chord_tol * (1 + 1e-9) then over = over + 1 end end

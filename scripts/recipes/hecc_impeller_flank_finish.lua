@@ -89,7 +89,7 @@ for _, blade in ipairs{"main", "splitter"} do
     bliskrun.write_text(name .. ".apt", plan.apt)
     if plan.residual_map then
       plan.residual_map:write_png(name .. "_residual.png",
-                                  {title = name .. ": flank-milling residual (mm), + undercut, - overcut"})
+                                  {title = name .. ": flank-milling residual (µm), + undercut, - overcut"})
       pictures[#pictures + 1] = {title = "Residual to the lofted face, " .. name, image = name .. "_residual.png"}
     end
     local path = {}

@@ -94,9 +94,9 @@ for _, kind in ipairs{"main", "splitter"} do
     bliskrun.write_text(name .. ".apt", table.concat(apt))
     if plan.residual_map then
       plan.residual_map:write_png(name .. "_residual.png",
-                                  {title = name .. ": flank-milling residual (mm), + undercut, - overcut"})
+                                  {title = name .. ": flank-milling residual (µm), + undercut, - overcut"})
       pictures[#pictures + 1] = {title = "Residual, " .. name, image = name .. "_residual.png",
-                                 caption = "Along each cutter axis (up, hub at the bottom), poses across; mm."}
+                                 caption = "Along each cutter axis (up, hub at the bottom), poses across; µm."}
     end
     local path = {}
     for i, p in ipairs(plan.poses) do path[i] = {kind = "feed", tip = p.tip, axis = p.axis, row = 1} end

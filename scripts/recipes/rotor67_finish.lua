@@ -82,7 +82,7 @@ local apt = "rotor67_blade1_" .. side .. ".apt"
 plan:write_apt(apt)
 local sim = plan:simulate{samples_u = opt.samples_u, samples_v = opt.samples_v}
 local picture = "rotor67_undercut_" .. side .. ".png"
-sim.map:write_png(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: undercut (mm)"})
+sim.map:write_png(picture, {title = "NASA Rotor 67, blade 1 " .. side .. " flank: material left by the finishing moves (µm)"})
 bliskrun.log(string.format("timings: trim %.2f s, rows %.2f s, tilt %.2f s, links %.2f s, simulation %.2f s",
                            r.seconds.trim, r.seconds.rows, r.seconds.tilt, r.seconds.links, sim.seconds))
 r.seconds = nil

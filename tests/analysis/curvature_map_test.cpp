@@ -28,8 +28,9 @@ TEST(CurvatureMap, DeterministicSvgWithScaleAndLabels) {
   EXPECT_NE(a.find("v (chord)"), std::string::npos);
   // Colour bar ends label -max|K| and +max|K|: the torus outer equator has
   // K = 1 / (r (R + r)) = 0.002 and the inner one -1 / (r (R - r)).
-  EXPECT_NE(a.find(">-3.333e-03<"), std::string::npos);
-  EXPECT_NE(a.find(">3.333e-03<"), std::string::npos);
+  // (3 significant digits, fixed point).
+  EXPECT_NE(a.find(">-0.00333<"), std::string::npos);
+  EXPECT_NE(a.find(">0.00333<"), std::string::npos);
   // Both ends of the diverging scale appear: the torus has K > 0 and K < 0.
   EXPECT_NE(a.find("fill=\"#2"), std::string::npos);  // blue end (#2x6xax)
   EXPECT_NE(a.find("fill=\"#b"), std::string::npos);  // red end (#bx1x2x)

@@ -64,5 +64,25 @@ TEST(FixedText, ZeroHasNoSignAndSpecialsAreAsPrintf) {
   EXPECT_THROW(fixed_text(1.0, 18), Error);
 }
 
+// Colour bars and tables: three significant digits, never an exponent
+// (a new user read "9.928E-02" beside a caption in µm).
+TEST(SignificantText, ThreeDigitsFixedPointNoExponent) {
+  EXPECT_EQ(significant_text(14.04), "14.0");
+  EXPECT_EQ(significant_text(-14.04), "-14.0");
+  EXPECT_EQ(significant_text(0.09928), "0.0993");
+  EXPECT_EQ(significant_text(99.28), "99.3");
+  EXPECT_EQ(significant_text(9.996), "10.0");   // rounds up to the next power of ten
+  EXPECT_EQ(significant_text(999.6), "1000");
+  EXPECT_EQ(significant_text(98765.0), "98800");
+  EXPECT_EQ(significant_text(1e-7), "0.000000100");
+  EXPECT_EQ(significant_text(0.0), "0");
+  EXPECT_EQ(significant_text(-0.0), "0");
+  EXPECT_EQ(significant_text(30.0), "30.0");
+  EXPECT_EQ(significant_text(2.5, 1), "3");
+  for (double v : {1.234e-9, 5.5e-3, 0.5, 7.0, 123.456, 4.5e6})
+    EXPECT_EQ(significant_text(v).find_first_of("eE"), std::string::npos) << v;
+  EXPECT_THROW(significant_text(1.0, 0), Error);
+}
+
 }  // namespace
 }  // namespace bliskrun

@@ -12,6 +12,8 @@
 #include <set>
 #include <nlohmann/json.hpp>
 
+#include "core/analysis/heat_map.h"
+#include "core/common/raster.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -192,6 +194,26 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
     EXPECT_LE(r["material_left_max_mm"].get<double>(), ball ? 0.005 + 0.002 : 0.014 + 0.002) << name;
   }
   EXPECT_GE(map["overcut_mm"].get<double>(), -0.002 - 5e-4);
+  // Issue 37 item 2: every map of the run on one colour scale, twice the
+  // loosest tolerance (the edge finish's e2 = 20 um here) rounded up to
+  // 1, 2, 3 or 5 x 10^k: each of the four flank maps' colour bars (the bar
+  // and its labels, right of the plot) is that scale's, whatever its data.
+  EXPECT_EQ(j["map_scale_um"].get<double>(), 50.0);
+  const HeatMapRasterLayout layout = heat_map_raster_layout(HeatMapOptions{});
+  std::vector<RgbImage> flank_maps;
+  for (const char* f : {"blade1_pressure", "blade1_suction", "blade2_pressure", "blade2_suction"}) {
+    std::ifstream in(out + "/blisk_job_undercut_" + f + ".png", std::ios::binary);
+    flank_maps.push_back(decode_png(std::string(std::istreambuf_iterator<char>(in), {}), f));
+  }
+  // The reference: any map drawn at +-50 um (its bar labelled -50.0 .. 50.0).
+  HeatMapOptions fixed;
+  fixed.value_label = "\xC2\xB5m";
+  fixed.scale_max = 50;
+  const RgbImage reference = heat_map_raster(HeatMap{2, 2, {0, 1, 2, 3}}, fixed);
+  for (size_t k = 0; k < flank_maps.size(); ++k)
+    for (int y = layout.plot_y - 14; y < layout.plot_y + fixed.plot_height_px + 4; ++y)
+      for (int x = layout.bar_x - 1; x < layout.bar_x + layout.bar_width + 40; ++x)
+        ASSERT_EQ(flank_maps[k].at(x, y), reference.at(x, y)) << k << ": " << x << " " << y;
 }
 
 // The seam between blade 1's root strip and its leading edge's rows

@@ -107,6 +107,49 @@ function M.blisk.simulated(r)
   json.seam_failures = #r.seam_failures
 end
 
+-- One colour scale for every map of a run (µm, symmetric), so two maps
+-- compare: the recipe's map_scale_um, else twice the loosest tolerance the
+-- run states (an operation's material left or deepest cut; an impeller's
+-- thickness tolerance and allowed overcut), rounded up to 1, 2, 3 or 5
+-- x 10^k so the colour bar reads in round numbers.
+local function round_scale_um(x)
+  if not (x > 0) then return 10 end
+  local p = 10 ^ math.floor(math.log(x, 10))
+  for _, f in ipairs({1, 2, 3, 5, 10}) do
+    if x <= f * p * (1 + 1e-9) then return f * p end
+  end
+  return 10 * p
+end
+function M.map_scale_um(r)
+  if r.map_scale_um then return r.map_scale_um end
+  local t = 0
+  if r.job.part_kind == "impeller" then
+    t = r.o.thickness_tolerance or 0
+    for _, a in pairs(r.json.units and simulate.impeller_overcut_allowed(r.json.units, r.o.overcut_slack or 0.005)
+                      or {}) do
+      t = math.max(t, math.abs(a))
+    end
+  else
+    for _, op in ipairs(r.job.operations) do
+      local p = seams.promise(op)
+      t = math.max(t, math.abs(p.left), math.abs(p.cut))
+    end
+  end
+  r.map_scale_um = r.o.map_scale_um or round_scale_um(2e3 * t)
+  r.json.map_scale_um = r.map_scale_um
+  return r.map_scale_um
+end
+
+-- The operations a job runs, for a title: "drum finish, edge finish, hub finish".
+local function operation_kinds(job)
+  local kinds, seen = {}, {}
+  for _, op in ipairs(job.operations) do
+    local k = op.kind:gsub("_", " ")
+    if not seen[k] then seen[k], kinds[#kinds + 1] = true, k end
+  end
+  return table.concat(kinds, ", ")
+end
+
 -- One map of blade 1 (j:simulate_blade): every surface of the blade swept
 -- by every operation's moves with their own tools, one picture and one
 -- summary per region. `lean` samples coarsely.
@@ -127,9 +170,10 @@ function M.blisk.blade_map(r, lean)
                         1e3 * g.overcut_mm, g.overcut_move and string.format(" (job move %d)", g.overcut_move) or "",
                         g.unreached, g.samples, g.seconds))
   end
-  -- The scale: twice the drum finish's residual (the fillet's ball radius is clamped to it).
-  bm.map:write_png(map.picture, {title = "Blade 1 after the job: material left (mm; red above the design, blue below), "
-                                         .. "every operation's moves", scale = 0.03, width = 1200, height = 480})
+  -- The run's one scale (the fillet's ball radius is clamped to it).
+  bm.map:write_png(map.picture, {title = "Blade 1 after every operation's moves (" .. operation_kinds(r.job)
+                                         .. "): material left, µm; red above the design, blue below",
+                                 scale_um = M.map_scale_um(r), width = 1200, height = 480})
   r.json.blade_map = map
 end
 
@@ -156,8 +200,14 @@ function M.blisk.page(r)
                     1e3 * f.undercut_max, 1e3 * f.undercut_mean, 1e3 * f.overcut}
     if i <= 4 and f.map then
       local picture = string.format("%s_undercut_blade%d_%s.png", name, f.blade, f.side)
-      f.map:write_png(picture, {title = string.format("Undercut after the job, blade %d %s flank (mm)", f.blade, f.side)})
-      pictures[#pictures + 1] = {title = string.format("Undercut, blade %d %s", f.blade, f.side), image = picture}
+      -- A unit's map is its own operation's moves alone (the blade map
+      -- sweeps every operation's), and says so.
+      local swept = f.kind:gsub("_", " ") .. " moves only"
+      local surface = (f.side == "pressure" or f.side == "suction") and f.side .. " flank" or f.side
+      f.map:write_png(picture, {title = string.format("Blade %d %s, material left by the %s (µm)", f.blade, surface,
+                                                      swept), scale_um = M.map_scale_um(r)})
+      pictures[#pictures + 1] = {title = string.format("Material left, blade %d %s: the %s", f.blade, f.side, swept),
+                                 image = picture}
       blocks[#blocks + 1] = {name = string.format("blade %d %s, undercut", f.blade, f.side),
                              surface = planned.flanks[i].plan:trimmed(), map = f.map, samples_u = 60, samples_v = 150}
     end
@@ -300,7 +350,8 @@ end
 
 function M.impeller.simulated(r)
   local search_below = r.o.simulate and r.o.simulate.search_below
-  r.simulated = r.job:report_simulation(r.sim, {pictures = r.o.name .. "_left_", search_below = search_below})
+  r.simulated = r.job:report_simulation(r.sim, {pictures = r.o.name .. "_left_", search_below = search_below,
+                                                 scale_um = M.map_scale_um(r)})
   r.json.simulation = r.simulated.json
   print(string.format("  simulation: %.1f s CPU%s", r.sim.seconds, search_below
                         and string.format(" (overcut measured down to %.3f mm)", search_below) or ""))
@@ -347,7 +398,8 @@ end
 -- ".png") and returns {json = {surfaces, seconds}, rows = (the report
 -- table's rows), pictures = {{title, image}, ...}}. o.search_below: the
 -- depth an overcut was measured to — one reaching it is printed "AT LEAST"
--- and flagged overcut_at_window_depth.
+-- and flagged overcut_at_window_depth. o.scale_um: the colour scale of
+-- every map (default: each map's own).
 function Job:report_simulation(sim, o)
   local out = {json = {surfaces = {}, seconds = sim.seconds}, rows = {}, pictures = {}}
   for _, s in ipairs(sim.surfaces) do
@@ -371,7 +423,14 @@ function Job:report_simulation(sim, o)
                           -1e3 * t.overcut,
                           t.overcut_move and string.format(" (job move %d, %s)", t.overcut_move, t.overcut_operation) or ""))
       local picture = o.pictures .. s.name:gsub(" ", "_") .. ".png"
-      t.map:write_png(picture, {title = "Material left after the job, blade 1 " .. s.name .. " (mm)"})
+      local ops, seen = {}, {}
+      for _, g in ipairs(s.groups) do
+        local op = g.name
+        if op and not seen[op] then seen[op], ops[#ops + 1] = true, tostring(op):gsub("_", " ") end
+      end
+      t.map:write_png(picture, {title = "Blade 1 " .. s.name .. ": material left after the moves of "
+                                        .. (#ops > 0 and table.concat(ops, ", ") or "the job") .. " (µm)",
+                                scale_um = o.scale_um})
       out.pictures[#out.pictures + 1] = {title = "Material left, " .. s.name, image = picture}
     end
   end

@@ -79,6 +79,8 @@ function Job:run(o)
       if v ~= false and v ~= true and v ~= "lean" then return "expected true, \"lean\" or false" end
     end},
     thickness_tolerance = {type = "number", check = positive},
+    -- Every map of the run on one colour scale, ± µm (default: twice the loosest tolerance).
+    map_scale_um = {type = "number", check = positive},
     overcut_slack = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     setups = {type = "table", check = function(v)
       if #v == 0 or type(v[1]) ~= "table" then return "expected a list of setups {name=, flip=, from=}" end

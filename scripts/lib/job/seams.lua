@@ -136,7 +136,7 @@ function Job:simulate_blade(o)
     local region = {name = name, material_left_max_mm = r.residual_max, material_left_min_mm = r.residual_min,
                     overcut_mm = r.overcut, unreached = r.untouched, samples = samples, map = r.map, seconds = r.seconds,
                     overcut_move = at and at[r.overcut_pose] or nil,
-                    tile = {map = r.map, transpose = spec.transpose}}
+                    tile = {map = r.map, transpose = spec.transpose, label = name}}
     regions[#regions + 1] = region
     return region
   end
@@ -184,9 +184,12 @@ function Job:simulate_blade(o)
   end
   local rows = {top}
   if #around > 0 then rows[2] = around end
-  out.map = bliskrun.map_mosaic{rows = rows, footer = string.format(
+  out.map = bliskrun.map_mosaic{rows = rows,
+    u_label = "top row up: span, hub to tip",
+    v_label = "top row across: each flank's chord, round each edge; bottom row: the hub surfaces' own parameters",
+    footer = string.format(
     "blade 1: flanks and edges around (span up), under them the root strip, the fillet and the channel floor; "
-    .. "left up to %.1f um, %d unreached (fillet apart), overcut %.1f um", 1e3 * out.material_left_max_mm,
+    .. "left up to %.1f µm, %d unreached (fillet apart), overcut %.1f µm", 1e3 * out.material_left_max_mm,
     out.unreached, 1e3 * out.overcut_mm)}
   return out
 end
