@@ -10,39 +10,14 @@
 --
 --   bliskrun scripts/recipes/hecc_impeller_job.lua --data ../shared/data --out out [--set NAME=VALUE]...
 --            (--help lists them)
--- A comma list of names from `known`: nil, or what was expected.
-local function list_of(v, known)
-  for item in v:gmatch("[^,]+") do
-    local ok = false
-    for _, k in ipairs(known) do ok = ok or k == item end
-    if not ok then return "'" .. item .. "' is not one of " .. table.concat(known, ", ") end
-  end
-end
-local opt = require("recipe_options"){
-  blades = {type = "integer", range = {1, 1000}, default_text = "all", help = "blades to machine, from blade 1"},
-  stations = {type = "integer", default = 41, range = {3, 1000}, help = "stations of the notch along the channel"},
-  finish_life = {type = "number", unit = "mm", default = 4000, range = {1, 1e7},
-                 help = "cutting length per finishing cutter; sisters T12, T22, ... follow"},
-  rough_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
-                help = "cutting length per roughing cutter; sisters T11, T21, ... follow"},
-  scallop = {type = "number", unit = "mm", default = 0.01, range = {1e-4, 1}, help = "scallop height of the widening"},
-  depth_step = {type = "number", unit = "mm", default = 5, range = {0.1, 50}, help = "depth step of the notch"},
-  hub_stock = {type = "number", unit = "mm", default = 0, range = {0, 10}, help = "left on the hub by the widening"},
-  chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-5, 0.1},
-               help = "chord deviation allowed between steps of the flank finish"},
-  channels = {type = "string", default_text = "inlet,left,right", help = "channels to notch, a comma list",
-              check = function(v) return list_of(v, {"inlet", "left", "right"}) end},
-  faces = {type = "string", default_text = "every face", help = "faces to finish, a comma list",
-           check = function(v) return list_of(v, {"main plus", "main minus", "splitter plus", "splitter minus"}) end},
-  sim_u = {type = "integer", default = 60, range = {2, 5000}, help = "simulation samples along the span"},
-  sim_v = {type = "integer", default = 300, range = {2, 20000}, help = "simulation samples along the chord"},
+local opt = require("recipe_options")(require("impeller_job_options"){
   simulate = {type = "boolean", default = true, help = "simulate blade 1's faces and one pitch of the hub"},
   stock = {type = "number", unit = "mm", range = {0, 10}, default_text = "largest fit error + 0.5, at least 0.5",
            help = "stock the roughing leaves on the faces"},
   min_stock = {type = "number", unit = "mm", default = 0.2, range = {0, 10}, help = "least stock the notch leaves"},
   tolerance = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "blade thickness tolerance"},
   set = {type = "string", default = "design", choices = {"design", "cold"}, help = "which HECC geometry set"},
-}
+})
 local job = require("job")
 
 local part = require("hecc_impeller_part").load{set = opt.set}
