@@ -145,6 +145,17 @@ class Reader {
     return e;
   }
 
+  // A face's or curve's entity label (and its line in the file), its name
+  // (`fallback` when the file gives none); returns what messages call it.
+  std::string identify(const TopoDS_Shape& s, const std::string& fallback, std::string* entity, std::string* name,
+                       long* line) const {
+    const Handle(Standard_Transient) ent = entity_of(s);
+    *entity = label(ent, line);
+    *name = name_of(ent);
+    if (name->empty()) *name = fallback;
+    return entity->empty() ? *name : *entity;
+  }
+
   CadModel read() {
     CadModel out;
     out.path = path_;
@@ -226,11 +237,7 @@ class Reader {
   CadFace face(const TopoDS_Face& f, int k) {
     CadFace out;
     long line = 0;
-    const Handle(Standard_Transient) ent = entity_of(f);
-    out.entity = label(ent, &line);
-    out.name = name_of(ent);
-    if (out.name.empty()) out.name = "face_" + std::to_string(k);
-    const std::string where = out.entity.empty() ? out.name : out.entity;
+    const std::string where = identify(f, "face_" + std::to_string(k), &out.entity, &out.name, &line);
     TopoDS_Face work = f;
     Handle(Geom_BSplineSurface) bs = bspline_of(BRep_Tool::Surface(work));
     if (bs.IsNull()) {
@@ -349,11 +356,7 @@ class Reader {
     if (gc.IsNull()) return std::nullopt;
     CadCurve out;
     long line = 0;
-    const Handle(Standard_Transient) ent = entity_of(e);
-    out.entity = label(ent, &line);
-    out.name = name_of(ent);
-    if (out.name.empty()) out.name = "curve_" + std::to_string(k);
-    const std::string where = out.entity.empty() ? out.name : out.entity;
+    const std::string where = identify(e, "curve_" + std::to_string(k), &out.entity, &out.name, &line);
     Handle(Geom_BSplineCurve) bc = Handle(Geom_BSplineCurve)::DownCast(gc);
     try {
       const double eps = 1e-12 * (1 + std::abs(a) + std::abs(b));
