@@ -2,6 +2,7 @@
 // The Lua UndercutMap (sim.map of a simulation): shared by the wrappers that
 // make one (planning, flank milling, bliskrun.simulate) and the VTK writer
 // that paints it on a surface.
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +42,14 @@ inline void push_undercut_map(lua_State* L, int rows, int cols, std::vector<doub
   m.map.values = std::move(values);
   m.footer = std::move(footer);
   luax::push_new(L, std::move(m));
+}
+
+// The map's sample nearest to grid point (i, j) of a rows x cols grid over
+// the same (u, v) square (a surface drawn at another resolution than its map).
+inline double undercut_map_nearest(const HeatMap& m, int i, int rows, int j, int cols) {
+  const int mi = rows > 1 ? static_cast<int>(std::lround(double(i) * (m.rows - 1) / (rows - 1))) : 0;
+  const int mj = cols > 1 ? static_cast<int>(std::lround(double(j) * (m.cols - 1) / (cols - 1))) : 0;
+  return m.at(mi, mj);
 }
 
 }  // namespace bliskrun::lua_api

@@ -3,18 +3,23 @@
 // tables from Lua tables, SVG charts inline and PNG pictures as data URIs.
 // No script, no stylesheet or font from the network: it opens offline in any
 // browser and can be mailed as one file. Written atomically.
+#include <array>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "core/analysis/part_picture.h"
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
 #include "core/common/xml_escape.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
+#include "lua_api/undercut_map.h"
+#include "lua_api/wrap_geometry.h"
 
 namespace bliskrun::lua_api {
 
@@ -273,10 +278,110 @@ int w_report(lua_State* L) {
   });
 }
 
+// bliskrun.paint_part{path =, pieces = {{name =, surface =, map =, samples_u =,
+// samples_v =}, ...}, title =, footer =, scale_um =, width =, height =,
+// view =, up =} -> the picture's path: the surfaces drawn in 3D with their
+// maps' values (mm, shown in µm) painted on (core/analysis/part_picture.h,
+// rendered by POV-Ray). A surface without a map is drawn plain.
+int w_paint_part(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.paint_part",
+      {Field{"path", Kind::String, true, std::nullopt, std::nullopt, "the picture, a .png file", {}},
+       Field{"pieces", Kind::Table, true, std::nullopt, std::nullopt,
+             "{{name =, surface =, map = an UndercutMap (optional), samples_u =, samples_v =}, ...}", {}},
+       Field{"title", Kind::String, false, std::nullopt, std::nullopt, "over the picture", {}},
+       Field{"footer", Kind::String, false, std::nullopt, std::nullopt, "one line under the part", {}},
+       Field{"scale_um", Kind::Number, false, 1e-3, 1e5, "colour scale +-, µm (the run's maps' scale)", {}},
+       Field{"width", Kind::Integer, false, 50, 8000, "rendered part, px; default 900", {}},
+       Field{"height", Kind::Integer, false, 50, 8000, "rendered part, px; default 600", {}},
+       Field{"view", Kind::Table, false, std::nullopt, std::nullopt, "{x, y, z} looked along; default face-on", {}},
+       Field{"up", Kind::Table, false, std::nullopt, std::nullopt, "{x, y, z} up in the picture", {}},
+       Field{"behind", Kind::Boolean, false, std::nullopt, std::nullopt,
+             "the default view turned round (the first piece's back)", {}}});
+  const std::string path = context(L).resolve_write(L, o.string("path", ""));
+  std::vector<PaintedPiece> pieces;
+  o.push_raw("pieces");
+  const int t = lua_gettop(L);
+  for (lua_Integer k = 1; k <= luaL_len(L, t); ++k) {
+    const std::string where = "bliskrun.paint_part: pieces[" + std::to_string(k) + "]";
+    if (lua_geti(L, t, k) != LUA_TTABLE) luax::error(L, where + ": expected {name =, surface =, map =}");
+    const luax::Options po(
+        L, lua_gettop(L), where,
+        {Field{"name", Kind::String, false, std::nullopt, std::nullopt, "the surface's name", {}},
+         Field{"surface", Kind::Any, true, std::nullopt, std::nullopt, "a Surface", {}},
+         Field{"map", Kind::Any, false, std::nullopt, std::nullopt, "an UndercutMap over the surface (mm)", {}},
+         Field{"samples_u", Kind::Integer, false, 2, 2000, "grid rows; default 60", {}},
+         Field{"samples_v", Kind::Integer, false, 2, 2000, "grid columns; default 150", {}},
+         Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "{u0, u1}: the map's window; default {0, 1}", {}},
+         Field{"v", Kind::Table, false, std::nullopt, std::nullopt, "{v0, v1}: the map's window; default {0, 1}", {}}});
+    PaintedPiece p;
+    p.name = po.string("name", "surface " + std::to_string(k));
+    p.rows = static_cast<int>(po.integer("samples_u", 60));
+    p.cols = static_cast<int>(po.integer("samples_v", 150));
+    po.push_raw("surface");
+    const auto surface = luax::check<SurfaceHandle>(L, -1).surface;
+    lua_pop(L, 1);
+    const HeatMap* map = nullptr;
+    if (po.has("map")) {
+      po.push_raw("map");
+      map = &luax::check<LuaUndercutMap>(L, -1).map;
+      lua_pop(L, 1);  // the table still holds the map
+    }
+    // The window the map covers (bliskrun.simulate's u, v), in [0, 1].
+    auto window = [&](const char* key) {
+      std::array<double, 2> w{0, 1};
+      if (!po.has(key)) return w;
+      po.push_raw(key);
+      for (int e = 0; e < 2; ++e) {
+        lua_geti(L, -1, e + 1);
+        if (!lua_isnumber(L, -1)) luax::error(L, where + "." + key + ": expected {from, to} within 0..1");
+        w[static_cast<size_t>(e)] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      if (!(w[0] >= 0 && w[1] <= 1 && w[0] < w[1]))
+        luax::error(L, where + "." + key + ": expected {from, to} with 0 <= from < to <= 1");
+      return w;
+    };
+    const auto wu = window("u"), wv = window("v");
+    for (int i = 0; i < p.rows; ++i)
+      for (int j = 0; j < p.cols; ++j) {
+        p.points.push_back(surface->point(wu[0] + (wu[1] - wu[0]) * i / (p.rows - 1),
+                                          wv[0] + (wv[1] - wv[0]) * j / (p.cols - 1)));
+        p.values.push_back(map ? 1e3 * undercut_map_nearest(*map, i, p.rows, j, p.cols)
+                               : std::numeric_limits<double>::quiet_NaN());
+      }
+    pieces.push_back(std::move(p));
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+  PartPictureOptions po;
+  po.title = o.string("title", "");
+  po.footer = o.string("footer", "");
+  po.scale_max = o.number("scale_um", 0);
+  po.width_px = static_cast<int>(o.integer("width", po.width_px));
+  po.height_px = static_cast<int>(o.integer("height", po.height_px));
+  if (o.has("view")) po.view = o.vec3("view", Vec3::Zero());
+  if (o.has("up")) po.up = o.vec3("up", Vec3::Zero());
+  po.behind = o.boolean("behind", false);
+  return luax::guarded(L, [&] {
+    write_part_picture_png(pieces, path, po);
+    lua_pushstring(L, path.c_str());
+    return 1;
+  });
+}
+
+// bliskrun.part_renderer_available() -> true when POV-Ray can be run.
+int w_part_renderer_available(lua_State* L) {
+  lua_pushboolean(L, part_renderer_available());
+  return 1;
+}
+
 }  // namespace
 
 void open_report(lua_State* L) {
-  static const luaL_Reg functions[] = {{"report", w_report}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"report", w_report}, {"paint_part", w_paint_part},
+                                       {"part_renderer_available", w_part_renderer_available}, {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

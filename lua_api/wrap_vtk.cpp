@@ -166,8 +166,7 @@ int w_write_vtk(lua_State* L) {
           VtkPointArray undercut{"undercut", 1, {}};
           for (int i = 0; i < rows; ++i)
             for (int j = 0; j < cols; ++j)
-              undercut.values.push_back(m.at(static_cast<int>(std::lround(double(i) * (m.rows - 1) / (rows - 1))),
-                                             static_cast<int>(std::lround(double(j) * (m.cols - 1) / (cols - 1)))));
+              undercut.values.push_back(undercut_map_nearest(m, i, rows, j, cols));
           d.point_data.push_back(undercut);
           lua_pop(L, 1);
         } else {

@@ -175,6 +175,13 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
   ASSERT_TRUE(j.contains("blade_map")) << "no blade map in the report";
   const auto& map = j["blade_map"];
   EXPECT_TRUE(fs::exists(out + "/" + map["picture"].get<std::string>()));
+  // The same painted on the blade, from each side (where POV-Ray runs).
+  if (map.contains("painted_note")) {
+    EXPECT_NE(map["painted_note"].get<std::string>().find("POV-Ray not installed"), std::string::npos);
+  } else {
+    ASSERT_EQ(map["painted"].size(), 2u);
+    for (const auto& p : map["painted"]) EXPECT_TRUE(fs::exists(out + "/" + p.get<std::string>())) << p;
+  }
   const char* regions[] = {"pressure flank", "trailing edge", "suction flank", "leading edge", "root strip", "fillet",
                            "channel floor"};
   ASSERT_EQ(map["regions"].size(), 7u);

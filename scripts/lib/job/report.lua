@@ -174,6 +174,28 @@ function M.blisk.blade_map(r, lean)
   bm.map:write_png(map.picture, {title = "Blade 1 after every operation's moves (" .. operation_kinds(r.job)
                                          .. "): material left, µm; red above the design, blue below",
                                  scale_um = M.map_scale_um(r), width = 1200, height = 480})
+  -- The same, painted on the blade itself, seen from each side (POV-Ray;
+  -- skipped with a note where it is not installed).
+  map.painted = {}
+  if bliskrun.part_renderer_available() then
+    local pieces = {}
+    for _, g in ipairs(bm.regions) do
+      if g.piece and g.name ~= "fillet" then pieces[#pieces + 1] = g.piece end  -- the fillet shares the root's surface
+    end
+    local mid = pieces[1].surface:point(0.5, 0.5)
+    for _, side in ipairs{{"pressure", false}, {"suction", true}} do
+      local picture = string.format("%s_blade1_%s_side.png", r.o.name, side[1])
+      bliskrun.paint_part{path = picture, pieces = pieces, behind = side[2], up = {mid.x, mid.y, 0},
+                          scale_um = M.map_scale_um(r), title = "Blade 1 from its " .. side[1]
+                            .. " side: material left after every operation, µm",
+                          footer = "flanks, edges, root strip and channel floor as swept for the map above; "
+                                   .. "the fillet (under the root strip) is not painted"}
+      map.painted[#map.painted + 1] = picture
+    end
+  else
+    map.painted_note = "POV-Ray not installed: the painted blade is not drawn (apt-get install povray)"
+    print("  " .. map.painted_note)
+  end
   r.json.blade_map = map
 end
 
@@ -228,6 +250,10 @@ function M.blisk.page(r)
   if json.blade_map then
     pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                                image = json.blade_map.picture}
+    for _, p in ipairs(json.blade_map.painted) do
+      pictures[#pictures + 1] = {title = "Blade 1 after the job, painted on the part", image = p}
+    end
+    if json.blade_map.painted_note then pictures[#pictures + 1] = {title = "Blade 1 painted", text = json.blade_map.painted_note} end
   end
   for _, p in ipairs(pictures) do sections[#sections + 1] = p end
   local files = {{name .. "_undercut_*.png", "the undercut maps above"}}

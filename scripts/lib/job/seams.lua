@@ -136,7 +136,10 @@ function Job:simulate_blade(o)
     local region = {name = name, material_left_max_mm = r.residual_max, material_left_min_mm = r.residual_min,
                     overcut_mm = r.overcut, unreached = r.untouched, samples = samples, map = r.map, seconds = r.seconds,
                     overcut_move = at and at[r.overcut_pose] or nil,
-                    tile = {map = r.map, transpose = spec.transpose, label = name}}
+                    tile = {map = r.map, transpose = spec.transpose, label = name},
+                    -- The region in 3D with its map (bliskrun.paint_part).
+                    piece = {name = name, surface = spec.surface, map = r.map, u = spec.u, v = spec.v,
+                             samples_u = math.min(spec.samples_u, 120), samples_v = math.min(spec.samples_v, 300)}}
     regions[#regions + 1] = region
     return region
   end
