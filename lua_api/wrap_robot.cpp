@@ -652,14 +652,14 @@ int w_robot_plan_write_program(lua_State* L) {
   if (dialect_name != "abb_rapid" && dialect_name != "kuka_krl")
     luax::error(L, "plan:write_program: the post is not a robot post (dialect \"abb_rapid\" or \"kuka_krl\")");
   const RobotDialect dialect = dialect_name == "abb_rapid" ? RobotDialect::AbbRapid : RobotDialect::KukaKrl;
-  // KRL names are at most 24 characters, RAPID's 32; a part adds "_p" and up to 3 digits.
+  // KRL names are at most 24 characters, RAPID's 32; a part adds "_p" and up to 2 digits.
   const size_t longest = dialect == RobotDialect::KukaKrl ? 24 : 32;
   if (stem.empty() || !std::isalpha(static_cast<unsigned char>(stem[0])) ||
       stem.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos ||
-      stem.size() + 5 > longest)
+      stem.size() + 4 > longest)
     luax::error(L, "plan:write_program: option 'file': the program is named after its file, so '" + stem +
                        "' must start with a letter, hold only letters, digits and _ and be at most " +
-                       std::to_string(longest - 5) + " characters");
+                       std::to_string(longest - 4) + " characters");
   ProgramSettings ps;
   plan_settings(lp, o.number("chord_tol", 0), ps);
   ps.blade_kg = o.number("blade_mass", 0);
@@ -688,7 +688,7 @@ int w_robot_plan_write_program(lua_State* L) {
     for (size_t i = 1; i < n_moves; ++i)
       if (lp.plan.moves[i].path != lp.plan.moves[i - 1].path) starts.push_back(i);
     bool fits = false;
-    for (size_t parts = (text.size() + max_bytes - 1) / max_bytes + 1; !fits && parts <= 999; ++parts) {
+    for (size_t parts = (text.size() + max_bytes - 1) / max_bytes + 1; !fits && parts <= 99; ++parts) {
       std::vector<size_t> cut{0};
       for (size_t k = 1; k < parts; ++k) {
         const size_t want = n_moves * k / parts;

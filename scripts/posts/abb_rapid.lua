@@ -17,7 +17,7 @@ local P = extend "robot_base"
 
 P.name = "abb_rapid"
 P.dialect = "abb_rapid"
-P.comment_open = "! "
+P.comment_open = "    ! "
 P.comment_close = ""
 P.home_speed = "v200"
 
