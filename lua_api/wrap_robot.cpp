@@ -15,6 +15,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/machine/robot_cycle_time.h"
 #include "core/machine/robot_program.h"
 #include "core/machine/wheel_clearance.h"
 #include "lua_api/luax.h"
@@ -396,6 +397,37 @@ int w_robot_plan_report(lua_State* L) {
   luax::set_string(L, "first_collision", p.wheel.first_collision);
   lua_setfield(L, -2, "wheel");
   return 1;
+}
+
+// plan:cycle_time{tcp_accel = 1000, joint_accel = 2, from_home = true,
+// to_home = true} -> {total_s, grinding_s, link_s, home_s, grinding_mm,
+// link_mm, paths, joint_limited_steps} (core/machine/robot_cycle_time.h)
+int w_robot_plan_cycle_time(lua_State* L) {
+  const LuaRobotPlan& lp = check_robot_plan(L);
+  const luax::Options o(
+      L, 2, "plan:cycle_time",
+      {number_field("tcp_accel", "path acceleration of the TCP, mm/s^2; default 1000", 1, 1e6),
+       number_field("joint_accel", "joint acceleration for the home moves, rad/s^2; default 2", 1e-3, 1e3),
+       Field{"from_home", Kind::Boolean, false, std::nullopt, std::nullopt, "add home -> first target", {}},
+       Field{"to_home", Kind::Boolean, false, std::nullopt, std::nullopt, "add last target -> home", {}}});
+  RobotCycleTimeOptions co;
+  co.tcp_accel_mm_s2 = o.number("tcp_accel", co.tcp_accel_mm_s2);
+  co.joint_accel_rad_s2 = o.number("joint_accel", co.joint_accel_rad_s2);
+  co.from_home = o.boolean("from_home", true);
+  co.to_home = o.boolean("to_home", true);
+  return luax::guarded(L, [&] {
+    const RobotCycleTime c = estimate_robot_cycle_time(*lp.cell, lp.plan, co);
+    lua_createtable(L, 0, 8);
+    luax::set_number(L, "total_s", c.total_s);
+    luax::set_number(L, "grinding_s", c.grinding_s);
+    luax::set_number(L, "link_s", c.link_s);
+    luax::set_number(L, "home_s", c.home_s);
+    luax::set_number(L, "grinding_mm", c.grinding_mm);
+    luax::set_number(L, "link_mm", c.link_mm);
+    luax::set_number(L, "paths", c.paths);
+    luax::set_number(L, "joint_limited_steps", c.joint_limited_steps);
+    return 1;
+  });
 }
 
 // bliskrun.blade_body{faces = {{name =, surface =}, ...}, spacing = 1} -> BladeBody
@@ -784,6 +816,7 @@ void open_robot(lua_State* L) {
   static const luaL_Reg plan_methods[] = {{"report", w_robot_plan_report},
                                           {"moves", w_robot_plan_moves},
                                           {"write_program", w_robot_plan_write_program},
+                                          {"cycle_time", w_robot_plan_cycle_time},
                                           {nullptr, nullptr}};
   luax::register_type<LuaRobotPlan>(L, plan_methods);
   static const luaL_Reg body_methods[] = {{"points", w_blade_body_points}, {nullptr, nullptr}};

@@ -48,6 +48,16 @@ function M.analyse(surfaces, opts)
   return table1, flanks
 end
 
+-- The narrowest passage (blisk paper eq. 13, d_min): suction flank of
+-- blade 1 to the pressure flank of blade 2 (blade 1 turned one pitch in the
+-- direction the suction side faces). Returns bliskrun.narrowest_passage's
+-- table (distance in mm, and where).
+function M.narrowest_passage(part, suction)
+  local pitch = -part.rotation * 360 / part.blades
+  local next_pressure = part.pressure:rotated(pitch):surface()
+  return bliskrun.narrowest_passage(suction or part.suction:surface(), next_pressure)
+end
+
 function M.run(part, opts)
   local c_range = opts.c_range or 30
   local prefix, name = opts.prefix, opts.name
@@ -62,11 +72,7 @@ function M.run(part, opts)
     flanks[side].grid = {rows = rows, cols = cols}
   end
 
-  -- The passage: suction flank of blade 1 to the pressure flank of blade 2
-  -- (blade 1 turned one pitch in the direction the suction side faces).
-  local pitch = -part.rotation * 360 / part.blades
-  local next_pressure = part.pressure:rotated(pitch):surface()
-  local passage = bliskrun.narrowest_passage(surfaces.suction, next_pressure)
+  local passage = M.narrowest_passage(part, surfaces.suction)
   local wheel = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = passage.distance}
 
   print(string.format("%s: %d blades, %d sections, narrowest passage d_min = %.2f mm", name, part.blades,

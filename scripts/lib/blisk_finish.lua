@@ -69,15 +69,19 @@ end
 -- A drum wheel must pass between two blades: one as wide as the narrowest
 -- passage (blisk paper eq. 13, d_min) can reach no flank, and the planner
 -- would tilt every pose in vain before refusing them all. Refused here,
--- before planning, with the two numbers.
-function M.check_wheel_fits(blisk, tool)
+-- before planning, with the two numbers. passage: a blisk (its
+-- narrowest_passage()) or, for a real part read from data, d_min in mm as
+-- bliskrun.narrowest_passage measured it between two neighbouring blades.
+function M.check_wheel_fits(passage, tool)
   if not tool:kind():find("drum wheel", 1, true) then return end
-  local d, d_min = cutter_diameter(tool), blisk:narrowest_passage()
+  local d_min, source = passage, "bliskrun.narrowest_passage"
+  if type(passage) ~= "number" then d_min, source = passage:narrowest_passage(), "blisk:narrowest_passage()" end
+  local d = cutter_diameter(tool)
   if d >= d_min then
     error(string.format("%s: its diameter %.3f mm is not below the narrowest passage between the "
-                        .. "blades, d_min = %.3f mm (blisk:narrowest_passage()); it cannot enter the channel. "
+                        .. "blades, d_min = %.3f mm (%s); it cannot enter the channel. "
                         .. "Expected a wheel narrower than %.3f mm (finish.design_wheels sizes one)",
-                        tool:description(), d, d_min, d_min), 2)
+                        tool:description(), d, d_min, source, d_min), 2)
   end
 end
 

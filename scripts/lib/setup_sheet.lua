@@ -140,4 +140,87 @@ function M.sections(sheets)
   return out
 end
 
+-- A belt-grinding robot program's sheet: the robot programmer's page
+-- instead of the machinist's — the cell and its station (belt, wheel,
+-- belt speed), how the blade is gripped, the speeds, the range each joint
+-- takes, and the estimated cycle time (plan:cycle_time,
+-- core/machine/robot_cycle_time.h).
+--   setup_sheet.robot{file =, robot =, cell_file =, post =, part =, grip =,
+--     station = {name =, belt =, speed =, wheel = {radius =, width =}},
+--     feed_mm_s =, link_feed_mm_s =, moves = plan:moves(), cycle = plan:cycle_time()}
+function M.robot(o)
+  local lo, hi = {}, {}
+  for _, m in ipairs(o.moves) do
+    for j = 1, 6 do
+      lo[j] = math.min(lo[j] or math.huge, m.joints[j])
+      hi[j] = math.max(hi[j] or -math.huge, m.joints[j])
+    end
+  end
+  local ranges = {}
+  for j = 1, 6 do ranges[j] = {axis = "A" .. j, unit = "deg", min = lo[j], max = hi[j]} end
+  local st = o.station
+  return {program = o.file, robot = o.robot, cell_file = o.cell_file, post = o.post, part = o.part, grip = o.grip,
+          station = st, feed_mm_s = o.feed_mm_s, link_feed_mm_s = o.link_feed_mm_s, moves = #o.moves,
+          axis_ranges = ranges, cycle_time = o.cycle,
+          files = {json = stem(o.file) .. ".json", html = stem(o.file) .. ".html"}}
+end
+
+local kRobotModel = "Estimated from the plan the program is written from and the arm's joint speeds "
+                    .. "(core/machine/robot_cycle_time.h): each path one motion at its contact speed with one "
+                    .. "ramp at the TCP acceleration, slowed where a joint reaches its maximum speed; each link "
+                    .. "move from rest to rest; home to the first target and back at full joint speed. The "
+                    .. "controller's own path planner decides the real time."
+
+local function robot_tables(sheet)
+  local c, st = sheet.cycle_time, sheet.station
+  local axes = {}
+  for i, r in ipairs(sheet.axis_ranges) do axes[i] = {r.axis, r.unit, r.min, r.max} end
+  return {
+    setup = {columns = {"item", "value"}, rows = {
+      {"program", sheet.program}, {"robot cell", sheet.robot}, {"cell file", sheet.cell_file or "not stated"},
+      {"post", sheet.post}, {"part", sheet.part}, {"grip", sheet.grip},
+      {"station", st.name}, {"belt", st.belt or "not stated"},
+      {"belt speed (m/s)", st.speed or "not stated"},
+      {"contact wheel radius / width (mm)", string.format("%g / %g", st.wheel.radius, st.wheel.width)},
+      {"contact speed along the path (mm/s)", sheet.feed_mm_s},
+      {"link speed off the wheel (mm/s)", sheet.link_feed_mm_s}, {"moves", sheet.moves},
+      {"estimated cycle time (min)", minutes(c.total_s)}}},
+    time = {columns = {"part of the program", "length (mm)", "time (s)"}, rows = {
+      {string.format("grinding (%d paths)", c.paths), c.grinding_mm, c.grinding_s},
+      {"links off the wheel (retract, traverse, approach)", c.link_mm, c.link_s},
+      {"home to the first target and back", "", c.home_s},
+      {"whole program", c.grinding_mm + c.link_mm, c.total_s}}},
+    axes = {columns = {"joint", "unit", "min", "max"}, rows = axes},
+  }
+end
+
+-- Writes a robot program's <program>_setup.json and .html; returns their names.
+function M.write_robot(sheet)
+  bliskrun.write_json(sheet.files.json, sheet)
+  local t = robot_tables(sheet)
+  local c = sheet.cycle_time
+  bliskrun.report{path = sheet.files.html, title = "Setup sheet: " .. sheet.program,
+    subtitle = string.format("%s, %s post, station %s; estimated cycle time %.1f min", sheet.robot, sheet.post,
+                             sheet.station.name, minutes(c.total_s)),
+    sections = {{title = "Setup", table = t.setup},
+                {title = "Estimated cycle time", text = kRobotModel .. (c.joint_limited_steps > 0 and string.format(
+                   " %d steps are slowed by a joint's speed limit.", c.joint_limited_steps) or ""), table = t.time},
+                {title = "Joint ranges the program uses", table = t.axes}}}
+  return sheet.files.json, sheet.files.html
+end
+
+-- A run's report: one table of every robot program's time and sheet.
+function M.robot_sections(sheets)
+  if #sheets == 0 then return {} end
+  local rows = {}
+  for i, s in ipairs(sheets) do
+    local c = s.cycle_time
+    rows[i] = {s.program, s.robot, s.station.name, c.grinding_s, c.link_s, c.home_s, minutes(c.total_s),
+               s.files.html}
+  end
+  return {{title = "Cycle time and setup sheets", text = kRobotModel,
+           table = {columns = {"program", "robot", "station", "grinding (s)", "links (s)", "home moves (s)",
+                               "total (min)", "setup sheet"}, rows = rows}}}
+end
+
 return M

@@ -54,6 +54,7 @@ local opt = require("recipe_options"){
 }
 local run_report = require("run_report")
 local chart = require("svg_chart")
+local setup_sheet = require("setup_sheet")
 local part_name = opt.part
 local sides = opt.sides
 local feed = opt.feed
@@ -254,6 +255,7 @@ local wheels = {}
 for _, s in ipairs(loaded[robots[1]]:stations()) do wheels[s.name] = s end
 
 local ok = true
+local sheets = {}  -- setup sheets of the posted programs
 local requirements = {}  -- the verdict: per station and flank, per robot program
 print(string.format("%-7s %-9s %6s %7s %12s %12s %9s %9s", "station", "flank", "paths", "points",
                     "chord max", "scallop max", "steps cut", "overs cut"))
@@ -361,6 +363,14 @@ for _, name in ipairs(station_order) do
           wr.files, wr.bytes, wr.total_bytes, wr.ori_speed, wr.zone
         main_calls[robot] = main_calls[robot] or {}
         table.insert(main_calls[robot], wr.program)
+        -- The robot programmer's page beside the program (issue 37 item 3).
+        local sheet = setup_sheet.robot{file = file, robot = loaded[robot]:name(), cell_file = c.file, post = c.post,
+          part = part_name, grip = grip.name, station = {name = name, belt = w.belt, speed = w.speed,
+                                                        wheel = {radius = w.radius, width = w.width}},
+          feed_mm_s = feed, link_feed_mm_s = 100, moves = rp:moves(), cycle = rp:cycle_time()}
+        setup_sheet.write_robot(sheet)
+        sheets[#sheets + 1] = sheet
+        prog.cycle_time_s, prog.setup_sheet = sheet.cycle_time.total_s, sheet.files.html
         program_rows[#program_rows + 1] = {file, name, f.side, grip.name, rr.moves, rr.branch_changes, rr.singular_moves,
                                            rr.max_joint_speed_ratio, rr.wheel.poses, rr.wheel.max_conformity,
                                            1e3 * wr.max_position, wr.max_angle}
@@ -399,6 +409,7 @@ report.verdict = run_report.verdict(requirements)
 bliskrun.write_json("blade_belt_grinding.json", report)
 local function with_pictures(sections)
   for i, p in ipairs(path_pictures) do table.insert(sections, 2 + i, p) end
+  for _, t in ipairs(setup_sheet.robot_sections(sheets)) do sections[#sections + 1] = t end
   return sections
 end
 run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blade 1", rotor67 = "NASA Rotor 67 blade 1", e3 = "NASA/GE E3 HPT rotor blade"})[part_name],
@@ -433,4 +444,5 @@ run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blad
                                    "read-back (deg)"}, rows = program_rows}}},
   vtk = {path = "blade_belt_grinding.pvd", blocks = blocks},
   files = {{"blade_belt_grinding.json", "stations, paths, points, normals and wheel axes, programs"},
-           {"kuka_*.src", "KUKA KRL programs"}, {"abb_*.mod", "ABB RAPID modules"}}}
+           {"kuka_*.src", "KUKA KRL programs"}, {"abb_*.mod", "ABB RAPID modules"},
+           {"*_setup.html / *_setup.json", "setup sheet and estimated cycle time per program"}}}

@@ -23,6 +23,8 @@ local opt = require("recipe_options"){
   chord_tol = {type = "number", unit = "mm", default = 0.002, range = {1e-5, 0.1},
                help = "chord deviation allowed between steps along a row"},
   wheel = {type = "string", default = "extended", choices = {"extended", "traditional"}, help = "wheel of Table 2"},
+  wheel_diameter = {type = "number", unit = "mm", range = {0.5, 100}, default_text = "Table 2's",
+                    help = "the wheel's largest diameter D_t instead of the designed one"},
   shank_ratio = {type = "number", default = 0.4, range = {0.05, 1}, help = "shank diameter over the wheel's diameter"},
   link = {type = "string", choices = {"normal", "axis"}, default_text = "normal",
           help = "links leave along the flank normal or the wheel's axis"},
@@ -39,17 +41,30 @@ local c_range = opt.c_range
 local residual, chord_tol = opt.residual, opt.chord_tol
 local file = "nasa_rotor67/rotor67geometry.dat"
 
+-- A wheel of the recipe's own size must enter the channel: checked before
+-- the design writes anything (Table 2's own wheel is checked below).
+local design_part = bliskrun.read_rotor67(file, {span_extension = 0})
+if opt.wheel_diameter then
+  finish.check_wheel_fits(wheel_design.narrowest_passage(design_part).distance,
+                          bliskrun.drum_wheel{max_diameter = opt.wheel_diameter, barrel_radius = 50,
+                                              head_length = opt.wheel_diameter / 2})
+end
+
 -- Tables 1-2 between hub and tip; the planning part extends past them (as
 -- a CAD export does) so the trim finds the hub and casing on the flank.
-local design = wheel_design.run(bliskrun.read_rotor67(file, {span_extension = 0}),
+local design = wheel_design.run(design_part,
                                 {name = "NASA Rotor 67", prefix = "rotor67_finish_design", c_range = c_range})
 local part = bliskrun.read_rotor67(file)
 local rule = opt.wheel
 local ext = design.table2[rule]
-local tool = bliskrun.drum_wheel{max_diameter = ext.max_diameter, barrel_radius = ext.barrel_radius,
-                                 head_length = ext.max_diameter / 2,
-                                 shank = {diameter = (opt.shank_ratio) * ext.max_diameter, length = 120}}
+local d_t = opt.wheel_diameter or ext.max_diameter
+local tool = bliskrun.drum_wheel{max_diameter = d_t, barrel_radius = ext.barrel_radius, head_length = d_t / 2,
+                                 shank = {diameter = opt.shank_ratio * d_t, length = 120}}
 bliskrun.log("wheel: " .. tool:description())
+-- Table 2 sizes the wheel below d_min; checked all the same, before any
+-- planning, as for the built-in blisk (a changed rule or shank must not
+-- plan a wheel that cannot enter the channel).
+finish.check_wheel_fits(design.part.narrowest_passage_mm, tool)
 
 -- Check surfaces: both flanks of the two neighbouring blades, the hub, and
 -- the blade itself for the shank.

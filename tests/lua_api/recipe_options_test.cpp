@@ -115,6 +115,20 @@ TEST(RecipeOptions, WheelWiderThanTheNarrowestPassageIsRefusedBeforePlanning) {
   EXPECT_EQ(files_in(dir.path() + "/out"), 0);
 }
 
+// The same refusal on a real part, whose d_min is measured between two of
+// its blades (Rotor 67: 20.13 mm), before the wheel design writes anything.
+TEST(RecipeOptions, WheelWiderThanARealPartsPassageIsRefusedBeforeAnythingIsWritten) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 wheel check skipped";
+  TempDir dir;
+  const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--quiet", "--out",
+                                       dir.path() + "/out", "--set", "wheel_diameter=21"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, "its diameter 21.000 mm is not below the narrowest passage between the blades, "
+                            "d_min = 20.1"))
+      << r.output;
+  EXPECT_EQ(files_in(dir.path() + "/out"), 0);
+}
+
 // The declaration itself, on a recipe of the test's.
 TEST(RecipeOptions, DeclaredValuesAreTypedDefaultedAndChecked) {
   TempDir dir;

@@ -75,6 +75,28 @@ TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolera
     EXPECT_EQ(p["branch_changes"].get<int>(), 0);
     EXPECT_LT(p["joint_speed_ratio"].get<double>(), 1.0);
     EXPECT_TRUE(p["refusals"].empty());
+    // The setup sheet beside it, its cycle time by the estimate's closed
+    // form: the contact travel of every path at 20 mm/s plus one ramp
+    // (v/a, 1 m/s^2) per path when no joint slows a step; the travel is
+    // the flank's path lengths for that station.
+    {
+      std::ifstream sheet_in(dir.path() + "/" + p["setup_sheet"].get<std::string>().substr(
+                                                   0, p["setup_sheet"].get<std::string>().size() - 5) + ".json");
+      ASSERT_TRUE(sheet_in.good()) << p["setup_sheet"];
+      const nlohmann::json c = nlohmann::json::parse(sheet_in)["cycle_time"];
+      double travel = 0;
+      for (const auto& st : j["stations"])
+        if (st["name"] == p["station"])
+          for (const auto& path : st["flanks"][p["flank"].get<std::string>()]["path"]) travel += path["length"].get<double>();
+      EXPECT_NEAR(c["grinding_mm"].get<double>(), travel, 1e-3 * travel) << p["file"];
+      ASSERT_EQ(c["joint_limited_steps"].get<int>(), 0) << p["file"];
+      EXPECT_NEAR(c["grinding_s"].get<double>(),
+                  c["grinding_mm"].get<double>() / 20 + c["paths"].get<double>() * 20.0 / 1000, 1e-9) << p["file"];
+      EXPECT_NEAR(c["total_s"].get<double>(),
+                  c["grinding_s"].get<double>() + c["link_s"].get<double>() + c["home_s"].get<double>(), 1e-9);
+      EXPECT_GT(c["link_s"].get<double>(), 0);
+      EXPECT_DOUBLE_EQ(p["cycle_time_s"].get<double>(), c["total_s"].get<double>());
+    }
     // The wheel and belt checked against the whole blade on every move and
     // between moves. The rubber gives where the face is concave along the
     // path — the pressure flank, (w/2)^2 k / 2 = 0.1-0.3 mm at the wheels'
