@@ -720,7 +720,7 @@ int w_robot_plan_write_program(lua_State* L) {
     for (size_t i = 1; i < n_moves; ++i)
       if (lp.plan.moves[i].path != lp.plan.moves[i - 1].path) starts.push_back(i);
     bool fits = false;
-    for (size_t parts = (text.size() + max_bytes - 1) / max_bytes + 1; !fits && parts <= 99; ++parts) {
+    for (size_t parts = (text.size() + max_bytes - 1) / max_bytes; !fits && parts <= 99; ++parts) {
       std::vector<size_t> cut{0};
       for (size_t k = 1; k < parts; ++k) {
         const size_t want = n_moves * k / parts;
