@@ -4,7 +4,12 @@
 // along belt paths, plan:write_program posts it with a robot post
 // (scripts/posts/abb_rapid.lua, kuka_krl.lua), reads it back and replays it
 // through the arm's kinematics before anything is written.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -483,9 +488,23 @@ int w_robot_plan_moves(lua_State* L) {
   return 1;
 }
 
+// What a robot program states besides its targets: the speeds and zone
+// that hold the plan on the controller, and the payload.
+struct ProgramSettings {
+  double ori_speed_deg_s = 0;   // the orientation speed that lets every grinding move keep its feed
+  double zone_mm = 0;           // blend radius within the chord tolerance; 0: exact stops
+  double gripper_kg = 0, blade_kg = 0;
+  Vec3 gripper_cog = Vec3::Zero();  // flange frame, mm
+  Vec3 blade_cog = Vec3::Zero();    // blade frame, mm
+};
+
 // The job a robot post writes from: cell, station and grip frames, and per
-// move the target (station in blade frame) with its configuration fields.
-void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& name) {
+// move the target (station in blade frame) with its configuration fields,
+// for moves [from, to); `calls` instead of moves when the program only calls
+// its parts, `part` for a part called from another program.
+void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& title, const std::string& program,
+                    size_t from, size_t to, const std::vector<std::string>& calls, bool part,
+                    const ProgramSettings& ps) {
   const RobotCell& cell = *lp.cell;
   const BeltStation& st = cell.station(lp.station);
   auto set_pose = [&](const Frame& f) {
@@ -504,8 +523,30 @@ void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& nam
     luax::set_number(L, "b", rad_to_deg(e[1]));
     luax::set_number(L, "c", rad_to_deg(e[2]));
   };
-  lua_createtable(L, 0, 6);
-  luax::set_string(L, "name", name);
+  lua_createtable(L, 0, 12);
+  luax::set_string(L, "name", title);
+  luax::set_string(L, "program", program);
+  luax::set_bool(L, "part", part);
+  luax::set_number(L, "ori_speed", ps.ori_speed_deg_s);
+  luax::set_number(L, "zone", ps.zone_mm);
+  // The payload on the flange: the gripper and the blade it holds, each
+  // mass with its centre of gravity in the flange frame (mm).
+  lua_createtable(L, 0, 4);
+  luax::set_number(L, "gripper_mass", ps.gripper_kg);
+  luax::set_vec3(L, "gripper_cog", ps.gripper_cog);
+  luax::set_number(L, "blade_mass", ps.blade_kg);
+  luax::set_vec3(L, "blade_cog", cell.grip * ps.blade_cog);
+  const double mass = ps.gripper_kg + ps.blade_kg;
+  luax::set_number(L, "mass", mass);
+  luax::set_vec3(L, "cog", mass > 0 ? Vec3((ps.gripper_kg * ps.gripper_cog + ps.blade_kg * (cell.grip * ps.blade_cog)) / mass)
+                                    : Vec3::Zero());
+  lua_setfield(L, -2, "payload");
+  lua_createtable(L, static_cast<int>(calls.size()), 0);
+  for (size_t i = 0; i < calls.size(); ++i) {
+    lua_pushstring(L, calls[i].c_str());
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "calls");
   lua_createtable(L, 0, 2);
   luax::set_string(L, "name", cell.name);
   push_joints(L, cell.home);
@@ -520,8 +561,8 @@ void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& nam
   lua_createtable(L, 0, 6);
   set_pose(cell.grip);
   lua_setfield(L, -2, "grip");
-  lua_createtable(L, static_cast<int>(lp.plan.moves.size()), 0);
-  for (size_t i = 0; i < lp.plan.moves.size(); ++i) {
+  lua_createtable(L, static_cast<int>(to - from), 0);
+  for (size_t i = from; i < to; ++i) {
     const RobotMove& m = lp.plan.moves[i];
     lua_createtable(L, 0, 16);
     set_pose(robot_target_frame(cell, st, m));
@@ -529,16 +570,16 @@ void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& nam
     luax::set_number(L, "cf1", quadrants[0]);
     luax::set_number(L, "cf4", quadrants[1]);
     luax::set_number(L, "cf6", quadrants[2]);
-    luax::set_number(L, "cfx", m.branch);
-    // KUKA S: bit 0 wrist centre behind axis 1, bit 1 elbow, bit 2 axis 5 negative.
-    luax::set_number(L, "s", ((m.branch >> 2) & 1) | (m.branch & 2) | ((m.branch & 1) << 2));
+    luax::set_number(L, "cfx", abb_cfx(cell.arm, m.joints));
+    luax::set_number(L, "s", kuka_status(cell.arm, m.joints));
     luax::set_number(L, "t", kuka_turn_bits(m.joints));
     luax::set_bool(L, "link", m.link);
+    luax::set_bool(L, "first", i == 0);
     luax::set_number(L, "path", m.path + 1);
     luax::set_number(L, "feed", m.feed_mm_s);
     push_joints(L, m.joints);
     lua_setfield(L, -2, "joints");
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i - from + 1));
   }
   lua_setfield(L, -2, "moves");
 }
@@ -549,20 +590,93 @@ const char* kOutChunk =
     "return {line = function(_, t) lines[#lines + 1] = t end,\n"
     "        text = function() return table.concat(lines, '\\n') .. '\\n' end}\n";
 
-// plan:write_program{post = "abb_rapid"|"kuka_krl"|post table, file=, name=} -> report
+// Runs the post (at `post`) on one job; returns the program's text.
+std::string run_post(lua_State* L, int post, const LuaRobotPlan& lp, const std::string& title,
+                     const std::string& program, size_t from, size_t to, const std::vector<std::string>& calls,
+                     bool part, const ProgramSettings& ps) {
+  if (luaL_loadstring(L, kOutChunk) != LUA_OK) lua_error(L);
+  lua_call(L, 0, 1);
+  const int out = lua_gettop(L);
+  lua_getfield(L, post, "write");
+  lua_pushvalue(L, post);
+  push_robot_job(L, lp, title, program, from, to, calls, part, ps);
+  lua_pushvalue(L, out);
+  lua_call(L, 3, 0);
+  lua_getfield(L, out, "text");
+  lua_call(L, 0, 1);
+  std::string text = lua_tostring(L, -1);
+  lua_pop(L, 2);
+  return text;
+}
+
+// The orientation speed every grinding move needs to keep its feed (the
+// controller takes the longer of path length / v_tcp and turn / v_ori), and
+// the blend radius whose corner cut stays within the chord tolerance: a
+// parabolic blend over r each side of a corner turning by α leaves the
+// corner by ≈ r·α/4, so r ≤ 4ε/α at the sharpest corner (capped at 1 mm).
+void plan_settings(const LuaRobotPlan& lp, double chord_tol_mm, ProgramSettings& ps) {
+  const RobotCell& cell = *lp.cell;
+  const BeltStation& st = cell.station(lp.station);
+  double need = 0, zone = chord_tol_mm > 0 ? 1.0 : 0.0;
+  std::optional<Frame> prev, prev2;
+  for (const RobotMove& m : lp.plan.moves) {
+    const Frame t = robot_target_frame(cell, st, m);
+    if (prev && !m.link) {
+      const double length = (t.translation() - prev->translation()).norm();
+      const double turn = rad_to_deg(Eigen::AngleAxisd(prev->linear().transpose() * t.linear()).angle());
+      if (length > 1e-9) need = std::max(need, turn * m.feed_mm_s / length);
+      if (prev2 && chord_tol_mm > 0) {
+        const Vec3 a = prev->translation() - prev2->translation(), b = t.translation() - prev->translation();
+        if (a.norm() > 1e-9 && b.norm() > 1e-9) {
+          const double alpha = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+          if (alpha > 1e-12) zone = std::min(zone, 4 * chord_tol_mm / alpha);
+        }
+      }
+    }
+    prev2 = m.link ? std::optional<Frame>() : prev;
+    prev = t;
+  }
+  // 10 % above the need, in whole deg/s, and never below 30 deg/s.
+  ps.ori_speed_deg_s = std::max(30.0, std::ceil(need * 1.1));
+  ps.zone_mm = std::floor(zone * 1000) / 1000;
+}
+
+std::string file_stem(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  return name.substr(0, name.find('.'));
+}
+
+std::string file_ext(const std::string& path) {
+  const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+  return dot == std::string::npos || (slash != std::string::npos && dot < slash) ? "" : path.substr(dot);
+}
+
+// plan:write_program{post = "abb_rapid"|"kuka_krl"|post table, file=, name=, ...} -> report
 int w_robot_plan_write_program(lua_State* L) {
   const LuaRobotPlan& lp = check_robot_plan(L);
   const luax::Options o(
       L, 2, "plan:write_program",
       {Field{"post", Kind::Any, true, std::nullopt, std::nullopt, "\"abb_rapid\", \"kuka_krl\" or a post table", {}},
-       Field{"file", Kind::String, true, std::nullopt, std::nullopt, "program file in the out folder", {}},
-       Field{"name", Kind::String, false, std::nullopt, std::nullopt, "program / module name", {}},
+       Field{"file", Kind::String, true, std::nullopt, std::nullopt,
+             "program file in the out folder; its name (without extension) is the program's name", {}},
+       Field{"name", Kind::String, false, std::nullopt, std::nullopt, "a title written as a comment", {}},
        number_field("position_tol", "read-back tolerance of the contact, mm; default 0.002", 1e-9, 10),
-       number_field("angle_tol", "read-back tolerance of the orientation, deg; default 0.001", 1e-9, 10)});
+       number_field("angle_tol", "read-back tolerance of the orientation, deg; default 0.001", 1e-9, 10),
+       number_field("chord_tol", "the paths' chord tolerance, mm: sets the blend zone; default 0 (exact stops)", 0, 10),
+       number_field("max_bytes", "largest program file; longer programs are split into parts; default 500000",
+                    2000, 1e9),
+       number_field("blade_mass", "the blade's mass, kg; default 0", 0, 1e4),
+       Field{"blade_cog", Kind::Table, false, std::nullopt, std::nullopt, "the blade's centre of gravity, blade frame, mm", {}},
+       number_field("gripper_mass", "the gripper's mass, kg; default 0", 0, 1e4),
+       Field{"gripper_cog", Kind::Table, false, std::nullopt, std::nullopt,
+             "the gripper's centre of gravity, flange frame, mm", {}}});
   if (!lp.plan.refusals.empty())
     luax::error(L, "plan:write_program: the plan refused " + std::to_string(lp.plan.refusals.size()) +
                        " path(s) (first: " + lp.plan.refusals.front() + "); nothing written");
   const std::string path = context(L).resolve_write(L, o.string("file", ""));
+  const std::string stem = file_stem(o.string("file", "")), ext = file_ext(path);
+  const std::string dir = path.substr(0, path.size() - file_stem(path).size() - ext.size());
   const int post = push_post_option(L, o, "plan:write_program: option 'post'");
   lua_getfield(L, post, "dialect");
   const std::string dialect_name = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
@@ -570,22 +684,79 @@ int w_robot_plan_write_program(lua_State* L) {
   if (dialect_name != "abb_rapid" && dialect_name != "kuka_krl")
     luax::error(L, "plan:write_program: the post is not a robot post (dialect \"abb_rapid\" or \"kuka_krl\")");
   const RobotDialect dialect = dialect_name == "abb_rapid" ? RobotDialect::AbbRapid : RobotDialect::KukaKrl;
-  if (luaL_loadstring(L, kOutChunk) != LUA_OK) lua_error(L);
-  lua_call(L, 0, 1);
-  const int out = lua_gettop(L);
-  lua_getfield(L, post, "write");
-  lua_pushvalue(L, post);
-  push_robot_job(L, lp, o.string("name", "blade_grinding"));
-  lua_pushvalue(L, out);
-  lua_call(L, 3, 0);
-  lua_getfield(L, out, "text");
-  lua_call(L, 0, 1);
-  const std::string text = lua_tostring(L, -1);
-  lua_pop(L, 1);
+  // KRL names are at most 24 characters, RAPID's 32; a part adds "_p" and up to 2 digits.
+  const size_t longest = dialect == RobotDialect::KukaKrl ? 24 : 32;
+  if (stem.empty() || !std::isalpha(static_cast<unsigned char>(stem[0])) ||
+      stem.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos ||
+      stem.size() + 4 > longest)
+    luax::error(L, "plan:write_program: option 'file': the program is named after its file, so '" + stem +
+                       "' must start with a letter, hold only letters, digits and _ and be at most " +
+                       std::to_string(longest - 4) + " characters");
+  ProgramSettings ps;
+  plan_settings(lp, o.number("chord_tol", 0), ps);
+  ps.blade_kg = o.number("blade_mass", 0);
+  ps.gripper_kg = o.number("gripper_mass", 0);
+  auto vec_opt = [&](const char* key, Vec3& v) {
+    if (!o.has(key)) return;
+    o.push_raw(key);
+    v = luax::check_vec3(L, -1, (std::string("plan:write_program: option '") + key + "'").c_str());
+    lua_pop(L, 1);
+  };
+  vec_opt("blade_cog", ps.blade_cog);
+  vec_opt("gripper_cog", ps.gripper_cog);
+  const size_t max_bytes = static_cast<size_t>(o.number("max_bytes", 500000));
+  const std::string title = o.string("name", stem);
+  const size_t n_moves = lp.plan.moves.size();
+  // Whole program first; when too long, parts split where a path starts, as
+  // even as the paths allow, one more part until each fits.
+  std::map<std::string, std::string> programs;
+  std::vector<std::string> order;
+  std::string text = run_post(L, post, lp, title, stem, 0, n_moves, {}, false, ps);
+  if (text.size() <= max_bytes) {
+    programs[stem] = text;
+    order.push_back(stem);
+  } else {
+    std::vector<size_t> starts;  // where a path's moves begin
+    for (size_t i = 1; i < n_moves; ++i)
+      if (lp.plan.moves[i].path != lp.plan.moves[i - 1].path) starts.push_back(i);
+    bool fits = false;
+    for (size_t parts = (text.size() + max_bytes - 1) / max_bytes; !fits && parts <= 99; ++parts) {
+      std::vector<size_t> cut{0};
+      for (size_t k = 1; k < parts; ++k) {
+        const size_t want = n_moves * k / parts;
+        size_t best = 0;
+        for (size_t s : starts)
+          if (s > cut.back() && (best == 0 || std::abs(double(s) - double(want)) < std::abs(double(best) - double(want))))
+            best = s;
+        if (best > cut.back()) cut.push_back(best);
+      }
+      cut.push_back(n_moves);
+      programs.clear();
+      order.clear();
+      std::vector<std::string> calls;
+      fits = true;
+      for (size_t k = 0; k + 1 < cut.size() && fits; ++k) {
+        const std::string name = stem + "_p" + std::to_string(k + 1);
+        const std::string part = run_post(L, post, lp, title, name, cut[k], cut[k + 1], {}, true, ps);
+        if (part.size() > max_bytes) {
+          if (cut[k + 1] - cut[k] > 0 && starts.empty())
+            luax::error(L, "plan:write_program: one path's program is longer than max_bytes");
+          fits = false;
+        }
+        programs[name] = part;
+        calls.push_back(name);
+      }
+      if (!fits) continue;
+      programs[stem] = run_post(L, post, lp, title, stem, 0, 0, calls, false, ps);
+      order.push_back(stem);
+      order.insert(order.end(), calls.begin(), calls.end());
+    }
+    if (!fits) luax::error(L, "plan:write_program: could not split the program within max_bytes");
+  }
   const double position_tol = o.number("position_tol", 0.002), angle_tol = o.number("angle_tol", 0.001);
   return luax::guarded(L, [&] {
     const BeltStation& st = lp.cell->station(lp.station);
-    const auto targets = read_robot_program(text, dialect);
+    const auto targets = read_robot_program(programs, stem, dialect);
     const RobotVerifyReport r = verify_robot_program(*lp.cell, st, lp.plan, targets, dialect, position_tol, angle_tol);
     if (!r.problems.empty()) {
       std::string msg = "plan:write_program: the program read back does not replay the plan (" +
@@ -593,25 +764,41 @@ int w_robot_plan_write_program(lua_State* L) {
       for (size_t i = 0; i < r.problems.size() && i < 5; ++i) msg += "\n  " + r.problems[i];
       throw Error(msg);
     }
-    write_file_atomic(path, text);
+    size_t largest = 0, total = 0;
+    for (const std::string& name : order) {
+      write_file_atomic(dir + name + ext, programs[name]);
+      largest = std::max(largest, programs[name].size());
+      total += programs[name].size();
+    }
     {
       // --verify prints this line after the run.
       const WheelContactReport& w = lp.plan.wheel;
       std::ostringstream line;
-      line << path << ": " << r.moves << " moves replayed through the arm, max contact deviation "
+      line << path << ": " << r.moves << " moves in " << order.size() << " file(s) (largest " << largest
+           << " bytes) replayed through the arm as the controller reads them, max contact deviation "
            << r.max_position_mm << " mm, max orientation deviation " << r.max_angle_deg << " deg, max joint deviation "
            << r.max_joint_deg << " deg, " << r.configuration_flips << " configuration flips; wheel and belt clear of "
            << "the blade over " << w.poses << " poses (rubber conformity " << w.max_conformity_mm << " mm)";
       context(L).verified_programs.push_back(line.str());
     }
-    lua_createtable(L, 0, 8);
+    lua_createtable(L, 0, 12);
     luax::set_string(L, "file", path);
+    luax::set_string(L, "program", stem);
+    lua_createtable(L, static_cast<int>(order.size()), 0);
+    for (size_t i = 0; i < order.size(); ++i) {
+      lua_pushstring(L, (order[i] + ext).c_str());
+      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+    lua_setfield(L, -2, "files");
     luax::set_number(L, "moves", r.moves);
     luax::set_number(L, "max_position", r.max_position_mm);
     luax::set_number(L, "max_angle", r.max_angle_deg);
     luax::set_number(L, "max_joint", r.max_joint_deg);
     luax::set_number(L, "configuration_flips", r.configuration_flips);
-    luax::set_number(L, "bytes", static_cast<double>(text.size()));
+    luax::set_number(L, "bytes", static_cast<double>(largest));
+    luax::set_number(L, "total_bytes", static_cast<double>(total));
+    luax::set_number(L, "ori_speed", ps.ori_speed_deg_s);
+    luax::set_number(L, "zone", ps.zone_mm);
     return 1;
   });
 }

@@ -80,6 +80,8 @@ void RobotArm::validate() const {
   }
 }
 
+std::array<double, 6> robot_opw_angles(const RobotArm& arm, const JointAngles& joints) { return to_opw(arm, joints); }
+
 Vec3 robot_wrist_centre(const RobotArm& arm, const JointAngles& joints) {
   return wrist_centre(arm.geometry, to_opw(arm, joints));
 }

@@ -87,6 +87,10 @@ Frame robot_forward(const RobotArm& arm, const JointAngles& joints);
 // Wrist centre in the base frame (the point axes 4, 5, 6 meet).
 Vec3 robot_wrist_centre(const RobotArm& arm, const JointAngles& joints);
 
+// The OPW angles θ of the controller's joints (θ = zero + sign · q), for
+// definitions stated in the arm's geometry (a controller's status bits).
+std::array<double, 6> robot_opw_angles(const RobotArm& arm, const JointAngles& joints);
+
 struct RobotIkOptions {
   // Joint values each solution is unwrapped towards (angle + 2πn nearest,
   // within the limits when one is), and whose θ4 is kept at the singularity.

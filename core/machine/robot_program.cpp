@@ -1,8 +1,10 @@
 #include "core/machine/robot_program.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <map>
+#include <set>
 #include <sstream>
 
 #include "core/common/error.h"
@@ -11,9 +13,13 @@ namespace bliskrun {
 
 namespace {
 
-[[noreturn]] void fail(int line, const std::string& what) {
-  throw Error("robot program line " + std::to_string(line) + ": " + what);
-}
+struct Where {
+  std::string file;
+  int line = 0;
+  std::string str() const { return (file.empty() ? "robot program" : file) + " line " + std::to_string(line); }
+};
+
+[[noreturn]] void fail(const Where& w, const std::string& what) { throw Error(w.str() + ": " + what); }
 
 std::string trimmed(const std::string& s) {
   const size_t a = s.find_first_not_of(" \t\r");
@@ -21,21 +27,34 @@ std::string trimmed(const std::string& s) {
   return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
 }
 
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+
 bool starts_with_word(const std::string& s, const std::string& word) {
   return s.size() > word.size() && s.compare(0, word.size(), word) == 0 &&
-         (s[word.size()] == ' ' || s[word.size()] == '\t' || s[word.size()] == '{');
+         (s[word.size()] == ' ' || s[word.size()] == '\t' || s[word.size()] == '{' || s[word.size()] == '[');
+}
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
 }
 
 // The numbers of a bracketed RAPID aggregate, in order ([[1,2],[3]] -> 1 2 3).
-std::vector<double> numbers_in(const std::string& s, int line) {
+std::vector<double> numbers_in(const std::string& s, const Where& w) {
   std::vector<double> out;
   const char* p = s.c_str();
   while (*p) {
-    if (std::isdigit(static_cast<unsigned char>(*p)) || *p == '-' || *p == '+' || *p == '.') {
+    const bool starts = std::isdigit(static_cast<unsigned char>(*p)) ||
+                        ((*p == '-' || *p == '+' || *p == '.') && std::isdigit(static_cast<unsigned char>(p[1]))) ||
+                        ((*p == '-' || *p == '+') && p[1] == '.');
+    if (starts) {
       char* end = nullptr;
       const double v = std::strtod(p, &end);
-      if (end == p) fail(line, "unreadable number near '" + std::string(p).substr(0, 12) + "'");
-      if (!std::isfinite(v)) fail(line, "non-finite number");
+      if (end == p) fail(w, "unreadable number near '" + std::string(p).substr(0, 12) + "'");
+      if (!std::isfinite(v)) fail(w, "non-finite number");
       out.push_back(v);
       p = end;
     } else {
@@ -57,152 +76,469 @@ std::string bracketed(const std::string& s, size_t from) {
   return "";
 }
 
-RobotTarget rapid_target(const std::string& aggregate, int line) {
-  const std::vector<double> v = numbers_in(aggregate, line);
-  if (v.size() != 17) fail(line, "expected a robtarget of 17 numbers, got " + std::to_string(v.size()));
-  RobotTarget t;
-  t.line = line;
-  Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
-  if (std::abs(q.norm() - 1) > 1e-4) fail(line, "the orientation quaternion is not of unit length");
-  t.station_in_blade.linear() = q.normalized().toRotationMatrix();
-  t.station_in_blade.translation() = Vec3(v[0], v[1], v[2]);
-  t.quadrants = {static_cast<int>(v[7]), static_cast<int>(v[8]), static_cast<int>(v[9])};
-  t.branch = static_cast<int>(v[10]);
-  if (t.branch < 0 || t.branch > 7) fail(line, "cfx must be 0..7");
-  return t;
-}
-
-std::vector<RobotTarget> read_rapid(const std::string& text) {
-  std::vector<RobotTarget> out;
-  std::map<std::string, RobotTarget> named;
-  std::istringstream in(text);
-  std::string raw;
-  int line = 0;
-  while (std::getline(in, raw)) {
-    ++line;
-    std::string s = trimmed(raw);
-    if (s.empty() || s[0] == '!') continue;
-    if (s.rfind("CONST robtarget ", 0) == 0 || s.rfind("PERS robtarget ", 0) == 0) {
-      const size_t name_at = s.find("robtarget ") + 10, assign = s.find(":=");
-      if (assign == std::string::npos) fail(line, "robtarget declaration without ':='");
-      named[trimmed(s.substr(name_at, assign - name_at))] = rapid_target(bracketed(s, assign), line);
-      continue;
-    }
-    const bool move_l = starts_with_word(s, "MoveL"), move_j = starts_with_word(s, "MoveJ");
-    if (!move_l && !move_j) continue;
-    const std::string rest = trimmed(s.substr(5));
-    RobotTarget t;
-    if (!rest.empty() && rest[0] == '[') {
-      t = rapid_target(bracketed(rest, 0), line);
+// Top-level comma-separated parts (outside [] and "").
+std::vector<std::string> split_args(const std::string& s) {
+  std::vector<std::string> out;
+  int depth = 0;
+  bool quoted = false;
+  std::string cur;
+  for (char c : s) {
+    if (c == '"') quoted = !quoted;
+    if (!quoted && c == '[') ++depth;
+    if (!quoted && c == ']') --depth;
+    if (!quoted && depth == 0 && c == ',') {
+      out.push_back(trimmed(cur));
+      cur.clear();
     } else {
-      const std::string name = trimmed(rest.substr(0, rest.find(',')));
-      const auto it = named.find(name);
-      if (it == named.end()) fail(line, "unknown robtarget '" + name + "'");
-      t = it->second;
-      t.line = line;
+      cur += c;
     }
-    t.linear = move_l;
-    out.push_back(t);
   }
+  if (!trimmed(cur).empty()) out.push_back(trimmed(cur));
   return out;
 }
 
+Frame pose_from(const double* v, const Where& w) {  // x y z qw qx qy qz
+  Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+  if (std::abs(q.norm() - 1) > 1e-4) fail(w, "the orientation quaternion is not of unit length");
+  Frame f = Frame::Identity();
+  f.linear() = q.normalized().toRotationMatrix();
+  f.translation() = Vec3(v[0], v[1], v[2]);
+  return f;
+}
+
+bool rapid_bool(const std::string& s, const Where& w) {
+  const std::string u = upper(trimmed(s));
+  if (u == "TRUE") return true;
+  if (u == "FALSE") return false;
+  fail(w, "expected TRUE or FALSE, got '" + s + "'");
+}
+
+struct RapidTool {
+  bool robhold = true;
+  Frame frame = Frame::Identity();
+};
+struct RapidWobj {
+  bool robhold = false;
+  Frame frame = Frame::Identity();  // uframe · oframe
+};
+struct RapidSpeed {
+  double tcp = 0, ori = 0;
+};
+
+// The state a controller keeps across a program and the programs it calls.
+struct ReadState {
+  const std::map<std::string, std::string>* programs = nullptr;
+  RobotDialect dialect = RobotDialect::AbbRapid;
+  std::vector<RobotTarget> out;
+  std::vector<std::string> stack;  // programs being read (recursion guard)
+  // RAPID: data by name (PERS data is one object per name in a task).
+  std::map<std::string, RapidTool> tools;
+  std::map<std::string, RapidWobj> wobjs;
+  std::map<std::string, RapidSpeed> speeds;
+  std::map<std::string, RobotTarget> robtargets;
+  std::map<std::string, JointAngles> jointtargets;
+  std::map<std::string, std::string> pers_values;  // name -> its declaration's value text
+  std::map<std::string, std::string> procs;        // PROC name -> module it is in
+  // KRL: the system variables in force.
+  Frame krl_tool = Frame::Identity(), krl_base = Frame::Identity();
+  bool krl_tool_set = false, krl_base_set = false, krl_external = false;
+  double krl_vel_cp_mm_s = 0, krl_ori1 = 0, krl_ori2 = 0;
+};
+
+RobotTarget rapid_robtarget(const std::string& aggregate, const Where& w) {
+  const std::vector<double> v = numbers_in(aggregate, w);
+  if (v.size() != 17) fail(w, "expected a robtarget of 17 numbers, got " + std::to_string(v.size()));
+  RobotTarget t;
+  t.target = pose_from(v.data(), w);
+  t.quadrants = {static_cast<int>(v[7]), static_cast<int>(v[8]), static_cast<int>(v[9])};
+  t.cfx = static_cast<int>(v[10]);
+  if (t.cfx < 0 || t.cfx > 7) fail(w, "cfx must be 0..7");
+  return t;
+}
+
+RapidSpeed rapid_speed(ReadState& st, const std::string& arg, const Where& w) {
+  if (!arg.empty() && arg[0] == '[') {
+    const std::vector<double> v = numbers_in(arg, w);
+    if (v.size() != 4) fail(w, "expected speeddata [v_tcp, v_ori, v_leax, v_reax]");
+    return {v[0], v[1]};
+  }
+  if (const auto it = st.speeds.find(arg); it != st.speeds.end()) return it->second;
+  // The predefined v5 .. v7000: v_ori 500 deg/s (RAPID reference, speeddata).
+  if (arg.size() > 1 && arg[0] == 'v' && std::all_of(arg.begin() + 1, arg.end(), ::isdigit))
+    return {std::atof(arg.c_str() + 1), 500};
+  fail(w, "unknown speeddata '" + arg + "'");
+}
+
+void read_program(ReadState& st, const std::string& name, const std::string& text);
+
+void read_rapid_line(ReadState& st, const std::string& s, const Where& w) {
+  // Data declarations: [LOCAL] PERS|CONST|VAR type name := value;
+  {
+    std::istringstream words(s);
+    std::string a, type, name;
+    words >> a;
+    if (a == "LOCAL" || a == "TASK") words >> a;
+    if (a == "PERS" || a == "CONST" || a == "VAR") {
+      words >> type >> name;
+      const size_t assign = s.find(":=");
+      if (assign == std::string::npos) return;  // declared without a value
+      if (name.find(":=") != std::string::npos) name = name.substr(0, name.find(":="));
+      const std::string value = trimmed(s.substr(assign + 2, s.rfind(';') == std::string::npos
+                                                                   ? std::string::npos
+                                                                   : s.rfind(';') - assign - 2));
+      if (a == "PERS") {
+        const auto [it, fresh] = st.pers_values.emplace(name, value);
+        if (!fresh && it->second != value)
+          fail(w, "PERS " + name + " is declared again with another value; RAPID keeps one object per PERS name in a "
+                  "task, so one of the two programs would run with the other's data");
+      }
+      if (type == "tooldata") {
+        const std::vector<std::string> f = split_args(value.substr(1, value.size() - 2));
+        if (f.size() != 3) fail(w, "expected tooldata [robhold, tframe, tload]");
+        const std::vector<double> v = numbers_in(f[1], w);
+        if (v.size() != 7) fail(w, "expected tframe [[x,y,z],[q1,q2,q3,q4]]");
+        st.tools[name] = {rapid_bool(f[0], w), pose_from(v.data(), w)};
+      } else if (type == "wobjdata") {
+        const std::vector<std::string> f = split_args(value.substr(1, value.size() - 2));
+        if (f.size() != 5) fail(w, "expected wobjdata [robhold, ufprog, ufmec, uframe, oframe]");
+        const std::vector<double> u = numbers_in(f[3], w), o = numbers_in(f[4], w);
+        if (u.size() != 7 || o.size() != 7) fail(w, "expected uframe and oframe [[x,y,z],[q1,q2,q3,q4]]");
+        st.wobjs[name] = {rapid_bool(f[0], w), pose_from(u.data(), w) * pose_from(o.data(), w)};
+      } else if (type == "speeddata") {
+        st.speeds[name] = rapid_speed(st, value, w);
+      } else if (type == "robtarget") {
+        st.robtargets[name] = rapid_robtarget(bracketed(value, 0), w);
+      } else if (type == "jointtarget") {
+        const std::vector<double> v = numbers_in(value, w);
+        if (v.size() != 12) fail(w, "expected a jointtarget of 12 numbers");
+        JointAngles q;
+        for (int i = 0; i < 6; ++i) q[i] = deg_to_rad(v[i]);
+        st.jointtargets[name] = q;
+      }
+      return;
+    }
+  }
+  const bool move_l = starts_with_word(s, "MoveL"), move_j = starts_with_word(s, "MoveJ"),
+             move_abs = starts_with_word(s, "MoveAbsJ");
+  if (!move_l && !move_j && !move_abs) {
+    // A call of another program's procedure: `name;`.
+    const std::string call = trimmed(s.substr(0, s.find(';')));
+    if (s.back() == ';' && is_identifier(call) && st.programs) {
+      const auto it = st.procs.find(call);
+      if (it != st.procs.end() && st.programs->count(it->second)) read_program(st, it->second, st.programs->at(it->second));
+      else if (st.programs->count(call)) read_program(st, call, st.programs->at(call));
+    }
+    return;
+  }
+  const std::string body = trimmed(s.substr(move_abs ? 8 : 5, s.rfind(';') - (move_abs ? 8 : 5)));
+  const std::vector<std::string> args = split_args(body);
+  if (args.size() < 4) fail(w, "expected target, speed, zone and tool");
+  RobotTarget t;
+  t.line = w.line;
+  t.file = w.file;
+  if (move_abs) {
+    t.axis_move = true;
+    if (args[0][0] == '[') {
+      const std::vector<double> v = numbers_in(args[0], w);
+      if (v.size() != 12) fail(w, "expected a jointtarget of 12 numbers");
+      for (int i = 0; i < 6; ++i) t.joints[i] = deg_to_rad(v[i]);
+    } else {
+      const auto it = st.jointtargets.find(args[0]);
+      if (it == st.jointtargets.end()) fail(w, "unknown jointtarget '" + args[0] + "'");
+      t.joints = it->second;
+    }
+    st.out.push_back(t);
+    return;
+  }
+  if (args[0][0] == '[') {
+    t = rapid_robtarget(args[0], w);
+  } else {
+    const auto it = st.robtargets.find(args[0]);
+    if (it == st.robtargets.end()) fail(w, "unknown robtarget '" + args[0] + "'");
+    t = it->second;
+  }
+  t.line = w.line;
+  t.file = w.file;
+  t.linear = move_l;
+  const RapidSpeed sp = rapid_speed(st, args[1], w);
+  t.tcp_speed_mm_s = sp.tcp;
+  t.ori_speed_deg_s = sp.ori;
+  const std::string tool_arg = args[3];
+  const std::string tool_name = trimmed(tool_arg.substr(0, tool_arg.find('\\')));
+  std::string wobj_name;
+  if (const size_t at = tool_arg.find("\\WObj:="); at != std::string::npos) wobj_name = trimmed(tool_arg.substr(at + 7));
+  const auto tool = st.tools.find(tool_name);
+  if (tool == st.tools.end()) fail(w, "unknown tooldata '" + tool_name + "'");
+  RapidWobj wobj;  // wobj0: the world, fixed
+  if (!wobj_name.empty()) {
+    const auto it = st.wobjs.find(wobj_name);
+    if (it == st.wobjs.end()) fail(w, "unknown wobjdata '" + wobj_name + "'");
+    wobj = it->second;
+  }
+  if (tool->second.robhold == wobj.robhold)
+    fail(w, std::string("tool ") + tool_name + " and work object " + (wobj_name.empty() ? "wobj0" : wobj_name) +
+                " are both " + (wobj.robhold ? "held by the robot" : "stationary") +
+                " (robhold); one must be on the flange and the other in the world");
+  t.external_tcp = !tool->second.robhold;
+  t.fixed = t.external_tcp ? tool->second.frame : wobj.frame;
+  t.held = t.external_tcp ? wobj.frame : tool->second.frame;
+  st.out.push_back(t);
+}
+
 // KRL's S and T: a decimal integer or 'B0101' binary.
-int krl_bits(const std::string& s, int line) {
+int krl_bits(const std::string& s, const Where& w) {
   const std::string v = trimmed(s);
   if (v.size() > 2 && v[0] == '\'' && (v[1] == 'B' || v[1] == 'b')) {
     int bits = 0;
     for (size_t i = 2; i < v.size() && v[i] != '\''; ++i) {
-      if (v[i] != '0' && v[i] != '1') fail(line, "bad binary status '" + v + "'");
+      if (v[i] != '0' && v[i] != '1') fail(w, "bad binary status '" + v + "'");
       bits = bits * 2 + (v[i] - '0');
     }
     return bits;
   }
   char* end = nullptr;
   const long n = std::strtol(v.c_str(), &end, 10);
-  if (end == v.c_str()) fail(line, "bad status or turn '" + v + "'");
+  if (end == v.c_str()) fail(w, "bad status or turn '" + v + "'");
   return static_cast<int>(n);
 }
 
-std::vector<RobotTarget> read_krl(const std::string& text) {
-  std::vector<RobotTarget> out;
+// The fields of a KRL aggregate {TYPE: NAME value, ...}.
+std::map<std::string, std::string> krl_fields(const std::string& s, const Where& w) {
+  const size_t a = s.find('{'), b = s.rfind('}');
+  if (a == std::string::npos || b == std::string::npos || b < a) fail(w, "expected an aggregate {X .., ...}");
+  std::string body = s.substr(a + 1, b - a - 1);
+  if (const size_t colon = body.find(':'); colon != std::string::npos) body = body.substr(colon + 1);
+  std::map<std::string, std::string> fields;
+  std::istringstream parts(body);
+  std::string part;
+  while (std::getline(parts, part, ',')) {
+    part = trimmed(part);
+    const size_t sp = part.find(' ');
+    if (sp == std::string::npos) fail(w, "expected 'NAME value' in '" + part + "'");
+    fields[upper(part.substr(0, sp))] = trimmed(part.substr(sp + 1));
+  }
+  return fields;
+}
+
+double krl_number(const std::map<std::string, std::string>& f, const std::string& key, const Where& w) {
+  const auto it = f.find(key);
+  if (it == f.end()) fail(w, "missing " + key);
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (end == it->second.c_str() || !std::isfinite(v)) fail(w, "bad " + key);
+  return v;
+}
+
+Frame krl_frame(const std::map<std::string, std::string>& f, const Where& w) {
+  double v[6];
+  const char* keys[6] = {"X", "Y", "Z", "A", "B", "C"};
+  for (int i = 0; i < 6; ++i) v[i] = krl_number(f, keys[i], w);
+  Frame t = Frame::Identity();
+  t.linear() = (Eigen::AngleAxisd(deg_to_rad(v[3]), Vec3::UnitZ()) * Eigen::AngleAxisd(deg_to_rad(v[4]), Vec3::UnitY()) *
+                Eigen::AngleAxisd(deg_to_rad(v[5]), Vec3::UnitX()))
+                   .toRotationMatrix();
+  t.translation() = Vec3(v[0], v[1], v[2]);
+  return t;
+}
+
+double krl_value(const std::string& s, const Where& w) {
+  const std::string v = trimmed(s.substr(s.find('=') + 1));
+  char* end = nullptr;
+  const double x = std::strtod(v.c_str(), &end);
+  if (end == v.c_str() || !std::isfinite(x)) fail(w, "expected a number in '" + s + "'");
+  return x;
+}
+
+void read_krl_line(ReadState& st, const std::string& s, const Where& w) {
+  const std::string u = upper(s);
+  auto assigns = [&](const char* var) {
+    const std::string v(var);
+    return u.rfind(v, 0) == 0 && trimmed(u.substr(v.size())).rfind('=', 0) == 0;
+  };
+  if (assigns("$TOOL")) {
+    st.krl_tool = krl_frame(krl_fields(s, w), w);
+    st.krl_tool_set = true;
+    return;
+  }
+  if (assigns("$BASE")) {
+    st.krl_base = krl_frame(krl_fields(s, w), w);
+    st.krl_base_set = true;
+    return;
+  }
+  if (assigns("$IPO_MODE")) {
+    const std::string v = trimmed(u.substr(u.find('=') + 1));
+    if (v != "#TCP" && v != "#BASE") fail(w, "expected $IPO_MODE = #TCP or #BASE");
+    st.krl_external = v == "#TCP";
+    return;
+  }
+  if (assigns("$VEL.CP")) st.krl_vel_cp_mm_s = 1000 * krl_value(s, w);
+  if (assigns("$VEL.ORI1")) st.krl_ori1 = krl_value(s, w);
+  if (assigns("$VEL.ORI2")) st.krl_ori2 = krl_value(s, w);
+  const bool lin = starts_with_word(u, "LIN"), ptp = starts_with_word(u, "PTP");
+  if (!lin && !ptp) {
+    // A call of another program: `name()`.
+    const std::string call = trimmed(s);
+    if (call.size() > 2 && call.compare(call.size() - 2, 2, "()") == 0 && st.programs) {
+      const std::string name = trimmed(call.substr(0, call.size() - 2));
+      for (const auto& [key, text] : *st.programs)
+        if (upper(key) == upper(name)) read_program(st, key, text);
+    }
+    return;
+  }
+  const auto fields = krl_fields(s, w);
+  RobotTarget t;
+  t.line = w.line;
+  t.file = w.file;
+  t.linear = lin;
+  if (fields.count("A1")) {
+    if (lin) fail(w, "LIN to an axis position");
+    t.axis_move = true;
+    for (int i = 0; i < 6; ++i) t.joints[i] = deg_to_rad(krl_number(fields, "A" + std::to_string(i + 1), w));
+    st.out.push_back(t);
+    return;
+  }
+  t.target = krl_frame(fields, w);
+  if (!fields.count("S") || !fields.count("T")) fail(w, "missing S or T (the configuration is part of the target)");
+  t.cfx = krl_bits(fields.at("S"), w);
+  t.turn_bits = krl_bits(fields.at("T"), w);
+  if (!st.krl_tool_set || !st.krl_base_set) fail(w, "a Cartesian target before $TOOL and $BASE are set");
+  t.external_tcp = st.krl_external;
+  // #TCP: $BASE is the fixed tool in WORLD, $TOOL the workpiece on FLANGE;
+  // #BASE: $BASE the workpiece in WORLD, $TOOL the tool on FLANGE. Either
+  // way $BASE is in the world and $TOOL on the flange.
+  t.fixed = st.krl_base;
+  t.held = st.krl_tool;
+  t.tcp_speed_mm_s = st.krl_vel_cp_mm_s;
+  t.ori_speed_deg_s = std::min(st.krl_ori1, st.krl_ori2);
+  st.out.push_back(t);
+}
+
+void read_program(ReadState& st, const std::string& name, const std::string& text) {
+  if (std::find(st.stack.begin(), st.stack.end(), name) != st.stack.end())
+    throw Error(name + ": called while it runs (recursion)");
+  st.stack.push_back(name);
+  if (st.dialect == RobotDialect::KukaKrl && st.programs) {
+    // KSS selects a program by its file name: DEF must name the file.
+    std::istringstream in(text);
+    std::string raw, first;
+    while (first.empty() && std::getline(in, raw)) {
+      const std::string s = trimmed(raw.substr(0, raw.find(';')));
+      if (!s.empty() && s[0] != '&') first = s;
+    }
+    const std::string expected = "DEF " + upper(name) + "(";
+    if (upper(first).rfind(expected, 0) != 0)
+      throw Error(name + ": the program's DEF line '" + first + "' does not name its file " + name);
+  }
   std::istringstream in(text);
   std::string raw;
   int line = 0;
   while (std::getline(in, raw)) {
     ++line;
-    std::string s = trimmed(raw.substr(0, raw.find(';')));
-    const bool lin = starts_with_word(s, "LIN"), ptp = starts_with_word(s, "PTP");
-    if (!lin && !ptp) continue;
-    const size_t a = s.find('{'), b = s.find('}');
-    if (a == std::string::npos || b == std::string::npos || b < a) fail(line, "expected a position {X .., ...}");
-    std::string body = s.substr(a + 1, b - a - 1);
-    if (const size_t colon = body.find(':'); colon != std::string::npos) body = body.substr(colon + 1);
-    std::map<std::string, std::string> fields;
-    std::istringstream parts(body);
-    std::string part;
-    while (std::getline(parts, part, ',')) {
-      part = trimmed(part);
-      const size_t sp = part.find(' ');
-      if (sp == std::string::npos) fail(line, "expected 'NAME value' in '" + part + "'");
-      fields[part.substr(0, sp)] = trimmed(part.substr(sp + 1));
+    const Where w{name, line};
+    if (st.dialect == RobotDialect::AbbRapid) {
+      const std::string s = trimmed(raw.substr(0, raw.find('!')));
+      if (s.empty()) continue;
+      read_rapid_line(st, s, w);
+    } else {
+      const std::string s = trimmed(raw.substr(0, raw.find(';')));
+      if (s.empty() || s[0] == '&') continue;
+      read_krl_line(st, s, w);
     }
-    double v[6];
-    const char* keys[6] = {"X", "Y", "Z", "A", "B", "C"};
-    for (int i = 0; i < 6; ++i) {
-      const auto it = fields.find(keys[i]);
-      if (it == fields.end()) fail(line, std::string("missing ") + keys[i]);
-      char* end = nullptr;
-      v[i] = std::strtod(it->second.c_str(), &end);
-      if (end == it->second.c_str() || !std::isfinite(v[i])) fail(line, std::string("bad ") + keys[i]);
-    }
-    if (!fields.count("S") || !fields.count("T")) fail(line, "missing S or T (the configuration is part of the target)");
-    RobotTarget t;
-    t.line = line;
-    t.linear = lin;
-    t.station_in_blade.linear() = (Eigen::AngleAxisd(deg_to_rad(v[3]), Vec3::UnitZ()) *
-                                   Eigen::AngleAxisd(deg_to_rad(v[4]), Vec3::UnitY()) *
-                                   Eigen::AngleAxisd(deg_to_rad(v[5]), Vec3::UnitX()))
-                                      .toRotationMatrix();
-    t.station_in_blade.translation() = Vec3(v[0], v[1], v[2]);
-    const int status = krl_bits(fields["S"], line);
-    // S bit 0: wrist centre behind axis 1, bit 1: elbow, bit 2: axis 5 negative.
-    t.branch = ((status & 1) << 2) | (status & 2) | ((status >> 2) & 1);
-    t.turn_bits = krl_bits(fields["T"], line);
-    out.push_back(t);
   }
-  return out;
+  st.stack.pop_back();
 }
 
-// A joint on a quadrant boundary (or at zero, for KUKA's turn bits) reads
-// back on either side of it: within 1e-6 rad either side matches.
-bool configuration_matches(const RobotTarget& t, const RobotSolution& s, RobotDialect dialect) {
-  if (s.branch != t.branch) return false;
-  constexpr double kSlack = 1e-6;
-  if (dialect == RobotDialect::AbbRapid) {
-    const int joint[3] = {0, 3, 5};
-    for (int i = 0; i < 3; ++i) {
-      JointAngles lo = s.joints, hi = s.joints;
-      lo[joint[i]] -= kSlack;
-      hi[joint[i]] += kSlack;
-      if (abb_quadrants(lo)[i] != t.quadrants[i] && abb_quadrants(hi)[i] != t.quadrants[i]) return false;
+// RAPID: every PROC of every module, so that calls find their module and a
+// name declared twice (two `PROC main`) is refused.
+void index_procs(ReadState& st) {
+  for (const auto& [module, text] : *st.programs) {
+    std::istringstream in(text);
+    std::string raw;
+    int line = 0;
+    while (std::getline(in, raw)) {
+      ++line;
+      const std::string s = trimmed(raw.substr(0, raw.find('!')));
+      std::istringstream words(s);
+      std::string a, name;
+      words >> a;
+      if (a == "LOCAL") words >> a;
+      if (a != "PROC") continue;
+      std::getline(words, name);
+      name = trimmed(name.substr(0, name.find('(')));
+      const auto [it, fresh] = st.procs.emplace(name, module);
+      if (!fresh)
+        fail({module, line}, "PROC " + name + " is also declared in " + it->second +
+                                 "; a task cannot load two routines of one name");
     }
-    return true;
   }
-  const int bits = kuka_turn_bits(s.joints);
-  for (int i = 0; i < 6; ++i)
-    if (((bits ^ t.turn_bits) >> i & 1) && std::abs(s.joints[i]) > kSlack) return false;
-  return true;
 }
 
 double rotation_angle_deg(const Mat3& a, const Mat3& b) {
   return rad_to_deg(Eigen::AngleAxisd(a.transpose() * b).angle());
 }
 
+// A joint within 1e-3 rad (0.06°) of a boundary of its field — a quadrant's
+// edge, or zero for a turn bit — reads either side: the post writes the
+// field from the planned joints, and a target rounded to its written
+// decimals may solve a hair across the edge.
+constexpr double kSlack = 1e-3;
+
+bool quadrants_match(const RobotTarget& t, const JointAngles& q) {
+  const int joint[3] = {0, 3, 5};
+  for (int i = 0; i < 3; ++i) {
+    JointAngles lo = q, hi = q;
+    lo[joint[i]] -= kSlack;
+    hi[joint[i]] += kSlack;
+    if (abb_quadrants(lo)[i] != t.quadrants[i] && abb_quadrants(hi)[i] != t.quadrants[i]) return false;
+  }
+  return true;
+}
+
+bool turn_matches(int written, const JointAngles& q) {
+  const int bits = kuka_turn_bits(q);
+  for (int i = 0; i < 6; ++i)
+    if (((bits ^ written) >> i & 1) && std::abs(q[i]) > kSlack) return false;
+  return true;
+}
+
 }  // namespace
 
+std::vector<RobotTarget> read_robot_program(const std::map<std::string, std::string>& programs,
+                                            const std::string& entry, RobotDialect dialect) {
+  ReadState st;
+  st.programs = &programs;
+  st.dialect = dialect;
+  const auto it = programs.find(entry);
+  if (it == programs.end()) throw Error("robot program '" + entry + "' is not among the programs read");
+  if (dialect == RobotDialect::AbbRapid) {
+    index_procs(st);
+    // PERS data of every module is declared when the task loads, before any runs.
+    for (const auto& [name, text] : programs) {
+      std::istringstream in(text);
+      std::string raw;
+      int line = 0;
+      while (std::getline(in, raw)) {
+        ++line;
+        const std::string s = trimmed(raw.substr(0, raw.find('!')));
+        if (s.rfind("PERS ", 0) == 0 || s.rfind("CONST ", 0) == 0) {
+          ReadState decl;
+          decl.pers_values = st.pers_values;
+          read_rapid_line(decl, s, {name, line});
+          st.pers_values = decl.pers_values;
+        }
+      }
+    }
+    st.pers_values.clear();
+  }
+  read_program(st, entry, it->second);
+  return st.out;
+}
+
 std::vector<RobotTarget> read_robot_program(const std::string& text, RobotDialect dialect) {
-  return dialect == RobotDialect::AbbRapid ? read_rapid(text) : read_krl(text);
+  ReadState st;
+  st.dialect = dialect;
+  read_program(st, "", text);
+  return st.out;
 }
 
 Frame robot_target_frame(const RobotCell& cell, const BeltStation& station, const RobotMove& move) {
@@ -213,6 +549,45 @@ Frame robot_target_frame(const RobotCell& cell, const BeltStation& station, cons
 std::array<int, 3> abb_quadrants(const JointAngles& q) {
   auto quadrant = [](double rad) { return static_cast<int>(std::floor(rad_to_deg(rad) / 90.0 + 1e-9)); };
   return {quadrant(q[0]), quadrant(q[3]), quadrant(q[5])};
+}
+
+namespace {
+
+// The wrist centre's x in the frame that turns with axis 1 (KUKA's "A1
+// coordinate system"; ABB's "in front of / behind axis 1").
+double wrist_x_in_axis1(const RobotArm& arm, const JointAngles& q) {
+  const Vec3 c = robot_wrist_centre(arm, q);
+  const double t1 = robot_opw_angles(arm, q)[0];
+  return std::cos(t1) * c.x() + std::sin(t1) * c.y();
+}
+
+// The forearm's turn off the upper arm's line, θ3 + ψ3 (core/machine/robot.h):
+// > 0 puts the wrist centre in front of the line through axes 2 and 3.
+double elbow_angle(const RobotArm& arm, const JointAngles& q) {
+  return robot_opw_angles(arm, q)[2] + std::atan2(arm.geometry.a2_mm, arm.geometry.c3_mm);
+}
+
+}  // namespace
+
+int abb_cfx(const RobotArm& arm, const JointAngles& q) {
+  int cfx = 0;
+  if (wrist_x_in_axis1(arm, q) < 0) cfx |= 4;          // wrist centre behind axis 1
+  if (std::sin(elbow_angle(arm, q)) < 0) cfx |= 2;     // behind the lower arm
+  if (q[4] < 0) cfx |= 1;                              // axis 5 negative
+  return cfx;
+}
+
+int kuka_status(const RobotArm& arm, const JointAngles& q) {
+  int s = 0;
+  if (wrist_x_in_axis1(arm, q) < 0) s |= 1;  // overhead area
+  // φ: the A3 at which the wrist root point is on the line through A2 and A3
+  // (θ3 + ψ3 = 0), in the controller's A3 values.
+  const RobotJoint& j3 = arm.joints[2];
+  const double phi = j3.sign * (-std::atan2(arm.geometry.a2_mm, arm.geometry.c3_mm) - j3.zero_rad);
+  if (q[2] >= phi) s |= 2;
+  const double a5 = rad_to_deg(q[4]);
+  if ((a5 >= -180 && a5 < 0) || a5 >= 180) s |= 4;
+  return s;
 }
 
 int kuka_turn_bits(const JointAngles& q) {
@@ -226,51 +601,104 @@ RobotVerifyReport verify_robot_program(const RobotCell& cell, const BeltStation&
                                        const RobotGrindingPlan& plan, const std::vector<RobotTarget>& targets,
                                        RobotDialect dialect, double position_tol_mm, double angle_tol_deg) {
   RobotVerifyReport r;
-  r.moves = static_cast<int>(targets.size());
-  if (targets.size() != plan.moves.size()) {
-    r.problems.push_back("the program has " + std::to_string(targets.size()) + " motion targets, the plan " +
+  std::vector<const RobotTarget*> cartesian;
+  for (const RobotTarget& t : targets)
+    if (!t.axis_move) cartesian.push_back(&t);
+  r.moves = static_cast<int>(cartesian.size());
+  if (cartesian.size() != plan.moves.size()) {
+    r.problems.push_back("the program has " + std::to_string(cartesian.size()) + " Cartesian targets, the plan " +
                          std::to_string(plan.moves.size()) + " moves");
     return r;
   }
+  if (targets.empty() || !targets.front().axis_move) {
+    r.problems.push_back("the program does not start with a move to an axis position (PTP {A1 ..} / MoveAbsJ): "
+                         "its first Cartesian target is reached from wherever the arm stands");
+    return r;
+  }
   const Vec3 wheel = station.contact.translation(), out = station.contact.linear().col(2);
-  JointAngles previous = plan.moves.empty() ? cell.home : plan.moves.front().joints;
-  for (size_t k = 0; k < targets.size(); ++k) {
-    const RobotTarget& t = targets[k];
-    const RobotMove& m = plan.moves[k];
-    const std::string where = "line " + std::to_string(t.line) + " (move " + std::to_string(k + 1) + ")";
-    const Frame flange = station.contact * t.station_in_blade.inverse() * cell.grip.inverse();
+  const RobotArm& arm = cell.arm;
+  JointAngles previous = targets.front().joints;
+  const RobotTarget* last_cartesian = nullptr;
+  size_t k = 0;
+  for (const RobotTarget& t : targets) {
+    const std::string where = (t.file.empty() ? std::string() : t.file + " ") + "line " + std::to_string(t.line);
+    if (t.axis_move) {
+      previous = t.joints;
+      last_cartesian = nullptr;
+      continue;
+    }
+    const RobotMove& m = plan.moves[k++];
+    const std::string at = where + " (move " + std::to_string(k) + ")";
+    const Frame flange = t.external_tcp ? Frame(t.fixed * t.target.inverse() * t.held.inverse())
+                                        : Frame(t.fixed * t.target * t.held.inverse());
     RobotIkOptions ik;
     ik.previous = previous;
+    const auto solutions = robot_inverse(arm, flange, ik);
     const RobotSolution* chosen = nullptr;
-    const auto solutions = robot_inverse(cell.arm, flange, ik);
-    for (const RobotSolution& s : solutions)
-      if (s.within_limits && configuration_matches(t, s, dialect)) {
-        chosen = &s;
-        break;
+    double best = 1e300;
+    for (const RobotSolution& s : solutions) {
+      if (!s.within_limits) continue;
+      bool take;
+      if (dialect == RobotDialect::AbbRapid) {
+        take = abb_cfx(arm, s.joints) == t.cfx && quadrants_match(t, s.joints);  // ConfL / ConfJ on
+      } else if (!t.linear) {
+        take = kuka_status(arm, s.joints) == t.cfx && turn_matches(t.turn_bits, s.joints);  // PTP: S and T
+      } else {
+        take = kuka_status(arm, s.joints) == kuka_status(arm, previous);  // LIN keeps the configuration
       }
-    if (t.branch != m.branch) {
-      ++r.configuration_flips;
-      r.problems.push_back(where + ": configuration " + std::to_string(t.branch) + ", the plan's is " +
-                           std::to_string(m.branch));
+      const double time = robot_joint_move_time(arm, previous, s.joints);
+      if (take && time < best) {
+        best = time;
+        chosen = &s;
+      }
     }
     if (!chosen) {
       ++r.unreachable;
-      r.problems.push_back(where + ": no solution with the program's configuration within the joint limits");
+      r.problems.push_back(at + ": no solution in the configuration the controller takes is within the joint limits");
       continue;
     }
-    previous = chosen->joints;
-    for (int j = 0; j < 6; ++j)
-      r.max_joint_deg = std::max(r.max_joint_deg, rad_to_deg(std::abs(chosen->joints[j] - m.joints[j])));
-    const Frame replayed = robot_forward(cell.arm, chosen->joints);
+    const JointAngles& q = chosen->joints;
+    if (dialect == RobotDialect::KukaKrl &&
+        (kuka_status(arm, q) != t.cfx || !turn_matches(t.turn_bits, q))) {
+      ++r.configuration_disagreements;
+      r.problems.push_back(at + ": written S " + std::to_string(t.cfx) + " T " + std::to_string(t.turn_bits) +
+                           ", the arm stands at S " + std::to_string(kuka_status(arm, q)) + " T " +
+                           std::to_string(kuka_turn_bits(q)));
+    }
+    const bool same_config = dialect == RobotDialect::AbbRapid
+                                 ? abb_cfx(arm, q) == abb_cfx(arm, m.joints)
+                                 : kuka_status(arm, q) == kuka_status(arm, m.joints);
+    if (!same_config) {
+      ++r.configuration_flips;
+      r.problems.push_back(at + ": the controller reaches it in another configuration than the plan's");
+    }
+    previous = q;
+    for (int j = 0; j < 6; ++j) r.max_joint_deg = std::max(r.max_joint_deg, rad_to_deg(std::abs(q[j] - m.joints[j])));
+    const Frame replayed = robot_forward(arm, q);
     const Vec3 contact = (replayed * cell.grip) * m.contact.point;
     const double dev = (contact - (wheel + m.offset_mm * out)).norm();
-    const double ang = rotation_angle_deg(replayed.linear(), robot_forward(cell.arm, m.joints).linear());
+    const double ang = rotation_angle_deg(replayed.linear(), robot_forward(arm, m.joints).linear());
     r.max_position_mm = std::max(r.max_position_mm, dev);
     r.max_angle_deg = std::max(r.max_angle_deg, ang);
     if (dev > position_tol_mm)
-      r.problems.push_back(where + ": the contact lands " + std::to_string(1e3 * dev) + " um from the plan's");
+      r.problems.push_back(at + ": the contact lands " + std::to_string(1e3 * dev) + " um from the plan's");
     else if (ang > angle_tol_deg)
-      r.problems.push_back(where + ": the part is turned " + std::to_string(ang) + " deg from the plan");
+      r.problems.push_back(at + ": the part is turned " + std::to_string(ang) + " deg from the plan");
+    // The controller takes the longer of the path's and the reorientation's
+    // time at their speeds: a grinding move whose reorientation needs more
+    // time than its length at the feed is slowed below the feed.
+    if (last_cartesian && !m.link && t.tcp_speed_mm_s > 0 && t.ori_speed_deg_s > 0) {
+      const double length = (t.target.translation() - last_cartesian->target.translation()).norm();
+      const double turn = rotation_angle_deg(t.target.linear(), last_cartesian->target.linear());
+      if (turn / t.ori_speed_deg_s > 1.0005 * length / t.tcp_speed_mm_s + 1e-9) {
+        ++r.feed_capped;
+        if (r.feed_capped <= 3)
+          r.problems.push_back(at + ": the reorientation " + std::to_string(turn) + " deg at " +
+                               std::to_string(t.ori_speed_deg_s) + " deg/s takes longer than the " +
+                               std::to_string(length) + " mm at " + std::to_string(t.tcp_speed_mm_s) + " mm/s");
+      }
+    }
+    last_cartesian = &t;
   }
   return r;
 }

@@ -1,23 +1,40 @@
 #pragma once
-// Robot programs read back and replayed (SPEC §7, issue 15 item 5).
+// Robot programs read back the way their controller reads them, and
+// replayed (SPEC §7, issues 15 and 39).
 //
-// Both dialects program a part-in-hand cell the same way: the grinding wheel
-// is a fixed ("stationary", "external") TCP and the blade is a work object
-// carried by the robot, so every target is the wheel's contact frame
-// expressed in the blade frame, T = blade <- station:
-//   ABB RAPID   tooldata with robhold FALSE (the station), wobjdata with
-//               robhold TRUE (the blade on the flange); MoveL / MoveJ to
-//               robtargets [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[9E9,...]]
-//   KUKA KRL    $IPO_MODE = #TCP, $TOOL the station, $BASE the blade on the
-//               flange; LIN / PTP {E6POS: X, Y, Z, A, B, C, S, T} with
-//               A, B, C the Z-Y-X angles (deg) and S, T the status and turn.
-// The flange for a target follows from the cell: F = S T⁻¹ G⁻¹ (S the
-// station's contact frame, G the grip). The configuration the program asks
-// for (cfx / S) chooses the branch of the inverse kinematics; cf1/cf4/cf6 (ABB)
-// or T (KUKA) the turns. Replaying means: solve each target with the
-// program's configuration, compare with the plan the program was written
-// from, and put the blade's contact back through the forward kinematics.
+// A part-in-hand cell grinds with a fixed ("stationary", "external") TCP: the
+// wheel stands in the world and the blade rides on the flange. Each dialect
+// says so in its own data, and the reader takes the frames' roles from what
+// the program writes, not from the cell:
+//   ABB RAPID (Technical reference manual, RAPID Instructions, Functions and
+//   Data types: tooldata, wobjdata, confdata, robtarget)
+//     tooldata robhold FALSE: tframe is the stationary TCP in the world;
+//     wobjdata robhold TRUE: uframe is the user frame on the flange (tool0),
+//     oframe the object frame in it; a robtarget is the TCP in the object
+//     frame. robhold TRUE / FALSE reverses both roles (a tool on the flange).
+//     confdata [cf1, cf4, cf6, cfx]: cf1/cf4/cf6 the quadrant of axes 1, 4, 6
+//     (floor(angle / 90°)); cfx for a serial arm: +4 wrist centre behind
+//     axis 1, +2 wrist centre behind the lower arm (the line through axes 2
+//     and 3), +1 axis 5 negative. MoveL / MoveJ with ConfL / ConfJ on (the
+//     default) go to the written configuration or stop.
+//   KUKA KRL (KSS 8.x): with $IPO_MODE = #TCP the tool is fixed: $BASE holds
+//     the fixed tool (external TCP) relative to WORLD, $TOOL the robot-guided
+//     workpiece relative to FLANGE; a position is the external TCP in the
+//     workpiece frame, X Y Z A B C with A, B, C the Z-Y-X angles (deg). With
+//     $IPO_MODE = #BASE (the default) the roles are the usual ones.
+//     Status S: bit 0 the wrist root point's x in the A1 coordinate system
+//     negative (overhead area), bit 1 A3 >= φ (φ the A3 at which the wrist
+//     root point lies on the line through A2 and A3; 0° when A3 and A4
+//     intersect), bit 2 A5 in [-180°, 0°) or >= 180°. Turn T: bit i set when
+//     axis i+1 < 0°. S and T choose the solution of a PTP to a Cartesian
+//     position; a LIN (CP motion) ignores them and keeps the configuration it
+//     starts in.
+// Replaying means: solve each target with the configuration the controller
+// would take, compare with the plan the program was written from, put the
+// blade's contact back through the forward kinematics, and check that the
+// written speeds let the feed hold.
 #include <array>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,38 +45,59 @@ namespace bliskrun {
 enum class RobotDialect { AbbRapid, KukaKrl };
 
 struct RobotTarget {
-  Frame station_in_blade = Frame::Identity();  // T
-  int branch = 0;                               // from cfx (ABB) or S (KUKA), core/machine/robot.h's bits
-  // ABB: the quadrants cf1, cf4, cf6 (floor(q / 90°)); KUKA: -1 unless the
-  // turn bit of the joint is set (then the joint is negative).
-  std::array<int, 3> quadrants{0, 0, 0};
-  int turn_bits = 0;   // KUKA T: bit i set when joint i+1 < 0
-  bool linear = true;  // MoveL / LIN (false: MoveJ / PTP)
-  int line = 0;        // of the program text, 1-based
+  bool axis_move = false;                       // PTP {A1 ..} / MoveAbsJ: `joints` is the target
+  JointAngles joints{};                         // axis moves, rad
+  Frame target = Frame::Identity();             // the written position
+  // The frames in force at this statement, in the roles the controller gives
+  // them (see above): external TCP: flange = fixed · target⁻¹ · held⁻¹;
+  // otherwise flange = fixed · target · held⁻¹.
+  Frame fixed = Frame::Identity();              // in the world
+  Frame held = Frame::Identity();               // on the flange
+  bool external_tcp = false;
+  int cfx = 0;                                  // ABB cfx / KUKA S, as written
+  std::array<int, 3> quadrants{0, 0, 0};        // ABB cf1, cf4, cf6
+  int turn_bits = 0;                            // KUKA T
+  bool linear = true;                           // MoveL / LIN (false: MoveJ / PTP)
+  double tcp_speed_mm_s = 0;                    // in force at the statement; 0 unknown
+  double ori_speed_deg_s = 0;
+  std::string file;                             // the program the statement is in
+  int line = 0;                                 // of that program, 1-based
 };
 
-// The targets of the program's motion statements in order. Throws Error
-// naming the line on a statement it cannot read.
+// The motion statements of `entry` in the order the controller runs them:
+// calls to the other programs of `programs` (KRL `name()`, RAPID `name;`)
+// are followed. Throws Error naming the program and line on a statement it
+// cannot read, data it does not know or a program called but absent.
+std::vector<RobotTarget> read_robot_program(const std::map<std::string, std::string>& programs,
+                                            const std::string& entry, RobotDialect dialect);
+// One program without calls.
 std::vector<RobotTarget> read_robot_program(const std::string& text, RobotDialect dialect);
 
-// Writes the parts a post needs and the reader inverts: the target of a
-// planned move, and its configuration fields.
-Frame robot_target_frame(const RobotCell& cell, const BeltStation& station, const RobotMove& move);
+// The configuration fields by each controller's definition, from joints.
 std::array<int, 3> abb_quadrants(const JointAngles& joints);  // cf1, cf4, cf6
+int abb_cfx(const RobotArm& arm, const JointAngles& joints);
+int kuka_status(const RobotArm& arm, const JointAngles& joints);
 int kuka_turn_bits(const JointAngles& joints);
+
+// The target a post writes for a planned move: the wheel's contact frame in
+// the blade frame.
+Frame robot_target_frame(const RobotCell& cell, const BeltStation& station, const RobotMove& move);
 
 struct RobotVerifyReport {
   int moves = 0;
   double max_position_mm = 0;   // replayed contact from where the plan puts it (wheel contact or lift-off)
   double max_angle_deg = 0;     // replayed flange orientation from the planned one
   double max_joint_deg = 0;     // replayed joints from the planned ones
-  int configuration_flips = 0;  // targets whose configuration is not the plan's
-  int unreachable = 0;          // targets no solution with the program's configuration reaches within limits
-  std::vector<std::string> problems;  // "line N: ..." for each of the above
+  int configuration_flips = 0;  // targets the controller reaches in another configuration than the plan's
+  int unreachable = 0;          // targets no solution with the controller's configuration reaches within limits
+  int configuration_disagreements = 0;  // written S/T or confdata not the configuration reached
+  int feed_capped = 0;          // grinding moves the orientation speed slows below the written feed
+  std::vector<std::string> problems;  // "file line N: ..." for each of the above
 };
 
-// Replays `targets` against the plan they were written from (same count and
-// order). Tolerances decide what is a problem.
+// Replays `targets` against the plan they were written from: the Cartesian
+// targets one per planned move, in order, after at least one axis move (the
+// known start). Tolerances decide what is a problem.
 RobotVerifyReport verify_robot_program(const RobotCell& cell, const BeltStation& station,
                                        const RobotGrindingPlan& plan, const std::vector<RobotTarget>& targets,
                                        RobotDialect dialect, double position_tol_mm = 0.002,

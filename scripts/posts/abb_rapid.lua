@@ -1,19 +1,27 @@
--- ABB RAPID for a part-in-hand belt-grinding cell: the contact wheel is a
--- stationary tool (tooldata robhold FALSE, its frame in the world), the blade
--- a work object held by the robot (wobjdata robhold TRUE, its user frame on
--- the flange), every move a MoveL to a robtarget: the wheel's contact frame in
--- the blade frame, the quaternion, and confdata [cf1, cf4, cf6, cfx] from the
--- planned joints (cf = the quadrant of axes 1, 4, 6; cfx the branch of
--- core/machine/robot.h). Speeds are speeddata literals [tcp mm/s, ori deg/s,
--- 5000, 1000]; grinding moves use zone z1, lift-offs and approaches fine.
+-- ABB RAPID for a part-in-hand belt-grinding cell (RAPID reference manual:
+-- tooldata, wobjdata, loaddata, confdata, speeddata, zonedata). The contact
+-- wheel is a stationary tool (tooldata robhold FALSE, tframe in the world;
+-- its tload the gripper on the flange), the blade a work object held by the
+-- robot (wobjdata robhold TRUE, uframe on tool0) with its mass set by
+-- GripLoad. Each program is a module with one procedure named after its file
+-- and no `main`: a main module (P.main_program) calls the stations' procedures.
+-- Its data are PERS named after the program, so two stations never share one
+-- object. It runs with ConfL / ConfJ on: MoveAbsJ to the cell's home, a
+-- MoveJ to the first target, MoveL to the others, each robtarget with the
+-- confdata [cf1, cf4, cf6, cfx] of its planned joints; speeddata [feed,
+-- orientation speed that keeps the feed, 5000, 1000]; a zone whose corner cut
+-- stays within the chord tolerance while grinding, fine at lift-offs and
+-- approaches. A long program is a station procedure calling parts
+-- (plan:write_program's max_bytes), each part a module of moves only.
 local P = extend "robot_base"
 
 P.name = "abb_rapid"
 P.dialect = "abb_rapid"
-P.comment_open = "! "
+P.comment_open = "    ! "
 P.comment_close = ""
-P.orientation_speed = 30   -- deg/s
-P.grinding_zone = "z1"
+P.home_speed = "v200"
+
+local NINES = "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]"
 
 function P.pose(self, m)
   local o, q = m.origin, m.quaternion
@@ -22,37 +30,74 @@ function P.pose(self, m)
                        self:number(q[3], self.decimals.quaternion), self:number(q[4], self.decimals.quaternion))
 end
 
+-- The station's data names: unique per program (RAPID keeps one PERS object per name).
+function P.names(self, job)
+  local station = job.part and job.program:gsub("_p%d+$", "") or job.program
+  return {tool = "tw_" .. station, wobj = "wb_" .. station, load = "ld_" .. station, home = "jh_" .. station,
+          zone = "zg_" .. station}
+end
+
 function P.header(self, job, out)
   out:line("MODULE " .. self:program_name(job))
-  out:line("  ! " .. job.name)
+  out:line("  ! " .. job.name .. (job.part and " (part)" or ""))
   out:line("  ! cell " .. job.cell.name .. ", station " .. job.station.name .. " (" .. job.station.belt .. ")")
-  out:line("  ! the wheel is a stationary TCP, the blade a work object held by the robot (robhold TRUE)")
 end
 
 function P.data(self, job, out)
-  -- Stationary tool: robhold FALSE, tframe = the contact frame in the world.
-  out:line(string.format("  PERS tooldata tWheel := [FALSE,%s,[1,[0,0,0],[1,0,0,0],0,0,0]];", self:pose(job.station)))
-  -- Moving work object: robhold TRUE, uframe = the blade frame on the flange.
-  out:line(string.format("  PERS wobjdata wBlade := [TRUE,TRUE,\"\",%s,[[0,0,0],[1,0,0,0]]];", self:pose(job.grip)))
+  if job.part then return end
+  local n, p = self:names(job), job.payload
+  local function xyz(v) return string.format("[%s,%s,%s]", self:number(v.x, 1), self:number(v.y, 1), self:number(v.z, 1)) end
+  out:line("  ! the wheel: a stationary tool (robhold FALSE, tframe in the world); tload: the gripper on the flange")
+  out:line(string.format("  PERS tooldata %s := [FALSE,%s,[%s,%s,[1,0,0,0],0,0,0]];", n.tool, self:pose(job.station),
+                         self:number(math.max(p.gripper_mass, 0.001), 3), xyz(p.gripper_cog)))
+  out:line("  ! the blade: a work object held by the robot (robhold TRUE, uframe on tool0)")
+  out:line(string.format("  PERS wobjdata %s := [TRUE,TRUE,\"\",%s,[[0,0,0],[1,0,0,0]]];", n.wobj, self:pose(job.grip)))
+  out:line("  ! the blade's mass and centre of gravity (tool0 frame), set by GripLoad")
+  out:line(string.format("  PERS loaddata %s := [%s,%s,[1,0,0,0],0,0,0];", n.load,
+                         self:number(math.max(p.blade_mass, 0.001), 3), xyz(p.blade_cog)))
+  local h = job.cell.home
+  out:line(string.format("  CONST jointtarget %s := [[%s,%s,%s,%s,%s,%s],%s];", n.home, self:number(h[1], 4),
+                         self:number(h[2], 4), self:number(h[3], 4), self:number(h[4], 4), self:number(h[5], 4),
+                         self:number(h[6], 4), NINES))
+  if job.zone > 0 then
+    out:line("  ! blend radius within the chord tolerance")
+    out:line(string.format("  CONST zonedata %s := [FALSE,%s,%s,%s,0.1,%s,0.1];", n.zone, self:number(job.zone, 3),
+                           self:number(job.zone, 3), self:number(job.zone, 3), self:number(job.zone, 3)))
+  end
 end
 
 function P.motion(self, job, out)
-  out:line("  PROC main()")
-  local path = nil
-  for _, m in ipairs(job.moves) do
-    if m.path ~= path then
-      out:line(string.format("    ! path %d", m.path))
-      path = m.path
-    end
-    out:line(string.format("    MoveL [%s,[%d,%d,%d,%d],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]],[%s,%s,5000,1000],%s,tWheel\\WObj:=wBlade;",
-                           self:pose(m):sub(2, -2), m.cf1, m.cf4, m.cf6, m.cfx, self:number(m.feed, 1),
-                           self:number(self.orientation_speed, 1), m.link and "fine" or self.grinding_zone))
+  local n = self:names(job)
+  out:line("  PROC " .. self:program_name(job) .. "()")
+  if not job.part then
+    out:line("    ConfJ \\On;")
+    out:line("    ConfL \\On;")
+    out:line(string.format("    MoveAbsJ %s,%s,fine,tool0;", n.home, self.home_speed))
+    out:line("    GripLoad " .. n.load .. ";")
   end
+  for _, c in ipairs(job.calls) do out:line("    " .. c .. ";") end
+  local ori = self:number(job.ori_speed, 1)
+  self:each_move(job, out, function(m)
+    local zone = m.link and "fine" or (job.zone > 0 and n.zone or "fine")
+    out:line(string.format("    %s [%s,[%d,%d,%d,%d],%s],[%s,%s,5000,1000],%s,%s\\WObj:=%s;", m.first and "MoveJ" or "MoveL",
+                           self:pose(m):sub(2, -2), m.cf1, m.cf4, m.cf6, m.cfx, NINES, self:number(m.feed, 1), ori,
+                           zone, n.tool, n.wobj))
+  end)
+  if not job.part then out:line(string.format("    MoveAbsJ %s,%s,fine,tool0;", n.home, self.home_speed)) end
   out:line("  ENDPROC")
 end
 
 function P.footer(self, job, out)
   out:line("ENDMODULE")
+end
+
+-- The main module: PROC main calling each station's procedure in turn.
+function P.main_program(self, name, calls)
+  local lines = {"MODULE " .. name, "  PROC main()"}
+  for _, c in ipairs(calls) do lines[#lines + 1] = "    " .. c .. ";" end
+  lines[#lines + 1] = "  ENDPROC"
+  lines[#lines + 1] = "ENDMODULE"
+  return table.concat(lines, "\n") .. "\n"
 end
 
 return P

@@ -3,10 +3,16 @@
 -- object on the flange, so every target is the station's contact frame in
 -- the blade frame (core/machine/robot_program.h). A robot post is written
 -- like a CNC post — small steps run in order — from a job:
---   job.name, job.cell = {name, home}, job.station = {name, belt, speed,
---   origin, quaternion = {w, x, y, z}, a, b, c}, job.grip (the blade in the
---   flange frame, same fields), job.moves = {{origin, quaternion, a, b, c,
---   cf1, cf4, cf6, cfx, s, t, link, path, feed (mm/s), joints (deg)}, ...}.
+--   job.name (a title), job.program (the program's name = its file's name),
+--   job.part (true: a part called by job.program's station program, moves
+--   only), job.calls (the parts a station program calls instead of moves),
+--   job.cell = {name, home (deg)}, job.station = {name, belt, speed, origin,
+--   quaternion = {w, x, y, z}, a, b, c}, job.grip (the blade in the flange
+--   frame, same fields), job.ori_speed (deg/s: every grinding move keeps its
+--   feed), job.zone (blend radius, mm, within the chord tolerance; 0 exact),
+--   job.payload = {mass, cog (flange frame), gripper_mass, gripper_cog,
+--   blade_mass, blade_cog}, job.moves = {{origin, quaternion, a, b, c, cf1,
+--   cf4, cf6, cfx, s, t, link, first, path, feed (mm/s), joints (deg)}, ...}.
 -- `dialect` tells plan:write_program which reader replays the program before
 -- it is written; a post that changes the syntax must keep it readable.
 local P = extend "base"
@@ -19,15 +25,24 @@ function P.elements(self, job)
   return { self.header, self.data, self.motion, self.footer }
 end
 
--- A program name the controllers accept: letters, digits, underscores.
 function P.program_name(self, job)
-  local name = job.name:gsub("[^%w_]", "_")
-  if not name:match("^%a") then name = "P_" .. name end
-  return name:sub(1, 24)
+  return job.program
 end
 
 function P.position(self, v)
   return self:number(v, self.decimals.position)
+end
+
+-- The moves grouped by path, with a comment at each path's start.
+function P.each_move(self, job, out, fn)
+  local path = nil
+  for _, m in ipairs(job.moves) do
+    if m.path ~= path then
+      out:line(string.format("%spath %d%s", self.comment_open, m.path, self.comment_close))
+      path = m.path
+    end
+    fn(m)
+  end
 end
 
 return P

@@ -180,7 +180,62 @@ for _, g in ipairs(grips) do
   g.origin, g.x, g.z = frames.to_table(corrected).origin, frames.to_table(corrected).x, frames.to_table(corrected).z
 end
 
-local report = {part = part_name, feed_mm_s = feed, scan = scan_report, stations = {}, programs = {}}
+-- The payload the robot programs state (KRL $LOAD, RAPID tload / GripLoad):
+-- the blade from its flanks — sections across the span, each the closed
+-- loop of both flanks at one span parameter (area and centroid from its
+-- vector area), stacked along the span; the root below the hub curve is not
+-- modelled — in titanium (Ti-6Al-4V, 4.43 g/cm³; the E3 HPT blade a nickel
+-- alloy, 8.2 g/cm³); and a stated gripper: 15 kg, its centre of gravity
+-- 90 mm out along the flange's z axis (a pneumatic parallel gripper of the
+-- payload class; replace with your gripper's data).
+local gripper = {mass = 15, cog = {0, 0, 90}}
+local function blade_mass_properties(pressure, suction, density_g_cm3)
+  local function sub(a, b) return {a.x - b.x, a.y - b.y, a.z - b.z} end
+  local function cross(a, b) return {a[2] * b[3] - a[3] * b[2], a[3] * b[1] - a[1] * b[3], a[1] * b[2] - a[2] * b[1]} end
+  local nu, nv, sections = 40, 100, {}
+  for i = 0, nu do
+    local u, loop = i / nu, {}
+    for j = 0, nv do loop[#loop + 1] = pressure:point(u, j / nv) end
+    local last, s0, s1 = loop[#loop], suction:point(u, 0), suction:point(u, 1)
+    local d0, d1 = sub(s0, last), sub(s1, last)
+    local forward = d0[1] ^ 2 + d0[2] ^ 2 + d0[3] ^ 2 < d1[1] ^ 2 + d1[2] ^ 2 + d1[3] ^ 2
+    for j = 0, nv do loop[#loop + 1] = suction:point(u, forward and j / nv or 1 - j / nv) end
+    local o, tris, vec = loop[1], {}, {0, 0, 0}
+    for k = 2, #loop - 1 do
+      local n = cross(sub(loop[k], o), sub(loop[k + 1], o))
+      tris[#tris + 1] = {n = n, c = {(o.x + loop[k].x + loop[k + 1].x) / 3, (o.y + loop[k].y + loop[k + 1].y) / 3,
+                                     (o.z + loop[k].z + loop[k + 1].z) / 3}}
+      for a = 1, 3 do vec[a] = vec[a] + n[a] / 2 end
+    end
+    local area = math.sqrt(vec[1] ^ 2 + vec[2] ^ 2 + vec[3] ^ 2)
+    local c = {0, 0, 0}
+    for _, t in ipairs(tris) do
+      local w = (t.n[1] * vec[1] + t.n[2] * vec[2] + t.n[3] * vec[3]) / (2 * area * area)
+      for a = 1, 3 do c[a] = c[a] + w * t.c[a] end
+    end
+    sections[#sections + 1] = {area = area, c = c}
+  end
+  local volume, moment = 0, {0, 0, 0}
+  for i = 1, #sections - 1 do
+    local a, b = sections[i], sections[i + 1]
+    local h = math.sqrt((b.c[1] - a.c[1]) ^ 2 + (b.c[2] - a.c[2]) ^ 2 + (b.c[3] - a.c[3]) ^ 2)
+    local dv = 0.5 * (a.area + b.area) * h
+    volume = volume + dv
+    for k = 1, 3 do moment[k] = moment[k] + dv * 0.5 * (a.c[k] + b.c[k]) end
+  end
+  return {mass = density_g_cm3 * 1e-6 * volume, volume_mm3 = volume,
+          cog = {moment[1] / volume, moment[2] / volume, moment[3] / volume}}
+end
+local flank_of = {}
+for _, f in ipairs(body_faces) do flank_of[f.name] = f.surface end
+local blade_mass = blade_mass_properties(flank_of["pressure flank"], flank_of["suction flank"],
+                                         part_name == "e3" and 8.2 or 4.43)
+print(string.format("payload: blade %.3f kg (%.0f mm³, centre of gravity %.1f, %.1f, %.1f mm), gripper %.1f kg",
+                    blade_mass.mass, blade_mass.volume_mm3, blade_mass.cog[1], blade_mass.cog[2], blade_mass.cog[3],
+                    gripper.mass))
+
+local report = {part = part_name, feed_mm_s = feed, scan = scan_report, stations = {}, programs = {},
+                payload = {blade = blade_mass, gripper = gripper}}
 local station_rows, program_rows, blocks = {}, {}, {}  -- report.html, ParaView
 -- Charts: the measured scallop of every path and the measured chord error
 -- along the middle path of each flank, over their tolerances; the coarse
@@ -189,6 +244,10 @@ local scallop_series, chord_series, path_pictures = {}, {}, {}
 for _, f in ipairs(faces) do
   blocks[#blocks + 1] = {name = f.side .. " flank", surface = f.surface, samples_u = 40, samples_v = 150}
 end
+-- Every program file within this size (a controller's program memory holds
+-- a few MB; one file stays well below): longer ones are split into parts.
+local max_program_bytes = 500000
+local main_calls = {}  -- per robot, the station programs its main program calls
 local loaded = {}
 for _, r in ipairs(robots) do loaded[r] = bliskrun.robot_cell(cells[r].file) end
 -- The wheels are the first cell's (both cells carry the same stations).
@@ -294,10 +353,16 @@ for _, name in ipairs(station_order) do
                                    #rr.refusals, rr.refusals[1] or "-", rr.max_joint_speed_ratio))
       else
         local file = string.format("%s_%s_%s.%s", robot, name, f.side, c.ext)
-        local wr = rp:write_program{post = c.post, file = file,
-                                    name = string.format("%s_%s_%s", part_name, name, f.side)}
+        local wr = rp:write_program{post = c.post, file = file, name = string.format("%s_%s_%s", part_name, name, f.side),
+                                    chord_tol = tol.chord_tol, max_bytes = max_program_bytes,
+                                    blade_mass = blade_mass.mass, blade_cog = blade_mass.cog,
+                                    gripper_mass = gripper.mass, gripper_cog = gripper.cog}
         prog.file, prog.max_position_mm, prog.max_angle_deg, prog.max_joint_deg =
           file, wr.max_position, wr.max_angle, wr.max_joint
+        prog.files, prog.largest_bytes, prog.total_bytes, prog.ori_speed_deg_s, prog.zone_mm =
+          wr.files, wr.bytes, wr.total_bytes, wr.ori_speed, wr.zone
+        main_calls[robot] = main_calls[robot] or {}
+        table.insert(main_calls[robot], wr.program)
         -- The robot programmer's page beside the program (issue 37 item 3).
         local sheet = setup_sheet.robot{file = file, robot = loaded[robot]:name(), cell_file = c.file, post = c.post,
           part = part_name, grip = grip.name, station = {name = name, belt = w.belt, speed = w.speed,
@@ -323,6 +388,22 @@ for _, p in ipairs(report.programs) do
                       p.file and string.format(", %s read back within %.3f µm", p.file, 1e3 * p.max_position_mm)
                         or ", NOT posted"))
 end
+-- One main program per robot calling its station programs in turn (RAPID:
+-- the one `PROC main` of the task; KRL: the program to select).
+for _, robot in ipairs(robots) do
+  if main_calls[robot] then
+    local c = cells[robot]
+    local file = string.format("%s_main.%s", robot, c.ext)
+    bliskrun.write_text(file, bliskrun.post.load(c.post):main_program(robot .. "_main", main_calls[robot]))
+    report.main_programs = report.main_programs or {}
+    report.main_programs[robot] = file
+  end
+end
+local largest, total = 0, 0
+for _, p in ipairs(report.programs) do
+  largest, total = math.max(largest, p.largest_bytes or 0), total + (p.total_bytes or 0)
+end
+print(string.format("programs: largest file %d bytes (at most %d), %d bytes in all", largest, max_program_bytes, total))
 report.verified = ok
 report.verdict = run_report.verdict(requirements)
 bliskrun.write_json("blade_belt_grinding.json", report)

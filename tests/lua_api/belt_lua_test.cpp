@@ -67,7 +67,13 @@ local k = plan:write_program{post = "kuka_krl", file = "p.src", name = "flat tes
 assert(k.max_position < 1e-4 and k.moves == #plan:moves())
 local abb = bliskrun.robot_cell("abb_irb6650s_belt_cell")
 local aplan = abb:plan_grinding{station = "fine", grip = grip, paths = paths, blade = body}
-assert(aplan:write_program{post = "abb_rapid", file = "p.mod"}.max_position < 1e-4)
+assert(aplan:write_program{post = "abb_rapid", file = "p.mod", blade_mass = 0.5, gripper_mass = 8,
+                           gripper_cog = {0, 0, 60}}.max_position < 1e-4)
+-- Split within 4000 bytes a file: a station program calling its parts, read back as one.
+local split = plan:write_program{post = "kuka_krl", file = "s.src", max_bytes = 4000}
+assert(#split.files > 2 and split.bytes <= 4000 and split.moves == #plan:moves(), #split.files)
+local asplit = aplan:write_program{post = "abb_rapid", file = "s.mod", max_bytes = 4000}
+assert(#asplit.files > 2 and asplit.bytes <= 4000, #asplit.files)
 local bad = bliskrun.post.load("kuka_krl")
 local position = bad.position
 bad.position = function(self, v) return position(self, v + 0.01) end
@@ -76,14 +82,27 @@ assert(not ok and msg:find("does not replay the plan"), msg)
 )");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string krl = read_file(dir.path() + "/out/p.src"), rapid = read_file(dir.path() + "/out/p.mod");
-  EXPECT_EQ(krl.substr(0, krl.find('\n')), "DEF flat_test()");
-  EXPECT_NE(krl.find("$IPO_MODE = #TCP"), std::string::npos);
-  EXPECT_NE(krl.find("$TOOL = {X 1700.0000,Y 0.0000,Z 900.0000,"), std::string::npos);
-  EXPECT_NE(krl.find("LIN {E6POS: X "), std::string::npos);
-  EXPECT_EQ(rapid.substr(0, rapid.find('\n')), "MODULE blade_grinding");
-  EXPECT_NE(rapid.find("PERS tooldata tWheel := [FALSE,[[2200.0000,0.0000,1000.0000],"), std::string::npos);
-  EXPECT_NE(rapid.find("PERS wobjdata wBlade := [TRUE,TRUE,"), std::string::npos);
-  EXPECT_NE(rapid.find(",tWheel\\WObj:=wBlade;"), std::string::npos);
+  // KSS: DEF names the file; INI fold; home first; the wheel is BASE data,
+  // the blade TOOL data; #TCP while grinding, #BASE restored.
+  EXPECT_NE(krl.find("\nDEF p( )\n"), std::string::npos);
+  EXPECT_NE(krl.find("BAS (#INITMOV,0 )"), std::string::npos);
+  EXPECT_LT(krl.find("PTP {A1 0.0000,A2 -90.0000,A3 90.0000"), krl.find("E6POS"));
+  EXPECT_NE(krl.find("$BASE = {X 1700.0000,Y 0.0000,Z 900.0000,"), std::string::npos);
+  EXPECT_LT(krl.find("$IPO_MODE = #TCP"), krl.find("PTP {E6POS: X "));
+  EXPECT_GT(krl.find("$IPO_MODE = #BASE"), krl.rfind("LIN {E6POS: X "));
+  for (const char* set : {"$ORI_TYPE = #VAR", "$APO.CDIS = ", "$VEL.ORI1 = ", "$VEL.ORI2 = ", "$ACC.CP = ", "$LOAD = "})
+    EXPECT_NE(krl.find(set), std::string::npos) << set;
+  // RAPID: no main in a station module, its data named after it, home first, the blade's load.
+  EXPECT_EQ(rapid.substr(0, rapid.find('\n')), "MODULE p");
+  EXPECT_EQ(rapid.find("PROC main"), std::string::npos);
+  EXPECT_NE(rapid.find("PERS tooldata tw_p := [FALSE,[[2200.0000,0.0000,1000.0000],"), std::string::npos);
+  EXPECT_NE(rapid.find("[8.000,[0.0,0.0,60.0],"), std::string::npos);
+  EXPECT_NE(rapid.find("PERS wobjdata wb_p := [TRUE,TRUE,"), std::string::npos);
+  EXPECT_NE(rapid.find("PERS loaddata ld_p := [0.500,"), std::string::npos);
+  EXPECT_LT(rapid.find("MoveAbsJ jh_p"), rapid.find("MoveJ ["));
+  EXPECT_NE(rapid.find(",tw_p\\WObj:=wb_p;"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/out/s_p2.src"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/out/s_p2.mod"));
   EXPECT_FALSE(std::filesystem::exists(dir.path() + "/out/bad.src"));
 }
 

@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include "core/common/error.h"
-#include "core/machine/robot_program.h"
 #include "core/machine/wheel_clearance.h"
 
 #include <cstdio>
@@ -160,75 +159,6 @@ TEST(RobotCell, TheWheelAndBeltAreCheckedAgainstTheWholeBladeOnEveryMoveAndBetwe
   // face), 5 mm sideways (half the width) — less the samples' offset from
   // the wheel's mid-plane.
   EXPECT_NEAR(refused.wheel.max_collision_depth_mm, 5, 0.5);
-}
-
-// A RAPID program written the way scripts/posts/abb_rapid.lua writes it (the
-// reader's grammar), or a KRL one, from a plan; `shift` moves every target
-// by that much along x of the blade frame.
-std::string program(const RobotCell& cell, const RobotGrindingPlan& plan, RobotDialect dialect, double shift = 0,
-                    int cfx_override = -1) {
-  const BeltStation& st = cell.stations[0];
-  std::string text = dialect == RobotDialect::AbbRapid ? "MODULE T\n  PROC main()\n" : "DEF T()\n$IPO_MODE = #TCP\n";
-  char line[400];
-  for (const RobotMove& m : plan.moves) {
-    const Frame t = robot_target_frame(cell, st, m);
-    const Vec3 o = t.translation() + Vec3(shift, 0, 0);
-    if (dialect == RobotDialect::AbbRapid) {
-      const Eigen::Quaterniond q(t.linear());
-      const auto cf = abb_quadrants(m.joints);
-      std::snprintf(line, sizeof line,
-                    "    MoveL [[%.4f,%.4f,%.4f],[%.9f,%.9f,%.9f,%.9f],[%d,%d,%d,%d],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]],v20,z1,tWheel\\WObj:=wBlade;\n",
-                    o.x(), o.y(), o.z(), q.w(), q.x(), q.y(), q.z(), cf[0], cf[1], cf[2],
-                    cfx_override >= 0 ? cfx_override : m.branch);
-    } else {
-      const Vec3 e = t.linear().eulerAngles(2, 1, 0);
-      const int s = ((m.branch >> 2) & 1) | (m.branch & 2) | ((m.branch & 1) << 2);
-      std::snprintf(line, sizeof line, "LIN {E6POS: X %.4f,Y %.4f,Z %.4f,A %.6f,B %.6f,C %.6f, S %d, T %d} C_DIS\n",
-                    o.x(), o.y(), o.z(), rad_to_deg(e[0]), rad_to_deg(e[1]), rad_to_deg(e[2]), s,
-                    kuka_turn_bits(m.joints));
-    }
-    text += line;
-  }
-  return text + (dialect == RobotDialect::AbbRapid ? "  ENDPROC\nENDMODULE\n" : "END\n");
-}
-
-TEST(RobotProgram, RapidAndKrlReadBackReplayThePlanAndCatchAnEdit) {
-  const RobotCell cell = test_cell();
-  RobotGrindingOptions o;
-  o.start = cell.home;
-  const RobotGrindingPlan plan = plan_robot_grinding(cell, cell.stations[0], {strip(20), strip(21)}, o);
-  for (RobotDialect d : {RobotDialect::AbbRapid, RobotDialect::KukaKrl}) {
-    const auto targets = read_robot_program(program(cell, plan, d), d);
-    ASSERT_EQ(targets.size(), plan.moves.size());
-    const RobotVerifyReport ok = verify_robot_program(cell, cell.stations[0], plan, targets, d);
-    EXPECT_TRUE(ok.problems.empty()) << ok.problems.front();
-    EXPECT_LT(ok.max_position_mm, 1e-4);  // 4 decimals written
-    EXPECT_LT(ok.max_joint_deg, 1e-3);
-    // 10 um moved in the program: every target lands off the plan.
-    const RobotVerifyReport moved =
-        verify_robot_program(cell, cell.stations[0], plan, read_robot_program(program(cell, plan, d, 0.01), d), d);
-    EXPECT_EQ(moved.problems.size(), plan.moves.size());
-    EXPECT_NEAR(moved.max_position_mm, 0.01, 1e-4);
-  }
-  // Another configuration (cfx) than the plan's: a flip, and the pose is
-  // then solved on that branch or found unreachable.
-  const int other = plan.moves[0].branch ^ 4;
-  const RobotVerifyReport flipped = verify_robot_program(
-      cell, cell.stations[0], plan,
-      read_robot_program(program(cell, plan, RobotDialect::AbbRapid, 0, other), RobotDialect::AbbRapid),
-      RobotDialect::AbbRapid);
-  EXPECT_EQ(flipped.configuration_flips, static_cast<int>(plan.moves.size()));
-}
-
-TEST(RobotProgram, UnreadableStatementsNameTheirLine) {
-  EXPECT_THROW(read_robot_program("MODULE T\n  MoveL [[1,2,3],[1,0,0,0]],v20;\n", RobotDialect::AbbRapid), Error);
-  try {
-    read_robot_program("DEF T()\nLIN {X 1,Y 2,Z 3,A 0,B 0,C 0}\n", RobotDialect::KukaKrl);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("S or T"), std::string::npos) << e.what();
-  }
 }
 
 }  // namespace

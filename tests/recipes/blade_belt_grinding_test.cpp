@@ -68,9 +68,13 @@ TEST(BladeBeltGrindingRecipe, ThreeStationsOnBothFlanksWithinTheirMeasuredTolera
   // through its arm within 2 um before it was written; no configuration
   // change along a program; grinding moves within the joints' speeds.
   ASSERT_EQ(j["programs"].size(), 12u);
+  // One main program per robot calls the station programs; every file within 500 kB.
+  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/kuka_main.src"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path() + "/abb_main.mod"));
   for (const auto& p : j["programs"]) {
     ASSERT_TRUE(p.contains("file")) << p.dump();
     EXPECT_TRUE(std::filesystem::exists(dir.path() + "/" + p["file"].get<std::string>()));
+    EXPECT_LE(p["largest_bytes"].get<double>(), 500000.0);
     EXPECT_LT(p["max_position_mm"].get<double>(), 0.002);
     EXPECT_EQ(p["branch_changes"].get<int>(), 0);
     EXPECT_LT(p["joint_speed_ratio"].get<double>(), 1.0);
