@@ -42,8 +42,21 @@
 --   and the deepest conformity each program asks of the wheel.
 
 local opt = require("recipe_options"){
-  part = {type = "string", default = "builtin", choices = {"builtin", "rotor67", "e3"},
-          help = "whose blade is ground (e3: the E3 HPT rotor blade from its IGES file)"},
+  part = {type = "string", default = "builtin", choices = {"builtin", "rotor67", "e3", "cad"},
+          help = "whose blade is ground (e3: the E3 HPT rotor blade from its IGES file; cad: your own, --set cad=)"},
+  cad = {type = "string", default_text = "the E3 rotor blade's IGES",
+         help = "part=cad: a STEP or IGES file whose one face (or cad_face) is the closed airfoil"},
+  cad_face = {type = "string", default_text = "the file's only face", help = "part=cad: the face's name in the file"},
+  cad_hub = {type = "string", default_text = "the E3 hub's IGES",
+             help = "part=cad: a STEP or IGES file whose first curve is the hub's meridian"},
+  cad_casing = {type = "string", default_text = "the E3 casing's IGES",
+                help = "part=cad: a STEP or IGES file whose first curve is the casing's meridian"},
+  cad_coordinates = {type = "string", choices = {"cartesian", "x_rtheta_r"}, default_text = "x_rtheta_r (as E3)",
+                     help = "part=cad: cartesian (axis Z) or x axial, y = R theta, z = R"},
+  density = {type = "number", unit = "g/cm3", range = {0.5, 25}, default_text = "4.43 (Ti-6Al-4V); 8.2 for e3",
+             help = "the blade's material, for the payload"},
+  cad_axial_origin = {type = "number", unit = "mm", range = {-1e5, 1e5}, default_text = "250.6 in (E3's blade middle)",
+                      help = "part=cad: the file's axial coordinate that becomes z = 0"},
   sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"}, help = "flanks ground"},
   feed = {type = "number", unit = "mm/s", default = 20, range = {0.1, 1000}, help = "feed along the path"},
   robots = {type = "string", default = "both", choices = {"both", "kuka", "abb"}, help = "robots posted for"},
@@ -56,6 +69,15 @@ local run_report = require("run_report")
 local chart = require("svg_chart")
 local setup_sheet = require("setup_sheet")
 local part_name = opt.part
+if part_name == "cad" then
+  -- Your own blade: the E3 files' options unless given.
+  opt.cad = opt.cad or "e3_hpt_stage1/hpt_stator1.igs"
+  opt.cad_hub, opt.cad_casing = opt.cad_hub or "e3_hpt_stage1/hub.igs", opt.cad_casing or "e3_hpt_stage1/case.igs"
+  opt.cad_coordinates = opt.cad_coordinates or "x_rtheta_r"
+  opt.cad_axial_origin = opt.cad_axial_origin or 250.6 * inch
+elseif opt.cad or opt.cad_face or opt.cad_hub or opt.cad_casing or opt.cad_coordinates or opt.cad_axial_origin then
+  error("the cad* options are for --set part=cad (this run grinds part=" .. part_name .. ")", 0)
+end
 local sides = opt.sides
 local feed = opt.feed
 local robots = ({both = {"kuka", "abb"}, kuka = {"kuka"}, abb = {"abb"}})[opt.robots]
@@ -94,15 +116,36 @@ end
 if part_name == "builtin" then
   local blisk = bliskrun.blisk{grid_rows = 100, grid_cols = 500}
   add_faces(function(side) return bliskrun.interpolate_grid(blisk:flank_grid(1, side)) end, blisk:hub(), blisk:casing())
-elseif part_name == "e3" then
-  -- The rotor blade is the file named hpt_stator1.igs (the names are swapped:
-  -- e3_hpt_stage1/PROVENANCE.md). Unwrapped coordinates (x axial, y = R theta,
-  -- z = R, inches); the blade's axial middle, 250.6 in, becomes z = 0.
-  local blade = bliskrun.read_cad("e3_hpt_stage1/hpt_stator1.igs")
-  local part = bliskrun.cad_blade{surface = blade.faces[1].surface, coordinates = "x_rtheta_r",
-                                  axial_origin = 250.6 * inch,
-                                  hub = bliskrun.read_cad("e3_hpt_stage1/hub.igs").curves[1].curve,
-                                  casing = bliskrun.read_cad("e3_hpt_stage1/case.igs").curves[1].curve}
+elseif part_name == "e3" or part_name == "cad" then
+  -- The E3 rotor blade is the file named hpt_stator1.igs (the names are
+  -- swapped: e3_hpt_stage1/PROVENANCE.md). Unwrapped coordinates (x axial,
+  -- y = R theta, z = R, inches); the blade's axial middle, 250.6 in, becomes
+  -- z = 0. part=cad: your own files, the same way (STEP or IGES).
+  local own = part_name == "cad"
+  local file = own and opt.cad or "e3_hpt_stage1/hpt_stator1.igs"
+  local blade = bliskrun.read_cad(file)
+  local face = blade.faces[1]
+  if own and opt.cad_face then
+    face = nil
+    for _, f in ipairs(blade.faces) do if f.name == opt.cad_face then face = f end end
+    if not face then error(string.format("--set cad_face=%s: %s has no face of that name", opt.cad_face, file), 0) end
+  elseif #blade.faces ~= 1 then
+    local names = {}
+    for _, f in ipairs(blade.faces) do names[#names + 1] = f.name end
+    error(string.format("--set cad=%s: expected one face, the closed airfoil; the file has %d (%s): "
+                        .. "name one with --set cad_face=", file, #blade.faces, table.concat(names, ", ")), 0)
+  end
+  local function meridian(path, what)
+    local c = bliskrun.read_cad(path).curves[1]
+    if not c then error(string.format("--set cad_%s=%s: expected a file with the %s's meridian curve; it has none",
+                                      what, path, what), 0) end
+    return c.curve
+  end
+  local part = bliskrun.cad_blade{surface = face.surface,
+                                  coordinates = own and opt.cad_coordinates or "x_rtheta_r",
+                                  axial_origin = own and opt.cad_axial_origin or 250.6 * inch,
+                                  hub = meridian(own and opt.cad_hub or "e3_hpt_stage1/hub.igs", "hub"),
+                                  casing = meridian(own and opt.cad_casing or "e3_hpt_stage1/case.igs", "casing")}
   add_faces(function(side) return part[side] end, part.hub, part.casing)
 else
   local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
@@ -229,7 +272,7 @@ end
 local flank_of = {}
 for _, f in ipairs(body_faces) do flank_of[f.name] = f.surface end
 local blade_mass = blade_mass_properties(flank_of["pressure flank"], flank_of["suction flank"],
-                                         part_name == "e3" and 8.2 or 4.43)
+                                         opt.density or (part_name == "e3" and 8.2 or 4.43))
 print(string.format("payload: blade %.3f kg (%.0f mm³, centre of gravity %.1f, %.1f, %.1f mm), gripper %.1f kg",
                     blade_mass.mass, blade_mass.volume_mm3, blade_mass.cog[1], blade_mass.cog[2], blade_mass.cog[3],
                     gripper.mass))
@@ -412,7 +455,7 @@ local function with_pictures(sections)
   for _, t in ipairs(setup_sheet.robot_sections(sheets)) do sections[#sections + 1] = t end
   return sections
 end
-run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blade 1", rotor67 = "NASA Rotor 67 blade 1", e3 = "NASA/GE E3 HPT rotor blade"})[part_name],
+run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blade 1", rotor67 = "NASA Rotor 67 blade 1", e3 = "NASA/GE E3 HPT rotor blade", cad = "the blade of " .. tostring(opt.cad)})[part_name],
   subtitle = ok and "every path reached, every program read back and replayed within 2 µm" or "NOT verified",
   verdict = report.verdict,
   settings = {part = part_name, sides = sides, feed_mm_s = feed, robots = opt.robots},
