@@ -123,6 +123,94 @@ bool solve_move(const RobotCell& cell, const BeltStation& station, const BladeCo
   return true;
 }
 
+// A joint move (PTP, MoveJ, MoveAbsJ: the controller interpolates the
+// joints linearly) from `a` to `b`, checked against the wheel: joint-linear
+// samples 0.25° of the largest joint's travel apart, each step between
+// samples as the wheel check's LIN (its own 1 mm / 1° subdivision). Between
+// two samples the joint-linear path leaves that chord by at most
+// R (1 - cos(0.125°)) = 2.4e-6 R: 5 µm for a point 2 m from the axis.
+void check_joint_move(const RobotCell& cell, const BeltStation& station, const WheelClearance& wheel,
+                      const JointAngles& a, const JointAngles& b, WheelContactReport& report) {
+  double travel = 0;
+  for (int j = 0; j < 6; ++j) travel = std::max(travel, std::abs(b[j] - a[j]));
+  const int n = std::max(1, static_cast<int>(std::ceil(rad_to_deg(travel) / 0.25)));
+  auto blade_at = [&](double s) {
+    JointAngles q;
+    for (int j = 0; j < 6; ++j) q[j] = a[j] + s * (b[j] - a[j]);
+    return station.contact.inverse() * robot_forward(cell.arm, q) * cell.grip;
+  };
+  Frame from = blade_at(0);
+  wheel.check_pose(from, report);
+  for (int k = 1; k <= n; ++k) {
+    const Frame to = blade_at(static_cast<double>(k) / n);
+    wheel.check_motion(from, to, report);
+    from = to;
+  }
+}
+
+// stage_home_moves (see plan_robot_grinding): for one end of the plan.
+// `first`: home -> [staging ->] first move; else last move [-> staging] ->
+// home. Inserts the staging move where one is needed; a refusal when no
+// staging distance clears.
+void stage_home_end(const RobotCell& cell, const BeltStation& station, const WheelClearance& wheel,
+                    const RobotGrindingOptions& o, RobotGrindingPlan& plan, bool first) {
+  const RobotMove end = first ? plan.moves.front() : plan.moves.back();
+  auto blade = [&](const JointAngles& q) { return station.contact.inverse() * robot_forward(cell.arm, q) * cell.grip; };
+  WheelContactReport direct;
+  direct.checked = true;
+  check_joint_move(cell, station, wheel, first ? o.start : end.joints, first ? end.joints : o.start, direct);
+  plan.wheel.poses += direct.poses;
+  if (direct.collisions == 0) return;
+  for (const double out : {50.0, 100.0, 200.0, 400.0}) {
+    Trial scratch;
+    JointAngles q = end.joints;
+    int branch = end.branch;
+    RobotMove staging = end;
+    if (!solve_move(cell, station, end.contact, end.offset_mm + out, end.turned, q, branch, scratch, staging)) continue;
+    staging.link = true;
+    staging.path = -1;
+    staging.feed_mm_s = o.link_feed_mm_s;
+    WheelContactReport r;
+    r.checked = true;
+    check_joint_move(cell, station, wheel, first ? o.start : staging.joints, first ? staging.joints : o.start, r);
+    if (first)
+      wheel.check_motion(blade(staging.joints), blade(end.joints), r);
+    else
+      wheel.check_motion(blade(end.joints), blade(staging.joints), r);
+    plan.wheel.poses += r.poses;
+    if (r.collisions > 0) continue;
+    // The straight link's joint speed at the link feed (as the plan rates
+    // every move into a move).
+    const RobotMove& from = first ? staging : end;
+    RobotMove& into = first ? plan.moves.front() : staging;
+    const double dt = std::max(out, 1e-3) / o.link_feed_mm_s;
+    for (int j = 0; j < 6; ++j)
+      into.joint_speed_ratio = std::max(into.joint_speed_ratio, std::abs(into.joints[j] - from.joints[j]) / dt /
+                                                                    cell.arm.joints[j].max_speed_rad_s);
+    if (first) {
+      plan.max_link_joint_speed_ratio = std::max(plan.max_link_joint_speed_ratio, into.joint_speed_ratio);
+      plan.moves.insert(plan.moves.begin(), staging);
+    } else {
+      plan.max_link_joint_speed_ratio = std::max(plan.max_link_joint_speed_ratio, staging.joint_speed_ratio);
+      plan.moves.push_back(staging);
+    }
+    return;
+  }
+  plan.wheel.collisions += direct.collisions;
+  plan.wheel.max_collision_depth_mm = std::max(plan.wheel.max_collision_depth_mm, direct.max_collision_depth_mm);
+  if (plan.wheel.first_collision.empty()) plan.wheel.first_collision = direct.first_collision;
+  plan.refusals.push_back(std::string(first ? "the joint move from home to the first approach"
+                                            : "the joint move from the last lift-off back home") +
+                          ": the blade meets the wheel or belt (" + direct.first_collision +
+                          "), and no staging pose up to 400 mm out along the contact's normal clears it");
+}
+
+void stage_home_moves(const RobotCell& cell, const BeltStation& station, const WheelClearance& wheel,
+                      const RobotGrindingOptions& o, RobotGrindingPlan& plan) {
+  stage_home_end(cell, station, wheel, o, plan, true);
+  stage_home_end(cell, station, wheel, o, plan, false);
+}
+
 }  // namespace
 
 RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& station,
@@ -263,6 +351,15 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
     previous = &path;
     previous_turned = plan.moves.back().turned;
   }
+  // The program's first and last motions: a joint move from the start
+  // (home) to the first approach and from the last lift-off back home, as
+  // the posts write them. Swung in by the joints, the blade can pass
+  // through the wheel or its belt (found on the built-in blade's fine
+  // station); then a staging pose further out along the first contact's
+  // normal (50, 100, 200, 400 mm) is reached by the joint move and left in
+  // a straight line, and the same on the way out. Every such motion is
+  // checked; if none clears, nothing of this plan may be posted (refused).
+  if (wheel && !plan.moves.empty()) stage_home_moves(cell, station, *wheel, o, plan);
   return plan;
 }
 

@@ -161,5 +161,46 @@ TEST(RobotCell, TheWheelAndBeltAreCheckedAgainstTheWholeBladeOnEveryMoveAndBetwe
   EXPECT_NEAR(refused.wheel.max_collision_depth_mm, 5, 0.5);
 }
 
+// The program's first motion is a joint move from home to the first
+// approach, and its last one back home; they are checked too. In this cell
+// the direct joint move from home clips the belt behind the wheel (0.07 mm,
+// found by the check): the plan reaches a staging pose further out along
+// the first contact's normal and links in straight, and leaves the same
+// way. Home 15 mm into the wheel: no staging pose helps, both ends are
+// refused, named, and nothing of the plan may be posted.
+TEST(RobotCell, TheJointMovesFromAndBackToHomeAreCheckedAgainstTheWheel) {
+  const RobotCell cell = test_cell();
+  const BeltStation& st = cell.stations[0];
+  const BladeBody body = strip_body(false);
+  RobotGrindingOptions o;
+  o.blade = &body;
+  o.start = cell.home;
+  const RobotGrindingPlan clear = plan_robot_grinding(cell, st, {strip(20)}, o);
+  ASSERT_TRUE(clear.refusals.empty()) << clear.refusals.front();
+  // Staged at both ends: a link move more than the lift-off out along the
+  // normal, first and last, clear of the wheel.
+  ASSERT_GE(clear.moves.size(), 3u);
+  for (const RobotMove* m : {&clear.moves.front(), &clear.moves.back()}) {
+    EXPECT_TRUE(m->link);
+    EXPECT_GE(m->offset_mm, 50.0 + 10.0 - 1e-9);
+  }
+  EXPECT_EQ(clear.wheel.collisions, 0);
+  // A point 15 mm under the face (against its normal) put on the wheel's
+  // surface: the face is 15 mm into the wheel.
+  const BladeContact inside{Vec3(0, -15, 20), Vec3(0, 1, 0), Vec3(1, 0, 0)};
+  const auto solution = robot_choose(cell.arm, robot_inverse(cell.arm, flange_for_contact(cell, st, inside, false)),
+                                     cell.home);
+  ASSERT_TRUE(solution.has_value());
+  o.start = solution->joints;
+  const RobotGrindingPlan plan = plan_robot_grinding(cell, st, {strip(20)}, o);
+  ASSERT_EQ(plan.refusals.size(), 2u);
+  EXPECT_NE(plan.refusals[0].find("the joint move from home to the first approach: the blade meets the wheel"),
+            std::string::npos) << plan.refusals[0];
+  EXPECT_NE(plan.refusals[0].find("no staging pose up to 400 mm"), std::string::npos) << plan.refusals[0];
+  EXPECT_NE(plan.refusals[1].find("the joint move from the last lift-off back home"), std::string::npos)
+      << plan.refusals[1];
+  EXPECT_NEAR(plan.wheel.max_collision_depth_mm, 5, 0.6);  // sideways out of the 10 mm wide wheel
+}
+
 }  // namespace
 }  // namespace bliskrun
