@@ -422,7 +422,13 @@ RegistrationCheck check_registration(const RegistrationResult& r, const Registra
                                 "(both flanks, leading and trailing edge) and check that the scan is of this part "
                                 "in its nominal place within the capture range",
                                 r.iterations, 1e3 * r.rms_mm));
-  if (!(u.condition <= l.max_condition) || !(u.sigma_point_mm <= l.max_sigma_point_mm))
+  if (u.condition <= l.max_condition && !(u.sigma_point_mm <= l.max_sigma_point_mm))
+    c.problems.push_back(format("the scan fixes the pose too loosely for its noise (a point's position uncertain by "
+                                "%.3g um, limit %.3g um; rms %.1f um)",
+                                1e3 * u.sigma_point_mm, 1e3 * l.max_sigma_point_mm, 1e3 * r.rms_mm) +
+                         ", weakest " + weakest_motion(u) +
+                         ": scan more densely, and both flanks and the leading and trailing edges");
+  else if (!(u.condition <= l.max_condition))
     c.problems.push_back(
         (std::isfinite(u.condition)
              ? format("the scan leaves the pose poorly constrained (condition %.3g, limit %.3g;", u.condition,
