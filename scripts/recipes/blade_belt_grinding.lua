@@ -174,10 +174,24 @@ end
 -- and on a coarser sample (200: 0.2-0.5 mm apart) its sag biases the pose by
 -- a few micrometres that no sigma from the residuals shows (E3's pressure
 -- flank: 11 um left at 200, 2 um at 400).
-local fit = bliskrun.register_scan{scan = scan, surfaces = model, samples = 400, noise = opt.scan_noise,
-                                   rms_factor = registration_limits.rms_factor,
+local registered, fit = pcall(bliskrun.register_scan, {scan = scan, surfaces = model, samples = 400,
+                                   noise = opt.scan_noise, rms_factor = registration_limits.rms_factor,
                                    max_condition = registration_limits.max_condition,
-                                   max_sigma = 1e-3 * registration_limits.max_sigma_um}
+                                   max_sigma = 1e-3 * registration_limits.max_sigma_um})
+if not registered then
+  -- A scan the fit cannot use at all (nothing near the model, a piece that
+  -- fixes no pose) is a failed registration like any other: the report is
+  -- written, the verdict says why, nothing is posted.
+  local inf = math.huge
+  fit = {transform = {origin = {x = 0, y = 0, z = 0}, x = {x = 1, y = 0, z = 0}, y = {x = 0, y = 1, z = 0},
+                      z = {x = 0, y = 0, z = 1}},
+         iterations = 0, converged = false, inliers = 0, outliers = #scan, rms = inf, condition = inf, starts = 0,
+         start = 0, trusted = false,
+         sigma = {point = inf, rotation = {x = inf, y = inf, z = inf}, translation = {x = inf, y = inf, z = inf},
+                  centroid = {x = 0, y = 0, z = 0}},
+         problems = {tostring(fit):gsub("^.-: ", "", 1) .. ": scan the whole blade (both flanks, leading and trailing "
+                     .. "edge) in the part frame at the nominal grip"}}
+end
 local estimated = frames.inverse(frames.from_table(fit.transform))  -- the clamping error as measured
 -- Where it matters, on the blade: how far a blade point is from where the
 -- program puts it, without and with the correction (known only for a
@@ -195,10 +209,10 @@ local function worst_on_blade(f)
   return worst
 end
 -- JSON holds finite numbers: an unconstrained direction's infinity as text.
-local function finite(x) return (x == x and math.abs(x) < math.huge) and x or "unconstrained" end
+local function finite(x, otherwise) return (x == x and math.abs(x) < math.huge) and x or otherwise or "unconstrained" end
 local sigma = fit.sigma
 local scan_report = {points = #scan, file = opt.scan ~= "" and opt.scan or nil, iterations = fit.iterations,
-                     converged = fit.converged, inliers = fit.inliers, outliers = fit.outliers, rms_um = 1e3 * fit.rms,
+                     converged = fit.converged, inliers = fit.inliers, outliers = fit.outliers, rms_um = finite(1e3 * fit.rms, "not measured"),
                      noise_um = 1e3 * opt.scan_noise, starts = fit.starts, start = fit.start,
                      condition = finite(fit.condition), trusted = fit.trusted, problems = fit.problems,
                      sigma = {point_um = finite(1e3 * sigma.point),
@@ -209,18 +223,27 @@ local scan_report = {points = #scan, file = opt.scan ~= "" and opt.scan or nil, 
                      limits = registration_limits,
                      measured = {offset_mm = frames.offset(estimated), angle_deg = frames.angle(estimated)}}
 local note = #fit.problems > 0 and table.concat(fit.problems, "; ") or nil
+local function number_or_nil(x) return (x == x and math.abs(x) < math.huge) and x or nil end  -- nil: not measured, a FAIL
 local registration_requirements = {
-  {name = "scan registration: converged", unit = "-", measured = fit.converged and 1 or 0, pass = fit.converged,
-   note = not fit.converged and note or nil},
-  {name = "scan registration: condition of the normal matrix", unit = "-", measured = fit.condition,
+  {name = "scan registration: converged", unit = "-", measured = fit.converged and 1 or 0, pass = fit.converged},
+  {name = "scan registration: condition of the normal matrix", unit = "-", measured = number_or_nil(fit.condition),
    at_most = registration_limits.max_condition},
   {name = "scan registration: position uncertainty of a scanned point (1 sigma)", unit = "µm",
-   measured = 1e3 * sigma.point, at_most = registration_limits.max_sigma_um},
-  {name = "scan registration: fit rms", unit = "µm", measured = 1e3 * fit.rms,
+   measured = number_or_nil(1e3 * sigma.point), at_most = registration_limits.max_sigma_um},
+  {name = "scan registration: fit rms", unit = "µm", measured = number_or_nil(1e3 * fit.rms),
    at_most = registration_limits.rms_factor * 1e3 * opt.scan_noise,
    note = string.format("%g x the scanner's stated noise %.1f µm", registration_limits.rms_factor, 1e3 * opt.scan_noise)},
 }
-if not fit.trusted then registration_requirements[2].note = note end
+-- What to scan, once: on the first requirement that fails.
+for i, failed in ipairs{not fit.converged, not (fit.condition <= registration_limits.max_condition),
+                        not (1e3 * sigma.point <= registration_limits.max_sigma_um),
+                        not (fit.rms <= registration_limits.rms_factor * opt.scan_noise)} do
+  if failed and note then
+    local q = registration_requirements[i]
+    q.note = q.note and q.note .. "; " .. note or note
+    break
+  end
+end
 if clamp then
   local left = frames.compose(frames.inverse(estimated), clamp)       -- what the correction leaves
   scan_report.blade_error_uncorrected_mm = worst_on_blade(clamp)

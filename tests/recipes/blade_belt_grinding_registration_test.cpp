@@ -87,6 +87,28 @@ TEST(BladeBeltGrindingRegistration, AOneFlankScanFailsTheVerdictAndNothingIsPost
   for (const auto& p : j["programs"]) EXPECT_FALSE(p.contains("file")) << p.dump();
 }
 
+TEST(BladeBeltGrindingRegistration, AScanOfSomethingElseFailsTheVerdictWithTheReportWritten) {
+  // A plane 200 mm from the blade: nothing within reach of the model. The
+  // fit's error becomes the verdict's, not an aborted run.
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  std::filesystem::create_directories(out);
+  {
+    std::ofstream xyz(out + "/scan.xyz");
+    for (int i = 0; i < 40; ++i)
+      for (int j = 0; j < 40; ++j) xyz << 300 + i << ' ' << j << " 0\n";
+  }
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_belt_grinding.lua",
+                                       "--out", out, "--quiet", "--set", "robots=kuka", "--set", "sides=pressure",
+                                       "--set", "scan=scan.xyz"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("verdict FAIL: scan registration: converged"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("scan the whole blade"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(out + "/report.html"));
+  EXPECT_EQ(programs_in(out), 0u);
+  EXPECT_FALSE(report_of(out)["scan"]["trusted"].get<bool>());
+}
+
 TEST(BladeBeltGrindingRegistration, Rotor67IsRegisteredToItsNoise) {
   // Issue 39 found 10.8 um left on Rotor 67 with a fit rms of 32 um against
   // 5 um noise: stray points 0.5-0.7 mm off the blade were inside the
