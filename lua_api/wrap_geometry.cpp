@@ -372,7 +372,8 @@ int w_mesh_size(lua_State* L) {
 namespace {
 
 // bliskrun.register_scan{scan = {{x,y,z}, ...}, surfaces = {...}, samples = 300, ...}
-// -> {transform = {origin, x, y, z}, iterations, converged, inliers, outliers, rms, median}
+// -> {transform = {origin, x, y, z}, iterations, converged, inliers, outliers, rms, median,
+//     condition, sigma = {rotation, translation, point}, trusted, problems, ...}
 int w_register_scan(lua_State* L) {
   const luax::Options o(
       L, 1, "bliskrun.register_scan",
@@ -381,8 +382,17 @@ int w_register_scan(lua_State* L) {
                    "the model: a list of Surfaces in the frame the scan should land in", {}},
        luax::Field{"samples", luax::Kind::Integer, false, 10, 4000, "model samples per surface and direction; default 300", {}},
        luax::Field{"initial_reach", luax::Kind::Number, false, 1e-6, 1000,
-                   "pairs farther than this are ignored at first (the expected clamping error), mm; default 5", {}},
-       luax::Field{"outlier_factor", luax::Kind::Number, false, 1, 100, "later: this times the median pair distance; default 3", {}}});
+                   "pairs farther than this are ignored at first by the fine ICP, mm; default 5", {}},
+       luax::Field{"outlier_factor", luax::Kind::Number, false, 1, 100, "later: this times the median pair distance; default 3", {}},
+       luax::Field{"pre_align", luax::Kind::Boolean, false, std::nullopt, std::nullopt,
+                   "coarse pre-alignment from several starts first; default true", {}},
+       luax::Field{"capture_angle", luax::Kind::Number, false, 0, 45, "clamping error the pre-alignment covers, deg; default 5", {}},
+       luax::Field{"capture_offset", luax::Kind::Number, false, 0, 100, "... and offset, mm; default 5", {}},
+       luax::Field{"noise", luax::Kind::Number, false, 1e-6, 10, "the scanner's stated noise (1 sigma), mm; default 0.005", {}},
+       luax::Field{"rms_factor", luax::Kind::Number, false, 1, 1000, "trusted only if rms <= this x noise; default 3", {}},
+       luax::Field{"max_condition", luax::Kind::Number, false, 1, 1e300, "trusted only if the condition is within; default 1e5", {}},
+       luax::Field{"max_sigma", luax::Kind::Number, false, 1e-9, 1000,
+                   "trusted only if a point's position sigma is within, mm; default 0.005", {}}});
   std::vector<Vec3> scan;
   o.push_raw("scan");
   const lua_Integer n = luaL_len(L, -1);
@@ -405,6 +415,14 @@ int w_register_scan(lua_State* L) {
   RegistrationOptions ro;
   ro.initial_reach_mm = o.number("initial_reach", ro.initial_reach_mm);
   ro.outlier_factor = o.number("outlier_factor", ro.outlier_factor);
+  ro.pre_align = o.boolean("pre_align", true);
+  ro.capture_deg = o.number("capture_angle", ro.capture_deg);
+  ro.capture_mm = o.number("capture_offset", ro.capture_mm);
+  RegistrationLimits limits;
+  limits.noise_mm = o.number("noise", limits.noise_mm);
+  limits.rms_factor = o.number("rms_factor", limits.rms_factor);
+  limits.max_condition = o.number("max_condition", limits.max_condition);
+  limits.max_sigma_point_mm = o.number("max_sigma", limits.max_sigma_point_mm);
   return luax::guarded(L, [&] {
     ModelSample model;
     for (const auto& s : surfaces)
@@ -431,6 +449,26 @@ int w_register_scan(lua_State* L) {
     luax::set_number(L, "outliers", r.outliers);
     luax::set_number(L, "rms", r.rms_mm);
     luax::set_number(L, "median", r.median_mm);
+    // The pose's uncertainty (inf where a direction is not fixed) and the verdict.
+    const PoseUncertainty& u = r.uncertainty;
+    luax::set_number(L, "condition", u.condition);
+    luax::set_number(L, "unconstrained", u.unconstrained);
+    lua_createtable(L, 0, 4);
+    luax::set_vec3(L, "rotation", u.sigma_rotation_rad * (180.0 / kPi));
+    luax::set_vec3(L, "translation", u.sigma_translation_mm);
+    luax::set_number(L, "point", u.sigma_point_mm);
+    luax::set_vec3(L, "centroid", u.centroid);
+    lua_setfield(L, -2, "sigma");
+    luax::set_number(L, "starts", r.starts);
+    luax::set_number(L, "start", r.start);
+    const RegistrationCheck check = check_registration(r, limits);
+    luax::set_bool(L, "trusted", check.trusted);
+    lua_createtable(L, static_cast<int>(check.problems.size()), 0);
+    for (size_t i = 0; i < check.problems.size(); ++i) {
+      lua_pushstring(L, check.problems[i].c_str());
+      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+    }
+    lua_setfield(L, -2, "problems");
     return 1;
   });
 }

@@ -64,6 +64,13 @@ local opt = require("recipe_options"){
   clamp_angle = {type = "number", unit = "deg", default = 0.5, range = {-10, 10}, help = "simulated clamping error, angle"},
   clamp_dx = {type = "number", unit = "mm", default = 0.3, range = {-10, 10}, help = "simulated clamping error, x"},
   seed = {type = "integer", default = 7, range = {0, 2147483647}, help = "seed of the simulated scan"},
+  scan = {type = "string", default = "", help = "the blade's scan as clamped, in the part frame at the nominal grip "
+          .. "(XYZ, CSV, PLY or STL; found beside the recipe, in --data or in --out); empty: a simulated scan"},
+  scan_units = {type = "string", default = "mm", choices = {"mm", "in", "m"}, help = "length unit of the scan file"},
+  scan_flanks = {type = "string", default = "both", choices = {"both", "pressure", "suction"},
+                 help = "flanks the simulated scan sees (one flank: the registration is refused)"},
+  scan_noise = {type = "number", unit = "mm", default = 0.005, range = {1e-6, 1},
+                help = "the scanner's stated noise (1 sigma); the fit's rms may be at most 3 times it"},
 }
 local run_report = require("run_report")
 local chart = require("svg_chart")
@@ -167,35 +174,72 @@ local grips = {
 }
 
 -- The scan (belt paper §1): the blade never sits in the gripper exactly as
--- nominal. A laser scan of it as clamped (simulated here: a known clamping
--- error, 5 um noise, 3 % stray points, the outer tenth of the span unseen)
--- is registered to the model (bliskrun.register_scan, point-to-plane ICP);
--- the estimated error corrects the grip every program is planned with.
+-- nominal. A laser scan of it as clamped (--set scan=FILE, or simulated: a
+-- known clamping error, `scan_noise` along the normal, 3 % stray points,
+-- the outer tenth of the span unseen) is registered to both flanks
+-- (bliskrun.register_scan: a coarse pre-alignment from several starts that
+-- captures 5 deg / 5 mm, then point-to-plane ICP); the estimated error
+-- corrects the grip every program is planned with. The registration must be
+-- trusted before anything is posted (issue 39): converged, the pose fixed by
+-- the scan (the normal matrix's condition, a scanned point's position
+-- uncertainty from the fit's residuals) and the rms within 3 x the scanner's
+-- noise; otherwise the verdict fails, no program is written and the
+-- verdict's note says what to scan.
 local frames = require("frames")
-local clamp = frames.from_axis_angle({1, 2, 3}, opt.clamp_angle, {opt.clamp_dx, 0.2, -0.25})
-math.randomseed(opt.seed)
-local scan = {}
-for _, f in ipairs(faces) do
-  for i = 0, 119 do
-    for j = 0, 119 do
-      local u, v = 0.9 * i / 119, j / 119
-      local e = f.surface:eval(u, v)
-      local n = math.sqrt(e.normal.x ^ 2 + e.normal.y ^ 2 + e.normal.z ^ 2)
-      -- Box-Muller: 5 um along the normal; 3 % of the points 0.5-2 mm off it.
-      local g = math.sqrt(-2 * math.log(1 - math.random())) * math.cos(2 * math.pi * math.random())
-      local off = 0.005 * g + (math.random() < 0.03 and (0.5 + 1.5 * math.random()) or 0)
-      local p = {e.point.x + off * e.normal.x / n, e.point.y + off * e.normal.y / n, e.point.z + off * e.normal.z / n}
-      scan[#scan + 1] = frames.apply(clamp, p)
+local registration_limits = {rms_factor = 3, max_condition = 1e5, max_sigma_um = 5}
+local model = {}  -- both flanks, whatever is ground
+for _, bf in ipairs(body_faces) do
+  if bf.name:match("flank$") then model[#model + 1] = bf.surface end
+end
+local clamp, scan = nil, {}
+if opt.scan ~= "" then
+  scan = bliskrun.read_points(opt.scan, {units = opt.scan_units})
+else
+  clamp = frames.from_axis_angle({1, 2, 3}, opt.clamp_angle, {opt.clamp_dx, 0.2, -0.25})
+  math.randomseed(opt.seed)
+  for _, bf in ipairs(body_faces) do
+    if bf.name:match("flank$") and (opt.scan_flanks == "both" or bf.name == opt.scan_flanks .. " flank") then
+      for i = 0, 119 do
+        for j = 0, 119 do
+          local u, v = 0.9 * i / 119, j / 119
+          local e = bf.surface:eval(u, v)
+          local n = math.sqrt(e.normal.x ^ 2 + e.normal.y ^ 2 + e.normal.z ^ 2)
+          -- Box-Muller: the noise along the normal; 3 % of the points 0.5-2 mm off it.
+          local g = math.sqrt(-2 * math.log(1 - math.random())) * math.cos(2 * math.pi * math.random())
+          local off = opt.scan_noise * g + (math.random() < 0.03 and (0.5 + 1.5 * math.random()) or 0)
+          local p = {e.point.x + off * e.normal.x / n, e.point.y + off * e.normal.y / n, e.point.z + off * e.normal.z / n}
+          scan[#scan + 1] = frames.apply(clamp, p)
+        end
+      end
     end
   end
 end
-local surfaces = {}
-for i, f in ipairs(faces) do surfaces[i] = f.surface end
-local fit = bliskrun.register_scan{scan = scan, surfaces = surfaces, samples = 200}
+-- 400 x 400 samples a flank: the nearest sample stands in for the surface,
+-- and on a coarser sample (200: 0.2-0.5 mm apart) its sag biases the pose by
+-- a few micrometres that no sigma from the residuals shows (E3's pressure
+-- flank: 11 um left at 200, 2 um at 400).
+local registered, fit = pcall(bliskrun.register_scan, {scan = scan, surfaces = model, samples = 400,
+                                   noise = opt.scan_noise, rms_factor = registration_limits.rms_factor,
+                                   max_condition = registration_limits.max_condition,
+                                   max_sigma = 1e-3 * registration_limits.max_sigma_um})
+if not registered then
+  -- A scan the fit cannot use at all (nothing near the model, a piece that
+  -- fixes no pose) is a failed registration like any other: the report is
+  -- written, the verdict says why, nothing is posted.
+  local inf = math.huge
+  fit = {transform = {origin = {x = 0, y = 0, z = 0}, x = {x = 1, y = 0, z = 0}, y = {x = 0, y = 1, z = 0},
+                      z = {x = 0, y = 0, z = 1}},
+         iterations = 0, converged = false, inliers = 0, outliers = #scan, rms = inf, condition = inf, starts = 0,
+         start = 0, trusted = false,
+         sigma = {point = inf, rotation = {x = inf, y = inf, z = inf}, translation = {x = inf, y = inf, z = inf},
+                  centroid = {x = 0, y = 0, z = 0}},
+         problems = {tostring(fit):gsub("^.-: ", "", 1) .. ": scan the whole blade (both flanks, leading and trailing "
+                     .. "edge) in the part frame at the nominal grip"}}
+end
 local estimated = frames.inverse(frames.from_table(fit.transform))  -- the clamping error as measured
-local left = frames.compose(frames.inverse(estimated), clamp)       -- what the correction leaves
 -- Where it matters, on the blade: how far a blade point is from where the
--- program puts it, without and with the correction.
+-- program puts it, without and with the correction (known only for a
+-- simulated scan).
 local function worst_on_blade(f)
   local worst = 0
   for _, face in ipairs(faces) do
@@ -208,15 +252,63 @@ local function worst_on_blade(f)
   end
   return worst
 end
-local scan_report = {points = #scan, blade_error_uncorrected_mm = worst_on_blade(clamp),
-                     blade_error_corrected_um = 1e3 * worst_on_blade(left), iterations = fit.iterations, converged = fit.converged, inliers = fit.inliers,
-                     outliers = fit.outliers, rms_um = 1e3 * fit.rms,
-                     clamping = {offset_mm = frames.offset(clamp), angle_deg = frames.angle(clamp)},
-                     residual = {offset_um = 1e3 * frames.offset(left), angle_deg = frames.angle(left)}}
-print(string.format("scan: %d points, clamping error %.3f mm / %.3f deg (up to %.3f mm on the blade), registered in "
-                    .. "%d iterations (rms %.2f um, %d stray points dropped); after correction %.2f um on the blade",
-                    #scan, frames.offset(clamp), frames.angle(clamp), scan_report.blade_error_uncorrected_mm,
-                    fit.iterations, 1e3 * fit.rms, fit.outliers, scan_report.blade_error_corrected_um))
+-- JSON holds finite numbers: an unconstrained direction's infinity as text.
+local function finite(x, otherwise) return (x == x and math.abs(x) < math.huge) and x or otherwise or "unconstrained" end
+local sigma = fit.sigma
+local scan_report = {points = #scan, file = opt.scan ~= "" and opt.scan or nil, iterations = fit.iterations,
+                     converged = fit.converged, inliers = fit.inliers, outliers = fit.outliers, rms_um = finite(1e3 * fit.rms, "not measured"),
+                     noise_um = 1e3 * opt.scan_noise, starts = fit.starts, start = fit.start,
+                     condition = finite(fit.condition), trusted = fit.trusted, problems = fit.problems,
+                     sigma = {point_um = finite(1e3 * sigma.point),
+                              rotation_deg = {finite(sigma.rotation.x), finite(sigma.rotation.y), finite(sigma.rotation.z)},
+                              translation_um = {finite(1e3 * sigma.translation.x), finite(1e3 * sigma.translation.y),
+                                                finite(1e3 * sigma.translation.z)},
+                              about = {sigma.centroid.x, sigma.centroid.y, sigma.centroid.z}},
+                     limits = registration_limits,
+                     measured = {offset_mm = frames.offset(estimated), angle_deg = frames.angle(estimated)}}
+local note = #fit.problems > 0 and table.concat(fit.problems, "; ") or nil
+local function number_or_nil(x) return (x == x and math.abs(x) < math.huge) and x or nil end  -- nil: not measured, a FAIL
+local registration_requirements = {
+  {name = "scan registration: converged", unit = "-", measured = fit.converged and 1 or 0, pass = fit.converged},
+  {name = "scan registration: condition of the normal matrix", unit = "-", measured = number_or_nil(fit.condition),
+   at_most = registration_limits.max_condition},
+  {name = "scan registration: position uncertainty of a scanned point (1 sigma)", unit = "µm",
+   measured = number_or_nil(1e3 * sigma.point), at_most = registration_limits.max_sigma_um},
+  {name = "scan registration: fit rms", unit = "µm", measured = number_or_nil(1e3 * fit.rms),
+   at_most = registration_limits.rms_factor * 1e3 * opt.scan_noise,
+   note = string.format("%g x the scanner's stated noise %.1f µm", registration_limits.rms_factor, 1e3 * opt.scan_noise)},
+}
+-- What to scan, once: on the first requirement that fails.
+for i, failed in ipairs{not fit.converged, not (fit.condition <= registration_limits.max_condition),
+                        not (1e3 * sigma.point <= registration_limits.max_sigma_um),
+                        not (fit.rms <= registration_limits.rms_factor * opt.scan_noise)} do
+  if failed and note then
+    local q = registration_requirements[i]
+    q.note = q.note and q.note .. "; " .. note or note
+    break
+  end
+end
+if clamp then
+  local left = frames.compose(frames.inverse(estimated), clamp)       -- what the correction leaves
+  scan_report.blade_error_uncorrected_mm = worst_on_blade(clamp)
+  scan_report.blade_error_corrected_um = 1e3 * worst_on_blade(left)
+  scan_report.clamping = {offset_mm = frames.offset(clamp), angle_deg = frames.angle(clamp)}
+  scan_report.residual = {offset_um = 1e3 * frames.offset(left), angle_deg = frames.angle(left)}
+  -- A simulated scan knows the truth: what the correction leaves is checked too.
+  registration_requirements[#registration_requirements + 1] = {
+    name = "scan registration: error left on the blade (simulated clamping)", unit = "µm",
+    measured = scan_report.blade_error_corrected_um, at_most = 5}
+  print(string.format("scan: %d points, clamping error %.3f mm / %.3f deg (up to %.3f mm on the blade), registered in "
+                      .. "%d iterations (rms %.2f um, %d stray points dropped); after correction %.2f um on the blade",
+                      #scan, frames.offset(clamp), frames.angle(clamp), scan_report.blade_error_uncorrected_mm,
+                      fit.iterations, 1e3 * fit.rms, fit.outliers, scan_report.blade_error_corrected_um))
+else
+  print(string.format("scan: %d points from %s, registered in %d iterations (rms %.2f um, %d points dropped); "
+                      .. "measured clamping error %.3f mm / %.3f deg", #scan, opt.scan, fit.iterations, 1e3 * fit.rms,
+                      fit.outliers, frames.offset(estimated), frames.angle(estimated)))
+end
+print(string.format("scan registration: condition %.3g, a scanned point's position sigma %.3f um, %s", fit.condition,
+                    1e3 * sigma.point, fit.trusted and "trusted" or "NOT trusted: " .. note))
 for _, g in ipairs(grips) do
   -- The blade sits at grip * clamp; planned with grip * estimated.
   local corrected = frames.compose(frames.from_table(g), estimated)
@@ -297,9 +389,9 @@ for _, r in ipairs(robots) do loaded[r] = bliskrun.robot_cell(cells[r].file) end
 local wheels = {}
 for _, s in ipairs(loaded[robots[1]]:stations()) do wheels[s.name] = s end
 
-local ok = true
+local ok = fit.trusted  -- nothing is posted on a registration that is not trusted
 local sheets = {}  -- setup sheets of the posted programs
-local requirements = {}  -- the verdict: per station and flank, per robot program
+local requirements = registration_requirements  -- the verdict: the scan, per station and flank, per robot program
 print(string.format("%-7s %-9s %6s %7s %12s %12s %9s %9s", "station", "flank", "paths", "points",
                     "chord max", "scallop max", "steps cut", "overs cut"))
 for _, name in ipairs(station_order) do
@@ -394,6 +486,8 @@ for _, name in ipairs(station_order) do
         ok = false
         bliskrun.log(string.format("%s %s %s: %d refused paths (%s), joint speed ratio %.2f", robot, name, f.side,
                                    #rr.refusals, rr.refusals[1] or "-", rr.max_joint_speed_ratio))
+      elseif not fit.trusted then
+        prog.not_posted = "the scan registration is not trusted"  -- the verdict says why
       else
         local file = string.format("%s_%s_%s.%s", robot, name, f.side, c.ext)
         local wr = rp:write_program{post = c.post, file = file, name = string.format("%s_%s_%s", part_name, name, f.side),
@@ -467,12 +561,20 @@ run_report.write{title = "Robotic belt grinding, " .. ({builtin = "built-in blad
                  .. "segment's measured chord error over the station's tolerance ε (eq. 6 with the measurement).",
                svg = chart.lines{title = "Chord error / ε along the middle path", x_label = "arc length (mm)",
                                  y_label = "chord error / ε", series = chord_series, limit = {y = 1, name = "tolerance"}}},
-              {title = "Scan registration", text = string.format(
-                 "%d scan points; clamping error %.3f mm / %.3f deg, up to %.3f mm on the blade; ICP %d iterations, "
-                 .. "rms %.2f um, %d stray points dropped; after the correction a blade point is at most %.2f um "
-                 .. "from where the programs put it.", scan_report.points, scan_report.clamping.offset_mm,
-                 scan_report.clamping.angle_deg, scan_report.blade_error_uncorrected_mm, scan_report.iterations,
-                 scan_report.rms_um, scan_report.outliers, scan_report.blade_error_corrected_um)},
+              {title = "Scan registration", text = (clamp and string.format(
+                 "%d scan points; clamping error %.3f mm / %.3f deg, up to %.3f mm on the blade; ", scan_report.points,
+                 scan_report.clamping.offset_mm, scan_report.clamping.angle_deg, scan_report.blade_error_uncorrected_mm)
+                 or string.format("%d scan points from %s; ", scan_report.points, opt.scan))
+                 .. string.format("pre-alignment from %d starts (start %d won), ICP %d iterations, rms %.2f µm against "
+                 .. "the scanner's %.1f µm noise, %d points dropped; the pose's condition %.3g and a scanned point's "
+                 .. "position sigma %.3f µm (rotation sigma %.2g / %.2g / %.2g deg, translation sigma %.2g / %.2g / "
+                 .. "%.2g µm about the scan's centroid).", fit.starts, fit.start, fit.iterations, 1e3 * fit.rms,
+                 1e3 * opt.scan_noise, fit.outliers, fit.condition, 1e3 * sigma.point, sigma.rotation.x,
+                 sigma.rotation.y, sigma.rotation.z, 1e3 * sigma.translation.x, 1e3 * sigma.translation.y,
+                 1e3 * sigma.translation.z)
+                 .. (clamp and string.format(" After the correction a blade point is at most %.2f µm from where the "
+                                             .. "programs put it.", scan_report.blade_error_corrected_um) or "")
+                 .. (fit.trusted and " Trusted." or " NOT trusted, nothing posted: " .. note)},
               {title = "Stations", text = "Chord error and scallop measured by sampled distances; steps / "
                                           .. "step-overs cut: shortened where the measurement exceeded the tolerance.",
                table = {columns = {"station", "flank", "paths", "points", "chord max (µm)", "scallop max (µm)",

@@ -251,6 +251,8 @@ M["blade_belt_grinding.lua"] = {
     rows[#rows + 1] = {"scan registration: points, clamping error moving blade points by (mm), left after (µm)",
                        fmt("%d, %.3f, %.2f", "scan.points", "scan.blade_error_uncorrected_mm",
                            "scan.blade_error_corrected_um")}
+    rows[#rows + 1] = {"scan registration: rms (µm), condition, a point's sigma (µm)",
+                       fmt("%.2f, %.3g, %.2f", "scan.rms_um", "scan.condition", "scan.sigma.point_um")}
     return rows
   end)(),
 }
