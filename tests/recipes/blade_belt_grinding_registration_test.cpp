@@ -63,7 +63,8 @@ TEST(BladeBeltGrindingRegistration, AScanFileWithFiveDegreesAndFiveMillimetresIs
   EXPECT_NEAR(scan["measured"]["angle_deg"].get<double>(), 5, 1e-3);
   EXPECT_NEAR(scan["measured"]["offset_mm"].get<double>(), 5, 5e-3);
   EXPECT_FALSE(scan.contains("blade_error_corrected_um"));
-  EXPECT_EQ(programs_in(out), 3u);
+  EXPECT_EQ(programs_in(out), 3u + 1u);  // one per station, and the robot's main program calling them
+  EXPECT_TRUE(std::filesystem::exists(out + "/kuka_main.src"));
   EXPECT_TRUE(j["verdict"]["pass"].get<bool>());
 }
 
