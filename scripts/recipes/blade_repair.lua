@@ -91,6 +91,14 @@ for k, s in ipairs(rep.sections) do
 end
 bliskrun.log(string.format("rebuilt: %d measured, %d completed, %d extended sections; mean deviation %.2f um, max %.2f um",
                            counts.measured, counts.completed, counts.extended, rep.mean * 1e3, rep.max * 1e3))
+-- The rebuild's own check between its sections (issue 43): where it fails,
+-- the region and the paths would follow from a wrong blade, so they are not
+-- made; the report is written and the run fails on its verdict.
+local quality = rep.quality
+bliskrun.log(string.format("rebuild checked between sections: worst %.2f um at %.2f mm (tolerance %.1f um), "
+                           .. "start alignment %s after %d attempt(s)", quality.between_max * 1e3, quality.between_at,
+                           quality.tolerance * 1e3, quality.start_method, quality.attempts))
+if not quality.trusted then bliskrun.log("REBUILD NOT TRUSTED: " .. quality.message) end
 
 -- Gaussian curvature range of the rebuilt and the design blade (Fig. 21),
 -- each over u in [0.05, 0.95], 60 x 400 samples. With the extremes the 1st
@@ -112,12 +120,14 @@ local k_design = k_range(design, 0.05, 0.95)
 lap("curvature")
 
 -- 4. The damaged region (§1.5).
-local region, handle = bliskrun.damaged_region{rebuild = rebuild, measurement = measurement,
-                                               layer = settings.layer_mm, layers = settings.layers}
+local region, handle = {empty = true, layers = {}}, nil
+if quality.trusted then
+region, handle = bliskrun.damaged_region{rebuild = rebuild, measurement = measurement,
+                                         layer = settings.layer_mm, layers = settings.layers}
 bliskrun.log(string.format("damaged region: %.2f mm3, max thickness %.3f mm, heights %.2f..%.2f mm, u %.3f..%.3f, v %.3f..%.3f",
                            region.volume, region.max_thickness, region.height_from, region.height_to, region.u_from,
                            region.u_to, region.v_from, region.v_to))
-
+end
 lap("damaged region")
 
 -- 5. The repair toolpaths (§2) on the rebuilt blade — the shape to restore
@@ -212,12 +222,17 @@ local report = {
   rebuild = {mean_deviation_um = rep.mean * 1e3, rms_deviation_um = rep.rms * 1e3, max_deviation_um = rep.max * 1e3,
              points = rep.points, sections = counts, tip_extended = rep.tip_extended,
              least_start_correlation = min_corr,
-             noise_floor_um = noise * 1e3 * math.sqrt(2 / math.pi)},
+             noise_floor_um = noise * 1e3 * math.sqrt(2 / math.pi),
+             trusted = quality.trusted, message = quality.message, start_method = quality.start_method,
+             alignment_attempts = quality.attempts, between_sections_max_um = quality.between_max * 1e3,
+             between_sections_worst_at_mm = quality.between_at,
+             between_sections_tolerance_um = quality.tolerance * 1e3,
+             between_sections = quality.between},
   paper = {mean_deviation_um = 3.51, other_methods_um = {4.76, 10.25},
            gaussian_curvature_rebuilt = {-0.290, 0.217}, gaussian_curvature_design = {-0.239, 0.248},
            note = "the paper does not state its noise; a mean of 3.51 um is the noise floor sigma sqrt(2/pi) of sigma = 4.4 um"},
   gaussian_curvature = {rebuilt = k_rebuilt, design = k_design},
-  region = {volume_mm3 = region.volume, tip_volume_mm3 = region.tip_volume, edge_volume_mm3 = region.edge_volume,
+  region = not quality.trusted and {not_made = "the rebuild failed its check between sections"} or {volume_mm3 = region.volume, tip_volume_mm3 = region.tip_volume, edge_volume_mm3 = region.edge_volume,
             max_thickness_mm = region.max_thickness, area_mm2 = region.area, u = {region.u_from, region.u_to},
             v = {region.v_from, region.v_to}, height_mm = {region.height_from, region.height_to},
             span = {(region.height_from - info.h_lo) / (info.h_hi - info.h_lo),
@@ -227,12 +242,16 @@ local report = {
   sections = rep.sections,
   repair_paths = paths,
 }
--- A design or study run states no tolerance: its verdict says so (issue 37).
-report.verdict = require("run_report").verdict({})
+-- The verdict: the rebuild's check between its sections (issue 43); a
+-- failed one fails the run after the report is written.
+report.verdict = require("run_report").verdict({
+  {name = "rebuilt blade between sections, from the design registered to it", unit = "µm",
+   measured = quality.between_max * 1e3, at_most = quality.tolerance * 1e3,
+   note = quality.trusted and nil or quality.message}})
 bliskrun.write_json("blade_repair.json", report)
 require("run_report").write{
   title = "Damaged-blade repair: rebuild and damaged region (" .. damage .. ", " .. part .. ")",
-  settings = settings, numbers = report,
+  settings = settings, numbers = report, verdict = report.verdict,
   files = {{"blade_repair.json", "the report"}, {"blade_repair_sections.txt", "the simulated measurement"},
            {"blade_repair_*.stl", "design, rebuilt blade and damaged region"},
            {"blade_repair_deviation.png", "measured points to the rebuilt blade"},

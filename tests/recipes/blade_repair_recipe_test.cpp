@@ -44,6 +44,10 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   // σ √(2/π) = 1.60 µm, give or take the smoothing.
   const auto& rb = j["rebuild"];
   EXPECT_LT(rb["mean_deviation_um"].get<double>(), 1.25 * rb["noise_floor_um"].get<double>());
+  // The rebuild's own check between the sections (issue 43) is the verdict.
+  EXPECT_TRUE(rb["trusted"].get<bool>());
+  EXPECT_LT(rb["between_sections_max_um"].get<double>(), 10.0);
+  EXPECT_TRUE(j["verdict"]["pass"].get<bool>());
   // The nick: 1 mm deep over 40-65 % span, on the leading edge.
   const auto& region = j["region"];
   EXPECT_GT(region["nicked_sections"].get<int>(), 4);
