@@ -507,6 +507,8 @@ int w_damaged_region(lua_State* L) {
     luax::set_number(L, "face_rms", g.face_rms_mm);
     luax::set_number(L, "tip_volume", g.tip_volume_mm3);
     luax::set_number(L, "nicked_sections", g.nicked_sections);
+    luax::set_number(L, "nicks", g.nicks);
+    luax::set_number(L, "skipped_gaps", g.skipped_gaps);
     luax::set_number(L, "edge_volume", g.edge_volume_mm3);
     luax::set_number(L, "volume", g.volume_mm3);
     luax::set_number(L, "max_thickness", g.max_thickness_mm);
@@ -530,12 +532,14 @@ int w_damaged_region(lua_State* L) {
   });
 }
 
-// region:thickness(u, v) -> mm beyond the damage face at the rebuilt surface's (u, v)
+// region:thickness(u, v) -> mm of missing material along the rebuilt surface's normal at (u, v)
 int w_region_thickness(lua_State* L) {
   const auto& h = luax::check<RegionHandle>(L, 1);
   const double u = luax::check_number(L, 2, "u"), v = luax::check_number(L, 3, "v");
   if (!(u >= 0 && u <= 1 && std::isfinite(v))) luax::error(L, "region:thickness: expected u in [0, 1] and a finite v");
-  lua_pushnumber(L, h.face->thickness(h.rebuild->loft.surface.point(u, v - std::floor(v))));
+  const SurfaceDerivs d = h.rebuild->loft.surface.eval(u, v - std::floor(v));
+  std::vector<Vec2> section;
+  lua_pushnumber(L, normal_thickness(*h.face, d.p, d.pu.cross(d.pv).normalized(), section));
   return 1;
 }
 

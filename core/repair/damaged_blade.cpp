@@ -81,7 +81,9 @@ DesignBlade builtin_design_blade(const BuiltinBlisk& blisk, int blade, int secti
 
 DesignBlade design_blade(const BladeSections& blade, int samples) { return design_blade(blade.sections, samples); }
 
-std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+namespace {
+
+std::vector<Vec2> section_of_loft(const SectionLoft& loft, const BladeFrame& frame, double h, int samples, bool clamp) {
   if (samples < 16) throw ParameterError("samples", "expected at least 16 points per plane section");
   std::vector<Vec2> out(samples);
   for (int j = 0; j < samples; ++j) {
@@ -89,9 +91,13 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
     double lo = 0, hi = 1;
     double g_lo = frame.height(loft.surface.point(lo, v)) - h;
     const double g_hi = frame.height(loft.surface.point(hi, v)) - h;
-    if (g_lo > 0 || g_hi < 0)
-      throw ParameterError("height", "the plane at height " + short_text(h) + " mm does not cut the blade all round (v = " +
-                                         short_text(v) + ")");
+    if (g_lo > 0 || g_hi < 0) {
+      if (!clamp)
+        throw ParameterError("height", "the plane at height " + short_text(h) + " mm does not cut the blade all round (v = " +
+                                           short_text(v) + ")");
+      out[j] = frame.in_plane(loft.surface.point(g_lo > 0 ? 0.0 : 1.0, v));
+      continue;
+    }
     // Newton on u, kept inside the bracket (bisection where it leaves it).
     double u = g_lo / (g_lo - g_hi);
     SurfaceDerivs d;
@@ -113,6 +119,16 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
     out[j] = frame.in_plane(d.p);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+  return section_of_loft(loft, frame, h, samples, false);
+}
+
+std::vector<Vec2> clamped_plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+  return section_of_loft(loft, frame, h, samples, true);
 }
 
 DamagedBlade::DamagedBlade(DesignBlade design, const BladeDamage& d) : design_(std::move(design)), damage_(d) {

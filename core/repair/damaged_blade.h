@@ -95,6 +95,12 @@ DesignBlade design_blade(const BladeSections& blade, int samples = 512);
 // loft's v direction), by Newton on u along each v line. Throws
 // ParameterError ("height") outside the loft's height range at some v.
 std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples = 1024);
+// The same, clamped at the loft's end rows: where the plane passes beyond the
+// first or last row at some v (a loft's end section is a measured one, its
+// points not exactly in one plane, so the plane at its mean height leaves it
+// here and there by the noise), that row's point at v instead. For the
+// damaged region at the end sections (issue 43); never throws for height.
+std::vector<Vec2> clamped_plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples = 1024);
 
 struct BladeDamage {
   double deform_from = 0.3;    // span where the deformation starts

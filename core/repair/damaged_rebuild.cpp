@@ -302,14 +302,18 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       f.end_b = pb;
       f.arc_middle = go_forward ? mid_f : mid_b;
       f.length_mm = g.length_mm;
-      out.fills.push_back(f);
+      f.spacing_mm = w.ordered.spacing_mm;
+      const Vec2 chord = pb - pa;
       Vec2 last = pa;
       for (int s = 1; s < count; ++s) {
         const Vec2& q = model[((ia + (go_forward ? s : -s)) % m + m) % m];
+        if (chord.norm() > 0)
+          f.sagitta_mm = std::max(f.sagitta_mm, std::abs(chord.x() * (q - pa).y() - chord.y() * (q - pa).x()) / chord.norm());
         if ((q - last).norm() < 0.5 * w.ordered.spacing_mm || (q - pb).norm() < 0.5 * w.ordered.spacing_mm) continue;
         fill[a].push_back(frame.point(w.h, q));
         last = q;
       }
+      out.fills.push_back(f);
     }
     std::vector<Vec3> loop;
     for (size_t i = 0; i < w.kept.size(); ++i) {

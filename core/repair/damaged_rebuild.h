@@ -131,6 +131,8 @@ struct SectionGapFill {
   double height_mm = 0;
   Vec2 end_a = Vec2::Zero(), end_b = Vec2::Zero(), arc_middle = Vec2::Zero();
   double length_mm = 0;
+  double sagitta_mm = 0;  // largest distance of the arc put in from the line through the ends
+  double spacing_mm = 0;  // the section's probe spacing
 };
 
 // Midway between two neighbouring loft sections: the loft's plane section

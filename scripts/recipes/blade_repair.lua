@@ -34,6 +34,10 @@ local opt = require("recipe_options"){
              help = "chord tolerance of the STL meshes"},
   tip_tilt = {type = "number", unit = "deg", default = 0, range = {-45, 45}, help = "damage=tip: tilt of the fracture face"},
   edge_depth = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "damage=edge: depth of the nick"},
+  edge_from = {type = "number", default = 0.4, range = {0, 1}, help = "damage=edge: span where the nick starts"},
+  edge_to = {type = "number", default = 0.65, range = {0, 1}, help = "damage=edge: span where the nick ends"},
+  unseen_arc = {type = "number", unit = "mm", default = 0, range = {0, 100},
+                help = "an arc of every section the probe misses (on the flank, at its extreme along -e2)"},
   paths = {type = "boolean", default = true, help = "plan the repair toolpaths (false: stop after the region)"},
   path_layer = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "roughing layer of the paths"},
   guard_spacing = {type = "number", unit = "mm", default = 0.05, range = {0.001, 5}, help = "spacing of the guard samples"},
@@ -59,7 +63,10 @@ if part == "rotor37" then opts.rotor37 = "nasa_rotor37" end
 if damage == "tip" then
   opts.tip_span, opts.tip_tilt = 0.8, opt.tip_tilt
 else
-  opts.edge_from, opts.edge_to, opts.edge_depth = 0.4, 0.65, opt.edge_depth
+  if not (opt.edge_from < opt.edge_to) then
+    error(string.format("edge_from (%g) must be below edge_to (%g)", opt.edge_from, opt.edge_to), 0)
+  end
+  opts.edge_from, opts.edge_to, opts.edge_depth = opt.edge_from, opt.edge_to, opt.edge_depth
 end
 local blade = bliskrun.damaged_blade(opts)
 local info = blade:info()
@@ -70,7 +77,8 @@ if settings.measured then
   measurement = bliskrun.read_sections(settings.measured)
 else
   local simulated = blade:measure{sections = settings.sections, points = settings.points, noise = noise,
-                                  outliers = 0.005, face_points = 60, seed = settings.seed}
+                                  outliers = 0.005, face_points = 60, seed = settings.seed,
+                                  unseen_arc = opt.unseen_arc}
   bliskrun.write_sections("blade_repair_sections.txt", simulated)
   measurement = bliskrun.read_sections("blade_repair_sections.txt")
 end
@@ -237,7 +245,8 @@ local report = {
             v = {region.v_from, region.v_to}, height_mm = {region.height_from, region.height_to},
             span = {(region.height_from - info.h_lo) / (info.h_hi - info.h_lo),
                     (region.height_to - info.h_lo) / (info.h_hi - info.h_lo)},
-            nicked_sections = region.nicked_sections, break_normal = xyz(region.break_normal),
+            nicked_sections = region.nicked_sections, nicks = region.nicks, skipped_gaps = region.skipped_gaps,
+            break_normal = xyz(region.break_normal),
             face_points = region.face_points, face_rms_um = region.face_rms * 1e3, layers = region.layers},
   sections = rep.sections,
   repair_paths = paths,

@@ -51,7 +51,11 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   // The nick: 1 mm deep over 40-65 % span, on the leading edge.
   const auto& region = j["region"];
   EXPECT_GT(region["nicked_sections"].get<int>(), 4);
-  EXPECT_NEAR(region["max_thickness_mm"].get<double>(), 1.0, 0.2);
+  // Along the surface normal: a flank's normal crosses the 1 mm deep (along
+  // the chord) nick diagonally, so longer (measured 1.33 mm; the truth's
+  // longest ray 1.60 mm, tests/repair/damaged_region_test.cpp).
+  EXPECT_GT(region["max_thickness_mm"].get<double>(), 1.0);
+  EXPECT_LT(region["max_thickness_mm"].get<double>(), 1.65);
   EXPECT_LT(region["span"][0].get<double>(), 0.45);
   EXPECT_GT(region["span"][1].get<double>(), 0.6);
   // The toolpaths: nothing refused, no stop in the program, and the
