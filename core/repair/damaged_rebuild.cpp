@@ -189,7 +189,9 @@ SectionRegistration register_section(const std::vector<Vec2>& points, const std:
 DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const DesignBlade& design,
                                const DamagedRebuildOptions& o) {
   const int n = static_cast<int>(measurement.sections.size());
-  if (n < 2) throw ParameterError("sections", "a blade needs at least 2 measured sections, got " + std::to_string(n));
+  const std::string source = measurement.file.empty() ? "" : measurement.file + ": ";
+  if (n < 2)
+    throw ParameterError("sections", source + "a blade needs at least 2 measured sections, got " + std::to_string(n));
   const BladeFrame& frame = design.frame;
   DamagedRebuild out;
   out.frame = frame;
@@ -209,7 +211,9 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     cancellation_point();
     const MeasuredSection& ms = measurement.sections[k];
     Work& w = work[k];
-    const std::string what = "section " + std::to_string(ms.index);
+    // Read from a file, the section is named at its line there (issue 43).
+    const std::string what = (ms.line > 0 ? measurement.file + ":" + std::to_string(ms.line) + ": " : std::string()) +
+                             "section " + std::to_string(ms.index);
     // Ordered in the plane's own coordinates: the same distances, but the
     // ordering's cell grid (PointIndex, dense over the points' bounding box)
     // is one cell thick instead of spanning a plane tilted in the part frame
