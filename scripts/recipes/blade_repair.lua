@@ -145,8 +145,8 @@ lap("damaged region")
 -- broken tip (§2.2), a zigzag with arc lead-outs and bridges over a nicked
 -- edge (§2.1). Proved against the blade itself (shank, holder) and the
 -- fixture plane at the root (every part); the finishing layer simulated on
--- the rebuilt surface over the region and a band of undamaged blade beside
--- it. `--set paths=false` stops after the region.
+-- the rebuilt surface over the region and bands of undamaged blade on
+-- every side of it. `--set paths=false` stops after the region.
 local paths = {}
 if opt.paths and not region.empty then
   local repair = require("repair")
@@ -179,17 +179,39 @@ if opt.paths and not region.empty then
   for _, why in ipairs(plan.refused) do bliskrun.log("  refused connection: " .. why) end
   bliskrun.log(string.format("  planned in %.1f s (passes %.1f s, connections %.1f s)",
                              plan.paths_seconds + plan.connect_seconds, plan.paths_seconds, plan.connect_seconds))
-  -- The band of undamaged blade next to the region: 1 mm of span below it
-  -- (and beside it, for an edge).
+  -- The bands of undamaged blade around the region, on every side the tool
+  -- reaches (issue 43: 1 mm below only missed contacts above and beside
+  -- it): 1 mm of span below and above, and 1 mm around the profile before
+  -- and after the region's v range (the window's perimeter at mid-span
+  -- turns mm into v). A side at the loft's end (u 0 or 1) has no band.
   local du = 1 / (info.h_hi - info.h_lo)
-  local band = {u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v}
   local passes = repair.finishing_passes(plan, tool)
   local su, sv = repair.window_samples(rebuilt, w, 0.5 * (w.v[1] + w.v[2]))
   local sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = w.u, v = w.v, samples_u = su, samples_v = sv,
                                 search_above = 0.05, search_below = 0.05}
-  local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (w.v[1] + w.v[2]))
-  local band_sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
-                                     samples_v = bv, search_above = 0.05, search_below = 0.05}
+  local um = 0.5 * (w.u[1] + w.u[2])
+  local around = 0
+  for k = 0, 255 do
+    local a, b = rebuilt:point(um, k / 256), rebuilt:point(um, (k + 1) / 256)
+    around = around + math.sqrt((b.x - a.x) ^ 2 + (b.y - a.y) ^ 2 + (b.z - a.z) ^ 2)
+  end
+  local dv = 1 / around
+  local bands = {
+    {name = "below", u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v},
+    {name = "above", u = {w.u[2], math.min(1, w.u[2] + du)}, v = w.v},
+    {name = "before", u = w.u, v = {math.max(0, w.v[1] - dv), w.v[1]}},
+    {name = "after", u = w.u, v = {w.v[2], math.min(1, w.v[2] + dv)}},
+  }
+  local band_sim = {overcut = 0, sides = {}}
+  for _, band in ipairs(bands) do
+    if band.u[2] - band.u[1] > 1e-9 and band.v[2] - band.v[1] > 1e-9 then
+      local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (band.v[1] + band.v[2]))
+      local b = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
+                                  samples_v = bv, search_above = 0.05, search_below = 0.05}
+      band_sim.sides[band.name] = b.overcut
+      band_sim.overcut = math.min(band_sim.overcut, b.overcut)
+    end
+  end
   lap("repair simulation")
   sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (µm)"})
   paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
@@ -198,7 +220,8 @@ if opt.paths and not region.empty then
            lifted = plan.lifted, max_lift_mm = plan.max_lift,
            chord_deviation_max_mm = plan.max_deviation,
            simulation = {untouched = sim.untouched, residual_max_mm = sim.residual_max, overcut_mm = sim.overcut,
-                         band_overcut_mm = band_sim.overcut, allowed_undercut_mm = scallop + chord_tol}}
+                         band_overcut_mm = band_sim.overcut, band_overcut_by_side_mm = band_sim.sides,
+                         allowed_undercut_mm = scallop + chord_tol}}
   bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused, %d finishing contacts "
                              .. "lifted over troughs narrower than the ball (up to %.2f um); finishing simulated: "
                              .. "material left <= %.2f um (allowed %.1f), overcut %.2f um, %.2f um in the band",

@@ -69,6 +69,9 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   EXPECT_LE(sim["residual_max_mm"].get<double>(), sim["allowed_undercut_mm"].get<double>() + 1e-4);
   EXPECT_GT(sim["overcut_mm"].get<double>(), -0.003);
   EXPECT_GT(sim["band_overcut_mm"].get<double>(), -0.003);
+  // The bands on every side of the region were simulated (issue 43 item 4).
+  for (const char* side : {"below", "above", "before", "after"})
+    EXPECT_TRUE(sim["band_overcut_by_side_mm"].contains(side)) << side;
 }
 
 TEST(BladeRepairRecipe, BrokenTipIsExtendedAndItsRegionIsAboveTheBreak) {
