@@ -331,8 +331,9 @@ const char* source_name(SectionSource s) {
 }
 
 // bliskrun.rebuild_damaged{measurement=, blade=, smoothing = 0.1, samples = 512,
-// align_samples = 2048, design_samples = 1024, max_step=, outlier=}
-// -> Surface, report, DamagedRebuild
+// align_samples = 2048, design_samples = 1024, max_step=, outlier=,
+// between_tolerance = 0.01}
+// -> Surface, report (with .quality: the check between sections), DamagedRebuild
 int w_rebuild_damaged(lua_State* L) {
   static const char* what = "bliskrun.rebuild_damaged";
   const luax::Options o(
@@ -346,7 +347,10 @@ int w_rebuild_damaged(lua_State* L) {
        number_field("max_step", "longest step between neighbouring points of a section, mm (default: from the spacing)", 0, 1e4),
        Field{"threads", Kind::Integer, false, 1, 256,
              "sections processed on this many threads (default: the run's --threads); the result does not depend on it", {}},
-       number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4)});
+       number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4),
+       number_field("between_tolerance",
+                    "largest distance of the rebuilt blade's section midway between two sections from the design's "
+                    "registered to it, for the rebuild to be trusted, mm (default 0.01)", 0, 100)});
   o.push_raw("measurement");
   const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
   lua_pop(L, 1);
@@ -361,6 +365,7 @@ int w_rebuild_damaged(lua_State* L) {
   ro.design_samples = static_cast<int>(o.integer("design_samples", ro.design_samples));
   ro.rebuild.order.max_step_mm = o.number("max_step", 0);
   ro.rebuild.order.outlier_mm = o.number("outlier", 0);
+  ro.between_tolerance_mm = o.number("between_tolerance", ro.between_tolerance_mm);
   return luax::guarded(L, [&] {
     auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
     push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
@@ -391,6 +396,32 @@ int w_rebuild_damaged(lua_State* L) {
       lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
     }
     lua_setfield(L, -2, "sections");
+    const RebuildQuality& q = r->quality;
+    lua_createtable(L, 0, 10);
+    luax::set_bool(L, "trusted", q.trusted);
+    luax::set_string(L, "message", q.message);
+    luax::set_string(L, "start_method", q.start_method);
+    luax::set_number(L, "attempts", q.attempts);
+    luax::set_number(L, "tolerance", q.tolerance_mm);
+    luax::set_number(L, "between_max", q.between_max_mm);
+    luax::set_number(L, "between_at", q.between_at_mm);
+    luax::set_number(L, "least_correlation", q.least_correlation);
+    lua_createtable(L, static_cast<int>(q.attempt_max_mm.size()), 0);
+    for (size_t k = 0; k < q.attempt_max_mm.size(); ++k) {
+      lua_pushnumber(L, q.attempt_max_mm[k]);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "attempt_max");
+    lua_createtable(L, static_cast<int>(q.between.size()), 0);
+    for (size_t k = 0; k < q.between.size(); ++k) {
+      lua_createtable(L, 0, 3);
+      luax::set_number(L, "height", q.between[k].height_mm);
+      luax::set_number(L, "max", q.between[k].max_mm);
+      luax::set_number(L, "rms", q.between[k].rms_mm);
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    lua_setfield(L, -2, "between");
+    lua_setfield(L, -2, "quality");
     luax::push_new(L, RebuildHandle{r});
     return 3;
   });
@@ -476,6 +507,8 @@ int w_damaged_region(lua_State* L) {
     luax::set_number(L, "face_rms", g.face_rms_mm);
     luax::set_number(L, "tip_volume", g.tip_volume_mm3);
     luax::set_number(L, "nicked_sections", g.nicked_sections);
+    luax::set_number(L, "nicks", g.nicks);
+    luax::set_number(L, "skipped_gaps", g.skipped_gaps);
     luax::set_number(L, "edge_volume", g.edge_volume_mm3);
     luax::set_number(L, "volume", g.volume_mm3);
     luax::set_number(L, "max_thickness", g.max_thickness_mm);
@@ -499,12 +532,14 @@ int w_damaged_region(lua_State* L) {
   });
 }
 
-// region:thickness(u, v) -> mm beyond the damage face at the rebuilt surface's (u, v)
+// region:thickness(u, v) -> mm of missing material along the rebuilt surface's normal at (u, v)
 int w_region_thickness(lua_State* L) {
   const auto& h = luax::check<RegionHandle>(L, 1);
   const double u = luax::check_number(L, 2, "u"), v = luax::check_number(L, 3, "v");
   if (!(u >= 0 && u <= 1 && std::isfinite(v))) luax::error(L, "region:thickness: expected u in [0, 1] and a finite v");
-  lua_pushnumber(L, h.face->thickness(h.rebuild->loft.surface.point(u, v - std::floor(v))));
+  const SurfaceDerivs d = h.rebuild->loft.surface.eval(u, v - std::floor(v));
+  std::vector<Vec2> section;
+  lua_pushnumber(L, normal_thickness(*h.face, d.p, d.pu.cross(d.pv).normalized(), section));
   return 1;
 }
 

@@ -81,7 +81,9 @@ DesignBlade builtin_design_blade(const BuiltinBlisk& blisk, int blade, int secti
 
 DesignBlade design_blade(const BladeSections& blade, int samples) { return design_blade(blade.sections, samples); }
 
-std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+namespace {
+
+std::vector<Vec2> section_of_loft(const SectionLoft& loft, const BladeFrame& frame, double h, int samples, bool clamp) {
   if (samples < 16) throw ParameterError("samples", "expected at least 16 points per plane section");
   std::vector<Vec2> out(samples);
   for (int j = 0; j < samples; ++j) {
@@ -89,9 +91,13 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
     double lo = 0, hi = 1;
     double g_lo = frame.height(loft.surface.point(lo, v)) - h;
     const double g_hi = frame.height(loft.surface.point(hi, v)) - h;
-    if (g_lo > 0 || g_hi < 0)
-      throw ParameterError("height", "the plane at height " + short_text(h) + " mm does not cut the blade all round (v = " +
-                                         short_text(v) + ")");
+    if (g_lo > 0 || g_hi < 0) {
+      if (!clamp)
+        throw ParameterError("height", "the plane at height " + short_text(h) + " mm does not cut the blade all round (v = " +
+                                           short_text(v) + ")");
+      out[j] = frame.in_plane(loft.surface.point(g_lo > 0 ? 0.0 : 1.0, v));
+      continue;
+    }
     // Newton on u, kept inside the bracket (bisection where it leaves it).
     double u = g_lo / (g_lo - g_hi);
     SurfaceDerivs d;
@@ -113,6 +119,16 @@ std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame
     out[j] = frame.in_plane(d.p);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+  return section_of_loft(loft, frame, h, samples, false);
+}
+
+std::vector<Vec2> clamped_plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples) {
+  return section_of_loft(loft, frame, h, samples, true);
 }
 
 DamagedBlade::DamagedBlade(DesignBlade design, const BladeDamage& d) : design_(std::move(design)), damage_(d) {
@@ -282,6 +298,8 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
   enum { kNone, kSection, kFace } block = kNone;
   bool csv = false, first = true;
   std::map<long, size_t> csv_sections;  // section key -> index in m.sections
+  bool csv_by_z = false;
+  int csv_first_line = 0;
   auto csv_section = [&](long key, double height) -> MeasuredSection& {
     auto it = csv_sections.find(key);
     if (it == csv_sections.end()) {
@@ -289,6 +307,7 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
       MeasuredSection s;
       s.index = static_cast<int>(key);
       s.height_mm = height;
+      s.line = lines.line();
       m.sections.push_back(s);
     }
     return m.sections[it->second];
@@ -314,6 +333,13 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
       if (v.size() != 3 && v.size() != 4)
         lines.fail("expected 3 or 4 comma-separated numbers (x,y,z or x,y,z,section), got " + std::to_string(v.size()));
       if (v.size() == 4 && v[3] != std::floor(v[3])) lines.fail("expected a whole section number in column 4, got " + short_text(v[3]));
+      if (csv_first_line == 0) {
+        csv_first_line = lines.line();
+        csv_by_z = v.size() == 3;
+      }
+      if (csv_by_z != (v.size() == 3))
+        lines.fail("expected " + std::string(csv_by_z ? "3" : "4") + " columns on every line, as on line " +
+                   std::to_string(csv_first_line));
       const long key = v.size() == 4 ? static_cast<long>(v[3]) : std::lround(v[2] * 1000);
       csv_section(key, v[2]).points.emplace_back(v[0], v[1], v[2]);
       continue;
@@ -336,6 +362,7 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
       MeasuredSection s;
       s.index = static_cast<int>(v[0]);
       s.height_mm = scale * v[1];
+      s.line = lines.line();
       if (!m.sections.empty() && s.height_mm <= m.sections.back().height_mm)
         lines.fail("expected sections in increasing height, section " + short_text(v[0]) + " at " + short_text(s.height_mm) +
                    " mm is not above the previous one");
@@ -355,6 +382,20 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
         lines.fail("expected 'section <number> <height>' or 'face' before the first point");
     }
   }
+  if (csv && csv_by_z) {
+    // Grouped by Z: right only for sections measured at constant Z. A blade
+    // stacked along another axis (radially, on a rotor) has its points each
+    // at their own Z — thousands of one-point "sections" (issue 43) — so
+    // refuse rather than guess the axis.
+    size_t small = 0;
+    for (const MeasuredSection& s : m.sections) small += s.points.size() < 10;
+    if (small > 0)
+      throw DataError(file, csv_first_line,
+                      "points without a section column are grouped by Z (sections measured at constant Z), but " +
+                          std::to_string(small) + " of the " + std::to_string(m.sections.size()) +
+                          " Z values have fewer than 10 points: the sections are not at constant Z (a blade not "
+                          "stacked along Z?); add a 4th column, x,y,z,section, with each point's section number");
+  }
   if (csv) {
     // Heights: mean z of each section (a CMM export measures at constant Z).
     for (MeasuredSection& s : m.sections) {
@@ -369,6 +410,7 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
   for (const MeasuredSection& s : m.sections)
     if (s.points.empty()) throw DataError(file, lines.line(), "section " + std::to_string(s.index) + " has no point");
   if (!m.has_frame) m.frame = blade_frame(Vec3::Zero(), Vec3::UnitZ());
+  m.file = file;
   return m;
 }
 

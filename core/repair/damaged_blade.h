@@ -95,6 +95,12 @@ DesignBlade design_blade(const BladeSections& blade, int samples = 512);
 // loft's v direction), by Newton on u along each v line. Throws
 // ParameterError ("height") outside the loft's height range at some v.
 std::vector<Vec2> plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples = 1024);
+// The same, clamped at the loft's end rows: where the plane passes beyond the
+// first or last row at some v (a loft's end section is a measured one, its
+// points not exactly in one plane, so the plane at its mean height leaves it
+// here and there by the noise), that row's point at v instead. For the
+// damaged region at the end sections (issue 43); never throws for height.
+std::vector<Vec2> clamped_plane_section(const SectionLoft& loft, const BladeFrame& frame, double h, int samples = 1024);
 
 struct BladeDamage {
   double deform_from = 0.3;    // span where the deformation starts
@@ -150,11 +156,13 @@ struct MeasuredSection {
   int index = 0;        // 1-based section number of the measurement plan
   double height_mm = 0; // along the stacking axis
   std::vector<Vec3> points;
+  int line = 0;         // read from a file: the line where the section starts (0: not read)
 };
 
 // A measurement of one blade: sections, points probed on the fracture face of
 // a broken tip (possibly none), and the stacking frame.
 struct SectionMeasurement {
+  std::string file;  // read from a file: its name, for errors at file:line (empty: not read)
   std::string units = "mm";
   BladeFrame frame;
   bool has_frame = false;
@@ -173,8 +181,11 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
 //   face                           then "x y z" points on a tip's fracture face
 // or a CMM CSV export: lines "x,y,z" or "x,y,z,section" (an optional header
 // line of names first), points grouped by the section column, or — without
-// one — by height along Z rounded to 1 um. Errors are DataError
-// "<file>:<line>: ..." naming what was expected.
+// one — by height along Z rounded to 1 um, which holds only for sections
+// measured at constant Z (a blade stacked along Z): where that leaves sections
+// of fewer than 10 points (a radially stacked blade's points each at their
+// own Z), the file is refused with an error asking for the section column.
+// Errors are DataError "<file>:<line>: ..." naming what was expected.
 SectionMeasurement read_section_measurement(const std::string& path);
 SectionMeasurement parse_section_measurement(const std::string& text, const std::string& file);
 // Full precision (17 significant digits): reading it back gives the same numbers.

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/common/parallel.h"
 #include "core/common/progress.h"
 #include "core/common/statistics.h"
@@ -35,7 +37,75 @@ double extrapolate(const std::vector<double>& x, const std::vector<double>& y, i
   return out;
 }
 
+// Distance from q to the closed polygon through poly, near its vertex j.
+double distance_near(const Vec2& q, const std::vector<Vec2>& poly, int j) {
+  const int m = static_cast<int>(poly.size());
+  double best = 1e300;
+  for (int s = -2; s < 2; ++s) {
+    const Vec2& a = poly[((j + s) % m + m) % m];
+    const Vec2& b = poly[((j + s + 1) % m + m) % m];
+    const double len2 = (b - a).squaredNorm();
+    const double t = len2 > 0 ? std::clamp((q - a).dot(b - a) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, (a + t * (b - a) - q).norm());
+  }
+  return best;
+}
+
+// The parameter of the point of a closed curve nearest to p: the nearest of
+// 2048 samples, then Newton on (c(t) - p) . c'(t).
+double nearest_parameter(const ClosedCurve& c, const Vec3& p) {
+  const int n = 2048;
+  const double period = c.t_max() - c.t_min();
+  double best_t = c.t_min(), best = 1e300;
+  for (int i = 0; i < n; ++i) {
+    const double t = c.t_min() + period * i / n;
+    const double d = (c.eval(t).p - p).squaredNorm();
+    if (d < best) {
+      best = d;
+      best_t = t;
+    }
+  }
+  double t = best_t;
+  for (int it = 0; it < 20; ++it) {
+    const CurveDerivs d = c.eval(t);
+    const Vec3 r = d.p - p;
+    const double f = r.dot(d.dt), df = d.dt.squaredNorm() + r.dot(d.dtt);
+    if (!(df > 0)) break;
+    const double step = std::clamp(-f / df, -period / n, period / n);
+    t += step;
+    if (std::abs(step) < 1e-12) break;
+  }
+  return t;
+}
+
 }  // namespace
+
+// The loft's plane section at height h against the design's registered to it.
+BetweenSectionCheck check_between(const SectionLoft& loft, const DesignBlade& design, double h, int samples,
+                                  const SectionRegistrationOptions& registration) {
+  BetweenSectionCheck c;
+  c.height_mm = h;
+  const std::vector<Vec2> rebuilt = plane_section(loft, design.frame, h, samples);
+  std::vector<Vec2> model = plane_section(design.loft, design.frame, h, samples);
+  const SectionRegistration r = register_section(rebuilt, model, registration);
+  for (Vec2& p : model) p = r.motion.apply(p);
+  std::vector<Vec3> lifted;
+  double perimeter = 0;
+  for (size_t j = 0; j < model.size(); ++j) {
+    lifted.push_back(lift(model[j]));
+    perimeter += (model[(j + 1) % model.size()] - model[j]).norm();
+  }
+  const PointIndex index(lifted, perimeter / model.size());
+  double sum2 = 0;
+  for (const Vec2& p : rebuilt) {
+    const int j = index.nearest(lift(p), 1e3);
+    const double d = j < 0 ? 1e3 : distance_near(p, model, j);
+    c.max_mm = std::max(c.max_mm, d);
+    sum2 += d * d;
+  }
+  c.rms_mm = std::sqrt(sum2 / rebuilt.size());
+  return c;
+}
 
 Vec2 Rigid2::apply(const Vec2& p) const { return rotate(p, angle_rad) + shift; }
 
@@ -119,7 +189,9 @@ SectionRegistration register_section(const std::vector<Vec2>& points, const std:
 DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const DesignBlade& design,
                                const DamagedRebuildOptions& o) {
   const int n = static_cast<int>(measurement.sections.size());
-  if (n < 2) throw ParameterError("sections", "a blade needs at least 2 measured sections, got " + std::to_string(n));
+  const std::string source = measurement.file.empty() ? "" : measurement.file + ": ";
+  if (n < 2)
+    throw ParameterError("sections", source + "a blade needs at least 2 measured sections, got " + std::to_string(n));
   const BladeFrame& frame = design.frame;
   DamagedRebuild out;
   out.frame = frame;
@@ -139,7 +211,9 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     cancellation_point();
     const MeasuredSection& ms = measurement.sections[k];
     Work& w = work[k];
-    const std::string what = "section " + std::to_string(ms.index);
+    // Read from a file, the section is named at its line there (issue 43).
+    const std::string what = (ms.line > 0 ? measurement.file + ":" + std::to_string(ms.line) + ": " : std::string()) +
+                             "section " + std::to_string(ms.index);
     // Ordered in the plane's own coordinates: the same distances, but the
     // ordering's cell grid (PointIndex, dense over the points' bounding box)
     // is one cell thick instead of spanning a plane tilted in the part frame
@@ -207,15 +281,24 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       const Vec2 pa = frame.in_plane(w.kept[a]), pb = frame.in_plane(w.kept[b]);
       const int ia = model_index.nearest(lift(pa), far), ib = model_index.nearest(lift(pb), far);
       if (ia < 0 || ib < 0 || ia == ib) continue;  // a gap narrower than the model's spacing: nothing to put in
-      // Of the two arcs from ia to ib, the one whose middle no measured point is near.
+      // Of the two arcs from ia to ib, the one the measured points do not
+      // cover: the fewer of its model points with a kept point within two
+      // spacings (a count, not a fraction: the ends of a short arc are
+      // always covered). (Judging by the arc's middle alone picks the long way
+      // round when the section has a second gap there — a stray's hole
+      // beside a nick put the whole design loop into the hole, issue 43.)
       const int forward = ((ib - ia) % m + m) % m;
+      auto covered = [&](int steps, int dir) {
+        int near = 0;
+        for (int s = 1; s < steps; ++s) {
+          const Vec2& q = model[((ia + dir * s) % m + m) % m];
+          if (kept_index.nearest(lift(q), 2 * w.ordered.spacing_mm) >= 0) ++near;
+        }
+        return near;
+      };
+      const bool go_forward = covered(forward, 1) <= covered(m - forward, -1);
       const Vec2 mid_f = model[(ia + forward / 2) % m];
       const Vec2 mid_b = model[((ia - (m - forward) / 2) % m + m) % m];
-      auto clearance = [&](const Vec2& q) {
-        const int j = kept_index.nearest(lift(q), far);
-        return j < 0 ? far : (kept_plane[j] - lift(q)).norm();
-      };
-      const bool go_forward = clearance(mid_f) >= clearance(mid_b);
       const int count = go_forward ? forward : m - forward;
       SectionGapFill f;
       f.height_mm = w.h;
@@ -223,14 +306,18 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       f.end_b = pb;
       f.arc_middle = go_forward ? mid_f : mid_b;
       f.length_mm = g.length_mm;
-      out.fills.push_back(f);
+      f.spacing_mm = w.ordered.spacing_mm;
+      const Vec2 chord = pb - pa;
       Vec2 last = pa;
       for (int s = 1; s < count; ++s) {
         const Vec2& q = model[((ia + (go_forward ? s : -s)) % m + m) % m];
+        if (chord.norm() > 0)
+          f.sagitta_mm = std::max(f.sagitta_mm, std::abs(chord.x() * (q - pa).y() - chord.y() * (q - pa).x()) / chord.norm());
         if ((q - last).norm() < 0.5 * w.ordered.spacing_mm || (q - pb).norm() < 0.5 * w.ordered.spacing_mm) continue;
         fill[a].push_back(frame.point(w.h, q));
         last = q;
       }
+      out.fills.push_back(f);
     }
     std::vector<Vec3> loop;
     for (size_t i = 0; i < w.kept.size(); ++i) {
@@ -271,7 +358,9 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
   }
   for (Work& w : extension) work.push_back(std::move(w));
 
-  // 5. Orient, smooth, align, loft, measure (rebuild_blade's chain).
+  // 5. Orient, smooth, align, loft, measure (rebuild_blade's chain), the
+  // loft checked between its sections (header) and tried again from the
+  // design's starts when it fails.
   std::vector<std::vector<Vec3>> loops;
   for (const Work& w : work) loops.push_back(w.loop);
   const std::vector<OrientedSection> oriented = orient_sections(loops, frame.axis);
@@ -283,7 +372,108 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     curves[k] = s.curve;
   });
   const AlignedSections aligned = align_section_starts(curves, o.rebuild.align_samples, o.rebuild.threads);
-  out.loft = loft_sections(aligned.curves, o.rebuild.loft);
+  RebuildQuality& q = out.quality;
+  q.tolerance_mm = o.between_tolerance_mm;
+  for (size_t k = 1; k < work.size(); ++k)
+    if (work[k].report.source != SectionSource::extended)
+      q.least_correlation = std::min(q.least_correlation, aligned.alignments[k].correlation);
+
+  int attempt_number = 0;
+  auto sabotage = [&](std::vector<ClosedCurve>& cs) {
+    const int k = o.forced_start_section;
+    if (++attempt_number <= o.forced_start_attempts && k >= 0 && k < static_cast<int>(cs.size())) cs[k] = cs[k].started_at(cs[k].t_min() + o.forced_start_shift_mm);
+  };
+  struct Attempt {
+    SectionLoft loft;
+    std::vector<BetweenSectionCheck> checks;
+    double worst = 0, worst_at = 0;
+    std::string failure;  // a check that could not be made
+  };
+  auto attempt = [&](std::vector<ClosedCurve> cs) {
+    sabotage(cs);
+    Attempt a;
+    a.loft = loft_sections(cs, o.rebuild.loft);
+    a.checks.resize(work.size() - 1);
+    std::vector<std::string> errors(work.size() - 1);
+    parallel_for_index(work.size() - 1, o.rebuild.threads, [&](size_t k) {
+      cancellation_point();
+      BetweenSectionCheck& c = a.checks[k];
+      c.height_mm = 0.5 * (work[k].h + work[k + 1].h);
+      try {
+        c = check_between(a.loft, design, c.height_mm, o.design_samples, o.registration);
+      } catch (const Error& e) {
+        errors[k] = e.what();
+        c.max_mm = c.rms_mm = std::numeric_limits<double>::infinity();
+      }
+    });
+    for (size_t k = 0; k < a.checks.size(); ++k) {
+      if (a.failure.empty() && !errors[k].empty())
+        a.failure = "the loft's section at height " + short_text(a.checks[k].height_mm) + " mm could not be checked: " + errors[k];
+      if (!(a.checks[k].max_mm <= a.worst)) {
+        a.worst = a.checks[k].max_mm;
+        a.worst_at = a.checks[k].height_mm;
+      }
+    }
+    return a;
+  };
+  Attempt best = attempt(aligned.curves);
+  q.attempts = 1;
+  q.start_method = "curvature";
+  q.attempt_max_mm.push_back(best.worst);
+  if (!(best.worst <= o.between_tolerance_mm)) {
+    // The retry: each section started where the registered design's v = 0
+    // (its plane section's first point) lands on it.
+    for (Work& w : work)
+      if (!w.report.registered) register_at(w);
+    std::vector<ClosedCurve> restarted(work.size());
+    parallel_for_index(work.size(), o.rebuild.threads, [&](size_t k) {
+      cancellation_point();
+      const Vec2 first = plane_section(design.loft, frame, work[k].h, 16)[0];
+      const Vec3 target = frame.point(work[k].h, work[k].report.motion.apply(first));
+      restarted[k] = curves[k].started_at(nearest_parameter(curves[k], target));
+    });
+    // The design's starts are as good as the registrations (um) and the
+    // nearest point; refined by the curvature profiles, as the first
+    // attempt, but each within 0.5 mm of its design start, so no start can
+    // jump along the profile.
+    std::vector<CurvatureProfile> profiles(work.size());
+    parallel_for_index(work.size(), o.rebuild.threads, [&](size_t k) {
+      cancellation_point();
+      profiles[k] = curvature_profile(restarted[k], o.rebuild.align_samples);
+    });
+    CurvatureProfile reference = profiles[0];
+    for (size_t k = 1; k < work.size(); ++k) {
+      cancellation_point();
+      const int window = static_cast<int>(std::ceil(0.5 * o.rebuild.align_samples / profiles[k].length_mm));
+      const StartAlignment a = align_start(reference, profiles[k], window);
+      restarted[k] = restarted[k].started_at(a.t_start);
+      reference = curvature_profile(restarted[k], o.rebuild.align_samples);
+    }
+    Attempt retry = attempt(restarted);
+    q.attempts = 2;
+    q.attempt_max_mm.push_back(retry.worst);
+    if (retry.worst < best.worst) {
+      best = std::move(retry);
+      q.start_method = "design";
+    }
+  }
+  out.loft = std::move(best.loft);
+  q.between = best.checks;
+  q.between_max_mm = best.worst;
+  q.between_at_mm = best.worst_at;
+  q.trusted = best.worst <= o.between_tolerance_mm;
+  if (!q.trusted) {
+    q.message = best.failure.empty()
+                    ? "the rebuilt blade is not trustworthy between its sections: at height " + short_text(best.worst_at) +
+                          " mm its section is " + short_text(1e3 * best.worst) + " um from the design's registered to it "
+                          "(tolerance " + short_text(1e3 * o.between_tolerance_mm) + " um), after " +
+                          std::to_string(q.attempts) + " start alignments (curvature" +
+                          (q.attempts > 1 ? ", design" : "") + "; least start correlation " +
+                          short_text(q.least_correlation) + "). Noisy sections are smoothed too little "
+                          "(a longer smoothing length), a section with a wrong gap fill or a wrong start shows "
+                          "here; the blade may also differ from its design by more than a motion in its planes"
+                    : "the rebuilt blade is not trustworthy: " + best.failure;
+  }
   std::vector<Vec3> kept;
   for (size_t k = 0; k < work.size(); ++k) {
     work[k].report.start_correlation = aligned.alignments[k].correlation;

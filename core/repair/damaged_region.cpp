@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
@@ -11,8 +12,10 @@
 
 namespace bliskrun {
 
-double clipped_area(const std::vector<Vec2>& poly, const Vec2& n, double c) {
-  // Sutherland-Hodgman against one half-plane, then the shoelace formula.
+namespace {
+
+// Sutherland-Hodgman against one half-plane n . p + c > 0.
+std::vector<Vec2> clip(const std::vector<Vec2>& poly, const Vec2& n, double c) {
   std::vector<Vec2> out;
   const size_t m = poly.size();
   for (size_t i = 0; i < m; ++i) {
@@ -22,14 +25,24 @@ double clipped_area(const std::vector<Vec2>& poly, const Vec2& n, double c) {
     if (dp > 0) out.push_back(p);
     if ((dp > 0) != (dq > 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
   }
+  return out;
+}
+
+double area(const std::vector<Vec2>& poly) {
   double twice = 0;
-  for (size_t i = 0; i < out.size(); ++i) {
-    const Vec2& p = out[i];
-    const Vec2& q = out[(i + 1) % out.size()];
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& p = poly[i];
+    const Vec2& q = poly[(i + 1) % poly.size()];
     twice += p.x() * q.y() - p.y() * q.x();
   }
   return 0.5 * std::abs(twice);
 }
+
+constexpr int kVBins = 1024;  // v resolution of a gap's stretch, for the pairing
+
+}  // namespace
+
+double clipped_area(const std::vector<Vec2>& poly, const Vec2& n, double c) { return area(clip(poly, n, c)); }
 
 DamageFace::DamageFace(const DamagedRebuild& rebuilt, const SectionMeasurement& measurement, double min_gap_mm)
     : rebuilt_(rebuilt) {
@@ -57,47 +70,156 @@ DamageFace::DamageFace(const DamagedRebuild& rebuilt, const SectionMeasurement& 
     sec.h = s.height_mm;
     sections_.push_back(sec);
   }
-  // Each completed section's largest gap (fills are in section order).
+  // Every gap of every completed section that is damage (header), with the
+  // stretch of the rebuilt section it spans.
+  std::vector<std::vector<std::vector<char>>> bins(sections_.size());
   for (const SectionGapFill& g : rebuilt.fills) {
-    if (g.length_mm < min_gap_mm) continue;
-    for (Section& s : sections_) {
+    if (g.length_mm < min_gap_mm || g.sagitta_mm < g.spacing_mm) {
+      ++skipped_;
+      continue;
+    }
+    for (size_t k = 0; k < sections_.size(); ++k) {
+      Section& s = sections_[k];
       if (std::abs(s.h - g.height_mm) > 1e-9) continue;
       Vec2 n(-(g.end_b - g.end_a).y(), (g.end_b - g.end_a).x());
       if (n.squaredNorm() == 0) continue;
       n.normalize();
       if (n.dot(g.arc_middle - g.end_a) < 0) n = -n;
-      if (!s.gap || n.dot(g.arc_middle - g.end_a) > s.n.dot(g.arc_middle - s.a)) {
-        s.gap = true;
-        s.a = g.end_a;
-        s.n = n;
+      Gap gap;
+      gap.a = g.end_a;
+      gap.n = n;
+      const std::vector<Vec2> poly = clamped_plane_section(rebuilt.loft, f, s.h, kVBins);
+      auto nearest = [&](const Vec2& q) {
+        int best = 0;
+        for (int j = 1; j < kVBins; ++j)
+          if ((poly[j] - q).squaredNorm() < (poly[best] - q).squaredNorm()) best = j;
+        return best;
+      };
+      const int ja = nearest(g.end_a), jb = nearest(g.end_b), jm = nearest(g.arc_middle);
+      const int ab = ((jb - ja) % kVBins + kVBins) % kVBins, am = ((jm - ja) % kVBins + kVBins) % kVBins;
+      const int j0 = am <= ab ? ja : jb, len = am <= ab ? ab : kVBins - ab;
+      gap.v0 = static_cast<double>(j0) / kVBins;
+      gap.v1 = static_cast<double>((j0 + len) % kVBins) / kVBins;
+      std::vector<char> mark(kVBins, 0);
+      for (int d = -2; d <= len + 2; ++d) mark[((j0 + d) % kVBins + kVBins) % kVBins] = 1;
+      for (const Vec2& q : poly) gap.depth = std::max(gap.depth, n.dot(q - gap.a));
+      s.gaps.push_back(gap);
+      bins[k].push_back(std::move(mark));
+    }
+  }
+  // Pairs across neighbouring sections: the gap above with the most overlap.
+  for (size_t k = 0; k < sections_.size(); ++k) {
+    sections_[k].partner_up.assign(sections_[k].gaps.size(), -1);
+    sections_[k].has_partner_down.assign(sections_[k].gaps.size(), 0);
+  }
+  for (size_t k = 0; k + 1 < sections_.size(); ++k) {
+    Section& lo = sections_[k];
+    Section& hi = sections_[k + 1];
+    for (size_t i = 0; i < lo.gaps.size(); ++i) {
+      int best = -1, best_overlap = 0;
+      for (size_t j = 0; j < hi.gaps.size(); ++j) {
+        if (hi.has_partner_down[j]) continue;
+        int overlap = 0;
+        for (int b = 0; b < kVBins; ++b) overlap += bins[k][i][b] && bins[k + 1][j][b];
+        if (overlap > best_overlap) {
+          best_overlap = overlap;
+          best = static_cast<int>(j);
+        }
+      }
+      if (best >= 0) {
+        lo.partner_up[i] = best;
+        hi.has_partner_down[best] = 1;
       }
     }
   }
 }
 
-double DamageFace::edge_thickness(double h, const Vec2& xy) const {
+void DamageFace::edge_half_planes(double h, std::vector<HalfPlane>& out) const {
   const size_t n = sections_.size();
-  if (n == 0 || h < sections_.front().h || h > sections_.back().h) return 0;
+  if (n < 2 || h < sections_.front().h || h > sections_.back().h) return;
   size_t k = 0;
   while (k + 2 < n && sections_[k + 1].h < h) ++k;
   const Section& lo = sections_[k];
   const Section& hi = sections_[k + 1];
   const double f = (h - lo.h) / (hi.h - lo.h);
-  if (lo.gap && hi.gap) {
-    const Vec2 a = lo.a + f * (hi.a - lo.a);
-    const Vec2 nn = (lo.n + f * (hi.n - lo.n)).normalized();
-    return std::max(0.0, nn.dot(xy - a));
+  for (size_t i = 0; i < lo.gaps.size(); ++i) {
+    const Gap& g = lo.gaps[i];
+    if (lo.partner_up[i] >= 0) {
+      const Gap& u = hi.gaps[lo.partner_up[i]];
+      const Vec2 a = g.a + f * (u.a - g.a);
+      const Vec2 nn = (g.n + f * (u.n - g.n)).normalized();
+      out.push_back({nn, -nn.dot(a)});
+    } else {
+      out.push_back({g.n, -g.n.dot(g.a) - f * g.depth});
+    }
   }
-  if (lo.gap) return std::max(0.0, lo.n.dot(xy - lo.a) - f * lo.depth);
-  if (hi.gap) return std::max(0.0, hi.n.dot(xy - hi.a) - (1 - f) * hi.depth);
-  return 0;
+  for (size_t j = 0; j < hi.gaps.size(); ++j)
+    if (!hi.has_partner_down[j]) out.push_back({hi.gaps[j].n, -hi.gaps[j].n.dot(hi.gaps[j].a) - (1 - f) * hi.gaps[j].depth});
+}
+
+std::vector<DamageFace::HalfPlane> DamageFace::half_planes(double h) const {
+  std::vector<HalfPlane> out;
+  const BladeFrame& f = rebuilt_.frame;
+  // The break plane at height h: normal . (origin + h axis + x e1 + y e2) > offset.
+  if (tip_) out.push_back({Vec2(normal_.dot(f.e1), normal_.dot(f.e2)), normal_.dot(f.origin) + h * normal_.dot(f.axis) - offset_});
+  edge_half_planes(h, out);
+  return out;
 }
 
 double DamageFace::thickness(const Vec3& p) const {
   const BladeFrame& f = rebuilt_.frame;
   double t = 0;
   if (tip_) t = std::max(t, normal_.dot(p) - offset_);
-  return std::max(t, edge_thickness(f.height(p), f.in_plane(p)));
+  std::vector<HalfPlane> edges;
+  edge_half_planes(f.height(p), edges);
+  const Vec2 xy = f.in_plane(p);
+  for (const HalfPlane& e : edges) t = std::max(t, e.n.dot(xy) + e.c);
+  return t;
+}
+
+double normal_thickness(const DamageFace& face, const Vec3& p, const Vec3& outward, std::vector<Vec2>& section,
+                        int section_samples) {
+  const BladeFrame& f = face.rebuilt().frame;
+  const double h = f.height(p);
+  const std::vector<DamageFace::HalfPlane> hp = face.half_planes(h);
+  const Vec2 xy = f.in_plane(p);
+  const Vec2 n_ip(outward.dot(f.e1), outward.dot(f.e2));
+  const double inf = std::numeric_limits<double>::infinity();
+  // Along p - s outward: each half-space the point is in is left at s_i (never
+  // when the ray moves deeper into it); the union at the largest.
+  double leave = -1;
+  bool tip = face.has_tip();
+  for (const DamageFace::HalfPlane& q : hp) {
+    const double value = q.n.dot(xy) + q.c;
+    // The tip's plane is tilted out of the section's plane: its rate along
+    // the ray is its 3-D normal's, not the in-plane part's.
+    const double rate = tip ? face.break_normal().dot(outward) : q.n.dot(n_ip);
+    const double value3 = tip ? face.break_normal().dot(p) - face.break_offset() : value;
+    tip = false;
+    if (!(value3 > 0)) continue;
+    leave = std::max(leave, rate > 0 ? value3 / rate : inf);
+  }
+  if (leave < 0) return 0;
+  // The blade's other side, in the section's plane.
+  const double len = n_ip.norm();
+  if (!(len > 1e-9)) return std::isfinite(leave) ? leave : 0;
+  if (section.empty()) section = clamped_plane_section(face.rebuilt().loft, f, h, section_samples);
+  const Vec2 d = -n_ip / len;
+  double through = inf;
+  const size_t m = section.size();
+  for (size_t k = 0; k < m; ++k) {
+    const Vec2& a = section[k];
+    const Vec2 e = section[(k + 1) % m] - a;
+    const double den = d.x() * e.y() - d.y() * e.x();
+    if (std::abs(den) < 1e-15) continue;
+    const Vec2 w = a - xy;
+    const double s = (w.x() * e.y() - w.y() * e.x()) / den;
+    const double t = (w.x() * d.y() - w.y() * d.x()) / den;
+    if (t >= 0 && t < 1 && s > 0.02) through = std::min(through, s);
+  }
+  const double blade = through / len;  // in-plane length to the 3-D length along the normal
+  const double t = std::min(leave, blade);
+  return std::isfinite(t) ? t : 0;
 }
 
 DamagedRegion damaged_region(const DamagedRebuild& rebuilt, const SectionMeasurement& measurement,
@@ -116,44 +238,56 @@ DamagedRegion damaged_region(const DamagedRebuild& rebuilt, const SectionMeasure
   out.break_offset = face.offset_;
   out.face_points = face.face_points_;
   out.face_rms_mm = face.face_rms_;
-
-  // Edge: each nicked section's cut area and depth; trapezoid over the sections.
-  double previous_area = 0;
-  for (size_t k = 0; k < face.sections_.size(); ++k) {
-    DamageFace::Section& s = face.sections_[k];
-    double area = 0;
-    if (s.gap) {
-      ++out.nicked_sections;
-      const std::vector<Vec2> poly = plane_section(loft, fr, s.h, o.section_samples);
-      area = clipped_area(poly, s.n, -s.n.dot(s.a));
-      for (const Vec2& q : poly) s.depth = std::max(s.depth, s.n.dot(q - s.a));
-    }
-    if (k > 0) out.edge_volume_mm3 += 0.5 * (area + previous_area) * (s.h - face.sections_[k - 1].h);
-    previous_area = area;
+  out.skipped_gaps = face.skipped_;
+  for (const DamageFace::Section& s : face.sections_) {
+    if (!s.gaps.empty()) ++out.nicked_sections;
+    out.nicks += static_cast<int>(s.gaps.size());
   }
 
-  // Tip: slices from where the break plane enters the blade to the top.
+  // The heights where anything is missing: between two sections either of
+  // which has a gap, and from where the break plane enters the blade to the
+  // top of the loft.
+  std::vector<std::pair<double, double>> ranges;
+  for (size_t k = 0; k + 1 < face.sections_.size(); ++k)
+    if (!face.sections_[k].gaps.empty() || !face.sections_[k + 1].gaps.empty())
+      ranges.emplace_back(face.sections_[k].h, face.sections_[k + 1].h);
+  const double h_bottom = rebuilt.sections.front().height_mm, h_top = rebuilt.sections.back().height_mm;
   if (face.tip_) {
-    const double h_top = rebuilt.sections.back().height_mm;
     const Vec3& nrm = face.normal_;
     const double na = nrm.dot(fr.axis);
     const Vec2 nxy(nrm.dot(fr.e1), nrm.dot(fr.e2));
     const double no = nrm.dot(fr.origin);
     double reach = 0;
-    for (const Vec2& q : plane_section(loft, fr, std::min(rebuilt.top_measured_mm, h_top), 256))
+    for (const Vec2& q : clamped_plane_section(loft, fr, std::min(rebuilt.top_measured_mm, h_top), 256))
       reach = std::max(reach, -nxy.dot(q));
-    const double h_start = std::max(rebuilt.sections.front().height_mm, (face.offset_ - no - reach - 0.5) / na);
-    if (h_top > h_start) {
-      const double dh = (h_top - h_start) / o.slices;
-      for (int i = 0; i < o.slices; ++i) {
-        cancellation_point();
-        const double h = h_start + (i + 0.5) * dh;
-        const std::vector<Vec2> poly = plane_section(loft, fr, h, o.section_samples);
-        out.tip_volume_mm3 += dh * clipped_area(poly, nxy, na * h + no - face.offset_);
-      }
+    const double h_start = std::max(h_bottom, (face.offset_ - no - reach - 0.5) / na);
+    if (h_top > h_start) ranges.emplace_back(h_start, h_top);
+  }
+  std::sort(ranges.begin(), ranges.end());
+  std::vector<std::pair<double, double>> merged;
+  for (const auto& r : ranges) {
+    if (!merged.empty() && r.first <= merged.back().second) merged.back().second = std::max(merged.back().second, r.second);
+    else merged.push_back(r);
+  }
+  double total = 0;
+  for (const auto& r : merged) total += r.second - r.first;
+  // One volume: the missing area of each slice (midpoint rule), tip and
+  // edges together so that where they meet nothing is counted twice.
+  for (const auto& r : merged) {
+    const int slices = std::max(8, static_cast<int>(std::ceil(o.slices * (r.second - r.first) / total)));
+    const double dh = (r.second - r.first) / slices;
+    for (int i = 0; i < slices; ++i) {
+      cancellation_point();
+      const double h = r.first + (i + 0.5) * dh;
+      const std::vector<Vec2> poly = clamped_plane_section(loft, fr, h, o.section_samples);
+      const std::vector<DamageFace::HalfPlane> hp = face.half_planes(h);
+      std::vector<Vec2> kept = poly;
+      for (const DamageFace::HalfPlane& p : hp) kept = clip(kept, -p.n, -p.c);
+      out.volume_mm3 += dh * (area(poly) - area(kept));
+      if (face.tip_) out.tip_volume_mm3 += dh * clipped_area(poly, hp[0].n, hp[0].c);
     }
   }
-  out.volume_mm3 = out.tip_volume_mm3 + out.edge_volume_mm3;
+  out.edge_volume_mm3 = out.volume_mm3 - out.tip_volume_mm3;
 
   // Thickness map, extent, area, layers.
   out.map_u = o.samples_u;
@@ -167,10 +301,13 @@ DamagedRegion damaged_region(const DamagedRebuild& rebuilt, const SectionMeasure
   const double du = 1.0 / (o.samples_u - 1), dv = 1.0 / o.samples_v;
   for (int i = 0; i < o.samples_u; ++i) {
     cancellation_point();
+    std::vector<Vec2> row_section;  // the rebuilt section at the row's first damaged sample, for the rays
     for (int j = 0; j < o.samples_v; ++j) {
       const double u = i * du, v = j * dv;
       const SurfaceDerivs d = loft.surface.eval(u, v);
-      const double t = face.thickness(d.p);
+      const Vec3 cross = d.pu.cross(d.pv);
+      const Vec3 n = cross.normalized();
+      const double t = normal_thickness(face, d.p, n, row_section, o.section_samples);
       if (!(t > 0)) continue;
       out.thickness_map[static_cast<size_t>(i) * o.samples_v + j] = t;
       row_hit[i] = col_hit[j] = 1;
@@ -178,9 +315,7 @@ DamagedRegion damaged_region(const DamagedRebuild& rebuilt, const SectionMeasure
       const double h = fr.height(d.p);
       out.height_from_mm = std::min(out.height_from_mm, h);
       out.height_to_mm = std::max(out.height_to_mm, h);
-      const Vec3 cross = d.pu.cross(d.pv);
       out.area_mm2 += cross.norm() * du * dv * ((i == 0 || i == o.samples_u - 1) ? 0.5 : 1.0);
-      const Vec3 n = cross.normalized();
       for (OffsetLayer& l : out.layers) {
         l.points.push_back(d.p + l.offset_mm * n);
         l.uv.emplace_back(u, v);

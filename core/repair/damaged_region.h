@@ -10,24 +10,37 @@
 //    the fracture face; without them the plane normal to the stacking axis
 //    through the highest measured section (the paper: the surface above the
 //    highest measured section);
-//  - a completed section (a gap, an edge nick): in its plane, the line
-//    through the gap's two measured ends, the missing material on the side of
-//    the design arc that filled it (a nick's floor, exact for a straight cut,
-//    the chord of a rounded one). Between completed sections the ends move
-//    linearly with height; beyond the first and last the nick is taken to
-//    end at the neighbouring complete section, its cut area falling linearly
-//    to zero there (no measured section tells where it ends). A gap the
-//    probe left on an intact flank (an unseen stretch) reads as a nick of
-//    the thickness of the flank's sagitta over the gap: negligible, but
-//    inside the region.
+//  - a completed section's gaps (edge nicks, several per section if so): in
+//    its plane, for each gap the line through its two measured ends, the
+//    missing material on the side of the design arc that filled it (a nick's
+//    floor, exact for a straight cut, the chord of a rounded one). Every gap
+//    is kept. Gaps of neighbouring sections are paired when their stretches
+//    of the rebuilt section (v intervals) overlap — two nicks at one height
+//    stay two — and between a pair the ends move linearly with height; a gap
+//    with no partner is taken to end at the neighbouring section, its cut
+//    area falling linearly to zero there (no measured section tells where
+//    it ends).
+//  - a gap whose design arc stands off the line through its ends by less
+//    than the section's probe spacing is not damage: an intact stretch the
+//    probe skipped (an unseen arc on a flank) bridges by its sagitta g²/8R,
+//    microns, while a nick's arc goes round the edge it took. (Without this
+//    a skipped stretch of a concave flank, whose arc's side is the blade's
+//    inside, made a region of the whole blade, issue 43.)
 //
-// Thickness at a point S(u, v) of the rebuilt surface: its distance beyond the
-// damage face (normal to the break plane; in the section plane from the gap
-// line), 0 outside the region. Volume: the rebuilt sections' area beyond the
-// damage face integrated over height (midpoint rule over `slices` slices
-// through the broken tip; the nick's cut areas by the trapezoid rule over the
-// sections), each area by clipping the rebuilt loft's plane section
-// (plane_section) with the half-plane beyond the face.
+// The missing material at a height is the part of the rebuilt section on
+// the missing side of any of these (half-planes in the section's plane; the
+// tip's plane cuts each in one): tip and edge damage where they meet are one
+// region, counted once.
+//
+// Thickness at a point S of the rebuilt surface: the length of missing
+// material along the surface's inward normal from S — to where the ray
+// leaves every half-space it started in, or the blade's other side, which
+// comes first (in the plane of S's section: the deposit a repair builds up
+// at S). Volume: the missing area of the rebuilt sections integrated over
+// height, by the midpoint rule over `slices` slices spread over the heights
+// where anything is missing; each area is the rebuilt loft's plane section
+// (clamped at the loft's end rows) less its part on the kept side of every
+// half-plane (clipping, exact for the polygon).
 //
 // Offset layers: the rebuilt surface moved outwards along its normal by k
 // layer thicknesses, k = 1..layers, at the samples inside the region — the
@@ -63,10 +76,12 @@ struct DamagedRegion {
   double break_offset = 0;   // points p with break_normal . p > break_offset are missing
   int face_points = 0;       // fitted to (0: the plane through the highest section)
   double face_rms_mm = 0;
-  double tip_volume_mm3 = 0;
+  double tip_volume_mm3 = 0;  // beyond the break plane alone
   // Edge damage: the completed sections' gaps.
   int nicked_sections = 0;
-  double edge_volume_mm3 = 0;
+  int nicks = 0;              // gaps kept as damage, over all sections
+  int skipped_gaps = 0;       // gaps not damage: shorter than min_gap, or an intact stretch (sagitta below spacing)
+  double edge_volume_mm3 = 0; // what the edge damage adds to the tip's (volume - tip_volume)
   // Extent on the rebuilt surface (v_from > v_to: the range wraps through v = 0).
   double u_from = 0, u_to = 0, v_from = 0, v_to = 0;
   double height_from_mm = 0, height_to_mm = 0;
@@ -83,29 +98,53 @@ struct DamagedRegion {
 class DamageFace {
  public:
   DamageFace(const DamagedRebuild& rebuilt, const SectionMeasurement& measurement, double min_gap_mm = 0.3);
-  // Distance of p beyond the damage face, 0 where nothing is missing.
+  // Distance of p beyond the damage face, 0 where nothing is missing (the
+  // largest of the half-spaces' distances; no ray).
   double thickness(const Vec3& p) const;
+  // The missing side of the face at height h: in-plane half-planes
+  // n . xy + c > 0 (unit n), the tip's first when there is one.
+  struct HalfPlane {
+    Vec2 n = Vec2::Zero();
+    double c = 0;
+  };
+  std::vector<HalfPlane> half_planes(double h) const;
   const DamagedRebuild& rebuilt() const { return rebuilt_; }
+  bool has_tip() const { return tip_; }
+  Vec3 break_normal() const { return normal_; }
+  double break_offset() const { return offset_; }
 
  private:
   friend DamagedRegion damaged_region(const DamagedRebuild&, const SectionMeasurement&, const DamagedRegionOptions&);
-  // A measured section's damage line: ends a, b, unit normal n towards the
-  // missing material, depth the rebuilt section's furthest point beyond it.
-  struct Section {
-    double h = 0;
-    bool gap = false;
+  // A gap's damage line: a point a on it, unit normal n towards the missing
+  // material, depth the rebuilt section's furthest point beyond it, and the
+  // stretch of the rebuilt section it spans (v from v0 forward to v1).
+  struct Gap {
     Vec2 a = Vec2::Zero(), n = Vec2::Zero();
     double depth = 0;
+    double v0 = 0, v1 = 0;
   };
+  struct Section {
+    double h = 0;
+    std::vector<Gap> gaps;
+    std::vector<int> partner_up;  // per gap: the gap of the section above it is paired with, or -1
+    std::vector<char> has_partner_down;
+  };
+  int skipped_ = 0;
   const DamagedRebuild& rebuilt_;
   bool tip_ = false;
   Vec3 normal_ = Vec3::Zero();
   double offset_ = 0;
   int face_points_ = 0;
   double face_rms_ = 0;
-  std::vector<Section> sections_;  // the measured sections by height, each with its largest gap
-  double edge_thickness(double h, const Vec2& xy) const;
+  std::vector<Section> sections_;  // the measured sections by height, with their gaps
+  void edge_half_planes(double h, std::vector<HalfPlane>& out) const;
 };
+
+// The thickness at p of the rebuilt surface (outward unit normal `outward`)
+// along the normal (header); `section` caches the rebuilt section at p's
+// height for a row of samples (empty: computed here).
+double normal_thickness(const DamageFace& face, const Vec3& p, const Vec3& outward, std::vector<Vec2>& section,
+                        int section_samples = 1024);
 
 // Throws ParameterError naming the option out of range.
 DamagedRegion damaged_region(const DamagedRebuild& rebuilt, const SectionMeasurement& measurement,

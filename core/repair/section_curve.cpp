@@ -63,7 +63,7 @@ SmoothedSection smooth_section(const std::vector<Vec3>& loop, double smoothing_l
   return out;
 }
 
-StartAlignment align_start(const CurvatureProfile& reference, const CurvatureProfile& section) {
+StartAlignment align_start(const CurvatureProfile& reference, const CurvatureProfile& section, int max_shift_samples) {
   const int n = static_cast<int>(section.curvature.size());
   if (n < 16 || reference.curvature.size() != section.curvature.size() || section.t.size() != section.curvature.size())
     throw ParameterError("profiles", "expected two curvature profiles of the same number (>= 16) of samples, got " +
@@ -93,8 +93,10 @@ StartAlignment align_start(const CurvatureProfile& reference, const CurvaturePro
   for (int k = 0; k < n; ++k) fa[k] = std::conj(fa[k]) * fb[k];
   fft.inv(c, fa);
   int best = 0;
-  for (int s = 1; s < n; ++s)
+  for (int s = 1; s < n; ++s) {
+    if (max_shift_samples >= 0 && std::min(s, n - s) > max_shift_samples) continue;
     if (c[s].real() > c[best].real()) best = s;
+  }
   const double cm = c[(best + n - 1) % n].real(), c0 = c[best].real(), cp = c[(best + 1) % n].real();
   const double curve2 = cm - 2 * c0 + cp;
   const double delta = curve2 < 0 ? std::clamp(0.5 * (cm - cp) / curve2, -0.5, 0.5) : 0.0;

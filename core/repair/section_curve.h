@@ -71,7 +71,11 @@ struct StartAlignment {
 // `reference` (§1.3). A section of constant curvature (a circle) has nothing
 // to align by: it keeps its start, with correlation 0. Throws ParameterError ("profiles") unless both have the
 // same number of samples (>= 16).
-StartAlignment align_start(const CurvatureProfile& reference, const CurvatureProfile& section);
+// With max_shift_samples >= 0 the start moves at most that many samples
+// either way: a refinement of a start known roughly (the design's, in
+// rebuild_damaged's retry), where the best shift overall may be a wrong one.
+StartAlignment align_start(const CurvatureProfile& reference, const CurvatureProfile& section,
+                           int max_shift_samples = -1);
 
 struct AlignedSections {
   std::vector<ClosedCurve> curves;           // re-started; the first as given

@@ -34,6 +34,10 @@ local opt = require("recipe_options"){
              help = "chord tolerance of the STL meshes"},
   tip_tilt = {type = "number", unit = "deg", default = 0, range = {-45, 45}, help = "damage=tip: tilt of the fracture face"},
   edge_depth = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "damage=edge: depth of the nick"},
+  edge_from = {type = "number", default = 0.4, range = {0, 1}, help = "damage=edge: span where the nick starts"},
+  edge_to = {type = "number", default = 0.65, range = {0, 1}, help = "damage=edge: span where the nick ends"},
+  unseen_arc = {type = "number", unit = "mm", default = 0, range = {0, 100},
+                help = "an arc of every section the probe misses (on the flank, at its extreme along -e2)"},
   paths = {type = "boolean", default = true, help = "plan the repair toolpaths (false: stop after the region)"},
   path_layer = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "roughing layer of the paths"},
   guard_spacing = {type = "number", unit = "mm", default = 0.05, range = {0.001, 5}, help = "spacing of the guard samples"},
@@ -59,7 +63,10 @@ if part == "rotor37" then opts.rotor37 = "nasa_rotor37" end
 if damage == "tip" then
   opts.tip_span, opts.tip_tilt = 0.8, opt.tip_tilt
 else
-  opts.edge_from, opts.edge_to, opts.edge_depth = 0.4, 0.65, opt.edge_depth
+  if not (opt.edge_from < opt.edge_to) then
+    error(string.format("edge_from (%g) must be below edge_to (%g)", opt.edge_from, opt.edge_to), 0)
+  end
+  opts.edge_from, opts.edge_to, opts.edge_depth = opt.edge_from, opt.edge_to, opt.edge_depth
 end
 local blade = bliskrun.damaged_blade(opts)
 local info = blade:info()
@@ -70,7 +77,8 @@ if settings.measured then
   measurement = bliskrun.read_sections(settings.measured)
 else
   local simulated = blade:measure{sections = settings.sections, points = settings.points, noise = noise,
-                                  outliers = 0.005, face_points = 60, seed = settings.seed}
+                                  outliers = 0.005, face_points = 60, seed = settings.seed,
+                                  unseen_arc = opt.unseen_arc}
   bliskrun.write_sections("blade_repair_sections.txt", simulated)
   measurement = bliskrun.read_sections("blade_repair_sections.txt")
 end
@@ -91,6 +99,14 @@ for k, s in ipairs(rep.sections) do
 end
 bliskrun.log(string.format("rebuilt: %d measured, %d completed, %d extended sections; mean deviation %.2f um, max %.2f um",
                            counts.measured, counts.completed, counts.extended, rep.mean * 1e3, rep.max * 1e3))
+-- The rebuild's own check between its sections (issue 43): where it fails,
+-- the region and the paths would follow from a wrong blade, so they are not
+-- made; the report is written and the run fails on its verdict.
+local quality = rep.quality
+bliskrun.log(string.format("rebuild checked between sections: worst %.2f um at %.2f mm (tolerance %.1f um), "
+                           .. "start alignment %s after %d attempt(s)", quality.between_max * 1e3, quality.between_at,
+                           quality.tolerance * 1e3, quality.start_method, quality.attempts))
+if not quality.trusted then bliskrun.log("REBUILD NOT TRUSTED: " .. quality.message) end
 
 -- Gaussian curvature range of the rebuilt and the design blade (Fig. 21),
 -- each over u in [0.05, 0.95], 60 x 400 samples. With the extremes the 1st
@@ -112,12 +128,14 @@ local k_design = k_range(design, 0.05, 0.95)
 lap("curvature")
 
 -- 4. The damaged region (§1.5).
-local region, handle = bliskrun.damaged_region{rebuild = rebuild, measurement = measurement,
-                                               layer = settings.layer_mm, layers = settings.layers}
+local region, handle = {empty = true, layers = {}}, nil
+if quality.trusted then
+region, handle = bliskrun.damaged_region{rebuild = rebuild, measurement = measurement,
+                                         layer = settings.layer_mm, layers = settings.layers}
 bliskrun.log(string.format("damaged region: %.2f mm3, max thickness %.3f mm, heights %.2f..%.2f mm, u %.3f..%.3f, v %.3f..%.3f",
                            region.volume, region.max_thickness, region.height_from, region.height_to, region.u_from,
                            region.u_to, region.v_from, region.v_to))
-
+end
 lap("damaged region")
 
 -- 5. The repair toolpaths (§2) on the rebuilt blade — the shape to restore
@@ -127,8 +145,8 @@ lap("damaged region")
 -- broken tip (§2.2), a zigzag with arc lead-outs and bridges over a nicked
 -- edge (§2.1). Proved against the blade itself (shank, holder) and the
 -- fixture plane at the root (every part); the finishing layer simulated on
--- the rebuilt surface over the region and a band of undamaged blade beside
--- it. `--set paths=false` stops after the region.
+-- the rebuilt surface over the region and bands of undamaged blade on
+-- every side of it. `--set paths=false` stops after the region.
 local paths = {}
 if opt.paths and not region.empty then
   local repair = require("repair")
@@ -161,17 +179,39 @@ if opt.paths and not region.empty then
   for _, why in ipairs(plan.refused) do bliskrun.log("  refused connection: " .. why) end
   bliskrun.log(string.format("  planned in %.1f s (passes %.1f s, connections %.1f s)",
                              plan.paths_seconds + plan.connect_seconds, plan.paths_seconds, plan.connect_seconds))
-  -- The band of undamaged blade next to the region: 1 mm of span below it
-  -- (and beside it, for an edge).
+  -- The bands of undamaged blade around the region, on every side the tool
+  -- reaches (issue 43: 1 mm below only missed contacts above and beside
+  -- it): 1 mm of span below and above, and 1 mm around the profile before
+  -- and after the region's v range (the window's perimeter at mid-span
+  -- turns mm into v). A side at the loft's end (u 0 or 1) has no band.
   local du = 1 / (info.h_hi - info.h_lo)
-  local band = {u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v}
   local passes = repair.finishing_passes(plan, tool)
   local su, sv = repair.window_samples(rebuilt, w, 0.5 * (w.v[1] + w.v[2]))
   local sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = w.u, v = w.v, samples_u = su, samples_v = sv,
                                 search_above = 0.05, search_below = 0.05}
-  local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (w.v[1] + w.v[2]))
-  local band_sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
-                                     samples_v = bv, search_above = 0.05, search_below = 0.05}
+  local um = 0.5 * (w.u[1] + w.u[2])
+  local around = 0
+  for k = 0, 255 do
+    local a, b = rebuilt:point(um, k / 256), rebuilt:point(um, (k + 1) / 256)
+    around = around + math.sqrt((b.x - a.x) ^ 2 + (b.y - a.y) ^ 2 + (b.z - a.z) ^ 2)
+  end
+  local dv = 1 / around
+  local bands = {
+    {name = "below", u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v},
+    {name = "above", u = {w.u[2], math.min(1, w.u[2] + du)}, v = w.v},
+    {name = "before", u = w.u, v = {math.max(0, w.v[1] - dv), w.v[1]}},
+    {name = "after", u = w.u, v = {w.v[2], math.min(1, w.v[2] + dv)}},
+  }
+  local band_sim = {overcut = 0, sides = {}}
+  for _, band in ipairs(bands) do
+    if band.u[2] - band.u[1] > 1e-9 and band.v[2] - band.v[1] > 1e-9 then
+      local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (band.v[1] + band.v[2]))
+      local b = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
+                                  samples_v = bv, search_above = 0.05, search_below = 0.05}
+      band_sim.sides[band.name] = b.overcut
+      band_sim.overcut = math.min(band_sim.overcut, b.overcut)
+    end
+  end
   lap("repair simulation")
   sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (µm)"})
   paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
@@ -180,7 +220,8 @@ if opt.paths and not region.empty then
            lifted = plan.lifted, max_lift_mm = plan.max_lift,
            chord_deviation_max_mm = plan.max_deviation,
            simulation = {untouched = sim.untouched, residual_max_mm = sim.residual_max, overcut_mm = sim.overcut,
-                         band_overcut_mm = band_sim.overcut, allowed_undercut_mm = scallop + chord_tol}}
+                         band_overcut_mm = band_sim.overcut, band_overcut_by_side_mm = band_sim.sides,
+                         allowed_undercut_mm = scallop + chord_tol}}
   bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused, %d finishing contacts "
                              .. "lifted over troughs narrower than the ball (up to %.2f um); finishing simulated: "
                              .. "material left <= %.2f um (allowed %.1f), overcut %.2f um, %.2f um in the band",
@@ -212,27 +253,37 @@ local report = {
   rebuild = {mean_deviation_um = rep.mean * 1e3, rms_deviation_um = rep.rms * 1e3, max_deviation_um = rep.max * 1e3,
              points = rep.points, sections = counts, tip_extended = rep.tip_extended,
              least_start_correlation = min_corr,
-             noise_floor_um = noise * 1e3 * math.sqrt(2 / math.pi)},
+             noise_floor_um = noise * 1e3 * math.sqrt(2 / math.pi),
+             trusted = quality.trusted, message = quality.message, start_method = quality.start_method,
+             alignment_attempts = quality.attempts, between_sections_max_um = quality.between_max * 1e3,
+             between_sections_worst_at_mm = quality.between_at,
+             between_sections_tolerance_um = quality.tolerance * 1e3,
+             between_sections = quality.between},
   paper = {mean_deviation_um = 3.51, other_methods_um = {4.76, 10.25},
            gaussian_curvature_rebuilt = {-0.290, 0.217}, gaussian_curvature_design = {-0.239, 0.248},
            note = "the paper does not state its noise; a mean of 3.51 um is the noise floor sigma sqrt(2/pi) of sigma = 4.4 um"},
   gaussian_curvature = {rebuilt = k_rebuilt, design = k_design},
-  region = {volume_mm3 = region.volume, tip_volume_mm3 = region.tip_volume, edge_volume_mm3 = region.edge_volume,
+  region = not quality.trusted and {not_made = "the rebuild failed its check between sections"} or {volume_mm3 = region.volume, tip_volume_mm3 = region.tip_volume, edge_volume_mm3 = region.edge_volume,
             max_thickness_mm = region.max_thickness, area_mm2 = region.area, u = {region.u_from, region.u_to},
             v = {region.v_from, region.v_to}, height_mm = {region.height_from, region.height_to},
             span = {(region.height_from - info.h_lo) / (info.h_hi - info.h_lo),
                     (region.height_to - info.h_lo) / (info.h_hi - info.h_lo)},
-            nicked_sections = region.nicked_sections, break_normal = xyz(region.break_normal),
+            nicked_sections = region.nicked_sections, nicks = region.nicks, skipped_gaps = region.skipped_gaps,
+            break_normal = xyz(region.break_normal),
             face_points = region.face_points, face_rms_um = region.face_rms * 1e3, layers = region.layers},
   sections = rep.sections,
   repair_paths = paths,
 }
--- A design or study run states no tolerance: its verdict says so (issue 37).
-report.verdict = require("run_report").verdict({})
+-- The verdict: the rebuild's check between its sections (issue 43); a
+-- failed one fails the run after the report is written.
+report.verdict = require("run_report").verdict({
+  {name = "rebuilt blade between sections, from the design registered to it", unit = "µm",
+   measured = quality.between_max * 1e3, at_most = quality.tolerance * 1e3,
+   note = quality.trusted and nil or quality.message}})
 bliskrun.write_json("blade_repair.json", report)
 require("run_report").write{
   title = "Damaged-blade repair: rebuild and damaged region (" .. damage .. ", " .. part .. ")",
-  settings = settings, numbers = report,
+  settings = settings, numbers = report, verdict = report.verdict,
   files = {{"blade_repair.json", "the report"}, {"blade_repair_sections.txt", "the simulated measurement"},
            {"blade_repair_*.stl", "design, rebuilt blade and damaged region"},
            {"blade_repair_deviation.png", "measured points to the rebuilt blade"},

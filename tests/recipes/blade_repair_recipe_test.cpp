@@ -44,10 +44,18 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   // σ √(2/π) = 1.60 µm, give or take the smoothing.
   const auto& rb = j["rebuild"];
   EXPECT_LT(rb["mean_deviation_um"].get<double>(), 1.25 * rb["noise_floor_um"].get<double>());
+  // The rebuild's own check between the sections (issue 43) is the verdict.
+  EXPECT_TRUE(rb["trusted"].get<bool>());
+  EXPECT_LT(rb["between_sections_max_um"].get<double>(), 10.0);
+  EXPECT_TRUE(j["verdict"]["pass"].get<bool>());
   // The nick: 1 mm deep over 40-65 % span, on the leading edge.
   const auto& region = j["region"];
   EXPECT_GT(region["nicked_sections"].get<int>(), 4);
-  EXPECT_NEAR(region["max_thickness_mm"].get<double>(), 1.0, 0.2);
+  // Along the surface normal: a flank's normal crosses the 1 mm deep (along
+  // the chord) nick diagonally, so longer (measured 1.33 mm; the truth's
+  // longest ray 1.60 mm, tests/repair/damaged_region_test.cpp).
+  EXPECT_GT(region["max_thickness_mm"].get<double>(), 1.0);
+  EXPECT_LT(region["max_thickness_mm"].get<double>(), 1.65);
   EXPECT_LT(region["span"][0].get<double>(), 0.45);
   EXPECT_GT(region["span"][1].get<double>(), 0.6);
   // The toolpaths: nothing refused, no stop in the program, and the
@@ -61,6 +69,9 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   EXPECT_LE(sim["residual_max_mm"].get<double>(), sim["allowed_undercut_mm"].get<double>() + 1e-4);
   EXPECT_GT(sim["overcut_mm"].get<double>(), -0.003);
   EXPECT_GT(sim["band_overcut_mm"].get<double>(), -0.003);
+  // The bands on every side of the region were simulated (issue 43 item 4).
+  for (const char* side : {"below", "above", "before", "after"})
+    EXPECT_TRUE(sim["band_overcut_by_side_mm"].contains(side)) << side;
 }
 
 TEST(BladeRepairRecipe, BrokenTipIsExtendedAndItsRegionIsAboveTheBreak) {

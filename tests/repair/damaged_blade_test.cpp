@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <random>
 #include <string>
@@ -31,6 +32,15 @@ double polygon_distance(const Vec2& q, const std::vector<Vec2>& poly) {
     best = std::min(best, (a + t * (b - a) - q).norm());
   }
   return best;
+}
+
+std::string parse_error_in(const std::string& text, const std::string& file) {
+  try {
+    parse_section_measurement(text, file);
+  } catch (const DataError& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 std::string parse_error(const std::string& text) {
@@ -88,6 +98,62 @@ TEST(DamagedBlade, ReaderNamesFileLineAndExpectation) {
   EXPECT_EQ(c.sections[1].points.size(), 2u);
   const SectionMeasurement in = parse_section_measurement("units inch\nsection 1 1\n1 0 1\n", "i");
   EXPECT_EQ(in.sections[0].points[0], Vec3(25.4, 0, 25.4));
+}
+
+TEST(DamagedBlade, CsvWithoutASectionColumnIsGroupedByZOnlyWhereThatHolds) {
+  // Sections at constant Z (stacked along Z): grouped by Z.
+  std::string flat = "x,y,z\n";
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 12; ++j) flat += std::to_string(j) + ",0," + std::to_string(5 * k) + "\n";
+  const SectionMeasurement f = parse_section_measurement(flat, "flat.csv");
+  ASSERT_EQ(f.sections.size(), 2u);
+  EXPECT_EQ(f.sections[1].height_mm, 5);
+  EXPECT_EQ(f.sections[1].line, 14);  // where its first point is
+  // A radially stacked blade: each point at its own Z (issue 43: thousands
+  // of one-point sections and a confusing error) is refused at the file's
+  // first point, asking for the column.
+  std::string radial = "x,y,z\n";
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 12; ++j) radial += std::to_string(5 * k) + ",0," + std::to_string(0.1 * j) + "\n";
+  const std::string e = parse_error_in(radial, "radial.csv");
+  EXPECT_NE(e.find("radial.csv:2: points without a section column are grouped by Z"), std::string::npos) << e;
+  EXPECT_NE(e.find("add a 4th column"), std::string::npos) << e;
+  // With the column it is read.
+  std::string columns = "x,y,z,section\n";
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 12; ++j) columns += std::to_string(5 * k) + ",0," + std::to_string(0.1 * j) + "," + std::to_string(k + 1) + "\n";
+  EXPECT_EQ(parse_section_measurement(columns, "c.csv").sections.size(), 2u);
+  // Columns mixed: named at the line.
+  EXPECT_NE(parse_error_in("1,2,3\n1,2,3,4\n", "m.csv").find("m.csv:2: expected 3 columns on every line"), std::string::npos);
+}
+
+TEST(DamagedBlade, AMeasurementErrorIsNamedAtTheDataFilesLine) {
+  // A section too small to order is named at its line in the file, not only
+  // by its number.
+  std::string text = "units mm\n";
+  for (int k = 0; k < 3; ++k) {
+    const double h = design().span_height(0.2 + 0.3 * k);
+    const std::vector<Vec2> s = plane_section(design().loft, design().frame, h, k == 1 ? 4 * 16 : 400);
+    text += "section " + std::to_string(k + 1) + " " + std::to_string(h) + "\n";
+    const int step = k == 1 ? 16 : 1;  // section 2: 4 points
+    for (size_t j = 0; j < s.size(); j += step) {
+      const Vec3 p = design().frame.point(h, s[j]);
+      char line[128];
+      std::snprintf(line, sizeof line, "%.9f %.9f %.9f\n", p.x(), p.y(), p.z());
+      text += line;
+    }
+  }
+  SectionMeasurement m = parse_section_measurement(text, "blade.txt");
+  m.frame = design().frame;
+  m.has_frame = true;
+  const int line = m.sections[1].line;
+  EXPECT_EQ(line, 2 + 400 + 1);
+  try {
+    rebuild_damaged(m, design());
+    ADD_FAILURE() << "a 4-point section was rebuilt";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("blade.txt:" + std::to_string(line) + ": section 2"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DamagedBlade, IcpRecoversAKnownRigidMotionOfASection) {

@@ -49,6 +49,41 @@ double scanline_area(const std::vector<Vec2>& poly, double dy, Keep keep) {
   return area;
 }
 
+
+// The longest stretch of removed material along a section's inward normal
+// (the thickness the region reports, header): from each vertex q of the true
+// section where removed(q), along the inward normal of the polygon there,
+// until the ray leaves the polygon (first crossing) or removed() stops
+// holding (marched in 1 um steps).
+template <class Removed>
+double through_length(const std::vector<Vec2>& poly, Removed removed) {
+  const size_t m = poly.size();
+  double twice = 0;
+  for (size_t j = 0; j < m; ++j) twice += poly[j].x() * poly[(j + 1) % m].y() - poly[j].y() * poly[(j + 1) % m].x();
+  double best = 0;
+  for (size_t j = 0; j < m; ++j) {
+    const Vec2& q = poly[j];
+    if (!removed(q)) continue;
+    const Vec2 t = poly[(j + 1) % m] - poly[(j + m - 1) % m];
+    Vec2 in = Vec2(-t.y(), t.x()).normalized();  // left of the direction of travel: inside for a ccw loop
+    if (twice < 0) in = -in;
+    double exit = 1e9;
+    for (size_t k = 0; k < m; ++k) {
+      const Vec2& a = poly[k];
+      const Vec2 e = poly[(k + 1) % m] - a;
+      const double den = in.x() * e.y() - in.y() * e.x();
+      if (std::abs(den) < 1e-15) continue;
+      const Vec2 w = a - q;
+      const double s = (w.x() * e.y() - w.y() * e.x()) / den, u = (w.x() * in.y() - w.y() * in.x()) / den;
+      if (u >= 0 && u < 1 && s > 1e-3) exit = std::min(exit, s);
+    }
+    double s = 0;
+    while (s < exit && removed(q + (s + 0.001) * in)) s += 0.001;
+    best = std::max(best, std::min(s, exit));
+  }
+  return best;
+}
+
 TEST(DamagedRegion, BrokenTipHasTheVolumeOfTheCut) {
   BladeDamage dmg;
   dmg.twist_rad = deg_to_rad(1.0);
@@ -75,15 +110,25 @@ TEST(DamagedRegion, BrokenTipHasTheVolumeOfTheCut) {
   const double H = design().span_height(dmg.tip_span);
   const int slices = 40;
   const double dh = (design().h_hi - H) / slices;
-  double truth = 0;
-  for (int i = 0; i < slices; ++i)
-    truth += dh * scanline_area(plane_section(design().loft, design().frame, H + (i + 0.5) * dh, 1024), 0.01,
-                                [](double, double) { return true; });
+  double truth = 0, thickest = 0;
+  for (int i = 0; i < slices; ++i) {
+    const std::vector<Vec2> s = blade.deformed_section(H + (i + 0.5) * dh, 1024);
+    truth += dh * scanline_area(s, 0.01, [](double, double) { return true; });
+    // Above a break normal to the axis the whole section is missing: the
+    // thickness along the normal is the blade's own, across it.
+    if (i % 8 == 0) thickest = std::max(thickest, through_length(s, [](const Vec2&) { return true; }));
+  }
   std::printf("tip cut: region %.2f mm3, truth %.2f mm3 (%.3f %%), max thickness %.3f mm, u %.3f..%.3f\n",
               region.volume_mm3, truth, 100 * (region.volume_mm3 / truth - 1), region.max_thickness_mm, region.u_from,
               region.u_to);
   EXPECT_NEAR(region.volume_mm3, truth, 0.01 * truth);
-  EXPECT_NEAR(region.max_thickness_mm, design().h_hi - H, 0.05);  // at the tip, normal to the break
+  // Along the surface normal (issue 43: not the tip's height above the
+  // break). The longest is at an edge, where the normal turns fastest and
+  // the ray runs along the camber: which ray is longest depends on where the
+  // samples fall (measured 15.4 mm on the map's 400 v samples, 20.1 mm on the
+  // truth's 1024 per section), so bounds.
+  EXPECT_LE(region.max_thickness_mm, thickest + 0.05);
+  EXPECT_GT(region.max_thickness_mm, 0.7 * thickest);
   EXPECT_NEAR(region.height_from_mm, H, 0.2);
   EXPECT_NEAR(region.u_to, 1, 1e-12);
   ASSERT_EQ(region.layers.size(), 3u);
@@ -121,7 +166,8 @@ TEST(DamagedRegion, LeadingEdgeNickVolumeAndExtent) {
     const double depth = dmg.edge_depth_mm * std::sin(kPi * (i + 0.5) / slices);
     truth += (h1 - h0) / slices *
              scanline_area(s, 0.005, [&](double x, double y) { return (Vec2(x, y) - le_point).dot(chord) < depth; });
-    for (const Vec2& q : s) deepest = std::max(deepest, depth - (q - le_point).dot(chord));
+    if (i % 3 == 1)
+      deepest = std::max(deepest, through_length(s, [&](const Vec2& q) { return (q - le_point).dot(chord) < depth; }));
   }
   std::printf("nick: region %.3f mm3, truth %.3f mm3 (%.2f %%), max thickness %.3f mm, heights %.2f..%.2f (truth %.2f..%.2f)\n",
               region.volume_mm3, truth, 100 * (region.volume_mm3 / truth - 1), region.max_thickness_mm,
@@ -132,9 +178,172 @@ TEST(DamagedRegion, LeadingEdgeNickVolumeAndExtent) {
   // than linearly towards its ends); and the gap line through the measured
   // ends lies up to a point spacing outside the cut.
   EXPECT_NEAR(region.volume_mm3, truth, 0.08 * truth);
-  EXPECT_NEAR(region.max_thickness_mm, deepest, 0.05);
+  // Along the normal (measured 1.50 mm on the map, 1.60 mm the truth's
+  // longest ray, where the flank's normal runs diagonally through the nick).
+  EXPECT_LE(region.max_thickness_mm, deepest + 0.05);
+  EXPECT_GT(region.max_thickness_mm, 0.85 * deepest);
   EXPECT_GT(region.height_from_mm, h0 - 1.5);
   EXPECT_LT(region.height_to_mm, h1 + 1.5);
+}
+
+// Issue 43's cases of damage of other shapes, on the recipe's measurement
+// (30 sections x 2000 points, 2 um noise, strays).
+SectionMeasurement measured(const DamagedBlade& blade, int seed = 1) {
+  MeasurementOptions mo;
+  mo.sections = 30;
+  mo.points = 2000;
+  mo.face_points = 0;
+  mo.seed = seed;
+  return measure_sections(blade, mo);
+}
+
+BladeDamage nick(double from, double to) {
+  BladeDamage dmg;
+  dmg.twist_rad = deg_to_rad(1.5);
+  dmg.bend_mm = 0.3;
+  dmg.edge = true;
+  dmg.edge_from = from;
+  dmg.edge_to = to;
+  dmg.edge_depth_mm = 1.0;
+  return dmg;
+}
+
+TEST(DamagedRegion, NicksReachingTheEndSectionsAreRegions) {
+  // The plane at an end section's mean height leaves the loft by the noise
+  // here and there: the region clamps at the loft's end rows (it threw).
+  for (const auto& [from, to] : {std::pair{0.0, 0.12}, std::pair{0.5, 1.0}}) {
+    const DamagedBlade blade(design(), nick(from, to));
+    const SectionMeasurement m = measured(blade);
+    const DamagedRebuild r = rebuild_damaged(m, design());
+    ASSERT_TRUE(r.quality.trusted) << r.quality.message;
+    const DamagedRegion region = damaged_region(r, m);
+    EXPECT_FALSE(region.empty);
+    EXPECT_GT(region.volume_mm3, 0);
+    if (from == 0) EXPECT_NEAR(region.u_from, 0, 1e-12);
+    if (to == 1) EXPECT_NEAR(region.u_to, 1, 1e-12);
+  }
+}
+
+TEST(DamagedRegion, AStretchTheProbeSkippedOnAnIntactFlankIsNoRegion) {
+  // An undamaged blade whose every section misses 1.26 mm of its concave
+  // flank (issue 43: an 82.9 mm3 region came of it): the design arc bridges
+  // it within its sagitta g^2 / 8R, far below the probe spacing.
+  BladeDamage dmg;
+  dmg.twist_rad = deg_to_rad(1.5);
+  dmg.bend_mm = 0.3;
+  const DamagedBlade blade(design(), dmg);
+  SectionMeasurement m = measured(blade);
+  int sections = 0;
+  for (MeasuredSection& s : m.sections) {
+    // The most concave point of the true section (turning against the
+    // loop's sense), on its flank.
+    const std::vector<Vec2> poly = blade.deformed_section(s.height_mm, 1024);
+    const size_t n = poly.size();
+    double twice = 0;
+    for (size_t j = 0; j < n; ++j) twice += poly[j].x() * poly[(j + 1) % n].y() - poly[j].y() * poly[(j + 1) % n].x();
+    size_t concave = 0;
+    double most = 0;
+    for (size_t j = 0; j < n; ++j) {
+      const Vec2 a = poly[j] - poly[(j + n - 8) % n], b = poly[(j + 8) % n] - poly[j];
+      const double turn = (a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm()) * (twice > 0 ? 1 : -1);
+      if (turn < most) {
+        most = turn;
+        concave = j;
+      }
+    }
+    ASSERT_LT(most, 0) << "no concave flank at " << s.height_mm;
+    const Vec2 c = poly[concave];
+    std::vector<Vec3> kept;
+    for (const Vec3& p : s.points)
+      if ((m.frame.in_plane(p) - c).norm() > 0.63) kept.push_back(p);
+    ASSERT_LT(kept.size(), s.points.size());
+    s.points = kept;
+    ++sections;
+  }
+  const DamagedRebuild r = rebuild_damaged(m, design());
+  ASSERT_TRUE(r.quality.trusted) << r.quality.message;
+  const DamagedRegion region = damaged_region(r, m);
+  EXPECT_TRUE(region.empty) << region.volume_mm3 << " mm3";
+  EXPECT_EQ(region.nicks, 0);
+  EXPECT_GE(region.skipped_gaps, sections);
+}
+
+TEST(DamagedRegion, TwoNicksAtTheSameHeightsStayTwo) {
+  // A nick at the leading edge and a stretch missing over the trailing
+  // edge's apex (it cannot be told from a nick) at the same heights: every
+  // gap of every section kept and paired by overlap, not the largest only.
+  const DamagedBlade blade(design(), nick(0.4, 0.65));
+  MeasurementOptions mo;
+  mo.sections = 30;
+  mo.points = 2000;
+  mo.face_points = 0;
+  mo.unseen_arc_mm = 1.26;
+  const SectionMeasurement m = measure_sections(blade, mo);
+  const DamagedRebuild r = rebuild_damaged(m, design());
+  ASSERT_TRUE(r.quality.trusted) << r.quality.message;
+  const DamagedRegion region = damaged_region(r, m);
+  const SectionMeasurement m_nick = measured(blade);
+  const DamagedRegion nick_only = damaged_region(rebuild_damaged(m_nick, design()), m_nick);
+  int both = 0;
+  for (const SectionGapFill& f : r.fills) both += f.length_mm > 0.3;
+  EXPECT_GT(region.nicks, region.nicked_sections);  // two in a section
+  EXPECT_GE(region.nicks, both - 2);
+  // The other stretch's cap adds to the nick's volume: with the largest gap
+  // of each section only, it did not.
+  std::printf("nick %.2f mm3, with the trailing edge's stretch %.2f mm3\n", nick_only.volume_mm3, region.volume_mm3);
+  EXPECT_GT(region.volume_mm3, 1.3 * nick_only.volume_mm3);
+}
+
+// The volume the simulated damage removed (damaged_blade.h: beyond the
+// break plane, or within the nick's depth of the leading edge along the
+// chord), by scan lines over slices of the true (deformed) blade.
+double removed_volume(const DamagedBlade& blade, double h0, double h1, int slices) {
+  const BladeDamage& d = blade.damage();
+  const DesignBlade& ds = blade.design();
+  const Vec3 bn = blade.break_normal();
+  const double bo = blade.break_offset();
+  double v = 0;
+  const double dh = (h1 - h0) / slices;
+  for (int i = 0; i < slices; ++i) {
+    const double h = h0 + (i + 0.5) * dh;
+    const std::vector<Vec2> s = blade.deformed_section(h, 1024);
+    const auto [le, te] = std::minmax_element(s.begin(), s.end(), [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
+    const Vec2 le_point = *le, chord = (*te - *le).normalized();
+    const double span = (h - ds.h_lo) / (ds.h_hi - ds.h_lo);
+    const double depth = d.edge && span > d.edge_from && span < d.edge_to
+                             ? d.edge_depth_mm * std::sin(kPi * (span - d.edge_from) / (d.edge_to - d.edge_from))
+                             : -1;
+    v += dh * scanline_area(s, 0.01, [&](double x, double y) {
+      const Vec2 q(x, y);
+      return (d.tip && bn.dot(ds.frame.point(h, q)) > bo) || (q - le_point).dot(chord) < depth;
+    });
+  }
+  return v;
+}
+
+TEST(DamagedRegion, ATiltedBreakAndANickWhereTheyMeetAreCountedOnce) {
+  // The break plane tilted 30 degrees crosses measured sections (they come
+  // back with a gap) and the nick runs up into it: one region, each bit of
+  // missing material counted once (issue 43: +21 % and +43 % before).
+  for (const bool edge : {false, true}) {
+    BladeDamage dmg = nick(0.6, 1.0);
+    dmg.edge = edge;
+    dmg.tip = true;
+    dmg.tip_span = 0.8;
+    dmg.tip_tilt_rad = deg_to_rad(30);
+    const DamagedBlade blade(design(), dmg);
+    MeasurementOptions mo;
+    mo.sections = 30;
+    mo.points = 2000;
+    const SectionMeasurement m = measure_sections(blade, mo);
+    const DamagedRebuild r = rebuild_damaged(m, design());
+    ASSERT_TRUE(r.quality.trusted) << r.quality.message;
+    const DamagedRegion region = damaged_region(r, m);
+    const double truth = removed_volume(blade, design().span_height(0.5), design().h_hi, 100);
+    std::printf("tilted break%s: region %.2f mm3 (tip alone %.2f), truth %.2f mm3 (%.2f %%)\n", edge ? " and nick" : "",
+                region.volume_mm3, region.tip_volume_mm3, truth, 100 * (region.volume_mm3 / truth - 1));
+    EXPECT_NEAR(region.volume_mm3, truth, 0.03 * truth);
+  }
 }
 
 TEST(DamagedRegion, ClippedAreaOfASquare) {
