@@ -75,7 +75,15 @@ TEST(RebuildCheck, ThirtySeedsNoneSilentlyWrong) {
   o.rebuild.threads = 2;  // the result does not depend on it
   int trusted = 0;
   std::string log;
-  for (int seed = 1; seed <= 30; ++seed) {
+  std::vector<int> seeds;
+#ifdef BLISKRUN_SANITIZED
+  // Under the sanitizers the two seeds that were silently wrong (30 take
+  // ~10 minutes there; all 30 run in the Release suite).
+  seeds = {6, 23};
+#else
+  for (int seed = 1; seed <= 30; ++seed) seeds.push_back(seed);
+#endif
+  for (const int seed : seeds) {
     MeasurementOptions mo;
     mo.sections = 30;
     mo.points = 2000;
@@ -95,7 +103,7 @@ TEST(RebuildCheck, ThirtySeedsNoneSilentlyWrong) {
   }
   // The check is not a refusal of everything: measured 30 of 30 trusted,
   // 6.8-8.2 um by the check, 7.4-8.7 um from the truth.
-  EXPECT_EQ(trusted, 30) << log;
+  EXPECT_EQ(trusted, static_cast<int>(seeds.size())) << log;
 }
 
 TEST(RebuildCheck, AWrongCurvatureStartIsRepairedByTheDesignsStart) {
