@@ -58,7 +58,9 @@ struct EdgeFinishRequest {
   // over a concave flank beyond the edge region is seen. Optional.
   std::shared_ptr<const Surface> first, second;
   double span_u0 = 0, span_u1 = 1;
-  double v0 = 0.1, v1 = 0.9;            // span window to machine (edge-region v)
+  // Span window to machine (edge-region v): by default the whole edge, hub
+  // and casing narrowing it (below).
+  double v0 = 0, v1 = 1;
   // The hub and the casing (surfaces of revolution about Z), optional; they
   // narrow the window. With a hub, the first row is the lowest span >= v0
   // at which every contact, positioned as planned, keeps the cutter
@@ -190,6 +192,16 @@ struct EdgeFinishResult {
   // request's v0 or the hub, whichever is higher, and the first row: the
   // strip left to the hub-fillet operation (0 without a hub).
   double hub_strip_mm = 0;
+  // Largest span distance (mm) from the window's end v1 up to where the
+  // edge leaves the casing (the highest span with a point of the row still
+  // inside it; the region's end without a casing): the strip at the top
+  // left unmachined — 0 when the window reaches the casing, as it does by
+  // default (no other operation finishes the edge's top).
+  double top_strip_mm = 0;
+  // The span the design guards sample on the edge region (and the recipe's
+  // simulation measures overcut over): the window and a tool radius + 1 mm
+  // beyond either end, where the rows' discs reach.
+  double checked_v0 = 0, checked_v1 = 1;
   std::vector<EdgeFinishRow> rows;
   std::vector<EdgeFinishLink> links;
   // Off the first pose and off the last, up the tool axis, proved as a

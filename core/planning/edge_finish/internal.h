@@ -137,8 +137,13 @@ void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, 
 
 // ---- the window (window.cpp) ----
 
-// Narrows rq's window to the hub and casing; returns the hub strip (mm).
-double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);
+// The strips the window leaves at either end (EdgeFinishResult::
+// hub_strip_mm, top_strip_mm).
+struct WindowEnds {
+  double hub_strip_mm = 0, top_strip_mm = 0;
+};
+// Narrows rq's window to the hub and casing; returns the strips left.
+WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);
 
 // ---- checks (checks.cpp) ----
 
@@ -160,7 +165,10 @@ struct DesignGuards {
   std::unique_ptr<GougeGuard> edge;
   std::vector<std::unique_ptr<GougeGuard>> flanks;
   double e1_mm = 0;
+  // The radius the samples' miss is figured for: the corner's and the
+  // edge round's together, 1 / (1/r + 1/ρ) (design_guards).
   double corner_mm = 0;
+  double v0 = 0, v1 = 1;  // the edge region's span the edge guard samples (the window and the tool's reach)
 
   double allowed(const GougeGuard& g) const;
   double least_allowed() const;
@@ -179,7 +187,9 @@ struct PoseChecks {
   std::string gouge(const Tool& tool, const ToolPose& pose, bool liftable = false) const;
 };
 
-// The design guards over rq's window.
+// The smallest span speed |pv| around the edge region at v (21 samples).
+double min_pv(const Surface& edge, double v);
+// The design guards over rq's window and as far beyond it as a pose reaches.
 DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe);
 // Whether a pose's axis is within the machine's reach.
 bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose);
