@@ -294,6 +294,12 @@ int w_plan_report(lua_State* L) {
   set_number(L, "span_v1", r.v1);
   set_number(L, "hub_strip", r.hub_strip_mm);
   set_number(L, "top_strip", r.top_strip_mm);
+  const EdgeProgramStats stats = edge_program_stats(r);
+  set_integer(L, "passes", stats.passes);
+  set_integer(L, "single_move_passes", stats.single_move_passes);
+  set_integer(L, "direct_links", stats.direct_links);
+  set_number(L, "cutting_length", stats.cutting_mm);
+  set_number(L, "non_cutting_length", stats.non_cutting_mm);
   set_number(L, "checked_v0", r.checked_v0);
   set_number(L, "checked_v1", r.checked_v1);
   set_bool(L, "zigzag", rq.zigzag);

@@ -173,6 +173,10 @@ struct EdgeFinishLink {
   std::vector<ToolPose> moves;  // via poses (rapid)
   std::vector<LinkLeg> legs;    // legs[k]: the motion into moves[k] (then one more into the next pass)
   double offset_mm = 0;         // retract distance up the axis that proved
+  // The next pass reached straight from the last, cutting, without leaving
+  // the surface: the motion proved clear of the world and within e1 of the
+  // blade by the design guards (no moves; the two passes are one).
+  bool direct = false;
   bool clear = false;
   std::string reason;
 };
@@ -237,6 +241,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
 // Rows' poses (Feed), link poses (Rapid), Stop where a contact or link was
 // refused — a Toolpath like drum_finish_moves'.
 Toolpath edge_finish_moves(const EdgeFinishResult& result);
+
+// The program's shape (issue 38 item 5): cutting passes (runs of Feed
+// moves), the tip's path length cutting (Feed to Feed) and not (every leg
+// into, between or out of Rapid moves: retracts, traverses, plunges).
+struct EdgeProgramStats {
+  int passes = 0;
+  int single_move_passes = 0;  // passes of one or two poses (at most one cutting move)
+  double cutting_mm = 0, non_cutting_mm = 0;
+  int direct_links = 0;        // passes joined on the surface (EdgeFinishLink::direct)
+};
+EdgeProgramStats edge_program_stats(const EdgeFinishResult& result);
 
 // Every move as simulation passes (a Stop ends a pass), rows and links,
 // with the index of each pass's first move (toolpath_passes).

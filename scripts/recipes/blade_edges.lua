@@ -261,6 +261,10 @@ for _, edge in ipairs(edges) do
                         or "left unmachined (the window's start was asked for)",
                       rep.top_strip, rep.top_strip > 0 and "left unmachined (the window's end was asked for)"
                         or "(the rows reach past the casing)"))
+  print(string.format("            %d cutting passes (%d of at most one move), %d joined on the surface; cutting %.0f mm, "
+                      .. "not cutting %.0f mm (ratio %.2f)", rep.passes, rep.single_move_passes, rep.direct_links,
+                      rep.cutting_length, rep.non_cutting_length,
+                      rep.cutting_length / math.max(rep.non_cutting_length, 1e-9)))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links, 1e3 * sim.undercut_max, 1e3 * sim.overcut,

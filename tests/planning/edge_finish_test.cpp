@@ -127,6 +127,27 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   long feeds = 0;
   for (const Move& m : moves) feeds += m.kind == Move::Kind::Feed;
   EXPECT_EQ(feeds, res.total_poses);
+  // Passes joined on the surface (a link made straight, cutting): one pass
+  // fewer each, and every cutting motion of the program — those joins too —
+  // within e1 of the blade by the 20 um guards above (their miss, ~0.1 um
+  // under the corner, ~0.2 um under the flat bottom over the 0.4 mm round,
+  // allowed).
+  int pass_starts = 0;
+  for (const EdgeFinishRow& row : res.rows)
+    for (size_t i = 0; i < row.poses.size(); ++i)
+      pass_starts += i == 0 || row.poses[i].segment != row.poses[i - 1].segment ? 1 : 0;
+  const EdgeProgramStats st = edge_program_stats(res);
+  EXPECT_GT(st.direct_links, 0);
+  EXPECT_EQ(st.passes, pass_starts - st.direct_links);
+  EXPECT_GT(st.cutting_mm, 0);
+  double deepest_motion = 0;
+  for (size_t i = 1; i < moves.size(); ++i) {
+    if (moves[i].kind != Move::Kind::Feed || moves[i - 1].kind != Move::Kind::Feed) continue;
+    for (const GougeGuard* g : {&edge_guard, &pressure_guard, &suction_guard})
+      deepest_motion =
+          std::min(deepest_motion, g->deepest_cut(tool, moves[i - 1].pose, moves[i].pose, 0, false, false).depth_mm);
+  }
+  EXPECT_GE(deepest_motion, rq.band.e1_mm - 3e-4);
 }
 
 
