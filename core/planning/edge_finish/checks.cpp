@@ -121,6 +121,43 @@ bool motion_gouges(const EdgeFinishRequest& rq, const PoseChecks& checks, const 
   return checks.guards.deepest(*rq.tool, pa.pose, pb.pose, false) < 0;
 }
 
+// A cutting motion into p that the design guards find a little beyond
+// their allowance (within e1, but past what their samples can vouch for:
+// on the built-in TE half the row's passes were one move long, their
+// motions found 0.75-1.0 um deep where the allowance is 0.75) is made good
+// by lifting p off along its normal by the excess (repeated: the motion
+// lifts only in proportion to how near p the dip is), up to kMaxLiftMm
+// with any lift p had: a lift of tenths of a um leaves that much more at
+// its contact, far inside e2 (the simulated partial rows see what it
+// leaves). p is changed only if the lifted pose and the motion into it are
+// proved (world, guards, strips); false otherwise, p as it was.
+bool lift_motion(const EdgeFinishRequest& rq, const PoseChecks& checks, const EdgeFinishPose& a, EdgeFinishPose& p) {
+  constexpr double kExtraMm = 5e-5;
+  EdgeFinishPose q = p;
+  for (int it = 0; it < 4; ++it) {
+    const double d = checks.guards.deepest(*rq.tool, a.pose, q.pose, false);
+    if (d >= 0) {
+      if (q.lift_mm == p.lift_mm) return false;  // the motion was not refused by the guards: not ours to lift
+      if (!checks.gouge(*rq.tool, q.pose).empty()) return false;
+      if (!rq.world->check(checks.body, q.pose, rq.clearances, 0).clear) return false;
+      if (!rq.world->check_motion(checks.body, a.pose, q.pose, rq.clearances, rq.motion_tol_mm).clear) return false;
+      const StripWidth w = q.strip->width(q.pose);
+      if (w.gouges || !w.touches) return false;
+      if (motion_deepest(a, q, *a.strip, *q.strip) < rq.band.e1_mm) return false;
+      q.width_mm = w.width_mm;
+      q.left_mm = w.left_mm;
+      q.right_mm = w.right_mm;
+      p = q;
+      return true;
+    }
+    const double excess = -d - checks.guards.least_allowed() + kExtraMm;
+    if (q.lift_mm + excess > kMaxLiftMm) return false;
+    q.lift_mm += excess;
+    q.pose.tip += excess * q.normal;
+  }
+  return false;
+}
+
 // Why a pose clear_row did not prove fails (the world, the reach, the
 // guards less a lift); "" if it passes. A pose clear_row proved (clear of
 // the world within reach, and of the design guards) is taken as proved:
@@ -210,7 +247,8 @@ long check_row(const EdgeFinishRequest& rq, const PoseChecks& checks, const std:
     // guards' sweep only where the strips' cheaper test passes.
     if (last >= 0 && !motion_proved &&
         (motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-         motion_gouges(rq, checks, row.poses[last], p))) {
+         motion_gouges(rq, checks, row.poses[last], p)) &&
+        !lift_motion(rq, checks, row.poses[last], p)) {
       ++segment;
       ++gouge_breaks;
     }
