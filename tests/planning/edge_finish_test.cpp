@@ -289,9 +289,12 @@ TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
   EXPECT_LT(caught, -0.004);
   const GougeGuard window(*e.surface, guard_sampling(*e.surface, 0.02, 0, 1, rq.v0, rq.v1));
   EXPECT_EQ(window.deepest_cut(tool, pose, pose, 0.00075, true, true).depth_mm, 0.0);
-  // The samples' miss is figured for the corner and the round together:
-  // 1 / (1/0.5 + 1/0.4) mm on the built-in LE's 0.4 mm round.
-  EXPECT_NEAR(guards.corner_mm, 1 / (1 / 0.5 + 1 / 0.4), 0.01);
+  // The samples around the edge are spaced for the corner and the round
+  // together, 1 / (1/0.5 + 1/0.4) mm on the built-in LE's 0.4 mm round, so
+  // they miss at most a quarter of |e1|: three quarters allowed.
+  EXPECT_NEAR(guards.edge_radius_mm, 1 / (1 / 0.5 + 1 / 0.4), 0.01);
+  EXPECT_LE(guards.miss_mm, 0.25e-3 + 1e-12);
+  EXPECT_NEAR(guards.allowed(), 1e-3 - guards.miss_mm, 1e-12);
 }
 
 #if !defined(BLISKRUN_SANITIZED)

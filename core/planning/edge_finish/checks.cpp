@@ -15,17 +15,11 @@
 
 namespace bliskrun::edge_detail {
 
-double DesignGuards::allowed(const GougeGuard& g) const {
-  return std::max(0.0, -e1_mm - g.between_samples_mm(corner_mm));
-}
-double DesignGuards::least_allowed() const {
-  double a = allowed(*edge);
-  for (const auto& g : flanks) a = std::min(a, allowed(*g));
-  return a;
-}
+double DesignGuards::allowed() const { return std::max(0.0, -e1_mm - miss_mm); }
+double DesignGuards::least_allowed() const { return allowed(); }
 double DesignGuards::deepest(const Tool& tool, const ToolPose& a, const ToolPose& b, bool ends) const {
-  double d = edge->deepest_cut(tool, a, b, allowed(*edge), ends, ends).depth_mm;
-  for (const auto& g : flanks) d = std::min(d, g->deepest_cut(tool, a, b, allowed(*g), ends, ends).depth_mm);
+  double d = edge->deepest_cut(tool, a, b, allowed(), ends, ends).depth_mm;
+  for (const auto& g : flanks) d = std::min(d, g->deepest_cut(tool, a, b, allowed(), ends, ends).depth_mm);
   return d;
 }
 
@@ -43,38 +37,82 @@ double min_pv(const Surface& edge, double v) {
   return std::max(pv, 1e-9);
 }
 
-// The smallest radius of the region's sections around the edge (the
-// round's), from circles through three neighbouring points at 9 spans.
-double round_radius_min(const Surface& edge, double v0, double v1) {
-  constexpr int kAround = 97;
+namespace {
+
+// The smallest radius of s's parameter lines over a window, along u
+// (along_u) or along v, from circles through three neighbouring points
+// (97 per line, 9 lines): for the edge region along u, the round's.
+double line_radius_min(const Surface& s, bool along_u, double u0, double u1, double v0, double v1) {
+  constexpr int kAlong = 97;
   double rho = std::numeric_limits<double>::infinity();
-  for (int j = 0; j < 9; ++j) {
-    const double v = v0 + (v1 - v0) * j / 8.0;
-    for (int i = 1; i + 1 < kAround; ++i) {
-      const Vec3 a = edge.point((i - 1.0) / (kAround - 1), v), b = edge.point(i / (kAround - 1.0), v),
-                 c = edge.point((i + 1.0) / (kAround - 1), v);
+  auto at = [&](double line, double t) {
+    return along_u ? s.point(u0 + (u1 - u0) * t, v0 + (v1 - v0) * line) : s.point(u0 + (u1 - u0) * line, v0 + (v1 - v0) * t);
+  };
+  for (int j = 0; j < 9; ++j)
+    for (int i = 1; i + 1 < kAlong; ++i) {
+      const Vec3 a = at(j / 8.0, (i - 1.0) / (kAlong - 1)), b = at(j / 8.0, i / (kAlong - 1.0)),
+                 c = at(j / 8.0, (i + 1.0) / (kAlong - 1));
       const double cross = (b - a).cross(c - a).norm();
       if (cross > 1e-15) rho = std::min(rho, (b - a).norm() * (c - b).norm() * (c - a).norm() / (2 * cross));
     }
-  }
   return rho;
+}
+
+// The longest parameter line over a window along u or v (9 lines, 64 segments), mm.
+double line_length_max(const Surface& s, bool along_u, double u0, double u1, double v0, double v1) {
+  double len = 0;
+  for (int j = 0; j <= 8; ++j) {
+    double l = 0;
+    for (int k = 0; k < 64; ++k) {
+      const double line = j / 8.0, t0 = k / 64.0, t1 = (k + 1) / 64.0;
+      l += along_u ? (s.point(u0 + (u1 - u0) * t1, v0 + (v1 - v0) * line) - s.point(u0 + (u1 - u0) * t0, v0 + (v1 - v0) * line)).norm()
+                   : (s.point(u0 + (u1 - u0) * line, v0 + (v1 - v0) * t1) - s.point(u0 + (u1 - u0) * line, v0 + (v1 - v0) * t0)).norm();
+    }
+    len = std::max(len, l);
+  }
+  return len;
 }
 
 // Between samples h apart the tool's surface can dip below the design by
 // what the samples miss, h² / 8 times the two surfaces' curvatures summed
-// (they bend towards each other): the corner's 1/r and the round's 1/ρ —
-// a flat bottom over a 0.3 mm round misses 0.42 um at 32 um, which the
-// allowance (that of the corner alone) did not keep: 1.18 um on the
-// built-in TE where e1 is 1 um. h is chosen so that is a quarter of |e1|
-// (20 um for r 0.5 over ρ 0.3, e1 -1 um), the counts from the window's
-// longest parameter lines in mm — the allowance keeps three quarters of
-// e1, wherever the window and however long the blade.
+// (they bend towards each other): the corner's 1/r and the design's 1/ρ
+// along that direction — a flat bottom over the built-in TE's 0.3 mm round
+// misses 0.42 um at 32 um, which the allowance (figured for the corner
+// alone) did not keep: 1.18 um where e1 is 1 um. Each direction is spaced
+// so its miss is a quarter of |e1| (around the built-in TE's round 19 um,
+// along the span 32 um); the miss the counts give (a count is at most
+// 8000) is returned in `miss_mm`.
+UndercutOptions guard_grid(const Surface& s, double corner_mm, double e1_abs_mm, double u0, double u1, double v0,
+                           double v1, double& miss_mm, double& radius_u_mm) {
+  UndercutOptions o;
+  o.u0 = u0;
+  o.u1 = u1;
+  o.v0 = v0;
+  o.v1 = v1;
+  miss_mm = 0;
+  for (bool along_u : {true, false}) {
+    const double rho = line_radius_min(s, along_u, u0, u1, v0, v1);
+    const double r = 1.0 / (1.0 / corner_mm + 1.0 / std::max(rho, 1e-3));
+    const double len = line_length_max(s, along_u, u0, u1, v0, v1);
+    const int n = std::clamp(static_cast<int>(std::ceil(len / std::sqrt(2 * r * e1_abs_mm))) + 1, 8, 8000);
+    const double h = len / (n - 1);
+    miss_mm = std::max(miss_mm, h * h / (8 * r));
+    (along_u ? o.samples_u : o.samples_v) = n;
+    if (along_u) radius_u_mm = r;
+  }
+  return o;
+}
+
+}  // namespace
+
+// The edge region and the flanks sampled by guard_grid; the allowance
+// keeps what the samples can miss inside e1, wherever the window and
+// however long the blade.
 DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
   DesignGuards guards;
   guards.e1_mm = rq.band.e1_mm;
-  const double rho = round_radius_min(*rq.edge, rq.v0, rq.v1);
-  guards.corner_mm = 1.0 / (1.0 / std::max(fe.corner_mm, 1e-3) + 1.0 / std::max(rho, 1e-3));
-  const double spacing = std::sqrt(2 * guards.corner_mm * std::max(-rq.band.e1_mm, 1e-3));
+  const double corner = std::max(fe.corner_mm, 1e-3);
+  const double e1_abs = std::max(-rq.band.e1_mm, 1e-3);
   // The edge region wherever a pose can reach, not the window alone: a
   // row's disc reaches a tool radius across its feed, so the top row cut
   // above the window (1.23 um at GOTO 1534 of the built-in LE, unchecked
@@ -82,7 +120,10 @@ DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
   const double reach_mm = fe.radius_mm + 1.0;
   guards.v0 = std::max(0.0, rq.v0 - reach_mm / min_pv(*rq.edge, rq.v0));
   guards.v1 = std::min(1.0, rq.v1 + reach_mm / min_pv(*rq.edge, rq.v1));
-  guards.edge = std::make_unique<GougeGuard>(*rq.edge, guard_sampling(*rq.edge, spacing, 0, 1, guards.v0, guards.v1));
+  double miss = 0;
+  guards.edge = std::make_unique<GougeGuard>(
+      *rq.edge, guard_grid(*rq.edge, corner, e1_abs, 0, 1, guards.v0, guards.v1, miss, guards.edge_radius_mm));
+  guards.miss_mm = miss;
   // The flanks near their edge ends (first: v = 0, second: v = 1), where the
   // flat bottom of a pose reaches over them: 12 % of the chord, over the
   // machined span window and a tool radius + 1 mm either side of it.
@@ -93,9 +134,12 @@ DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
     const double fu1 = rq.span_u0 + rq.v1 * (rq.span_u1 - rq.span_u0);
     const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
     const double margin = (fe.radius_mm + 1.0) / per_u;
+    double radius_u = 0;
     guards.flanks.push_back(std::make_unique<GougeGuard>(
-        *flank, guard_sampling(*flank, spacing, std::max(0.0, std::min(fu0, fu1) - margin),
-                               std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0)));
+        *flank, guard_grid(*flank, corner, e1_abs, std::max(0.0, std::min(fu0, fu1) - margin),
+                           std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0, miss,
+                           radius_u)));
+    guards.miss_mm = std::max(guards.miss_mm, miss);
   }
   return guards;
 }

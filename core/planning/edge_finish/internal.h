@@ -165,12 +165,16 @@ struct DesignGuards {
   std::unique_ptr<GougeGuard> edge;
   std::vector<std::unique_ptr<GougeGuard>> flanks;
   double e1_mm = 0;
-  // The radius the samples' miss is figured for: the corner's and the
-  // edge round's together, 1 / (1/r + 1/ρ) (design_guards).
-  double corner_mm = 0;
+  // What the guards' samples can miss (the largest of the guards; a quarter
+  // of |e1| unless a sample count was capped): design_guards.
+  double miss_mm = 0;
+  // The radius the edge region's samples around the edge are spaced for:
+  // the corner's and the round's together, 1 / (1/r + 1/ρ).
+  double edge_radius_mm = 0;
   double v0 = 0, v1 = 1;  // the edge region's span the edge guard samples (the window and the tool's reach)
 
-  double allowed(const GougeGuard& g) const;
+  // The band's overcut less what the samples can miss.
+  double allowed() const;
   double least_allowed() const;
   // The deepest cut below the allowance of the tool moving a -> b (the ends
   // included or not), over the edge region and the flanks; 0 if none.

@@ -97,8 +97,8 @@ EdgeLinker edge_linker(const EdgeFinishRequest& rq, const ToolBody& body, const 
   link_checks.clearances = rq.clearances;
   link_checks.motion_tol_mm = rq.motion_tol_mm;
   link_checks.guard = guards.edge.get();
-  link_checks.guard_margin_mm = guards.edge->between_samples_mm(guards.corner_mm);
-  for (const auto& g : guards.flanks) link_checks.more_guards.push_back({g.get(), g->between_samples_mm(guards.corner_mm)});
+  link_checks.guard_margin_mm = guards.miss_mm;
+  for (const auto& g : guards.flanks) link_checks.more_guards.push_back({g.get(), guards.miss_mm});
   // A traverse out in front of the edge or up the span leaves the guards'
   // reach: proved against the whole blade with the cutter too (a route
   // radially out, tried for Rotor 67's TE near the hub, was found by the
