@@ -271,10 +271,13 @@ long check_row(const EdgeFinishRequest& rq, const PoseChecks& checks, const std:
       // A tilted pose is a different family from its neighbours: reach it
       // by a link unless the motion is proved clear of the world and
       // within e1 of the blade.
+      // A motion clear of the world that the guards find a little past
+      // their allowance lifts p as below.
       if (last >= 0 &&
           (!rq.world->check_motion(body, row.poses[last].pose, p.pose, rq.clearances, rq.motion_tol_mm).clear ||
-           motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
-           motion_gouges(rq, checks, row.poses[last], p))) {
+           ((motion_deepest(row.poses[last], p, *row.poses[last].strip, *p.strip) < rq.band.e1_mm ||
+             motion_gouges(rq, checks, row.poses[last], p)) &&
+            !lift_motion(rq, checks, row.poses[last], p)))) {
         ++segment;
         last = -1;
       }
