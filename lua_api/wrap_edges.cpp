@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 #include <set>
+#include <utility>
 
 #include "core/analysis/heat_map.h"
 #include "core/common/atomic_file.h"
@@ -146,7 +147,7 @@ int w_edge_finish(lua_State* L) {
          Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "a flat-end mill (bliskrun.tool.flat_end_mill)", {}},
          Field{"world", Kind::Any, true, std::nullopt, std::nullopt, "check surfaces: neighbouring blades, hub, own blade", {}},
          Field{"name", Kind::String, false, std::nullopt, std::nullopt, "name used in reports", {}},
-         Field{"span", Kind::Table, false, std::nullopt, std::nullopt, "edge-region v window {from, to} (default {0.1, 0.9})", {}},
+         Field{"span", Kind::Table, false, std::nullopt, std::nullopt, "edge-region v window {from, to} (default {0, 1}: the whole edge, hub to casing)", {}},
          Field{"hub", Kind::Any, false, std::nullopt, std::nullopt,
                "hub (surface of revolution): the first row as low as the cutter clears it; the strip below reported", {}},
          Field{"casing", Kind::Any, false, std::nullopt, std::nullopt,
@@ -213,7 +214,7 @@ int w_edge_finish(lua_State* L) {
     rq.span_u1 = fspan.second;
     rq.tool = p.tool.get();
     rq.world = p.world.get();
-    const auto span = range_option(L, o, "span", what, {0.1, 0.9});
+    const auto span = range_option(L, o, "span", what, {0.0, 1.0});
     rq.v0 = span.first;
     rq.v1 = span.second;
     if (o.has("hub")) rq.hub = revolution_option(L, o, "hub", what);
@@ -292,6 +293,15 @@ int w_plan_report(lua_State* L) {
   set_number(L, "span_v0", r.v0);
   set_number(L, "span_v1", r.v1);
   set_number(L, "hub_strip", r.hub_strip_mm);
+  set_number(L, "top_strip", r.top_strip_mm);
+  const EdgeProgramStats stats = edge_program_stats(r);
+  set_integer(L, "passes", stats.passes);
+  set_integer(L, "single_move_passes", stats.single_move_passes);
+  set_integer(L, "direct_links", stats.direct_links);
+  set_number(L, "cutting_length", stats.cutting_mm);
+  set_number(L, "non_cutting_length", stats.non_cutting_mm);
+  set_number(L, "checked_v0", r.checked_v0);
+  set_number(L, "checked_v1", r.checked_v1);
   set_bool(L, "zigzag", rq.zigzag);
   set_integer(L, "row_count", static_cast<long long>(r.rows.size()) - r.infill_rows);
   set_integer(L, "infill_rows", r.infill_rows);
@@ -456,6 +466,29 @@ int w_plan_simulate(lua_State* L) {
     const std::vector<ToolPass>& passes = split.passes;
     const auto t0 = std::chrono::steady_clock::now();
     UndercutResult u = simulate_undercut(*p.edge, *p.tool, passes, so, context(L).progress);
+    // The overcut beyond the window, where the first and last rows' discs
+    // reach (EdgeFinishResult::checked_v0/v1): sampled as densely along the
+    // span as the window, only gouges traced. The deepest anywhere is the
+    // overcut reported.
+    long overcut_at_v = -1;  // with the deepest beyond the window: its sample's span index in `beyond`
+    UndercutOptions beyond_o;
+    for (const auto& [a, b] : {std::pair{r.checked_v0, r.v0}, std::pair{r.v1, r.checked_v1}}) {
+      if (!(b - a > 1e-9)) continue;
+      UndercutOptions bo = so;
+      bo.v0 = a;
+      bo.v1 = b;
+      bo.samples_v = std::max(4, static_cast<int>(std::ceil(so.samples_v * (b - a) / (so.v1 - so.v0))));
+      bo.search_above_mm = 1e-3;  // material left there is the neighbouring operation's: gouges only
+      const UndercutResult f = simulate_undercut(*p.edge, *p.tool, passes, bo, context(L).progress);
+      if (f.overcut_mm < u.overcut_mm) {
+        u.overcut_mm = f.overcut_mm;
+        u.overcut_pass = f.overcut_pass;
+        u.overcut_pose = f.overcut_pose;
+        u.overcut_sample = f.overcut_sample;
+        overcut_at_v = 1;
+        beyond_o = bo;
+      }
+    }
     double flank_overcut = 0;
     LocatedMove flank_at;
     int flank_index = 0;
@@ -500,9 +533,11 @@ int w_plan_simulate(lua_State* L) {
       set_integer(L, "overcut_move", at.move);
       set_string(L, "overcut_motion", at.motion);
       set_integer(L, "overcut_row", at.row + 1);
-      set_number(L, "overcut_u", static_cast<double>(u.overcut_sample / so.samples_v) / (so.samples_u - 1));
-      set_number(L, "overcut_v", so.v0 + (so.v1 - so.v0) * static_cast<double>(u.overcut_sample % so.samples_v) /
-                                             (so.samples_v - 1));
+      const UndercutOptions& at_o = overcut_at_v >= 0 ? beyond_o : so;
+      set_number(L, "overcut_u", static_cast<double>(u.overcut_sample / at_o.samples_v) / (at_o.samples_u - 1));
+      set_number(L, "overcut_v", at_o.v0 + (at_o.v1 - at_o.v0) * static_cast<double>(u.overcut_sample % at_o.samples_v) /
+                                             (at_o.samples_v - 1));
+      set_bool(L, "overcut_beyond_window", overcut_at_v >= 0);
     }
     if (flank_at.move > 0) {
       set_integer(L, "flank_overcut_move", flank_at.move);
@@ -551,6 +586,11 @@ int w_plan_simulate(lua_State* L) {
       lua_setfield(L, -2, "thickness");
     }
     set_integer(L, "untouched", u.untouched);
+    // Material left is traced this far above the design: a larger residual
+    // (or none, untouched) reads as at least this.
+    set_number(L, "undercut_cap", so.search_above_mm);
+    set_number(L, "checked_v0", r.checked_v0);
+    set_number(L, "checked_v1", r.checked_v1);
     set_integer(L, "samples", static_cast<long long>(u.samples_u) * u.samples_v);
     set_integer(L, "tool_positions", u.tool_positions);
     set_number(L, "seconds", seconds);

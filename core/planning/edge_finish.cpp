@@ -51,7 +51,9 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   // The window as hub and casing leave it; everything below plans in it.
   EdgeFinishRequest rq = request;
   const auto t_rows = SteadyClock::now();  // the rows the window's fit plans count as rows
-  out.hub_strip_mm = fit_window_to_hub_and_casing(rq, ls, progress);
+  const WindowEnds ends = fit_window_to_hub_and_casing(rq, ls, progress);
+  out.hub_strip_mm = ends.hub_strip_mm;
+  out.top_strip_mm = ends.top_strip_mm;
   out.v0 = rq.v0;
   out.v1 = rq.v1;
   const ToolBody body(*rq.tool, rq.tool_tol_mm);
@@ -66,6 +68,8 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   out.side_seconds = seconds_since(t_side);
 
   const DesignGuards guards = design_guards(rq, fe);
+  out.checked_v0 = guards.v0;
+  out.checked_v1 = guards.v1;
   const PoseChecks checks{body, guards};
 
   // ---- poses tilted clear of the world; partial rows where that leaves material ----

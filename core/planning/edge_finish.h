@@ -58,7 +58,9 @@ struct EdgeFinishRequest {
   // over a concave flank beyond the edge region is seen. Optional.
   std::shared_ptr<const Surface> first, second;
   double span_u0 = 0, span_u1 = 1;
-  double v0 = 0.1, v1 = 0.9;            // span window to machine (edge-region v)
+  // Span window to machine (edge-region v): by default the whole edge, hub
+  // and casing narrowing it (below).
+  double v0 = 0, v1 = 1;
   // The hub and the casing (surfaces of revolution about Z), optional; they
   // narrow the window. With a hub, the first row is the lowest span >= v0
   // at which every contact, positioned as planned, keeps the cutter
@@ -171,6 +173,10 @@ struct EdgeFinishLink {
   std::vector<ToolPose> moves;  // via poses (rapid)
   std::vector<LinkLeg> legs;    // legs[k]: the motion into moves[k] (then one more into the next pass)
   double offset_mm = 0;         // retract distance up the axis that proved
+  // The next pass reached straight from the last, cutting, without leaving
+  // the surface: the motion proved clear of the world and within e1 of the
+  // blade by the design guards (no moves; the two passes are one).
+  bool direct = false;
   bool clear = false;
   std::string reason;
 };
@@ -190,6 +196,16 @@ struct EdgeFinishResult {
   // request's v0 or the hub, whichever is higher, and the first row: the
   // strip left to the hub-fillet operation (0 without a hub).
   double hub_strip_mm = 0;
+  // Largest span distance (mm) from the window's end v1 up to where the
+  // edge leaves the casing (the highest span with a point of the row still
+  // inside it; the region's end without a casing): the strip at the top
+  // left unmachined — 0 when the window reaches the casing, as it does by
+  // default (no other operation finishes the edge's top).
+  double top_strip_mm = 0;
+  // The span the design guards sample on the edge region (and the recipe's
+  // simulation measures overcut over): the window and a tool radius + 1 mm
+  // beyond either end, where the rows' discs reach.
+  double checked_v0 = 0, checked_v1 = 1;
   std::vector<EdgeFinishRow> rows;
   std::vector<EdgeFinishLink> links;
   // Off the first pose and off the last, up the tool axis, proved as a
@@ -225,6 +241,17 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
 // Rows' poses (Feed), link poses (Rapid), Stop where a contact or link was
 // refused — a Toolpath like drum_finish_moves'.
 Toolpath edge_finish_moves(const EdgeFinishResult& result);
+
+// The program's shape (issue 38 item 5): cutting passes (runs of Feed
+// moves), the tip's path length cutting (Feed to Feed) and not (every leg
+// into, between or out of Rapid moves: retracts, traverses, plunges).
+struct EdgeProgramStats {
+  int passes = 0;
+  int single_move_passes = 0;  // passes of one or two poses (at most one cutting move)
+  double cutting_mm = 0, non_cutting_mm = 0;
+  int direct_links = 0;        // passes joined on the surface (EdgeFinishLink::direct)
+};
+EdgeProgramStats edge_program_stats(const EdgeFinishResult& result);
 
 // Every move as simulation passes (a Stop ends a pass), rows and links,
 // with the index of each pass's first move (toolpath_passes).

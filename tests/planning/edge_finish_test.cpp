@@ -12,6 +12,9 @@
 #include "core/parts/edge_region.h"
 #include "core/common/error.h"
 #include "core/planning/edge_finish.h"
+// The design guards (edge_detail::design_guards): not a public interface,
+// tested here because what they sample is what the finish is proved against.
+#include "core/planning/edge_finish/internal.h"
 #include "core/sim/undercut.h"
 #include "core/tools/pose.h"
 #include "test_support.h"
@@ -124,6 +127,27 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   long feeds = 0;
   for (const Move& m : moves) feeds += m.kind == Move::Kind::Feed;
   EXPECT_EQ(feeds, res.total_poses);
+  // Passes joined on the surface (a link made straight, cutting): one pass
+  // fewer each, and every cutting motion of the program — those joins too —
+  // within e1 of the blade by the 20 um guards above (their miss, ~0.1 um
+  // under the corner, ~0.2 um under the flat bottom over the 0.4 mm round,
+  // allowed).
+  int pass_starts = 0;
+  for (const EdgeFinishRow& row : res.rows)
+    for (size_t i = 0; i < row.poses.size(); ++i)
+      pass_starts += i == 0 || row.poses[i].segment != row.poses[i - 1].segment ? 1 : 0;
+  const EdgeProgramStats st = edge_program_stats(res);
+  EXPECT_GT(st.direct_links, 0);
+  EXPECT_EQ(st.passes, pass_starts - st.direct_links);
+  EXPECT_GT(st.cutting_mm, 0);
+  double deepest_motion = 0;
+  for (size_t i = 1; i < moves.size(); ++i) {
+    if (moves[i].kind != Move::Kind::Feed || moves[i - 1].kind != Move::Kind::Feed) continue;
+    for (const GougeGuard* g : {&edge_guard, &pressure_guard, &suction_guard})
+      deepest_motion =
+          std::min(deepest_motion, g->deepest_cut(tool, moves[i - 1].pose, moves[i].pose, 0, false, false).depth_mm);
+  }
+  EXPECT_GE(deepest_motion, rq.band.e1_mm - 3e-4);
 }
 
 
@@ -182,6 +206,95 @@ TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCas
   EXPECT_LT(res.v1, rq.v1);
   EXPECT_GE(least_outside(res.v1), -1e-9);
   EXPECT_LT(least_outside(res.v1 - 0.01), 0);
+  EXPECT_EQ(res.top_strip_mm, 0.0);  // the rows reach past the casing: nothing left at the top
+}
+
+// A window that stops short of either end leaves strips there, and they are
+// reported, never silently left: below it, without a hub, the span length
+// from the region's start (v 0) up to the window's first row; above it, up
+// to where each iso-u line leaves the casing — both the largest around the
+// edge, measured here by brute force (2000 steps along each line, the exit
+// found by bisection). By default (span {0, 1}) the window reaches past the
+// casing and the top strip is 0 (previous test).
+TEST(EdgeFinishTest, StripsLeftAtTheWindowsEndsAreReportedWithTheirSize) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kPressure);
+  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  const EdgeRegion e = build_edge_region(er);
+  auto casing = std::make_shared<const SurfaceOfRevolution>(blisk.casing_meridian());
+  const CollisionWorld world;
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.5, 0.52);
+  rq.casing = casing;
+  rq.l_count = 2;
+  rq.sampling.across = 41;
+  const EdgeFinishResult res = plan_edge_finish(rq);
+  EXPECT_DOUBLE_EQ(res.v0, 0.5);
+  EXPECT_DOUBLE_EQ(res.v1, 0.52);
+  auto length = [&](double u, double a, double b) {
+    double l = 0;
+    for (int k = 0; k < 2000; ++k)
+      l += (e.surface->point(u, a + (b - a) * (k + 1) / 2000) - e.surface->point(u, a + (b - a) * k / 2000)).norm();
+    return l;
+  };
+  double below = 0, above = 0;
+  for (int i = 0; i <= 20; ++i) {
+    const double u = i / 20.0;
+    below = std::max(below, length(u, 0, 0.5));
+    double lo = 0.52, hi = 1;  // inside the casing at lo, outside at hi (or the region's end)
+    if (casing->radial_offset(e.surface->point(u, hi)) >= 0) {
+      for (int k = 0; k < 60; ++k) {
+        const double m = 0.5 * (lo + hi);
+        (casing->radial_offset(e.surface->point(u, m)) >= 0 ? hi : lo) = m;
+      }
+    }
+    above = std::max(above, length(u, 0.52, hi));
+  }
+  EXPECT_GT(below, 10);  // half the built-in blade's span
+  EXPECT_NEAR(res.hub_strip_mm, below, 0.01 * below);
+  EXPECT_GT(above, 10);
+  EXPECT_NEAR(res.top_strip_mm, above, 0.01 * above);
+}
+
+// The design guards sample the edge region as far beyond the window as a
+// pose reaches (issue 38: the built-in LE's top row cut 1.23 um above the
+// window, where the guard did not look). A pose injected above the window
+// — its flat bottom 5 um into the round's front, the disc 0.5 mm clear of
+// the window's end — is caught by them; a guard over the window alone
+// sees nothing of it.
+TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kPressure);
+  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  const EdgeRegion e = build_edge_region(er);
+  const CollisionWorld world;
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.45, 0.55);
+  rq.band.e1_mm = -0.001;
+  const FlatEnd fe = flat_end_of(tool);
+  const edge_detail::DesignGuards guards = edge_detail::design_guards(rq, fe);
+  EXPECT_LT(guards.v0, rq.v0);
+  EXPECT_GT(guards.v1, rq.v1);
+  // The front of the round (farthest from the flanks' ends' middle) at the
+  // window's end, then up the span by 3.5 mm.
+  const SurfaceDerivs d = e.surface->eval(0.5, rq.v1);
+  const double v = rq.v1 + 3.5 / d.pv.norm();
+  ASSERT_LT(v, guards.v1);
+  const SurfaceDerivs c = e.surface->eval(0.5, v);
+  const Vec3 n = c.pu.cross(c.pv).normalized();
+  const ToolPose pose{c.p - 0.005 * n, n};
+  const double caught = guards.deepest(tool, pose, pose, true);
+  EXPECT_LT(caught, -0.004);
+  const GougeGuard window(*e.surface, guard_sampling(*e.surface, 0.02, 0, 1, rq.v0, rq.v1));
+  EXPECT_EQ(window.deepest_cut(tool, pose, pose, 0.00075, true, true).depth_mm, 0.0);
+  // The samples around the edge are spaced for the corner and the round
+  // together, 1 / (1/0.5 + 1/0.4) mm on the built-in LE's 0.4 mm round, so
+  // they miss at most a quarter of |e1|: three quarters allowed.
+  EXPECT_NEAR(guards.edge_radius_mm, 1 / (1 / 0.5 + 1 / 0.4), 0.01);
+  EXPECT_LE(guards.miss_mm, 0.25e-3 + 1e-12);
+  EXPECT_NEAR(guards.allowed(), 1e-3 - guards.miss_mm, 1e-12);
 }
 
 #if !defined(BLISKRUN_SANITIZED)

@@ -137,8 +137,13 @@ void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, 
 
 // ---- the window (window.cpp) ----
 
-// Narrows rq's window to the hub and casing; returns the hub strip (mm).
-double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);
+// The strips the window leaves at either end (EdgeFinishResult::
+// hub_strip_mm, top_strip_mm).
+struct WindowEnds {
+  double hub_strip_mm = 0, top_strip_mm = 0;
+};
+// Narrows rq's window to the hub and casing; returns the strips left.
+WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);
 
 // ---- checks (checks.cpp) ----
 
@@ -160,9 +165,16 @@ struct DesignGuards {
   std::unique_ptr<GougeGuard> edge;
   std::vector<std::unique_ptr<GougeGuard>> flanks;
   double e1_mm = 0;
-  double corner_mm = 0;
+  // What the guards' samples can miss (the largest of the guards; a quarter
+  // of |e1| unless a sample count was capped): design_guards.
+  double miss_mm = 0;
+  // The radius the edge region's samples around the edge are spaced for:
+  // the corner's and the round's together, 1 / (1/r + 1/ρ).
+  double edge_radius_mm = 0;
+  double v0 = 0, v1 = 1;  // the edge region's span the edge guard samples (the window and the tool's reach)
 
-  double allowed(const GougeGuard& g) const;
+  // The band's overcut less what the samples can miss.
+  double allowed() const;
   double least_allowed() const;
   // The deepest cut below the allowance of the tool moving a -> b (the ends
   // included or not), over the edge region and the flanks; 0 if none.
@@ -179,7 +191,9 @@ struct PoseChecks {
   std::string gouge(const Tool& tool, const ToolPose& pose, bool liftable = false) const;
 };
 
-// The design guards over rq's window.
+// The smallest span speed |pv| around the edge region at v (21 samples).
+double min_pv(const Surface& edge, double v);
+// The design guards over rq's window and as far beyond it as a pose reaches.
 DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe);
 // Whether a pose's axis is within the machine's reach.
 bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose);

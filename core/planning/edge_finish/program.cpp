@@ -25,15 +25,18 @@ Toolpath edge_finish_moves(const EdgeFinishResult& result) {
         else moves.push_back({Move::Kind::Stop, ToolPose{}, ri, "stop", result.lead_in.reason});
       }
       last_row = ri;
+      bool joined = false;  // reached on the surface from the last pass: one pass with it
       if (starts_pass && started) {
         const EdgeFinishLink& l = result.links.at(link++);
+        joined = l.clear && l.direct;
         if (!l.clear) moves.push_back({Move::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
         else
           for (size_t k = 0; k < l.moves.size(); ++k)
             moves.push_back({Move::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
       }
       const bool after_stop = !moves.empty() && moves.back().kind == Move::Kind::Stop;
-      const char* motion = !starts_pass ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
+      const char* motion =
+          !starts_pass || joined ? "cut" : (moves.empty() || after_stop) ? "start" : "approach";
       moves.push_back({Move::Kind::Feed, row.poses[i].pose, ri, motion, {}});
       started = true;
     }
@@ -43,6 +46,29 @@ Toolpath edge_finish_moves(const EdgeFinishResult& result) {
     else moves.push_back({Move::Kind::Stop, ToolPose{}, last_row, "stop", result.lead_out.reason});
   }
   return moves;
+}
+
+EdgeProgramStats edge_program_stats(const EdgeFinishResult& result) {
+  EdgeProgramStats st;
+  for (const EdgeFinishLink& l : result.links) st.direct_links += l.clear && l.direct ? 1 : 0;
+  const Toolpath moves = edge_finish_moves(result);
+  int run = 0;  // Feed moves in the current run
+  auto close_run = [&] {
+    if (run > 0) ++st.passes;
+    if (run > 0 && run <= 2) ++st.single_move_passes;
+    run = 0;
+  };
+  for (size_t i = 0; i < moves.size(); ++i) {
+    const Move& m = moves[i];
+    if (m.kind != Move::Kind::Feed) close_run();
+    else ++run;
+    if (m.kind == Move::Kind::Stop || i == 0 || moves[i - 1].kind == Move::Kind::Stop) continue;
+    const double d = (m.pose.tip - moves[i - 1].pose.tip).norm();
+    const bool cutting = m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Feed;
+    (cutting ? st.cutting_mm : st.non_cutting_mm) += d;
+  }
+  close_run();
+  return st;
 }
 
 ToolpathPasses edge_finish_passes(const EdgeFinishResult& result) {

@@ -72,11 +72,37 @@ double row_hub_margin(const EdgeFinishRequest& rq, double v, const std::vector<d
   return margin;
 }
 
+// Length of the iso-u line u of the edge region from span a to b, mm.
+double span_length(const Surface& edge, double u, double a, double b) {
+  constexpr int kSteps = 16;
+  double len = 0;
+  for (int k = 0; k < kSteps; ++k)
+    len += (edge.point(u, a + (b - a) * (k + 1) / kSteps) - edge.point(u, a + (b - a) * k / kSteps)).norm();
+  return len;
+}
+
 }  // namespace
 
-// Narrows rq's window to the hub and casing; returns the hub strip (mm).
-double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress) {
+// Narrows rq's window to the hub and casing; returns the strips left.
+WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress) {
   constexpr int kAround = 21;
+  WindowEnds ends;
+  // The top strip: above the requested window's end, along each iso-u line
+  // up to where it leaves the casing (the region's end without one) — 0
+  // when the window reaches past the casing.
+  auto top_strip = [&](double from) {
+    double strip = 0;
+    for (int i = 0; i < kAround; ++i) {
+      const double u = i / (kAround - 1.0);
+      double to = 1;
+      if (rq.casing) {
+        auto outside = [&](double v) { return rq.casing->radial_offset(rq.edge->point(u, v)); };
+        to = lowest_clear(outside, from, 1.0).value_or(1.0);
+      }
+      strip = std::max(strip, span_length(*rq.edge, u, from, to));
+    }
+    return strip;
+  };
   if (rq.casing) {
     // Lowest span whose every point (sampled around) is outside the casing.
     auto beyond_tip = [&](double v) {
@@ -84,11 +110,20 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
       for (int i = 0; i < kAround; ++i) m = std::min(m, rq.casing->radial_offset(rq.edge->point(i / (kAround - 1.0), v)));
       return m;
     };
-    rq.v1 = lowest_clear(beyond_tip, rq.v0, rq.v1).value_or(rq.v1);
+    const std::optional<double> tip = lowest_clear(beyond_tip, rq.v0, rq.v1);
+    if (tip) rq.v1 = *tip;
+    else ends.top_strip_mm = top_strip(rq.v1);
     if (rq.v1 <= rq.v0 + 1e-9)
       throw Error("edge finish: the span window lies beyond the casing (no blade edge in it)");
+  } else if (rq.v1 < 1) {
+    ends.top_strip_mm = top_strip(rq.v1);
   }
-  if (!rq.hub) return 0;
+  if (!rq.hub) {
+    // No hub to stop at: the strip below the window is the region's below v0.
+    for (int i = 0; i < kAround && rq.v0 > 0; ++i)
+      ends.hub_strip_mm = std::max(ends.hub_strip_mm, span_length(*rq.edge, i / (kAround - 1.0), 0.0, rq.v0));
+    return ends;
+  }
   const Profile& c = rq.tool->cutter();
   const std::vector<Vec3> cutter = c.surface_samples(c.z_min(), c.z_max(), 6, 24);
   Progress quiet(&progress);
@@ -98,22 +133,20 @@ double fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<dou
     throw Error("edge finish: no row of the window keeps the cutter " + std::to_string(rq.hub_clearance_mm) +
                 " mm outside the hub (the tool is too large for the edge here)");
   const double first = *clear;
-  // The strip below the first row: along each iso-u line from the hub (or
-  // the requested v0, if higher) up to the first row.
+  // The strip below the first row: along each iso-u line from the hub up to
+  // the first row.
   double strip = 0;
   for (int i = 0; i < kAround; ++i) {
     const double u = i / (kAround - 1.0);
     auto above_hub = [&](double v) { return rq.hub->radial_offset(rq.edge->point(u, v)); };
-    const double from = lowest_clear(above_hub, rq.v0, first).value_or(first);
-    double len = 0;
-    constexpr int kSteps = 16;
-    for (int k = 0; k < kSteps; ++k)
-      len += (rq.edge->point(u, from + (first - from) * (k + 1) / kSteps) -
-              rq.edge->point(u, from + (first - from) * k / kSteps)).norm();
-    strip = std::max(strip, len);
+    // From the hub, not the requested v0: a window started higher leaves
+    // the strip below it all the same (Rotor 67's LE: 12 mm reported as 0).
+    const double from = lowest_clear(above_hub, 0.0, first).value_or(first);
+    strip = std::max(strip, span_length(*rq.edge, u, from, first));
   }
   rq.v0 = first;
-  return strip;
+  ends.hub_strip_mm = strip;
+  return ends;
 }
 
 }  // namespace bliskrun::edge_detail

@@ -130,7 +130,7 @@ function M.edge_finish(o)
     reach = {type = "table"},
   }, 2)
   local op = {kind = "edge_finish", tool = o.tool, blades = o.blades, edges = o.edges or {"leading", "trailing"},
-              e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0.1, 0.9},
+              e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0, 1},
               periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach}
   function op.plan_flanks(self, j)
     local blisk = j.part
