@@ -15,7 +15,7 @@ local opt = require("recipe_options"){
            help = "flanks the drum wheel finishes"},
   edges = {type = "boolean", default = true, help = "finish the leading and trailing edges (flat-end mill)"},
   hub = {type = "boolean", default = true, help = "finish the roots and the channel floor (tapered ball)"},
-  edge_span = {type = "string", default = "0.1,0.9", help = "span fractions a,b of the edge finish, 0 <= a < b <= 1",
+  edge_span = {type = "string", default = "0,1", help = "span fractions a,b of the edge finish, 0 <= a < b <= 1",
                check = function(v)
                  local a, b = v:match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
                  a, b = tonumber(a), tonumber(b)
