@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/common/error.h"
+#include "core/geometry/interpolation.h"
 
 namespace bliskrun {
 namespace {
@@ -193,6 +194,41 @@ TEST(ImpellerModel, BadCamberDataNamesTheListAndThePoint) {
   BladeCamber repeated = c;
   repeated.hub[5].p = repeated.hub[4].p;
   EXPECT_NE(message(repeated).find("points 4 and 5 coincide"), std::string::npos);
+}
+
+// The pairing rule: data point i of the hub and of the shroud lie on one
+// ruling, t_i the average of the two lists' chord-length parameters. The
+// built-in main blade's lists have different chord fractions (the hub is
+// shorter and its points are not spread like the shroud's), so pairing by
+// each list's own parameters would put them on different rulings.
+TEST(ImpellerModel, HubPointIAndShroudPointIAreOnOneRuling) {
+  const ImpellerDefinition d = builtin_impeller_definition();
+  const RuledBlade blade(d.main, "main");
+  std::vector<Vec3> hub, shroud;
+  for (const CamberPoint& c : d.main.hub) hub.push_back(c.p);
+  for (const CamberPoint& c : d.main.shroud) shroud.push_back(c.p);
+  const std::vector<double> th = chord_length_parameters(hub), ts = chord_length_parameters(shroud);
+  double spread = 0;
+  for (size_t i = 0; i < hub.size(); ++i) {
+    spread = std::max(spread, std::abs(th[i] - ts[i]));
+    const double t = 0.5 * (th[i] + ts[i]);
+    EXPECT_LT((blade.hub_curve(t).p - hub[i]).norm(), 1e-9) << i;
+    EXPECT_LT((blade.shroud_curve(t).p - shroud[i]).norm(), 1e-9) << i;
+  }
+  EXPECT_GT(spread, 1e-3);  // the lists' own parameters differ: the rule matters here
+}
+
+TEST(ImpellerModel, HubAndShroudListsOfDifferentLengthsAreRefused) {
+  BladeCamber c = builtin_impeller_definition().main;
+  c.hub.erase(c.hub.begin() + 3, c.hub.begin() + 8);  // 25 -> 20 points
+  try {
+    RuledBlade b(c, "splitter");
+    FAIL() << "lists of 20 and 25 points were accepted";
+  } catch (const ParameterError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "splitter.hub: expected as many points as splitter.shroud (25): hub point i and shroud "
+              "point i lie on one ruling; got 20");
+  }
 }
 
 }  // namespace
