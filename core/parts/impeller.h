@@ -109,7 +109,10 @@ class Impeller {
   std::shared_ptr<const Surface> face(BladeKind kind, int k, CamberSide side) const;
 
   // Hub of revolution of the main blade's hub camber curve (eq. 26–29):
-  // the (z, r) of that curve, extended at both ends, about Z.
+  // the (z, r) of that curve, evaluated from the curve itself (no
+  // interpolant between), extended at both ends by hub_extension_mm along
+  // its end tangents, about Z. hub_meridian() lists samples of that profile
+  // (the extension ends, 65 points along the curve), TE -> LE.
   const SurfaceOfRevolution& hub() const { return *hub_; }
   const std::vector<Vec2>& hub_meridian() const { return hub_meridian_; }
 
