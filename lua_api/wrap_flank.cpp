@@ -1,6 +1,7 @@
 // bliskrun.flank_mill{...}: five-axis flank milling of one ruled face
 // (impeller paper §4.3, core/planning/flank_milling.h) with interference
 // checks, lead-in/out, the residual along every axis (§5) and its map.
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -121,6 +122,8 @@ int w_flank_mill(lua_State* L) {
     luax::set_number(L, "stations", plan.stations);
     luax::set_number(L, "tilted", plan.tilted);
     luax::set_number(L, "min_margin", plan.min_margin_mm);
+    luax::set_number(L, "pose_min_margin", plan.pose_min_margin_mm);
+    if (std::isfinite(plan.lead_min_margin_mm)) luax::set_number(L, "lead_min_margin", plan.lead_min_margin_mm);
     lua_createtable(L, static_cast<int>(plan.axes.size()), 0);
     for (size_t i = 0; i < plan.axes.size(); ++i) {
       const FlankAxis& a = plan.axes[i];

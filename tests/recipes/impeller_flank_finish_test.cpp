@@ -46,6 +46,9 @@ TEST(ImpellerFlankFinishRecipe, RunsAndEveryEmittedPoseIsClearInAnIndependentChe
     EXPECT_LT(f["residual_unbalanced"]["min"].get<double>(), 0.0) << face;
     EXPECT_LE(f["residual"]["max_abs"].get<double>(), f["residual_unbalanced"]["max_abs"].get<double>() + 1e-9) << face;
     EXPECT_EQ(f["per_pose"].size(), f["poses"].get<size_t>());
+    // The clearance reported includes the leads.
+    EXPECT_LE(f["min_margin"].get<double>(), f["pose_min_margin"].get<double>()) << face;
+    EXPECT_LE(f["min_margin"].get<double>(), f["lead_min_margin"].get<double>()) << face;
   }
 
   // Independent check: the model rebuilt here, tessellated 4x finer than the
