@@ -134,6 +134,7 @@ int w_flank_mill(lua_State* L) {
       luax::set_vec3(L, "d2", a.d2);
       luax::set_vec3(L, "ball_centre", a.ball_centre);
       luax::set_number(L, "s1", a.s1);
+      if (i < plan.root_corner_mm.size()) luax::set_number(L, "root_corner", plan.root_corner_mm[i]);
       lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
     }
     lua_setfield(L, -2, "poses");
@@ -154,6 +155,10 @@ int w_flank_mill(lua_State* L) {
     push_stats(L, plan.residual_unbalanced);
     lua_setfield(L, -2, "residual_unbalanced");
     luax::set_number(L, "balanced", plan.balanced);
+    if (!plan.root_corner_mm.empty()) {
+      push_stats(L, plan.root_corner);
+      lua_setfield(L, -2, "root_corner");
+    }
     // Residual per pose: {max, min, mean, std} along each axis.
     lua_createtable(L, plan.residual.axes, 0);
     for (int a = 0; a < plan.residual.axes; ++a) {

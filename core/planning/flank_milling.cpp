@@ -268,6 +268,13 @@ FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& 
 
 }  // namespace
 
+double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter) {
+  const Vec3 a = axis.pose.axis.normalized();
+  const Vec3 d = axis.c2 - (axis.pose.tip + cutter.grown_by_mm() * a);
+  const double along = d.dot(a);
+  return cutter.tool().signed_distance(Vec3((d - along * a).norm(), 0, along));
+}
+
 double motion_min_margin(const CollisionWorld& world, const ToolBody& body, const ToolPose& from,
                          const ToolPose& to, const Clearances& clearances, double tol_mm) {
   if (!(tol_mm > 0)) throw ParameterError("tol", "expected a positive tolerance in mm");
@@ -426,6 +433,10 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   } else {
     plan.min_margin_mm = 0;
     plan.lead_min_margin_mm = std::numeric_limits<double>::infinity();
+  }
+  if (rq.hub) {
+    for (const FlankAxis& a : plan.axes) plan.root_corner_mm.push_back(root_corner_material(a, *rq.cutter));
+    plan.root_corner = residual_stats(plan.root_corner_mm);
   }
   plan.residual = flank_residual(design, plan.axes, *rq.cutter, rq.residual_points);
   plan.residual_unbalanced = rq.balance_residual

@@ -63,6 +63,7 @@ class FlankCutter {
   // the grown cutter tangent to a face puts the real cutter `by` off it
   // (stock left for finishing). Its tip is `by` below the real one.
   FlankCutter grown(double by_mm) const;
+  double grown_by_mm() const { return grow_; }
 
  private:
   Tool tool_;
@@ -166,6 +167,15 @@ struct FlankFacePlan {
   int balanced = 0;                  // poses shifted by balance_residual
   int stations = 0;
   int tilted = 0;
+  // Material left in the root corner, per emitted pose: the distance from
+  // the corner C2 (where the ruling meets the hub) to the tool there, > 0
+  // material left, < 0 cut into (root_corner_material). Apart from the
+  // residual, which runs along the axis from the ball centre up: a ball that
+  // rides the hub and touches the face leaves r / sin(theta / 2) - r in a
+  // corner of dihedral angle theta, more than the residual on a leaning
+  // blade. Empty without a hub (no corner).
+  std::vector<double> root_corner_mm;
+  ResidualStats root_corner;         // over root_corner_mm
   // Smallest clearance margin (world only) over the emitted poses and the
   // clear leads: min(pose_min_margin_mm, lead_min_margin_mm).
   double min_margin_mm = 0;
@@ -178,6 +188,12 @@ struct FlankFacePlan {
 // Margins beyond this are reported as this bound (resolving them costs more
 // than the whole plan).
 constexpr double kMarginHorizonMm = 5.0;
+
+// Signed distance from the root corner C2 of `axis` (the face on the hub)
+// to the real tool at axis.pose (a grown cutter's tip is its growth below
+// the real one): > 0 material left there. The tool is a solid of
+// revolution, so its frame is the pose's tip and axis alone.
+double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter);
 
 constexpr double kLeadMarginTolMm = 0.01;
 

@@ -308,6 +308,46 @@ TEST(FlankMilling, MinimumClearanceIncludesTheLeadsAsBruteForceFindsIt) {
               plan.lead_min_margin_mm, poses);
 }
 
+// The root corner in closed form: a cone blade (rulings leaning out by
+// alpha) on a flat hub. A ball end riding the hub and touching the face
+// leaves r / sin(theta / 2) - r at the corner, theta the dihedral angle
+// between face and hub on the channel side: 90 - alpha outside the cone
+// (plus face), 90 + alpha inside (minus face).
+TEST(FlankMilling, RootCornerMaterialIsTheBallsDistanceFromTheCorner) {
+  const double alpha = deg_to_rad(20), r = 3;
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30, r2 = 80 + 30 * std::tan(alpha);
+    c.hub.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), -5), 1.0});
+    c.shroud.push_back({Vec3(r2 * std::cos(a), r2 * std::sin(a), 25), 1.0});
+  }
+  const RuledBlade blade(c);
+  // The hub: the plane z = 0 (the rulings run on past it, cut back to it),
+  // profile outlet -> inlet so the channel side (z > 0) is positive.
+  const SurfaceOfRevolution hub(std::vector<Vec2>{Vec2(0, 200), Vec2(0, 100), Vec2(0, 10)});
+  const FlankCutter cutter(ball(r, 40), r);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = blade.face(side);
+    FlankFaceRequest rq;
+    rq.face = face.get();
+    rq.hub = &hub;
+    rq.cutter = &cutter;
+    rq.steps.chord_tol_mm = 0.5;
+    rq.residual_points = 3;
+    const FlankFacePlan plan = plan_flank_face(rq);
+    ASSERT_EQ(plan.root_corner_mm.size(), plan.axes.size());
+    const double theta = 0.5 * kPi + (side == CamberSide::kPlus ? -alpha : alpha);
+    const double expected = r / std::sin(theta / 2) - r;
+    for (size_t i = 0; i < plan.axes.size(); ++i) {
+      EXPECT_NEAR(plan.axes[i].c2.z(), 0.0, 1e-9);
+      EXPECT_NEAR(plan.root_corner_mm[i], expected, 1e-6) << i;
+    }
+    EXPECT_NEAR(plan.root_corner.max_mm, expected, 1e-6);
+    std::printf("root corner, %s face: %.4f mm (closed form %.4f)\n", side == CamberSide::kPlus ? "plus" : "minus",
+                plan.root_corner.max_mm, expected);
+  }
+}
+
 }  // namespace
 }  // namespace bliskrun
 

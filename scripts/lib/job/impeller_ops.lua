@@ -214,6 +214,8 @@ function M.flank_finish(o)
       units[#units + 1] = {name = name, moves = moves,
                            report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
                                      residual_max = plan.residual.max, residual_min = plan.residual.min,
+                                     -- apart from the residual: the corner the ball riding the hub leaves
+                                     root_corner_max = plan.root_corner and plan.root_corner.max,
                                      min_margin = plan.min_margin, lead_min_margin = plan.lead_min_margin}}
     end
     return per_blade(j, units, self.blades)
