@@ -1,6 +1,7 @@
 // bliskrun.flank_mill{...}: five-axis flank milling of one ruled face
 // (impeller paper §4.3, core/planning/flank_milling.h) with interference
 // checks, lead-in/out, the residual along every axis (§5) and its map.
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -121,6 +122,8 @@ int w_flank_mill(lua_State* L) {
     luax::set_number(L, "stations", plan.stations);
     luax::set_number(L, "tilted", plan.tilted);
     luax::set_number(L, "min_margin", plan.min_margin_mm);
+    luax::set_number(L, "pose_min_margin", plan.pose_min_margin_mm);
+    if (std::isfinite(plan.lead_min_margin_mm)) luax::set_number(L, "lead_min_margin", plan.lead_min_margin_mm);
     lua_createtable(L, static_cast<int>(plan.axes.size()), 0);
     for (size_t i = 0; i < plan.axes.size(); ++i) {
       const FlankAxis& a = plan.axes[i];
@@ -131,6 +134,7 @@ int w_flank_mill(lua_State* L) {
       luax::set_vec3(L, "d2", a.d2);
       luax::set_vec3(L, "ball_centre", a.ball_centre);
       luax::set_number(L, "s1", a.s1);
+      if (i < plan.root_corner_mm.size()) luax::set_number(L, "root_corner", plan.root_corner_mm[i]);
       lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
     }
     lua_setfield(L, -2, "poses");
@@ -151,6 +155,10 @@ int w_flank_mill(lua_State* L) {
     push_stats(L, plan.residual_unbalanced);
     lua_setfield(L, -2, "residual_unbalanced");
     luax::set_number(L, "balanced", plan.balanced);
+    if (!plan.root_corner_mm.empty()) {
+      push_stats(L, plan.root_corner);
+      lua_setfield(L, -2, "root_corner");
+    }
     // Residual per pose: {max, min, mean, std} along each axis.
     lua_createtable(L, plan.residual.axes, 0);
     for (int a = 0; a < plan.residual.axes; ++a) {

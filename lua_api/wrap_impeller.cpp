@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/common/error.h"
 #include "core/io/camber_data.h"
 #include "core/parts/impeller.h"
 #include "core/parts/ruled_fit.h"
@@ -115,7 +116,14 @@ int w_impeller(lua_State* L) {
   }
   def.hub_extension_mm = o.number("hub_extension", def.hub_extension_mm);
   return luax::guarded(L, [&] {
-    h.impeller = std::make_shared<const Impeller>(std::move(def));
+    try {
+      h.impeller = std::make_shared<const Impeller>(std::move(def));
+    } catch (const ParameterError& e) {
+      // Data that read well but make no impeller (lists of different
+      // lengths): name the file as well as the list.
+      if (h.source == "built-in") throw;
+      throw Error(h.source + ": " + e.what());
+    }
     luax::push_new(L, std::move(h));
     return 1;
   });

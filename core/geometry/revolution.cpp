@@ -31,13 +31,18 @@ BSplineCurve fit_meridian(const std::vector<Vec2>& meridian) {
 }  // namespace
 
 SurfaceOfRevolution::SurfaceOfRevolution(const std::vector<Vec2>& meridian)
-    : meridian_(fit_meridian(meridian)), samples_(meridian) {
-  foot_options_.seed_samples_u = std::max<int>(16, static_cast<int>(samples_.size()));
-  foot_seeds_ = curve_seed_samples(meridian_, foot_options_);
+    : SurfaceOfRevolution(std::make_shared<const BSplineCurve>(fit_meridian(meridian)),
+                          static_cast<int>(meridian.size())) {}
+
+SurfaceOfRevolution::SurfaceOfRevolution(std::shared_ptr<const Curve> meridian_zr, int seed_samples)
+    : meridian_(std::move(meridian_zr)) {
+  if (!meridian_) throw ParameterError("meridian", "expected a profile curve, got none");
+  foot_options_.seed_samples_u = std::max(16, seed_samples);
+  foot_seeds_ = curve_seed_samples(*meridian_, foot_options_);
 }
 
 SurfaceDerivs SurfaceOfRevolution::eval(double u, double v) const {
-  const CurveDerivs m = meridian_.eval(u);  // (z, r, 0)
+  const CurveDerivs m = meridian_->eval(u);  // (z, r, 0)
   const double w = 2 * kPi;
   const double c = std::cos(w * v), s = std::sin(w * v);
   const double z = m.p.x(), r = m.p.y();
@@ -58,7 +63,7 @@ SurfaceOfRevolution SurfaceOfRevolution::offset(double d, int samples) const {
   m.reserve(static_cast<size_t>(samples));
   for (int i = 0; i < samples; ++i) {
     const double f = static_cast<double>(i) / (samples - 1);
-    const CurveDerivs c = meridian_.eval(meridian_.t_min() + f * (meridian_.t_max() - meridian_.t_min()));  // (z, r, 0)
+    const CurveDerivs c = meridian_->eval(meridian_->t_min() + f * (meridian_->t_max() - meridian_->t_min()));  // (z, r, 0)
     const Vec2 t(c.dt.x(), c.dt.y());
     const double speed = t.norm();
     if (!(speed > 0)) throw Error("offset: the hub profile has a zero tangent");
@@ -78,11 +83,11 @@ SurfaceOfRevolution SurfaceOfRevolution::offset(double d, int samples) const {
 double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
   // Work in q's meridian plane: (z, r) of q against the profile curve.
   const Vec3 qzr(q.z(), std::hypot(q.x(), q.y()), 0.0);
-  const CurveProjection foot = project_to_curve(meridian_, qzr, foot_options_, foot_seeds_);
+  const CurveProjection foot = project_to_curve(*meridian_, qzr, foot_options_, foot_seeds_);
   if (!foot.ok)
     throw Error("radial_offset: no foot on the meridian for (z, r) = (" + std::to_string(qzr.x()) +
                 ", " + std::to_string(qzr.y()) + "): " + foot.failure);
-  const CurveDerivs d = meridian_.eval(foot.t);
+  const CurveDerivs d = meridian_->eval(foot.t);
   // Left normal of the profile direction (z', r'): (-r', z'). For a profile
   // running towards +z this points away from the axis.
   Vec3 normal(-d.dt.y(), d.dt.x(), 0.0);
@@ -94,19 +99,20 @@ double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
 }
 
 double SurfaceOfRevolution::radius_at(double z) const {
-  const double z0 = meridian_.point(0).x(), z1 = meridian_.point(1).x();
+  const double t0 = meridian_->t_min(), t1 = meridian_->t_max();
+  const double z0 = meridian_->point(t0).x(), z1 = meridian_->point(t1).x();
   if (z < std::min(z0, z1) - 1e-12 || z > std::max(z0, z1) + 1e-12)
     throw Error("radius_at: z = " + std::to_string(z) + " mm is outside the profile [" +
                 std::to_string(std::min(z0, z1)) + ", " + std::to_string(std::max(z0, z1)) + "]");
   // Bisection on z(u): the profile is single-valued in z where this is used.
-  double lo = 0, hi = 1;
+  double lo = t0, hi = t1;
   const bool rising = z1 > z0;
   for (int i = 0; i < 100; ++i) {
     const double mid = 0.5 * (lo + hi);
-    const double zm = meridian_.point(mid).x();
+    const double zm = meridian_->point(mid).x();
     if ((zm < z) == rising) lo = mid; else hi = mid;
   }
-  return meridian_.point(0.5 * (lo + hi)).y();
+  return meridian_->point(0.5 * (lo + hi)).y();
 }
 
 SurfaceCurveOnSurface intersect_with_revolution(const Surface& s, const SurfaceOfRevolution& rev,

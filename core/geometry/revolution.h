@@ -1,6 +1,7 @@
 #pragma once
 // Surfaces of revolution about the Z axis (hub, casing) from a meridian
 // profile given as (z, r) points, and intersection of a flank with them.
+#include <memory>
 #include <vector>
 
 #include "core/geometry/curve.h"
@@ -15,6 +16,11 @@ class SurfaceOfRevolution : public Surface {
  public:
   // `meridian` holds (z, r) pairs ordered along the profile (at least 2).
   explicit SurfaceOfRevolution(const std::vector<Vec2>& meridian);
+  // The profile as a curve whose points are (z, r, 0) over its [t_min,
+  // t_max] (evaluated exactly, not through samples: an impeller's hub is
+  // its blade's hub curve revolved); `seed_samples` coarse points seed
+  // radial_offset's projection.
+  SurfaceOfRevolution(std::shared_ptr<const Curve> meridian_zr, int seed_samples);
   SurfaceDerivs eval(double u, double v) const override;
   // Signed radial offset of q from the surface in its meridian plane:
   // > 0 when q is farther from the axis than the profile at q's position.
@@ -31,8 +37,7 @@ class SurfaceOfRevolution : public Surface {
   SurfaceOfRevolution offset(double d, int samples = 400) const;
 
  private:
-  BSplineCurve meridian_;  // points (z, r, 0)
-  std::vector<Vec2> samples_;
+  std::shared_ptr<const Curve> meridian_;  // points (z, r, 0)
   // radial_offset's projection settings and the coarse sample of the
   // meridian it seeds from, computed once (it is called per cutter point).
   ProjectionOptions foot_options_;

@@ -17,7 +17,8 @@ struct CamberPoint {
   double half_thickness_mm = 0;  // h of the paper: half the blade thickness there
 };
 
-// One blade's design data. Both lists LE -> TE, at least 4 points each.
+// One blade's design data. Both lists LE -> TE, at least 4 points each and
+// as many points in both: hub point i and shroud point i lie on one ruling.
 struct BladeCamber {
   std::vector<CamberPoint> shroud, hub;
 };

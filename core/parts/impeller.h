@@ -5,11 +5,12 @@
 // Per blade the design gives two lists of camber-surface points with the
 // blade's half thickness, (x, y, z, h), one on the shroud and one on the hub,
 // each ordered leading edge -> trailing edge (along the flow):
-//   - each list is interpolated by the kernel's cubic (chord-length
-//     parameters t in [0, 1], end tangents estimated as for grids), and h by
-//     a cubic in the same parameter, so h(t), h'(t) are smooth (eq. 1–3);
-//     lists of equal length share the average of their chord-length
-//     parameters, so that hub point i and shroud point i lie on one ruling;
+//   - pairing rule: hub point i and shroud point i lie on one ruling, so
+//     both lists have as many points (else ParameterError);
+//   - each list is interpolated by the kernel's cubic, both at the average
+//     of the two lists' chord-length parameters t in [0, 1] (end tangents
+//     estimated as for grids), and h by a cubic in the same parameter, so
+//     h(t), h'(t) are smooth (eq. 1–3);
 //   - the camber surface joins equal-parameter points: r_m(t, s) =
 //     r_hub(t) + (r_shroud(t) - r_hub(t)) s (eq. 4, s in [0, 1] hub -> shroud);
 //   - the normal of the camber surface along each boundary curve is
@@ -48,7 +49,8 @@ enum class CamberSide { kPlus, kMinus };  // side of +N / -N (eq. 5–6)
 class RuledBlade {
  public:
   // Throws ParameterError("<name>.shroud" / "<name>.hub", ...) for fewer than
-  // 4 points, non-finite values, h <= 0 or coincident consecutive points.
+  // 4 points, non-finite values, h <= 0, coincident consecutive points or
+  // lists of different lengths (the pairing rule above).
   RuledBlade(const BladeCamber& camber, const std::string& name = "camber");
 
   CurveDerivs shroud_curve(double t) const { return shroud_.eval(t); }
@@ -107,7 +109,10 @@ class Impeller {
   std::shared_ptr<const Surface> face(BladeKind kind, int k, CamberSide side) const;
 
   // Hub of revolution of the main blade's hub camber curve (eq. 26–29):
-  // the (z, r) of that curve, extended at both ends, about Z.
+  // the (z, r) of that curve, evaluated from the curve itself (no
+  // interpolant between), extended at both ends by hub_extension_mm along
+  // its end tangents, about Z. hub_meridian() lists samples of that profile
+  // (the extension ends, 65 points along the curve), TE -> LE.
   const SurfaceOfRevolution& hub() const { return *hub_; }
   const std::vector<Vec2>& hub_meridian() const { return hub_meridian_; }
 

@@ -63,6 +63,7 @@ class FlankCutter {
   // the grown cutter tangent to a face puts the real cutter `by` off it
   // (stock left for finishing). Its tip is `by` below the real one.
   FlankCutter grown(double by_mm) const;
+  double grown_by_mm() const { return grow_; }
 
  private:
   Tool tool_;
@@ -166,12 +167,46 @@ struct FlankFacePlan {
   int balanced = 0;                  // poses shifted by balance_residual
   int stations = 0;
   int tilted = 0;
-  double min_margin_mm = 0;          // smallest clearance margin over poses (world only), resolved up to kMarginHorizonMm
+  // Material left in the root corner, per emitted pose: the distance from
+  // the corner C2 (where the ruling meets the hub) to the tool there, > 0
+  // material left, < 0 cut into (root_corner_material). Apart from the
+  // residual, which runs along the axis from the ball centre up: a ball that
+  // rides the hub and touches the face leaves r / sin(theta / 2) - r in a
+  // corner of dihedral angle theta, more than the residual on a leaning
+  // blade. Empty without a hub (no corner).
+  std::vector<double> root_corner_mm;
+  ResidualStats root_corner;         // over root_corner_mm
+  // Smallest clearance margin (world only) over the emitted poses and the
+  // clear leads: min(pose_min_margin_mm, lead_min_margin_mm).
+  double min_margin_mm = 0;
+  double pose_min_margin_mm = 0;     // over poses, resolved up to kMarginHorizonMm
+  // Over the lead-in and lead-out motions (motion_min_margin, a lower bound
+  // within kLeadMarginTolMm); +inf when no lead is clear or no world.
+  double lead_min_margin_mm = 0;
 };
 
 // Margins beyond this are reported as this bound (resolving them costs more
 // than the whole plan).
 constexpr double kMarginHorizonMm = 5.0;
+
+// Signed distance from the root corner C2 of `axis` (the face on the hub)
+// to the real tool at axis.pose (a grown cutter's tip is its growth below
+// the real one): > 0 material left there. The tool is a solid of
+// revolution, so its frame is the pose's tip and axis alone.
+double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter);
+
+constexpr double kLeadMarginTolMm = 0.01;
+
+// Smallest clearance margin (distance - clearance, over every tool part and
+// check surface) over the whole motion from `from` to `to` (PoseMotion), as
+// a lower bound within tol_mm of it. No tool point moves faster than
+// V = max_point_speed(tool reach) per unit t, so the margin is V-Lipschitz
+// in t and a piece [t0, t1] with margins g0, g1 cannot go below
+// (g0 + g1 - V (t1 - t0)) / 2; pieces are halved until that bound is within
+// tol_mm of the smallest sampled margin (Piyavskii's bound). Distances are
+// exact (no horizon), so far pieces are dropped at once.
+double motion_min_margin(const CollisionWorld& world, const ToolBody& body, const ToolPose& from,
+                         const ToolPose& to, const Clearances& clearances, double tol_mm = kLeadMarginTolMm);
 
 // Throws ParameterError for missing face/cutter, or a world without a body.
 FlankFacePlan plan_flank_face(const FlankFaceRequest& request);

@@ -18,7 +18,11 @@
 --   impeller_<main|splitter>_<plus|minus>.apt  APT/CL of blade 1's face (GOTO tip, axis)
 --   impeller_<...>_residual.png              residual map (eq. 33–36), + undercut, − overcut
 --   impeller_blade1_<...>.stl, impeller_hub.stl  the model
---   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose
+--   impeller_flank_finish.json               poses, refusals, tilts, residual per face and pose;
+--                                            the material left in the root corner (where the
+--                                            ruling meets the hub; the ball riding the hub
+--                                            cannot reach it) apart from the residual, and
+--                                            the clearance over poses and leads
 --   impeller_flank_finish.pvd, report.html   faces, hub and cutter axes for ParaView; the run's page
 -- Options: --help lists them (--set NAME=VALUE).
 
@@ -104,26 +108,27 @@ for _, kind in ipairs{"main", "splitter"} do
     blocks[#blocks + 1] = {name = name .. " cutter axes", moves = path}
     face_rows[#face_rows + 1] = {name, plan.stations, #plan.poses, #plan.refusals, plan.tilted,
                                  1e3 * plan.residual.max, 1e3 * plan.residual.min, 1e3 * plan.residual_unbalanced.max,
-                                 1e3 * plan.residual_unbalanced.min}
+                                 1e3 * plan.residual_unbalanced.min, plan.root_corner.max, plan.min_margin}
     local per_pose = {}
     for i, p in ipairs(plan.poses) do
       local r = plan.residual_per_pose[i]
-      per_pose[i] = {v = p.v, tilt = p.tilt, max = r.max, min = r.min, mean = r.mean}
+      per_pose[i] = {v = p.v, tilt = p.tilt, max = r.max, min = r.min, mean = r.mean, root_corner = p.root_corner}
     end
     report.faces[name] = {stations = plan.stations, poses = #plan.poses, refused = #plan.refusals,
                           refusals = plan.refusals, tilted = plan.tilted, min_margin = plan.min_margin,
+                          pose_min_margin = plan.pose_min_margin, lead_min_margin = plan.lead_min_margin,
                           lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
                           lead_reason = (plan.lead_in.reason or "") .. (plan.lead_out.reason or ""),
                           residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
-                          balanced = plan.balanced, per_pose = per_pose}
+                          balanced = plan.balanced, per_pose = per_pose, root_corner = plan.root_corner}
     totals.poses = totals.poses + #plan.poses
     totals.refused = totals.refused + #plan.refusals
     totals.tilted = totals.tilted + plan.tilted
     totals.max_abs = math.max(totals.max_abs, plan.residual.max_abs)
-    print(string.format("%-24s %3d stations, %3d poses, %2d refused, %2d tilted, %3d balanced; residual max %+.4f min %+.4f mean %+.4f std %.4f mm (unbalanced %+.4f / %+.4f)",
+    print(string.format("%-24s %3d stations, %3d poses, %2d refused, %2d tilted, %3d balanced; residual max %+.4f min %+.4f mean %+.4f std %.4f mm (unbalanced %+.4f / %+.4f); root corner up to %.3f mm; clearance %.3f mm (leads %.3f)",
                         name, plan.stations, #plan.poses, #plan.refusals, plan.tilted, plan.balanced, plan.residual.max,
                         plan.residual.min, plan.residual.mean, plan.residual.std, plan.residual_unbalanced.max,
-                        plan.residual_unbalanced.min))
+                        plan.residual_unbalanced.min, plan.root_corner.max, plan.min_margin, plan.lead_min_margin or 0 / 0))
   end
 end
 report.totals = totals
@@ -147,7 +152,8 @@ end
 report.verdict = require("run_report").verdict(requirements)
 bliskrun.write_json("impeller_flank_finish.json", report)
 local sections = {{title = "Faces of blade 1", table = {columns = {"face", "stations", "poses", "refused", "tilted",
-  "residual max (µm)", "residual min (µm)", "paper's axes max (µm)", "paper's axes min (µm)"}, rows = face_rows}}}
+  "residual max (µm)", "residual min (µm)", "paper's axes max (µm)", "paper's axes min (µm)",
+  "root corner left, max (mm)", "clearance incl. leads (mm)"}, rows = face_rows}}}
 for _, p in ipairs(pictures) do sections[#sections + 1] = p end
 require("run_report").write{title = "Flank finishing of the built-in impeller", verdict = report.verdict,
   settings = {chord_tol_mm = chord_tol, mesh_tol_mm = mesh_tol, clearance_mm = clearance, balance = balance,

@@ -16,6 +16,8 @@ TEST_P(LuaImpellerErrors, NameTheProblemAtTheRecipeLine) {
   TempDir dir;
   dir.write("thin.dat", "blades 5\nmain shroud 4\n20 0 10 1\n21 1 10 1\n22 2 10 1\n23 3 10 1\n"
                         "main hub 4\n8 -2 0 1\n9 -1 0 1\n10 0 0 -1\n11 1 0 1\n");
+  dir.write("unpaired.dat", "blades 5\nmain shroud 4\n20 0 10 1\n21 1 10 1\n22 2 10 1\n23 3 10 1\n"
+                            "main hub 5\n8 -2 0 1\n9 -1 0 1\n10 0 0 1\n11 1 0 1\n12 2 0 1\n");
   EXPECT_TRUE(fails_at_line_2(dir, GetParam()));
 }
 
@@ -30,6 +32,9 @@ INSTANTIATE_TEST_SUITE_P(
                         "option 'blades' is for the built-in impeller"},
         RecipeErrorCase{"camber_file", "bliskrun.impeller{camber = 'thin.dat'}",
                         "thin.dat:10: main hub: expected a half thickness h > 0"},
+        RecipeErrorCase{"camber_unpaired", "bliskrun.impeller{camber = 'unpaired.dat'}",
+                        "unpaired.dat: main.hub: expected as many points as main.shroud (4): hub point i "
+                        "and shroud point i lie on one ruling; got 5"},
         RecipeErrorCase{"blade_index", "bliskrun.impeller{}:face(18, 'plus')",
                         "argument 'blade': 18 is outside 1..17"},
         RecipeErrorCase{"side", "bliskrun.impeller{}:face(1, 'pressure')",

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "core/collision/collision_world.h"
@@ -235,6 +236,115 @@ TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
     const FlankAxis& a = plan.axes[i];
     EXPECT_NEAR((a.pose.tip + 3 * a.pose.axis - a.ball_centre).norm(), 0, 1e-9);
     EXPECT_NEAR(a.pose.axis.dot(a.n2), flank_axis(*face, a.v, nullptr, cutter).pose.axis.dot(a.n2), 1e-9);
+  }
+}
+
+// The reported clearance includes the leads: a point obstacle 0.8 mm off
+// the ball half way along the lead-out, out of reach of every pose. The
+// plan's smallest margin is the brute-force minimum over 2000 poses of each
+// lead motion (within the 0.01 mm bound), not the poses' (the built-in
+// splitter's lead-out passed 0.81 mm from a neighbour while 2.99 mm was
+// reported).
+TEST(FlankMilling, MinimumClearanceIncludesTheLeadsAsBruteForceFindsIt) {
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30;
+    c.hub.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 0), 1.0});
+    c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 30), 1.0});
+  }
+  const RuledBlade blade(c);
+  const auto face = blade.face(CamberSide::kPlus);
+  const FlankCutter cutter(tapered(3, 2, 40), 3);
+  const ToolBody body(cutter.tool());
+  auto speck = [](const Vec3& p) {
+    TriangleMesh m;
+    m.vertices = {p, p + Vec3(0.01, 0, 0), p + Vec3(0, 0.01, 0)};
+    m.triangles = {{0, 1, 2}};
+    return m;
+  };
+  FlankFaceRequest rq;
+  rq.face = face.get();
+  rq.cutter = &cutter;
+  rq.body = &body;
+  rq.steps.chord_tol_mm = 0.5;
+  rq.residual_points = 3;
+  CollisionWorld far;
+  far.add("far", speck(Vec3(0, 0, 500)));
+  rq.world = &far;
+  const FlankFacePlan first = plan_flank_face(rq);
+  ASSERT_TRUE(first.lead_out.clear);
+  const ToolPose last = first.axes.back().pose, away = first.lead_out.away;
+  const PoseMotion out(last, away);
+  const ToolPose mid = out.pose_at(0.5);
+  const Vec3 ball = mid.tip + 3 * mid.axis;
+  // Beside the path, on the side away from the earlier poses (past the
+  // face's end, where no pose reaches).
+  Vec3 side = mid.axis.cross(away.tip - last.tip).normalized();
+  if (side.dot(last.tip - first.axes[first.axes.size() - 2].pose.tip) < 0) side = -side;
+  CollisionWorld world;
+  world.add("speck", speck(ball + 3.8 * side));
+  rq.world = &world;
+  const FlankFacePlan plan = plan_flank_face(rq);
+  ASSERT_TRUE(plan.lead_in.clear && plan.lead_out.clear);
+  ASSERT_LT((plan.lead_out.away.tip - away.tip).norm(), 1e-9);  // the same lead-out
+  auto brute = [&](const ToolPose& a, const ToolPose& b) {
+    const PoseMotion m(a, b);
+    double low = std::numeric_limits<double>::infinity();
+    for (int k = 0; k <= 2000; ++k) low = std::min(low, world.check(body, m.pose_at(k / 2000.0), Clearances{}).min_margin_mm);
+    return low;
+  };
+  const double leads = std::min(brute(plan.axes.front().pose, plan.lead_in.away), brute(last, away));
+  double poses = std::numeric_limits<double>::infinity();
+  for (const FlankAxis& a : plan.axes) poses = std::min(poses, world.check(body, a.pose, Clearances{}).min_margin_mm);
+  EXPECT_NEAR(leads, 0.8, 0.05);
+  EXPECT_GT(poses, leads + 0.5);  // only a lead comes this close
+  // A lower bound within 0.01 mm; brute force samples every 1/2000 of a
+  // motion whose points move less than 20 mm per unit t.
+  EXPECT_LE(plan.lead_min_margin_mm, leads + 1e-9);
+  EXPECT_GE(plan.lead_min_margin_mm, leads - kLeadMarginTolMm - 0.01);
+  EXPECT_EQ(plan.min_margin_mm, std::min(plan.pose_min_margin_mm, plan.lead_min_margin_mm));
+  EXPECT_NEAR(plan.min_margin_mm, leads, kLeadMarginTolMm + 0.01);
+  std::printf("lead clearance: brute force %.4f mm, reported %.4f mm; poses %.4f mm\n", leads,
+              plan.lead_min_margin_mm, poses);
+}
+
+// The root corner in closed form: a cone blade (rulings leaning out by
+// alpha) on a flat hub. A ball end riding the hub and touching the face
+// leaves r / sin(theta / 2) - r at the corner, theta the dihedral angle
+// between face and hub on the channel side: 90 - alpha outside the cone
+// (plus face), 90 + alpha inside (minus face).
+TEST(FlankMilling, RootCornerMaterialIsTheBallsDistanceFromTheCorner) {
+  const double alpha = deg_to_rad(20), r = 3;
+  BladeCamber c;
+  for (int i = 0; i <= 30; ++i) {
+    const double a = 0.5 * kPi * i / 30, r2 = 80 + 30 * std::tan(alpha);
+    c.hub.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), -5), 1.0});
+    c.shroud.push_back({Vec3(r2 * std::cos(a), r2 * std::sin(a), 25), 1.0});
+  }
+  const RuledBlade blade(c);
+  // The hub: the plane z = 0 (the rulings run on past it, cut back to it),
+  // profile outlet -> inlet so the channel side (z > 0) is positive.
+  const SurfaceOfRevolution hub(std::vector<Vec2>{Vec2(0, 200), Vec2(0, 100), Vec2(0, 10)});
+  const FlankCutter cutter(ball(r, 40), r);
+  for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+    const auto face = blade.face(side);
+    FlankFaceRequest rq;
+    rq.face = face.get();
+    rq.hub = &hub;
+    rq.cutter = &cutter;
+    rq.steps.chord_tol_mm = 0.5;
+    rq.residual_points = 3;
+    const FlankFacePlan plan = plan_flank_face(rq);
+    ASSERT_EQ(plan.root_corner_mm.size(), plan.axes.size());
+    const double theta = 0.5 * kPi + (side == CamberSide::kPlus ? -alpha : alpha);
+    const double expected = r / std::sin(theta / 2) - r;
+    for (size_t i = 0; i < plan.axes.size(); ++i) {
+      EXPECT_NEAR(plan.axes[i].c2.z(), 0.0, 1e-9);
+      EXPECT_NEAR(plan.root_corner_mm[i], expected, 1e-6) << i;
+    }
+    EXPECT_NEAR(plan.root_corner.max_mm, expected, 1e-6);
+    std::printf("root corner, %s face: %.4f mm (closed form %.4f)\n", side == CamberSide::kPlus ? "plus" : "minus",
+                plan.root_corner.max_mm, expected);
   }
 }
 

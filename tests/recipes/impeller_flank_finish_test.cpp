@@ -46,6 +46,17 @@ TEST(ImpellerFlankFinishRecipe, RunsAndEveryEmittedPoseIsClearInAnIndependentChe
     EXPECT_LT(f["residual_unbalanced"]["min"].get<double>(), 0.0) << face;
     EXPECT_LE(f["residual"]["max_abs"].get<double>(), f["residual_unbalanced"]["max_abs"].get<double>() + 1e-9) << face;
     EXPECT_EQ(f["per_pose"].size(), f["poses"].get<size_t>());
+    // The root corner apart from the residual: a ball of 3 mm riding the hub
+    // leaves r / sin(theta / 2) - r, 1.24 mm at a right angle, more where the
+    // blade leans over the channel (3.09 mm measured on both minus faces
+    // near 62 % of the main blade's chord, theta about 59 degrees; 1.27 mm
+    // on the plus faces), far beyond the residual.
+    EXPECT_GT(f["root_corner"]["max"].get<double>(), 1.0) << face;
+    EXPECT_LT(f["root_corner"]["max"].get<double>(), 3.5) << face;
+    EXPECT_GT(f["root_corner"]["max"].get<double>(), 5 * f["residual"]["max_abs"].get<double>()) << face;
+    // The clearance reported includes the leads.
+    EXPECT_LE(f["min_margin"].get<double>(), f["pose_min_margin"].get<double>()) << face;
+    EXPECT_LE(f["min_margin"].get<double>(), f["lead_min_margin"].get<double>()) << face;
   }
 
   // Independent check: the model rebuilt here, tessellated 4x finer than the

@@ -213,7 +213,10 @@ function M.flank_finish(o)
                            operation = index}
       units[#units + 1] = {name = name, moves = moves,
                            report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
-                                     residual_max = plan.residual.max, residual_min = plan.residual.min}}
+                                     residual_max = plan.residual.max, residual_min = plan.residual.min,
+                                     -- apart from the residual: the corner the ball riding the hub leaves
+                                     root_corner_max = plan.root_corner and plan.root_corner.max,
+                                     min_margin = plan.min_margin, lead_min_margin = plan.lead_min_margin}}
     end
     return per_blade(j, units, self.blades)
   end
