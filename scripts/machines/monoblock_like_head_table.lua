@@ -6,6 +6,9 @@
 -- (tool tip at r = 130 mm, head pivot a further 300 mm out).
 -- Program zero on the C axis at the table face; part origin 100 mm above it.
 -- The TNC runs it with TCPM, feed per minute.
+-- Its bodies are head_table_bc's plausible ones (a C table of 300 mm
+-- radius at the table face, a B head with a 220 mm hub, the Z ram 160 mm
+-- above the B axis): monoBLOCK-like values, not DMG MORI's drawings.
 return generic "head_table_bc" {
   name = "monoBLOCK-like B head / C table",
   x = { -625, 625 },
