@@ -84,8 +84,17 @@ j:run{name = "blisk_job",
               edge_samples_u = opt.edge_samples_u, edge_samples_v = opt.edge_samples_v},
   blade_map = edges and hub and opt.blade_map ~= false and (opt.blade_map == "lean" and "lean" or true),
   setups = {{name = "inlet down"}, {name = "turned over (inlet up)", flip = true, from = "leading edge"}},
-  programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
-              {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}},
+  -- Each program is replayed with the machine's bodies, the fixture and the
+  -- stock (post.write's machine simulation): the fixture a mandrel column
+  -- from the table face (the part frame's origin stands 120 / 100 mm above
+  -- it) to the disc's face, the stock the blank of revolution the blades
+  -- are cut from (casing radius 96 mm, z -22..22).
+  programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc",
+               fixture = {{name = "fixture", cylinder = {{0, 0, -120}, {0, 0, -23}}, radius = 50}},
+               stock = {{name = "blank", cylinder = {{0, 0, -23}, {0, 0, 23}}, radius = 97}}},
+              {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
+               fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
+               stock = {{name = "blank", cylinder = {{0, 0, -23}, {0, 0, 23}}, radius = 97}}}},
   settings = {blades = #blades, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}
