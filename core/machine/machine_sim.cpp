@@ -282,6 +282,9 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
   std::vector<Eigen::Isometry3d> link_pose(static_cast<size_t>(chain0.links()));
   report.blocks = static_cast<long>(blocks.size());
 
+  // How far below the closest approach so far a pair may stray unmeasured
+  // (machine_sim.h): the clearance, or a tenth of a distance far above it.
+  const auto allowance = [c](double m) { return std::max(c, 0.1 * m); };
   for (size_t i = 0; i < blocks.size(); ++i) {
     const ProgramMove& got = blocks[i];
     const int k = tool_index(got.tool);
@@ -372,7 +375,8 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
       double t = swept ? 0 : 1;
       if (swept && !std::isnan(p.last)) {
         // What is left of the last sample's budget (see machine_sim.h).
-        const double left = p.last - p.used - std::min(p.best.distance_mm, p.last) + c;
+        const double m_so_far = std::min(p.best.distance_mm, p.last);
+        const double left = p.last - p.used - m_so_far + allowance(m_so_far);
         if (left >= v) {
           p.used += v;
           ++report.skipped;
@@ -407,7 +411,7 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
         p.last = d;
         p.used = 0;
         if (t >= 1) break;
-        const double step = v > 0 ? (d - p.best.distance_mm + c) / v : kSimInf;
+        const double step = v > 0 ? (d - p.best.distance_mm + allowance(p.best.distance_mm)) / v : kSimInf;
         if (t + step >= 1) {
           p.used = v * (1 - t);
           break;

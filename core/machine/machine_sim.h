@@ -23,10 +23,12 @@
 // far side, plus twice the pivot distances of the rotaries between). The
 // distance of a pair therefore changes by at most V = V_a + V_b per unit t.
 // From a distance d measured at t, with m the pair's closest approach so
-// far and c the clearance, the next sample is taken at t + (d - m + c) / V
-// (conservative advancement): in between the pair stays at least m - c
-// apart. So no contact deeper than c is missed, and the closest approach
-// reported is within c of the truth (never more than c above it). The
+// far and e = max(c, m / 10) (c the clearance), the next sample is taken at
+// t + (d - m + e) / V (conservative advancement): in between the pair stays
+// at least m - e apart — never closer than -c, as m - m/10 > 0 where
+// e > c. So no contact deeper than c is missed, and the closest approach
+// reported is never above the truth by more than c, or a tenth of itself
+// where that is larger (a pair 200 mm apart is measured every 20 mm). The
 // budget carries over blocks: a pair far apart is not measured again until
 // the blocks' summed motion bounds could have brought it within reach —
 // the broad phase over each block's swept bounds that keeps this cheap.
