@@ -598,6 +598,7 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
   }
   out.seconds.machine = since(t0);
   verdict += "; machine " + (out.simulated ? machine_sim_summary(out.machine) : std::string("NOT simulated"));
+  for (char& c : verdict) if (c == '(' || c == ')') c = ' ';  // it stands in a comment
   text = with_verdict(std::move(text), verdict);
   // The cycle time, each block charged to the operation of the path move
   // it ends or belongs to.

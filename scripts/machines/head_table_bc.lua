@@ -11,9 +11,9 @@
 -- Plausible bodies of a head-table centre (a B head over a C table, the
 -- machine class's proportions, not a maker's drawing): a C table of
 -- `table_radius` 60 mm thick whose face is at program zero, on the bed; a
--- column behind it carrying the Z ram; the B head: an HSK-63 nose of 110 mm
--- diameter, a housing 180 x 200 mm up to 60 mm above the B axis and the
--- B hub (220 mm diameter) about that axis; the ram 160 mm above the axis.
+-- column behind it (on the Y slide: it travels in X and Y) carrying the Z ram; the B head: an HSK-63 nose of 110 mm
+-- diameter, a housing 140 x 160 mm up to 50 mm above the B axis and the
+-- B hub (180 mm diameter) about that axis; the ram 160 mm above the axis.
 local function bodies_of(p)
   if p.bodies == "none" then return nil end
   if p.bodies then return p.bodies end
@@ -21,11 +21,11 @@ local function bodies_of(p)
   return {
     { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -60 }, { cp[1], cp[2], 0 } }, radius = R },
     { name = "bed", frame = "base", box = { { -R - 300, -R - 200, -400 }, { R + 300, R + 200, -61 } } },
-    { name = "column", frame = "X", box = { { -400, R + 250, -400 }, { 400, R + 700, 1600 } } },
+    { name = "column", frame = "Y", box = { { -400, R + 550, -55 }, { 400, R + 1000, 1600 } } },
     -- Tool side, relative to the spindle gauge point at home (Z carries it).
     { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 55 },
-    { name = "head housing", frame = "spindle", box = { { -90, -100, 90 }, { 90, 100, pl + 60 } } },
-    { name = "B hub", frame = "spindle", cylinder = { { 0, -110, pl }, { 0, 110, pl } }, radius = 110 },
+    { name = "head housing", frame = "spindle", box = { { -70, -80, 90 }, { 70, 80, pl + 50 } } },
+    { name = "B hub", frame = "spindle", cylinder = { { 0, -100, pl }, { 0, 100, pl } }, radius = 90 },
     { name = "Z ram", frame = "Z", box = { { -160, -150, pl + 160 }, { 160, 150, pl + 1000 } } },
   }
 end

@@ -16,7 +16,7 @@
 -- proportions, not a maker's drawing): a C table of `table_radius` 45 mm
 -- thick on an A cradle whose trough hangs 90 mm below the A axis, with
 -- cheeks rising 30 mm above the table face; trunnion supports beyond the
--- cheeks; a travelling column behind the table carrying the Z ram, spindle
+-- cheeks; a travelling column behind the table (on the Y slide: it travels in X and Y) carrying the Z ram, spindle
 -- housing 220 mm square and an HSK-63 nose of 120 mm diameter.
 local function bodies_of(p)
   if p.bodies == "none" then return nil end
@@ -30,7 +30,7 @@ local function bodies_of(p)
     { name = "trunnion support +X", frame = "base", box = { { R + 90, -150, za - 400 }, { R + 190, 150, za + 90 } } },
     { name = "trunnion support -X", frame = "base", box = { { -R - 190, -150, za - 400 }, { -R - 90, 150, za + 90 } } },
     { name = "bed", frame = "base", box = { { -R - 190, -450, za - 500 }, { R + 190, 450, za - R - 60 } } },
-    { name = "column", frame = "X", box = { { -350, 560, za - 500 }, { 350, 1000, 1500 } } },
+    { name = "column", frame = "Y", box = { { -350, 560, za - 200 }, { 350, 1000, 1500 } } },
     -- Tool side, relative to the spindle gauge point at home (Z carries it).
     { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 60 },
     { name = "spindle housing", frame = "spindle", box = { { -110, -110, 90 }, { 110, 110, 450 } } },

@@ -12,7 +12,7 @@
 -- proportions, not a maker's drawing): a C table of `table_radius` 45 mm
 -- thick on a B cradle (about Y) whose trough hangs 90 mm below the B axis,
 -- cheeks at +-Y rising 30 mm above the table face, trunnion supports beyond
--- them; a column behind the table carrying the Z ram, a spindle housing
+-- them; a column behind the table (on the Y slide: it travels in X and Y) carrying the Z ram, a spindle housing
 -- 220 mm square and an HSK-63 nose of 120 mm diameter.
 local function bodies_of(p)
   if p.bodies == "none" then return nil end
@@ -26,7 +26,7 @@ local function bodies_of(p)
     { name = "trunnion support +Y", frame = "base", box = { { -150, R + 90, zb - 400 }, { 150, R + 190, zb + 90 } } },
     { name = "trunnion support -Y", frame = "base", box = { { -150, -R - 190, zb - 400 }, { 150, -R - 90, zb + 90 } } },
     { name = "bed", frame = "base", box = { { -450, -R - 190, zb - 500 }, { 450, R + 190, zb - R - 60 } } },
-    { name = "column", frame = "X", box = { { -350, R + 330, zb - 500 }, { 350, R + 800, 1500 } } },
+    { name = "column", frame = "Y", box = { { -350, R + 600, zb - 200 }, { 350, R + 1000, 1500 } } },
     -- Tool side, relative to the spindle gauge point at home (Z carries it).
     { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 60 },
     { name = "spindle housing", frame = "spindle", box = { { -110, -110, 90 }, { 110, 110, 450 } } },

@@ -67,6 +67,13 @@ if edges then
                                                 feed = 400, periodic = periodic,
                                                 reach = {axis = {0, 0, -1}, min = 35, max = 118}}
 end
+-- The blank for the machine simulation (j:run's programs below).
+local blank = {}
+for k, z in ipairs{-23, -11, 0, 11} do
+  local top = ({-11, 0, 11, 23})[k]
+  blank[k] = {name = "blank " .. k, cylinder = {{0, 0, z}, {0, 0, top}},
+              radius = 93 + 6 * math.min(top, 22) / 44 + 0.5}
+end
 local j = job.new{
   name = "blisk blades" .. (edges and ", edges" or "") .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
@@ -88,13 +95,14 @@ j:run{name = "blisk_job",
   -- stock (post.write's machine simulation): the fixture a mandrel column
   -- from the table face (the part frame's origin stands 120 / 100 mm above
   -- it) to the disc's face, the stock the blank of revolution the blades
-  -- are cut from (casing radius 96 mm, z -22..22).
+  -- are cut from: the conical casing (radius 90 at z = -22 to 96 at +22)
+  -- enclosed by four stepped discs 0.5 mm over it.
   programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc",
                fixture = {{name = "fixture", cylinder = {{0, 0, -120}, {0, 0, -23}}, radius = 50}},
-               stock = {{name = "blank", cylinder = {{0, 0, -23}, {0, 0, 23}}, radius = 97}}},
+               stock = blank},
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
                fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
-               stock = {{name = "blank", cylinder = {{0, 0, -23}, {0, 0, 23}}, radius = 97}}}},
+               stock = blank}},
   settings = {blades = #blades, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}

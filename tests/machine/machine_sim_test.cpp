@@ -284,7 +284,8 @@ TEST(MachineSim, FarPairsAreClearedByTheBroadPhase) {
 
 // Every shipped machine file with bodies: nothing touches standing at
 // program zero with a 150 mm tool, nor at the top of Z with the rotaries
-// at their travel ends (a tilt at the safe height).
+// at their travel ends (a tilt at the safe height), X and Y in the middle
+// or at the corners of their travel.
 TEST(MachineSim, ShippedMachinesBodiesDoNotTouchAtHome) {
   TempDir dir;
   const RecipeResult r = run_recipe_text(dir, R"lua(
@@ -301,7 +302,10 @@ for _, name in ipairs{"dmg_like_ac_trunnion", "bc_trunnion_hermle_like", "monobl
   local poses = {{X = 0, Y = 0, Z = 0, [names[4]] = 0, [names[5]] = 0}}
   for _, a in ipairs(ends(names[4])) do
     for _, b in ipairs(ends(names[5])) do
-      poses[#poses + 1] = {X = 0, Y = 0, Z = travel.Z[2], [names[4]] = a, [names[5]] = b}
+      for _, xy in ipairs{{0, 0}, {travel.X[1], travel.Y[1]}, {travel.X[2], travel.Y[2]}, {travel.X[1], travel.Y[2]},
+                          {travel.X[2], travel.Y[1]}} do
+        poses[#poses + 1] = {X = xy[1], Y = xy[2], Z = travel.Z[2], [names[4]] = a, [names[5]] = b}
+      end
     end
   end
   for _, q in ipairs(poses) do
@@ -314,7 +318,7 @@ for _, name in ipairs{"dmg_like_ac_trunnion", "bc_trunnion_hermle_like", "monobl
     end
   end
 end
-assert(checked == 80, "checked " .. checked)
+assert(checked == 8 * (1 + 9 * 5), "checked " .. checked)
 )lua");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
