@@ -10,7 +10,7 @@
 #include "core/common/error.h"
 #include "core/machine/motion.h"
 #include "core/tools/tool.h"
-#include "core/tools/tool_fcl.h"
+#include "core/tools/profile.h"
 
 namespace bliskrun {
 
@@ -224,24 +224,30 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
       report.unchecked.push_back("T" + std::to_string(tools[k].number));
       continue;
     }
+    // Each part of the tool as the cylinder of its largest radius over its
+    // length: it encloses the part (a distance reported is never above the
+    // truth) and FCL measures a cylinder against a box in microseconds,
+    // where the part's mesh took a millisecond.
     static const char* kPart[] = {"cutter", "shank", "holder"};
-    for (const FclToolPart& part : fcl_parts(*tools[k].body, options.tool_mesh_tol_mm)) {
-      for (size_t p = 0; p < part.pieces.size(); ++p) {
-        SimBody s;
-        s.name = "T" + std::to_string(tools[k].number) + " " + kPart[static_cast<int>(part.id)] +
-                 (part.pieces.size() > 1 ? " " + std::to_string(p + 1) : "");
-        s.link = chain0.spindle_link();
-        s.role = SimBody::ToolPart;
-        s.tool = static_cast<int>(k);
-        s.geometry = part.pieces[p].geometry;
-        // Tool frame: tip at the origin, axis +Z; the tip sits the tool
-        // length below the gauge point along the spindle.
-        s.local.linear() = sim_z_to(machine.spindle);
-        s.local.translation() = -tools[k].length_mm * machine.spindle;
-        s.centre = s.local.translation();
-        s.radius = part.pieces[p].reach_mm;
-        bodies.push_back(s);
-      }
+    for (ToolPartId id : {ToolPartId::Cutter, ToolPartId::Shank, ToolPartId::Holder}) {
+      if (!tools[k].body->has(id)) continue;
+      const Profile& profile = tools[k].body->profile(id);
+      const double length = profile.z_max() - profile.z_min();
+      if (!(length > 0) || !(profile.max_radius() > 0)) continue;
+      SimBody s;
+      s.name = "T" + std::to_string(tools[k].number) + " " + kPart[static_cast<int>(id)];
+      s.link = chain0.spindle_link();
+      s.role = SimBody::ToolPart;
+      s.tool = static_cast<int>(k);
+      s.geometry = std::make_shared<fcl::Cylinderd>(profile.max_radius(), length);
+      // Tool frame: tip at the origin, axis +Z; the tip sits the tool
+      // length below the gauge point along the spindle.
+      const Vec3 middle = (0.5 * (profile.z_min() + profile.z_max()) - tools[k].length_mm) * machine.spindle;
+      s.local.linear() = sim_z_to(machine.spindle);
+      s.local.translation() = middle;
+      s.centre = middle;
+      s.radius = std::hypot(0.5 * length, profile.max_radius());
+      bodies.push_back(s);
     }
   }
 

@@ -13,7 +13,8 @@
 // the table, cradle, fixture and stock; the cradle against the column. The
 // tool (cutter, shank, holder) is checked against every part-side and base
 // body except the stock, which it cuts (its clearance from the part was
-// proved when it was planned).
+// proved when it was planned). Each tool part stands as the cylinder of its
+// largest radius over its length (enclosing it: conservative).
 //
 // The bound. Along a block each body point moves at most
 //     V_b = S + sum_i |dtheta_i| R_i     (per unit of the block's parameter t)
@@ -56,7 +57,6 @@ struct MachineSimOptions {
   double clearance_mm = 0.5;  // see "The bound"; > 0
   std::string file_name = "program";
   MachineAxes start;          // axes before the first block
-  double tool_mesh_tol_mm = 0.05;  // the tool's FCL mesh encloses it within ~2x this
 };
 
 // Where a pair came closest, or met.

@@ -7,7 +7,7 @@
 -- Program zero on the C axis at the table face; part origin 100 mm above it.
 -- The TNC runs it with TCPM, feed per minute.
 -- Its bodies are head_table_bc's plausible ones (a C table of 300 mm
--- radius at the table face, a B head with a 180 mm hub, the Z ram 160 mm
+-- radius at the table face, a B head with a 150 mm hub, the Z ram 160 mm
 -- above the B axis): monoBLOCK-like values, not DMG MORI's drawings.
 return generic "head_table_bc" {
   name = "monoBLOCK-like B head / C table",

@@ -15,7 +15,7 @@
 -- Plausible bodies of a 650-class A/C trunnion centre (the machine class's
 -- proportions, not a maker's drawing): a C table of `table_radius` 45 mm
 -- thick on an A cradle whose trough hangs 90 mm below the A axis, with
--- cheeks rising 30 mm above the table face; trunnion supports beyond the
+-- cheeks up to the table's underside (the arms that carry it); trunnion supports beyond the
 -- cheeks; a travelling column behind the table (on the Y slide: it travels in X and Y) carrying the Z ram, spindle
 -- housing 220 mm square and an HSK-63 nose of 120 mm diameter.
 local function bodies_of(p)
@@ -25,8 +25,8 @@ local function bodies_of(p)
   return {
     { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -45 }, { cp[1], cp[2], 0 } }, radius = R },
     { name = "cradle", frame = "A", box = { { -R - 20, -R - 10, za - 90 }, { R + 20, R + 10, -46 } } },
-    { name = "cradle cheek +X", frame = "A", box = { { R + 21, -120, za - 90 }, { R + 80, 120, 30 } } },
-    { name = "cradle cheek -X", frame = "A", box = { { -R - 80, -120, za - 90 }, { -R - 21, 120, 30 } } },
+    { name = "cradle cheek +X", frame = "A", box = { { R + 21, -120, za - 90 }, { R + 80, 120, -46 } } },
+    { name = "cradle cheek -X", frame = "A", box = { { -R - 80, -120, za - 90 }, { -R - 21, 120, -46 } } },
     { name = "trunnion support +X", frame = "base", box = { { R + 90, -150, za - 400 }, { R + 190, 150, za + 90 } } },
     { name = "trunnion support -X", frame = "base", box = { { -R - 190, -150, za - 400 }, { -R - 90, 150, za + 90 } } },
     { name = "bed", frame = "base", box = { { -R - 190, -450, za - 500 }, { R + 190, 450, za - R - 60 } } },

@@ -11,7 +11,7 @@
 -- Plausible bodies of an 800-class B/C trunnion centre (the machine class's
 -- proportions, not a maker's drawing): a C table of `table_radius` 45 mm
 -- thick on a B cradle (about Y) whose trough hangs 90 mm below the B axis,
--- cheeks at +-Y rising 30 mm above the table face, trunnion supports beyond
+-- cheeks at +-Y up to the table's underside, trunnion supports beyond
 -- them; a column behind the table (on the Y slide: it travels in X and Y) carrying the Z ram, a spindle housing
 -- 220 mm square and an HSK-63 nose of 120 mm diameter.
 local function bodies_of(p)
@@ -21,8 +21,8 @@ local function bodies_of(p)
   return {
     { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -45 }, { cp[1], cp[2], 0 } }, radius = R },
     { name = "cradle", frame = "B", box = { { -R - 10, -R - 20, zb - 90 }, { R + 10, R + 20, -46 } } },
-    { name = "cradle cheek +Y", frame = "B", box = { { -120, R + 21, zb - 90 }, { 120, R + 80, 30 } } },
-    { name = "cradle cheek -Y", frame = "B", box = { { -120, -R - 80, zb - 90 }, { 120, -R - 21, 30 } } },
+    { name = "cradle cheek +Y", frame = "B", box = { { -120, R + 21, zb - 90 }, { 120, R + 80, -46 } } },
+    { name = "cradle cheek -Y", frame = "B", box = { { -120, -R - 80, zb - 90 }, { 120, -R - 21, -46 } } },
     { name = "trunnion support +Y", frame = "base", box = { { -150, R + 90, zb - 400 }, { 150, R + 190, zb + 90 } } },
     { name = "trunnion support -Y", frame = "base", box = { { -150, -R - 190, zb - 400 }, { 150, -R - 90, zb + 90 } } },
     { name = "bed", frame = "base", box = { { -450, -R - 190, zb - 500 }, { 450, R + 190, zb - R - 60 } } },
