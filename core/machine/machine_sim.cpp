@@ -224,30 +224,40 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
       report.unchecked.push_back("T" + std::to_string(tools[k].number));
       continue;
     }
-    // Each part of the tool as the cylinder of its largest radius over its
-    // length: it encloses the part (a distance reported is never above the
-    // truth) and FCL measures a cylinder against a box in microseconds,
-    // where the part's mesh took a millisecond.
+    // Each part of the tool as six stacked cylinders, each of the part's
+    // largest radius over its sixth of the length (sampled at nine heights
+    // and the ends, plus 0.01 mm): they enclose a profile that is monotone
+    // or barrel-like over a slice (cutters, shanks, holders) and FCL
+    // measures a cylinder against a box in microseconds, where the part's
+    // mesh took ~0.6 ms.
     static const char* kPart[] = {"cutter", "shank", "holder"};
+    constexpr int kSlices = 6, kSamples = 9;
     for (ToolPartId id : {ToolPartId::Cutter, ToolPartId::Shank, ToolPartId::Holder}) {
       if (!tools[k].body->has(id)) continue;
       const Profile& profile = tools[k].body->profile(id);
       const double length = profile.z_max() - profile.z_min();
       if (!(length > 0) || !(profile.max_radius() > 0)) continue;
-      SimBody s;
-      s.name = "T" + std::to_string(tools[k].number) + " " + kPart[static_cast<int>(id)];
-      s.link = chain0.spindle_link();
-      s.role = SimBody::ToolPart;
-      s.tool = static_cast<int>(k);
-      s.geometry = std::make_shared<fcl::Cylinderd>(profile.max_radius(), length);
-      // Tool frame: tip at the origin, axis +Z; the tip sits the tool
-      // length below the gauge point along the spindle.
-      const Vec3 middle = (0.5 * (profile.z_min() + profile.z_max()) - tools[k].length_mm) * machine.spindle;
-      s.local.linear() = sim_z_to(machine.spindle);
-      s.local.translation() = middle;
-      s.centre = middle;
-      s.radius = std::hypot(0.5 * length, profile.max_radius());
-      bodies.push_back(s);
+      for (int slice = 0; slice < kSlices; ++slice) {
+        const double z0 = profile.z_min() + length * slice / kSlices, z1 = profile.z_min() + length * (slice + 1) / kSlices;
+        double radius = 0;
+        for (int j = 0; j <= kSamples; ++j)
+          radius = std::max(radius, profile.radius_at(std::min(z1, z0 + (z1 - z0) * j / kSamples)));
+        radius += 0.01;
+        SimBody s;
+        s.name = "T" + std::to_string(tools[k].number) + " " + kPart[static_cast<int>(id)];
+        s.link = chain0.spindle_link();
+        s.role = SimBody::ToolPart;
+        s.tool = static_cast<int>(k);
+        s.geometry = std::make_shared<fcl::Cylinderd>(radius, z1 - z0);
+        // Tool frame: tip at the origin, axis +Z; the tip sits the tool
+        // length below the gauge point along the spindle.
+        const Vec3 middle = (0.5 * (z0 + z1) - tools[k].length_mm) * machine.spindle;
+        s.local.linear() = sim_z_to(machine.spindle);
+        s.local.translation() = middle;
+        s.centre = middle;
+        s.radius = std::hypot(0.5 * (z1 - z0), radius);
+        bodies.push_back(s);
+      }
     }
   }
 

@@ -13,8 +13,8 @@
 // the table, cradle, fixture and stock; the cradle against the column. The
 // tool (cutter, shank, holder) is checked against every part-side and base
 // body except the stock, which it cuts (its clearance from the part was
-// proved when it was planned). Each tool part stands as the cylinder of its
-// largest radius over its length (enclosing it: conservative).
+// proved when it was planned). Each tool part stands as six stacked
+// cylinders, each of its largest radius over its slice (conservative).
 //
 // The bound. Along a block each body point moves at most
 //     V_b = S + sum_i |dtheta_i| R_i     (per unit of the block's parameter t)

@@ -12,7 +12,7 @@
 -- machine class's proportions, not a maker's drawing): a C table of
 -- `table_radius` 60 mm thick whose face is at program zero, on the bed; a
 -- column behind it (on the Y slide: it travels in X and Y) carrying the Z ram; the B head: an HSK-63 nose of 110 mm
--- diameter, a housing 140 x 160 mm up to 50 mm above the B axis and the
+-- diameter, a housing 120 x 160 mm up to 50 mm above the B axis and the
 -- B hub (150 mm diameter) about that axis; the ram 160 mm above the axis.
 local function bodies_of(p)
   if p.bodies == "none" then return nil end
@@ -24,7 +24,7 @@ local function bodies_of(p)
     { name = "column", frame = "Y", box = { { -400, R + 550, -55 }, { 400, R + 1000, 1600 } } },
     -- Tool side, relative to the spindle gauge point at home (Z carries it).
     { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 55 },
-    { name = "head housing", frame = "spindle", box = { { -70, -80, 90 }, { 70, 80, pl + 50 } } },
+    { name = "head housing", frame = "spindle", box = { { -60, -80, 90 }, { 60, 80, pl + 50 } } },
     { name = "B hub", frame = "spindle", cylinder = { { 0, -100, pl }, { 0, 100, pl } }, radius = 75 },
     { name = "Z ram", frame = "Z", box = { { -160, -150, pl + 160 }, { 160, 150, pl + 1000 } } },
   }
