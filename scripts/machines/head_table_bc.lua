@@ -10,7 +10,7 @@
 -- turns the tool right-handed about +Y, as ISO 841 says (iso841 = true).
 -- Plausible bodies of a head-table centre (a B head over a C table, the
 -- machine class's proportions, not a maker's drawing): a C table of
--- `table_radius` 60 mm thick whose face is at program zero, on the bed; a
+-- `table_radius` whose face is at program zero, 200 mm over the bed (its drive below it); a
 -- column behind it (on the Y slide: it travels in X and Y) carrying the Z ram; the B head: an HSK-63 nose of 110 mm
 -- diameter, a housing 120 x 160 mm up to 50 mm above the B axis and the
 -- B hub (150 mm diameter) about that axis; the ram 160 mm above the axis.
@@ -19,8 +19,8 @@ local function bodies_of(p)
   if p.bodies then return p.bodies end
   local R, cp, pl = p.table_radius, p.c_pivot, p.pivot_length
   return {
-    { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -60 }, { cp[1], cp[2], 0 } }, radius = R },
-    { name = "bed", frame = "base", box = { { -R - 300, -R - 200, -400 }, { R + 300, R + 200, -61 } } },
+    { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -200 }, { cp[1], cp[2], 0 } }, radius = R },
+    { name = "bed", frame = "base", box = { { -R - 300, -R - 200, -500 }, { R + 300, R + 200, -201 } } },
     { name = "column", frame = "Y", box = { { -400, R + 550, -55 }, { 400, R + 1000, 1600 } } },
     -- Tool side, relative to the spindle gauge point at home (Z carries it).
     { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 55 },
