@@ -323,5 +323,31 @@ assert(checked == 8 * (1 + 9 * 5), "checked " .. checked)
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// post.write runs the simulation by default: a program that puts the
+// spindle nose into the table is refused at the line of the contact and
+// not written; machine_check = false writes it, with the warning in the
+// report.
+TEST(MachineSim, PostWriteRefusesACollisionAndSkipsOnlyWhenAsked) {
+  TempDir dir;
+  const std::string post = R"lua(
+local m = bliskrun.machine.load("dmg_like_ac_trunnion")
+-- The part frame's origin stands 120 mm over the table face: a tip 125 mm
+-- below it with a 1 mm tool puts the spindle nose 4 mm into the table.
+local path = {{kind = "rapid", tip = {40, 0, 30}, axis = {0, 0, 1}},
+              {kind = "feed", tip = {40, 0, -125}, axis = {0, 0, 1}, feed = 800}}
+local function write(check)
+  return bliskrun.post.write{machine = m, post = "fanuc", path = path, file = "x.nc", tool = {number = 1, length = 1},
+                             machine_check = check}
+end
+)lua";
+  RecipeResult r = run_recipe_text(dir, post + "write(nil)\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("machine simulation: FAIL: collision C table / spindle nose at line"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nothing written"), std::string::npos) << r.output;
+  r = run_recipe_text(dir, post + "local w = write(false)\nassert(w.machine_check.verdict == 'SKIPPED')\n"
+                                  "assert(w.machine_check.warning:find('NOT checked'))\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test
