@@ -266,11 +266,99 @@ static void read_dynamics(lua_State* L, int idx, MachineDefinition& m) {
   lua_pop(L, 1);
 }
 
+// { name=, frame=, box = {{x,y,z}, {x,y,z}} | cylinder = {from, to} | cone =
+// {base, apex}, radius= } (machine_bodies.h); `frame` defaults to
+// `default_frame`.
+MachineBody read_body(lua_State* L, int idx, const std::string& what, const std::string& default_frame) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error(what + ": expected a body table, got " + type_of(L, idx));
+  check_keys(L, idx, what + ": ", {"name", "frame", "box", "cylinder", "cone", "radius"});
+  MachineBody b;
+  lua_getfield(L, idx, "name");
+  if (lua_isnil(L, -1)) table_error(what + ": missing name");
+  b.name = read_string(L, -1, what + ".name");
+  lua_getfield(L, idx, "frame");
+  b.frame = lua_isnil(L, -1) ? default_frame : read_string(L, -1, what + ".frame");
+  lua_pop(L, 2);
+  int shapes = 0;
+  for (const char* key : {"box", "cylinder", "cone"}) {
+    lua_getfield(L, idx, key);
+    if (!lua_isnil(L, -1)) {
+      ++shapes;
+      const std::string field = what + "." + key;
+      if (!lua_istable(L, -1) || lua_rawlen(L, -1) != 2)
+        table_error(field + std::string(": expected two points {{x, y, z}, {x, y, z}} (") +
+                    (key[1] == 'o' ? "the corners" : key[1] == 'y' ? "the axis' end centres" : "base centre, apex") + ")");
+      lua_rawgeti(L, -1, 1);
+      const Vec3 p = read_vec3(L, -1, field + "[1]");
+      lua_rawgeti(L, -2, 2);
+      const Vec3 q = read_vec3(L, -1, field + "[2]");
+      lua_pop(L, 2);
+      if (key[1] == 'o' && key[0] == 'b') {
+        b.shape = BodyShape::Box;
+        b.min_mm = p.cwiseMin(q);
+        b.max_mm = p.cwiseMax(q);
+      } else {
+        b.shape = key[1] == 'y' ? BodyShape::Cylinder : BodyShape::Cone;
+        b.from_mm = p;
+        b.to_mm = q;
+      }
+    }
+    lua_pop(L, 1);
+  }
+  if (shapes != 1) table_error(what + ": expected exactly one of box, cylinder, cone");
+  lua_getfield(L, idx, "radius");
+  if (b.shape == BodyShape::Box) {
+    if (!lua_isnil(L, -1)) table_error(what + ".radius: a box has no radius");
+  } else {
+    if (lua_isnil(L, -1)) table_error(what + ": missing radius (mm)");
+    b.radius_mm = read_number(L, -1, what + ".radius");
+  }
+  lua_pop(L, 1);
+  return b;
+}
+
+std::vector<MachineBody> read_bodies(lua_State* L, int idx, const std::string& what, const std::string& default_frame) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error(what + ": expected a list of bodies, got " + type_of(L, idx));
+  std::vector<MachineBody> out;
+  const lua_Unsigned n = lua_rawlen(L, idx);
+  for (lua_Unsigned i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, static_cast<lua_Integer>(i));
+    out.push_back(read_body(L, -1, what + "[" + std::to_string(i) + "]", default_frame));
+    lua_pop(L, 1);
+  }
+  return out;
+}
+
+// slides = { tool = {"X", "Z"}, part = {"Y"} }: base outwards on each side.
+void read_slides(lua_State* L, int idx, MachineDefinition& m) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) table_error("slides: expected { tool = {\"X\", ...}, part = {...} }");
+  check_keys(L, idx, "slides: ", {"tool", "part"});
+  for (const char* side : {"tool", "part"}) {
+    std::vector<int>& list = side[0] == 't' ? m.tool_slides : m.part_slides;
+    list.clear();
+    lua_getfield(L, idx, side);
+    if (!lua_isnil(L, -1)) {
+      if (!lua_istable(L, -1)) table_error(std::string("slides.") + side + ": expected a list of axis names");
+      const lua_Unsigned n = lua_rawlen(L, -1);
+      for (lua_Unsigned i = 1; i <= n; ++i) {
+        lua_rawgeti(L, -1, static_cast<lua_Integer>(i));
+        const std::string name = read_choice(L, -1, std::string("slides.") + side + "[" + std::to_string(i) + "]", {"X", "Y", "Z"});
+        list.push_back(name[0] - 'X');
+        lua_pop(L, 1);
+      }
+    }
+    lua_pop(L, 1);
+  }
+}
+
 MachineDefinition read_definition(lua_State* L, int idx) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) table_error(std::string("expected a table, got ") + type_of(L, idx));
   check_keys(L, idx, "", {"name", "linear", "rotary", "spindle", "part_origin", "tool_length", "feed",
-                          "rapid", "resolution", "safe_z", "dynamics"});
+                          "rapid", "resolution", "safe_z", "dynamics", "bodies", "slides"});
   MachineDefinition m;
   lua_getfield(L, idx, "name");
   if (lua_isnil(L, -1)) table_error("missing name");
@@ -351,6 +439,11 @@ MachineDefinition read_definition(lua_State* L, int idx) {
   lua_getfield(L, idx, "dynamics");
   if (!lua_isnil(L, -1)) read_dynamics(L, -1, m);
   lua_pop(L, 1);
+  lua_getfield(L, idx, "slides");
+  if (!lua_isnil(L, -1)) read_slides(L, -1, m);
+  lua_getfield(L, idx, "bodies");
+  if (!lua_isnil(L, -1)) m.bodies = read_bodies(L, -1, "bodies", "base");
+  lua_pop(L, 2);
   try {
     validate(m);
   } catch (const ParameterError& e) {
@@ -631,6 +724,17 @@ MachineDefinition check_machine_table(lua_State* L, int idx) {
 }
 
 void run_script_file(lua_State* L, const std::string& path, int env_idx) { run_file(L, path, env_idx); }
+
+std::vector<MachineBody> check_bodies(lua_State* L, int idx, const std::string& what, const std::string& default_frame) {
+  std::string problem;
+  try {
+    return read_bodies(L, idx, what, default_frame);
+  } catch (const TableError& e) {
+    problem = e.message;
+  }
+  luaL_error(L, "%s", problem.c_str());
+  return {};
+}
 
 void load_machine_file(lua_State* L, const std::string& path, int params_idx,
                        const std::string& machines_dir) {

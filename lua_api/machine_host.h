@@ -56,6 +56,11 @@ void load_machine_file(lua_State* L, const std::string& path, int params_idx,
 // Lua error at the caller's line naming the key and what was expected.
 MachineDefinition check_machine_table(lua_State* L, int idx);
 
+// Reads a list of bodies { {name=, frame=, box=|cylinder=|cone=, radius=}, ... }
+// (machine_bodies.h; frame defaults to `default_frame`): a Lua error naming
+// "<what>[i].<key>" and what was expected.
+std::vector<MachineBody> check_bodies(lua_State* L, int idx, const std::string& what, const std::string& default_frame);
+
 // Loads a post file and pushes its module table.
 void load_post_file(lua_State* L, const std::string& path, const std::string& posts_dir);
 

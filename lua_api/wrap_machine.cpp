@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/common/error.h"
+#include "core/machine/machine_sim.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/machine_host.h"
@@ -202,6 +203,36 @@ int w_machine_reachable(lua_State* L) {
   });
 }
 
+// m:body_clearance(axes, {tool_length =}) -> {distance=, a=, b=, bodies=}:
+// the nearest two of the machine's bodies that can meet (machine_sim.h),
+// standing at `axes`; distance < 0 is a penetration; nil without bodies.
+int w_machine_body_clearance(lua_State* L) {
+  const MachineValue& m = check_machine(L, 1);
+  const MachineAxes q = check_axes(L, 2, m.definition, "axes");
+  const luax::Options o(L, 3, "machine:body_clearance", kinematics_fields());
+  return luax::guarded(L, [&] {
+    ProgramMove at;
+    at.axes = q;
+    at.tool = 1;
+    MachineSimOptions options;
+    options.start = q;
+    const MachineSimReport r =
+        simulate_machine({at}, m.definition, {SimTool{1, o.number("tool_length", 0), nullptr}}, {}, {}, options);
+    if (r.closest.empty()) {
+      lua_pushnil(L);
+      return 1;
+    }
+    lua_createtable(L, 0, 4);
+    luax::set_number(L, "distance", r.closest.front().distance_mm);
+    luax::push(L, r.closest.front().a);
+    lua_setfield(L, -2, "a");
+    luax::push(L, r.closest.front().b);
+    lua_setfield(L, -2, "b");
+    luax::set_number(L, "pairs", static_cast<double>(r.pairs));
+    return 1;
+  });
+}
+
 int w_machine_tostring(lua_State* L) {
   const MachineDefinition& m = check_machine(L, 1).definition;
   lua_pushfstring(L, "Machine(%s, %s %s/%s)", m.name.c_str(), configuration_name(m).c_str(),
@@ -218,7 +249,8 @@ void open_machine(lua_State* L) {
       {"name", w_machine_name},       {"configuration", w_machine_configuration},
       {"axes", w_machine_axes},       {"travel", w_machine_travel},
       {"solve", w_machine_solve},     {"forward", w_machine_forward},
-      {"reachable", w_machine_reachable}, {"placed", w_machine_placed}, {nullptr, nullptr}};
+      {"reachable", w_machine_reachable}, {"placed", w_machine_placed},
+      {"body_clearance", w_machine_body_clearance}, {nullptr, nullptr}};
   lua_newtable(L);
   luaL_setfuncs(L, methods, 0);
   lua_setfield(L, -2, "__index");

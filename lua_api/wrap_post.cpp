@@ -19,6 +19,7 @@
 #include "core/common/error.h"
 #include "core/common/parallel.h"
 #include "core/machine/cycle_time.h"
+#include "core/machine/machine_sim.h"
 #include "core/machine/verify.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
@@ -120,7 +121,7 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* too
 // machine motion (inverse kinematics, splitting), the Lua post, the
 // read-back and replay, writing the file.
 struct PostSeconds {
-  double read = 0, motion = 0, post = 0, verify = 0, write = 0;
+  double read = 0, motion = 0, post = 0, verify = 0, machine = 0, write = 0;
 };
 
 void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
@@ -290,6 +291,12 @@ const std::vector<luax::Field>& post_write_fields() {
        "program number: Fanuc O-number (default 1000), the TNC's PGM name, a header line elsewhere", {}},
       {"setup", luax::Kind::Table, false, {}, {}, "{name=, flip=, clocking_deg=}: how the part sits, for the header", {}},
       {"notes", luax::Kind::Table, false, {}, {}, "{'text', ...}: header lines of the recipe's own", {}},
+      {"machine_check", luax::Kind::Boolean, false, {}, {},
+       "replay the program with the machine's bodies, fixture and stock (default true; false skips, with a warning)", {}},
+      {"machine_clearance", luax::Kind::Number, false, 1e-3, 100.0,
+       "machine simulation: no contact deeper than this is missed, closest approaches within it, mm (default 0.5)", {}},
+      {"fixture", luax::Kind::Table, false, {}, {}, "bodies {name=, box=|cylinder=|cone=, radius=} in the part frame", {}},
+      {"stock", luax::Kind::Table, false, {}, {}, "the blank's bodies, part frame (the tool may cut them)", {}},
   };
   return fields;
 }
@@ -351,6 +358,11 @@ struct PostRequest {
   std::vector<ToolReach> reaches;  // per job tool: from its `body`, or tip only
   double verify_tol = 0.001;
   double read_seconds = 0;
+  // The machine simulation (machine_sim.h).
+  bool machine_check = true;
+  double machine_clearance_mm = 0.5;
+  std::vector<MachineBody> fixture, stock;
+  std::vector<std::shared_ptr<const Tool>> tool_bodies;  // per job tool; null without `body`
 };
 
 // Reads the option table at `idx` (`what` names it in messages); the post
@@ -386,10 +398,12 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
          "farthest point from the tip of the cutter's part that cuts (feed at the cutter), mm", {}},
     });
     ToolReach reach;
+    r.tool_bodies.emplace_back();
     if (tool.has("body")) {
       tool.push_raw("body");
       const LuaTool* body = luax::test<LuaTool>(L, -1);
       if (!body) luax::error(L, tool_what + " body: expected a Tool (bliskrun.drum_wheel{...}, flat_end_mill{...}, ...)");
+      r.tool_bodies.back() = std::make_shared<const Tool>(body->tool);
       reach.body_mm = body->tool.reach();
       reach.cutter_mm = body->tool.cutter().reach();
       lua_pop(L, 1);
@@ -469,6 +483,14 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
     lua_pop(L, 1);
   }
   read_post_header(L, o, what, r.job);
+  r.machine_check = o.boolean("machine_check", true);
+  r.machine_clearance_mm = o.number("machine_clearance", 0.5);
+  for (const char* key : {"fixture", "stock"}) {
+    if (!o.has(key)) continue;
+    o.push_raw(key);
+    (key[0] == 'f' ? r.fixture : r.stock) = check_bodies(L, -1, what + " " + key, "part");
+    lua_pop(L, 1);
+  }
   return r;
 }
 
@@ -492,6 +514,10 @@ struct PostOutcome {
   // rotaries (deg), as the program writes them (with TCP: the tip, part frame).
   std::array<double, 5> axis_min{}, axis_max{};
   std::array<std::string, 5> axis_names{"X", "Y", "Z", "", ""};
+  // The machine simulation; `machine_note` says why it did not run.
+  bool simulated = false;
+  MachineSimReport machine;
+  std::string machine_note;
 };
 
 // The Lua post's part: the program's text from its machine motion.
@@ -539,16 +565,43 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
   out.seconds.post = since(t0);
   t0 = Clock::now();
   out.report = verify_text(posted, text, r.verify_tol, 0.001);
-  text = with_verdict(std::move(text), verdict_text(out.report, posted));
   out.seconds.verify = since(t0);
-  // The cycle time of the blocks as read back (block i is plan move i,
-  // which verify_text has just proved), each block charged to the
-  // operation of the path move it ends or belongs to.
+  // The blocks as read back (block i is plan move i, which verify_text has
+  // just proved); the verdict line replaces a token in a comment, so their
+  // lines stay.
   ProgramReadOptions read;
   read.file_name = posted.file;
   read.tcp = posted.tcp_always;
   read.start = posted.start;
   const std::vector<ProgramMove> blocks = read_program(text, posted.machine, read);
+  std::string verdict = verdict_text(out.report, posted);
+  // The machine simulation: a collision stops the post before anything is
+  // written.
+  t0 = Clock::now();
+  if (!r.machine_check) {
+    out.machine_note = "machine simulation skipped (machine_check = false): the machine's bodies, fixture and stock were NOT checked";
+  } else if (r.machine.bodies.empty() && r.fixture.empty()) {
+    out.machine_note = "machine simulation not run: machine " + r.machine.name + " has no bodies";
+  } else {
+    MachineSimOptions sim;
+    sim.clearance_mm = r.machine_clearance_mm;
+    sim.file_name = posted.file;
+    sim.start = posted.start;
+    std::vector<SimTool> sim_tools;
+    for (size_t k = 0; k < r.job.tools.size(); ++k)
+      sim_tools.push_back({r.job.tools[k].number, r.job.tools[k].length_mm, r.tool_bodies[k]});
+    out.machine = simulate_machine(blocks, r.machine, sim_tools, r.fixture, r.stock, sim);
+    out.simulated = true;
+    if (out.machine.collided)
+      throw DataError(posted.file, out.machine.first_collision.line,
+                      "machine simulation: " + machine_sim_summary(out.machine) + "; nothing written");
+  }
+  out.seconds.machine = since(t0);
+  verdict += "; machine " + (out.simulated ? machine_sim_summary(out.machine) : std::string("NOT simulated"));
+  for (char& c : verdict) if (c == '(' || c == ')') c = ' ';  // it stands in a comment
+  text = with_verdict(std::move(text), verdict);
+  // The cycle time, each block charged to the operation of the path move
+  // it ends or belongs to.
   CycleTimeOptions timing;
   timing.start = posted.start;
   for (const MachineMove& m : posted.plan.moves) timing.positioning.push_back(m.positioning);
@@ -614,6 +667,55 @@ void push_cycle_time(lua_State* L, const CycleTime& c, const std::vector<std::st
   lua_setfield(L, -2, "per_operation");
 }
 
+// machine_check = {verdict = "PASS" | "FAIL" | "SKIPPED", summary =,
+// warning = (when not run), clearance =, pairs =, queries =, skipped =,
+// blocks =, closest = {{a=, b=, distance=, line=, block=, t=}, ...} nearest
+// first, unchecked = {"T3", ...} tools without a body}.
+void push_machine_check(lua_State* L, const PostOutcome& out) {
+  lua_createtable(L, 0, 10);
+  if (!out.simulated) {
+    luax::push(L, std::string("SKIPPED"));
+    lua_setfield(L, -2, "verdict");
+    luax::push(L, out.machine_note);
+    lua_setfield(L, -2, "warning");
+    luax::push(L, out.machine_note);
+    lua_setfield(L, -2, "summary");
+    return;
+  }
+  const MachineSimReport& m = out.machine;
+  luax::push(L, std::string(m.pass() ? "PASS" : "FAIL"));
+  lua_setfield(L, -2, "verdict");
+  luax::push(L, machine_sim_summary(m));
+  lua_setfield(L, -2, "summary");
+  luax::set_number(L, "clearance", m.clearance_mm);
+  luax::set_number(L, "pairs", static_cast<double>(m.pairs));
+  luax::set_number(L, "queries", static_cast<double>(m.queries));
+  luax::set_number(L, "skipped", static_cast<double>(m.skipped));
+  luax::set_number(L, "blocks", static_cast<double>(m.blocks));
+  luax::set_number(L, "seconds", out.seconds.machine);
+  lua_createtable(L, static_cast<int>(m.closest.size()), 0);
+  for (size_t k = 0; k < m.closest.size(); ++k) {
+    const BodyApproach& a = m.closest[k];
+    lua_createtable(L, 0, 6);
+    luax::push(L, a.a);
+    lua_setfield(L, -2, "a");
+    luax::push(L, a.b);
+    lua_setfield(L, -2, "b");
+    luax::set_number(L, "distance", a.distance_mm);
+    luax::set_number(L, "line", a.line);
+    luax::set_number(L, "block", static_cast<double>(a.block + 1));
+    luax::set_number(L, "t", a.t);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, "closest");
+  lua_createtable(L, static_cast<int>(m.unchecked.size()), 0);
+  for (size_t k = 0; k < m.unchecked.size(); ++k) {
+    luax::push(L, m.unchecked[k]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+  }
+  lua_setfield(L, -2, "unchecked");
+}
+
 // The result of post.write: the read-back report, `seconds` per stage and
 // the program (for post.verify). Records the read-back for --verify.
 void push_outcome(lua_State* L, PostOutcome&& out) {
@@ -641,11 +743,14 @@ void push_outcome(lua_State* L, PostOutcome&& out) {
   const PostSeconds& seconds = out.seconds;
   lua_createtable(L, 0, 5);
   for (const auto& [name, value] : {std::pair<const char*, double>{"read", seconds.read}, {"motion", seconds.motion},
-                                    {"post", seconds.post}, {"verify", seconds.verify}, {"write", seconds.write}}) {
+                                    {"post", seconds.post}, {"verify", seconds.verify}, {"machine", seconds.machine},
+                                    {"write", seconds.write}}) {
     lua_pushnumber(L, value);
     lua_setfield(L, -2, name);
   }
   lua_setfield(L, -2, "seconds");
+  push_machine_check(L, out);
+  lua_setfield(L, -2, "machine_check");
   luax::push_new(L, std::move(out.posted));
   lua_setfield(L, -2, "program");
 }

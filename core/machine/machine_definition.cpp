@@ -1,5 +1,6 @@
 #include "core/machine/machine_definition.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/common/error.h"
@@ -16,6 +17,15 @@ void check_unit(const Vec3& v, const std::string& field) {
 }
 
 }  // namespace
+
+std::vector<std::string> body_frames(const MachineDefinition& m) {
+  std::vector<std::string> frames{"base"};
+  for (const LinearAxis& a : m.linear) frames.push_back(a.name);
+  for (const RotaryAxis& a : m.rotary) frames.push_back(a.name);
+  frames.push_back("spindle");
+  frames.push_back("part");
+  return frames;
+}
 
 void validate(const MachineDefinition& m) {
   static const char* kLinear[] = {"X", "Y", "Z"};
@@ -81,6 +91,15 @@ void validate(const MachineDefinition& m) {
   if (!finite(m.part_origin_mm)) throw ParameterError("part_origin", "expected finite numbers");
   if (!(m.linear_resolution_mm > 0) || !(m.rotary_resolution_rad > 0))
     throw ParameterError("resolution", "expected positive resolutions");
+  std::vector<int> slides = m.tool_slides;
+  slides.insert(slides.end(), m.part_slides.begin(), m.part_slides.end());
+  std::sort(slides.begin(), slides.end());
+  if (slides != std::vector<int>{0, 1, 2})
+    throw ParameterError("slides", "expected each of X, Y, Z once, on the tool side or the part side");
+  if (std::find(m.part_slides.begin(), m.part_slides.end(), 2) != m.part_slides.end())
+    throw ParameterError("slides.part", "the Z slide carries the spindle (its word sets the tool length's place): "
+                                        "put Z on the tool side");
+  validate_bodies(m.bodies, body_frames(m), "bodies");
 }
 
 int iso841_sense(const MachineDefinition& m, int i) {

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/machine/machine_bodies.h"
 
 namespace bliskrun {
 
@@ -125,7 +126,19 @@ struct MachineDefinition {
   double safe_z_mm = std::numeric_limits<double>::quiet_NaN();
   // Axis limits for the cycle-time estimate only (no effect on the motion).
   MachineDynamics dynamics;
+  // Which side each linear slide carries, base outwards (indices into
+  // `linear`): the tool side (a column, a ram) or the part side (a table
+  // slide). Together each of X, Y, Z once. Only the machine simulation
+  // (machine_sim.h) asks: the kinematics see the tool move relative to the
+  // part either way.
+  std::vector<int> tool_slides{0, 1, 2};
+  std::vector<int> part_slides;
+  // The machine's own solids (machine_bodies.h); empty: not modelled.
+  std::vector<MachineBody> bodies;
 };
+
+// The frames bodies of this machine can be fixed to (machine_bodies.h).
+std::vector<std::string> body_frames(const MachineDefinition& machine);
 
 // Checks the definition: three linear axes named X, Y, Z; two rotary axes with
 // distinct names from A/B/C, unit directions, min < max; rotary axes not

@@ -343,6 +343,25 @@ ToolPose controller_pose(const Kinematics& kin, ControllerMotion motion, const M
   return p;
 }
 
+MachineAxes controller_axes(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                            const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t) {
+  MachineAxes q = lerp(from, to, t);
+  if (motion == ControllerMotion::JointLinear) return q;
+  if (motion == ControllerMotion::TcpVector) {
+    const ToolPose p = controller_pose(kin, motion, from, to, tip_from, tip_to, t);
+    double best = std::numeric_limits<double>::infinity();
+    for (const RotarySolution& s : kin.rotary_solutions(p.axis, q.rotary_rad)) {
+      const double d = std::abs(s.rotary_rad[0] - q.rotary_rad[0]) + std::abs(s.rotary_rad[1] - q.rotary_rad[1]);
+      if (d < best) {
+        best = d;
+        q.rotary_rad = s.rotary_rad;
+      }
+    }
+  }
+  q.linear_mm = kin.linear_for(tip_from + t * (tip_to - tip_from), q.rotary_rad);
+  return q;
+}
+
 // Between two samples h apart (in t) a function f with |f''| <= A strays at
 // most A h^2 / 8 above the chord through the samples. For the whole tool
 // the deviation is |tip_c - tip_p| + reach |k_c - k_p| with

@@ -197,6 +197,15 @@ ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, con
 ToolPose controller_pose(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
                          const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t);
 
+// The machine axes at t in [0, 1] of a block as the controller moves them
+// (the motion of controller_pose, in machine axes, for placing the machine's
+// own bodies — machine_sim.h): joint-linear, the axes' straight line; TCP,
+// the rotaries linear (vector orientation: the rotary solution of the great
+// circle's axis nearest the linear one) and the slides where they put the
+// tip on tip_from -> tip_to (Kinematics::linear_for).
+MachineAxes controller_axes(const Kinematics& kin, ControllerMotion motion, const MachineAxes& from,
+                            const MachineAxes& to, const Vec3& tip_from, const Vec3& tip_to, double t);
+
 // The departure of the tip alone from the straight segment tip_from -> tip_to
 // (part frame) while the machine moves its axes linearly from `from` to `to`
 // (the planner and the sweep measure the whole tool: tool_deviation).

@@ -46,6 +46,21 @@ function M.verdict(requirements, summary)
   return out
 end
 
+-- The requirement a posted program's machine simulation states (post.write's
+-- machine_check, as the job's program entry keeps it): no contact of the
+-- machine's bodies, fixture, stock and tool; a skipped simulation passes
+-- with its warning as the note, so a recipe that chose to skip it says so.
+function M.machine_requirement(file, mc)
+  if mc.verdict == "SKIPPED" then
+    return {name = file .. ": machine simulation (bodies, fixture, stock)", unit = "mm", measured = "skipped",
+            pass = true, note = "WARNING: " .. (mc.warning or "not run")}
+  end
+  local near = mc.closest and mc.closest[1]
+  return {name = file .. ": machine simulation, closest approach of two bodies", unit = "mm",
+          measured = near and near.distance_mm or nil, at_least = 0, pass = mc.verdict == "PASS",
+          note = mc.summary}
+end
+
 -- The failed requirements of a verdict as one line.
 function M.failures(verdict)
   local list = {}

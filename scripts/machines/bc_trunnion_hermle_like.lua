@@ -2,6 +2,9 @@
 -- X 800 / Y 800 / Z 550 mm, the B cradle swivels +-115 deg about Y with its
 -- axis 80 mm below the table face, C table continuous. Program zero on the
 -- C axis at the table face, part origin 90 mm above it.
+-- Its bodies are table_table_bc's plausible ones (a C table of 175 mm
+-- radius, the B cradle, a column, a 220 mm spindle housing): Hermle-like
+-- values of the machine class, not Hermle's drawings.
 return generic "table_table_bc" {
   name = "B/C trunnion 800 (Hermle-like)",
   x = { -400, 400 },

@@ -5,6 +5,9 @@
 -- frame origin (rotor axis = part Z) 120 mm above it. The cradle and table
 -- axes are off by the few hundredths a calibration measures.
 -- Feed in inverse time (G93) when written in machine axes.
+-- Its bodies are table_table_ac's plausible ones (a C table of 175 mm
+-- radius, the cradle, a travelling column, a 220 mm spindle housing):
+-- DMG-like values of the machine class, not DMG MORI's drawings.
 return generic "table_table_ac" {
   name = "DMG-like A/C trunnion 650",
   x = { -325, 325 },

@@ -2,6 +2,9 @@
 -- layout, Siemens 840D with TRAORI): X 3000 / Y 2200 / Z 1000 mm, C -360..+360
 -- deg (cable-limited), A fork +-110 deg with its axis 320 mm above the
 -- spindle gauge point. Program zero on the fixture; the part lies there.
+-- Its bodies are head_head's plausible ones (the machine table 150 mm
+-- below program zero, an A head with a 200 mm hub in a C fork): values of
+-- the machine class ("-like"), not a maker's drawings.
 return generic "head_head" {
   name = "gantry C/A fork head",
   x = { -1500, 1500 },

@@ -7,6 +7,28 @@
 -- Rotary senses (ISO 841, checked when the file loads): a positive head
 -- angle turns the tool right-handed about the axis direction, as ISO 841
 -- says (iso841 = true).
+-- Plausible bodies of a gantry with a C/A fork head (the machine class's
+-- proportions, not a maker's drawing): the machine table, its face at
+-- `table_top`; the A head: an HSK-63 nose of 110 mm diameter, a housing
+-- 160 x 180 mm and the A hub (200 mm diameter) about the A axis; the C
+-- fork's arms beside the hub and its top; the Z ram above the fork.
+local function bodies_of(p)
+  if p.bodies == "none" then return nil end
+  if p.bodies then return p.bodies end
+  local pl, t = p.pivot_length, p.table_top
+  return {
+    { name = "machine table", frame = "base", box = { { p.x[1] - 300, p.y[1] - 300, t - 200 }, { p.x[2] + 300, p.y[2] + 300, t } } },
+    -- Tool side, relative to the spindle gauge point at home (Z carries it).
+    { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 55 },
+    { name = "head housing", frame = "spindle", box = { { -80, -90, 90 }, { 80, 90, pl - 60 } } },
+    { name = "A hub", frame = "spindle", cylinder = { { -130, 0, pl }, { 130, 0, pl } }, radius = 100 },
+    { name = "fork arm +X", frame = "C", box = { { 150, -100, pl - 100 }, { 210, 100, pl + 260 } } },
+    { name = "fork arm -X", frame = "C", box = { { -210, -100, pl - 100 }, { -150, 100, pl + 260 } } },
+    { name = "fork top", frame = "C", box = { { -210, -100, pl + 261 }, { 210, 100, pl + 400 } } },
+    { name = "Z ram", frame = "Z", cylinder = { { 0, 0, pl + 410 }, { 0, 0, pl + 1400 } }, radius = 160 },
+  }
+end
+
 return parametric {
   parameters = {
     name        = { default = "head-head C/A fork", doc = "machine name" },
@@ -25,6 +47,11 @@ return parametric {
                     doc = "top speed of each rotary axis, deg/min: {c = ..., a = ...}; false = not stated" },
     safe_z      = { default = false,
                     doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
+    table_top   = { default = -150, doc = "Z of the machine table's face in the machine frame, mm (the plausible bodies)" },
+    bodies      = { default = false,
+                    doc = "the machine's solids {{name=, frame=, box=|cylinder=|cone=, radius=}, ...} (docs/lua_api/machines_and_posts.md); "
+                          .. "false = this file's plausible bodies (dimensions of the machine class, not of a maker's drawing); 'none' = no bodies" },
+    slides      = { default = false, doc = "which side each linear slide carries, base outwards: {tool = {...}, part = {...}}; false = the file's" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
     dynamics    = { default = false,
@@ -48,6 +75,8 @@ return parametric {
       rapid = p.rapid,
       dynamics = p.dynamics or nil,
       safe_z = p.safe_z or nil,
+      bodies = bodies_of(p),
+      slides = p.slides or nil,
     }
   end,
 }

@@ -8,6 +8,28 @@
 -- the part right-handed about +Z, so relative to the part the tool turns the
 -- other way -- the reverse of ISO 841's +C (iso841 = false); a positive B
 -- turns the tool right-handed about +Y, as ISO 841 says (iso841 = true).
+-- Plausible bodies of a head-table centre (a B head over a C table, the
+-- machine class's proportions, not a maker's drawing): a C table of
+-- `table_radius` whose face is at program zero, 200 mm over the bed (its drive below it); a
+-- column behind it (on the Y slide: it travels in X and Y) carrying the Z ram; the B head: an HSK-63 nose of 110 mm
+-- diameter, a housing 120 x 160 mm up to 50 mm above the B axis and the
+-- B hub (150 mm diameter) about that axis; the ram 160 mm above the axis.
+local function bodies_of(p)
+  if p.bodies == "none" then return nil end
+  if p.bodies then return p.bodies end
+  local R, cp, pl = p.table_radius, p.c_pivot, p.pivot_length
+  return {
+    { name = "C table", frame = "C", cylinder = { { cp[1], cp[2], -200 }, { cp[1], cp[2], 0 } }, radius = R },
+    { name = "bed", frame = "base", box = { { -R - 300, -R - 200, -500 }, { R + 300, R + 200, -201 } } },
+    { name = "column", frame = "Y", box = { { -400, R + 550, -55 }, { 400, R + 1000, 1600 } } },
+    -- Tool side, relative to the spindle gauge point at home (Z carries it).
+    { name = "spindle nose", frame = "spindle", cylinder = { { 0, 0, 0 }, { 0, 0, 90 } }, radius = 55 },
+    { name = "head housing", frame = "spindle", box = { { -60, -80, 90 }, { 60, 80, pl + 50 } } },
+    { name = "B hub", frame = "spindle", cylinder = { { 0, -100, pl }, { 0, 100, pl } }, radius = 75 },
+    { name = "Z ram", frame = "Z", box = { { -160, -150, pl + 160 }, { 160, 150, pl + 1000 } } },
+  }
+end
+
 return parametric {
   parameters = {
     name        = { default = "head-table B head / C table", doc = "machine name" },
@@ -26,6 +48,11 @@ return parametric {
                     doc = "top speed of each rotary axis, deg/min: {c = ..., b = ...}; false = not stated" },
     safe_z      = { default = false,
                     doc = "safe height for retracts and tool changes, Z word mm; false = the top of the Z travel" },
+    table_radius = { default = 300, doc = "C table radius, mm (scales the plausible bodies)" },
+    bodies      = { default = false,
+                    doc = "the machine's solids {{name=, frame=, box=|cylinder=|cone=, radius=}, ...} (docs/lua_api/machines_and_posts.md); "
+                          .. "false = this file's plausible bodies (dimensions of the machine class, not of a maker's drawing); 'none' = no bodies" },
+    slides      = { default = false, doc = "which side each linear slide carries, base outwards: {tool = {...}, part = {...}}; false = the file's" },
     rapid       = { default = { feed = 10000, linear = false },
                     doc = "rapid feed for positioning moves, mm/min; linear = the controller interpolates rapids linearly" },
     dynamics    = { default = false,
@@ -49,6 +76,8 @@ return parametric {
       rapid = p.rapid,
       dynamics = p.dynamics or nil,
       safe_z = p.safe_z or nil,
+      bodies = bodies_of(p),
+      slides = p.slides or nil,
     }
   end,
 }

@@ -6,6 +6,9 @@
 -- (tool tip at r = 130 mm, head pivot a further 300 mm out).
 -- Program zero on the C axis at the table face; part origin 100 mm above it.
 -- The TNC runs it with TCPM, feed per minute.
+-- Its bodies are head_table_bc's plausible ones (a C table of 150 mm
+-- radius at the table face, a B head with a 150 mm hub, the Z ram 160 mm
+-- above the B axis): monoBLOCK-like values, not DMG MORI's drawings.
 return generic "head_table_bc" {
   name = "monoBLOCK-like B head / C table",
   x = { -625, 625 },
@@ -16,6 +19,11 @@ return generic "head_table_bc" {
   pivot_length = 210,
   c_pivot = { 0.004, -0.009, 0 },
   part_origin = { 0, 0, 100 },
+  -- A C table of 300 mm diameter: with a larger one the shipped blisk
+  -- programs (the B head past horizontal, the part 100 mm over the table)
+  -- put the head housing on the table — on a real machine of this class
+  -- the fixture would have to stand higher.
+  table_radius = 150,
   tool_length = "tip",
   feed = "per_minute",
   resolution = { linear = 0.001, rotary = 0.001 },

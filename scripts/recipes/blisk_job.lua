@@ -67,6 +67,17 @@ if edges then
                                                 feed = 400, periodic = periodic,
                                                 reach = {axis = {0, 0, -1}, min = 35, max = 118}}
 end
+-- The stock for the machine simulation (j:run's programs below): the disc
+-- under the blades, its conical hub (radius 60 at z = -22 to 66 at +22)
+-- enclosed by four stepped discs 0.5 mm over it. The blades themselves are
+-- the part, proved against the whole tool when planned; the machine's head
+-- against them is not checked here (see docs/lua_api/machines_and_posts.md).
+local blank = {}
+for k, z in ipairs{-23, -11, 0, 11} do
+  local top = ({-11, 0, 11, 23})[k]
+  blank[k] = {name = "disc " .. k, cylinder = {{0, 0, z}, {0, 0, top}},
+              radius = 63 + 3 * math.min(top, 22) / 22 + 0.5}
+end
 local j = job.new{
   name = "blisk blades" .. (edges and ", edges" or "") .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
@@ -84,8 +95,16 @@ j:run{name = "blisk_job",
               edge_samples_u = opt.edge_samples_u, edge_samples_v = opt.edge_samples_v},
   blade_map = edges and hub and opt.blade_map ~= false and (opt.blade_map == "lean" and "lean" or true),
   setups = {{name = "inlet down"}, {name = "turned over (inlet up)", flip = true, from = "leading edge"}},
-  programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc"},
-              {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h"}},
+  -- Each program is replayed with the machine's bodies, the fixture and the
+  -- stock (post.write's machine simulation): the fixture a mandrel column
+  -- from the table face (the part frame's origin stands 120 / 100 mm above
+  -- it) to the disc's face, the stock the disc (above).
+  programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc",
+               fixture = {{name = "fixture", cylinder = {{0, 0, -120}, {0, 0, -23}}, radius = 50}},
+               stock = blank},
+              {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
+               fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
+               stock = blank}},
   settings = {blades = #blades, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}

@@ -424,8 +424,8 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      good_rotary + "}\n"), "");
   EXPECT_EQ(error_of("-- comment\nreturn machine {\n  name = 'm', speed = 3,\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
                      good_rotary + "}\n"),
-            path + ":2: machine: unknown key 'speed', expected one of: dynamics, feed, linear, name, part_origin, "
-                   "rapid, resolution, rotary, safe_z, spindle, tool_length");
+            path + ":2: machine: unknown key 'speed', expected one of: bodies, dynamics, feed, linear, name, part_origin, "
+                   "rapid, resolution, rotary, safe_z, slides, spindle, tool_length");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Z = {-1, 1} },\n" + good_rotary + "}\n"),
             path + ":1: machine: linear: missing axis Y");
   EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n"
@@ -433,8 +433,16 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
                      "             { name = 'C', carrier = 'part', direction = {1, 0, 0} } },\n}\n"),
             path + ":1: machine: rotary[2].direction: parallel to rotary[1]: the two rotary axes cannot orient the tool");
   EXPECT_EQ(error_of("return generic 'table_table_ac' {\n  name = 'x', a_travel = {0, 1} }\n"),
-            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, c, c_pivot, dynamics, feed, name, "
-                   "part_origin, rapid, resolution, safe_z, speed, tool_length, x, y, z");
+            path + ":1: unknown machine parameter 'a_travel', expected one of: a, a_pivot, bodies, c, c_pivot, dynamics, feed, "
+                   "name, part_origin, rapid, resolution, safe_z, slides, speed, table_radius, tool_length, x, y, z");
+  // A bad body names itself and its key at the file's line.
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
+                     good_rotary + "  bodies = { { name = 'head', frame = 'spindle', cylinder = { {0, 0, 0}, {0, 0, 9} } } },\n}\n"),
+            path + ":1: machine: bodies[1]: missing radius (mm)");
+  EXPECT_EQ(error_of("return machine {\n  name = 'm',\n  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n" +
+                     good_rotary + "  bodies = { { name = 'cradle', frame = 'B', box = { {0, 0, 0}, {1, 1, 1} } } },\n}\n"),
+            path + ":1: machine: bodies[1].frame: 'B' is no frame of this machine, expected one of: base, X, Y, Z, A, C, "
+                   "spindle, part");
   EXPECT_NE(error_of("return 42\n").find("expected the file to return machine"), std::string::npos);
   // The cycle-time limits name the axis and the unit; axes are the machine's own.
   const std::string xyz = "  linear = { X = {-1, 1}, Y = {-1, 1}, Z = {-1, 1} },\n";

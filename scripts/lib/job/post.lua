@@ -88,7 +88,26 @@ local function program_entry(m, r)
                       .. "resets, largest rotary word %.1f deg", r.controller, 1e3 * r.swept_cutter, 1e3 * r.swept_tool,
                       1e3 * r.chord_tol, 1e3 * r.body_tol, r.slowed, r.cutter_speed_ratio, r.feed_minutes,
                       r.tip_feed_minutes, r.rotary_resets, r.rotary_largest))
-  return {file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
+  local mc = r.machine_check
+  if mc.verdict == "SKIPPED" then
+    print("    WARNING: " .. mc.warning)
+  else
+    local near = {}
+    for k = 1, math.min(3, #mc.closest) do
+      local c = mc.closest[k]
+      near[k] = string.format("%s / %s %.1f mm (line %d)", c.a, c.b, c.distance, c.line)
+    end
+    print(string.format("    machine simulation %s: %d pairs, %d distance queries (%d pair-blocks cleared by the broad phase), "
+                        .. "%.2f s; nearest: %s", mc.verdict, mc.pairs, mc.queries, mc.skipped, mc.seconds,
+                        table.concat(near, ", ")))
+  end
+  local closest = {}
+  for k, c in ipairs(mc.closest or {}) do
+    closest[k] = {a = c.a, b = c.b, distance_mm = c.distance, line = c.line, block = c.block}
+  end
+  return {machine_check = {verdict = mc.verdict, summary = mc.summary, warning = mc.warning, clearance_mm = mc.clearance,
+                           seconds = mc.seconds, pairs = mc.pairs, queries = mc.queries, closest = closest},
+          file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
           max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil,
           controller = r.controller, swept_cutter_mm = r.swept_cutter, swept_tool_mm = r.swept_tool,
           chord_tol_mm = r.chord_tol, body_tol_mm = r.body_tol,
@@ -142,7 +161,8 @@ end
 function Job:post_program(m)
   return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
                                     work_offset = m.work_offset, coolant = m.coolant,
-                                    program_number = m.program_number, notes = m.notes})
+                                    program_number = m.program_number, notes = m.notes,
+                                    machine_check = m.machine_check, fixture = m.fixture, stock = m.stock})
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -156,7 +176,8 @@ function Job:post_programs(list, level)
   local requests, offsets, paths = {}, {}, {}
   for i, m in ipairs(list) do
     local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
-               work_offset = m.work_offset, coolant = m.coolant, program_number = m.program_number, notes = m.notes}
+               work_offset = m.work_offset, coolant = m.coolant, program_number = m.program_number, notes = m.notes,
+               machine_check = m.machine_check, fixture = m.fixture, stock = m.stock}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, level)}
     requests[i], offsets[i] = self:post_options(o, paths[key][1], level), {paths[key][2], paths[key][3]}
@@ -192,6 +213,9 @@ local function check_post_options(o, level)
     coolant = {type = "string"},      -- flood, mist, through, off (post.write checks it)
     program_number = {type = "number"},  -- O-number / PGM name (post.write checks it)
     notes = {type = "table"},         -- header lines of the recipe's own
+    -- The machine simulation (post.write): false skips it, with a warning
+    -- in the report; the fixture's and the stock's bodies, part frame.
+    machine_check = {type = "boolean"}, fixture = {type = "table"}, stock = {type = "table"},
   }, level)
 end
 
@@ -275,7 +299,8 @@ function Job:post_options(o, path, level)
   return {machine = machine, post = o.post, path = path, file = o.file, tools = tools, name = self.name,
           chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length, proved_up = M.approach_length},
           setup = setup,
-          work_offset = o.work_offset, coolant = o.coolant, program_number = o.program_number, notes = o.notes}
+          work_offset = o.work_offset, coolant = o.coolant, program_number = o.program_number, notes = o.notes,
+          machine_check = o.machine_check, fixture = o.fixture, stock = o.stock}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which

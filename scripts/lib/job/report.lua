@@ -11,6 +11,7 @@
 local Job = require("job.model").Job
 local seams = require("job.seams")
 local simulate = require("job.simulate")
+local run_report = require("run_report")
 
 -- What every job states: no refusal (planning stops at the first one and
 -- names it, so a run that got here has none), and every posted program's
@@ -31,6 +32,7 @@ local function common_requirements(r, q)
       q[#q + 1] = {name = p.file .. ": tool body off the proved motion (tightest block)", unit = "µm",
                    measured = 1e3 * t[1], at_most = 1e3 * t[2]}
     end
+    if p.machine_check then q[#q + 1] = run_report.machine_requirement(p.file, p.machine_check) end
   end
   return q
 end

@@ -1,0 +1,353 @@
+// The machine simulation (core/machine/machine_sim.h): the machine's own
+// bodies replayed block by block, against closed forms and a dense replay.
+#include "core/machine/machine_sim.h"
+
+#include <fcl/fcl.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/common/error.h"
+#include "core/machine/motion.h"
+#include "test_machines.h"
+#include "test_support.h"
+
+namespace bliskrun::test {
+namespace {
+
+MachineBody box(const std::string& name, const std::string& frame, Vec3 lo, Vec3 hi) {
+  MachineBody b;
+  b.name = name;
+  b.frame = frame;
+  b.shape = BodyShape::Box;
+  b.min_mm = lo;
+  b.max_mm = hi;
+  return b;
+}
+
+MachineBody cylinder(const std::string& name, const std::string& frame, Vec3 from, Vec3 to, double r) {
+  MachineBody b;
+  b.name = name;
+  b.frame = frame;
+  b.shape = BodyShape::Cylinder;
+  b.from_mm = from;
+  b.to_mm = to;
+  b.radius_mm = r;
+  return b;
+}
+
+ProgramMove block(int line, Vec3 xyz, double a_deg, double c_deg, bool tcp = false) {
+  ProgramMove m;
+  m.line = line;
+  m.axes.linear_mm = xyz;
+  m.axes.rotary_rad = {deg_to_rad(a_deg), deg_to_rad(c_deg)};
+  m.tcp = tcp;
+  m.tool = 1;
+  return m;
+}
+
+const BodyApproach* pair(const MachineSimReport& r, const std::string& a, const std::string& b) {
+  for (const BodyApproach& p : r.closest)
+    if ((p.a == a && p.b == b) || (p.a == b && p.b == a)) return &p;
+  return nullptr;
+}
+
+// The test A/C trunnion (A about +X through (0, 0, -80), C through (0, 3, 0))
+// with a C table of radius 150 whose face is at z = 0, and a head that is a
+// slab from the gauge point up, wider than the table.
+MachineDefinition trunnion_with_slab_head() {
+  MachineDefinition m = table_table_ac();
+  m.bodies = {cylinder("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
+              box("head", "spindle", {-1000, -1000, 0}, {1000, 1000, 100})};
+  return m;
+}
+
+constexpr double kToolLength = 100;
+
+TEST(MachineSim, ChainPlacesTheToolTipWhereTheKinematicsDo) {
+  std::mt19937 rng(7);
+  for (MachineDefinition m : all_machines()) {
+    for (double length : {0.0, 120.0}) {
+      const Kinematics kin(m, length);
+      const MachineChain chain(m, length);
+      for (int k = 0; k < 20; ++k) {
+        MachineAxes q;
+        q.rotary_rad = random_rotary(m, rng);
+        q.linear_mm = Vec3::Random() * 200;
+        // The tip sits the tool length below the gauge point along the
+        // spindle in the spindle link; the part frame is the part link's
+        // home coordinates less part_origin.
+        const Vec3 tip_world = chain.pose(chain.spindle_link(), q) * Vec3(-length * m.spindle);
+        const Vec3 tip_part = chain.pose(chain.part_link(), q).inverse() * tip_world - m.part_origin_mm;
+        EXPECT_LT((tip_part - kin.forward(q).tip).norm(), 1e-9) << m.name;
+      }
+    }
+  }
+}
+
+TEST(MachineSim, BadBodiesAreNamed) {
+  MachineDefinition m = table_table_ac();
+  m.bodies = {box("cradle", "W", {0, 0, 0}, {1, 1, 1})};
+  try {
+    validate(m);
+    FAIL() << "expected an error";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[1].frame: 'W' is no frame of this machine"), std::string::npos) << e.what();
+  }
+  m.bodies = {cylinder("spindle", "spindle", {0, 0, 0}, {0, 0, 0}, 10)};
+  EXPECT_THROW(validate(m), ParameterError);
+  m.bodies = {box("a", "base", {0, 0, 0}, {1, 1, 1}), box("a", "A", {0, 0, 0}, {1, 1, 1})};
+  EXPECT_THROW(validate(m), ParameterError);
+}
+
+// The head hangs fixed while A tilts the table 1 deg per block: the table
+// face's highest rim point is at z = -80 + 147 sin|A| + 80 cos A (rim
+// y = 3 - 150, pivot 80 below the face). The head's face is put where
+// that reaches at |A| = 30.5 deg: the first contact is in the block from
+// -30 to -31 deg, and no deeper than the rim's rise over that block.
+TEST(MachineSim, HeadHitsTheTableAtTheKnownTilt) {
+  const MachineDefinition m = trunnion_with_slab_head();
+  auto rim = [](double a_deg) {
+    const double a = deg_to_rad(std::abs(a_deg));
+    return -80 + 147 * std::sin(a) + 80 * std::cos(a);
+  };
+  const double z_word = rim(30.5) - kToolLength;  // the gauge point (head face) is the tool length above the tip
+  std::vector<ProgramMove> blocks;
+  for (int k = 0; k <= 40; ++k) blocks.push_back(block(10 * (k + 1), {0, 0, z_word}, -k, 0));
+  MachineSimOptions o;
+  o.clearance_mm = 0.25;
+  o.start = blocks.front().axes;
+  const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, kToolLength, nullptr}}, {}, {}, o);
+  ASSERT_TRUE(r.collided);
+  EXPECT_FALSE(r.pass());
+  EXPECT_EQ(r.first_collision.block, 31);
+  EXPECT_EQ(r.first_collision.line, 320);
+  EXPECT_EQ(r.first_collision.a, "table");
+  EXPECT_EQ(r.first_collision.b, "head");
+  EXPECT_LT(r.first_collision.distance_mm, 0);
+  EXPECT_LE(-r.first_collision.distance_mm, rim(31) - rim(30.5) + 1e-3);
+  EXPECT_EQ(r.colliding_blocks, 10);  // 31..40
+  EXPECT_NE(machine_sim_summary(r).find("FAIL: collision table / head at line 320"), std::string::npos)
+      << machine_sim_summary(r);
+}
+
+// A fixture block on the part passes under the head while A turns 0 -> 20
+// deg: its top edge (part y = 20, 130 mm above the A axis) rises to
+// -80 + hypot(19, 130) at A = atan(19/130) = 8.3 deg, inside the block. With
+// the head 1 mm above that the closest approach is 1 mm, reported within
+// the clearance above it.
+TEST(MachineSim, FixturePassedAtOneMillimetreReportsOneMillimetre) {
+  MachineDefinition m = trunnion_with_slab_head();
+  const double top = -80 + std::hypot(19.0, 130.0);
+  const double z_word = top + 1 - kToolLength;
+  const std::vector<MachineBody> fixture = {box("fixture", "part", {-20, -20, -40}, {20, 20, 10})};
+  const std::vector<ProgramMove> blocks = {block(10, {0, 0, z_word}, 0, 0), block(20, {0, 0, z_word}, 20, 0),
+                                           block(30, {50, 0, z_word}, 20, 0)};
+  for (double c : {0.5, 0.05}) {
+    MachineSimOptions o;
+    o.clearance_mm = c;
+    o.start = blocks.front().axes;
+    const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, kToolLength, nullptr}}, fixture, {}, o);
+    EXPECT_TRUE(r.pass());
+    const BodyApproach* p = pair(r, "fixture", "head");
+    ASSERT_NE(p, nullptr);
+    EXPECT_GE(p->distance_mm, 1 - 1e-4) << "c " << c;
+    EXPECT_LE(p->distance_mm, 1 + c + 1e-4) << "c " << c;
+    EXPECT_EQ(p->line, 20);
+  }
+}
+
+// Brute force: the same blocks sampled densely (1000 steps each), the pair
+// distances measured with FCL directly. The simulation's closest approach
+// of every pair must be within the clearance above the dense minimum and
+// not below it (less the dense sampling's own slack), and a contact deeper
+// than the clearance must be reported.
+TEST(MachineSim, BoundHoldsAgainstDenseReplay) {
+  MachineDefinition m = table_table_ac();
+  m.bodies = {cylinder("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
+              box("cradle cheek", "A", {160, -100, -170}, {220, 100, 30}),
+              box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}),
+              box("ram", "Z", {-80, 70, 0}, {80, 200, 600})};
+  const std::vector<MachineBody> fixture = {box("fixture", "part", {-25, -25, -40}, {25, 25, 20})};
+  const double length = 60;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ProgramMove> blocks;
+  for (int k = 0; k < 30; ++k) {
+    // The tip wanders over the fixture's top with the housing a few mm
+    // over it, the table tilting and turning.
+    // The second half under TCP (the tip in the part frame, 40 mm below
+    // its origin at the table face), the block switching it joint-linear.
+    const bool tcp = k >= 15;
+    const Vec3 xyz(60 * u(rng), 60 * u(rng), (tcp ? -40.0 : 0.0) + 6 * u(rng));
+    blocks.push_back(block(10 * (k + 1), xyz, 12 * u(rng), 90 * u(rng), tcp));
+  }
+  const Kinematics kin(m, length);
+  MachineSimOptions o;
+  o.clearance_mm = 0.5;
+  o.start = blocks.front().axes;
+  const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, length, nullptr}}, fixture, {}, o);
+
+  // The dense replay, state as the simulation keeps it.
+  const MachineChain chain(m, length);
+  std::vector<MachineBody> all = m.bodies;
+  all.insert(all.end(), fixture.begin(), fixture.end());
+  struct Placed {
+    std::shared_ptr<fcl::CollisionGeometryd> g;
+    Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+    int link = 0;
+  };
+  std::vector<Placed> placed;
+  for (const MachineBody& b : all) {
+    Placed p;
+    p.link = chain.link_of(b.frame);
+    const Vec3 offset = b.frame == "part" ? m.part_origin_mm : Vec3::Zero();
+    if (b.shape == BodyShape::Box) {
+      const Vec3 s = b.max_mm - b.min_mm;
+      p.g = std::make_shared<fcl::Boxd>(s.x(), s.y(), s.z());
+      p.local.translation() = 0.5 * (b.min_mm + b.max_mm) + offset;
+    } else {
+      p.g = std::make_shared<fcl::Cylinderd>(b.radius_mm, (b.to_mm - b.from_mm).norm());
+      p.local.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), (b.to_mm - b.from_mm).normalized()).toRotationMatrix();
+      p.local.translation() = 0.5 * (b.from_mm + b.to_mm) + offset;
+    }
+    placed.push_back(p);
+  }
+  auto distance = [&](const Placed& a, const Placed& b, const MachineAxes& q) {
+    const fcl::Transform3d ta = chain.pose(a.link, q) * a.local, tb = chain.pose(b.link, q) * b.local;
+    fcl::DistanceRequestd req;
+    req.gjk_solver_type = fcl::GST_LIBCCD;
+    fcl::DistanceResultd res;
+    fcl::distance(a.g.get(), ta, b.g.get(), tb, req, res);
+    if (res.min_distance > 0) return res.min_distance;
+    fcl::CollisionRequestd creq(1, true);
+    fcl::CollisionResultd cres;
+    fcl::collide(a.g.get(), ta, b.g.get(), tb, creq, cres);
+    return cres.isCollision() ? -cres.getContact(0).penetration_depth : 0.0;
+  };
+  int compared = 0;
+  for (const BodyApproach& ap : r.closest) {
+    size_t ia = 0, ib = 0;
+    for (size_t k = 0; k < all.size(); ++k) {
+      if (all[k].name == ap.a) ia = k;
+      if (all[k].name == ap.b) ib = k;
+    }
+    double dense = std::numeric_limits<double>::infinity();
+    MachineAxes prev_axes = blocks.front().axes;
+    Vec3 prev_tip = kin.forward(prev_axes).tip;
+    for (size_t i = 0; i < blocks.size(); ++i) {
+      const ProgramMove& b = blocks[i];
+      MachineAxes to = b.axes;
+      Vec3 tip;
+      if (b.tcp) {
+        tip = b.axes.linear_mm;
+        to.linear_mm = kin.linear_for(tip, to.rotary_rad);
+      } else {
+        tip = kin.forward(to).tip;
+      }
+      const ControllerMotion motion =
+          b.tcp && i > 0 && blocks[i - 1].tcp ? ControllerMotion::TcpRotaryLinear : ControllerMotion::JointLinear;
+      const int n = i == 0 ? 1 : 1000;
+      for (int s = i == 0 ? 1 : 0; s <= n; ++s) {
+        const MachineAxes q = i == 0 ? to : controller_axes(kin, motion, prev_axes, to, prev_tip, tip, double(s) / n);
+        dense = std::min(dense, distance(placed[ia], placed[ib], q));
+      }
+      prev_axes = to;
+      prev_tip = tip;
+    }
+    ++compared;
+    EXPECT_LE(ap.distance_mm, dense + o.clearance_mm + 1e-6) << ap.a << " / " << ap.b;
+    if (dense > 0) EXPECT_GE(ap.distance_mm, dense - 0.3) << ap.a << " / " << ap.b;  // the dense replay's own step
+    if (dense < -o.clearance_mm) EXPECT_TRUE(r.collided) << ap.a << " / " << ap.b;
+  }
+  EXPECT_GE(compared, 5);
+}
+
+// The broad phase: a head 200 mm over the table creeping 0.1 mm a block
+// is measured once, then cleared block after block by the summed motion
+// bounds (0.1 mm each) until they could have used up the 20 mm its
+// closest approach may be reported above the truth (a tenth of it).
+TEST(MachineSim, FarPairsAreClearedByTheBroadPhase) {
+  const MachineDefinition m = trunnion_with_slab_head();
+  std::vector<ProgramMove> blocks;
+  for (int k = 0; k <= 100; ++k) blocks.push_back(block(k + 1, {0.1 * k, 0, 200 - kToolLength}, 0, 0));
+  MachineSimOptions o;
+  o.start = blocks.front().axes;
+  const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, kToolLength, nullptr}}, {}, {}, o);
+  EXPECT_TRUE(r.pass());
+  EXPECT_EQ(r.queries, 1);  // the first block; 100 x 0.1 mm < 20 mm
+  EXPECT_EQ(r.skipped, 100);
+  ASSERT_EQ(r.closest.size(), 1u);
+  EXPECT_NEAR(r.closest.front().distance_mm, 200, 1e-6);
+}
+
+// Every shipped machine file with bodies: nothing touches standing at
+// program zero with a 150 mm tool, nor at the top of Z with the rotaries
+// at their travel ends (a tilt at the safe height), X and Y in the middle
+// or at the corners of their travel.
+TEST(MachineSim, ShippedMachinesBodiesDoNotTouchAtHome) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"lua(
+local checked = 0
+for _, name in ipairs{"dmg_like_ac_trunnion", "bc_trunnion_hermle_like", "monoblock_like_head_table", "gantry_head_head",
+                      "table_table_ac", "table_table_bc", "head_table_bc", "head_head"} do
+  local m = bliskrun.machine.load(name)
+  local names, travel = m:axes(), m:travel()
+  local function ends(axis)
+    local t = travel[axis]
+    if not t then return {0, 90, 180} end
+    return {t[1], 0 >= t[1] and 0 <= t[2] and 0 or t[1], t[2]}
+  end
+  local poses = {{X = 0, Y = 0, Z = 0, [names[4]] = 0, [names[5]] = 0}}
+  for _, a in ipairs(ends(names[4])) do
+    for _, b in ipairs(ends(names[5])) do
+      for _, xy in ipairs{{0, 0}, {travel.X[1], travel.Y[1]}, {travel.X[2], travel.Y[2]}, {travel.X[1], travel.Y[2]},
+                          {travel.X[2], travel.Y[1]}} do
+        poses[#poses + 1] = {X = xy[1], Y = xy[2], Z = travel.Z[2], [names[4]] = a, [names[5]] = b}
+      end
+    end
+  end
+  for _, q in ipairs(poses) do
+    local c = m:body_clearance(q, {tool_length = 150})
+    assert(c, name .. " has no bodies")
+    checked = checked + 1
+    if c.distance <= 0 then
+      error(string.format("TOUCH %s: %s / %s %.3f mm at %s %g %s %g Z %g", name, c.a, c.b, c.distance,
+                          names[4], q[names[4]], names[5], q[names[5]], q.Z))
+    end
+  end
+end
+assert(checked == 8 * (1 + 9 * 5), "checked " .. checked)
+)lua");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// post.write runs the simulation by default: a program that puts the
+// spindle nose into the table is refused at the line of the contact and
+// not written; machine_check = false writes it, with the warning in the
+// report.
+TEST(MachineSim, PostWriteRefusesACollisionAndSkipsOnlyWhenAsked) {
+  TempDir dir;
+  const std::string post = R"lua(
+local m = bliskrun.machine.load("dmg_like_ac_trunnion")
+-- The part frame's origin stands 120 mm over the table face: a tip 125 mm
+-- below it with a 1 mm tool puts the spindle nose 4 mm into the table.
+local path = {{kind = "rapid", tip = {40, 0, 30}, axis = {0, 0, 1}},
+              {kind = "feed", tip = {40, 0, -125}, axis = {0, 0, 1}, feed = 800}}
+local function write(check)
+  return bliskrun.post.write{machine = m, post = "fanuc", path = path, file = "x.nc", tool = {number = 1, length = 1},
+                             machine_check = check}
+end
+)lua";
+  RecipeResult r = run_recipe_text(dir, post + "write(nil)\n");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("machine simulation: FAIL: collision C table / spindle nose at line"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("nothing written"), std::string::npos) << r.output;
+  r = run_recipe_text(dir, post + "local w = write(false)\nassert(w.machine_check.verdict == 'SKIPPED')\n"
+                                  "assert(w.machine_check.warning:find('NOT checked'))\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+}  // namespace
+}  // namespace bliskrun::test
