@@ -328,22 +328,9 @@ int w_paint_part(lua_State* L) {
       lua_pop(L, 1);  // the table still holds the map
     }
     // The window the map covers (bliskrun.simulate's u, v), in [0, 1].
-    auto window = [&](const char* key) {
-      std::array<double, 2> w{0, 1};
-      if (!po.has(key)) return w;
-      po.push_raw(key);
-      for (int e = 0; e < 2; ++e) {
-        lua_geti(L, -1, e + 1);
-        if (!lua_isnumber(L, -1)) luax::error(L, where + "." + key + ": expected {from, to} within 0..1");
-        w[static_cast<size_t>(e)] = lua_tonumber(L, -1);
-        lua_pop(L, 1);
-      }
-      lua_pop(L, 1);
-      if (!(w[0] >= 0 && w[1] <= 1 && w[0] < w[1]))
-        luax::error(L, where + "." + key + ": expected {from, to} with 0 <= from < to <= 1");
-      return w;
-    };
-    const auto wu = window("u"), wv = window("v");
+    std::array<double, 2> wu{0, 1}, wv{0, 1};
+    read_unit_window(L, po, where, "u", wu[0], wu[1]);
+    read_unit_window(L, po, where, "v", wv[0], wv[1]);
     for (int i = 0; i < p.rows; ++i)
       for (int j = 0; j < p.cols; ++j) {
         p.points.push_back(surface->point(wu[0] + (wu[1] - wu[0]) * i / (p.rows - 1),

@@ -74,6 +74,16 @@ BladeContact contact_in_base(const RobotCell& cell, const Frame& flange, const B
   return {blade_in_base * c.point, blade_in_base.linear() * c.normal, blade_in_base.linear() * c.tangent};
 }
 
+Vec3 programmed_point(const RobotMove& m) { return m.contact.point + m.offset_mm * m.contact.normal.normalized(); }
+
+double joint_speed_ratio(const RobotArm& arm, const RobotMove& from, const RobotMove& to) {
+  const double dt = std::max((programmed_point(to) - programmed_point(from)).norm(), 1e-3) / to.feed_mm_s;
+  double ratio = 0;
+  for (int j = 0; j < 6; ++j)
+    ratio = std::max(ratio, std::abs(to.joints[j] - from.joints[j]) / dt / arm.joints[j].max_speed_rad_s);
+  return ratio;
+}
+
 namespace {
 
 struct Trial {
@@ -137,7 +147,7 @@ void check_joint_move(const RobotCell& cell, const BeltStation& station, const W
   auto blade_at = [&](double s) {
     JointAngles q;
     for (int j = 0; j < 6; ++j) q[j] = a[j] + s * (b[j] - a[j]);
-    return station.contact.inverse() * robot_forward(cell.arm, q) * cell.grip;
+    return blade_in_station(cell, station, q);
   };
   Frame from = blade_at(0);
   wheel.check_pose(from, report);
@@ -155,7 +165,6 @@ void check_joint_move(const RobotCell& cell, const BeltStation& station, const W
 void stage_home_end(const RobotCell& cell, const BeltStation& station, const WheelClearance& wheel,
                     const RobotGrindingOptions& o, RobotGrindingPlan& plan, bool first) {
   const RobotMove end = first ? plan.moves.front() : plan.moves.back();
-  auto blade = [&](const JointAngles& q) { return station.contact.inverse() * robot_forward(cell.arm, q) * cell.grip; };
   WheelContactReport direct;
   direct.checked = true;
   check_joint_move(cell, station, wheel, first ? o.start : end.joints, first ? end.joints : o.start, direct);
@@ -174,19 +183,16 @@ void stage_home_end(const RobotCell& cell, const BeltStation& station, const Whe
     r.checked = true;
     check_joint_move(cell, station, wheel, first ? o.start : staging.joints, first ? staging.joints : o.start, r);
     if (first)
-      wheel.check_motion(blade(staging.joints), blade(end.joints), r);
+      wheel.check_motion(blade_in_station(cell, station, staging), blade_in_station(cell, station, end), r);
     else
-      wheel.check_motion(blade(end.joints), blade(staging.joints), r);
+      wheel.check_motion(blade_in_station(cell, station, end), blade_in_station(cell, station, staging), r);
     plan.wheel.poses += r.poses;
     if (r.collisions > 0) continue;
     // The straight link's joint speed at the link feed (as the plan rates
     // every move into a move).
     const RobotMove& from = first ? staging : end;
     RobotMove& into = first ? plan.moves.front() : staging;
-    const double dt = std::max(out, 1e-3) / o.link_feed_mm_s;
-    for (int j = 0; j < 6; ++j)
-      into.joint_speed_ratio = std::max(into.joint_speed_ratio, std::abs(into.joints[j] - from.joints[j]) / dt /
-                                                                    cell.arm.joints[j].max_speed_rad_s);
+    into.joint_speed_ratio = std::max(into.joint_speed_ratio, joint_speed_ratio(cell.arm, from, into));
     if (first) {
       plan.max_link_joint_speed_ratio = std::max(plan.max_link_joint_speed_ratio, into.joint_speed_ratio);
       plan.moves.insert(plan.moves.begin(), staging);
@@ -333,12 +339,7 @@ RobotGrindingPlan plan_robot_grinding(const RobotCell& cell, const BeltStation& 
       // the feed; the approach comes from wherever the last path ended).
       if (!plan.moves.empty()) {
         const RobotMove& p = plan.moves.back();
-        const Vec3 from = p.contact.point + p.offset_mm * p.contact.normal.normalized();
-        const Vec3 to = m.contact.point + m.offset_mm * m.contact.normal.normalized();
-        const double dt = std::max((to - from).norm(), 1e-3) / m.feed_mm_s;
-        for (int j = 0; j < 6; ++j)
-          m.joint_speed_ratio = std::max(
-              m.joint_speed_ratio, std::abs(m.joints[j] - p.joints[j]) / dt / cell.arm.joints[j].max_speed_rad_s);
+        m.joint_speed_ratio = std::max(m.joint_speed_ratio, joint_speed_ratio(cell.arm, p, m));
         if (m.branch != p.branch) ++plan.branch_changes;
       }
       double& worst = m.link ? plan.max_link_joint_speed_ratio : plan.max_joint_speed_ratio;

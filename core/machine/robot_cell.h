@@ -72,6 +72,15 @@ struct RobotMove {
   double joint_speed_ratio = 0;  // largest |dq/dt| / max speed over the joints for the move into this one
 };
 
+// The blade point a move programs: its contact, or on a link the point
+// `offset_mm` off it along the normal (blade frame). Feeds are programmed
+// on its travel.
+Vec3 programmed_point(const RobotMove& move);
+
+// Largest |dq/dt| / max speed over the joints for the motion from `from`
+// into `to` at `to`'s feed along the programmed points' travel.
+double joint_speed_ratio(const RobotArm& arm, const RobotMove& from, const RobotMove& to);
+
 struct BladeBody;
 
 // The wheel and belt against the whole blade over every move and the motion

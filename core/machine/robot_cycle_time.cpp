@@ -10,10 +10,6 @@
 namespace bliskrun {
 namespace {
 
-// Where the blade's programmed point is for a move: the contact, or the
-// lift-off point along its normal on a link.
-Vec3 programmed_point(const RobotMove& m) { return m.contact.point + m.offset_mm * m.contact.normal.normalized(); }
-
 // A joint move from rest to rest: the slowest joint's trapezoid.
 double joint_move_seconds(const RobotArm& arm, const JointAngles& a, const JointAngles& b, double accel) {
   double t = 0;

@@ -164,7 +164,11 @@ void WheelClearance::check_motion(const Frame& from, const Frame& to, WheelConta
 }
 
 Frame blade_in_station(const RobotCell& cell, const BeltStation& station, const RobotMove& move) {
-  return station.contact.inverse() * robot_forward(cell.arm, move.joints) * cell.grip;
+  return blade_in_station(cell, station, move.joints);
+}
+
+Frame blade_in_station(const RobotCell& cell, const BeltStation& station, const JointAngles& joints) {
+  return station.contact.inverse() * robot_forward(cell.arm, joints) * cell.grip;
 }
 
 }  // namespace bliskrun

@@ -80,5 +80,7 @@ class WheelClearance {
 // The blade in the station frame for a move of a plan (forward kinematics
 // of its joints and the cell's grip).
 Frame blade_in_station(const RobotCell& cell, const BeltStation& station, const RobotMove& move);
+// The same for any joint values (a joint move's samples).
+Frame blade_in_station(const RobotCell& cell, const BeltStation& station, const JointAngles& joints);
 
 }  // namespace bliskrun
