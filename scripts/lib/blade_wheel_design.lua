@@ -4,7 +4,8 @@
 -- Rotor 67 recipes.
 --
 --   local wheel_design = require("blade_wheel_design")
---   wheel_design.run(part, {name = "NASA Rotor 37", prefix = "rotor37", c_range = 30})
+--   wheel_design.run(part, {name = "NASA Rotor 37", prefix = "rotor37", c_range = 30
+--                           [, passage = wheel_design.narrowest_passage(part)]})
 --
 -- part: a blade model table (bliskrun.read_rotor37 / read_rotor67 / ...),
 -- read with span_extension = 0 so that the analysis covers the blade between
@@ -72,7 +73,7 @@ function M.run(part, opts)
     flanks[side].grid = {rows = rows, cols = cols}
   end
 
-  local passage = M.narrowest_passage(part, surfaces.suction)
+  local passage = opts.passage or M.narrowest_passage(part, surfaces.suction)
   local wheel = bliskrun.design_drum_wheel{k1_max = table1.k1_max, ke_max = table1.ke_max, d_min = passage.distance}
 
   print(string.format("%s: %d blades, %d sections, narrowest passage d_min = %.2f mm", name, part.blades,

@@ -43,17 +43,19 @@ local file = "nasa_rotor67/rotor67geometry.dat"
 
 -- A wheel of the recipe's own size must enter the channel: checked before
 -- the design writes anything (Table 2's own wheel is checked below).
+-- The passage is measured once and handed to the design.
 local design_part = bliskrun.read_rotor67(file, {span_extension = 0})
+local passage = wheel_design.narrowest_passage(design_part)
 if opt.wheel_diameter then
-  finish.check_wheel_fits(wheel_design.narrowest_passage(design_part).distance,
-                          bliskrun.drum_wheel{max_diameter = opt.wheel_diameter, barrel_radius = 50,
-                                              head_length = opt.wheel_diameter / 2})
+  finish.check_wheel_fits(passage.distance, bliskrun.drum_wheel{max_diameter = opt.wheel_diameter, barrel_radius = 50,
+                                                                head_length = opt.wheel_diameter / 2})
 end
 
 -- Tables 1-2 between hub and tip; the planning part extends past them (as
 -- a CAD export does) so the trim finds the hub and casing on the flank.
 local design = wheel_design.run(design_part,
-                                {name = "NASA Rotor 67", prefix = "rotor67_finish_design", c_range = c_range})
+                                {name = "NASA Rotor 67", prefix = "rotor67_finish_design", c_range = c_range,
+                                 passage = passage})
 local part = bliskrun.read_rotor67(file)
 local rule = opt.wheel
 local ext = design.table2[rule]
@@ -64,7 +66,7 @@ bliskrun.log("wheel: " .. tool:description())
 -- Table 2 sizes the wheel below d_min; checked all the same, before any
 -- planning, as for the built-in blisk (a changed rule or shank must not
 -- plan a wheel that cannot enter the channel).
-finish.check_wheel_fits(design.part.narrowest_passage_mm, tool)
+finish.check_wheel_fits(passage.distance, tool)
 
 -- Check surfaces: both flanks of the two neighbouring blades, the hub, and
 -- the blade itself for the shank.
