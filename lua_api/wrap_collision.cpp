@@ -376,6 +376,25 @@ int w_world_check_motion(lua_State* L) {
   });
 }
 
+// The least margin over a motion (a lower bound within tol): for reports,
+// where check_motion's min_margin is only the smallest margin its proof
+// sampled.
+int w_world_motion_min_margin(lua_State* L) {
+  return luax::guarded(L, [&] {
+    const CollisionWorld& w = *luax::check<LuaWorld>(L, 1).world;
+    LuaTool& tool = luax::check<LuaTool>(L, 2);
+    const ToolPose from = check_pose(L, 3, "CollisionWorld:motion_min_margin from");
+    const ToolPose to = check_pose(L, 4, "CollisionWorld:motion_min_margin to");
+    const luax::Options o(L, 5, "CollisionWorld:motion_min_margin",
+                          {clearance_field(),
+                           Field{"tol", Kind::Number, false, 1e-6, std::nullopt,
+                                 "the bound's tolerance, mm (default 0.01)", {}}});
+    const Clearances c = check_clearances(L, o, "CollisionWorld:motion_min_margin");
+    lua_pushnumber(L, w.motion_min_margin(tool.body(), from, to, c, o.number("tol", 0.01)));
+    return 1;
+  });
+}
+
 int w_world_tilt(lua_State* L) {
   return luax::guarded(L, [&] {
     const CollisionWorld& w = *luax::check<LuaWorld>(L, 1).world;
@@ -430,6 +449,7 @@ int w_world_tilt(lua_State* L) {
 const luaL_Reg kWorldMethods[] = {{"names", w_world_names},
                                   {"check", w_world_check},
                                   {"check_motion", w_world_check_motion},
+                                  {"motion_min_margin", w_world_motion_min_margin},
                                   {"tilt", w_world_tilt},
                                   {nullptr, nullptr}};
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <unordered_map>
+#include <vector>
 
 #include <fcl/fcl.h>
 
@@ -406,6 +407,32 @@ MotionCheck CollisionWorld::check_motion(const ToolBody& body, const ToolPose& f
     }
     t += step;
   }
+}
+
+double CollisionWorld::motion_min_margin(const ToolBody& body, const ToolPose& from, const ToolPose& to,
+                                         const Clearances& clearances, double tol_mm) const {
+  if (!(tol_mm > 0)) throw ParameterError("tol", "expected a positive tolerance in mm");
+  const PoseMotion motion(from, to);
+  const double speed = motion.max_point_speed(body.tool().reach());
+  auto margin = [&](double t) { return check(body, motion.pose_at(t), clearances).min_margin_mm; };
+  double best = std::numeric_limits<double>::infinity();
+  // Depth-first halving; the stack holds (t0, g0, t1, g1).
+  struct Piece { double t0, g0, t1, g1; };
+  std::vector<Piece> stack;
+  constexpr int kStart = 8;  // a first even sample finds the low region early
+  std::vector<double> g(kStart + 1);
+  for (int i = 0; i <= kStart; ++i) best = std::min(best, g[i] = margin(double(i) / kStart));
+  for (int i = kStart; i > 0; --i) stack.push_back({double(i - 1) / kStart, g[i - 1], double(i) / kStart, g[i]});
+  while (!stack.empty()) {
+    const Piece p = stack.back();
+    stack.pop_back();
+    if (0.5 * (p.g0 + p.g1 - speed * (p.t1 - p.t0)) >= best - tol_mm) continue;
+    const double tm = 0.5 * (p.t0 + p.t1), gm = margin(tm);
+    best = std::min(best, gm);
+    stack.push_back({tm, gm, p.t1, p.g1});
+    stack.push_back({p.t0, p.g0, tm, gm});
+  }
+  return best - tol_mm;
 }
 
 }  // namespace bliskrun

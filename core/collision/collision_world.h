@@ -182,6 +182,20 @@ class CollisionWorld {
                            const Clearances& clearances, double tol_mm = 1e-3,
                            int max_samples = 100000) const;
 
+  // Smallest clearance margin (distance - clearance, over every tool part
+  // and check surface) over the whole motion from `from` to `to`
+  // (PoseMotion), as a lower bound within tol_mm of it — what check_motion's
+  // min_margin_mm is not (that is the smallest margin the proof sampled). No
+  // tool point moves faster than V = max_point_speed(tool reach) per unit t,
+  // so the margin is V-Lipschitz in t and a piece [t0, t1] with margins g0,
+  // g1 cannot go below (g0 + g1 - V (t1 - t0)) / 2; pieces are halved until
+  // that bound is within tol_mm of the smallest sampled margin (Piyavskii's
+  // bound). Distances are exact (no horizon), so far pieces are dropped at
+  // once. For a report's "least clearance of a lead"; throws ParameterError
+  // for tol_mm <= 0.
+  double motion_min_margin(const ToolBody& body, const ToolPose& from, const ToolPose& to,
+                           const Clearances& clearances, double tol_mm) const;
+
  private:
   struct Object {
     std::string name;

@@ -58,6 +58,7 @@ ImpellerDefinition parse_camber_data(const std::string& text, const std::string&
   ImpellerDefinition d;
   bool have_blades = false;
   std::map<std::string, std::vector<CamberPoint>> lists;
+  std::map<std::string, long> header_line;  // each list's header, for the pairing error
   while (true) {
     skip_comments(in);
     if (in.at_end()) break;
@@ -81,6 +82,7 @@ ImpellerDefinition parse_camber_data(const std::string& text, const std::string&
       if (lists.count(name)) in.fail("the list '" + name + "' appears twice");
       const double n = in.numbers(f[2], 1, "point count")[0];
       if (n != std::floor(n)) in.fail("expected an integer point count");
+      header_line[name] = in.line();
       lists[name] = read_list(in, in.line(), name, static_cast<long long>(n));
     } else {
       in.fail("expected 'blades N', 'splitter_offset F' or a list header "
@@ -93,6 +95,19 @@ ImpellerDefinition parse_camber_data(const std::string& text, const std::string&
     if (!lists.count(name)) throw DataError(label, end, std::string("expected a '") + name + "' list");
   if (lists.count("splitter shroud") != lists.count("splitter hub"))
     throw DataError(label, end, "expected both 'splitter shroud' and 'splitter hub' lists, or neither");
+  // Point i of a blade's shroud list and point i of its hub list lie on one
+  // ruling (core/parts/impeller.h): lists of different lengths state no
+  // pairing, so they are refused here, at the later list's header.
+  for (const char* blade : {"main", "splitter"}) {
+    const std::string shroud = std::string(blade) + " shroud", hub = std::string(blade) + " hub";
+    if (!lists.count(shroud) || lists[shroud].size() == lists[hub].size()) continue;
+    const bool hub_later = header_line[hub] > header_line[shroud];
+    throw DataError(label, std::max(header_line[hub], header_line[shroud]),
+                    "expected as many points in '" + (hub_later ? hub : shroud) + "' as in '" +
+                        (hub_later ? shroud : hub) + "' (" + std::to_string(lists[hub_later ? shroud : hub].size()) +
+                        ": point i of each lies on one ruling), got " +
+                        std::to_string(lists[hub_later ? hub : shroud].size()));
+  }
   d.main.shroud = lists["main shroud"];
   d.main.hub = lists["main hub"];
   if (lists.count("splitter hub")) d.splitter = BladeCamber{lists["splitter shroud"], lists["splitter hub"]};

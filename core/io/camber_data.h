@@ -20,7 +20,7 @@
 // list of fewer than 4 points, a field that is not a finite number, h <= 0,
 // a point that repeats its predecessor or turns back along the list (the
 // curve must advance: consecutive chords at less than 90 degrees), a missing
-// or repeated list.
+// or repeated list, a blade whose hub and shroud lists differ in length.
 #include <string>
 
 #include "core/io/impeller_definition.h"

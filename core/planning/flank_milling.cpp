@@ -275,32 +275,6 @@ double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter) {
   return cutter.tool().signed_distance(Vec3((d - along * a).norm(), 0, along));
 }
 
-double motion_min_margin(const CollisionWorld& world, const ToolBody& body, const ToolPose& from,
-                         const ToolPose& to, const Clearances& clearances, double tol_mm) {
-  if (!(tol_mm > 0)) throw ParameterError("tol", "expected a positive tolerance in mm");
-  const PoseMotion motion(from, to);
-  const double speed = motion.max_point_speed(body.tool().reach());
-  auto margin = [&](double t) { return world.check(body, motion.pose_at(t), clearances).min_margin_mm; };
-  double best = std::numeric_limits<double>::infinity();
-  // Depth-first halving; the stack holds (t0, g0, t1, g1).
-  struct Piece { double t0, g0, t1, g1; };
-  std::vector<Piece> stack;
-  constexpr int kStart = 8;  // a first even sample finds the low region early
-  std::vector<double> g(kStart + 1);
-  for (int i = 0; i <= kStart; ++i) best = std::min(best, g[i] = margin(double(i) / kStart));
-  for (int i = kStart; i > 0; --i) stack.push_back({double(i - 1) / kStart, g[i - 1], double(i) / kStart, g[i]});
-  while (!stack.empty()) {
-    const Piece p = stack.back();
-    stack.pop_back();
-    if (0.5 * (p.g0 + p.g1 - speed * (p.t1 - p.t0)) >= best - tol_mm) continue;
-    const double tm = 0.5 * (p.t0 + p.t1), gm = margin(tm);
-    best = std::min(best, gm);
-    stack.push_back({tm, gm, p.t1, p.g1});
-    stack.push_back({p.t0, p.g0, tm, gm});
-  }
-  return best - tol_mm;
-}
-
 FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   if (!rq.face) throw ParameterError("face", "expected a face to machine");
   if (!rq.cutter) throw ParameterError("tool", "expected a cutter");
@@ -428,7 +402,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     for (const auto& [lead, at] : {std::pair{&plan.lead_in, &plan.axes.front()}, std::pair{&plan.lead_out, &plan.axes.back()}})
       if (lead->clear)
         plan.lead_min_margin_mm = std::min(
-            plan.lead_min_margin_mm, motion_min_margin(*rq.world, *rq.body, at->pose, lead->away, rq.clearances));
+            plan.lead_min_margin_mm, rq.world->motion_min_margin(*rq.body, at->pose, lead->away, rq.clearances, kLeadMarginTolMm));
     plan.min_margin_mm = std::min(plan.pose_min_margin_mm, plan.lead_min_margin_mm);
   } else {
     plan.min_margin_mm = 0;

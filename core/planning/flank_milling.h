@@ -180,7 +180,7 @@ struct FlankFacePlan {
   // clear leads: min(pose_min_margin_mm, lead_min_margin_mm).
   double min_margin_mm = 0;
   double pose_min_margin_mm = 0;     // over poses, resolved up to kMarginHorizonMm
-  // Over the lead-in and lead-out motions (motion_min_margin, a lower bound
+  // Over the lead-in and lead-out motions (CollisionWorld::motion_min_margin, a lower bound
   // within kLeadMarginTolMm); +inf when no lead is clear or no world.
   double lead_min_margin_mm = 0;
 };
@@ -197,16 +197,6 @@ double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter);
 
 constexpr double kLeadMarginTolMm = 0.01;
 
-// Smallest clearance margin (distance - clearance, over every tool part and
-// check surface) over the whole motion from `from` to `to` (PoseMotion), as
-// a lower bound within tol_mm of it. No tool point moves faster than
-// V = max_point_speed(tool reach) per unit t, so the margin is V-Lipschitz
-// in t and a piece [t0, t1] with margins g0, g1 cannot go below
-// (g0 + g1 - V (t1 - t0)) / 2; pieces are halved until that bound is within
-// tol_mm of the smallest sampled margin (Piyavskii's bound). Distances are
-// exact (no horizon), so far pieces are dropped at once.
-double motion_min_margin(const CollisionWorld& world, const ToolBody& body, const ToolPose& from,
-                         const ToolPose& to, const Clearances& clearances, double tol_mm = kLeadMarginTolMm);
 
 // Throws ParameterError for missing face/cutter, or a world without a body.
 FlankFacePlan plan_flank_face(const FlankFaceRequest& request);

@@ -76,6 +76,17 @@ TEST(CamberData, BadDataIsAnErrorAtFileAndLine) {
             "camber.dat:4: unexpected end of file; expected main shroud point 2 of 4 (x y z h)");
   EXPECT_NE(error_of("main hub 4\n8 -2 0 1\n9 -1 0 1\n10 0 0 1\n11 1 0 1\n").find("expected a 'blades N' line"),
             std::string::npos);
+  // Hub and shroud of one blade pair point by point: unequal lists are
+  // refused at the later list's header (line 8), whichever comes first.
+  std::string five_hub = small_data();
+  five_hub.replace(five_hub.find("main hub 4"), 10, "main hub 5");
+  EXPECT_EQ(error_of(five_hub + "12 2 0 1\n"),
+            "camber.dat:8: expected as many points in 'main hub' as in 'main shroud' (4: point i of each "
+            "lies on one ruling), got 5");
+  EXPECT_EQ(error_of(five_hub.substr(five_hub.find("main hub")) + "12 2 0 1\nblades 5\n" +
+                     five_hub.substr(five_hub.find("main shroud"), five_hub.find("main hub") - five_hub.find("main shroud"))),
+            "camber.dat:8: expected as many points in 'main shroud' as in 'main hub' (5: point i of each "
+            "lies on one ruling), got 4");
   EXPECT_EQ(error_of("blades 5\nwheel 4\n"),
             "camber.dat:2: expected 'blades N', 'splitter_offset F' or a list header "
             "'main|splitter shroud|hub <count>', got 'wheel 4'");

@@ -191,15 +191,20 @@ function M.flank_finish(o)
       -- are proved here like the plan's own.
       local function lifted(pose) return {tip = add(pose.tip, pose.axis, self.lift), axis = pose.axis} end
       local start, finish = lifted(plan.lead_in.away), lifted(plan.lead_out.away)
+      -- The lifts are leads too: their least margin (a lower bound within
+      -- 0.01 mm, as the plan's lead_min_margin) joins the reported figures.
+      local clearance = {cutter = 0, shank = self.clearance, holder = self.clearance}
+      local lead_min, min_margin = plan.lead_min_margin or math.huge, plan.min_margin
       for _, leg in ipairs{{start, plan.lead_in.away}, {plan.lead_out.away, finish}} do
-        local m = world:check_motion(tool.tool, leg[1], leg[2],
-                                     {clearance = {cutter = 0, shank = self.clearance, holder = self.clearance}})
+        local m = world:check_motion(tool.tool, leg[1], leg[2], {clearance = clearance})
         if not m.clear then
           error(string.format("job.flank_finish: %s face: the lift of %.1f mm off the hub at the %s is not clear "
                               .. "(margin %.3f mm)", name, self.lift, leg[1] == start and "lead-in" or "lead-out",
                               m.min_margin or 0 / 0), 0)
         end
+        lead_min = math.min(lead_min, world:motion_min_margin(tool.tool, leg[1], leg[2], {clearance = clearance}))
       end
+      min_margin = math.min(min_margin, lead_min)
       local moves = {{kind = "rapid", tip = start.tip, axis = start.axis, row = 1, motion = "start", operation = index},
                      {kind = "feed", tip = plan.lead_in.away.tip, axis = plan.lead_in.away.axis, row = 1,
                       motion = "approach", operation = index}}
@@ -216,7 +221,7 @@ function M.flank_finish(o)
                                      residual_max = plan.residual.max, residual_min = plan.residual.min,
                                      -- apart from the residual: the corner the ball riding the hub leaves
                                      root_corner_max = plan.root_corner and plan.root_corner.max,
-                                     min_margin = plan.min_margin, lead_min_margin = plan.lead_min_margin}}
+                                     min_margin = min_margin, lead_min_margin = lead_min}}
     end
     return per_blade(j, units, self.blades)
   end
