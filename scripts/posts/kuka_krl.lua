@@ -53,10 +53,15 @@ function P.data(self, job, out)
   out:line("; external TCP: the wheel is BASE data (in WORLD), the blade TOOL data (on FLANGE)")
   out:line("$BASE = " .. self:frame(job.station))
   out:line("$TOOL = " .. self:frame(job.grip))
+  -- $LOAD: the whole load on the flange — gripper and blade — its centre of
+  -- gravity and principal axes in FLANGE (mm, Z-Y-X deg) and its principal
+  -- moments (kg·m²), as KUKA's load data describe a payload.
   local p = job.payload
-  out:line(string.format("; load: gripper %s kg + blade %s kg", self:number(p.gripper_mass, 3), self:number(p.blade_mass, 3)))
-  out:line(string.format("$LOAD = {M %s,CM {X %s,Y %s,Z %s,A 0,B 0,C 0},J {X 0,Y 0,Z 0}}", self:number(p.mass, 3),
-                         self:number(p.cog.x, 1), self:number(p.cog.y, 1), self:number(p.cog.z, 1)))
+  out:line(string.format("; load: gripper %s kg + blade %s kg", self:number(p.gripper.mass, 3), self:number(p.blade.mass, 3)))
+  out:line(string.format("$LOAD = {M %s,CM {X %s,Y %s,Z %s,A %s,B %s,C %s},J {X %s,Y %s,Z %s}}", self:number(p.mass, 3),
+                         self:number(p.cog.x, 3), self:number(p.cog.y, 3), self:number(p.cog.z, 3),
+                         self:number(p.a, 4), self:number(p.b, 4), self:number(p.c, 4), self:number(p.moments.x, 6),
+                         self:number(p.moments.y, 6), self:number(p.moments.z, 6)))
   out:line("$IPO_MODE = #TCP")
   out:line("$ORI_TYPE = #VAR")
   out:line("$ACC.CP = " .. self:number(self.acc_cp, 2))
