@@ -514,10 +514,11 @@ void push_mass(lua_State* L, const MassProperties& m) {
     lua_rawseti(L, -2, i + 1);
   }
   lua_setfield(L, -2, "aom");
-  const Vec3 e = p.axes.eulerAngles(2, 1, 0);
-  luax::set_number(L, "a", rad_to_deg(e[0]));
-  luax::set_number(L, "b", rad_to_deg(e[1]));
-  luax::set_number(L, "c", rad_to_deg(e[2]));
+  // Z-Y-X angles with B in [-90°, 90°] (R = Rz(A) Ry(B) Rx(C)).
+  const Mat3& R = p.axes;
+  luax::set_number(L, "a", rad_to_deg(std::atan2(R(1, 0), R(0, 0))));
+  luax::set_number(L, "b", rad_to_deg(std::asin(std::clamp(-R(2, 0), -1.0, 1.0))));
+  luax::set_number(L, "c", rad_to_deg(std::atan2(R(2, 1), R(2, 2))));
   luax::set_vec3(L, "moments", 1e-6 * p.moments_kg_mm2);
 }
 

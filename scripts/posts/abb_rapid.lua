@@ -47,15 +47,15 @@ function P.data(self, job, out)
   if job.part then return end
   local n, p = self:names(job), job.payload
   -- loaddata [mass, cog, aom, ix, iy, iz]: kg, mm, the principal axes as a
-  -- quaternion, the principal moments in kg·m² (mass at least 1 g: RAPID
-  -- refuses a load without one).
+  -- quaternion, the principal moments in kg·m² to 1e-9 (a blade's are
+  -- ~1e-6); the mass at least 1 g (RAPID refuses a load without one).
   local function load(m)
     local q = m.aom
     return string.format("[%s,[%s,%s,%s],[%s,%s,%s,%s],%s,%s,%s]", self:number(math.max(m.mass, 0.001), 3),
                          self:number(m.cog.x, 3), self:number(m.cog.y, 3), self:number(m.cog.z, 3),
                          self:number(q[1], self.decimals.quaternion), self:number(q[2], self.decimals.quaternion),
                          self:number(q[3], self.decimals.quaternion), self:number(q[4], self.decimals.quaternion),
-                         self:number(m.moments.x, 6), self:number(m.moments.y, 6), self:number(m.moments.z, 6))
+                         self:number(m.moments.x, 9), self:number(m.moments.y, 9), self:number(m.moments.z, 9))
   end
   out:line("  ! the wheel: a stationary tool (robhold FALSE, tframe in the world); tload: the gripper that holds")
   out:line("  ! the work object, in the wrist coordinate system (tool0)")

@@ -60,8 +60,8 @@ function P.data(self, job, out)
   out:line(string.format("; load: gripper %s kg + blade %s kg", self:number(p.gripper.mass, 3), self:number(p.blade.mass, 3)))
   out:line(string.format("$LOAD = {M %s,CM {X %s,Y %s,Z %s,A %s,B %s,C %s},J {X %s,Y %s,Z %s}}", self:number(p.mass, 3),
                          self:number(p.cog.x, 3), self:number(p.cog.y, 3), self:number(p.cog.z, 3),
-                         self:number(p.a, 4), self:number(p.b, 4), self:number(p.c, 4), self:number(p.moments.x, 6),
-                         self:number(p.moments.y, 6), self:number(p.moments.z, 6)))
+                         self:number(p.a, 4), self:number(p.b, 4), self:number(p.c, 4), self:number(p.moments.x, 7),
+                         self:number(p.moments.y, 7), self:number(p.moments.z, 7)))
   out:line("$IPO_MODE = #TCP")
   out:line("$ORI_TYPE = #VAR")
   out:line("$ACC.CP = " .. self:number(self.acc_cp, 2))

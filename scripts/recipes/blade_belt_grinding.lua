@@ -345,6 +345,13 @@ local flank_of = {}
 for _, f in ipairs(body_faces) do flank_of[f.name] = f.surface end
 local blade_mass = blade_mass_properties(flank_of["pressure flank"], flank_of["suction flank"],
                                          opt.density or (part_name == "e3" and 8.2 or 4.43))
+-- For the JSON report: plain arrays, kg, mm, kg·mm².
+local function plain_mass(m, frame)
+  local function v(p) return {p.x, p.y, p.z} end
+  return {mass_kg = m.mass, volume_mm3 = m.volume, cog_mm = v(m.cog), frame = frame,
+          inertia_kg_mm2 = {v(m.inertia[1]), v(m.inertia[2]), v(m.inertia[3])},
+          principal_moments_kg_mm2 = v(m.principal.moments)}
+end
 local function principal(m)
   local p = m.principal.moments
   return string.format("principal moments %.1f, %.1f, %.1f kg mm²", p.x, p.y, p.z)
@@ -354,7 +361,7 @@ print(string.format("payload: blade %.3f kg (%.0f mm³, centre of gravity %.1f, 
                     principal(blade_mass), gripper.mass, principal(gripper)))
 
 local report = {part = part_name, feed_mm_s = feed, scan = scan_report, stations = {}, programs = {},
-                payload = {blade = blade_mass, gripper = gripper}}
+                payload = {blade = plain_mass(blade_mass, "blade frame"), gripper = plain_mass(gripper, "flange frame")}}
 local station_rows, program_rows, blocks = {}, {}, {}  -- report.html, ParaView
 -- Charts: the measured scallop of every path and the measured chord error
 -- along the middle path of each flank, over their tolerances; the coarse

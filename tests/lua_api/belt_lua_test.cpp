@@ -170,19 +170,19 @@ end
   EXPECT_NEAR(Y, 0, 5e-4);
   EXPECT_NEAR(Z, zc, 5e-4);
   EXPECT_NEAR(std::abs(A) + std::abs(B) + std::abs(C), 0, 1e-4);
-  EXPECT_NEAR(JX, 1e-6 * jx, 5e-7);
-  EXPECT_NEAR(JY, 1e-6 * jy, 5e-7);
-  EXPECT_NEAR(JZ, 1e-6 * jz, 5e-7);
+  EXPECT_NEAR(JX, 1e-6 * jx, 5e-8);
+  EXPECT_NEAR(JY, 1e-6 * jy, 5e-8);
+  EXPECT_NEAR(JZ, 1e-6 * jz, 5e-8);
   // RAPID: tload the gripper alone (flange frame), the payload the plate in
   // the blade frame — its centre of gravity at the blade origin, not at the
   // flange's (0, 0, 50); its moments about the blade's own axes.
   const std::string rapid = read_file(dir.path() + "/out/p.mod");
-  EXPECT_NE(rapid.find(",[15.000,[0.000,0.000,90.000],[1.000000000,0.000000000,0.000000000,0.000000000],0.064500,0.064500,0.048000]];"),
+  EXPECT_NE(rapid.find(",[15.000,[0.000,0.000,90.000],[1.000000000,0.000000000,0.000000000,0.000000000],0.064500000,0.064500000,0.048000000]];"),
             std::string::npos)
       << rapid.substr(0, 900);
   char plate[200];
   std::snprintf(plate, sizeof plate, "PERS loaddata ld_p := [0.213,[0.000,0.000,0.000],[1.000000000,0.000000000,0.000000000,"
-                "0.000000000],%.6f,%.6f,%.6f];", 1e-6 * mb * (120 * 120 + 10 * 10) / 12, 1e-6 * mb * (40 * 40 + 10 * 10) / 12,
+                "0.000000000],%.9f,%.9f,%.9f];", 1e-6 * mb * (120 * 120 + 10 * 10) / 12, 1e-6 * mb * (40 * 40 + 10 * 10) / 12,
                 1e-6 * mb * (40 * 40 + 120 * 120) / 12);
   EXPECT_NE(rapid.find(plate), std::string::npos) << plate << "\n" << rapid.substr(0, 900);
 }
