@@ -1,8 +1,10 @@
 -- KUKA KRL (KSS 8.x) for a part-in-hand belt-grinding cell. External TCP:
 -- with $IPO_MODE = #TCP the fixed tool — the contact wheel — is BASE data
 -- relative to WORLD and the robot-guided workpiece — the blade — TOOL data
--- relative to FLANGE; a position is the wheel's contact frame in the blade
--- frame, A, B, C its Z-Y-X angles (deg). S and T are computed from the
+-- relative to FLANGE (the practitioners' and KSS inline forms' reading; KUKA's
+-- own text on it was not reachable: docs/lua_api/robots.md); a position is
+-- the wheel's contact frame in the blade frame, A, B, C its Z-Y-X angles
+-- (deg). S and T are computed from the
 -- planned joints by KUKA's definition (core/machine/robot_program.h): they
 -- choose the solution of the first move, a PTP; the LINs after it keep that
 -- configuration. The program starts like KUKA's template (the INI fold with
