@@ -15,6 +15,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
+#include "core/geometry/mass_properties.h"
 #include "core/machine/robot_cycle_time.h"
 #include "core/machine/robot_program.h"
 #include "core/machine/wheel_clearance.h"
@@ -493,10 +494,33 @@ int w_robot_plan_moves(lua_State* L) {
 struct ProgramSettings {
   double ori_speed_deg_s = 0;   // the orientation speed that lets every grinding move keep its feed
   double zone_mm = 0;           // blend radius within the chord tolerance; 0: exact stops
-  double gripper_kg = 0, blade_kg = 0;
-  Vec3 gripper_cog = Vec3::Zero();  // flange frame, mm
-  Vec3 blade_cog = Vec3::Zero();    // blade frame, mm
+  MassProperties gripper;       // flange frame
+  MassProperties blade;         // blade frame
 };
+
+// A mass description for a post: mass (kg), centre of gravity (mm), the
+// principal axes as a quaternion {w, x, y, z} (ABB aom) and as Z-Y-X angles
+// (KUKA A, B, C, deg), the principal moments (kg·m²) and the whole tensor.
+void push_mass(lua_State* L, const MassProperties& m) {
+  const PrincipalInertia p = principal_inertia(m.inertia_kg_mm2);
+  lua_createtable(L, 0, 8);
+  luax::set_number(L, "mass", m.mass_kg);
+  luax::set_vec3(L, "cog", m.cog_mm);
+  const Eigen::Quaterniond q(p.axes);
+  lua_createtable(L, 4, 0);
+  const double qv[4] = {q.w(), q.x(), q.y(), q.z()};
+  for (int i = 0; i < 4; ++i) {
+    lua_pushnumber(L, qv[i]);
+    lua_rawseti(L, -2, i + 1);
+  }
+  lua_setfield(L, -2, "aom");
+  // Z-Y-X angles with B in [-90°, 90°] (R = Rz(A) Ry(B) Rx(C)).
+  const Mat3& R = p.axes;
+  luax::set_number(L, "a", rad_to_deg(std::atan2(R(1, 0), R(0, 0))));
+  luax::set_number(L, "b", rad_to_deg(std::asin(std::clamp(-R(2, 0), -1.0, 1.0))));
+  luax::set_number(L, "c", rad_to_deg(std::atan2(R(2, 1), R(2, 2))));
+  luax::set_vec3(L, "moments", 1e-6 * p.moments_kg_mm2);
+}
 
 // The job a robot post writes from: cell, station and grip frames, and per
 // move the target (station in blade frame) with its configuration fields,
@@ -529,17 +553,14 @@ void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& tit
   luax::set_bool(L, "part", part);
   luax::set_number(L, "ori_speed", ps.ori_speed_deg_s);
   luax::set_number(L, "zone", ps.zone_mm);
-  // The payload on the flange: the gripper and the blade it holds, each
-  // mass with its centre of gravity in the flange frame (mm).
-  lua_createtable(L, 0, 4);
-  luax::set_number(L, "gripper_mass", ps.gripper_kg);
-  luax::set_vec3(L, "gripper_cog", ps.gripper_cog);
-  luax::set_number(L, "blade_mass", ps.blade_kg);
-  luax::set_vec3(L, "blade_cog", cell.grip * ps.blade_cog);
-  const double mass = ps.gripper_kg + ps.blade_kg;
-  luax::set_number(L, "mass", mass);
-  luax::set_vec3(L, "cog", mass > 0 ? Vec3((ps.gripper_kg * ps.gripper_cog + ps.blade_kg * (cell.grip * ps.blade_cog)) / mass)
-                                    : Vec3::Zero());
+  // The load: the whole of it on the flange (gripper and blade, flange
+  // frame), the gripper alone (flange frame) and the blade alone in its own
+  // frame — the frame of the work object the robot holds.
+  push_mass(L, combined(ps.gripper, transformed(ps.blade, cell.grip)));
+  push_mass(L, ps.gripper);
+  lua_setfield(L, -2, "gripper");
+  push_mass(L, ps.blade);
+  lua_setfield(L, -2, "blade");
   lua_setfield(L, -2, "payload");
   lua_createtable(L, static_cast<int>(calls.size()), 0);
   for (size_t i = 0; i < calls.size(); ++i) {
@@ -641,6 +662,153 @@ void plan_settings(const LuaRobotPlan& lp, double chord_tol_mm, ProgramSettings&
   ps.zone_mm = std::floor(zone * 1000) / 1000;
 }
 
+// A mass table {mass (kg), cog = {x, y, z} (mm), inertia = 3 rows (kg·mm²,
+// about cog)} as bliskrun.mass_properties returns it; inertia optional.
+MassProperties mass_table(lua_State* L, int idx, const std::string& where) {
+  idx = lua_absindex(L, idx);
+  if (!lua_istable(L, idx)) luax::error(L, where + ": expected {mass =, cog =, inertia =}");
+  MassProperties m;
+  lua_getfield(L, idx, "mass");
+  if (!lua_isnumber(L, -1) || !(lua_tonumber(L, -1) >= 0)) luax::error(L, where + ".mass: expected kg >= 0");
+  m.mass_kg = lua_tonumber(L, -1);
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "cog");
+  if (!lua_isnil(L, -1)) m.cog_mm = luax::check_vec3(L, -1, (where + ".cog").c_str());
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "inertia");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_istable(L, -1) || luaL_len(L, -1) != 3) luax::error(L, where + ".inertia: expected 3 rows, kg mm2");
+    for (int r = 0; r < 3; ++r) {
+      lua_rawgeti(L, -1, r + 1);
+      m.inertia_kg_mm2.row(r) = luax::check_vec3(L, -1, (where + ".inertia[" + std::to_string(r + 1) + "]").c_str());
+      lua_pop(L, 1);
+    }
+    if (!m.inertia_kg_mm2.isApprox(m.inertia_kg_mm2.transpose(), 1e-9))
+      luax::error(L, where + ".inertia: not symmetric");
+  }
+  lua_pop(L, 1);
+  return m;
+}
+
+void push_mass_table(lua_State* L, const MassProperties& m) {
+  lua_createtable(L, 0, 5);
+  luax::set_number(L, "mass", m.mass_kg);
+  luax::set_number(L, "volume", m.volume_mm3);
+  luax::set_vec3(L, "cog", m.cog_mm);
+  lua_createtable(L, 3, 0);
+  for (int r = 0; r < 3; ++r) {
+    luax::push(L, Vec3(m.inertia_kg_mm2.row(r).transpose()));
+    lua_rawseti(L, -2, r + 1);
+  }
+  lua_setfield(L, -2, "inertia");
+  const PrincipalInertia p = principal_inertia(m.inertia_kg_mm2);
+  lua_createtable(L, 0, 2);
+  luax::set_vec3(L, "moments", p.moments_kg_mm2);
+  push_frame(L, [&] {
+    Frame f = Frame::Identity();
+    f.linear() = p.axes;
+    f.translation() = m.cog_mm;
+    return f;
+  }());
+  lua_setfield(L, -2, "axes");
+  lua_setfield(L, -2, "principal");
+}
+
+// bliskrun.mass_properties{loops= | vertices=, triangles= | box= | cylinder=,
+// density= | mass=, frame=} -> {mass, volume, cog, inertia, principal}
+int w_mass_properties(lua_State* L) {
+  const luax::Options o(
+      L, 1, "bliskrun.mass_properties",
+      {Field{"loops", Kind::Table, false, std::nullopt, std::nullopt,
+             "closed section loops of a solid, each a list of {x, y, z} (mm), the same count each; ends capped", {}},
+       Field{"vertices", Kind::Table, false, std::nullopt, std::nullopt, "a closed mesh's vertices {x, y, z}, mm", {}},
+       Field{"triangles", Kind::Table, false, std::nullopt, std::nullopt, "its triangles {i, j, k} (1-based)", {}},
+       Field{"box", Kind::Vec3, false, std::nullopt, std::nullopt, "a box's edges along the frame's x, y, z, mm", {}},
+       Field{"cylinder", Kind::Table, false, std::nullopt, std::nullopt,
+             "{radius =, length =}: a solid cylinder about the frame's z, mm", {}},
+       number_field("density", "g/cm3 (the mesh and loops need it; a box or cylinder takes density or mass)", 1e-6, 1e3),
+       number_field("mass", "kg, for a box or cylinder", 0, 1e5),
+       Field{"frame", Kind::Table, false, std::nullopt, std::nullopt,
+             "{origin, x, z}: where a box or cylinder is centred and turned; default the identity", {}}});
+  const int kinds = int(o.has("loops")) + int(o.has("vertices")) + int(o.has("box")) + int(o.has("cylinder"));
+  if (kinds != 1) luax::error(L, "bliskrun.mass_properties: give one of loops, vertices (with triangles), box, cylinder");
+  auto points = [&](int idx, const std::string& where) {
+    idx = lua_absindex(L, idx);
+    if (!lua_istable(L, idx)) luax::error(L, where + ": expected a list of {x, y, z}");
+    std::vector<Vec3> out;
+    const lua_Integer n = luaL_len(L, idx);
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, idx, i);
+      out.push_back(luax::check_vec3(L, -1, (where + "[" + std::to_string(i) + "]").c_str()));
+      lua_pop(L, 1);
+    }
+    return out;
+  };
+  if (o.has("loops") || o.has("vertices")) {
+    if (!o.has("density")) luax::error(L, "bliskrun.mass_properties: a mesh or loops need 'density' (g/cm3)");
+    const double density = 1e-6 * o.number("density", 0);
+    std::vector<Vec3> vertices;
+    std::vector<std::array<int, 3>> triangles;
+    if (o.has("loops")) {
+      o.push_raw("loops");
+      std::vector<std::vector<Vec3>> loops;
+      for (lua_Integer k = 1; k <= luaL_len(L, -1); ++k) {
+        lua_rawgeti(L, -1, k);
+        loops.push_back(points(-1, "bliskrun.mass_properties: loops[" + std::to_string(k) + "]"));
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      return luax::guarded(L, [&] {
+        closed_loft_mesh(loops, vertices, triangles);
+        push_mass_table(L, solid_mass_properties(vertices, triangles, density));
+        return 1;
+      });
+    }
+    if (!o.has("triangles")) luax::error(L, "bliskrun.mass_properties: vertices need triangles");
+    o.push_raw("vertices");
+    vertices = points(-1, "bliskrun.mass_properties: vertices");
+    lua_pop(L, 1);
+    o.push_raw("triangles");
+    for (lua_Integer k = 1; k <= luaL_len(L, -1); ++k) {
+      lua_rawgeti(L, -1, k);
+      const Vec3 t = luax::check_vec3(L, -1, ("bliskrun.mass_properties: triangles[" + std::to_string(k) + "]").c_str());
+      lua_pop(L, 1);
+      triangles.push_back({static_cast<int>(t.x()) - 1, static_cast<int>(t.y()) - 1, static_cast<int>(t.z()) - 1});
+    }
+    lua_pop(L, 1);
+    return luax::guarded(L, [&] {
+      push_mass_table(L, solid_mass_properties(vertices, triangles, density));
+      return 1;
+    });
+  }
+  Frame where = Frame::Identity();
+  if (o.has("frame")) {
+    o.push_raw("frame");
+    where = frame_field(L, -1, "bliskrun.mass_properties: option 'frame'");
+    lua_pop(L, 1);
+  }
+  if (o.has("mass") == o.has("density"))
+    luax::error(L, "bliskrun.mass_properties: a box or cylinder takes 'mass' (kg) or 'density' (g/cm3)");
+  return luax::guarded(L, [&] {
+    if (o.has("box")) {
+      const Vec3 size = o.vec3("box", Vec3::Zero());
+      const double mass = o.has("mass") ? o.number("mass", 0) : 1e-6 * o.number("density", 0) * size.prod();
+      push_mass_table(L, box_mass_properties(mass, size, where));
+    } else {
+      o.push_raw("cylinder");
+      lua_getfield(L, -1, "radius");
+      lua_getfield(L, -2, "length");
+      if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1))
+        throw Error("bliskrun.mass_properties: option 'cylinder': expected {radius =, length =} in mm");
+      const double r = lua_tonumber(L, -2), length = lua_tonumber(L, -1);
+      lua_pop(L, 3);
+      const double mass = o.has("mass") ? o.number("mass", 0) : 1e-6 * o.number("density", 0) * kPi * r * r * length;
+      push_mass_table(L, cylinder_mass_properties(mass, r, length, where));
+    }
+    return 1;
+  });
+}
+
 std::string file_stem(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
@@ -670,7 +838,13 @@ int w_robot_plan_write_program(lua_State* L) {
        Field{"blade_cog", Kind::Table, false, std::nullopt, std::nullopt, "the blade's centre of gravity, blade frame, mm", {}},
        number_field("gripper_mass", "the gripper's mass, kg; default 0", 0, 1e4),
        Field{"gripper_cog", Kind::Table, false, std::nullopt, std::nullopt,
-             "the gripper's centre of gravity, flange frame, mm", {}}});
+             "the gripper's centre of gravity, flange frame, mm", {}},
+       Field{"blade", Kind::Table, false, std::nullopt, std::nullopt,
+             "the blade's mass properties in the blade frame (bliskrun.mass_properties)", {}},
+       Field{"gripper", Kind::Table, false, std::nullopt, std::nullopt,
+             "the gripper's mass properties in the flange frame (bliskrun.mass_properties)", {}},
+       Field{"registration", Kind::Table, false, std::nullopt, std::nullopt,
+             "the scan registration the grip was corrected with (bliskrun.register_scan): refused unless trusted", {}}});
   if (!lp.plan.refusals.empty())
     luax::error(L, "plan:write_program: the plan refused " + std::to_string(lp.plan.refusals.size()) +
                        " path(s) (first: " + lp.plan.refusals.front() + "); nothing written");
@@ -692,18 +866,50 @@ int w_robot_plan_write_program(lua_State* L) {
     luax::error(L, "plan:write_program: option 'file': the program is named after its file, so '" + stem +
                        "' must start with a letter, hold only letters, digits and _ and be at most " +
                        std::to_string(longest - 4) + " characters");
+  // A registration that is not trusted stops the post here too, whatever
+  // the recipe does with it (issue 39 item 5): its problems say what to scan.
+  if (o.has("registration")) {
+    o.push_raw("registration");
+    lua_getfield(L, -1, "trusted");
+    const bool trusted = lua_toboolean(L, -1);
+    lua_pop(L, 1);
+    if (!trusted) {
+      std::string why;
+      lua_getfield(L, -1, "problems");
+      if (lua_istable(L, -1))
+        for (lua_Integer i = 1; i <= luaL_len(L, -1); ++i) {
+          lua_rawgeti(L, -1, i);
+          if (lua_isstring(L, -1)) why += std::string(why.empty() ? "" : "; ") + lua_tostring(L, -1);
+          lua_pop(L, 1);
+        }
+      luax::error(L, "plan:write_program: the scan registration is not trusted" + (why.empty() ? "" : ": " + why) +
+                         "; nothing written");
+    }
+    lua_pop(L, 1);
+  }
   ProgramSettings ps;
   plan_settings(lp, o.number("chord_tol", 0), ps);
-  ps.blade_kg = o.number("blade_mass", 0);
-  ps.gripper_kg = o.number("gripper_mass", 0);
   auto vec_opt = [&](const char* key, Vec3& v) {
     if (!o.has(key)) return;
     o.push_raw(key);
     v = luax::check_vec3(L, -1, (std::string("plan:write_program: option '") + key + "'").c_str());
     lua_pop(L, 1);
   };
-  vec_opt("blade_cog", ps.blade_cog);
-  vec_opt("gripper_cog", ps.gripper_cog);
+  for (const char* whole : {"blade", "gripper"}) {
+    const std::string part = whole;
+    if (o.has(whole) && (o.has(part + "_mass") || o.has(part + "_cog")))
+      luax::error(L, "plan:write_program: give '" + part + "' or '" + part + "_mass'/'" + part + "_cog', not both");
+    MassProperties& m = part == "blade" ? ps.blade : ps.gripper;
+    if (o.has(whole)) {
+      o.push_raw(whole);
+      m = mass_table(L, -1, "plan:write_program: option '" + part + "'");
+      lua_pop(L, 1);
+    } else {
+      // A point mass: no inertia of its own.
+      m.mass_kg = o.number(part + "_mass", 0);
+      vec_opt((part + "_cog").c_str(), m.cog_mm);
+    }
+  }
   const size_t max_bytes = static_cast<size_t>(o.number("max_bytes", 500000));
   const std::string title = o.string("name", stem);
   const size_t n_moves = lp.plan.moves.size();
@@ -757,7 +963,9 @@ int w_robot_plan_write_program(lua_State* L) {
   return luax::guarded(L, [&] {
     const BeltStation& st = lp.cell->station(lp.station);
     const auto targets = read_robot_program(programs, stem, dialect);
-    const RobotVerifyReport r = verify_robot_program(*lp.cell, st, lp.plan, targets, dialect, position_tol, angle_tol);
+    const MassProperties payload = combined(ps.gripper, transformed(ps.blade, lp.cell->grip));
+    const RobotVerifyReport r =
+        verify_robot_program(*lp.cell, st, lp.plan, targets, dialect, position_tol, angle_tol, &payload);
     if (!r.problems.empty()) {
       std::string msg = "plan:write_program: the program read back does not replay the plan (" +
                         std::to_string(r.problems.size()) + " problem(s)); nothing written";
@@ -799,6 +1007,8 @@ int w_robot_plan_write_program(lua_State* L) {
     luax::set_number(L, "total_bytes", static_cast<double>(total));
     luax::set_number(L, "ori_speed", ps.ori_speed_deg_s);
     luax::set_number(L, "zone", ps.zone_mm);
+    push_mass(L, payload);
+    lua_setfield(L, -2, "payload");
     return 1;
   });
 }
@@ -821,7 +1031,10 @@ void open_robot(lua_State* L) {
   luax::register_type<LuaRobotPlan>(L, plan_methods);
   static const luaL_Reg body_methods[] = {{"points", w_blade_body_points}, {nullptr, nullptr}};
   luax::register_type<LuaBladeBody>(L, body_methods);
-  static const luaL_Reg functions[] = {{"robot_cell", w_robot_cell}, {"blade_body", w_blade_body}, {nullptr, nullptr}};
+  static const luaL_Reg functions[] = {{"robot_cell", w_robot_cell},
+                                       {"blade_body", w_blade_body},
+                                       {"mass_properties", w_mass_properties},
+                                       {nullptr, nullptr}};
   luaL_setfuncs(L, functions, 0);
 }
 

@@ -116,6 +116,7 @@ bool rapid_bool(const std::string& s, const Where& w) {
 struct RapidTool {
   bool robhold = true;
   Frame frame = Frame::Identity();
+  MassProperties tload;  // wrist (tool0) frame
 };
 struct RapidWobj {
   bool robhold = false;
@@ -137,13 +138,37 @@ struct ReadState {
   std::map<std::string, RapidSpeed> speeds;
   std::map<std::string, RobotTarget> robtargets;
   std::map<std::string, JointAngles> jointtargets;
+  std::map<std::string, MassProperties> loads;  // loaddata by name
+  MassProperties payload;                       // set by GripLoad; load0 (nothing) at the start
   std::map<std::string, std::string> pers_values;  // name -> its declaration's value text
   std::map<std::string, std::string> procs;        // PROC name -> module it is in
   // KRL: the system variables in force.
   Frame krl_tool = Frame::Identity(), krl_base = Frame::Identity();
   bool krl_tool_set = false, krl_base_set = false, krl_external = false;
   double krl_vel_cp_mm_s = 0, krl_ori1 = 0, krl_ori2 = 0;
+  bool krl_load_set = false;
+  MassProperties krl_load;  // $LOAD, flange frame
 };
+
+// A principal-axes description (moments in kg·m² about axes turned by `axes`
+// from the frame) as an inertia tensor in that frame, kg·mm².
+Mat3 inertia_from_principal(const Mat3& axes, const Vec3& moments_kg_m2) {
+  return axes * (1e6 * moments_kg_m2).asDiagonal() * axes.transpose();
+}
+
+// RAPID loaddata [mass, [x, y, z], [q1, q2, q3, q4], ix, iy, iz].
+MassProperties rapid_load(const std::string& aggregate, const Where& w) {
+  const std::vector<double> v = numbers_in(aggregate, w);
+  if (v.size() != 11) fail(w, "expected loaddata [mass, [x, y, z], [q1, q2, q3, q4], ix, iy, iz]");
+  if (v[0] < 0) fail(w, "a load's mass must not be negative");
+  Eigen::Quaterniond q(v[4], v[5], v[6], v[7]);
+  if (std::abs(q.norm() - 1) > 1e-4) fail(w, "the load's axes of moment (aom) are not a unit quaternion");
+  MassProperties m;
+  m.mass_kg = v[0];
+  m.cog_mm = Vec3(v[1], v[2], v[3]);
+  m.inertia_kg_mm2 = inertia_from_principal(q.normalized().toRotationMatrix(), Vec3(v[8], v[9], v[10]));
+  return m;
+}
 
 RobotTarget rapid_robtarget(const std::string& aggregate, const Where& w) {
   const std::vector<double> v = numbers_in(aggregate, w);
@@ -197,13 +222,15 @@ void read_rapid_line(ReadState& st, const std::string& s, const Where& w) {
         if (f.size() != 3) fail(w, "expected tooldata [robhold, tframe, tload]");
         const std::vector<double> v = numbers_in(f[1], w);
         if (v.size() != 7) fail(w, "expected tframe [[x,y,z],[q1,q2,q3,q4]]");
-        st.tools[name] = {rapid_bool(f[0], w), pose_from(v.data(), w)};
+        st.tools[name] = {rapid_bool(f[0], w), pose_from(v.data(), w), rapid_load(f[2], w)};
       } else if (type == "wobjdata") {
         const std::vector<std::string> f = split_args(value.substr(1, value.size() - 2));
         if (f.size() != 5) fail(w, "expected wobjdata [robhold, ufprog, ufmec, uframe, oframe]");
         const std::vector<double> u = numbers_in(f[3], w), o = numbers_in(f[4], w);
         if (u.size() != 7 || o.size() != 7) fail(w, "expected uframe and oframe [[x,y,z],[q1,q2,q3,q4]]");
         st.wobjs[name] = {rapid_bool(f[0], w), pose_from(u.data(), w) * pose_from(o.data(), w)};
+      } else if (type == "loaddata") {
+        st.loads[name] = rapid_load(value, w);
       } else if (type == "speeddata") {
         st.speeds[name] = rapid_speed(st, value, w);
       } else if (type == "robtarget") {
@@ -217,6 +244,18 @@ void read_rapid_line(ReadState& st, const std::string& s, const Where& w) {
       }
       return;
     }
+  }
+  if (starts_with_word(s, "GripLoad")) {
+    // GripLoad load; — the payload the robot holds from here on.
+    const std::string name = trimmed(s.substr(8, s.rfind(';') - 8));
+    if (name == "load0") {
+      st.payload = MassProperties();
+      return;
+    }
+    const auto it = st.loads.find(name);
+    if (it == st.loads.end()) fail(w, "unknown loaddata '" + name + "'");
+    st.payload = it->second;
+    return;
   }
   const bool move_l = starts_with_word(s, "MoveL"), move_j = starts_with_word(s, "MoveJ"),
              move_abs = starts_with_word(s, "MoveAbsJ");
@@ -282,6 +321,11 @@ void read_rapid_line(ReadState& st, const std::string& s, const Where& w) {
   t.external_tcp = !tool->second.robhold;
   t.fixed = t.external_tcp ? tool->second.frame : wobj.frame;
   t.held = t.external_tcp ? wobj.frame : tool->second.frame;
+  // The load on the flange: the tool's tload (wrist frame) and the payload,
+  // in the tool frame of a held tool or the object frame of a held work
+  // object — both frames given on the flange.
+  t.load_known = true;
+  t.load = combined(tool->second.tload, transformed(st.payload, t.held));
   st.out.push_back(t);
 }
 
@@ -341,6 +385,34 @@ Frame krl_frame(const std::map<std::string, std::string>& f, const Where& w) {
   return t;
 }
 
+// $LOAD = {M m, CM {X, Y, Z, A, B, C}, J {X, Y, Z}}: mass, centre of gravity
+// and principal axes in FLANGE, principal moments in kg·m².
+MassProperties krl_load(const std::string& s, const Where& w) {
+  const std::string u = upper(s);
+  auto inner = [&](const char* key) {
+    size_t at = u.find(key);
+    while (at != std::string::npos && at > 0 && std::isalnum(static_cast<unsigned char>(u[at - 1])))
+      at = u.find(key, at + 1);
+    if (at == std::string::npos) fail(w, std::string("$LOAD: missing ") + key);
+    const size_t a = s.find('{', at), b = s.find('}', at);
+    if (a == std::string::npos || b == std::string::npos || b < a) fail(w, std::string("$LOAD: expected ") + key + " {..}");
+    return krl_fields("{" + s.substr(a + 1, b - a - 1) + "}", w);
+  };
+  const size_t m_at = u.find("{M ");
+  if (m_at == std::string::npos) fail(w, "$LOAD: missing M");
+  char* end = nullptr;
+  const double mass = std::strtod(s.c_str() + m_at + 3, &end);
+  if (end == s.c_str() + m_at + 3 || !std::isfinite(mass) || mass < 0) fail(w, "$LOAD: bad M");
+  const Frame cm = krl_frame(inner("CM "), w);
+  const auto j = inner("J ");
+  MassProperties m;
+  m.mass_kg = mass;
+  m.cog_mm = cm.translation();
+  m.inertia_kg_mm2 = inertia_from_principal(cm.linear(), Vec3(krl_number(j, "X", w), krl_number(j, "Y", w),
+                                                              krl_number(j, "Z", w)));
+  return m;
+}
+
 double krl_value(const std::string& s, const Where& w) {
   const std::string v = trimmed(s.substr(s.find('=') + 1));
   char* end = nullptr;
@@ -369,6 +441,11 @@ void read_krl_line(ReadState& st, const std::string& s, const Where& w) {
     const std::string v = trimmed(u.substr(u.find('=') + 1));
     if (v != "#TCP" && v != "#BASE") fail(w, "expected $IPO_MODE = #TCP or #BASE");
     st.krl_external = v == "#TCP";
+    return;
+  }
+  if (assigns("$LOAD")) {
+    st.krl_load = krl_load(s, w);
+    st.krl_load_set = true;
     return;
   }
   if (assigns("$VEL.CP")) st.krl_vel_cp_mm_s = 1000 * krl_value(s, w);
@@ -410,6 +487,8 @@ void read_krl_line(ReadState& st, const std::string& s, const Where& w) {
   t.held = st.krl_tool;
   t.tcp_speed_mm_s = st.krl_vel_cp_mm_s;
   t.ori_speed_deg_s = std::min(st.krl_ori1, st.krl_ori2);
+  t.load_known = st.krl_load_set;
+  t.load = st.krl_load;
   st.out.push_back(t);
 }
 
@@ -599,7 +678,8 @@ int kuka_turn_bits(const JointAngles& q) {
 
 RobotVerifyReport verify_robot_program(const RobotCell& cell, const BeltStation& station,
                                        const RobotGrindingPlan& plan, const std::vector<RobotTarget>& targets,
-                                       RobotDialect dialect, double position_tol_mm, double angle_tol_deg) {
+                                       RobotDialect dialect, double position_tol_mm, double angle_tol_deg,
+                                       const MassProperties* payload) {
   RobotVerifyReport r;
   std::vector<const RobotTarget*> cartesian;
   for (const RobotTarget& t : targets)
@@ -671,6 +751,30 @@ RobotVerifyReport verify_robot_program(const RobotCell& cell, const BeltStation&
     if (!same_config) {
       ++r.configuration_flips;
       r.problems.push_back(at + ": the controller reaches it in another configuration than the plan's");
+    }
+    if (payload) {
+      const double scale = payload->inertia_kg_mm2.norm();
+      const bool same = t.load_known && std::abs(t.load.mass_kg - payload->mass_kg) <= 2.5e-3 &&
+                        // RAPID's loads weigh at least 1 g each: a centre of gravity of grams means nothing
+                        (payload->mass_kg < 0.1 || (t.load.cog_mm - payload->cog_mm).norm() <= 0.05) &&
+                        (t.load.inertia_kg_mm2 - payload->inertia_kg_mm2).norm() <= std::max(5.0, 1e-3 * scale);
+      if (!same) {
+        ++r.load_disagreements;
+        if (r.load_disagreements <= 3) {
+          std::ostringstream msg;
+          msg << at << ": ";
+          if (!t.load_known) {
+            msg << "no load is set";
+          } else {
+            msg << "the load in force on the flange is " << t.load.mass_kg << " kg at (" << t.load.cog_mm.transpose()
+                << ") mm, inertia " << 1e-6 * t.load.inertia_kg_mm2.norm() << " kg m2 (the payload: "
+                << payload->mass_kg << " kg at (" << payload->cog_mm.transpose() << ") mm, " << 1e-6 * scale
+                << " kg m2; differing by " << (t.load.cog_mm - payload->cog_mm).norm() << " mm, "
+                << 1e-6 * (t.load.inertia_kg_mm2 - payload->inertia_kg_mm2).norm() << " kg m2)";
+          }
+          r.problems.push_back(msg.str());
+        }
+      }
     }
     previous = q;
     for (int j = 0; j < 6; ++j) r.max_joint_deg = std::max(r.max_joint_deg, rad_to_deg(std::abs(q[j] - m.joints[j])));

@@ -17,6 +17,11 @@
 //     axis 1, +2 wrist centre behind the lower arm (the line through axes 2
 //     and 3), +1 axis 5 negative. MoveL / MoveJ with ConfL / ConfJ on (the
 //     default) go to the written configuration or stop.
+//     loaddata [mass, cog, aom, ix, iy, iz] (kg, mm, quaternion, kg·m²): a
+//     tooldata's tload is in the wrist coordinate system (tool0) — for a
+//     stationary tool, the load of the gripper holding the work object; the
+//     payload set by GripLoad is in the tool coordinate system, and with a
+//     stationary tool in the object frame of the work object the robot moves.
 //   KUKA KRL (KSS 8.x): with $IPO_MODE = #TCP the tool is fixed: $BASE holds
 //     the fixed tool (external TCP) relative to WORLD, $TOOL the robot-guided
 //     workpiece relative to FLANGE; a position is the external TCP in the
@@ -29,6 +34,10 @@
 //     axis i+1 < 0°. S and T choose the solution of a PTP to a Cartesian
 //     position; a LIN (CP motion) ignores them and keeps the configuration it
 //     starts in.
+//     $LOAD = {M, CM {X, Y, Z, A, B, C}, J {X, Y, Z}}: the whole load on the
+//     flange (kg; centre of gravity and principal axes in FLANGE, mm and
+//     Z-Y-X deg; principal moments, kg·m²).
+// Where each convention comes from: docs/lua_api/robots.md.
 // Replaying means: solve each target with the configuration the controller
 // would take, compare with the plan the program was written from, put the
 // blade's contact back through the forward kinematics, and check that the
@@ -38,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/mass_properties.h"
 #include "core/machine/robot_cell.h"
 
 namespace bliskrun {
@@ -60,6 +70,11 @@ struct RobotTarget {
   bool linear = true;                           // MoveL / LIN (false: MoveJ / PTP)
   double tcp_speed_mm_s = 0;                    // in force at the statement; 0 unknown
   double ori_speed_deg_s = 0;
+  // The load on the flange in force at the statement, as the controller
+  // adds it up (flange frame): KRL $LOAD; RAPID the tool's tload and the
+  // GripLoad payload moved onto the flange through the frames that hold it.
+  bool load_known = false;
+  MassProperties load;
   std::string file;                             // the program the statement is in
   int line = 0;                                 // of that program, 1-based
 };
@@ -92,15 +107,20 @@ struct RobotVerifyReport {
   int unreachable = 0;          // targets no solution with the controller's configuration reaches within limits
   int configuration_disagreements = 0;  // written S/T or confdata not the configuration reached
   int feed_capped = 0;          // grinding moves the orientation speed slows below the written feed
+  int load_disagreements = 0;   // targets whose load in force is not the payload (when one is given)
   std::vector<std::string> problems;  // "file line N: ..." for each of the above
 };
 
 // Replays `targets` against the plan they were written from: the Cartesian
 // targets one per planned move, in order, after at least one axis move (the
-// known start). Tolerances decide what is a problem.
+// known start). Tolerances decide what is a problem. With `payload` (the
+// gripper and the part on the flange, flange frame) every Cartesian
+// target's load in force must be it: mass within 2.5 g (RAPID's loads
+// weigh at least 1 g each), centre of gravity
+// within 0.05 mm (of a payload of 100 g or more), inertia within 1e-3 of its size or 5 kg·mm².
 RobotVerifyReport verify_robot_program(const RobotCell& cell, const BeltStation& station,
                                        const RobotGrindingPlan& plan, const std::vector<RobotTarget>& targets,
                                        RobotDialect dialect, double position_tol_mm = 0.002,
-                                       double angle_tol_deg = 0.001);
+                                       double angle_tol_deg = 0.001, const MassProperties* payload = nullptr);
 
 }  // namespace bliskrun

@@ -46,15 +46,25 @@ end
 function P.data(self, job, out)
   if job.part then return end
   local n, p = self:names(job), job.payload
-  local function xyz(v) return string.format("[%s,%s,%s]", self:number(v.x, 1), self:number(v.y, 1), self:number(v.z, 1)) end
-  out:line("  ! the wheel: a stationary tool (robhold FALSE, tframe in the world); tload: the gripper on the flange")
-  out:line(string.format("  PERS tooldata %s := [FALSE,%s,[%s,%s,[1,0,0,0],0,0,0]];", n.tool, self:pose(job.station),
-                         self:number(math.max(p.gripper_mass, 0.001), 3), xyz(p.gripper_cog)))
+  -- loaddata [mass, cog, aom, ix, iy, iz]: kg, mm, the principal axes as a
+  -- quaternion, the principal moments in kg·m² to 1e-9 (a blade's are
+  -- ~1e-6); the mass at least 1 g (RAPID refuses a load without one).
+  local function load(m)
+    local q = m.aom
+    return string.format("[%s,[%s,%s,%s],[%s,%s,%s,%s],%s,%s,%s]", self:number(math.max(m.mass, 0.001), 3),
+                         self:number(m.cog.x, 3), self:number(m.cog.y, 3), self:number(m.cog.z, 3),
+                         self:number(q[1], self.decimals.quaternion), self:number(q[2], self.decimals.quaternion),
+                         self:number(q[3], self.decimals.quaternion), self:number(q[4], self.decimals.quaternion),
+                         self:number(m.moments.x, 9), self:number(m.moments.y, 9), self:number(m.moments.z, 9))
+  end
+  out:line("  ! the wheel: a stationary tool (robhold FALSE, tframe in the world); tload: the gripper that holds")
+  out:line("  ! the work object, in the wrist coordinate system (tool0)")
+  out:line(string.format("  PERS tooldata %s := [FALSE,%s,%s];", n.tool, self:pose(job.station), load(p.gripper)))
   out:line("  ! the blade: a work object held by the robot (robhold TRUE, uframe on tool0)")
   out:line(string.format("  PERS wobjdata %s := [TRUE,TRUE,\"\",%s,[[0,0,0],[1,0,0,0]]];", n.wobj, self:pose(job.grip)))
-  out:line("  ! the blade's mass and centre of gravity (tool0 frame), set by GripLoad")
-  out:line(string.format("  PERS loaddata %s := [%s,%s,[1,0,0,0],0,0,0];", n.load,
-                         self:number(math.max(p.blade_mass, 0.001), 3), xyz(p.blade_cog)))
+  out:line("  ! the blade, set by GripLoad: with a stationary tool a payload's centre of gravity and axes are in")
+  out:line("  ! the object frame of the work object the robot moves (the blade frame)")
+  out:line(string.format("  PERS loaddata %s := %s;", n.load, load(p.blade)))
   local h = job.cell.home
   out:line(string.format("  CONST jointtarget %s := [[%s,%s,%s,%s,%s,%s],%s];", n.home, self:number(h[1], 4),
                          self:number(h[2], 4), self:number(h[3], 4), self:number(h[4], 4), self:number(h[5], 4),

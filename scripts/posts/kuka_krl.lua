@@ -1,8 +1,10 @@
 -- KUKA KRL (KSS 8.x) for a part-in-hand belt-grinding cell. External TCP:
 -- with $IPO_MODE = #TCP the fixed tool — the contact wheel — is BASE data
 -- relative to WORLD and the robot-guided workpiece — the blade — TOOL data
--- relative to FLANGE; a position is the wheel's contact frame in the blade
--- frame, A, B, C its Z-Y-X angles (deg). S and T are computed from the
+-- relative to FLANGE (the practitioners' and KSS inline forms' reading; KUKA's
+-- own text on it was not reachable: docs/lua_api/robots.md); a position is
+-- the wheel's contact frame in the blade frame, A, B, C its Z-Y-X angles
+-- (deg). S and T are computed from the
 -- planned joints by KUKA's definition (core/machine/robot_program.h): they
 -- choose the solution of the first move, a PTP; the LINs after it keep that
 -- configuration. The program starts like KUKA's template (the INI fold with
@@ -53,10 +55,15 @@ function P.data(self, job, out)
   out:line("; external TCP: the wheel is BASE data (in WORLD), the blade TOOL data (on FLANGE)")
   out:line("$BASE = " .. self:frame(job.station))
   out:line("$TOOL = " .. self:frame(job.grip))
+  -- $LOAD: the whole load on the flange — gripper and blade — its centre of
+  -- gravity and principal axes in FLANGE (mm, Z-Y-X deg) and its principal
+  -- moments (kg·m²), as KUKA's load data describe a payload.
   local p = job.payload
-  out:line(string.format("; load: gripper %s kg + blade %s kg", self:number(p.gripper_mass, 3), self:number(p.blade_mass, 3)))
-  out:line(string.format("$LOAD = {M %s,CM {X %s,Y %s,Z %s,A 0,B 0,C 0},J {X 0,Y 0,Z 0}}", self:number(p.mass, 3),
-                         self:number(p.cog.x, 1), self:number(p.cog.y, 1), self:number(p.cog.z, 1)))
+  out:line(string.format("; load: gripper %s kg + blade %s kg", self:number(p.gripper.mass, 3), self:number(p.blade.mass, 3)))
+  out:line(string.format("$LOAD = {M %s,CM {X %s,Y %s,Z %s,A %s,B %s,C %s},J {X %s,Y %s,Z %s}}", self:number(p.mass, 3),
+                         self:number(p.cog.x, 3), self:number(p.cog.y, 3), self:number(p.cog.z, 3),
+                         self:number(p.a, 4), self:number(p.b, 4), self:number(p.c, 4), self:number(p.moments.x, 7),
+                         self:number(p.moments.y, 7), self:number(p.moments.z, 7)))
   out:line("$IPO_MODE = #TCP")
   out:line("$ORI_TYPE = #VAR")
   out:line("$ACC.CP = " .. self:number(self.acc_cp, 2))

@@ -10,8 +10,10 @@
 --   quaternion = {w, x, y, z}, a, b, c}, job.grip (the blade in the flange
 --   frame, same fields), job.ori_speed (deg/s: every grinding move keeps its
 --   feed), job.zone (blend radius, mm, within the chord tolerance; 0 exact),
---   job.payload = {mass, cog (flange frame), gripper_mass, gripper_cog,
---   blade_mass, blade_cog}, job.moves = {{origin, quaternion, a, b, c, cf1,
+--   job.payload = the whole load on the flange {mass (kg), cog (mm), aom
+--   (principal axes, quaternion {w, x, y, z}), a, b, c (the same axes as
+--   Z-Y-X deg), moments (principal, kg·m²), gripper = {same fields, flange
+--   frame}, blade = {same fields, blade frame}}, job.moves = {{origin, quaternion, a, b, c, cf1,
 --   cf4, cf6, cfx, s, t, link, first, path, feed (mm/s), joints (deg)}, ...}.
 -- `dialect` tells plan:write_program which reader replays the program before
 -- it is written; a post that changes the syntax must keep it readable.

@@ -316,61 +316,52 @@ for _, g in ipairs(grips) do
 end
 
 -- The payload the robot programs state (KRL $LOAD, RAPID tload / GripLoad):
--- the blade from its flanks — sections across the span, each the closed
--- loop of both flanks at one span parameter (area and centroid from its
--- vector area), stacked along the span; the root below the hub curve is not
--- modelled — in titanium (Ti-6Al-4V, 4.43 g/cm³; the E3 HPT blade a nickel
--- alloy, 8.2 g/cm³); and a stated gripper: 15 kg, its centre of gravity
--- 90 mm out along the flange's z axis (a pneumatic parallel gripper of the
--- payload class; replace with your gripper's data).
-local gripper = {mass = 15, cog = {0, 0, 90}}
+-- mass, centre of gravity and inertia. The blade: the closed solid through
+-- its sections across the span — each the loop of both flanks at one span
+-- parameter, the edges closed by the chord between the flanks' ends, the
+-- first and last section capped — integrated by the divergence theorem
+-- (bliskrun.mass_properties; the root below the hub curve is not modelled)
+-- in titanium (Ti-6Al-4V, 4.43 g/cm³; the E3 HPT blade a nickel alloy,
+-- 8.2 g/cm³), in the blade frame. The gripper, stated as a simple solid: a
+-- 15 kg cylinder Ø 160 mm, 180 mm long on the flange's z axis, its centre 90
+-- mm out (a pneumatic parallel gripper of the payload class; replace it with
+-- your gripper's data), in the flange frame.
+local gripper = bliskrun.mass_properties{cylinder = {radius = 80, length = 180}, mass = 15,
+                                         frame = {origin = {0, 0, 90}, x = {1, 0, 0}, z = {0, 0, 1}}}
 local function blade_mass_properties(pressure, suction, density_g_cm3)
-  local function sub(a, b) return {a.x - b.x, a.y - b.y, a.z - b.z} end
-  local function cross(a, b) return {a[2] * b[3] - a[3] * b[2], a[3] * b[1] - a[1] * b[3], a[1] * b[2] - a[2] * b[1]} end
-  local nu, nv, sections = 40, 100, {}
+  local function d2(a, b) return (a.x - b.x) ^ 2 + (a.y - b.y) ^ 2 + (a.z - b.z) ^ 2 end
+  local nu, nv, loops = 40, 100, {}
   for i = 0, nu do
     local u, loop = i / nu, {}
     for j = 0, nv do loop[#loop + 1] = pressure:point(u, j / nv) end
-    local last, s0, s1 = loop[#loop], suction:point(u, 0), suction:point(u, 1)
-    local d0, d1 = sub(s0, last), sub(s1, last)
-    local forward = d0[1] ^ 2 + d0[2] ^ 2 + d0[3] ^ 2 < d1[1] ^ 2 + d1[2] ^ 2 + d1[3] ^ 2
+    -- The suction flank from the end nearer the pressure flank's last point.
+    local forward = d2(suction:point(u, 0), loop[#loop]) < d2(suction:point(u, 1), loop[#loop])
     for j = 0, nv do loop[#loop + 1] = suction:point(u, forward and j / nv or 1 - j / nv) end
-    local o, tris, vec = loop[1], {}, {0, 0, 0}
-    for k = 2, #loop - 1 do
-      local n = cross(sub(loop[k], o), sub(loop[k + 1], o))
-      tris[#tris + 1] = {n = n, c = {(o.x + loop[k].x + loop[k + 1].x) / 3, (o.y + loop[k].y + loop[k + 1].y) / 3,
-                                     (o.z + loop[k].z + loop[k + 1].z) / 3}}
-      for a = 1, 3 do vec[a] = vec[a] + n[a] / 2 end
-    end
-    local area = math.sqrt(vec[1] ^ 2 + vec[2] ^ 2 + vec[3] ^ 2)
-    local c = {0, 0, 0}
-    for _, t in ipairs(tris) do
-      local w = (t.n[1] * vec[1] + t.n[2] * vec[2] + t.n[3] * vec[3]) / (2 * area * area)
-      for a = 1, 3 do c[a] = c[a] + w * t.c[a] end
-    end
-    sections[#sections + 1] = {area = area, c = c}
+    loops[#loops + 1] = loop
   end
-  local volume, moment = 0, {0, 0, 0}
-  for i = 1, #sections - 1 do
-    local a, b = sections[i], sections[i + 1]
-    local h = math.sqrt((b.c[1] - a.c[1]) ^ 2 + (b.c[2] - a.c[2]) ^ 2 + (b.c[3] - a.c[3]) ^ 2)
-    local dv = 0.5 * (a.area + b.area) * h
-    volume = volume + dv
-    for k = 1, 3 do moment[k] = moment[k] + dv * 0.5 * (a.c[k] + b.c[k]) end
-  end
-  return {mass = density_g_cm3 * 1e-6 * volume, volume_mm3 = volume,
-          cog = {moment[1] / volume, moment[2] / volume, moment[3] / volume}}
+  return bliskrun.mass_properties{loops = loops, density = density_g_cm3}
 end
 local flank_of = {}
 for _, f in ipairs(body_faces) do flank_of[f.name] = f.surface end
 local blade_mass = blade_mass_properties(flank_of["pressure flank"], flank_of["suction flank"],
                                          opt.density or (part_name == "e3" and 8.2 or 4.43))
-print(string.format("payload: blade %.3f kg (%.0f mm³, centre of gravity %.1f, %.1f, %.1f mm), gripper %.1f kg",
-                    blade_mass.mass, blade_mass.volume_mm3, blade_mass.cog[1], blade_mass.cog[2], blade_mass.cog[3],
-                    gripper.mass))
+-- For the JSON report: plain arrays, kg, mm, kg·mm².
+local function plain_mass(m, frame)
+  local function v(p) return {p.x, p.y, p.z} end
+  return {mass_kg = m.mass, volume_mm3 = m.volume, cog_mm = v(m.cog), frame = frame,
+          inertia_kg_mm2 = {v(m.inertia[1]), v(m.inertia[2]), v(m.inertia[3])},
+          principal_moments_kg_mm2 = v(m.principal.moments)}
+end
+local function principal(m)
+  local p = m.principal.moments
+  return string.format("principal moments %.1f, %.1f, %.1f kg mm²", p.x, p.y, p.z)
+end
+print(string.format("payload: blade %.3f kg (%.0f mm³, centre of gravity %.1f, %.1f, %.1f mm, %s), gripper %.1f kg (%s)",
+                    blade_mass.mass, blade_mass.volume, blade_mass.cog.x, blade_mass.cog.y, blade_mass.cog.z,
+                    principal(blade_mass), gripper.mass, principal(gripper)))
 
 local report = {part = part_name, feed_mm_s = feed, scan = scan_report, stations = {}, programs = {},
-                payload = {blade = blade_mass, gripper = gripper}}
+                payload = {blade = plain_mass(blade_mass, "blade frame"), gripper = plain_mass(gripper, "flange frame")}}
 local station_rows, program_rows, blocks = {}, {}, {}  -- report.html, ParaView
 -- Charts: the measured scallop of every path and the measured chord error
 -- along the middle path of each flank, over their tolerances; the coarse
@@ -492,8 +483,7 @@ for _, name in ipairs(station_order) do
         local file = string.format("%s_%s_%s.%s", robot, name, f.side, c.ext)
         local wr = rp:write_program{post = c.post, file = file, name = string.format("%s_%s_%s", part_name, name, f.side),
                                     chord_tol = tol.chord_tol, max_bytes = max_program_bytes,
-                                    blade_mass = blade_mass.mass, blade_cog = blade_mass.cog,
-                                    gripper_mass = gripper.mass, gripper_cog = gripper.cog}
+                                    blade = blade_mass, gripper = gripper, registration = fit}
         prog.file, prog.max_position_mm, prog.max_angle_deg, prog.max_joint_deg =
           file, wr.max_position, wr.max_angle, wr.max_joint
         prog.files, prog.largest_bytes, prog.total_bytes, prog.ori_speed_deg_s, prog.zone_mm =

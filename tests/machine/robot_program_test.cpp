@@ -384,6 +384,87 @@ TEST(RobotProgram, SplitProgramsReplayAsOne) {
   EXPECT_THROW(read_robot_program(misnamed, "T", RobotDialect::KukaKrl), Error);
 }
 
+// The load, read as the controllers add it up (issue 39 item 2): KUKA's
+// $LOAD is the whole load on the flange — centre of gravity and principal
+// axes in FLANGE, principal moments in kg·m²; ABB's tooldata tload is the
+// gripper in the wrist frame and, with a stationary tool, the GripLoad
+// payload is in the object frame of the work object the robot holds (the
+// RAPID reference's loaddata). A program that states the blade's load in the
+// flange frame, or as a point mass, fails the read-back.
+std::string load_text(const MassProperties& m, bool krl) {
+  const PrincipalInertia p = principal_inertia(m.inertia_kg_mm2);
+  char b[400];
+  if (krl) {
+    const Vec3 e = p.axes.eulerAngles(2, 1, 0);
+    std::snprintf(b, sizeof b, "{M %.3f,CM {X %.3f,Y %.3f,Z %.3f,A %.5f,B %.5f,C %.5f},J {X %.7f,Y %.7f,Z %.7f}}",
+                  m.mass_kg, m.cog_mm.x(), m.cog_mm.y(), m.cog_mm.z(), rad_to_deg(e[0]), rad_to_deg(e[1]),
+                  rad_to_deg(e[2]), 1e-6 * p.moments_kg_mm2.x(), 1e-6 * p.moments_kg_mm2.y(), 1e-6 * p.moments_kg_mm2.z());
+  } else {
+    const Eigen::Quaterniond q(p.axes);
+    std::snprintf(b, sizeof b, "[%.3f,[%.3f,%.3f,%.3f],[%.9f,%.9f,%.9f,%.9f],%.7f,%.7f,%.7f]", m.mass_kg, m.cog_mm.x(),
+                  m.cog_mm.y(), m.cog_mm.z(), q.w(), q.x(), q.y(), q.z(), 1e-6 * p.moments_kg_mm2.x(),
+                  1e-6 * p.moments_kg_mm2.y(), 1e-6 * p.moments_kg_mm2.z());
+  }
+  return b;
+}
+
+std::string replaced(std::string text, const std::string& what, const std::string& with) {
+  const size_t at = text.find(what);
+  EXPECT_NE(at, std::string::npos) << what;
+  return at == std::string::npos ? text : text.replace(at, what.size(), with);
+}
+
+TEST(RobotProgram, TheLoadIsReadAsTheControllerAddsItUp) {
+  const Fixture f;
+  // A 15 kg gripper (a cylinder Ø 160 x 180 mm, 90 mm out on the flange
+  // axis) and a 0.43 kg titanium plate in the blade frame, off its origin and
+  // turned, so the blade's tensor is full and the frames matter.
+  const MassProperties gripper = cylinder_mass_properties(15, 80, 180, [] {
+    Frame g = Frame::Identity();
+    g.translation() = Vec3(0, 0, 90);
+    return g;
+  }());
+  Frame plate = Frame::Identity();
+  plate.linear() = Eigen::AngleAxisd(deg_to_rad(30), Vec3(1, 1, 0).normalized()).toRotationMatrix();
+  plate.translation() = Vec3(10, -20, 40);
+  const MassProperties blade = box_mass_properties(0.43, Vec3(120, 40, 20), plate);  // blade frame
+  for (RobotDialect d : {RobotDialect::KukaKrl, RobotDialect::AbbRapid}) {
+    const bool krl_dialect = d == RobotDialect::KukaKrl;
+    const RobotCell& cell = krl_dialect ? f.kuka : f.abb;
+    const RobotGrindingPlan plan = f.plan_for(cell);
+    const MassProperties payload = combined(gripper, transformed(blade, cell.grip));  // on the flange
+    const std::string base = krl_dialect ? krl(cell, plan, {}) : rapid(cell, plan, {});
+    auto with_load = [&](const MassProperties& flange_or_gripper, const MassProperties& grip_load) {
+      if (krl_dialect) return replaced(base, "$IPO_MODE = #TCP\n", "$LOAD = " + load_text(flange_or_gripper, true) +
+                                                                     "\n$IPO_MODE = #TCP\n");
+      const std::string with_tool = replaced(base, ",[1,[0,0,0],[1,0,0,0],0,0,0]];", "," + load_text(flange_or_gripper, false) + "];");
+      return replaced(replaced(with_tool, "  PROC T()\n",
+                               "  PERS loaddata ld_T := " + load_text(grip_load, false) + ";\n  PROC T()\n"),
+                      "    MoveJ", "    GripLoad ld_T;\n    MoveJ");
+    };
+    auto check = [&](const std::string& text) {
+      return verify_robot_program(cell, cell.stations[0], plan, read_robot_program({{"T", text}}, "T", d), d, 0.002,
+                                  0.001, &payload);
+    };
+    // By the manuals: KRL the whole load on the flange; RAPID the gripper as
+    // tload and the blade in the object frame.
+    const RobotVerifyReport ok = check(with_load(krl_dialect ? payload : gripper, blade));
+    EXPECT_EQ(ok.load_disagreements, 0) << (ok.problems.empty() ? "" : ok.problems.front());
+    EXPECT_TRUE(ok.problems.empty());
+    // The previous posts: KRL a point mass (J and the axes zero); RAPID the
+    // blade's centre of gravity in the flange frame, no inertia.
+    MassProperties point = payload;
+    point.inertia_kg_mm2.setZero();
+    MassProperties blade_on_flange = transformed(blade, cell.grip);
+    blade_on_flange.inertia_kg_mm2.setZero();
+    const RobotVerifyReport old = check(with_load(krl_dialect ? point : gripper, blade_on_flange));
+    EXPECT_EQ(old.load_disagreements, old.moves) << (krl_dialect ? "KRL" : "RAPID");
+    EXPECT_NE(old.problems.front().find("load in force"), std::string::npos) << old.problems.front();
+    // No load at all is a disagreement too.
+    EXPECT_EQ(check(base).load_disagreements, ok.moves);
+  }
+}
+
 TEST(RobotProgram, UnreadableStatementsNameTheirLine) {
   EXPECT_THROW(read_robot_program("MODULE T\n  MoveL [[1,2,3],[1,0,0,0]],v20,z1,t;\n", RobotDialect::AbbRapid), Error);
   try {

@@ -84,8 +84,21 @@ TEST(BladeBeltGrindingRegistration, AOneFlankScanFailsTheVerdictAndNothingIsPost
   for (const auto& q : j["verdict"]["requirements"])
     condition_failed = condition_failed || (q["name"] == "scan registration: condition of the normal matrix" && !q["pass"].get<bool>());
   EXPECT_TRUE(condition_failed);
+  // The stop, not just the flag: the three station programs were planned
+  // and none was posted, nor the main program that would call them; the
+  // verdict's failed line says what to scan.
   EXPECT_EQ(programs_in(dir.path()), 0u);
-  for (const auto& p : j["programs"]) EXPECT_FALSE(p.contains("file")) << p.dump();
+  EXPECT_FALSE(std::filesystem::exists(dir.path() + "/kuka_main.src"));
+  ASSERT_EQ(j["programs"].size(), 3u);
+  for (const auto& p : j["programs"]) {
+    EXPECT_FALSE(p.contains("file")) << p.dump();
+    EXPECT_EQ(p.value("not_posted", ""), "the scan registration is not trusted") << p.dump();
+  }
+  bool says_what_to_scan = false;
+  for (const auto& q : j["verdict"]["requirements"])
+    if (!q["pass"].get<bool>() && q.contains("note"))
+      says_what_to_scan = says_what_to_scan || q["note"].get<std::string>().find("scan both flanks") != std::string::npos;
+  EXPECT_TRUE(says_what_to_scan);
 }
 
 TEST(BladeBeltGrindingRegistration, AScanOfSomethingElseFailsTheVerdictWithTheReportWritten) {
