@@ -15,7 +15,7 @@ namespace {
 // Spans across a ray along X (or Y) at lateral offset `w` from the axis,
 // from the meridian's r spans at the ray's height: |x| in
 // [sqrt(r0² - w²), sqrt(r1² - w²)], merged where they meet at x = 0.
-std::vector<std::pair<double, double>> spans_across(const std::vector<std::pair<double, double>>& r_spans, double w) {
+std::vector<std::pair<double, double>> stock_spans_across(const std::vector<std::pair<double, double>>& r_spans, double w) {
   std::vector<std::pair<double, double>> out;
   for (const auto& [r0, r1] : r_spans) {
     if (r1 <= std::abs(w)) continue;
@@ -86,7 +86,7 @@ Stock::Stock(const BlankProfile& blank, const StockOptions& options) : spacing_(
     cancellation_point();
     const auto r_spans = blank.r_spans_at_height(gx.v_of(j));
     for (int i = 0; i < gx.nu; ++i) {  // u = y
-      for (const auto& [a, b] : spans_across(r_spans, gx.u_of(i))) gx.ray(i, j).push_back(a, b);
+      for (const auto& [a, b] : stock_spans_across(r_spans, gx.u_of(i))) gx.ray(i, j).push_back(a, b);
     }
   }
   DexelGrid& gy = grids_[1];
@@ -94,7 +94,7 @@ Stock::Stock(const BlankProfile& blank, const StockOptions& options) : spacing_(
     cancellation_point();
     const auto r_spans = blank.r_spans_at_height(gy.u_of(i));
     for (int j = 0; j < gy.nv; ++j) {  // v = x
-      for (const auto& [a, b] : spans_across(r_spans, gy.v_of(j))) gy.ray(i, j).push_back(a, b);
+      for (const auto& [a, b] : stock_spans_across(r_spans, gy.v_of(j))) gy.ray(i, j).push_back(a, b);
     }
   }
   for (int k = 0; k < 3; ++k) material_mm_[static_cast<size_t>(k)] = grids_[static_cast<size_t>(k)].material_length();

@@ -26,7 +26,7 @@ namespace {
 // The span of u on the row v = const of the points within `radius` of the
 // 2-D segment p0-p1 (a stadium: the capsule around the tool's axis seen
 // along the rays). False when the row misses it.
-bool stadium_row(const Vec2& p0, const Vec2& p1, double radius, double v, double& lo, double& hi) {
+bool stock_stadium_row(const Vec2& p0, const Vec2& p1, double radius, double v, double& lo, double& hi) {
   lo = kInf;
   hi = -kInf;
   for (const Vec2* p : {&p0, &p1}) {
@@ -66,7 +66,7 @@ bool stadium_row(const Vec2& p0, const Vec2& p1, double radius, double v, double
 // One sample of the motion: the cutter's solid (or a plunge step's exact
 // sweep) placed at (tip, axis), and the whole tool's pose for the shank and
 // holder.
-struct Placement {
+struct StockPlacement {
   const RevolvedSolid* solid = nullptr;
   Vec3 tip, axis;
   std::optional<Vec3> side;  // across the feed, perpendicular to the axis (radial engagement)
@@ -76,7 +76,7 @@ struct Placement {
 // Calls visit(ray, origin, lo, hi) for every ray of `g` with material that
 // the placed solid crosses, with the span [lo, hi] it occupies there.
 template <class Visit>
-void for_each_crossing(DexelGrid& g, const RevolvedSolid& solid, const Vec3& tip, const Vec3& axis, Visit&& visit) {
+void stock_for_each_crossing(DexelGrid& g, const RevolvedSolid& solid, const Vec3& tip, const Vec3& axis, Visit&& visit) {
   const Vec3 p0 = tip + solid.z_min() * axis, p1 = tip + solid.z_max() * axis;
   const double radius = solid.max_radius();
   const int ua = g.u_axis(), va = g.v_axis(), k = g.axis;
@@ -89,7 +89,7 @@ void for_each_crossing(DexelGrid& g, const RevolvedSolid& solid, const Vec3& tip
   const Vec3 dir = g.direction();
   for (int j = j_lo; j <= j_hi; ++j) {
     double u_lo, u_hi;
-    if (!stadium_row(q0, q1, radius, g.v_of(j), u_lo, u_hi)) continue;
+    if (!stock_stadium_row(q0, q1, radius, g.v_of(j), u_lo, u_hi)) continue;
     const int i_lo = std::max(0, static_cast<int>(std::ceil((u_lo - g.u0) / h - 0.5)));
     const int i_hi = std::min(g.nu - 1, static_cast<int>(std::floor((u_hi - g.u0) / h - 0.5)));
     for (int i = i_lo; i <= i_hi; ++i) {
@@ -110,7 +110,7 @@ void for_each_crossing(DexelGrid& g, const RevolvedSolid& solid, const Vec3& tip
 // What one placement did on one grid: material removed along its rays (mm)
 // and the extents of the removed pieces in the placement's frame; the
 // material inside the shank and holder (mm, along rays).
-struct GridStep {
+struct StockGridStep {
   double removed_mm = 0;
   double z_lo = kInf, z_hi = -kInf, w_lo = kInf, w_hi = -kInf;
   double body_mm = 0;
@@ -118,14 +118,14 @@ struct GridStep {
 
 // Pieces shorter than this along a ray do not count in the engagement's
 // extents: they are the cutter's surface grazing a ray, not a cut.
-constexpr double kEngagedPieceMm = 1e-3;
+constexpr double kStockEngagedPieceMm = 1e-3;
 
-GridStep apply(DexelGrid& g, const Placement& at, const std::vector<RevolvedSolid>& body) {
-  GridStep out;
+StockGridStep stock_apply(DexelGrid& g, const StockPlacement& at, const std::vector<RevolvedSolid>& body) {
+  StockGridStep out;
   const Vec3 dir = g.direction();
-  for_each_crossing(g, *at.solid, at.tip, at.axis, [&](DexelRay& ray, const Vec3& origin, double lo, double hi) {
+  stock_for_each_crossing(g, *at.solid, at.tip, at.axis, [&](DexelRay& ray, const Vec3& origin, double lo, double hi) {
     out.removed_mm += ray.subtract(lo, hi, [&](double s, double e) {
-      if (e - s < kEngagedPieceMm) return;
+      if (e - s < kStockEngagedPieceMm) return;
       for (double x : {s, e}) {
         const Vec3 p = origin + x * dir - at.tip;
         const double z = p.dot(at.axis);
@@ -141,7 +141,7 @@ GridStep apply(DexelGrid& g, const Placement& at, const std::vector<RevolvedSoli
   });
   for (const RevolvedSolid& part : body) {
     double inside = 0;
-    for_each_crossing(g, part, at.body.tip, at.body.axis, [&](DexelRay& ray, const Vec3&, double lo, double hi) {
+    stock_for_each_crossing(g, part, at.body.tip, at.body.axis, [&](DexelRay& ray, const Vec3&, double lo, double hi) {
       for (const DexelRay::Span& s : ray) {
         if (s.start >= hi) break;
         inside += std::max(0.0, std::min<double>(s.end, hi) - std::max<double>(s.start, lo));
@@ -154,7 +154,7 @@ GridStep apply(DexelGrid& g, const Placement& at, const std::vector<RevolvedSoli
 
 // Moves are sampled and applied in chunks of about this many placements,
 // bounding the per-grid figures held at once.
-constexpr size_t kChunkPlacements = 1 << 15;
+constexpr size_t kStockChunkPlacements = 1 << 15;
 
 }  // namespace
 
@@ -183,11 +183,11 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
   if (from) last = ToolPose{from->tip, unit_axis(from->axis, "from.axis")};
   progress.begin("stock", static_cast<long>(moves.size()));
 
-  std::vector<Placement> placements;
+  std::vector<StockPlacement> placements;
   std::vector<size_t> move_of;     // per placement
   std::vector<double> sub_length;  // per placement: its stretch of tip path (0 for a placed tool)
   std::deque<RevolvedSolid> sweeps;  // a chunk's plunge steps
-  std::array<std::vector<GridStep>, 3> steps;
+  std::array<std::vector<StockGridStep>, 3> steps;
   size_t m = 0;
   while (m < moves.size()) {
     placements.clear();
@@ -196,7 +196,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
     sweeps.clear();
     const size_t chunk_first = m;
     // Sample a chunk of moves.
-    for (; m < moves.size() && placements.size() < kChunkPlacements; ++m) {
+    for (; m < moves.size() && placements.size() < kStockChunkPlacements; ++m) {
       const Move& move = moves[m];
       MoveCut& mc = result.moves[m];
       if (move.kind == Move::Kind::Stop) {
@@ -230,7 +230,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       }
       for (int k = 1; k <= n; ++k) {
         const double t = static_cast<double>(k) / n;
-        Placement at;
+        StockPlacement at;
         if (axial) {
           at = {swept, last->tip + (static_cast<double>(k - 1) / n) * delta, to.axis, std::nullopt,
                 {last->tip + t * delta, to.axis}};
@@ -247,7 +247,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       last = to;
     }
     // Each grid through the chunk's placements, the grids side by side.
-    for (auto& s : steps) s.assign(placements.size(), GridStep{});
+    for (auto& s : steps) s.assign(placements.size(), StockGridStep{});
     std::atomic<int> next{0};
     std::exception_ptr failure;
     std::mutex failure_mutex;
@@ -255,10 +255,10 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       for (int k; (k = next.fetch_add(1)) < 3;) {
         try {
           DexelGrid& g = grids_[static_cast<size_t>(k)];
-          std::vector<GridStep>& out = steps[static_cast<size_t>(k)];
+          std::vector<StockGridStep>& out = steps[static_cast<size_t>(k)];
           for (size_t p = 0; p < placements.size(); ++p) {
             if (p % 512 == 0) progress.check();
-            out[p] = apply(g, placements[p], body);
+            out[p] = stock_apply(g, placements[p], body);
             material_mm_[static_cast<size_t>(k)] -= out[p].removed_mm;
           }
         } catch (...) {
@@ -283,7 +283,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       MoveCut& mc = result.moves[move_of[p]];
       double removed = 0, body_mm = 0, z_lo = kInf, z_hi = -kInf, w_lo = kInf, w_hi = -kInf;
       for (const auto& s : steps) {
-        const GridStep& g = s[p];
+        const StockGridStep& g = s[p];
         removed += g.removed_mm;
         body_mm += g.body_mm;
         z_lo = std::min(z_lo, g.z_lo);
