@@ -57,6 +57,12 @@ Stock::Stock(const BlankProfile& blank, const StockOptions& options) : spacing_(
   const std::array<int, 3> count{nxy, nxy, nz};
   const std::array<double, 3> corner{xy0, xy0, z0};
   const double rays = 1.0 * nxy * nxy + 2.0 * nxy * nz;
+  // 2·10^8 rays are 3.2 GB before any span: beyond any blank this is for.
+  if (!(rays <= 2e8)) {
+    throw ParameterError("resolution_mm", std::to_string(h) + " mm over a blank of radius " + std::to_string(radius) +
+                                              " mm and height " + std::to_string(height) + " mm needs " +
+                                              std::to_string(rays) + " rays, more than 2e8: coarser, please");
+  }
   check_allocation_estimate(rays * sizeof(DexelRay), "the stock's rays (" + std::to_string(static_cast<long>(rays)) +
                                                          " at " + std::to_string(h) + " mm)");
   for (int k = 0; k < 3; ++k) {

@@ -205,6 +205,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       }
       const std::string name = "moves[" + std::to_string(m + 1) + "].axis";
       const ToolPose to{move.pose.tip, unit_axis(move.pose.axis, name.c_str())};
+      if (!to.tip.allFinite()) throw ParameterError("moves", "move " + std::to_string(m + 1) + ": the tip is not finite");
       if (!last) {
         // Placed, not moved there: the tool's own volume at the pose.
         placements.push_back({&cutter, to.tip, to.axis, std::nullopt, to});
@@ -219,7 +220,13 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       const PoseMotion motion(*last, to);
       const Vec3 delta = to.tip - last->tip;
       mc.length_mm = delta.norm();
-      const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(reach) / step)));
+      const double samples = std::ceil(motion.max_point_speed(reach) / step);
+      // 10^7 samples of one move: a move kilometres long at a µm step.
+      if (!(samples <= 1e7)) {
+        throw ParameterError("moves", "move " + std::to_string(m + 1) + " needs " + std::to_string(samples) +
+                                          " samples at a step of " + std::to_string(step) + " mm (at most 1e7)");
+      }
+      const int n = std::max(1, static_cast<int>(samples));
       // Along the tool's own axis the sweep is exact, one solid per step.
       const double along = delta.dot(to.axis);
       const bool axial = motion.angle_rad() < 1e-12 && (delta - along * to.axis).norm() <= 1e-9 * (1 + mc.length_mm);

@@ -323,6 +323,49 @@ TEST(Stock, MaterialAboveASurfacePoint) {
   EXPECT_NEAR(Stock(flat_top, {0.5}).material_above({1, 2, 17.5}, Vec3::UnitZ()), 2.5, 1e-5);
 }
 
+TEST(Stock, ThreadsChangeNoFigure) {
+  // The grids are cut side by side: one thread or three, every figure and
+  // the state are the same, bit for bit.
+  const Tool bull = Tool::flat_end_mill({3, 1, 10, {6, 20}, {}});
+  Toolpath moves{rapid({-35, -5, 18})};
+  for (int k = 0; k < 40; ++k) {
+    const double a = 0.15 * k;
+    moves.push_back(feed({-30 + 1.5 * k, 8 * std::sin(a), 17 - 0.1 * k},
+                         Vec3(0.3 * std::sin(a), 0.2, 1).normalized()));
+  }
+  std::vector<CutResult> results;
+  std::vector<double> volumes;
+  for (int threads : {1, 3}) {
+    Stock s(cylinder(30, 0, 20), {0.5});
+    CutOptions o;
+    o.threads = threads;
+    results.push_back(s.cut(moves, bull, o));
+    volumes.push_back(s.volume());
+  }
+  EXPECT_GT(results[0].samples, 64);  // enough placements for the threads to be used
+  EXPECT_EQ(volumes[0], volumes[1]);
+  ASSERT_EQ(results[0].moves.size(), results[1].moves.size());
+  for (size_t m = 0; m < moves.size(); ++m) {
+    EXPECT_EQ(results[0].moves[m].removed_mm3, results[1].moves[m].removed_mm3) << "move " << m;
+    EXPECT_EQ(results[0].moves[m].air_mm, results[1].moves[m].air_mm) << "move " << m;
+    EXPECT_EQ(results[0].moves[m].radial_mm, results[1].moves[m].radial_mm) << "move " << m;
+  }
+}
+
+TEST(Stock, BadMovesAndGridsAreRefused) {
+  Stock s(cylinder(30, 0, 20), {0.5});
+  const Tool ball = Tool::ball_end_mill({4, 20, {}, {}});
+  EXPECT_THROW(s.cut({feed({0, 0, 30}), feed({0, 0, std::nan("")})}, ball, {}), ParameterError);
+  EXPECT_THROW(s.cut({feed({0, 0, 30}), feed({0, 0, 30}, -Vec3::UnitZ())}, ball, {}), ParameterError);
+  EXPECT_THROW(s.cut({feed({0, 0, 30}), feed({1e7, 0, 30})}, ball, {}), ParameterError);  // 2·10^7 samples
+  CutOptions o;
+  o.threads = 0;
+  EXPECT_THROW(s.cut({feed({0, 0, 30})}, ball, o), ParameterError);
+  EXPECT_EQ(s.volume(), s.blank_volume());
+  // 10^11 rays.
+  EXPECT_THROW(Stock(cylinder(1e4, 0, 1e3), {0.05}), ParameterError);
+}
+
 // Even-odd point-in-polygon, the blank's meridian without BlankProfile.
 bool in_polygon(const std::vector<Vec2>& poly, const Vec2& q) {
   bool in = false;
