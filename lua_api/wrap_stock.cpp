@@ -41,7 +41,7 @@ namespace bliskrun::lua_api {
 namespace {
 
 // {{r, z}, ...} -> points.
-std::vector<Vec2> read_profile(lua_State* L, int idx, const std::string& what) {
+std::vector<Vec2> stock_read_profile(lua_State* L, int idx, const std::string& what) {
   idx = lua_absindex(L, idx);
   std::vector<Vec2> out;
   const lua_Integer n = luaL_len(L, idx);
@@ -69,7 +69,7 @@ int w_stock(lua_State* L) {
                                "the blank's meridian: a closed polygon {{r, z}, ...} about the part's Z axis, mm", {}},
                          number_field("resolution", "ray spacing of the three grids, mm (default 0.5)", 0.01, 100)});
   o.push_raw("profile");
-  const std::vector<Vec2> profile = read_profile(L, -1, std::string(what) + ": profile");
+  const std::vector<Vec2> profile = stock_read_profile(L, -1, std::string(what) + ": profile");
   lua_pop(L, 1);
   StockOptions so;
   so.resolution_mm = o.number("resolution", so.resolution_mm);
@@ -81,7 +81,7 @@ int w_stock(lua_State* L) {
 
 // The moves of arg idx: a list of {kind =, tip =, axis =} or a plan (any
 // value with a :moves() method).
-Toolpath read_moves(lua_State* L, int idx, const std::string& what) {
+Toolpath stock_read_moves(lua_State* L, int idx, const std::string& what) {
   idx = lua_absindex(L, idx);
   if (!lua_istable(L, idx)) {
     if (lua_getfield(L, idx, "moves") != LUA_TFUNCTION) {
@@ -117,7 +117,7 @@ Toolpath read_moves(lua_State* L, int idx, const std::string& what) {
   return moves;
 }
 
-void push_result(lua_State* L, const CutResult& r, const Stock& s, bool per_move, double seconds) {
+void push_stock_result(lua_State* L, const CutResult& r, const Stock& s, bool per_move, double seconds) {
   lua_createtable(L, 0, 16);
   luax::set_number(L, "removed_mm3", r.removed_mm3);
   luax::set_number(L, "cut_mm", r.cut_mm);
@@ -163,7 +163,7 @@ void push_result(lua_State* L, const CutResult& r, const Stock& s, bool per_move
 int w_stock_cut(lua_State* L) {
   static const char* what = "stock:cut";
   StockHandle& h = luax::check<StockHandle>(L, 1);
-  const Toolpath moves = read_moves(L, 2, std::string(what) + ": moves");
+  const Toolpath moves = stock_read_moves(L, 2, std::string(what) + ": moves");
   const LuaTool* tool = luax::test<LuaTool>(L, 3);
   if (!tool) luax::error(L, std::string(what) + ": argument 2: expected a bliskrun.Tool");
   const luax::Options o(
@@ -196,7 +196,7 @@ int w_stock_cut(lua_State* L) {
     const auto t0 = std::chrono::steady_clock::now();
     const CutResult r = h.stock.cut(moves, tool->tool, co, from ? &*from : nullptr, context(L).progress);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    push_result(L, r, h.stock, per_move, seconds);
+    push_stock_result(L, r, h.stock, per_move, seconds);
     return 1;
   });
 }

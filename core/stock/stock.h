@@ -47,7 +47,8 @@ struct CutOptions {
   // per mm of tip path (mm³/mm = mm² of cross-section) is cutting air.
   double air_mm2 = 1e-3;
   // Measure the shank and holder against the stock at every sample (they
-  // never cut: material inside them is a collision).
+  // never cut: material inside them is a collision), on the one grid whose
+  // rays run closest to the tool axis.
   bool check_body = true;
   // Up to three: the grids are cut side by side (the result does not
   // depend on it).

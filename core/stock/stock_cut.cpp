@@ -71,6 +71,7 @@ struct StockPlacement {
   Vec3 tip, axis;
   std::optional<Vec3> side;  // across the feed, perpendicular to the axis (radial engagement)
   ToolPose body;             // where the shank and holder are
+  int body_grid = 2;         // the one grid they are measured on (rays closest to their axis)
 };
 
 // Calls visit(ray, origin, lo, hi) for every ray of `g` with material that
@@ -139,6 +140,10 @@ StockGridStep stock_apply(DexelGrid& g, const StockPlacement& at, const std::vec
       }
     });
   });
+  // A contact is a finding, not a volume to account: one grid suffices, the
+  // one whose rays run closest to the axis, on which the long shank's
+  // shadow is smallest (a 96 mm shank across the rays covers ~40x more).
+  if (g.axis != at.body_grid) return out;
   for (const RevolvedSolid& part : body) {
     double inside = 0;
     stock_for_each_crossing(g, part, at.body.tip, at.body.axis, [&](DexelRay& ray, const Vec3&, double lo, double hi) {
@@ -150,6 +155,15 @@ StockGridStep stock_apply(DexelGrid& g, const StockPlacement& at, const std::vec
     out.body_mm = std::max(out.body_mm, inside);
   }
   return out;
+}
+
+// The grid whose rays run closest to `axis`.
+int stock_axis_grid(const Vec3& axis) {
+  int k = 0;
+  for (int a = 1; a < 3; ++a) {
+    if (std::abs(axis[a]) > std::abs(axis[k])) k = a;
+  }
+  return k;
 }
 
 // Moves are sampled and applied in chunks of about this many placements,
@@ -208,7 +222,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       if (!to.tip.allFinite()) throw ParameterError("moves", "move " + std::to_string(m + 1) + ": the tip is not finite");
       if (!last) {
         // Placed, not moved there: the tool's own volume at the pose.
-        placements.push_back({&cutter, to.tip, to.axis, std::nullopt, to});
+        placements.push_back({&cutter, to.tip, to.axis, std::nullopt, to, stock_axis_grid(to.axis)});
         move_of.push_back(m);
         sub_length.push_back(0);
         last = to;
@@ -247,6 +261,7 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
           const Vec3 across = delta - delta.dot(p.axis) * p.axis;
           if (across.norm() > 1e-9) at.side = p.axis.cross(across).normalized();
         }
+        at.body_grid = stock_axis_grid(at.body.axis);
         placements.push_back(at);
         move_of.push_back(m);
         sub_length.push_back(mc.length_mm / n);
@@ -304,7 +319,8 @@ CutResult Stock::cut(const Toolpath& moves, const Tool& tool, const CutOptions& 
       if (w_hi > w_lo) mc.radial_mm = std::max(mc.radial_mm, w_hi - w_lo);
       // Float rounding where a shank as wide as the cutter follows it is
       // not a contact.
-      if (body_mm * cell_mm2 >= contact_mm3) mc.body_mm3 = std::max(mc.body_mm3, body_mm * cell_mm2);
+      const double body_mm3 = body_mm * spacing_ * spacing_;  // one grid's
+      if (body_mm3 >= contact_mm3) mc.body_mm3 = std::max(mc.body_mm3, body_mm3);
       if (sub_length[p] > 0) {
         const double rate = removed / sub_length[p];
         mc.rate_max_mm2 = std::max(mc.rate_max_mm2, rate);
