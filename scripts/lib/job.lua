@@ -29,6 +29,7 @@
 --   simulate.lua       j:simulate (a blisk's units, an impeller's surfaces), the stops after it
 --   seams.lua          blade 1 swept by every operation: j:simulate_seams, j:simulate_blade
 --   post.lua           j:post, j:post_programs: program ends, setups, read back
+--   stock.lua          the stock: a blank (job.new's `blank`) cut by every move after planning
 --   report.lua         the printed summary, JSON and report.html of a run
 --   run.lua            j:run: plan, simulate, post and report in one call
 --   options.lua, geometry.lua   option checks; small vector helpers
@@ -43,6 +44,7 @@ require("job.links")
 require("job.seams")
 require("job.report")
 require("job.run")
+require("job.stock")
 
 return {
   new = model.new, group_by_life = model.group_by_life, first_blades = model.first_blades,

@@ -17,7 +17,7 @@ set(layers
     geometry:1
     tools:2 io:2 cad:2
     parts:3 collision:3 sim:3 toolpath:3
-    repair:4 analysis:4
+    repair:4 analysis:4 stock:4
     planning:5
     machine:6)
 foreach(entry IN LISTS layers)

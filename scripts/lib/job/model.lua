@@ -31,9 +31,11 @@ function M.new(spec)
     clearance_axial = {type = "number", check = positive},
     clearance = {type = "number", check = positive},
     link_clearance = {type = "table"},
+    blank = {type = "table"},  -- the stock (job/stock.lua): {profile = {{r, z}, ...}, resolution = 0.5}
     tools = {type = "table", required = true},
     operations = {type = "table", required = true, check = function(v) if #v == 0 then return "expected at least one operation" end end},
   }, 2)
+  if spec.blank then require("job.stock").check_blank(spec.blank, 2) end
   local part_kind = spec.part.face and "impeller" or "blisk"
   local clearance_surface
   if part_kind == "blisk" then
@@ -120,7 +122,7 @@ function M.new(spec)
   return setmetatable({name = spec.name, part = spec.part, part_kind = part_kind,
                        clearance_radius = spec.clearance_radius, clearance_surface = clearance_surface,
                        link_clearance = spec.link_clearance or {cutter = 0, shank = 0.1, holder = 1},
-                       tools = spec.tools, operations = spec.operations, worlds = {}}, Job)
+                       tools = spec.tools, operations = spec.operations, worlds = {}, blank = spec.blank}, Job)
 end
 
 -- How many distinct blades the operations machine.
@@ -301,6 +303,11 @@ function Job:plan()
     end
   end
   self.planned = {moves = moves, flanks = flanks, links = links, tool_groups = groups}
+  if self.blank then
+    -- Every move, in order, with its tool, through the stock (job/stock.lua).
+    if self.on_plan_step then self.on_plan_step({kind = "stock_cut_by_every_move"}) end
+    self.planned.stock = self:cut_stock(self.planned)
+  end
   return self.planned
 end
 

@@ -97,7 +97,7 @@ function Job:run(o)
   for k, v in pairs(o.json or {}) do r.json[k] = v end
   -- One progress line for the whole job (bliskrun.progress_step): each
   -- operation's planning, the simulation, the blade map, posting, the report.
-  local total = #self.operations + (o.simulate ~= false and 1 or 0) + 2
+  local total = #self.operations + (self.blank and 1 or 0) + (o.simulate ~= false and 1 or 0) + 2
                 + ((o.blade_map and self.part_kind == "blisk") and 1 or 0)
   local k = 0
   local function step(what)
@@ -110,6 +110,7 @@ function Job:run(o)
   self.on_plan_step = nil
   r.plan_seconds = os.clock() - t0
   steps.planned(r)
+  if r.planned.stock then require("job.stock").report(r) end
   if o.simulate ~= false then
     step("simulate every operation's moves on the part")
     r.sim = self:simulate(o.simulate or {})
@@ -142,6 +143,7 @@ function Job:run(o)
 
   step("write the report")
   local sections, blocks, files = steps.page(r)
+  if r.planned.stock then table.insert(sections, math.min(2, #sections + 1), require("job.stock").section(r)) end
   local sheets = {}
   for _, p in ipairs(r.json.programs) do sheets[#sheets + 1] = p.setup_sheet end
   for _, s in ipairs(require("setup_sheet").sections(sheets)) do sections[#sections + 1] = s end

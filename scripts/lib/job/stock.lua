@@ -1,0 +1,123 @@
+-- The job's stock (issue 41; scripts/lib/job.lua is the entry): with
+-- job.new{..., blank = {profile = {{r, z}, ...}, resolution = 0.5}}, every
+-- operation's moves — links included, in program order, each stretch with
+-- its own tool — cut a bliskrun.stock (docs/lua_api/stock.md) after
+-- planning, and the run reports per operation what it removed, the share of
+-- its cutting path in air, and the stock left after it. A job without a
+-- blank is unchanged.
+local options = require("job.options")
+local Job = require("job.model").Job
+
+local check_options, positive = options.check, options.positive
+
+local M = {}
+
+-- job.new's `blank` option, checked at the recipe's line (level: as
+-- options.check).
+function M.check_blank(blank, level)
+  check_options("job.new blank", blank, {
+    profile = {type = "table", required = true, check = function(v)
+      if #v < 3 then return "expected the blank's meridian, a closed polygon {{r, z}, ...} of at least 3 points" end
+    end},
+    resolution = {type = "number", check = positive},   -- ray spacing, mm (default 0.5)
+    step = {type = "number", check = positive},         -- stock:cut's step, mm (default: the resolution)
+    check_body = {type = "boolean"},                    -- shank and holder against the stock (default true)
+  }, level + 1)
+end
+
+-- Cuts the stock with the planned moves (Job:plan calls it when the job has
+-- a blank). Returns {stock (the bliskrun.Stock), blank_mm3, blank_exact_mm3,
+-- resolution, operations = {{operation, kind, removed_mm3, cut_mm,
+-- air_cut_mm, air_share, rapid_removed_mm3, rapid_cut_moves,
+-- body_contact_moves, body_contact_max_mm3, rate_max_mm2, axial_max_mm,
+-- radial_max_mm, left_mm3, seconds}, ...}, memory_mb}.
+function Job:cut_stock(planned)
+  local b = self.blank
+  local stock = bliskrun.stock{profile = b.profile, resolution = b.resolution or 0.5}
+  local info = stock:info()
+  local out = {stock = stock, blank_mm3 = info.blank_mm3, blank_exact_mm3 = info.blank_exact_mm3,
+               resolution = info.resolution, operations = {}}
+  local by_op = {}
+  for i, op in ipairs(self.operations) do
+    by_op[i] = {operation = i, kind = op.kind, removed_mm3 = 0, cut_mm = 0, air_cut_mm = 0, rapid_removed_mm3 = 0,
+                rapid_cut_moves = 0, body_contact_moves = 0, body_contact_max_mm3 = 0, rate_max_mm2 = 0,
+                axial_max_mm = 0, radial_max_mm = 0, seconds = 0}
+    out.operations[i] = by_op[i]
+  end
+  local moves, last = planned.moves, nil
+  local cpu0 = os.clock()
+  local i = 1
+  while i <= #moves do
+    -- A stretch of one operation with one tool (a link's back-out is the
+    -- old tool's), from the pose the one before it ended at.
+    local op, tool = moves[i].operation, moves[i].tool
+    local j = i
+    while j < #moves and moves[j + 1].operation == op and moves[j + 1].tool == tool do j = j + 1 end
+    local r = stock:cut(table.move(moves, i, j, 1, {}), self:tool_entry(tool).tool,
+                        {from = last, step = b.step, check_body = b.check_body})
+    local e = by_op[op]
+    for _, k in ipairs({"removed_mm3", "cut_mm", "air_cut_mm", "rapid_removed_mm3", "rapid_cut_moves",
+                        "body_contact_moves", "seconds"}) do
+      e[k] = e[k] + r[k]
+    end
+    e.body_contact_max_mm3 = math.max(e.body_contact_max_mm3, r.body_contact_max_mm3)
+    e.rate_max_mm2 = math.max(e.rate_max_mm2, r.engagement.rate_max_mm2)
+    e.axial_max_mm = math.max(e.axial_max_mm, r.engagement.axial_max_mm)
+    e.radial_max_mm = math.max(e.radial_max_mm, r.engagement.radial_max_mm)
+    e.left_mm3 = r.volume_left_mm3
+    last = {tip = moves[j].tip, axis = moves[j].axis}
+    i = j + 1
+  end
+  for _, e in ipairs(out.operations) do
+    e.air_share = e.cut_mm > 0 and e.air_cut_mm / e.cut_mm or 0
+    e.left_mm3 = e.left_mm3 or (out.operations[e.operation - 1] or {left_mm3 = out.blank_mm3}).left_mm3
+  end
+  out.memory_mb = stock:info().memory_mb
+  out.cpu_seconds = os.clock() - cpu0  -- every thread's, for the log
+  return out
+end
+
+-- Printed lines and the JSON report's `stock` (timings to the log only).
+function M.report(r)
+  local s = r.planned.stock
+  print(string.format("  stock: blank %.0f mm3 on %.2f mm rays (exact %.0f mm3), %.1f MB", s.blank_mm3, s.resolution,
+                      s.blank_exact_mm3, s.memory_mb))
+  local json = {blank_mm3 = s.blank_mm3, blank_exact_mm3 = s.blank_exact_mm3, resolution_mm = s.resolution,
+                operations = {}}
+  local seconds = 0
+  for _, e in ipairs(s.operations) do
+    seconds = seconds + e.seconds
+    print(string.format("  stock after operation %d (%s): removed %.0f mm3, air %.0f of %.0f mm cut (%.0f %%), "
+                        .. "left %.0f mm3%s%s", e.operation, e.kind, e.removed_mm3, e.air_cut_mm, e.cut_mm,
+                        100 * e.air_share, e.left_mm3,
+                        e.rapid_cut_moves > 0 and string.format("; %d rapids through material (%.1f mm3)",
+                          e.rapid_cut_moves, e.rapid_removed_mm3) or "",
+                        e.body_contact_moves > 0 and string.format("; shank or holder in the stock on %d moves "
+                          .. "(up to %.2f mm3)", e.body_contact_moves, e.body_contact_max_mm3) or ""))
+    json.operations[#json.operations + 1] = {operation = e.operation, kind = e.kind, removed_mm3 = e.removed_mm3,
+      cut_mm = e.cut_mm, air_cut_mm = e.air_cut_mm, air_share = e.air_share, left_mm3 = e.left_mm3,
+      rapid_removed_mm3 = e.rapid_removed_mm3, rapid_cut_moves = e.rapid_cut_moves,
+      body_contact_moves = e.body_contact_moves, body_contact_max_mm3 = e.body_contact_max_mm3,
+      rate_max_mm2 = e.rate_max_mm2, axial_max_mm = e.axial_max_mm, radial_max_mm = e.radial_max_mm}
+  end
+  print(string.format("  stock cut by %d moves in %.1f s (%.1f s CPU)", #r.planned.moves, seconds, s.cpu_seconds))
+  r.json.stock = json
+end
+
+-- The report page's table: the stock after each operation.
+function M.section(r)
+  local s = r.planned.stock
+  local rows = {}
+  for _, e in ipairs(s.operations) do
+    rows[#rows + 1] = {e.operation, e.kind:gsub("_", " "), e.removed_mm3, e.cut_mm, 100 * e.air_share, e.left_mm3,
+                       e.rate_max_mm2, e.radial_max_mm, e.axial_max_mm, e.rapid_cut_moves, e.body_contact_moves}
+  end
+  return {title = "Stock after each operation", text = string.format(
+    "The blank (%.0f mm³; %.0f mm³ exact) cut by every move in program order, links included, each with its tool, "
+    .. "on rays %.2f mm apart along X, Y and Z (docs/lua_api/stock.md).", s.blank_mm3, s.blank_exact_mm3, s.resolution),
+    table = {columns = {"operation", "kind", "removed (mm³)", "cutting path (mm)", "in air (%)", "stock left (mm³)",
+                        "removal per mm, max (mm²)", "ae max (mm)", "ap max (mm)", "rapids through stock",
+                        "moves with shank or holder in stock"}, rows = rows}}
+end
+
+return M
