@@ -384,5 +384,28 @@ TEST(BliskJobRecipe, BladesAreGroupedPerToolByCuttingLength) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+
+// A job run without the simulation (j:run{simulate = false}) still writes
+// its report: the programs' table says "not simulated" where the overcut
+// bound would be (a missing cell made the report writer refuse the row).
+TEST(BliskJobRecipe, AJobWithoutTheSimulationStillWritesItsReport) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"(local job = require("job")
+local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, flute_length = 40,
+                                            shank = {diameter = 8, length = 30}, holder = {diameter = 32, length = 40}}
+local j = job.new{name = "hub only", part = bliskrun.blisk{}, clearance_radius = 110,
+  operations = {job.hub_finish{tool = "ball", blades = {1}, scallop = 0.05, feed = 800}},
+  tools = {ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}}}
+j:run{name = "x", simulate = false,
+      programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "x.nc", machine_check = false}}}
+)");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir.path() + "/out/x.nc"));
+  std::ifstream in(dir.path() + "/out/report.html");
+  ASSERT_TRUE(in.good()) << "no report";
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("not simulated"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace bliskrun::test

@@ -239,7 +239,9 @@ function M.blisk.page(r)
   local program_rows = {}
   for i, p in ipairs(json.programs) do
     program_rows[i] = {p.file, p.machine, p.post, p.blocks, p.positioning, 1e3 * p.max_position_mm,
-                       1e3 * p.swept_cutter_mm, 1e3 * p.swept_tool_mm, p.overcut_bound_mm and -1e3 * p.overcut_bound_mm}
+                       1e3 * p.swept_cutter_mm, 1e3 * p.swept_tool_mm,
+                       -- no bound without the simulation (j:run{simulate = false}): a cell all the same
+                       p.overcut_bound_mm and -1e3 * p.overcut_bound_mm or "not simulated"}
   end
   local sections = {
     {title = "Operations", text = string.format("%d moves, %d links through %s.", #planned.moves, planned.links,
