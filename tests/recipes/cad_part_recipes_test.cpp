@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/cad/cad.h"
+#include "core/geometry/interpolation.h"
+#include "core/parts/builtin_blisk.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -100,6 +102,66 @@ TEST(CadPartRecipes, YourOwnBladeFromStepGrindsAsFromIges) {
   const RecipeResult two = run(dir.path() + "/two", {"--set", "part=cad", "--set", "cad=two.step"}, dir.path());
   EXPECT_EQ(two.exit_code, 1);
   EXPECT_NE(two.output.find("expected one face, the closed airfoil; the file has 2"), std::string::npos) << two.output;
+}
+
+// Your own blisk from STEP (issue 36): the built-in blisk's blade 1 (both
+// flanks, each the kernel's B-spline through its 100 x 500 grid) and its hub
+// and casing meridians written to one STEP file, finished with the drum
+// wheel by blisk_drum_finish --set part=cad --set blade_count=22. The same
+// blisk: the same wheel (the same narrowest passage and curvature), and
+// both flanks planned and simulated as on the built-in blisk, verified.
+TEST(CadPartRecipes, BliskDrumFinishFromStepAsOnTheBuiltinBlisk) {
+  TempDir dir;
+  const BuiltinBlisk blisk;
+  const NurbsSurface pressure(interpolate_grid(blisk.flank_grid(0, FlankSide::kPressure)));
+  const NurbsSurface suction(interpolate_grid(blisk.flank_grid(0, FlankSide::kSuction)));
+  auto line = [](const std::vector<Vec2>& zr) {
+    return NurbsCurve(1, {0, 0, 1, 1}, {Vec3(zr.front().y(), 0, zr.front().x()), Vec3(zr.back().y(), 0, zr.back().x())},
+                      {1, 1});
+  };
+  const NurbsCurve hub = line(blisk.hub_meridian()), casing = line(blisk.casing_meridian());
+  write_step(dir.path() + "/blisk_blade1.step", {&suction, &pressure}, {&casing, &hub});
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_drum_finish.lua",
+                                      "--data", dir.path(), "--out", out, "--quiet", "--threads", "2",
+                                      "--set", "samples_u=80", "--set", "samples_v=400"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_bliskrun(args);
+  };
+  const RecipeResult cad = run(dir.path() + "/cad", {"--set", "part=cad", "--set", "cad=blisk_blade1.step",
+                                                     "--set", "blade_count=22"});
+  ASSERT_EQ(cad.exit_code, 0) << cad.output;
+  const RecipeResult builtin = run(dir.path() + "/builtin", {});
+  ASSERT_EQ(builtin.exit_code, 0) << builtin.output;
+  auto report = [](const std::string& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json a = report(dir.path() + "/cad/blisk_drum_finish.json");
+  const nlohmann::json b = report(dir.path() + "/builtin/blisk_drum_finish.json");
+  EXPECT_TRUE(a["verified"].get<bool>());
+  EXPECT_EQ(a["part"]["kind"], "blisk from CAD");
+  EXPECT_EQ(a["part"]["blades"], 22);
+  EXPECT_NEAR(a["part"]["narrowest_passage_mm"].get<double>(), b["part"]["narrowest_passage_mm"].get<double>(), 1e-4);
+  EXPECT_NEAR(a["wheel"]["table2"]["barrel_radius"].get<double>(), b["wheel"]["table2"]["barrel_radius"].get<double>(),
+              1e-3 * b["wheel"]["table2"]["barrel_radius"].get<double>());
+  for (const char* side : {"pressure", "suction"}) {
+    SCOPED_TRACE(side);
+    const nlohmann::json& fa = a["flanks"][side];
+    const nlohmann::json& fb = b["flanks"][side];
+    EXPECT_EQ(fa["refusals"].get<int>(), 0);
+    EXPECT_EQ(fa["refused_links"].get<int>(), 0);
+    EXPECT_NEAR(fa["row_count"].get<int>(), fb["row_count"].get<int>(), 1);
+    EXPECT_NEAR(fa["poses"].get<double>(), fb["poses"].get<double>(), 0.05 * fb["poses"].get<double>());
+    EXPECT_LE(fa["max_deviation"].get<double>(), a["settings"]["chord_tol_mm"].get<double>() * (1 + 1e-9));
+    EXPECT_EQ(fa["simulation"]["untouched"].get<int>(), 0);
+    EXPECT_NEAR(fa["simulation"]["undercut_max_mm"].get<double>(), fb["simulation"]["undercut_max_mm"].get<double>(),
+                0.002);
+  }
+  // Without a blade count the run is refused before anything is planned.
+  const RecipeResult no_count = run(dir.path() + "/none", {"--set", "part=cad", "--set", "cad=blisk_blade1.step"});
+  EXPECT_EQ(no_count.exit_code, 1);
+  EXPECT_NE(no_count.output.find("--set part=cad needs --set blade_count=N"), std::string::npos) << no_count.output;
 }
 
 }  // namespace
