@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace bliskrun {
@@ -19,7 +21,13 @@ class SpanFlank {
       : flank_(flank), hub_(hub), casing_(casing) {}
 
   Vec3 at(double w, double v) const {
-    const double uh = crossing(v, true), uc = crossing(v, false);
+    // The crossings depend on v alone, and the search asks for few v's many
+    // times (a sample column, a projection's steps in w): kept per v. A
+    // hub of revolution from CAD finds its radius by a root search, so
+    // without this the passage took 16 times the built-in blisk's time.
+    auto it = crossings_.find(v);
+    if (it == crossings_.end()) it = crossings_.emplace(v, std::make_pair(crossing(v, true), crossing(v, false))).first;
+    const double uh = it->second.first, uc = it->second.second;
     return flank_(uh + w * (uc - uh), v);
   }
 
@@ -81,6 +89,7 @@ class SpanFlank {
   const FlankPoint& flank_;
   const MeridianRadius& hub_;
   const MeridianRadius& casing_;
+  mutable std::unordered_map<double, std::pair<double, double>> crossings_;
 };
 
 }  // namespace

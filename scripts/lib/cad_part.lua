@@ -287,9 +287,9 @@ function M.impeller(o)
   function part:hub_meridian() return meridian end
   function part:blade_count() return n end
   function part:has_splitter() return blades.splitter ~= nil end
+  -- The largest distance of a blade point from the axis (as bliskrun.impeller's).
   function part:outer_radius()
     local r = 0
-    for _, q in ipairs(meridian) do r = math.max(r, q[2]) end
     for _, b in pairs(blades) do
       for _, s in pairs(b) do
         for i = 0, 20 do for j = 0, 40 do r = math.max(r, radius(s:point(i / 20, j / 40))) end end
