@@ -168,5 +168,46 @@ TEST(CadPartRecipes, BliskDrumFinishFromStepAsOnTheBuiltinBlisk) {
   EXPECT_NE(no_count.output.find("--set part=cad needs --set blade_count=N"), std::string::npos) << no_count.output;
 }
 
+// Tip repair of the E3 rotor blade from its IGES file (issue 36 item 5):
+// the repair chain takes the CAD blade (its closed airfoil cut into 25
+// sections for the design loft, bliskrun.damaged_blade's loops), measures
+// the broken blade, rebuilds it and checks the rebuild between its sections.
+// At the default 10 um that check refuses it (18 um at the rebuilt tip above
+// the break, also without the simulated twist and bend: the E3 sections
+// change faster along the span than the rebuilt loft through 24 measured
+// plane sections follows), so no region is made and the run fails on its
+// verdict; with rebuild_tolerance = 25 um the damaged region is the tip
+// above 80 % span. Paths are left out here (--set paths=false: 46918 poses,
+// 14 s CPU); they are planned when the recipe is run as a user runs it.
+TEST(CadPartRecipes, E3BladeTipRepairFromIges) {
+  if (shared_data_dir().empty() || !std::filesystem::exists(shared_data_dir() + "/e3_hpt_stage1/hpt_stator1.igs"))
+    GTEST_SKIP() << "../shared/data/e3_hpt_stage1 not present: E3 repair recipe skipped";
+  TempDir dir;
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_repair.lua", "--data",
+                                      shared_data_dir(), "--out", out, "--quiet", "--set", "part=e3",
+                                      "--set", "paths=false"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_bliskrun(args);
+  };
+  const RecipeResult strict = run(dir.path() + "/strict", {});
+  EXPECT_EQ(strict.exit_code, 1) << strict.output;
+  EXPECT_NE(strict.output.find("rebuilt blade between sections"), std::string::npos) << strict.output;
+  const RecipeResult loose = run(dir.path() + "/loose", {"--set", "rebuild_tolerance=0.025"});
+  ASSERT_EQ(loose.exit_code, 0) << loose.output;
+  std::ifstream in(dir.path() + "/loose/blade_repair.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["rebuild"]["trusted"].get<bool>());
+  EXPECT_GT(j["rebuild"]["between_sections_max_um"].get<double>(), 10.0);
+  EXPECT_LE(j["rebuild"]["between_sections_max_um"].get<double>(), 25.0);
+  // The tip above 80 % of the blade's height is the region, nothing else.
+  const double height = j["blade"]["height_mm"].get<double>();
+  EXPECT_GT(height, 40.0);  // 1.7 in between the hub and tip sections
+  EXPECT_LT(height, 45.0);
+  EXPECT_GT(j["region"]["tip_volume_mm3"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(j["region"]["volume_mm3"].get<double>(), j["region"]["tip_volume_mm3"].get<double>());
+  EXPECT_EQ(j["region"]["edge_volume_mm3"].get<double>(), 0.0);
+}
+
 }  // namespace
 }  // namespace bliskrun::test
