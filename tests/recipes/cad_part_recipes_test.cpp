@@ -1,8 +1,9 @@
 // Recipes on a real part read from CAD (issue 36 item 5): the NASA/GE E3
 // turbine rotor blade from its IGES file, belt ground on its suction flank
-// by the KUKA cell (the pressure flank's concave leading-edge region is
-// narrower than the stations' wheels: the recipe refuses those paths, as
-// its report says).
+// by the KUKA cell. The pressure flank is refused, as the report says: the
+// file's surface is wavy along the chord (at 20, 50, 80 % span its chordwise
+// curvature alternates between convex stretches and concave ones of 6-10 mm
+// radius over the whole chord), tighter than the wheels (r 25, 20, 15 mm).
 #include <gtest/gtest.h>
 
 #include <filesystem>
