@@ -144,11 +144,11 @@ std::shared_ptr<const Surface> surface_at_top(lua_State* L, const std::string& w
 // A hub or casing at the top of the stack: a meridian Curve (turned into a
 // surface of revolution later, through `frame`) or a surface of revolution
 // (cad_blade's hub and casing).
-struct Meridian {
+struct CadMeridianArg {
   std::shared_ptr<const Curve> curve;
   std::shared_ptr<const SurfaceOfRevolution> revolution;
 };
-Meridian meridian_at_top(lua_State* L, const std::string& what) {
+CadMeridianArg meridian_at_top(lua_State* L, const std::string& what) {
   if (CurveHandle* c = luax::test<CurveHandle>(L, -1)) return {c->curve, nullptr};
   SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
   if (h)
@@ -190,7 +190,7 @@ int w_cad_blisk(lua_State* L) {
   if (o.string("coordinates", "cartesian") == "x_rtheta_r") frame.coordinates = CadCoordinates::kAxialRthetaR;
   frame.axial_origin_mm = o.number("axial_origin", 0);
   std::shared_ptr<const Surface> flank[2];
-  Meridian rev[2];
+  CadMeridianArg rev[2];
   const char* rev_keys[2] = {"hub", "casing"};
   if (o.has("blade")) {
     o.push_raw("blade");

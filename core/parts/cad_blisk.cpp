@@ -15,14 +15,14 @@ namespace bliskrun {
 
 namespace {
 
-double radius(const Vec3& p) { return std::hypot(p.x(), p.y()); }
+double cad_blisk_axis_distance(const Vec3& p) { return std::hypot(p.x(), p.y()); }
 
 // Unit vector of increasing theta at p (about Z).
-Vec3 theta_dir(const Vec3& p) { return Vec3(-p.y(), p.x(), 0).normalized(); }
+Vec3 cad_blisk_theta_dir(const Vec3& p) { return Vec3(-p.y(), p.x(), 0).normalized(); }
 
 // Chordwise bending of a flank (normal curvature along v, pu x pv as the
 // normal) at mid-span: convex (the suction side) is the more negative.
-double chordwise_bend(const Surface& s) {
+double cad_flank_chordwise_bend(const Surface& s) {
   double bend = 0;
   for (double v : {0.3, 0.5, 0.7}) {
     const SurfaceDerivs e = s.eval(0.5, v);
@@ -31,7 +31,7 @@ double chordwise_bend(const Surface& s) {
   return bend;
 }
 
-std::string mm(double x) { return short_text(x) + " mm"; }
+std::string cad_blisk_mm(double x) { return short_text(x) + " mm"; }
 
 }  // namespace
 
@@ -56,8 +56,8 @@ CadBlade cad_blade_from_flanks(std::shared_ptr<const Surface> a, std::shared_ptr
       f = std::make_shared<UnwrappedSurface>(f, frame.axial_origin_mm);
   // Span along the parameter that changes the radius most; hub -> tip.
   for (auto& f : face) {
-    const double du = radius(f->point(1, 0.5)) - radius(f->point(0, 0.5));
-    const double dv = radius(f->point(0.5, 1)) - radius(f->point(0.5, 0));
+    const double du = cad_blisk_axis_distance(f->point(1, 0.5)) - cad_blisk_axis_distance(f->point(0, 0.5));
+    const double dv = cad_blisk_axis_distance(f->point(0.5, 1)) - cad_blisk_axis_distance(f->point(0.5, 0));
     const bool swap = std::abs(dv) > std::abs(du);
     f = std::make_shared<ReorientedSurface>(f, swap, (swap ? dv : du) < 0, false);
   }
@@ -74,7 +74,7 @@ CadBlade cad_blade_from_flanks(std::shared_ptr<const Surface> a, std::shared_ptr
     if (d.pu.cross(d.pv).dot(q.point - d.p) > 0) face[k] = std::make_shared<ReorientedSurface>(face[k], false, false, true);
   }
   CadBlade out;
-  const int suction = chordwise_bend(*face[0]) < chordwise_bend(*face[1]) ? 0 : 1;
+  const int suction = cad_flank_chordwise_bend(*face[0]) < cad_flank_chordwise_bend(*face[1]) ? 0 : 1;
   out.suction = face[suction];
   out.pressure = face[1 - suction];
   return out;
@@ -108,10 +108,10 @@ CadBlisk::CadBlisk(std::shared_ptr<const Surface> pressure, std::shared_ptr<cons
     const Surface& f = *flanks_[s];
     const SurfaceDerivs d = f.eval(0.5, 0.5);
     const double along = f.point(0.5, 1).z() - f.point(0.5, 0).z();
-    const double facing = d.pu.cross(d.pv).normalized().dot(theta_dir(d.p));
+    const double facing = d.pu.cross(d.pv).normalized().dot(cad_blisk_theta_dir(d.p));
     const bool forward = s == 0 ? along > 0 : along < 0;
     const bool theta_ok = s == 0 ? facing < 0 : facing > 0;
-    if (radius(f.point(1, 0.5)) <= radius(f.point(0, 0.5)))
+    if (cad_blisk_axis_distance(f.point(1, 0.5)) <= cad_blisk_axis_distance(f.point(0, 0.5)))
       throw ParameterError(names[s], "expected u to run hub -> tip (radius increasing along u at mid-chord)");
     if (!forward)
       throw ParameterError(names[s], std::string("expected v to run ") +
@@ -136,16 +136,16 @@ CadBlisk::CadBlisk(std::shared_ptr<const Surface> pressure, std::shared_ptr<cons
         for (int e = 0; e < 2; ++e) {
           const Vec3 p = flanks_[s]->point(e, v);
           try {
-            off[e] = radius(p) - rev.radius_at(p.z());
+            off[e] = cad_blisk_axis_distance(p) - rev.radius_at(p.z());
           } catch (const Error&) {
             throw ParameterError(name, "its meridian does not reach the blade's " + std::string(names[s]) +
-                                           " flank at z = " + mm(p.z()) + " (v = " + short_text(v) +
+                                           " flank at z = " + cad_blisk_mm(p.z()) + " (v = " + short_text(v) +
                                            ", u = " + std::to_string(e) + ")");
           }
         }
         if (!(off[0] < 0 && off[1] > 0))
           throw ParameterError(name, "does not meet the blade: the " + std::string(names[s]) + " flank's line v = " +
-                                         short_text(v) + " runs from " + mm(off[0]) + " to " + mm(off[1]) +
+                                         short_text(v) + " runs from " + cad_blisk_mm(off[0]) + " to " + cad_blisk_mm(off[1]) +
                                          " radially off the " + name +
                                          "; expected it to start below and end above it (the flank reaching past "
                                          "hub and casing)");
