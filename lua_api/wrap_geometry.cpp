@@ -7,6 +7,7 @@
 #include "core/geometry/interpolation.h"
 #include "core/geometry/projection.h"
 #include "core/geometry/registration.h"
+#include "core/geometry/reparametrised.h"
 #include "core/geometry/revolution.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
@@ -182,6 +183,30 @@ int w_surface_point(lua_State* L) {
     luax::push(L, s.point(u, v));
     return 1;
   });
+}
+
+// surface:rotated(deg) -> the surface turned by deg about +Z, exactly.
+int w_surface_rotated(lua_State* L) {
+  const std::shared_ptr<const Surface> s = luax::check<SurfaceHandle>(L, 1).surface;
+  const double deg = luax::check_number(L, 2, "angle");
+  push_surface(L, std::make_shared<RotatedSurface>(s, deg_to_rad(deg)));
+  return 1;
+}
+
+// surface:reoriented{swap=, flip_u=, flip_v=} -> the same surface with its
+// parameters swapped and/or reversed (exact; a CAD face turned so that u
+// runs hub -> tip and pu x pv out of the material).
+int w_surface_reoriented(lua_State* L) {
+  const std::shared_ptr<const Surface> s = luax::check<SurfaceHandle>(L, 1).surface;
+  using luax::Field;
+  using luax::Kind;
+  const luax::Options o(L, 2, "Surface:reoriented",
+                        {Field{"swap", Kind::Boolean, false, std::nullopt, std::nullopt, "swap u and v (first)", {}},
+                         Field{"flip_u", Kind::Boolean, false, std::nullopt, std::nullopt, "u -> 1 - u (after the swap)", {}},
+                         Field{"flip_v", Kind::Boolean, false, std::nullopt, std::nullopt, "v -> 1 - v (after the swap)", {}}});
+  push_surface(L, std::make_shared<ReorientedSurface>(s, o.boolean("swap", false), o.boolean("flip_u", false),
+                                                      o.boolean("flip_v", false)));
+  return 1;
 }
 
 int w_surface_curvature(lua_State* L) {
@@ -486,6 +511,8 @@ void open_geometry(lua_State* L) {
                                              {"normal_curvature", w_surface_normal_curvature},
                                              {"project", w_surface_project},
                                              {"tessellate", w_surface_tessellate},
+                                             {"rotated", w_surface_rotated},
+                                             {"reoriented", w_surface_reoriented},
                                              {nullptr, nullptr}};
   luax::register_type<SurfaceHandle>(L, surface_methods);
   static const luaL_Reg curve_methods[] = {{"eval", w_curve_eval}, {"project", w_curve_project}, {nullptr, nullptr}};

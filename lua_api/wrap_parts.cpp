@@ -1,4 +1,5 @@
-// Built-in parts in Lua: bliskrun.blisk{...} -> Blisk; blade models lofted
+// Built-in parts in Lua: bliskrun.blisk{...} -> Blisk (a BliskPart: the
+// built-in one here, one from CAD through push_blisk, wrap_cad.cpp); blade models lofted
 // from section loops: bliskrun.loft_sections{...} and the result table the
 // part readers share (wrap_parts.h). Lengths mm, angles
 // degrees (converted here); blades are numbered 1..N in Lua (blade 1 is the
@@ -16,7 +17,7 @@
 namespace bliskrun::lua_api {
 
 struct BliskHandle {
-  std::shared_ptr<const BuiltinBlisk> blisk;
+  std::shared_ptr<const BliskPart> blisk;
 };
 
 }  // namespace bliskrun::lua_api
@@ -160,10 +161,10 @@ namespace {
 using luax::Field;
 using luax::Kind;
 
-const BuiltinBlisk& check_blisk(lua_State* L) { return *luax::check<BliskHandle>(L, 1).blisk; }
+const BliskPart& check_blisk(lua_State* L) { return *luax::check<BliskHandle>(L, 1).blisk; }
 
 // Blade number 1..N at `idx`, returned 0-based.
-int check_blade(lua_State* L, int idx, const BuiltinBlisk& b) {
+int check_blade(lua_State* L, int idx, const BliskPart& b) {
   const long long k = luax::check_integer(L, idx, "blade");
   if (k < 1 || k > b.blade_count())
     luax::error(L, "argument 'blade': " + std::to_string(k) + " is outside 1.." +
@@ -243,7 +244,7 @@ int w_blisk_blade_count(lua_State* L) {
 }
 
 int w_flank_grid(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
+  const BliskPart& b = check_blisk(L);
   const int blade = check_blade(L, 2, b);
   const FlankSide side = check_side(L, 3);
   return luax::guarded(L, [&] {
@@ -253,7 +254,7 @@ int w_flank_grid(lua_State* L) {
 }
 
 int w_flank(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
+  const BliskPart& b = check_blisk(L);
   const int blade = check_blade(L, 2, b);
   const FlankSide side = check_side(L, 3);
   return luax::guarded(L, [&] {
@@ -273,35 +274,41 @@ int w_casing_meridian(lua_State* L) {
 }
 
 int w_blisk_hub(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
+  const BliskPart& b = check_blisk(L);
   return luax::guarded(L, [&] {
-    push_surface(L, std::make_shared<SurfaceOfRevolution>(b.hub_meridian()));
+    push_surface(L, b.hub());
     return 1;
   });
 }
 
 int w_casing(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
+  const BliskPart& b = check_blisk(L);
   return luax::guarded(L, [&] {
-    push_surface(L, std::make_shared<SurfaceOfRevolution>(b.casing_meridian()));
+    push_surface(L, b.casing());
     return 1;
   });
 }
 
 int w_hub_radius(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
-  lua_pushnumber(L, b.hub_radius_at(luax::check_number(L, 2, "z")));
-  return 1;
+  const BliskPart& b = check_blisk(L);
+  const double z = luax::check_number(L, 2, "z");
+  return luax::guarded(L, [&] {
+    lua_pushnumber(L, b.hub_radius_at(z));
+    return 1;
+  });
 }
 
 int w_casing_radius(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
-  lua_pushnumber(L, b.casing_radius_at(luax::check_number(L, 2, "z")));
-  return 1;
+  const BliskPart& b = check_blisk(L);
+  const double z = luax::check_number(L, 2, "z");
+  return luax::guarded(L, [&] {
+    lua_pushnumber(L, b.casing_radius_at(z));
+    return 1;
+  });
 }
 
 int w_blisk_narrowest_passage(lua_State* L) {
-  const BuiltinBlisk& b = check_blisk(L);
+  const BliskPart& b = check_blisk(L);
   return luax::guarded(L, [&] {
     lua_pushnumber(L, b.narrowest_passage_mm());
     return 1;
@@ -378,17 +385,15 @@ int w_loft_sections(lua_State* L) {
 }
 
 int w_blisk_tostring(lua_State* L) {
-  const BliskParams& p = check_blisk(L).params();
-  std::ostringstream s;
-  s << "bliskrun.Blisk(" << p.blade_count << " blades, hub r " << p.hub_radius_inlet_mm << "->"
-    << p.hub_radius_outlet_mm << " mm, casing r " << p.casing_radius_inlet_mm << "->"
-    << p.casing_radius_outlet_mm << " mm, chord " << p.chord_mm << " mm, grid " << p.grid_rows
-    << "x" << p.grid_cols << ")";
-  lua_pushstring(L, s.str().c_str());
+  lua_pushstring(L, check_blisk(L).description().c_str());
   return 1;
 }
 
 }  // namespace
+
+void push_blisk(lua_State* L, std::shared_ptr<const BliskPart> blisk) {
+  luax::push_new(L, BliskHandle{std::move(blisk)});
+}
 
 void open_parts(lua_State* L) {
   static const luaL_Reg methods[] = {{"blade_count", w_blisk_blade_count},

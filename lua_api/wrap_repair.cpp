@@ -183,6 +183,9 @@ int w_damaged_blade(lua_State* L) {
       L, 1, what,
       {Field{"rotor37", Kind::String, false, std::nullopt, std::nullopt,
              "Rotor 37 rotor37geometry.dat (or its folder): the blade to damage instead of the built-in blisk's blade 1", {}},
+       Field{"loops", Kind::Table, false, std::nullopt, std::nullopt,
+             "closed section loops hub -> tip ({{{x, y, z}, ...}, ...}, mm; first point not repeated): any blade, e.g. "
+             "one from CAD, instead of the built-in blisk's blade 1", {}},
        Field{"design_sections", Kind::Integer, false, 4, 400, "built-in blade: section loops of its design loft (default 25)", {}},
        number_field("twist", "twist of the tip section about the stacking axis, degrees (default 0)", -20, 20),
        number_field("bend", "bend of the tip section across the chord, mm (default 0)", -50, 50),
@@ -214,10 +217,44 @@ int w_damaged_blade(lua_State* L) {
       if (fs::is_directory(rotor37)) luax::error(L, std::string(what) + ": option 'rotor37': no rotor37geometry.dat in '" + rotor37 + "'");
     }
   }
+  std::vector<std::vector<Vec3>> loops;
+  if (o.has("loops")) {
+    if (o.has("rotor37")) luax::error(L, std::string(what) + ": give 'rotor37' or 'loops', not both");
+    o.push_raw("loops");
+    const int t = lua_gettop(L);
+    for (lua_Integer k = 1; k <= luaL_len(L, t); ++k) {
+      lua_rawgeti(L, t, k);
+      if (!lua_istable(L, -1))
+        luax::error(L, std::string(what) + ": option 'loops': entry " + std::to_string(k) + " is not a list of points");
+      std::vector<Vec3> loop;
+      const int s = lua_gettop(L);
+      for (lua_Integer i = 1; i <= luaL_len(L, s); ++i) {
+        lua_rawgeti(L, s, i);
+        Vec3 p = Vec3::Zero();
+        bool ok = lua_istable(L, -1);
+        for (int c = 0; ok && c < 3; ++c) {
+          lua_rawgeti(L, -1, c + 1);
+          ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
+          if (ok) p[c] = lua_tonumber(L, -1);
+          lua_pop(L, 1);
+        }
+        if (!ok)
+          luax::error(L, std::string(what) + ": option 'loops': loop " + std::to_string(k) + ", point " +
+                             std::to_string(i) + ": expected {x, y, z} of finite numbers");
+        loop.push_back(p);
+        lua_pop(L, 1);
+      }
+      loops.push_back(std::move(loop));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
   const int design_sections = static_cast<int>(o.integer("design_sections", 25));
   return luax::guarded(L, [&] {
     DesignBlade design;
-    if (rotor37.empty()) {
+    if (!loops.empty()) {
+      design = design_blade(loops);
+    } else if (rotor37.empty()) {
       design = builtin_design_blade(BuiltinBlisk(), 0, design_sections);
     } else {
       const std::string folder = std::filesystem::path(rotor37).parent_path().string();

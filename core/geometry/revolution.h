@@ -35,6 +35,8 @@ class SurfaceOfRevolution : public Surface {
   // profile's curvature radius somewhere is below |d| on the side it moves
   // to (the offset would fold) or samples < 8.
   SurfaceOfRevolution offset(double d, int samples = 400) const;
+  // The profile: points (z, r, 0) over its [t_min, t_max]; u runs over it.
+  const Curve& profile() const { return *meridian_; }
 
  private:
   std::shared_ptr<const Curve> meridian_;  // points (z, r, 0)

@@ -35,10 +35,12 @@
 //   the material on both flanks (SPEC §2); a flank with v LE -> TE on the
 //   suction side would have its normal into the blade.
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/geometry/point_grid.h"
 #include "core/geometry/surface.h"
+#include "core/parts/blisk_part.h"
 
 namespace bliskrun {
 
@@ -73,25 +75,23 @@ struct BliskParams {
   double span_extension_mm = 1.5;
 };
 
-enum class FlankSide { kPressure, kSuction };
-
 // Throws ParameterError naming the first invalid parameter.
 void validate(const BliskParams& p);
 
-class BuiltinBlisk {
+class BuiltinBlisk : public BliskPart {
  public:
   explicit BuiltinBlisk(const BliskParams& params = {});
 
   const BliskParams& params() const { return params_; }
-  int blade_count() const { return params_.blade_count; }
+  int blade_count() const override { return params_.blade_count; }
 
   // The flank of blade k as the analytic surface the grid samples (u, v as
   // in the grid, u over the grid's radial range). Derivatives by central
   // differences of the closed-form point (accurate to ~1e-7 relative).
-  std::shared_ptr<const Surface> flank_surface(int blade, FlankSide side) const;
+  std::shared_ptr<const Surface> flank_surface(int blade, FlankSide side) const override;
   // grid_rows x grid_cols samples of flank_surface at u = i/(rows-1),
   // v = j/(cols-1).
-  PointGrid flank_grid(int blade, FlankSide side) const;
+  PointGrid flank_grid(int blade, FlankSide side) const override;
 
   // The closed section of blade k at radius r (on the cylinder of that
   // radius), edge circles included: the pressure flank LE -> TE at
@@ -103,22 +103,21 @@ class BuiltinBlisk {
   std::vector<Vec3> section_loop(int blade, double r, int points_per_flank = 400) const;
 
   // Meridian lines (z, r) from inlet to outlet, for SurfaceOfRevolution.
-  std::vector<Vec2> hub_meridian() const;
-  std::vector<Vec2> casing_meridian() const;
-  double hub_radius_at(double z_mm) const;
-  double casing_radius_at(double z_mm) const;
+  std::vector<Vec2> hub_meridian() const override;
+  std::vector<Vec2> casing_meridian() const override;
+  double hub_radius_at(double z_mm) const override;
+  double casing_radius_at(double z_mm) const override;
+  std::shared_ptr<const SurfaceOfRevolution> hub() const override;
+  std::shared_ptr<const SurfaceOfRevolution> casing() const override;
+  std::string description() const override;
   // Radii of grid rows 0 and rows-1.
   double grid_radius_min_mm() const { return r_lo_; }
   double grid_radius_max_mm() const { return r_hi_; }
 
   // Minimum distance between the suction flank of blade k and the pressure
   // flank of blade k+1 (all passages are equal), over points between hub and
-  // casing on both flanks. Method: each flank is reparametrised over the span
-  // as (w, v) in [0, 1]^2 (w = 0 on the hub cone, 1 on the casing cone along
-  // each chord station), sampled 40 x 160; the closest sample pairs (brute
-  // force) are refined by alternating constrained point inversion between the
-  // two analytic flanks until the distance stops decreasing (1e-12 mm).
-  double narrowest_passage_mm() const;
+  // casing on both flanks (narrowest_span_passage on the analytic flanks).
+  double narrowest_passage_mm() const override;
 
  private:
   struct Section;

@@ -8,6 +8,7 @@
 #include "core/common/error.h"
 #include "core/common/fixed_text.h"
 #include "core/geometry/interpolation.h"
+#include "core/geometry/reparametrised.h"
 
 namespace bliskrun {
 
@@ -49,8 +50,6 @@ CurveWithThickness interpolate_camber(const std::vector<CamberPoint>& pts, const
   return {interpolate_cubic(points_of(pts), t), interpolate_cubic(hh, t)};
 }
 
-Mat3 rotation_z(double a) { return Eigen::AngleAxisd(a, Vec3::UnitZ()).toRotationMatrix(); }
-
 // Eq. 11 in the SPEC orientation: u along the span, v along the chord.
 class FaceSurface : public Surface {
  public:
@@ -84,21 +83,6 @@ class FaceSurface : public Surface {
  private:
   RuledBlade blade_;
   CamberSide side_;
-};
-
-class RotatedSurface : public Surface {
- public:
-  RotatedSurface(std::shared_ptr<const Surface> s, double angle_rad)
-      : s_(std::move(s)), r_(rotation_z(angle_rad)) {}
-  SurfaceDerivs eval(double u, double v) const override {
-    SurfaceDerivs d = s_->eval(u, v);
-    for (Vec3* x : {&d.p, &d.pu, &d.pv, &d.puu, &d.puv, &d.pvv}) *x = r_ * *x;
-    return d;
-  }
-
- private:
-  std::shared_ptr<const Surface> s_;
-  Mat3 r_;
 };
 
 }  // namespace

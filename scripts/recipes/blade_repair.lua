@@ -10,6 +10,9 @@
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set damage=edge    (leading-edge nick)
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --data ../shared/data --set part=rotor37
 --   bliskrun scripts/recipes/blade_repair.lua --out out/ --set measured=my_cmm.csv   (sections from a file)
+--   bliskrun scripts/recipes/blade_repair.lua --out out/ --data ../shared/data --set part=e3   (E3 HPT blade, IGES)
+--   bliskrun scripts/recipes/blade_repair.lua --out out/ --data DIR --set part=cad --set cad=blade.step
+--     (your blade: one closed airfoil face of a STEP or IGES file; its design loft through 25 sections of it)
 -- Options: --help lists them (--set NAME=VALUE).
 -- Outputs: blade_repair.json (deviation and curvature next to the paper's),
 -- blade_repair_sections.txt (the measurement), blade_repair_{design,rebuilt,region}.stl,
@@ -19,7 +22,14 @@
 
 local opt = require("recipe_options"){
   damage = {type = "string", default = "tip", choices = {"tip", "edge"}, help = "tip broken off or leading edge nicked"},
-  part = {type = "string", default = "builtin", choices = {"builtin", "rotor37"}, help = "whose blade 1 is repaired"},
+  part = {type = "string", default = "builtin", choices = {"builtin", "rotor37", "e3", "cad"},
+          help = "whose blade 1 is repaired (e3: the E3 HPT rotor blade from its IGES file; cad: yours, --set cad=)"},
+  cad = {type = "string", help = "part=cad: a STEP or IGES file whose one face (or cad_face) is the closed airfoil"},
+  cad_face = {type = "string", default_text = "the file's only face", help = "part=cad: the face's name in the file"},
+  cad_coordinates = {type = "string", default = "cartesian", choices = {"cartesian", "x_rtheta_r"},
+                     help = "part=cad: cartesian (axis Z) or x axial, y = R theta, z = R"},
+  cad_axial_origin = {type = "number", unit = "mm", default = 0, range = {-1e5, 1e5},
+                      help = "part=cad, x_rtheta_r: the file's axial coordinate that becomes z = 0"},
   noise = {type = "number", unit = "mm", default = 0.002, range = {0, 1}, help = "noise of the simulated measurement"},
   sections = {type = "integer", default = 30, range = {3, 1000}, help = "measured sections"},
   points = {type = "integer", default = 2000, range = {50, 1000000}, help = "measured points"},
@@ -41,6 +51,8 @@ local opt = require("recipe_options"){
   paths = {type = "boolean", default = true, help = "plan the repair toolpaths (false: stop after the region)"},
   path_layer = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "roughing layer of the paths"},
   guard_spacing = {type = "number", unit = "mm", default = 0.05, range = {0.001, 5}, help = "spacing of the guard samples"},
+  rebuild_tolerance = {type = "number", unit = "mm", default = 0.01, range = {1e-4, 1},
+                       help = "how far the rebuilt blade may be from the design between its sections to be trusted"},
 }
 local clock0 = os.clock()
 local function lap(what) bliskrun.log(string.format("%-28s %6.2f s CPU", what, os.clock() - clock0)) end
@@ -53,13 +65,48 @@ local settings = {damage = damage, part = part, noise_mm = noise, sections = opt
                   points = opt.points, twist_deg = opt.twist, bend_mm = opt.bend,
                   smoothing_mm = opt.smoothing, seed = opt.seed, layer_mm = opt.layer,
                   layers = opt.layers, measured = opt.measured,
-                  stl_tol_mm = opt.stl_tol or (part == "rotor37" and 0.05 or 0.02)}
+                  stl_tol_mm = opt.stl_tol or ((part == "rotor37" or part == "e3" or part == "cad") and 0.05 or 0.02)}
 
 -- 1. The damaged blade (item 1): the built-in blisk's blade 1 or Rotor 37's,
 -- twisted and bent above 30 % span, with the tip broken off at 80 % span or
 -- the leading edge nicked 1 mm deep between 40 % and 65 % span.
 local opts = {twist = settings.twist_deg, bend = settings.bend_mm}
 if part == "rotor37" then opts.rotor37 = "nasa_rotor37" end
+if part ~= "cad" and opt.cad then error("--set cad= is for --set part=cad (this run repairs part=" .. part .. ")", 0) end
+if part == "e3" or part == "cad" then
+  -- A blade from CAD: its closed airfoil face (the E3 rotor blade is the
+  -- file named hpt_stator1.igs, the names are swapped: PROVENANCE.md;
+  -- unwrapped x, R theta, R in inches, its axial middle 250.6 in at z = 0),
+  -- cut into 25 closed sections hub -> tip (iso-span lines of the face,
+  -- 400 points each) for the repair's design loft (bliskrun.damaged_blade's
+  -- loops).
+  local file = part == "e3" and "e3_hpt_stage1/hpt_stator1.igs" or opt.cad
+  if not file then error("--set part=cad needs --set cad=FILE (the blade's STEP or IGES file)", 0) end
+  local model = bliskrun.read_cad(file)
+  local face = model.faces[1]
+  if opt.cad_face then
+    face = nil
+    for _, f in ipairs(model.faces) do if f.name == opt.cad_face then face = f end end
+    if not face then error(string.format("--set cad_face=%s: %s has no face of that name", opt.cad_face, file), 0) end
+  elseif #model.faces ~= 1 then
+    error(string.format("--set cad=%s: expected one face, the closed airfoil; the file has %d: name one with "
+                        .. "--set cad_face=", file, #model.faces), 0)
+  end
+  local b = bliskrun.cad_blade{surface = face.surface,
+                               coordinates = part == "e3" and "x_rtheta_r" or opt.cad_coordinates,
+                               axial_origin = part == "e3" and 250.6 * inch or opt.cad_axial_origin}
+  local loops = {}
+  for k = 0, 24 do
+    local loop, t = {}, k / 24
+    for j = 0, 399 do
+      local p = b.around == "u" and b.airfoil:point(j / 400, t) or b.airfoil:point(t, j / 400)
+      loop[#loop + 1] = {p.x, p.y, p.z}
+    end
+    loops[#loops + 1] = loop
+  end
+  opts.loops = loops
+  settings.cad = file
+end
 if damage == "tip" then
   opts.tip_span, opts.tip_tilt = 0.8, opt.tip_tilt
 else
@@ -89,7 +136,8 @@ bliskrun.log(string.format("measured %d sections, %d points, %d on the fracture 
 
 -- 3. Rebuild (§1.4).
 local rebuilt, rep, rebuild = bliskrun.rebuild_damaged{measurement = measurement, blade = blade,
-                                                       smoothing = settings.smoothing_mm}
+                                                       smoothing = settings.smoothing_mm,
+                                                       between_tolerance = opt.rebuild_tolerance}
 lap("rebuild")
 local counts = {measured = 0, completed = 0, extended = 0}
 local min_corr = 1

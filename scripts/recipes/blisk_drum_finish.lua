@@ -25,12 +25,17 @@
 -- run fails (exit 1, after writing the report) when a requirement fails.
 --
 --   bliskrun scripts/recipes/blisk_drum_finish.lua --out out/
+--   bliskrun scripts/recipes/blisk_drum_finish.lua --data DIR --set part=cad --set cad=blade.step \
+--     --set blade_count=22: your own blisk from its blade's STEP or IGES file (one closed airfoil
+--     face or the two flank faces; the file's two curves or cad_hub/cad_casing as hub and casing;
+--     scripts/lib/cad_part.lua, bliskrun.cad_blisk);
 --   bliskrun scripts/recipes/blisk_drum_finish.lua --help lists the options (--set NAME=VALUE);
 --   link=normal|axis and link_overcut: how links leave the flank, and how far below it they may
 --   dip (docs/lua_api.md "Links"); all_blades=true also plans and simulates both flanks of every
 --   blade, on --threads.
 
-local opt = require("recipe_options"){
+local cad_part = require("cad_part")
+local opt = require("recipe_options")(cad_part.with_blisk_options{
   blade = {type = "integer", default = 1, range = {1, 1000}, help = "the blade to finish"},
   wheel = {type = "string", default = "extended", choices = {"extended", "traditional"},
            help = "wheel of Table 2: by 1/k_e within the C range (extended) or by 1/k1 (traditional)"},
@@ -54,7 +59,8 @@ local opt = require("recipe_options"){
   all_blades = {type = "boolean", default = false, help = "also plan and simulate both flanks of every blade"},
   all_samples_u = {type = "integer", default = 100, range = {2, 5000}, help = "all_blades: samples along the span"},
   all_samples_v = {type = "integer", default = 500, range = {2, 20000}, help = "all_blades: samples along the chord"},
-}
+})
+cad_part.check_unused(opt)
 local finish = require("blisk_finish")
 local blisk_world = require("blisk_world")
 local run_report = require("run_report")
@@ -66,7 +72,7 @@ local settings = {residual = opt.residual, chord_tol = opt.chord_tol,
                   steps = opt.steps, shank_clearance = opt.shank_clearance,
                   link = opt.link, link_overcut = opt.link_overcut}
 
-local blisk = bliskrun.blisk{}
+local blisk = opt.part == "cad" and cad_part.blisk(opt) or bliskrun.blisk{}
 assert(math.type(blade) == "integer" and blade >= 1 and blade <= blisk:blade_count(),
        string.format("--set blade= expects 1..%d", blisk:blade_count()))
 local design = finish.design_wheels(blisk, {c_range = c_range})
@@ -82,7 +88,8 @@ bliskrun.log(string.format("wheel %s: %s", wheel_rule, tool:description()))
 
 local world = blisk_world.around_blade(blisk, blade)
 local report = {
-  part = {kind = "built-in blisk", blades = blisk:blade_count(), narrowest_passage_mm = design.d_min},
+  part = {kind = opt.part == "cad" and "blisk from CAD" or "built-in blisk", file = opt.cad,
+          blades = blisk:blade_count(), narrowest_passage_mm = design.d_min},
   wheel = {rule = wheel_rule, description = tool:description(), table2 = design.table2[wheel_rule]},
   settings = {residual_mm = settings.residual, chord_tol_mm = settings.chord_tol, steps = settings.steps,
               c_range_deg = settings.c_range, shank_clearance_mm = settings.shank_clearance},

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "core/cad/cad.h"
+#include "core/geometry/interpolation.h"
+#include "core/parts/impeller.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -65,6 +67,91 @@ TEST(CadLua, ErrorsNameTheRecipeLineAndTheFile) {
         {"bliskrun.read_cad()", "path"}}) {
     EXPECT_TRUE(fails_at_line_2(dir, {"", call, expected}));
   }
+}
+
+// Impeller faces from CAD (issue 36 item 3): the built-in impeller's blade 1
+// and splitter 1 faces, each the kernel's B-spline through 20 x 80 of its
+// points (two of them written transposed or reversed, as a CAD system may
+// parametrise them), and its hub meridian, written to STEP by OCCT and read
+// back; cad_part.impeller orients them and makes the part the impeller
+// operations take. Its blade k (main and splitter, both faces) carries the
+// built-in impeller's blade k points; the faces are ruled (their fit's error
+// at round-off), the hub is the built-in one.
+TEST(CadLua, ImpellerFromStepFacesReproducesTheBuiltinImpeller) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "1300 projections and four ruled fits in Lua: the Release suite runs it";
+#endif
+  TempDir dir;
+  const Impeller imp(builtin_impeller_definition());
+  const int rows = 20, cols = 80;
+  std::vector<NurbsSurface> faces;
+  for (BladeKind kind : {BladeKind::kMain, BladeKind::kSplitter})
+    for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
+      const auto f = imp.face(kind, 0, side);
+      const bool transposed = kind == BladeKind::kMain && side == CamberSide::kMinus;
+      const bool reversed = kind == BladeKind::kSplitter && side == CamberSide::kPlus;
+      PointGrid g(transposed ? cols : rows, transposed ? rows : cols);
+      for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < cols; ++j) {
+          const Vec3 p = f->point(double(i) / (rows - 1), double(j) / (cols - 1));
+          if (transposed) g.at(j, i) = p;
+          else g.at(reversed ? rows - 1 - i : i, reversed ? cols - 1 - j : j) = p;
+        }
+      faces.emplace_back(interpolate_grid(g));
+    }
+  std::vector<Vec3> hub_pts;
+  for (const Vec2& zr : imp.hub_meridian()) hub_pts.emplace_back(zr.y(), 0, zr.x());
+  const BSplineCurve hub_b = interpolate_cubic(hub_pts);
+  const NurbsCurve hub(hub_b.degree(), hub_b.knots(), hub_b.control_points(),
+                       std::vector<double>(hub_b.control_points().size(), 1.0));
+  // Splitter first, main second, in the file: the order does not matter.
+  write_step(dir.path() + "/impeller_blade1.step", {&faces[2], &faces[3], &faces[1], &faces[0]}, {&hub});
+  const RecipeResult r = run_recipe_text(dir, R"(
+local cad_part = require("cad_part")
+local m = bliskrun.read_cad("impeller_blade1.step")
+assert(#m.faces == 4 and #m.curves == 1)
+local part = cad_part.impeller{blade = {m.faces[3], m.faces[4]}, splitter = {m.faces[1], m.faces[2]},
+                               hub = m.curves[1].curve, blade_count = 17, name = "impeller_blade1.step"}
+local imp = bliskrun.impeller{}
+assert(part:blade_count() == 17 and part:has_splitter())
+local worst, ruled = 0, 0
+for _, k in ipairs{1, 2, 9, 17} do
+  for _, kind in ipairs{"main", "splitter"} do
+    for _, side in ipairs{"plus", "minus"} do
+      local design, face, ref = part:design_face(k, side, kind), part:face(k, side, kind), imp:face(k, side, kind)
+      for i = 0, 19, 3 do
+        for j = 0, 79, 7 do
+          local p = ref:point(i / 19, j / 79)
+          worst = math.max(worst, assert(design:project(p)).distance)
+          ruled = math.max(ruled, assert(face:project(p)).distance)
+        end
+      end
+      -- Same orientation: the same point at the same corner parameters.
+      local a, b = design:point(0, 0), ref:point(0, 0)
+      assert(math.abs(a.x - b.x) + math.abs(a.y - b.y) + math.abs(a.z - b.z) < 1e-8, kind .. " " .. side .. " corner")
+    end
+  end
+end
+assert(worst < 1e-5, "design faces off the built-in impeller's by " .. worst .. " mm")
+for _, kind in ipairs{"main", "splitter"} do
+  for _, side in ipairs{"plus", "minus"} do
+    assert(part:ruled_fit(kind, side).max < 1e-6, "ruled fit " .. part:ruled_fit(kind, side).max)
+  end
+end
+assert(ruled < 1e-5, "ruled faces off by " .. ruled .. " mm")
+for _, t in ipairs{0.1, 0.3, 0.5, 0.7, 0.9} do
+  local h = assert(part:hub():project(imp:hub():point(t, 0.1)))
+  assert(h.distance < 1e-4, "hub " .. h.distance)
+end
+assert(math.abs(part:outer_radius() - imp:outer_radius()) < 0.05)
+bliskrun.log(string.format("design %.3g mm, ruled %.3g mm", worst, ruled))
+-- One face twice is not a blade.
+local ok, msg = pcall(cad_part.impeller, {blade = {m.faces[3], m.faces[3]}, hub = m.curves[1].curve, blade_count = 17})
+assert(not ok and msg:find("not the two faces of one blade", 1, true), msg)
+local ok2, msg2 = pcall(cad_part.impeller, {blade = {m.faces[3], m.faces[4]}, hub = m.curves[1].curve, blade_count = 1})
+assert(not ok2 and msg2:find("blade_count", 1, true), msg2)
+)", false);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 }  // namespace

@@ -78,9 +78,10 @@ TEST(RecipeOptions, UnknownNameIsRefusedWithTheKnownNames) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "--set c_rnage=20: this recipe has no option 'c_rnage'")) << r.output;
   EXPECT_TRUE(has(r.output, "did you mean 'c_range'?")) << r.output;
-  EXPECT_TRUE(has(r.output, "it accepts: all_blades, all_samples_u, all_samples_v, blade, c_range, chord_tol, link, "
-                            "link_overcut, map_scale_um, residual, samples_u, samples_v, shank_clearance, steps, wheel, "
-                            "wheel_diameter"))
+  EXPECT_TRUE(has(r.output, "it accepts: all_blades, all_samples_u, all_samples_v, blade, blade_count, c_range, cad, "
+                            "cad_axial_origin, cad_casing, cad_coordinates, cad_faces, cad_hub, chord_tol, link, "
+                            "link_overcut, map_scale_um, part, residual, samples_u, samples_v, shank_clearance, steps, "
+                            "wheel, wheel_diameter"))
       << r.output;
   EXPECT_TRUE(has(r.output, "blisk_drum_finish.lua:")) << "error not at the recipe's line: " << r.output;
   EXPECT_EQ(files_in(dir.path() + "/out"), 0);

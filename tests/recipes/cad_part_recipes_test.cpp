@@ -1,8 +1,12 @@
 // Recipes on a real part read from CAD (issue 36 item 5): the NASA/GE E3
 // turbine rotor blade from its IGES file, belt ground on its suction flank
-// by the KUKA cell (the pressure flank's concave leading-edge region is
-// narrower than the stations' wheels: the recipe refuses those paths, as
-// its report says).
+// by the KUKA cell. The pressure flank is refused, as the report says: the
+// file's surface is wavy along the chord (at 20, 50, 80 % span its chordwise
+// curvature alternates between convex stretches and concave ones of 6-10 mm
+// radius over the whole chord), tighter than the wheels (r 25, 20, 15 mm).
+// The file's own sections are so, evaluated apart from OCCT (de Boor on the
+// IGES records): the section at R = 13.571 in changes curvature sign 18
+// times along the inner 80 % of its concave side, radii down to 5 mm.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/cad/cad.h"
+#include "core/geometry/interpolation.h"
+#include "core/parts/builtin_blisk.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -100,6 +106,111 @@ TEST(CadPartRecipes, YourOwnBladeFromStepGrindsAsFromIges) {
   const RecipeResult two = run(dir.path() + "/two", {"--set", "part=cad", "--set", "cad=two.step"}, dir.path());
   EXPECT_EQ(two.exit_code, 1);
   EXPECT_NE(two.output.find("expected one face, the closed airfoil; the file has 2"), std::string::npos) << two.output;
+}
+
+// Your own blisk from STEP (issue 36): the built-in blisk's blade 1 (both
+// flanks, each the kernel's B-spline through its 100 x 500 grid) and its hub
+// and casing meridians written to one STEP file, finished with the drum
+// wheel by blisk_drum_finish --set part=cad --set blade_count=22. The same
+// blisk: the same wheel (the same narrowest passage and curvature), and
+// both flanks planned and simulated as on the built-in blisk, verified.
+TEST(CadPartRecipes, BliskDrumFinishFromStepAsOnTheBuiltinBlisk) {
+  TempDir dir;
+  const BuiltinBlisk blisk;
+  const NurbsSurface pressure(interpolate_grid(blisk.flank_grid(0, FlankSide::kPressure)));
+  const NurbsSurface suction(interpolate_grid(blisk.flank_grid(0, FlankSide::kSuction)));
+  auto line = [](const std::vector<Vec2>& zr) {
+    return NurbsCurve(1, {0, 0, 1, 1}, {Vec3(zr.front().y(), 0, zr.front().x()), Vec3(zr.back().y(), 0, zr.back().x())},
+                      {1, 1});
+  };
+  const NurbsCurve hub = line(blisk.hub_meridian()), casing = line(blisk.casing_meridian());
+  write_step(dir.path() + "/blisk_blade1.step", {&suction, &pressure}, {&casing, &hub});
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_drum_finish.lua",
+                                      "--data", dir.path(), "--out", out, "--quiet", "--threads", "2",
+                                      "--set", "samples_u=80", "--set", "samples_v=400"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_bliskrun(args);
+  };
+  const RecipeResult cad = run(dir.path() + "/cad", {"--set", "part=cad", "--set", "cad=blisk_blade1.step",
+                                                     "--set", "blade_count=22"});
+  ASSERT_EQ(cad.exit_code, 0) << cad.output;
+  auto report = [](const std::string& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  };
+  // Against the built-in blisk's own run (BliskDrumFinishRecipe, same
+  // settings: not run again here, the suite's time is counted): the same
+  // passage and wheel, rows and widths in the ranges that test holds the
+  // built-in blisk to, verified.
+  const nlohmann::json a = report(dir.path() + "/cad/blisk_drum_finish.json");
+  EXPECT_TRUE(a["verified"].get<bool>());
+  EXPECT_EQ(a["part"]["kind"], "blisk from CAD");
+  EXPECT_EQ(a["part"]["blades"], 22);
+  EXPECT_NEAR(a["part"]["narrowest_passage_mm"].get<double>(), blisk.narrowest_passage_mm(), 1e-4);
+  EXPECT_EQ(a["wheel"]["rule"], "extended");
+  const double residual = a["settings"]["residual_mm"], chord_tol = a["settings"]["chord_tol_mm"];
+  for (const char* side : {"pressure", "suction"}) {
+    SCOPED_TRACE(side);
+    const nlohmann::json& f = a["flanks"][side];
+    EXPECT_EQ(f["refusals"].get<int>(), 0);
+    EXPECT_EQ(f["refused_links"].get<int>(), 0);
+    EXPECT_EQ(f["row_count"].get<int>(), 13 + (side == std::string("suction") ? 1 : 0) + f["inserted_rows"].get<int>());
+    EXPECT_EQ(f["uncovered_gaps"].get<int>(), 0);
+    EXPECT_GT(f["width_min"].get<double>(), 2.0);
+    EXPECT_LT(f["width_max"].get<double>(), 2.8);
+    EXPECT_LE(f["max_deviation"].get<double>(), chord_tol * (1 + 1e-9));
+    const nlohmann::json& sim = f["simulation"];
+    EXPECT_GT(sim["undercut_max_mm"].get<double>(), 0.8 * residual);
+    EXPECT_LT(sim["undercut_max_mm"].get<double>(), 1.05 * residual);
+    EXPECT_GE(sim["overcut_mm"].get<double>(), -chord_tol);
+    EXPECT_EQ(sim["untouched"].get<int>(), 0);
+  }
+  // Without a blade count the run is refused before anything is planned.
+  const RecipeResult no_count = run(dir.path() + "/none", {"--set", "part=cad", "--set", "cad=blisk_blade1.step"});
+  EXPECT_EQ(no_count.exit_code, 1);
+  EXPECT_NE(no_count.output.find("--set part=cad needs --set blade_count=N"), std::string::npos) << no_count.output;
+}
+
+// Tip repair of the E3 rotor blade from its IGES file (issue 36 item 5):
+// the repair chain takes the CAD blade (its closed airfoil cut into 25
+// sections for the design loft, bliskrun.damaged_blade's loops), measures
+// the broken blade, rebuilds it and checks the rebuild between its sections.
+// At the default 10 um that check refuses it (18 um at the rebuilt tip above
+// the break, also without the simulated twist and bend: the E3 sections
+// change faster along the span than the rebuilt loft through 24 measured
+// plane sections follows), so no region is made and the run fails on its
+// verdict; with rebuild_tolerance = 25 um the damaged region is the tip
+// above 80 % span. Paths are left out here (--set paths=false: 46918 poses,
+// 14 s CPU); they are planned when the recipe is run as a user runs it.
+TEST(CadPartRecipes, E3BladeTipRepairFromIges) {
+  if (shared_data_dir().empty() || !std::filesystem::exists(shared_data_dir() + "/e3_hpt_stage1/hpt_stator1.igs"))
+    GTEST_SKIP() << "../shared/data/e3_hpt_stage1 not present: E3 repair recipe skipped";
+  TempDir dir;
+  auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_repair.lua", "--data",
+                                      shared_data_dir(), "--out", out, "--quiet", "--set", "part=e3",
+                                      "--set", "paths=false"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_bliskrun(args);
+  };
+  const RecipeResult strict = run(dir.path() + "/strict", {});
+  EXPECT_EQ(strict.exit_code, 1) << strict.output;
+  EXPECT_NE(strict.output.find("rebuilt blade between sections"), std::string::npos) << strict.output;
+  const RecipeResult loose = run(dir.path() + "/loose", {"--set", "rebuild_tolerance=0.025"});
+  ASSERT_EQ(loose.exit_code, 0) << loose.output;
+  std::ifstream in(dir.path() + "/loose/blade_repair.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["rebuild"]["trusted"].get<bool>());
+  EXPECT_GT(j["rebuild"]["between_sections_max_um"].get<double>(), 10.0);
+  EXPECT_LE(j["rebuild"]["between_sections_max_um"].get<double>(), 25.0);
+  // The tip above 80 % of the blade's height is the region, nothing else.
+  const double height = j["blade"]["height_mm"].get<double>();
+  EXPECT_GT(height, 40.0);  // 1.7 in between the hub and tip sections
+  EXPECT_LT(height, 45.0);
+  EXPECT_GT(j["region"]["tip_volume_mm3"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(j["region"]["volume_mm3"].get<double>(), j["region"]["tip_volume_mm3"].get<double>());
+  EXPECT_EQ(j["region"]["edge_volume_mm3"].get<double>(), 0.0);
 }
 
 }  // namespace
