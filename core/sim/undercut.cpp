@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -408,7 +410,58 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
 struct GougeGuard::Index {
   SampleIndex samples;
   double spacing_mm = 0;
+  long id = 0;  // unique among the guards of the process (GuardQueryMemo)
 };
+
+namespace {
+
+// The last queries of deepest_cut on this thread, by guard and motion: a
+// planner asks the same one again — whether a motion cuts, then how deep
+// to lift it, then with both ends lifted, each starting from the motion as
+// it was (a fifth of the built-in TE edge finish's guard queries were
+// repeats). The answer depends on nothing else, so a repeat is answered
+// from here, bit for bit. Direct-mapped by a hash of the query; a guard is
+// known by its id, never by its address (a later guard may reuse it).
+struct GuardQuery {
+  long guard = -1;
+  ToolPose from, to;
+  double allowed = 0, step = 0;
+  bool include_from = false, include_to = false;
+  const Profile* cutter = nullptr;
+  bool operator==(const GuardQuery& o) const {
+    return guard == o.guard && cutter == o.cutter && from.tip == o.from.tip && from.axis == o.from.axis &&
+           to.tip == o.to.tip && to.axis == o.to.axis && allowed == o.allowed && step == o.step &&
+           include_from == o.include_from && include_to == o.include_to;
+  }
+};
+struct GuardQueryMemo {
+  static constexpr size_t kSlots = 1024;
+  struct Slot {
+    GuardQuery query;
+    GougeGuard::Cut cut;
+  };
+  std::vector<Slot> slots = std::vector<Slot>(kSlots);
+  static size_t slot_of(const GuardQuery& q) {
+    size_t h = static_cast<size_t>(q.guard) * 0x9E3779B97F4A7C15ull;
+    auto mix = [&](double x) {
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      h = (h ^ b) * 0x100000001B3ull;
+    };
+    for (int k = 0; k < 3; ++k) {
+      mix(q.from.tip[k]);
+      mix(q.from.axis[k]);
+      mix(q.to.tip[k]);
+      mix(q.to.axis[k]);
+    }
+    mix(q.allowed);
+    h ^= (q.include_from ? 1u : 0u) | (q.include_to ? 2u : 0u);
+    return (h ^ (h >> 29)) % kSlots;
+  }
+};
+std::atomic<long> next_guard_id{1};
+
+}  // namespace
 
 GougeGuard::GougeGuard(const Surface& design, const UndercutOptions& o)
     : index_(std::make_unique<Index>()), options_(o) {
@@ -416,6 +469,7 @@ GougeGuard::GougeGuard(const Surface& design, const UndercutOptions& o)
   if (!(o.search_below_mm > 0)) throw ParameterError("search_below_mm", "must be > 0");
   if (!(o.sweep_step_mm > 0)) throw ParameterError("sweep_step", "must be > 0");
   index_->samples = build_index(design, o);
+  index_->id = next_guard_id.fetch_add(1);
   const auto& smp = index_->samples.samples;
   for (int i = 0; i < o.samples_u; ++i)
     for (int j = 0; j < o.samples_v; ++j) {
@@ -439,15 +493,23 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
                                         double allowed_mm, bool include_from, bool include_to, double step_mm) const {
   if (!(allowed_mm >= 0)) throw ParameterError("allowed_mm", "must be >= 0");
   const Profile& cutter = tool.cutter();
+  thread_local GuardQueryMemo memo;
+  const GuardQuery query{index_->id, from, to, allowed_mm, step_mm, include_from, include_to, &cutter};
+  GuardQueryMemo::Slot& slot = memo.slots[GuardQueryMemo::slot_of(query)];
+  if (slot.query == query) return slot.cut;
   const PoseMotion motion(from, to);
   const double step = step_mm > 0 ? step_mm : options_.sweep_step_mm;
   const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(cutter.reach()) / step)));
   const SampleIndex& idx = index_->samples;
   const double range = options_.search_below_mm;
   Cut cut;
+  Eigen::Isometry3d previous;  // the frame of the position before (a pose asked alone is one position twice)
   for (int s = include_from ? 0 : 1; s <= (include_to ? n : n - 1); ++s) {
     const double t = static_cast<double>(s) / n;
     const Eigen::Isometry3d to_tool = motion.frame_at(t).inverse();
+    // The same frame again finds nothing deeper, and keeps the first.
+    if (s > (include_from ? 0 : 1) && to_tool.matrix() == previous.matrix()) continue;
+    previous = to_tool;
     for_each_sample_near(cutter, to_tool, idx, range, options_.tol_mm, true, [&](int m) {
       const Sample& smp = idx.samples[m];
       // Only entries below -allowed matter: the trace stops there.
@@ -460,6 +522,7 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
       }
     });
   }
+  slot = {query, cut};
   return cut;
 }
 

@@ -78,6 +78,7 @@ struct PlannedRow {
   // so the checks need not sweep the guards over it again.
   std::vector<char> design_proved;
   RowGougeSamples row_samples;  // the row's condition-① samples beyond its strips (row_gouge_samples)
+  bool simulated = false;       // its passes are in the simulated partial rows' material map (simulated_gaps.cpp)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
 };
