@@ -233,8 +233,22 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
   // The slab test first: a few products against a signed distance; and the
   // bounding cylinder's distance before the exact one: most groups far
   // enough by it are far enough.
+  //
+  // Below the surface only, the points traced lie on p - s n (0 <= s <=
+  // range) — a slab under the group, not a sphere about it: within
+  // radius + range/2 + range |n - n_t| of the centre moved range/2 down its
+  // mean normal n_t (|n - n_t|^2 <= 2 - 2 cone_cos), half the shell the
+  // sphere's test leaves near a flat bottom or a corner over the surface.
+  // A group is skipped there only where every such point is more than tol
+  // outside the cutter, so no trace it skips could have entered it: the
+  // samples traced are the sphere's less some that find nothing.
   auto skip = [&](const Group& g) {
     if (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) return true;
+    if (only_below && g.cone_cos > 0) {
+      const Vec3 q = to_tool * Vec3(g.centre - 0.5 * range * g.normal);
+      const double reach = g.radius + 0.5 * range + range * std::sqrt(2 - 2 * g.cone_cos) + tol;
+      if (bounding_cylinder_distance(cutter, q) > reach || cutter.signed_distance(q) > reach) return true;
+    }
     const Vec3 q = to_tool * g.centre;
     const double reach = g.radius + range;
     return bounding_cylinder_distance(cutter, q) > reach || cutter.signed_distance(q) > reach;
