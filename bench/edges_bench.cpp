@@ -132,7 +132,8 @@ struct Rotor67Setup {
         PointGrid r = *g;
         const Eigen::AngleAxisd rot(turn, Vec3::UnitZ());
         for (Vec3& p : r.points) p = rot * p;
-        world.add("neighbour", tessellate(interpolate_grid(r), 0.01));
+        world.add(std::string(turn < 0 ? "blade before " : "blade after ") + (g == &loft.pressure ? "p" : "s"),
+                  tessellate(interpolate_grid(r), 0.01));
       }
     world.add("hub", tessellate(*hub, 0.01));
     CheckSurfaceOptions own;
