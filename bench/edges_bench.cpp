@@ -10,14 +10,23 @@
 // emitted pose (issue 38 item 6: a budget per edge does not scale with the
 // part): ms_per_pose is the process CPU time of the plan (every thread)
 // over the poses emitted; the recipe's final simulation is not in it.
+// BM_EdgeWholeEdgeRotor67: the same on NASA Rotor 67's blade 1 as the
+// recipe builds it (flanks lofted to the edge points with cosine columns,
+// both neighbours, the hub as a mesh, a 120 mm shank); skipped without
+// ../shared/data.
 #include <benchmark/benchmark.h>
 
 #include <ctime>
+#include <filesystem>
 #include <memory>
+#include <string>
 
+#include "core/geometry/interpolation.h"
 #include "core/geometry/mesh.h"
 #include "core/geometry/revolution.h"
 #include "core/geometry/revolution_distance.h"
+#include "core/io/rotor67_reader.h"
+#include "core/parts/blade_model.h"
 #include "core/parts/builtin_blisk.h"
 #include "core/parts/edge_region.h"
 #include "core/planning/edge_finish.h"
@@ -93,6 +102,104 @@ EdgeSetup& setup() {
   return s;
 }
 
+// NASA Rotor 67 blade 1 as scripts/recipes/blade_edges.lua builds it.
+struct Rotor67Setup {
+  std::shared_ptr<const Surface> pressure, suction;
+  EdgeRegion leading, trailing;
+  std::shared_ptr<const SurfaceOfRevolution> hub, casing;
+  Tool tool = Tool::flat_end_mill({3, 0.5, 9, {6, 120}, {12, 40}});
+  CollisionWorld world;
+
+  explicit Rotor67Setup(const std::string& file) {
+    const BladeSections blade = blade_sections(read_rotor67(file));
+    LoftOptions lo;
+    lo.edge_margin = 0;
+    lo.spacing = ColumnSpacing::cosine;
+    const BladeLoft loft = loft_blade(blade, lo);
+    pressure = std::make_shared<BSplineSurface>(interpolate_grid(loft.pressure));
+    suction = std::make_shared<BSplineSurface>(interpolate_grid(loft.suction));
+    auto distinct = [](const std::vector<Vec2>& m) {
+      std::vector<Vec2> out;
+      for (const Vec2& p : m)
+        if (out.empty() || (p - out.back()).norm() > 1e-9) out.push_back(p);
+      return out;
+    };
+    hub = std::make_shared<SurfaceOfRevolution>(distinct(blade.hub_meridian));
+    casing = std::make_shared<SurfaceOfRevolution>(distinct(blade.casing_meridian));
+    const double pitch = 2 * kPi / blade.blade_count;
+    for (double turn : {-pitch, pitch})
+      for (const PointGrid* g : {&loft.pressure, &loft.suction}) {
+        PointGrid r = *g;
+        const Eigen::AngleAxisd rot(turn, Vec3::UnitZ());
+        for (Vec3& p : r.points) p = rot * p;
+        world.add(std::string(turn < 0 ? "blade before " : "blade after ") + (g == &loft.pressure ? "p" : "s"),
+                  tessellate(interpolate_grid(r), 0.01));
+      }
+    world.add("hub", tessellate(*hub, 0.01));
+    CheckSurfaceOptions own;
+    own.parts.cutter = false;
+    own.margin_mm = 0.05;
+    world.add("own p", tessellate(*pressure, 0.05), own);
+    world.add("own s", tessellate(*suction, 0.05), own);
+    EdgeRegionRequest le;
+    le.first = pressure;
+    le.second = suction;
+    leading = build_edge_region(le);
+    EdgeRegionRequest te;
+    te.first = suction;
+    te.second = pressure;
+    trailing = build_edge_region(te);
+  }
+  EdgeFinishRequest request(bool trailing_edge) const {
+    EdgeFinishRequest rq;
+    rq.edge = trailing_edge ? trailing.surface : leading.surface;
+    rq.first = trailing_edge ? suction : pressure;
+    rq.second = trailing_edge ? pressure : suction;
+    rq.tool = &tool;
+    rq.world = &world;
+    rq.sampling.half_width_mm = 4;
+    rq.sampling.gouge_half_mm = 4;
+    rq.hub = hub;
+    rq.casing = casing;
+    rq.clearances.shank_mm = 0.1;
+    rq.clearances.holder_mm = 0.5;
+    return rq;
+  }
+};
+
+const std::string kRotor67 = std::string(BLISKRUN_SOURCE_DIR) + "/../shared/data/nasa_rotor67/rotor67geometry.dat";
+
+Rotor67Setup& rotor67() {
+  static Rotor67Setup s(kRotor67);
+  return s;
+}
+
+// ms_per_pose and the rest as BM_EdgeWholeEdge.
+void whole_edge_counters(benchmark::State& state, const EdgeFinishRequest& rq) {
+  for (auto _ : state) {
+    const std::clock_t cpu0 = std::clock();
+    const EdgeFinishResult r = plan_edge_finish(rq);
+    const double cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
+    benchmark::DoNotOptimize(r.total_poses);
+    const EdgeProgramStats st = edge_program_stats(r);
+    state.counters["cpu_s"] = cpu_s;
+    state.counters["ms_per_pose"] = r.total_poses > 0 ? 1e3 * cpu_s / r.total_poses : 0;
+    state.counters["passes"] = st.passes;
+    state.counters["rows"] = static_cast<double>(r.rows.size());
+    state.counters["side_rows"] = r.side_rows;
+    state.counters["poses"] = r.total_poses;
+    state.counters["refused"] = r.total_refusals + r.refused_links;
+    state.counters["rows_s"] = r.rows_seconds;
+    state.counters["side_s"] = r.side_seconds;
+    state.counters["clear_s"] = r.clear_seconds;
+    state.counters["checks_s"] = r.checks_seconds;
+    state.counters["sim_s"] = r.simulation_seconds;
+    state.counters["links_s"] = r.links_seconds;
+    state.counters["tilted"] = 0;
+    for (const EdgeFinishRow& row : r.rows) state.counters["tilted"] += row.tilted_contacts;
+  }
+}
+
 void BM_EdgeStripWidthOnePose(benchmark::State& state) {
   EdgeSetup& s = setup();
   const EdgeFinishRequest rq = s.request(s.hub_only, 0.1, 0.9);
@@ -145,28 +252,7 @@ void BM_EdgeWholeEdge(benchmark::State& state) {
   EdgeSetup& s = setup();
   EdgeFinishRequest rq = s.recipe_request(state.range(0) == 1);
   rq.threads = static_cast<int>(state.range(1));
-  for (auto _ : state) {
-    const std::clock_t cpu0 = std::clock();
-    const EdgeFinishResult r = plan_edge_finish(rq);
-    const double cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
-    benchmark::DoNotOptimize(r.total_poses);
-    const EdgeProgramStats st = edge_program_stats(r);
-    state.counters["cpu_s"] = cpu_s;
-    state.counters["ms_per_pose"] = r.total_poses > 0 ? 1e3 * cpu_s / r.total_poses : 0;
-    state.counters["passes"] = st.passes;
-    state.counters["rows"] = static_cast<double>(r.rows.size());
-    state.counters["side_rows"] = r.side_rows;
-    state.counters["poses"] = r.total_poses;
-    state.counters["refused"] = r.total_refusals + r.refused_links;
-    state.counters["rows_s"] = r.rows_seconds;
-    state.counters["side_s"] = r.side_seconds;
-    state.counters["clear_s"] = r.clear_seconds;
-    state.counters["checks_s"] = r.checks_seconds;
-    state.counters["sim_s"] = r.simulation_seconds;
-    state.counters["links_s"] = r.links_seconds;
-    state.counters["tilted"] = 0;
-    for (const EdgeFinishRow& row : r.rows) state.counters["tilted"] += row.tilted_contacts;
-  }
+  whole_edge_counters(state, rq);
 }
 BENCHMARK(BM_EdgeWholeEdge)
     ->Unit(benchmark::kMillisecond)
@@ -175,6 +261,15 @@ BENCHMARK(BM_EdgeWholeEdge)
     ->Args({1, 1})
     ->Args({0, 2})
     ->UseRealTime();
+
+// Args: the edge (0 leading, 1 trailing), the planner's threads.
+void BM_EdgeWholeEdgeRotor67(benchmark::State& state) {
+  if (!std::filesystem::exists(kRotor67)) return state.SkipWithError("../shared/data not present");
+  EdgeFinishRequest rq = rotor67().request(state.range(0) == 1);
+  rq.threads = static_cast<int>(state.range(1));
+  whole_edge_counters(state, rq);
+}
+BENCHMARK(BM_EdgeWholeEdgeRotor67)->Unit(benchmark::kMillisecond)->Iterations(1)->Args({0, 1})->Args({1, 1})->UseRealTime();
 
 }  // namespace
 }  // namespace bliskrun

@@ -51,7 +51,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   // The window as hub and casing leave it; everything below plans in it.
   EdgeFinishRequest rq = request;
   const auto t_rows = SteadyClock::now();  // the rows the window's fit plans count as rows
-  const WindowEnds ends = fit_window_to_hub_and_casing(rq, ls, progress);
+  WindowEnds ends = fit_window_to_hub_and_casing(rq, ls, progress);
   out.hub_strip_mm = ends.hub_strip_mm;
   out.top_strip_mm = ends.top_strip_mm;
   out.v0 = rq.v0;
@@ -59,7 +59,7 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   const ToolBody body(*rq.tool, rq.tool_tol_mm);
 
   // ---- rows: bottom method ----
-  std::vector<PlannedRow> planned = plan_rows(rq, ls, progress);
+  std::vector<PlannedRow> planned = plan_rows(rq, ls, progress, std::move(ends.first_row));
   out.rows_seconds = seconds_since(t_rows);
   // ---- comparison row (Fig. 8) and the side-edge positioning's rows (Fig. 9) ----
   out.comparison = compare_widths(rq, planned);

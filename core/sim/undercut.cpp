@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -231,8 +233,22 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
   // The slab test first: a few products against a signed distance; and the
   // bounding cylinder's distance before the exact one: most groups far
   // enough by it are far enough.
+  //
+  // Below the surface only, the points traced lie on p - s n (0 <= s <=
+  // range) — a slab under the group, not a sphere about it: within
+  // radius + range/2 + range |n - n_t| of the centre moved range/2 down its
+  // mean normal n_t (|n - n_t|^2 <= 2 - 2 cone_cos), half the shell the
+  // sphere's test leaves near a flat bottom or a corner over the surface.
+  // A group is skipped there only where every such point is more than tol
+  // outside the cutter, so no trace it skips could have entered it: the
+  // samples traced are the sphere's less some that find nothing.
   auto skip = [&](const Group& g) {
     if (only_below && below_the_cutter(g, to_tool, cutter.z_min(), tol)) return true;
+    if (only_below && g.cone_cos > 0) {
+      const Vec3 q = to_tool * Vec3(g.centre - 0.5 * range * g.normal);
+      const double reach = g.radius + 0.5 * range + range * std::sqrt(2 - 2 * g.cone_cos) + tol;
+      if (bounding_cylinder_distance(cutter, q) > reach || cutter.signed_distance(q) > reach) return true;
+    }
     const Vec3 q = to_tool * g.centre;
     const double reach = g.radius + range;
     return bounding_cylinder_distance(cutter, q) > reach || cutter.signed_distance(q) > reach;
@@ -408,7 +424,58 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
 struct GougeGuard::Index {
   SampleIndex samples;
   double spacing_mm = 0;
+  long id = 0;  // unique among the guards of the process (GuardQueryMemo)
 };
+
+namespace {
+
+// The last queries of deepest_cut on this thread, by guard and motion: a
+// planner asks the same one again — whether a motion cuts, then how deep
+// to lift it, then with both ends lifted, each starting from the motion as
+// it was (a fifth of the built-in TE edge finish's guard queries were
+// repeats). The answer depends on nothing else, so a repeat is answered
+// from here, bit for bit. Direct-mapped by a hash of the query; a guard is
+// known by its id, never by its address (a later guard may reuse it).
+struct GuardQuery {
+  long guard = -1;
+  ToolPose from, to;
+  double allowed = 0, step = 0;
+  bool include_from = false, include_to = false;
+  const Profile* cutter = nullptr;
+  bool operator==(const GuardQuery& o) const {
+    return guard == o.guard && cutter == o.cutter && from.tip == o.from.tip && from.axis == o.from.axis &&
+           to.tip == o.to.tip && to.axis == o.to.axis && allowed == o.allowed && step == o.step &&
+           include_from == o.include_from && include_to == o.include_to;
+  }
+};
+struct GuardQueryMemo {
+  static constexpr size_t kSlots = 1024;
+  struct Slot {
+    GuardQuery query;
+    GougeGuard::Cut cut;
+  };
+  std::vector<Slot> slots = std::vector<Slot>(kSlots);
+  static size_t slot_of(const GuardQuery& q) {
+    size_t h = static_cast<size_t>(q.guard) * 0x9E3779B97F4A7C15ull;
+    auto mix = [&](double x) {
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      h = (h ^ b) * 0x100000001B3ull;
+    };
+    for (int k = 0; k < 3; ++k) {
+      mix(q.from.tip[k]);
+      mix(q.from.axis[k]);
+      mix(q.to.tip[k]);
+      mix(q.to.axis[k]);
+    }
+    mix(q.allowed);
+    h ^= (q.include_from ? 1u : 0u) | (q.include_to ? 2u : 0u);
+    return (h ^ (h >> 29)) % kSlots;
+  }
+};
+std::atomic<long> next_guard_id{1};
+
+}  // namespace
 
 GougeGuard::GougeGuard(const Surface& design, const UndercutOptions& o)
     : index_(std::make_unique<Index>()), options_(o) {
@@ -416,6 +483,7 @@ GougeGuard::GougeGuard(const Surface& design, const UndercutOptions& o)
   if (!(o.search_below_mm > 0)) throw ParameterError("search_below_mm", "must be > 0");
   if (!(o.sweep_step_mm > 0)) throw ParameterError("sweep_step", "must be > 0");
   index_->samples = build_index(design, o);
+  index_->id = next_guard_id.fetch_add(1);
   const auto& smp = index_->samples.samples;
   for (int i = 0; i < o.samples_u; ++i)
     for (int j = 0; j < o.samples_v; ++j) {
@@ -439,15 +507,23 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
                                         double allowed_mm, bool include_from, bool include_to, double step_mm) const {
   if (!(allowed_mm >= 0)) throw ParameterError("allowed_mm", "must be >= 0");
   const Profile& cutter = tool.cutter();
+  thread_local GuardQueryMemo memo;
+  const GuardQuery query{index_->id, from, to, allowed_mm, step_mm, include_from, include_to, &cutter};
+  GuardQueryMemo::Slot& slot = memo.slots[GuardQueryMemo::slot_of(query)];
+  if (slot.query == query) return slot.cut;
   const PoseMotion motion(from, to);
   const double step = step_mm > 0 ? step_mm : options_.sweep_step_mm;
   const int n = std::max(1, static_cast<int>(std::ceil(motion.max_point_speed(cutter.reach()) / step)));
   const SampleIndex& idx = index_->samples;
   const double range = options_.search_below_mm;
   Cut cut;
+  Eigen::Isometry3d previous;  // the frame of the position before (a pose asked alone is one position twice)
   for (int s = include_from ? 0 : 1; s <= (include_to ? n : n - 1); ++s) {
     const double t = static_cast<double>(s) / n;
     const Eigen::Isometry3d to_tool = motion.frame_at(t).inverse();
+    // The same frame again finds nothing deeper, and keeps the first.
+    if (s > (include_from ? 0 : 1) && to_tool.matrix() == previous.matrix()) continue;
+    previous = to_tool;
     for_each_sample_near(cutter, to_tool, idx, range, options_.tol_mm, true, [&](int m) {
       const Sample& smp = idx.samples[m];
       // Only entries below -allowed matter: the trace stops there.
@@ -460,6 +536,7 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
       }
     });
   }
+  slot = {query, cut};
   return cut;
 }
 

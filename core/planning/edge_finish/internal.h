@@ -78,6 +78,7 @@ struct PlannedRow {
   // so the checks need not sweep the guards over it again.
   std::vector<char> design_proved;
   RowGougeSamples row_samples;  // the row's condition-① samples beyond its strips (row_gouge_samples)
+  bool simulated = false;       // its passes are in the simulated partial rows' material map (simulated_gaps.cpp)
   std::vector<ContactPlan> contacts;
   BalancedRow emitted;
 };
@@ -126,7 +127,9 @@ std::pair<EdgeFinishPose, StripWidth> halfway_pose(const EdgeFinishRequest& rq, 
 // Span speed: the largest |pv| over the row at v.
 double max_pv(const EdgeFinishRequest& rq, double v);
 // The rows of the bottom method over rq's window, spaced by their strips.
-std::vector<PlannedRow> plan_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);
+// `first` (may be empty): the row at rq.v0 already planned (WindowEnds::first_row).
+std::vector<PlannedRow> plan_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress,
+                                  std::optional<PlannedRow> first = std::nullopt);
 
 // ---- the paper's comparison (comparison.cpp) ----
 
@@ -141,6 +144,9 @@ void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, 
 // hub_strip_mm, top_strip_mm).
 struct WindowEnds {
   double hub_strip_mm = 0, top_strip_mm = 0;
+  // The row the hub's fit planned at the window's start (plan_row, not yet
+  // emitted), for plan_rows to take as its first rather than plan it again.
+  std::optional<PlannedRow> first_row;
 };
 // Narrows rq's window to the hub and casing; returns the strips left.
 WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress);

@@ -211,13 +211,15 @@ double max_pv(const EdgeFinishRequest& rq, double v) {
 // From the window's start, each row a step of its narrowest strip above the
 // last, up to the window's end. A row without a strip below the end is an
 // error (no feasible position there).
-std::vector<PlannedRow> plan_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress) {
+std::vector<PlannedRow> plan_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, Progress& progress,
+                                  std::optional<PlannedRow> first) {
   std::vector<PlannedRow> planned;
   double v = rq.v0;
   progress.begin("edge finish rows", 0);
   while (true) {
     progress.step(static_cast<long>(planned.size()));
-    PlannedRow pr = plan_row(rq, v, ls, false, progress);
+    const bool given = planned.empty() && first && first->row.v == v;
+    PlannedRow pr = given ? std::move(*first) : plan_row(rq, v, ls, false, progress);
     const double narrowest = emit_poses(rq, v, ls, pr);
     // §3.2: rows spaced by the smallest strip along the row. The strips are
     // lopsided (up by right, down by left at each contact) but the next row's

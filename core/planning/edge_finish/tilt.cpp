@@ -220,6 +220,22 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow
     std::vector<char> proved;  // PlannedRow::design_proved
     int tilted = 0;
   };
+  // Whether each pose as planned is clear (lifted if need be), asked once:
+  // the way back asks it of the same poses again (-1: not asked yet).
+  std::vector<signed char> planned_clear(row.poses.size(), -1);
+  std::vector<EdgeFinishPose> planned_lifted(row.poses.size());
+  auto clear_as_planned = [&](size_t i, EdgeFinishPose& p) {
+    if (planned_clear[i] < 0) {
+      EdgeFinishPose q = p;
+      planned_clear[i] = within_reach(rq, q.pose) && rq.world->check(checks.body, q.pose, rq.clearances, 0).clear &&
+                                 (checks.gouge(*rq.tool, q.pose).empty() || lift_clear(rq, checks, q))
+                             ? 1
+                             : 0;
+      if (planned_clear[i]) planned_lifted[i] = std::move(q);
+    }
+    if (planned_clear[i]) p = planned_lifted[i];
+    return planned_clear[i] == 1;
+  };
   auto tilted_along = [&](bool backwards) {
     Along a{row.poses, std::vector<char>(row.poses.size(), 0), 0};
     TiltAccepted last;
@@ -228,8 +244,7 @@ void clear_row(const EdgeFinishRequest& rq, const PoseChecks& checks, PlannedRow
     for (size_t k = 0; k < n; ++k) {
       const size_t i = backwards ? n - 1 - k : k;
       EdgeFinishPose& p = a.poses[i];
-      if (within_reach(rq, p.pose) && rq.world->check(checks.body, p.pose, rq.clearances, 0).clear &&
-          (checks.gouge(*rq.tool, p.pose).empty() || lift_clear(rq, checks, p))) {
+      if (clear_as_planned(i, p)) {
         a.proved[i] = 1;
         continue;
       }

@@ -60,8 +60,8 @@ std::optional<double> lowest_clear(const F& f, double a, double b) {
 // surface at every contact of the row at v as planned (positions before any
 // tilting clear of the world: the row the optimum wants).
 double row_hub_margin(const EdgeFinishRequest& rq, double v, const std::vector<double>& ls,
-                      const std::vector<Vec3>& cutter, Progress& progress) {
-  const PlannedRow pr = plan_row(rq, v, ls, false, progress);
+                      const std::vector<Vec3>& cutter, Progress& progress, std::optional<PlannedRow>& keep) {
+  PlannedRow pr = plan_row(rq, v, ls, false, progress);
   double margin = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < pr.contacts.size(); ++i) {
     EdgePosition pos;
@@ -69,6 +69,7 @@ double row_hub_margin(const EdgeFinishRequest& rq, double v, const std::vector<d
     const Eigen::Isometry3d T = tool_to_part(pr.contacts[i].strip->pose(pos));
     for (const Vec3& q : cutter) margin = std::min(margin, rq.hub->radial_offset(T * q) - rq.hub_clearance_mm);
   }
+  if (margin >= 0) keep = std::move(pr);  // the lowest clear row found so far is the last one clear
   return margin;
 }
 
@@ -127,8 +128,9 @@ WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector
   const Profile& c = rq.tool->cutter();
   const std::vector<Vec3> cutter = c.surface_samples(c.z_min(), c.z_max(), 6, 24);
   Progress quiet(&progress);
+  std::optional<PlannedRow> clear_row_kept;
   const std::optional<double> clear =
-      lowest_clear([&](double v) { return row_hub_margin(rq, v, ls, cutter, quiet); }, rq.v0, rq.v1);
+      lowest_clear([&](double v) { return row_hub_margin(rq, v, ls, cutter, quiet, clear_row_kept); }, rq.v0, rq.v1);
   if (!clear)
     throw Error("edge finish: no row of the window keeps the cutter " + std::to_string(rq.hub_clearance_mm) +
                 " mm outside the hub (the tool is too large for the edge here)");
@@ -146,6 +148,7 @@ WindowEnds fit_window_to_hub_and_casing(EdgeFinishRequest& rq, const std::vector
   }
   rq.v0 = first;
   ends.hub_strip_mm = strip;
+  if (clear_row_kept && clear_row_kept->row.v == first) ends.first_row = std::move(clear_row_kept);
   return ends;
 }
 
