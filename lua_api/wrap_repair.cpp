@@ -372,7 +372,11 @@ int w_rebuild_damaged(lua_State* L) {
                     "registered to it, for the rebuild to be trusted, mm (default 0.01)", 0, 100),
        number_field("dent_depth", "measured points this far inside the registered design, over at least min_dent of "
                     "the profile, are a dent's floor, mm (default 0.05; 0: no dents looked for)", 0, 100),
-       number_field("min_dent", "shortest dent along the profile, mm (default 0.3)", 0, 1000)});
+       number_field("min_dent", "shortest dent along the profile, mm (default 0.3)", 0, 1000),
+       Field{"thin_above", Kind::Integer, false, 0, 1 << 30,
+             "a section of more points is thinned on the way in (default 20000; 0: never)", {}},
+       number_field("thin_spacing", "spacing of a thinned section's points, mm (default a quarter of the smoothing)", 0,
+                    100)});
   o.push_raw("measurement");
   const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
   lua_pop(L, 1);
@@ -390,6 +394,8 @@ int w_rebuild_damaged(lua_State* L) {
   ro.between_tolerance_mm = o.number("between_tolerance", ro.between_tolerance_mm);
   ro.dent_depth_mm = o.number("dent_depth", ro.dent_depth_mm);
   ro.min_dent_mm = o.number("min_dent", ro.min_dent_mm);
+  ro.rebuild.thin_above = static_cast<int>(o.integer("thin_above", ro.rebuild.thin_above));
+  ro.rebuild.thin_spacing_mm = o.number("thin_spacing", ro.rebuild.thin_spacing_mm);
   return luax::guarded(L, [&] {
     auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
     push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
@@ -408,6 +414,7 @@ int w_rebuild_damaged(lua_State* L) {
       luax::set_number(L, "height", s.height_mm);
       luax::set_string(L, "source", source_name(s.source));
       luax::set_number(L, "index", s.index);
+      luax::set_number(L, "thinned", s.thinned);
       luax::set_number(L, "kept", s.kept);
       luax::set_number(L, "rejected", s.rejected);
       luax::set_number(L, "gaps", s.gaps);

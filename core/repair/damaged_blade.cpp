@@ -21,7 +21,7 @@ namespace bliskrun {
 namespace {
 
 // Crossing number of the closed polygon.
-bool point_in_polygon(const Vec2& p, const std::vector<Vec2>& poly) {
+bool inside_section_polygon(const Vec2& p, const std::vector<Vec2>& poly) {
   bool in = false;
   for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
     const Vec2& a = poly[i];
@@ -344,7 +344,7 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
       const int n = std::max(64, static_cast<int>(std::ceil(2 * kPi * r / (0.05 * step))));
       std::vector<char> inside(n);
       for (int j = 0; j < n; ++j)
-        inside[j] = point_in_polygon(missing.dent_centre + r * Vec2(std::cos(2 * kPi * j / n), std::sin(2 * kPi * j / n)), section);
+        inside[j] = inside_section_polygon(missing.dent_centre + r * Vec2(std::cos(2 * kPi * j / n), std::sin(2 * kPi * j / n)), section);
       const double start = unit(rng) * step;
       for (double arc = start; arc < 2 * kPi * r; arc += step) {
         const double a = (arc + 0.5 * step * (unit(rng) - 0.5)) / r;

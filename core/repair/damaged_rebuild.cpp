@@ -222,13 +222,23 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     std::vector<Vec3> flat;
     flat.reserve(ms.points.size());
     for (const Vec3& p : ms.points) flat.push_back(lift(frame.in_plane(p)) + Vec3(0, 0, frame.height(p)));
+    // A section far denser than the rebuild can use is thinned first
+    // (RebuildOptions::thin_above): one measured point per cell.
+    const std::vector<int> thinned = section_thinning(flat, o.rebuild);
+    const std::vector<Vec3>& points = thinned.empty() ? ms.points : w.kept;
+    if (!thinned.empty()) {
+      w.kept = pick(ms.points, thinned);
+      flat = pick(flat, thinned);
+      w.report.thinned = static_cast<int>(ms.points.size() - thinned.size());
+    }
     try {
       w.ordered = order_section(flat, o.rebuild.order);
     } catch (const ParameterError& e) {
       throw ParameterError(what, e.what());
     }
-    w.kept = pick(ms.points, w.ordered.order);
-    for (const int i : w.ordered.rejected) w.rejected.push_back(frame.in_plane(ms.points[i]));
+    std::vector<Vec3> kept = pick(points, w.ordered.order);
+    for (const int i : w.ordered.rejected) w.rejected.push_back(frame.in_plane(points[i]));
+    w.kept = std::move(kept);
     for (const Vec3& p : w.kept) w.h += frame.height(p) / w.kept.size();
     if (w.h < design.h_lo || w.h > design.h_hi)
       throw ParameterError("sections", what + " at height " + std::to_string(w.h) +

@@ -135,6 +135,7 @@ struct DamagedSection {
   double height_mm = 0;
   SectionSource source = SectionSource::measured;
   int index = 0;           // the measurement's section number (0 for an extended one)
+  int thinned = 0;         // measured points the thinning dropped (RebuildOptions::thin_above)
   int kept = 0;            // measured points used
   int rejected = 0;
   int gaps = 0;

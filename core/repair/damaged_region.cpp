@@ -40,15 +40,15 @@ double area(const std::vector<Vec2>& poly) {
 
 constexpr int kVBins = 1024;  // v resolution of a damage's stretch, for the pairing
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+double region_cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 
 // A closed polygon made counter-clockwise, with its bounding box.
-struct Ring {
+struct CutRing {
   std::vector<Vec2> p;
   Vec2 lo = Vec2::Zero(), hi = Vec2::Zero();
-  explicit Ring(std::vector<Vec2> points) : p(std::move(points)) {
+  explicit CutRing(std::vector<Vec2> points) : p(std::move(points)) {
     double twice = 0;
-    for (size_t i = 0; i < p.size(); ++i) twice += cross(p[i], p[(i + 1) % p.size()]);
+    for (size_t i = 0; i < p.size(); ++i) twice += region_cross(p[i], p[(i + 1) % p.size()]);
     if (twice < 0) std::reverse(p.begin(), p.end());
     lo = hi = p.empty() ? Vec2::Zero() : p[0];
     for (const Vec2& q : p) {
@@ -70,7 +70,7 @@ struct Ring {
 };
 
 // Parameters t in (0, 1) where a + t (b - a) crosses an edge of r.
-void crossings(const Vec2& a, const Vec2& b, const Ring& r, std::vector<double>& ts) {
+void cut_crossings(const Vec2& a, const Vec2& b, const CutRing& r, std::vector<double>& ts) {
   const Vec2 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
   if (hi.x() < r.lo.x() || lo.x() > r.hi.x() || hi.y() < r.lo.y() || lo.y() > r.hi.y()) return;
   const Vec2 e = b - a;
@@ -82,31 +82,31 @@ void crossings(const Vec2& a, const Vec2& b, const Ring& r, std::vector<double>&
         std::min(c.y(), d.y()) > hi.y())
       continue;
     const Vec2 f = d - c;
-    const double den = cross(e, f);
+    const double den = region_cross(e, f);
     if (std::abs(den) < 1e-300) continue;
-    const double t = cross(c - a, f) / den, u = cross(c - a, e) / den;
+    const double t = region_cross(c - a, f) / den, u = region_cross(c - a, e) / den;
     if (t > 0 && t < 1 && u >= 0 && u <= 1) ts.push_back(t);
   }
 }
 
 // The first crossing of the ray q + s d (s > 0) with the edges of `poly`.
-double ray_exit(const Vec2& q, const Vec2& d, const std::vector<Vec2>& poly) {
+double cut_ray_exit(const Vec2& q, const Vec2& d, const std::vector<Vec2>& poly) {
   double best = std::numeric_limits<double>::infinity();
   const size_t m = poly.size();
   for (size_t k = 0; k < m; ++k) {
     const Vec2& a = poly[k];
     const Vec2 e = poly[(k + 1) % m] - a;
-    const double den = cross(d, e);
+    const double den = region_cross(d, e);
     if (std::abs(den) < 1e-15) continue;
     const Vec2 w = a - q;
-    const double s = cross(w, e) / den, t = cross(w, d) / den;
+    const double s = region_cross(w, e) / den, t = region_cross(w, d) / den;
     if (t >= 0 && t < 1 && s > 0) best = std::min(best, s);
   }
   return best;
 }
 
 // `count` points at equal fractions of the polyline's length.
-std::vector<Vec2> resample(const std::vector<Vec2>& line, int count) {
+std::vector<Vec2> resample_floor(const std::vector<Vec2>& line, int count) {
   std::vector<double> at{0};
   for (size_t i = 1; i < line.size(); ++i) at.push_back(at.back() + (line[i] - line[i - 1]).norm());
   std::vector<Vec2> out;
@@ -126,7 +126,7 @@ std::vector<Vec2> resample(const std::vector<Vec2>& line, int count) {
 double clipped_area(const std::vector<Vec2>& poly, const Vec2& n, double c) { return area(clip(poly, n, c)); }
 
 double area_inside(const std::vector<Vec2>& polygon, const std::vector<std::vector<Vec2>>& cuts) {
-  std::vector<Ring> rings;
+  std::vector<CutRing> rings;
   rings.emplace_back(polygon);
   for (const std::vector<Vec2>& c : cuts)
     if (c.size() >= 3) rings.emplace_back(c);
@@ -143,7 +143,7 @@ double area_inside(const std::vector<Vec2>& polygon, const std::vector<std::vect
       const Vec2& b = p[(k + 1) % p.size()];
       ts.assign({0.0, 1.0});
       for (size_t j = 0; j < rings.size(); ++j)
-        if (j != i) crossings(a, b, rings[j], ts);
+        if (j != i) cut_crossings(a, b, rings[j], ts);
       std::sort(ts.begin(), ts.end());
       for (size_t t = 0; t + 1 < ts.size(); ++t) {
         if (!(ts[t + 1] > ts[t])) continue;
@@ -157,7 +157,7 @@ double area_inside(const std::vector<Vec2>& polygon, const std::vector<std::vect
           for (size_t j = 1; j < rings.size() && keep; ++j)
             if (j != i && rings[j].holds(m)) keep = false;
         }
-        if (keep) twice += cross(a + ts[t] * (b - a), a + ts[t + 1] * (b - a));
+        if (keep) twice += region_cross(a + ts[t] * (b - a), a + ts[t + 1] * (b - a));
       }
     }
   }
@@ -338,9 +338,9 @@ DamageFace::Cuts DamageFace::cuts(double h, double reach) const {
       if (below) most = std::max(most, below->floor.size());
       if (above) most = std::max(most, above->floor.size());
       const int count = std::min<int>(256, static_cast<int>(most));
-      const std::vector<Vec2> a = resample(d.floor, count), b = resample(u.floor, count);
-      const std::vector<Vec2> p = below ? resample(below->floor, count) : std::vector<Vec2>();
-      const std::vector<Vec2> q = above ? resample(above->floor, count) : std::vector<Vec2>();
+      const std::vector<Vec2> a = resample_floor(d.floor, count), b = resample_floor(u.floor, count);
+      const std::vector<Vec2> p = below ? resample_floor(below->floor, count) : std::vector<Vec2>();
+      const std::vector<Vec2> q = above ? resample_floor(above->floor, count) : std::vector<Vec2>();
       // Cubic Hermite over [lo.h, hi.h], slopes by central differences.
       const double dh = hi.h - lo.h;
       const double h00 = (1 + 2 * t) * (1 - t) * (1 - t), h10 = t * (1 - t) * (1 - t), h01 = t * t * (3 - 2 * t),
@@ -384,9 +384,9 @@ double normal_thickness(const DamageFace& face, const Vec3& p, const Vec3& outwa
   }
   const Vec2 d = len > 1e-9 ? Vec2(-n_ip / len) : Vec2::Zero();
   for (const std::vector<Vec2>& c : cuts.polygons) {
-    if (!Ring(c).holds(xy)) continue;
+    if (!CutRing(c).holds(xy)) continue;
     // In-plane length to the 3-D length along the normal: / len.
-    leave = std::max(leave, len > 1e-9 ? ray_exit(xy, d, c) / len : inf);
+    leave = std::max(leave, len > 1e-9 ? cut_ray_exit(xy, d, c) / len : inf);
   }
   if (leave < 0) return 0;
   // The blade's other side, in the section's plane.

@@ -230,7 +230,7 @@ TEST(DamagedRegion, NicksReachingTheEndSectionsAreRegionsOfTheirVolume) {
     EXPECT_FALSE(region.empty);
     if (from == 0) EXPECT_NEAR(region.u_from, 0, 1e-12);
     if (to == 1) EXPECT_NEAR(region.u_to, 1, 1e-12);
-    const double truth = removed_volume(blade, r.sections.front().height_mm, r.sections.back().height_mm, 400);
+    const double truth = removed_volume(blade, r.sections.front().height_mm, r.sections.back().height_mm, 150);
     std::printf("nick over spans %.2f-%.2f: region %.3f mm3, truth %.3f mm3 (%+.2f %%)\n", from, to, region.volume_mm3,
                 truth, 100 * (region.volume_mm3 / truth - 1));
     EXPECT_NEAR(region.volume_mm3, truth, 0.03 * truth);
@@ -330,10 +330,10 @@ TEST(DamagedRegion, LeadingAndTrailingEdgeNicksAtTheSameHeightsAreTwoOfTheirVolu
   const DamagedRebuild r = rebuild_damaged(m, design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   const DamagedRegion region = damaged_region(r, m);
-  const double truth = removed_volume(blade, design().span_height(0.3), design().span_height(0.75), 300);
+  const double truth = removed_volume(blade, design().span_height(0.3), design().span_height(0.75), 100);
   BladeDamage le_only = dmg;
   le_only.te_edge = false;
-  const double le_truth = removed_volume(DamagedBlade(design(), le_only), design().span_height(0.3), design().span_height(0.75), 300);
+  const double le_truth = removed_volume(DamagedBlade(design(), le_only), design().span_height(0.3), design().span_height(0.75), 100);
   std::printf("two nicks: region %.3f mm3 (%d in %d sections), truth %.3f mm3 (%+.2f %%; the leading edge's %.3f), "
               "max thickness %.3f mm\n",
               region.volume_mm3, region.nicks, region.nicked_sections, truth, 100 * (region.volume_mm3 / truth - 1),
