@@ -176,7 +176,8 @@ int w_rebuild_sections(lua_State* L) {
 // ---- damaged blade, measurement, rebuild, region ----
 
 // bliskrun.damaged_blade{rotor37 = path, design_sections = 25, twist = deg, bend = mm,
-// deform_from = s, tip_span = s, tip_tilt = deg, edge_from = s, edge_to = s, edge_depth = mm}
+// deform_from = s, tip_span = s, tip_tilt = deg, edge_from = s, edge_to = s, edge_depth = mm,
+// te_from = s, te_to = s, te_depth = mm, dent_depth = mm, dent_radius = mm, dent_span = s, dent_chord =, dent_side = ±1}
 int w_damaged_blade(lua_State* L) {
   static const char* what = "bliskrun.damaged_blade";
   const luax::Options o(
@@ -194,7 +195,15 @@ int w_damaged_blade(lua_State* L) {
        number_field("tip_tilt", "tilt of the break plane towards the flow, degrees (default 0)", -45, 45),
        number_field("edge_from", "leading-edge nick from this span fraction (default 0.4)", 0, 1),
        number_field("edge_to", "... to this one (default 0.65)", 0, 1),
-       number_field("edge_depth", "nick depth along the chord, mm (no edge damage without it)", 0, 100)});
+       number_field("edge_depth", "nick depth along the chord, mm (no edge damage without it)", 0, 100),
+       number_field("te_from", "trailing-edge nick from this span fraction (default 0.4)", 0, 1),
+       number_field("te_to", "... to this one (default 0.65)", 0, 1),
+       number_field("te_depth", "trailing-edge nick depth along the chord, mm (no trailing-edge nick without it)", 0, 100),
+       number_field("dent_depth", "spherical nick (dent) in a flank, its depth, mm (no dent without it)", 0, 100),
+       number_field("dent_radius", "the dent's sphere radius, mm (default 3)", 0, 1000),
+       number_field("dent_span", "the dent's span fraction (default 0.5)", 0, 1),
+       number_field("dent_chord", "the dent's place along the chord, a fraction from the leading edge (default 0.5)", 0, 1),
+       Field{"dent_side", Kind::Integer, false, -1, 1, "the dent's flank: 1 the side of +e2, -1 of -e2 (default 1)", {}}});
   BladeDamage d;
   d.twist_rad = deg_to_rad(o.number("twist", 0));
   d.bend_mm = o.number("bend", 0);
@@ -206,6 +215,16 @@ int w_damaged_blade(lua_State* L) {
   d.edge_from = o.number("edge_from", d.edge_from);
   d.edge_to = o.number("edge_to", d.edge_to);
   d.edge_depth_mm = o.number("edge_depth", d.edge_depth_mm);
+  d.te_edge = o.has("te_depth");
+  d.te_from = o.number("te_from", d.te_from);
+  d.te_to = o.number("te_to", d.te_to);
+  d.te_depth_mm = o.number("te_depth", d.te_depth_mm);
+  d.dent = o.has("dent_depth");
+  d.dent_depth_mm = o.number("dent_depth", d.dent_depth_mm);
+  d.dent_radius_mm = o.number("dent_radius", d.dent_radius_mm);
+  d.dent_span = o.number("dent_span", d.dent_span);
+  d.dent_chord = o.number("dent_chord", d.dent_chord);
+  d.dent_side = static_cast<int>(o.integer("dent_side", d.dent_side));
   std::string rotor37;
   if (o.has("rotor37")) {
     namespace fs = std::filesystem;
@@ -387,7 +406,14 @@ int w_rebuild_damaged(lua_State* L) {
        number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4),
        number_field("between_tolerance",
                     "largest distance of the rebuilt blade's section midway between two sections from the design's "
-                    "registered to it, for the rebuild to be trusted, mm (default 0.01)", 0, 100)});
+                    "registered to it, for the rebuild to be trusted, mm (default 0.01)", 0, 100),
+       number_field("dent_depth", "measured points this far inside the registered design, over at least min_dent of "
+                    "the profile, are a dent's floor, mm (default 0.05; 0: no dents looked for)", 0, 100),
+       number_field("min_dent", "shortest dent along the profile, mm (default 0.3)", 0, 1000),
+       Field{"thin_above", Kind::Integer, false, 0, 1 << 30,
+             "a section of more points is thinned on the way in (default 20000; 0: never)", {}},
+       number_field("thin_spacing", "spacing of a thinned section's points, mm (default a quarter of the smoothing)", 0,
+                    100)});
   o.push_raw("measurement");
   const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
   lua_pop(L, 1);
@@ -403,6 +429,10 @@ int w_rebuild_damaged(lua_State* L) {
   ro.rebuild.order.max_step_mm = o.number("max_step", 0);
   ro.rebuild.order.outlier_mm = o.number("outlier", 0);
   ro.between_tolerance_mm = o.number("between_tolerance", ro.between_tolerance_mm);
+  ro.dent_depth_mm = o.number("dent_depth", ro.dent_depth_mm);
+  ro.min_dent_mm = o.number("min_dent", ro.min_dent_mm);
+  ro.rebuild.thin_above = static_cast<int>(o.integer("thin_above", ro.rebuild.thin_above));
+  ro.rebuild.thin_spacing_mm = o.number("thin_spacing", ro.rebuild.thin_spacing_mm);
   return luax::guarded(L, [&] {
     auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
     push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
@@ -421,10 +451,12 @@ int w_rebuild_damaged(lua_State* L) {
       luax::set_number(L, "height", s.height_mm);
       luax::set_string(L, "source", source_name(s.source));
       luax::set_number(L, "index", s.index);
+      luax::set_number(L, "thinned", s.thinned);
       luax::set_number(L, "kept", s.kept);
       luax::set_number(L, "rejected", s.rejected);
       luax::set_number(L, "gaps", s.gaps);
       luax::set_number(L, "gap", s.gap_mm);
+      luax::set_number(L, "dents", s.dents);
       luax::set_bool(L, "registered", s.registered);
       luax::set_number(L, "angle", rad_to_deg(s.motion.angle_rad));
       luax::set_vec3(L, "shift", Vec3(s.motion.shift.x(), s.motion.shift.y(), 0));
@@ -545,6 +577,7 @@ int w_damaged_region(lua_State* L) {
     luax::set_number(L, "tip_volume", g.tip_volume_mm3);
     luax::set_number(L, "nicked_sections", g.nicked_sections);
     luax::set_number(L, "nicks", g.nicks);
+    luax::set_number(L, "dents", g.dents);
     luax::set_number(L, "skipped_gaps", g.skipped_gaps);
     luax::set_number(L, "edge_volume", g.edge_volume_mm3);
     luax::set_number(L, "volume", g.volume_mm3);

@@ -192,7 +192,8 @@ int w_repair_paths(lua_State* L) {
              {"zigzag", "spiral"}},
        Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "span window of the region {u0, u1}", {}},
        Field{"v", Kind::Table, false, std::nullopt, std::nullopt,
-             "around window of the region {v0, v1} (zigzag; the spiral goes all the way round)", {}},
+             "around window of the region {v0, v1} (zigzag; v0 > v1: through the seam v = 0, which the zigzag "
+             "refuses; the spiral goes all the way round and ignores it)", {}},
        Field{"flip_normal", Kind::Boolean, false, std::nullopt, std::nullopt,
              "the design's pu x pv points into the material (default false)", {}},
        number_field("deposit", "largest deposit thickness over the region, mm (default 2)", 0, 100),
@@ -239,7 +240,22 @@ int w_repair_paths(lua_State* L) {
   rq.world = world.get();
   rq.pattern = o.string("pattern", "zigzag") == "spiral" ? RepairPattern::Spiral : RepairPattern::Zigzag;
   read_unit_window(L, o, what, "u", rq.u0, rq.u1);
-  read_unit_window(L, o, what, "v", rq.v0, rq.v1);
+  if (o.has("v")) {
+    // As read_unit_window, but v0 > v1 is a window through the seam: the
+    // core takes it for the spiral and refuses it by name for the zigzag.
+    o.push_raw("v");
+    const int t = lua_gettop(L);
+    const std::string where = std::string(what) + ": option 'v'";
+    if (!lua_istable(L, t) || luaL_len(L, t) != 2) luax::error(L, where + ": expected {v0, v1} with v0, v1 in [0, 1]");
+    lua_rawgeti(L, t, 1);
+    lua_rawgeti(L, t, 2);
+    if (!lua_isnumber(L, -2) || !lua_isnumber(L, -1)) luax::error(L, where + ": expected two numbers");
+    rq.v0 = lua_tonumber(L, -2);
+    rq.v1 = lua_tonumber(L, -1);
+    if (!(rq.v0 >= 0 && rq.v0 <= 1 && rq.v1 >= 0 && rq.v1 <= 1 && rq.v0 != rq.v1))
+      luax::error(L, where + ": expected {v0, v1} with v0, v1 in [0, 1] and v0 ~= v1 (v0 > v1: through the seam)");
+    lua_pop(L, 3);
+  }
   rq.flip_normal = o.boolean("flip_normal", false);
   rq.deposit_mm = o.number("deposit", rq.deposit_mm);
   rq.layer_mm = o.number("layer", rq.layer_mm);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/common/error.h"
+#include "core/common/fixed_text.h"
 #include "core/common/parallel.h"
 #include "core/common/timing.h"
 #include "core/geometry/differential.h"
@@ -441,6 +442,15 @@ void validate(const RepairPathRequest& rq) {
     throw ParameterError("tool", "expected a ball-end mill, got " + rq.tool->description());
   if (!rq.world) throw ParameterError("world", "a collision world (blade, fixture) is required");
   if (!(rq.u0 >= 0 && rq.u1 <= 1 && rq.u1 > rq.u0)) throw ParameterError("u", "expected 0 <= u0 < u1 <= 1");
+  // A window from v0 round through v = 0 to v1 (v0 > v1) crosses the
+  // surface's seam: the spiral goes all the way round and ignores v, the
+  // zigzag's passes run along v from v0 to v1 and are not planned across it
+  // (issue 43: refused only where the pattern needs v).
+  if (rq.pattern == RepairPattern::Zigzag && rq.v0 > rq.v1 && rq.v0 <= 1 && rq.v1 >= 0)
+    throw ParameterError("v", "the region crosses the surface's seam (v from " + short_text(rq.v0) + " round through 0 to " +
+                                  short_text(rq.v1) + "): the zigzag's passes run along v and are not planned across "
+                                  "the seam; re-seam the surface away from the region, or use the spiral (which goes "
+                                  "all the way round and needs no v window)");
   if (rq.pattern == RepairPattern::Zigzag && !(rq.v0 >= 0 && rq.v1 <= 1 && rq.v1 > rq.v0))
     throw ParameterError("v", "expected 0 <= v0 < v1 <= 1");
   if (!(rq.scallop_mm > 0 && rq.scallop_mm < rq.tool->cutter().max_radius()))

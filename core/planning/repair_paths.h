@@ -88,7 +88,9 @@ struct RepairPathRequest {
   std::shared_ptr<const Surface> design;
   bool flip_normal = false;
   RepairPattern pattern = RepairPattern::Zigzag;
-  // The region (u0, u1) x (v0, v1) of the design; the spiral ignores v.
+  // The region (u0, u1) x (v0, v1) of the design; the spiral ignores v. A
+  // window with v0 > v1 runs from v0 round through the seam v = 0 to v1:
+  // the spiral takes it (it ignores v), the zigzag refuses it by name.
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;
   const Tool* tool = nullptr;             // a ball-end mill
   const CollisionWorld* world = nullptr;  // the blade (shank, holder) and the fixture (every part)

@@ -20,6 +20,17 @@ namespace bliskrun {
 
 namespace {
 
+// Crossing number of the closed polygon.
+bool inside_section_polygon(const Vec2& p, const std::vector<Vec2>& poly) {
+  bool in = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) && p.x() < a.x() + (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y())) in = !in;
+  }
+  return in;
+}
+
 Vec3 centroid(const std::vector<Vec3>& loop) {
   Vec3 c = Vec3::Zero();
   for (const Vec3& p : loop) c += p;
@@ -152,6 +163,50 @@ DamagedBlade::DamagedBlade(DesignBlade design, const BladeDamage& d) : design_(s
     if (!(d.edge_depth_mm > 0 && std::isfinite(d.edge_depth_mm)))
       throw ParameterError("edge_depth", "expected a positive depth, mm");
   }
+  if (d.te_edge) {
+    fraction(d.te_from, "te_from");
+    fraction(d.te_to, "te_to");
+    if (!(d.te_to > d.te_from)) throw ParameterError("te_to", "expected a span above te_from");
+    if (!(d.te_depth_mm > 0 && std::isfinite(d.te_depth_mm))) throw ParameterError("te_depth", "expected a positive depth, mm");
+  }
+  if (d.dent) {
+    fraction(d.dent_span, "dent_span");
+    if (!(d.dent_chord > 0 && d.dent_chord < 1)) throw ParameterError("dent_chord", "expected a chord fraction in (0, 1)");
+    if (d.dent_side != 1 && d.dent_side != -1) throw ParameterError("dent_side", "expected 1 (+e2) or -1 (-e2)");
+    if (!(d.dent_radius_mm > 0 && std::isfinite(d.dent_radius_mm)))
+      throw ParameterError("dent_radius", "expected a positive radius, mm");
+    if (!(d.dent_depth_mm > 0 && d.dent_depth_mm < d.dent_radius_mm))
+      throw ParameterError("dent_depth", "expected a depth > 0 and below the dent's radius, mm");
+    // The flank point: where the line x = X crosses the deformed section on
+    // the chosen side; the centre R - depth out along its outward normal.
+    const double h = design_.span_height(d.dent_span);
+    const std::vector<Vec2> s = deformed_section(h, 2048);
+    double x_lo = 1e300, x_hi = -1e300, twice = 0;
+    for (size_t j = 0; j < s.size(); ++j) {
+      x_lo = std::min(x_lo, s[j].x());
+      x_hi = std::max(x_hi, s[j].x());
+      const Vec2& q = s[(j + 1) % s.size()];
+      twice += s[j].x() * q.y() - s[j].y() * q.x();
+    }
+    const double x = x_lo + d.dent_chord * (x_hi - x_lo);
+    double best_y = d.dent_side > 0 ? -1e300 : 1e300;
+    Vec2 at = Vec2::Zero(), tangent = Vec2::Zero();
+    for (size_t j = 0; j < s.size(); ++j) {
+      const Vec2& a = s[j];
+      const Vec2& b = s[(j + 1) % s.size()];
+      if ((a.x() - x) * (b.x() - x) > 0 || a.x() == b.x()) continue;
+      const Vec2 p = a + (b - a) * ((x - a.x()) / (b.x() - a.x()));
+      if (d.dent_side > 0 ? p.y() > best_y : p.y() < best_y) {
+        best_y = p.y();
+        at = p;
+        tangent = (b - a).normalized();
+      }
+    }
+    // Outward: the tangent turned a quarter clockwise on a counter-clockwise loop.
+    Vec2 out(tangent.y(), -tangent.x());
+    if (twice < 0) out = -out;
+    dent_centre_ = design_.frame.point(h, at + (d.dent_radius_mm - d.dent_depth_mm) * out);
+  }
 }
 
 Vec2 DamagedBlade::deform(double h, const Vec2& xy) const {
@@ -175,20 +230,54 @@ double DamagedBlade::break_offset() const {
   return break_normal().dot(design_.frame.point(design_.span_height(damage_.tip_span), Vec2::Zero()));
 }
 
-bool DamagedBlade::removed(double h, const Vec2& xy, const std::vector<Vec2>& section) const {
-  if (damage_.tip && break_normal().dot(design_.frame.point(h, xy)) > break_offset()) return true;
-  if (damage_.edge) {
-    const double s = (h - design_.h_lo) / (design_.h_hi - design_.h_lo);
-    if (s > damage_.edge_from && s < damage_.edge_to) {
-      const auto [le, te] = std::minmax_element(section.begin(), section.end(),
-                                                [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
-      const Vec2 chord = (*te - *le).normalized();
-      const double depth =
-          damage_.edge_depth_mm * std::sin(kPi * (s - damage_.edge_from) / (damage_.edge_to - damage_.edge_from));
-      if ((xy - *le).dot(chord) < depth) return true;
+bool MissingInPlane::unseen(const Vec2& xy) const {
+  if (tip && tip_n.dot(xy) + tip_c > 0) return true;
+  if (le_depth >= 0 && (xy - le).dot(le_along) < le_depth) return true;
+  if (te_depth >= 0 && (xy - te).dot(te_along) < te_depth) return true;
+  return false;
+}
+
+MissingInPlane DamagedBlade::missing(double h, const std::vector<Vec2>& section) const {
+  MissingInPlane m;
+  const BladeFrame& f = design_.frame;
+  if (damage_.tip) {
+    // n . (origin + h axis + x e1 + y e2) > offset.
+    const Vec3 n = break_normal();
+    m.tip = true;
+    m.tip_n = Vec2(n.dot(f.e1), n.dot(f.e2));
+    m.tip_c = n.dot(f.origin) + h * n.dot(f.axis) - break_offset();
+  }
+  const double s = (h - design_.h_lo) / (design_.h_hi - design_.h_lo);
+  const bool le = damage_.edge && s > damage_.edge_from && s < damage_.edge_to;
+  const bool te = damage_.te_edge && s > damage_.te_from && s < damage_.te_to;
+  if ((le || te) && !section.empty()) {
+    const auto [lo, hi] = std::minmax_element(section.begin(), section.end(),
+                                              [](const Vec2& a, const Vec2& b) { return a.x() < b.x(); });
+    const Vec2 chord = (*hi - *lo).normalized();
+    if (le) {
+      m.le = *lo;
+      m.le_along = chord;
+      m.le_depth = damage_.edge_depth_mm * std::sin(kPi * (s - damage_.edge_from) / (damage_.edge_to - damage_.edge_from));
+    }
+    if (te) {
+      m.te = *hi;
+      m.te_along = -chord;
+      m.te_depth = damage_.te_depth_mm * std::sin(kPi * (s - damage_.te_from) / (damage_.te_to - damage_.te_from));
     }
   }
-  return false;
+  if (damage_.dent) {
+    const double dh = h - f.height(dent_centre_);
+    const double r2 = damage_.dent_radius_mm * damage_.dent_radius_mm - dh * dh;
+    if (r2 > 0) {
+      m.dent_centre = f.in_plane(dent_centre_);
+      m.dent_radius = std::sqrt(r2);
+    }
+  }
+  return m;
+}
+
+bool DamagedBlade::removed(double h, const Vec2& xy, const std::vector<Vec2>& section) const {
+  return missing(h, section).removed(xy);
 }
 
 SectionMeasurement measure_sections(const DamagedBlade& blade, const MeasurementOptions& o) {
@@ -229,6 +318,7 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
     MeasuredSection ms;
     ms.index = k + 1;
     ms.height_mm = h;
+    const MissingInPlane missing = blade.missing(h, section);
     const double offset = unit(rng);
     for (int i = 0; i < o.points; ++i) {
       const double t = curve.t_min() + (i + offset + 0.5 * (unit(rng) - 0.5)) / o.points * curve.period();
@@ -241,10 +331,31 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
       if (o.unseen_arc_mm > 0 && dt < 0.5 * o.unseen_arc_mm) continue;
       const CurveDerivs c = curve.eval(t);
       const Vec2 at(c.p.x(), c.p.y());
-      if (blade.removed(h, at, section)) continue;
+      if (missing.removed(at)) continue;
       const Vec2 normal = Vec2(c.dt.y(), -c.dt.x()).normalized();
       const Vec2 q = at + normal * (outlier ? side * stray : o.noise_mm * noise);
       ms.points.push_back(design.frame.point(h, q));
+    }
+    if (missing.dent_radius > 0) {
+      // The dent's floor: the circle's arcs inside the section, probed at the
+      // profile's step (from a random start, jittered a quarter step), noise
+      // along the radius; none where the probe finds no surface (unseen).
+      const double step = curve.period() / o.points, r = missing.dent_radius;
+      const int n = std::max(64, static_cast<int>(std::ceil(2 * kPi * r / (0.05 * step))));
+      std::vector<char> inside(n);
+      for (int j = 0; j < n; ++j)
+        inside[j] = inside_section_polygon(missing.dent_centre + r * Vec2(std::cos(2 * kPi * j / n), std::sin(2 * kPi * j / n)), section);
+      const double start = unit(rng) * step;
+      for (double arc = start; arc < 2 * kPi * r; arc += step) {
+        const double a = (arc + 0.5 * step * (unit(rng) - 0.5)) / r;
+        const double noise = gauss(rng);
+        const int j = static_cast<int>(std::floor(a / (2 * kPi) * n + n)) % n;
+        if (!inside[j]) continue;
+        const Vec2 radial(std::cos(a), std::sin(a));
+        const Vec2 at = missing.dent_centre + r * radial;
+        if (missing.unseen(at)) continue;
+        ms.points.push_back(design.frame.point(h, at + radial * (o.noise_mm * noise)));
+      }
     }
     if (static_cast<int>(ms.points.size()) * 2 < o.points) continue;  // the probe finds no section here
     std::shuffle(ms.points.begin(), ms.points.end(), rng);

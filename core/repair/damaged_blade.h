@@ -30,12 +30,25 @@
 //    depth d(s) = edge_depth sin(π (s - edge_from) / (edge_to - edge_from))
 //    of the leading edge, measured along the chord (the line from the
 //    section's upstream extreme, least x, to its downstream one): erosion to
-//    a smooth depth profile, the nick's floor a straight line in each plane.
+//    a smooth depth profile, the nick's floor a straight line in each plane;
+//  - trailing-edge nick: the same from the section's downstream extreme (most
+//    x) back along the chord, over its own spans and depth;
+//  - spherical nick (a dent in a flank): the material inside a sphere of
+//    radius R whose surface reaches `dent_depth` below the flank — its centre
+//    on the flank's outward normal, R - depth outside it, at the point of the
+//    section at span `dent_span` a fraction `dent_chord` of the way from the
+//    upstream extreme to the downstream one (in x), on the side of +e2
+//    (`dent_side` 1) or -e2 (-1). On a flat flank it removes the spherical cap
+//    π t² (3R - t) / 3 (t the depth), the region's closed form.
 //
 // Measurement: N planes at equal steps of span; on each, points at even steps
 // of arc length along the damaged section's profile (a scanning probe), each
 // moved along the profile by up to a quarter step at random, none where material
-// is missing (the probe finds no surface there) nor in an optional unseen
+// is missing (the probe finds no surface there: a broken tip, a nick, whose
+// floor the simulation leaves unmeasured so that the region must take it from
+// the gap's ends) except in a dent, whose floor the probe follows as it
+// follows the flank (points on the sphere's arc inside the section at the same
+// steps, the noise along its radius), nor in an optional unseen
 // arc (a stretch the probe cannot reach), each moved along the profile's
 // normal by Gaussian noise σ; a fraction of outliers moved by 10σ (at least
 // 20 um) plus up to 0.3 mm, either way; shuffled. A section left with less than half its points is not
@@ -112,6 +125,39 @@ struct BladeDamage {
   bool edge = false;
   double edge_from = 0.4, edge_to = 0.65;  // spans
   double edge_depth_mm = 1.0;
+  bool te_edge = false;                    // trailing-edge nick
+  double te_from = 0.4, te_to = 0.65;
+  double te_depth_mm = 1.0;
+  bool dent = false;                       // spherical nick in a flank
+  double dent_span = 0.5, dent_chord = 0.5;
+  int dent_side = 1;                       // +1: the flank on the side of +e2; -1: of -e2
+  double dent_radius_mm = 3, dent_depth_mm = 0.5;
+};
+
+// What is missing from the damaged blade in the plane at one height (the
+// nicks judged against the deformed section there): made once per plane,
+// asked per point.
+class MissingInPlane {
+ public:
+  // Beyond the tip's break or in a nick: material the probe finds no surface of.
+  bool unseen(const Vec2& xy) const;
+  // Inside the dent's sphere: material whose floor the probe measures.
+  bool in_dent(const Vec2& xy) const { return dent_radius > 0 && (xy - dent_centre).squaredNorm() < dent_radius * dent_radius; }
+  bool removed(const Vec2& xy) const { return unseen(xy) || in_dent(xy); }
+
+  // The break plane at this height, n . xy + c > 0 beyond it (tip damage).
+  bool tip = false;
+  Vec2 tip_n = Vec2::Zero();
+  double tip_c = 0;
+  // Nicks: within `depth` of the `from` extreme along the unit `along` (a
+  // negative depth: no nick at this height).
+  Vec2 le = Vec2::Zero(), le_along = Vec2::Zero();
+  double le_depth = -1;
+  Vec2 te = Vec2::Zero(), te_along = Vec2::Zero();
+  double te_depth = -1;
+  // The dent's circle in this plane (radius 0: the sphere does not reach it).
+  Vec2 dent_centre = Vec2::Zero();
+  double dent_radius = 0;
 };
 
 // The design blade with its damage: plane sections of the damaged blade,
@@ -129,9 +175,13 @@ class DamagedBlade {
   // The deformed (undamaged) section at height h, in plane coordinates.
   std::vector<Vec2> deformed_section(double h, int samples = 1024) const;
   // Whether in-plane point xy at height h lies in removed material (beyond
-  // the tip break or in the nick); the nick is judged against the deformed
-  // section `section` at that height.
+  // the tip break, in a nick or in the dent); the nicks are judged against
+  // the deformed section `section` at that height.
   bool removed(double h, const Vec2& xy, const std::vector<Vec2>& section) const;
+  // The same for many points of one plane.
+  MissingInPlane missing(double h, const std::vector<Vec2>& section) const;
+  // The dent's sphere (damage().dent), in part coordinates.
+  Vec3 dent_centre() const { return dent_centre_; }
   // The break plane (tip damage): points p with normal . p > offset are gone.
   Vec3 break_normal() const;
   double break_offset() const;
@@ -139,6 +189,7 @@ class DamagedBlade {
  private:
   DesignBlade design_;
   BladeDamage damage_;
+  Vec3 dent_centre_ = Vec3::Zero();
 };
 
 struct MeasurementOptions {

@@ -201,6 +201,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     double h = 0;
     std::vector<Vec3> loop;   // kept points in order, gaps filled once completed
     std::vector<Vec3> kept;   // the measured points kept
+    std::vector<Vec2> rejected;  // the ones the ordering rejected, in the plane
     OrderedSection ordered;
     DamagedSection report;
   };
@@ -221,12 +222,23 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     std::vector<Vec3> flat;
     flat.reserve(ms.points.size());
     for (const Vec3& p : ms.points) flat.push_back(lift(frame.in_plane(p)) + Vec3(0, 0, frame.height(p)));
+    // A section far denser than the rebuild can use is thinned first
+    // (RebuildOptions::thin_above): one measured point per cell.
+    const std::vector<int> thinned = section_thinning(flat, o.rebuild);
+    const std::vector<Vec3>& points = thinned.empty() ? ms.points : w.kept;
+    if (!thinned.empty()) {
+      w.kept = pick(ms.points, thinned);
+      flat = pick(flat, thinned);
+      w.report.thinned = static_cast<int>(ms.points.size() - thinned.size());
+    }
     try {
       w.ordered = order_section(flat, o.rebuild.order);
     } catch (const ParameterError& e) {
       throw ParameterError(what, e.what());
     }
-    w.kept = pick(ms.points, w.ordered.order);
+    std::vector<Vec3> kept = pick(points, w.ordered.order);
+    for (const int i : w.ordered.rejected) w.rejected.push_back(frame.in_plane(points[i]));
+    w.kept = std::move(kept);
     for (const Vec3& p : w.kept) w.h += frame.height(p) / w.kept.size();
     if (w.h < design.h_lo || w.h > design.h_hi)
       throw ParameterError("sections", what + " at height " + std::to_string(w.h) +
@@ -259,26 +271,77 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
     w.report.registration_rms_mm = r.rms_mm;
     return model;
   };
-  for (int k = 0; k < n; ++k) {
+  // Each section on its own (o.rebuild.threads), its fills gathered in
+  // section order afterwards.
+  std::vector<std::vector<SectionGapFill>> section_fills(n);
+  parallel_for_index(n, o.rebuild.threads, [&](size_t k) {
+    cancellation_point();
     Work& w = work[k];
-    const bool top = extend && k >= n - 6;
-    if (w.ordered.gaps.empty() && !top) continue;
+    const bool top = extend && static_cast<int>(k) >= n - 6;
+    const bool dents = o.dent_depth_mm > 0;
+    if (w.ordered.gaps.empty() && !top && !dents) return;
     std::vector<Vec2> model = register_at(w);
-    if (w.ordered.gaps.empty()) continue;
-    // 3. Complete the section: the registered design's arc across each gap.
+    if (w.ordered.gaps.empty() && !dents) return;
     for (Vec2& p : model) p = w.report.motion.apply(p);
     const int m = static_cast<int>(model.size());
+    const int kept_n = static_cast<int>(w.kept.size());
     std::vector<Vec3> lifted;
     for (const Vec2& p : model) lifted.push_back(lift(p));
     const PointIndex model_index(lifted, w.ordered.spacing_mm);
+    std::vector<Vec2> plane(kept_n);
     std::vector<Vec3> kept_plane;
-    for (const Vec3& p : w.kept) kept_plane.push_back(lift(frame.in_plane(p)));
+    for (int i = 0; i < kept_n; ++i) {
+      plane[i] = frame.in_plane(w.kept[i]);
+      kept_plane.push_back(lift(plane[i]));
+    }
     const PointIndex kept_index(kept_plane, w.ordered.spacing_mm);
     const double far = 1e3;
-    std::vector<std::vector<Vec3>> fill(w.kept.size());
+    auto at = [&](int i) -> const Vec2& { return model[((i % m) + m) % m]; };
+    std::vector<std::vector<Vec3>> fill(kept_n);
+    std::vector<char> drop(kept_n, 0);
+    // The registered design's arc from model point ia (near pa) `count`
+    // steps in direction dir to pb, into the loop after kept point `after`.
+    auto put_arc = [&](SectionGapFill& f, int after, int ia, int dir, int count) {
+      const Vec2 chord = f.end_b - f.end_a;
+      Vec2 last = f.end_a;
+      for (int s = 1; s < count; ++s) {
+        const Vec2& q = at(ia + dir * s);
+        if (chord.norm() > 0)
+          f.sagitta_mm = std::max(f.sagitta_mm, std::abs(chord.x() * (q - f.end_a).y() - chord.y() * (q - f.end_a).x()) / chord.norm());
+        if ((q - last).norm() < 0.5 * w.ordered.spacing_mm || (q - f.end_b).norm() < 0.5 * w.ordered.spacing_mm) continue;
+        fill[after].push_back(frame.point(w.h, q));
+        last = q;
+      }
+      f.arc_middle = at(ia + dir * (count / 2));
+    };
+    // The point `dist` along the arc from the foot of p near model point ia,
+    // in direction dir, at most `limit` steps of the model.
+    auto walk = [&](const Vec2& p, int ia, int dir, double dist, int limit) {
+      // The foot of p on the segment ia -> ia + dir (or the one before it).
+      Vec2 from = at(ia);
+      int next = ia + dir;
+      for (const int s : {ia, ia - dir}) {
+        const Vec2& a = at(s);
+        const Vec2 e = at(s + dir) - a;
+        const double t = e.squaredNorm() > 0 ? (p - a).dot(e) / e.squaredNorm() : 0;
+        if (t >= 0 && t <= 1) {
+          from = a + t * e;
+          next = s + dir;
+          break;
+        }
+      }
+      for (int steps = 0; steps < limit; ++steps, next += dir) {
+        const double len = (at(next) - from).norm();
+        if (len >= dist) return Vec2(from + (at(next) - from) * (dist / len));
+        dist -= len;
+        from = at(next);
+      }
+      return from;
+    };
+    std::vector<SectionGapFill>& fills = section_fills[k];
     for (const SectionGap& g : w.ordered.gaps) {
-      const int a = g.after, b = (g.after + 1) % static_cast<int>(w.kept.size());
-      const Vec2 pa = frame.in_plane(w.kept[a]), pb = frame.in_plane(w.kept[b]);
+      const int a = g.after, b = (g.after + 1) % kept_n;
+      const Vec2 pa = plane[a], pb = plane[b];
       const int ia = model_index.nearest(lift(pa), far), ib = model_index.nearest(lift(pb), far);
       if (ia < 0 || ib < 0 || ia == ib) continue;  // a gap narrower than the model's spacing: nothing to put in
       // Of the two arcs from ia to ib, the one the measured points do not
@@ -290,43 +353,131 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       const int forward = ((ib - ia) % m + m) % m;
       auto covered = [&](int steps, int dir) {
         int near = 0;
-        for (int s = 1; s < steps; ++s) {
-          const Vec2& q = model[((ia + dir * s) % m + m) % m];
-          if (kept_index.nearest(lift(q), 2 * w.ordered.spacing_mm) >= 0) ++near;
-        }
+        for (int s = 1; s < steps; ++s)
+          if (kept_index.nearest(lift(at(ia + dir * s)), 2 * w.ordered.spacing_mm) >= 0) ++near;
         return near;
       };
-      const bool go_forward = covered(forward, 1) <= covered(m - forward, -1);
-      const Vec2 mid_f = model[(ia + forward / 2) % m];
-      const Vec2 mid_b = model[((ia - (m - forward) / 2) % m + m) % m];
-      const int count = go_forward ? forward : m - forward;
+      const int dir = covered(forward, 1) <= covered(m - forward, -1) ? 1 : -1;
+      const int count = dir > 0 ? forward : m - forward;
       SectionGapFill f;
       f.height_mm = w.h;
       f.end_a = pa;
       f.end_b = pb;
-      f.arc_middle = go_forward ? mid_f : mid_b;
       f.length_mm = g.length_mm;
       f.spacing_mm = w.ordered.spacing_mm;
-      const Vec2 chord = pb - pa;
-      Vec2 last = pa;
-      for (int s = 1; s < count; ++s) {
-        const Vec2& q = model[((ia + (go_forward ? s : -s)) % m + m) % m];
-        if (chord.norm() > 0)
-          f.sagitta_mm = std::max(f.sagitta_mm, std::abs(chord.x() * (q - pa).y() - chord.y() * (q - pa).x()) / chord.norm());
-        if ((q - last).norm() < 0.5 * w.ordered.spacing_mm || (q - pb).norm() < 0.5 * w.ordered.spacing_mm) continue;
-        fill[a].push_back(frame.point(w.h, q));
-        last = q;
-      }
-      out.fills.push_back(f);
+      put_arc(f, a, ia, dir, count);
+      // The damage's edges (header): half a probe step on from each end,
+      // the end first moved over points the ordering rejected that lie on
+      // the registered design within the noise (the last point before a gap
+      // has neighbours on one side only, and the stray test doubts it).
+      auto extend = [&](Vec2 end, int i_end, int d) {
+        std::vector<std::pair<int, Vec2>> on;  // arc steps from i_end, point
+        for (const Vec2& q : w.rejected) {
+          const int j = model_index.nearest(lift(q), w.ordered.max_step_mm);
+          if (j < 0) continue;
+          const int steps = (((j - i_end) * d) % m + m) % m;
+          if (steps == 0 || steps >= count / 2) continue;
+          double dist = 1e300;
+          for (const int s : {j - 1, j}) {
+            const Vec2 e = at(s + 1) - at(s);
+            const double t = e.squaredNorm() > 0 ? std::clamp((q - at(s)).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+            dist = std::min(dist, (q - at(s) - t * e).norm());
+          }
+          if (dist < std::max(3 * w.report.registration_rms_mm, 1e-3)) on.emplace_back(steps, q);
+        }
+        std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (const auto& [steps, q] : on) {
+          if ((q - end).norm() > w.ordered.max_step_mm) break;
+          end = q;
+          i_end = ((i_end + d * steps) % m + m) % m;
+          ++f.confirmed;
+        }
+        return std::make_pair(end, i_end);
+      };
+      const auto [ea, ja] = extend(pa, ia, dir);
+      const auto [eb, jb] = extend(pb, ib, -dir);
+      const double half = 0.5 * w.ordered.spacing_mm;
+      f.edge_a = walk(ea, ja, dir, half, std::max(1, count / 3));
+      f.edge_b = walk(eb, jb, -dir, half, std::max(1, count / 3));
+      fills.push_back(f);
     }
+    if (dents) {
+      // Points deeper than dent_depth inside the registered design, over at
+      // least min_dent of the profile, are a dent's floor (header).
+      double twice = 0;
+      for (int j = 0; j < m; ++j) twice += at(j).x() * at(j + 1).y() - at(j).y() * at(j + 1).x();
+      const double inside_sign = twice > 0 ? 1 : -1;  // left of travel is inside for a counter-clockwise loop
+      std::vector<double> depth(kept_n, 0);
+      for (int i = 0; i < kept_n; ++i) {
+        const int j = model_index.nearest(kept_plane[i], far);
+        if (j < 0) continue;
+        double best = 1e300, side = 0;
+        for (const int s : {j - 1, j}) {
+          const Vec2& a = at(s);
+          const Vec2 e = at(s + 1) - a;
+          const double t = e.squaredNorm() > 0 ? std::clamp((plane[i] - a).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+          const Vec2 r = plane[i] - (a + t * e);
+          if (r.norm() < best) {
+            best = r.norm();
+            side = e.x() * r.y() - e.y() * r.x();
+          }
+        }
+        depth[i] = side * inside_sign > 0 ? best : -best;
+      }
+      std::vector<char> gap_after(kept_n, 0);
+      for (const SectionGap& g : w.ordered.gaps) gap_after[g.after] = 1;
+      const double rim = std::max(3 * w.report.registration_rms_mm, 1e-3);
+      std::vector<char> used(kept_n, 0);
+      for (int i0 = 0; i0 < kept_n; ++i0) {
+        if (used[i0] || !(depth[i0] > o.dent_depth_mm)) continue;
+        // The run of points inside by more than the noise around i0, not
+        // across a gap.
+        int first = i0, last = i0, len = 1;
+        while (len < kept_n && !gap_after[(first - 1 + kept_n) % kept_n] && depth[(first - 1 + kept_n) % kept_n] > rim)
+          first = (first - 1 + kept_n) % kept_n, ++len;
+        while (len < kept_n && !gap_after[last] && depth[(last + 1) % kept_n] > rim) last = (last + 1) % kept_n, ++len;
+        double deepest = 0, along = 0;
+        for (int s = 0; s < len; ++s) {
+          const int i = (first + s) % kept_n;
+          used[i] = 1;
+          deepest = std::max(deepest, depth[i]);
+        }
+        const int before = (first - 1 + kept_n) % kept_n, after = (last + 1) % kept_n;
+        if (len < 3 || len + 2 > kept_n) continue;
+        for (int s = 0; s <= len; ++s) along += (plane[(before + s + 1) % kept_n] - plane[(before + s) % kept_n]).norm();
+        if (along < o.min_dent_mm) continue;
+        const int ia = model_index.nearest(kept_plane[before], far), ib = model_index.nearest(kept_plane[after], far);
+        if (ia < 0 || ib < 0 || ia == ib) continue;
+        // A dent is the short way round.
+        const int forward = ((ib - ia) % m + m) % m;
+        const int dir = forward <= m - forward ? 1 : -1;
+        SectionGapFill f;
+        f.height_mm = w.h;
+        f.end_a = f.edge_a = plane[before];
+        f.end_b = f.edge_b = plane[after];
+        f.length_mm = along;
+        f.spacing_mm = w.ordered.spacing_mm;
+        f.dent_depth_mm = deepest;
+        for (int s = 0; s < len; ++s) {
+          const int i = (first + s) % kept_n;
+          drop[i] = 1;
+          f.floor.push_back(plane[i]);
+        }
+        put_arc(f, before, ia, dir, dir > 0 ? forward : m - forward);
+        fills.push_back(f);
+        ++w.report.dents;
+      }
+    }
+    if (fills.empty() && w.ordered.gaps.empty()) return;
     std::vector<Vec3> loop;
-    for (size_t i = 0; i < w.kept.size(); ++i) {
-      loop.push_back(w.kept[i]);
+    for (int i = 0; i < kept_n; ++i) {
+      if (!drop[i]) loop.push_back(w.kept[i]);
       loop.insert(loop.end(), fill[i].begin(), fill[i].end());
     }
     w.loop = std::move(loop);
     w.report.source = SectionSource::completed;
-  }
+  });
+  for (const std::vector<SectionGapFill>& f : section_fills) out.fills.insert(out.fills.end(), f.begin(), f.end());
 
   // 4. A broken tip: design sections moved by the extrapolated registration.
   std::vector<Work> extension;

@@ -11,6 +11,13 @@
 
 namespace bliskrun {
 
+std::vector<int> section_thinning(const std::vector<Vec3>& points, const RebuildOptions& o) {
+  if (o.thin_above <= 0 || static_cast<int>(points.size()) <= o.thin_above) return {};
+  std::vector<int> kept = thin_section(points, o.thin_spacing());
+  if (kept.size() == points.size()) kept.clear();
+  return kept;
+}
+
 RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const RebuildOptions& o) {
   const int n = static_cast<int>(sections.size());
   if (n < 2) throw ParameterError("sections", "a blade needs at least 2 sections, got " + std::to_string(n));
@@ -26,8 +33,10 @@ RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const
     cancellation_point();
     const std::string what = "section " + std::to_string(k + 1);
     OrderedSection s;
+    const std::vector<int> thinned = section_thinning(sections[k], o);
+    const std::vector<Vec3> points = thinned.empty() ? sections[k] : pick(sections[k], thinned);
     try {
-      s = order_section(sections[k], o.order);
+      s = order_section(points, o.order);
     } catch (const ParameterError& e) {
       throw ParameterError(what, e.what());
     }
@@ -39,11 +48,14 @@ RebuiltBlade rebuild_blade(const std::vector<std::vector<Vec3>>& sections, const
                                            "sample by sample; leave it out)");
     }
     RebuiltSection& r = out.sections[k];
+    r.thinned = static_cast<int>(sections[k].size() - points.size());
     r.kept = static_cast<int>(s.order.size());
     r.rejected = s.rejected;
+    if (!thinned.empty())
+      for (int& i : r.rejected) i = thinned[i];
     r.chains = s.chains;
     r.spacing_mm = s.spacing_mm;
-    loops[k] = pick(sections[k], s.order);
+    loops[k] = pick(points, s.order);
   });
   const std::vector<OrientedSection> oriented = orient_sections(loops, o.axis);
   std::vector<ClosedCurve> curves(n);

@@ -3,10 +3,12 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <functional>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "core/common/error.h"
@@ -373,6 +375,113 @@ std::vector<Vec3> pick(const std::vector<Vec3>& points, const std::vector<int>& 
     out.push_back(points[i]);
   }
   return out;
+}
+
+std::vector<int> thin_section(const std::vector<Vec3>& points, double spacing_mm) {
+  if (!(spacing_mm > 0 && std::isfinite(spacing_mm))) throw ParameterError("spacing", "expected a spacing > 0 mm");
+  const size_t n = points.size();
+  std::vector<int> all(n);
+  for (size_t i = 0; i < n; ++i) all[i] = static_cast<int>(i);
+  if (n < 8) return all;
+  // 1. Cells half the spacing wide, keyed 21 bits per axis.
+  const double cell = 0.5 * spacing_mm;
+  Vec3 lo = points[0];
+  for (const Vec3& p : points) lo = lo.cwiseMin(p);
+  auto index_of = [&](const Vec3& p, int a) { return static_cast<long>(std::floor((p[a] - lo[a]) / cell)); };
+  auto key_of = [](long x, long y, long z) {
+    return (static_cast<std::uint64_t>(x) << 42) | (static_cast<std::uint64_t>(y) << 21) | static_cast<std::uint64_t>(z);
+  };
+  std::vector<std::pair<std::uint64_t, int>> keyed(n);
+  for (size_t i = 0; i < n; ++i) {
+    long c[3];
+    for (int a = 0; a < 3; ++a) {
+      c[a] = index_of(points[i], a);
+      if (!(c[a] >= 0 && c[a] < (1L << 21)))
+        throw ParameterError("spacing", "the section spans more than 2^21 cells of " + std::to_string(cell) + " mm");
+    }
+    keyed[i] = {key_of(c[0], c[1], c[2]), static_cast<int>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  struct Cell {
+    std::uint64_t key;
+    size_t begin, end;
+  };
+  std::vector<Cell> cells;
+  for (size_t b = 0; b < n;) {
+    size_t e = b + 1;
+    while (e < n && keyed[e].first == keyed[b].first) ++e;
+    cells.push_back({keyed[b].first, b, e});
+    b = e;
+  }
+  std::vector<size_t> counts;
+  for (const Cell& c : cells) counts.push_back(c.end - c.begin);
+  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
+  const size_t median_count = counts[counts.size() / 2];
+  if (median_count < 4) return all;
+  auto find = [&](std::uint64_t key) -> const Cell* {
+    const auto it = std::lower_bound(cells.begin(), cells.end(), key, [](const Cell& c, std::uint64_t k) { return c.key < k; });
+    return it != cells.end() && it->key == key ? &*it : nullptr;
+  };
+  auto unpack = [](std::uint64_t key, long c[3]) {
+    c[0] = static_cast<long>(key >> 42);
+    c[1] = static_cast<long>((key >> 21) & ((1u << 21) - 1));
+    c[2] = static_cast<long>(key & ((1u << 21) - 1));
+  };
+  // 2. Each cell's representative, unless its block of 3 x 3 x 3 cells holds
+  // fewer points than the median cell: a lone stray.
+  std::vector<int> reps;
+  std::vector<double> c3[3];
+  for (const Cell& cl : cells) {
+    long c[3];
+    unpack(cl.key, c);
+    size_t block = 0;
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          if (c[0] + dx < 0 || c[1] + dy < 0 || c[2] + dz < 0) continue;
+          if (const Cell* o = find(key_of(c[0] + dx, c[1] + dy, c[2] + dz))) block += o->end - o->begin;
+        }
+    if (block < median_count) continue;
+    Vec3 med;
+    for (int a = 0; a < 3; ++a) {
+      c3[a].clear();
+      for (size_t k = cl.begin; k < cl.end; ++k) c3[a].push_back(points[keyed[k].second][a]);
+      std::nth_element(c3[a].begin(), c3[a].begin() + c3[a].size() / 2, c3[a].end());
+      med[a] = c3[a][c3[a].size() / 2];
+    }
+    int best = keyed[cl.begin].second;
+    for (size_t k = cl.begin; k < cl.end; ++k)
+      if ((points[keyed[k].second] - med).squaredNorm() < (points[best] - med).squaredNorm()) best = keyed[k].second;
+    reps.push_back(best);
+  }
+  // 3. No two kept within the spacing: the representatives in cell order,
+  // each kept unless one kept already lies within spacing_mm (so the kept
+  // points are spacing_mm to about twice that apart along the profile, as
+  // evenly as a probe's jittered steps).
+  std::vector<int> kept;
+  std::unordered_map<std::uint64_t, std::vector<int>> near;
+  auto coarse = [&](const Vec3& p, int a) { return static_cast<long>(std::floor((p[a] - lo[a]) / spacing_mm)) + 1; };
+  for (const int i : reps) {
+    const Vec3& p = points[i];
+    const long c[3] = {coarse(p, 0), coarse(p, 1), coarse(p, 2)};
+    bool free = true;
+    for (long dx = -1; dx <= 1 && free; ++dx)
+      for (long dy = -1; dy <= 1 && free; ++dy)
+        for (long dz = -1; dz <= 1 && free; ++dz) {
+          const auto it = near.find(key_of(c[0] + dx, c[1] + dy, c[2] + dz));
+          if (it == near.end()) continue;
+          for (const int j : it->second)
+            if ((points[j] - p).squaredNorm() < spacing_mm * spacing_mm) {
+              free = false;
+              break;
+            }
+        }
+    if (!free) continue;
+    kept.push_back(i);
+    near[key_of(c[0], c[1], c[2])].push_back(i);
+  }
+  std::sort(kept.begin(), kept.end());
+  return kept;
 }
 
 OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrderOptions& options) {

@@ -116,6 +116,25 @@ OrderedSection order_section(const std::vector<Vec3>& points, const SectionOrder
 // points[order[0]], points[order[1]], ...
 std::vector<Vec3> pick(const std::vector<Vec3>& points, const std::vector<int>& order);
 
+// Thinning a section measured far more densely than the rebuild can use
+// (issue 43: ten million points), before it is ordered, to points about
+// `spacing_mm` apart. The rule: the points are binned in cubic cells half
+// the spacing wide; a cell whose block of 3 x 3 x 3 cells holds fewer points
+// than the median occupied cell is dropped (a stray lies alone, a measured
+// stretch fills its cells and their neighbours, so a gap's end and a cell
+// the profile only clips stay); every other cell gives the one of its points
+// nearest the coordinate-wise median of them — a measured point, not an
+// average, so the deviations reported stay the measurement's and a stray
+// among good points is never the one given; of these, in cell order, each is
+// kept unless one kept already lies within the spacing, so the kept points
+// are one to about two spacings apart along the profile, as even as a
+// probe's jittered steps (one per cell left them as close as two cells'
+// corners and as far as three cells, and the ordering found gaps there).
+// Returns the kept indices, ascending; all of them when the median cell
+// holds fewer than 4 points (not dense against the spacing: nothing to
+// thin). Throws ParameterError ("spacing") unless spacing_mm > 0.
+std::vector<int> thin_section(const std::vector<Vec3>& points, double spacing_mm);
+
 struct OrientedSection {
   std::vector<Vec3> loop;
   bool reversed = false;  // the input order was clockwise about the axis

@@ -42,7 +42,9 @@ local opt = require("recipe_options"){
   measured = {type = "string", default_text = "simulated", help = "a file of measured sections instead of the simulated ones"},
   stl_tol = {type = "number", unit = "mm", range = {1e-4, 1}, default_text = "0.05 (rotor37), 0.02",
              help = "chord tolerance of the STL meshes"},
-  tip_tilt = {type = "number", unit = "deg", default = 0, range = {-45, 45}, help = "damage=tip: tilt of the fracture face"},
+  tip_tilt = {type = "number", unit = "deg", default = 0, range = {-44, 44}, help = "damage=tip: tilt of the fracture face"},
+  tip_span = {type = "number", default = 0.8, range = {0, 1},
+              help = "damage=tip: span of the break's point on the stacking axis (1 with a tilt: a trailing-edge corner)"},
   edge_depth = {type = "number", unit = "mm", default = 1.0, range = {0.05, 10}, help = "damage=edge: depth of the nick"},
   edge_from = {type = "number", default = 0.4, range = {0, 1}, help = "damage=edge: span where the nick starts"},
   edge_to = {type = "number", default = 0.65, range = {0, 1}, help = "damage=edge: span where the nick ends"},
@@ -108,7 +110,7 @@ if part == "e3" or part == "cad" then
   settings.cad = file
 end
 if damage == "tip" then
-  opts.tip_span, opts.tip_tilt = 0.8, opt.tip_tilt
+  opts.tip_span, opts.tip_tilt = opt.tip_span, opt.tip_tilt
 else
   if not (opt.edge_from < opt.edge_to) then
     error(string.format("edge_from (%g) must be below edge_to (%g)", opt.edge_from, opt.edge_to), 0)
@@ -211,12 +213,18 @@ if opt.paths and not region.empty then
     {name = "blade", surface = rebuilt, chord_tol = 0.05, margin = 0.05, parts = {"shank", "holder"}},
     {name = "fixture", mesh = {vertices = {at(h0, -100, -100), at(h0, 100, -100), at(h0, 100, 100), at(h0, -100, 100)},
                                triangles = {{1, 2, 3}, {1, 3, 4}}}}}}
+  -- The region's window. The spiral goes all the way round the blade and
+  -- ignores v, so a region across the rebuilt blade's seam (v_from > v_to)
+  -- is its as any other and it is simulated all round; the zigzag's passes
+  -- run along v, and repair_paths refuses a window across the seam, saying so
+  -- (issue 43).
+  local pattern = damage == "tip" and "spiral" or "zigzag"
   local w = {u = {region.u_from, region.u_to}, v = {region.v_from, region.v_to}}
-  if w.v[1] > w.v[2] then error("the damaged region crosses the rebuilt blade's seam (v " .. region.v_from .. " .. " ..
-                                region.v_to .. "): toolpaths over the seam are not planned") end
+  local across_seam = w.v[1] > w.v[2]
+  if pattern == "spiral" then w.v = {0, 1} end
   local scallop, chord_tol = 0.005, 0.002
   local plan = bliskrun.repair_paths{design = rebuilt, tool = tool, world = world,
-                                     pattern = damage == "tip" and "spiral" or "zigzag", u = w.u, v = w.v,
+                                     pattern = pattern, u = w.u, v = w.v,
                                      deposit = region.max_thickness, layer = opt.path_layer,
                                      stock = 0.2, scallop = scallop, chord_tol = chord_tol, clearance = 0.5,
                                      guard_spacing = opt.guard_spacing}
@@ -227,48 +235,32 @@ if opt.paths and not region.empty then
   for _, why in ipairs(plan.refused) do bliskrun.log("  refused connection: " .. why) end
   bliskrun.log(string.format("  planned in %.1f s (passes %.1f s, connections %.1f s)",
                              plan.paths_seconds + plan.connect_seconds, plan.paths_seconds, plan.connect_seconds))
-  -- The bands of undamaged blade around the region, on every side the tool
-  -- reaches (issue 43: 1 mm below only missed contacts above and beside
-  -- it): 1 mm of span below and above, and 1 mm around the profile before
-  -- and after the region's v range (the window's perimeter at mid-span
-  -- turns mm into v). A side at the loft's end (u 0 or 1) has no band.
-  local du = 1 / (info.h_hi - info.h_lo)
+  -- The finishing layer simulated over the region, and on bands of
+  -- undamaged blade 1 mm wide on every side of it the tool reaches (issue
+  -- 43: 1 mm below only missed contacts above and beside it; a side at the
+  -- loft's end, or before and after for the spiral's window all the way
+  -- round, has none): repair.band_check says where each band was cut deepest.
   local passes = repair.finishing_passes(plan, tool)
   local su, sv = repair.window_samples(rebuilt, w, 0.5 * (w.v[1] + w.v[2]))
   local sim = bliskrun.simulate{surface = rebuilt, passes = passes, u = w.u, v = w.v, samples_u = su, samples_v = sv,
                                 search_above = 0.05, search_below = 0.05}
-  local um = 0.5 * (w.u[1] + w.u[2])
-  local around = 0
-  for k = 0, 255 do
-    local a, b = rebuilt:point(um, k / 256), rebuilt:point(um, (k + 1) / 256)
-    around = around + math.sqrt((b.x - a.x) ^ 2 + (b.y - a.y) ^ 2 + (b.z - a.z) ^ 2)
-  end
-  local dv = 1 / around
-  local bands = {
-    {name = "below", u = {math.max(0, w.u[1] - du), w.u[1]}, v = w.v},
-    {name = "above", u = {w.u[2], math.min(1, w.u[2] + du)}, v = w.v},
-    {name = "before", u = w.u, v = {math.max(0, w.v[1] - dv), w.v[1]}},
-    {name = "after", u = w.u, v = {w.v[2], math.min(1, w.v[2] + dv)}},
-  }
-  local band_sim = {overcut = 0, sides = {}}
-  for _, band in ipairs(bands) do
-    if band.u[2] - band.u[1] > 1e-9 and band.v[2] - band.v[1] > 1e-9 then
-      local bu, bv = repair.window_samples(rebuilt, band, 0.5 * (band.v[1] + band.v[2]))
-      local b = bliskrun.simulate{surface = rebuilt, passes = passes, u = band.u, v = band.v, samples_u = bu,
-                                  samples_v = bv, search_above = 0.05, search_below = 0.05}
-      band_sim.sides[band.name] = b.overcut
-      band_sim.overcut = math.min(band_sim.overcut, b.overcut)
-    end
-  end
+  local band_sim = repair.band_check(rebuilt, passes, w)
   lap("repair simulation")
   sim.map:write_png("blade_repair_material_left.png", {title = "Material left after the finishing layer (µm)"})
+  local by_side, band_at = {}, nil
+  for name, b in pairs(band_sim.sides) do by_side[name] = b.overcut end
+  if band_sim.side then
+    local b = band_sim.sides[band_sim.side]
+    band_at = {side = band_sim.side, u = b.u, v = b.v, point = b.point and xyz(b.point)}
+  end
   paths = {pattern = plan.pattern, layers = #plan.layers, passes = plan.passes, poses = plan.poses,
            moves = #plan.moves, bridges = plan.bridges, links = plan.links, refusals = #plan.refusals,
-           refused_connections = plan.refused_connections, tilted = plan.tilted,
+           refused_connections = plan.refused_connections, tilted = plan.tilted, across_seam = across_seam,
            lifted = plan.lifted, max_lift_mm = plan.max_lift,
            chord_deviation_max_mm = plan.max_deviation,
            simulation = {untouched = sim.untouched, residual_max_mm = sim.residual_max, overcut_mm = sim.overcut,
-                         band_overcut_mm = band_sim.overcut, band_overcut_by_side_mm = band_sim.sides,
+                         band_overcut_mm = band_sim.overcut, band_overcut_side = band_sim.side,
+                         band_overcut_by_side_mm = by_side, band_overcut_at = band_at,
                          allowed_undercut_mm = scallop + chord_tol}}
   bliskrun.log(string.format("repair toolpaths (%s): %d layers, %d passes, %d poses, %d refused, %d finishing contacts "
                              .. "lifted over troughs narrower than the ball (up to %.2f um); finishing simulated: "
@@ -280,7 +272,9 @@ if opt.paths and not region.empty then
   assert(sim.untouched == 0 and sim.residual_max <= scallop + chord_tol + 1e-4,
          string.format("repair: material left up to %.2f um on the rebuilt blade", 1e3 * (sim.residual_max or -1)))
   assert(sim.overcut > -0.003 and band_sim.overcut > -0.003,
-         string.format("repair: overcut %.2f / %.2f um", -1e3 * sim.overcut, -1e3 * band_sim.overcut))
+         string.format("repair: overcut %.2f um on the region, %.2f um beside it%s", -1e3 * sim.overcut,
+                       -1e3 * band_sim.overcut, band_at and string.format(" (band %s, u %.4f, v %.4f)", band_at.side,
+                                                                          band_at.u, band_at.v) or ""))
 end
 
 -- Pictures and STL.

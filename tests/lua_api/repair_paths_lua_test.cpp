@@ -36,6 +36,9 @@ INSTANTIATE_TEST_SUITE_P(
                         "option 'scallop'"},
         RecipeErrorCase{"window", SETUP "bliskrun.repair_paths{design = face, tool = ball, world = world, u = {0.5, 0.2}}",
                         "option 'u': expected {lo, hi} with 0 <= lo < hi <= 1"},
+        RecipeErrorCase{"zigzag_across_the_seam",
+                        SETUP "bliskrun.repair_paths{design = face, tool = ball, world = world, v = {0.9, 0.1}}",
+                        "the region crosses the surface's seam (v from 0.9 round through 0 to 0.1)"},
         RecipeErrorCase{"not_a_ball",
                         SETUP "bliskrun.repair_paths{design = face, world = world, tool = "
                               "bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 12}}",

@@ -9,7 +9,9 @@
 
 #include <cmath>
 #include <memory>
+#include <string>
 
+#include "core/common/error.h"
 #include "core/geometry/mesh.h"
 
 namespace bliskrun {
@@ -278,6 +280,37 @@ TEST(RepairPaths, SpiralPitchIsTheStepOverAndNeedsNoLinks) {
   // the longest allowed step.
   for (size_t i = 0; i + 1 < poses.size(); ++i)
     EXPECT_LE((poses[i + 1].contact - poses[i].contact).norm(), rq.steps.max_step_mm + 1e-9);
+}
+
+TEST(RepairPaths, AWindowAcrossTheSeamIsTheSpiralsAndRefusedByTheZigzag) {
+  // Issue 43: a region crossing the loft's seam (v from 0.9 round through 0
+  // to 0.1) was refused whatever the pattern. The spiral goes all the way
+  // round and ignores v: the same plan as over v = [0, 1]. The zigzag runs
+  // its passes along v over the window: refused, saying so.
+  const Tool tool = ball_mill(2);
+  const CollisionWorld world = far_world();
+  auto s = std::make_shared<Tube>(4.0, 5);
+  RepairPathRequest rq = finishing_only(s, tool, world);
+  rq.pattern = RepairPattern::Spiral;
+  rq.u0 = 0.2;
+  rq.u1 = 0.4;
+  rq.scallop_mm = 0.01;
+  const RepairPathResult whole = plan_repair_paths(rq);
+  rq.v0 = 0.9;
+  rq.v1 = 0.1;
+  const RepairPathResult across = plan_repair_paths(rq);
+  ASSERT_EQ(across.passes.size(), whole.passes.size());
+  ASSERT_EQ(across.passes[0].poses.size(), whole.passes[0].poses.size());
+  for (size_t i = 0; i < whole.passes[0].poses.size(); ++i)
+    EXPECT_EQ((across.passes[0].poses[i].contact - whole.passes[0].poses[i].contact).norm(), 0.0);
+  rq.pattern = RepairPattern::Zigzag;
+  try {
+    plan_repair_paths(rq);
+    FAIL() << "a zigzag across the seam was planned";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("crosses the surface's seam"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("spiral"), std::string::npos) << e.what();
+  }
 }
 
 TEST(RepairPaths, EachZigzagLayerStartsOnTheSideWhereTheLayerBeforeEnded) {

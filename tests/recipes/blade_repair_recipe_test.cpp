@@ -8,6 +8,7 @@
 // (`paths=false`) runs too, also under the sanitizers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -72,6 +73,93 @@ TEST(BladeRepairRecipe, NickedEdgeIsRebuiltAndMachinedBackWithinTheScallopAndNoG
   // The bands on every side of the region were simulated (issue 43 item 4).
   for (const char* side : {"below", "above", "before", "after"})
     EXPECT_TRUE(sim["band_overcut_by_side_mm"].contains(side)) << side;
+}
+
+// The recipe's band check (scripts/lib/repair.lua, band_check; issue 43 item
+// 4): a finishing contact cutting 20 um into the surface beside the region
+// — past the end of its v range, not below it — is caught by the band on
+// that side, where and as deep as it cut; the region's own simulation and
+// the band below (all there was before) see nothing. A 20 x 60 mm face (u
+// along x, v along y, normal +z), the region u 0.4-0.5, v 0.45-0.55 ridden
+// over by a 3 mm ball at zero depth, and one move at y = 33.5 mm (v 0.5583,
+// in the 1 mm band after the region's v 0.55) from x = 8.8 to 9.2 mm, 20 um
+// deep: its groove, 0.35 mm either side, stays in the band.
+TEST(BladeRepairRecipe, AContactBesideTheRegionIsCaughtByTheBandOnItsSide) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"(
+local repair = require("repair")
+local face = bliskrun.point_grid{rows = 2, cols = 2, points = {{0,0,0},{0,60,0},{20,0,0},{20,60,0}}}:surface()
+local ball = bliskrun.ball_end_mill{radius = 3, flute_length = 12}
+local w = {u = {0.4, 0.5}, v = {0.45, 0.55}}
+local passes = {}
+for x = 8, 10, 0.1 do
+  passes[#passes + 1] = {tool = ball, poses = {{tip = {x, 27, 0}, axis = {0, 0, 1}}, {tip = {x, 33, 0}, axis = {0, 0, 1}}}}
+end
+-- The stray contact beside the region.
+passes[#passes + 1] = {tool = ball, poses = {{tip = {8.8, 33.5, -0.02}, axis = {0, 0, 1}},
+                                             {tip = {9.2, 33.5, -0.02}, axis = {0, 0, 1}}}}
+local su, sv = repair.window_samples(face, w, 0.5)
+local region = bliskrun.simulate{surface = face, passes = passes, u = w.u, v = w.v, samples_u = su, samples_v = sv,
+                                 search_above = 0.05, search_below = 0.05}
+local bands = repair.band_check(face, passes, w)
+local a = bands.sides.after
+bliskrun.write_json("band.json", {region = region.overcut, overcut = bands.overcut, side = bands.side,
+                                  below = bands.sides.below.overcut, above = bands.sides.above.overcut,
+                                  before = bands.sides.before.overcut, after = a.overcut, u = a.u, v = a.v,
+                                  x = a.point.x, y = a.point.y, z = a.point.z, samples_v = a.samples_v})
+)");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(dir.path() + "/out/band.json");
+  ASSERT_TRUE(in.good());
+  const nlohmann::json j = nlohmann::json::parse(in);
+  // Nothing on the region or the bands below, above and before it.
+  EXPECT_GT(j["region"].get<double>(), -1e-6);
+  for (const char* side : {"below", "above", "before"}) EXPECT_GT(j[side].get<double>(), -1e-6) << side;
+  // The band after it: 20 um at the move, less the ball's rise to the
+  // nearest sample row (1 mm / (samples_v - 1) apart across the groove; at
+  // most half that off its line): 3 - sqrt(9 - (0.5 s)^2).
+  EXPECT_EQ(j["side"], "after");
+  const double half_row = 0.5 * 1.0 / (j["samples_v"].get<int>() - 1);
+  const double rise = 3 - std::sqrt(9 - half_row * half_row);
+  EXPECT_NEAR(j["overcut"].get<double>(), j["after"].get<double>(), 1e-15);
+  EXPECT_LE(j["after"].get<double>(), -0.02 + rise + 1e-6);
+  EXPECT_GE(j["after"].get<double>(), -0.02 - 1e-6);
+  // Where: on the move's line, between its ends.
+  EXPECT_NEAR(j["y"].get<double>(), 33.5, half_row + 1e-6);
+  EXPECT_GE(j["x"].get<double>(), 8.8 - 1e-6);
+  EXPECT_LE(j["x"].get<double>(), 9.2 + 1e-6);
+  EXPECT_NEAR(j["v"].get<double>(), 33.5 / 60, (half_row + 1e-6) / 60);
+  EXPECT_NEAR(j["z"].get<double>(), 0, 1e-12);
+}
+
+TEST(BladeRepairRecipe, ACornerAcrossTheSeamIsMachinedByTheSpiral) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "spiral repair paths through the recipe (~10 s in the Release build)";
+#endif
+  // The leading-edge corner broken off at the tip (the break tilted 44
+  // degrees upstream through the tip's axis point) lies across the rebuilt
+  // blade's seam (its v from ~0.99 round to ~0.47). The recipe refused it
+  // (issue 43); the spiral goes all the way round and ignores v, so it is
+  // planned and simulated all round like any tip.
+  TempDir dir;
+  const std::string out = dir.path() + "/out";
+  const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_repair.lua", "--out",
+                                       out, "--quiet", "--set", "damage=tip", "--set", "tip_span=1", "--set",
+                                       "tip_tilt=-44", "--set", "path_layer=6", "--set", "sections=16", "--set",
+                                       "points=1000"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_report(out);
+  ASSERT_FALSE(j.is_null());
+  const auto& region = j["region"];
+  EXPECT_GT(region["v"][0].get<double>(), region["v"][1].get<double>());  // across the seam
+  const auto& paths = j["repair_paths"];
+  EXPECT_EQ(paths["pattern"], "spiral");
+  EXPECT_TRUE(paths["across_seam"].get<bool>());
+  EXPECT_EQ(paths["refusals"].get<int>(), 0);
+  const auto& sim = paths["simulation"];
+  EXPECT_EQ(sim["untouched"].get<int>(), 0);
+  EXPECT_LE(sim["residual_max_mm"].get<double>(), sim["allowed_undercut_mm"].get<double>() + 1e-4);
+  EXPECT_GT(sim["band_overcut_mm"].get<double>(), -0.003);
 }
 
 TEST(BladeRepairRecipe, BrokenTipIsExtendedAndItsRegionIsAboveTheBreak) {
