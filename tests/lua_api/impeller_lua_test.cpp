@@ -33,8 +33,8 @@ INSTANTIATE_TEST_SUITE_P(
         RecipeErrorCase{"camber_file", "bliskrun.impeller{camber = 'thin.dat'}",
                         "thin.dat:10: main hub: expected a half thickness h > 0"},
         RecipeErrorCase{"camber_unpaired", "bliskrun.impeller{camber = 'unpaired.dat'}",
-                        "unpaired.dat: main.hub: expected as many points as main.shroud (4): hub point i "
-                        "and shroud point i lie on one ruling; got 5"},
+                        "unpaired.dat:7: expected as many points in 'main hub' as in 'main shroud' (4: point i "
+                        "of each lies on one ruling), got 5"},
         RecipeErrorCase{"blade_index", "bliskrun.impeller{}:face(18, 'plus')",
                         "argument 'blade': 18 is outside 1..17"},
         RecipeErrorCase{"side", "bliskrun.impeller{}:face(1, 'pressure')",
