@@ -349,9 +349,12 @@ MachineAxes controller_axes(const Kinematics& kin, ControllerMotion motion, cons
   if (motion == ControllerMotion::JointLinear) return q;
   if (motion == ControllerMotion::TcpVector) {
     const ToolPose p = controller_pose(kin, motion, from, to, tip_from, tip_to, t);
+    // Each solution measured from the linear rotaries, not from the last
+    // one taken.
+    const std::array<double, 2> linear = q.rotary_rad;
     double best = std::numeric_limits<double>::infinity();
-    for (const RotarySolution& s : kin.rotary_solutions(p.axis, q.rotary_rad)) {
-      const double d = std::abs(s.rotary_rad[0] - q.rotary_rad[0]) + std::abs(s.rotary_rad[1] - q.rotary_rad[1]);
+    for (const RotarySolution& s : kin.rotary_solutions(p.axis, linear)) {
+      const double d = std::abs(s.rotary_rad[0] - linear[0]) + std::abs(s.rotary_rad[1] - linear[1]);
       if (d < best) {
         best = d;
         q.rotary_rad = s.rotary_rad;
