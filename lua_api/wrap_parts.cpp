@@ -28,6 +28,39 @@ template <> struct TypeName<lua_api::BliskHandle> { static constexpr const char*
 
 namespace bliskrun::lua_api {
 
+std::vector<std::vector<Vec3>> check_point_loops(lua_State* L, int t, const std::string& prefix, const char* option,
+                                                 const char* item) {
+  std::vector<std::vector<Vec3>> loops;
+  const lua_Integer n = luaL_len(L, t);
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_rawgeti(L, t, k);
+    if (!lua_istable(L, -1))
+      luax::error(L, prefix + "option '" + option + "': entry " + std::to_string(k) + " is not a list of points");
+    const int s = lua_gettop(L);
+    std::vector<Vec3> loop;
+    const lua_Integer m = luaL_len(L, s);
+    for (lua_Integer i = 1; i <= m; ++i) {
+      lua_rawgeti(L, s, i);
+      Vec3 p = Vec3::Zero();
+      bool ok = lua_istable(L, -1);
+      for (int c = 0; ok && c < 3; ++c) {
+        lua_rawgeti(L, -1, c + 1);
+        ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
+        if (ok) p[c] = lua_tonumber(L, -1);
+        lua_pop(L, 1);
+      }
+      if (!ok)
+        luax::error(L, prefix + "option '" + option + "': " + item + " " + std::to_string(k) + ", point " +
+                           std::to_string(i) + ": expected {x, y, z} of finite numbers");
+      loop.push_back(p);
+      lua_pop(L, 1);
+    }
+    loops.push_back(std::move(loop));
+    lua_pop(L, 1);
+  }
+  return loops;
+}
+
 std::vector<luax::Field> loft_fields() {
   using luax::Field;
   using luax::Kind;
@@ -332,33 +365,7 @@ int w_loft_sections(lua_State* L) {
   b.blade_count = static_cast<int>(o.integer("blades", 1));
   b.rotation_sign = static_cast<int>(o.integer("rotation", 0));
   o.push_raw("sections");
-  const int t = lua_gettop(L);
-  const lua_Integer n = luaL_len(L, t);
-  for (lua_Integer k = 1; k <= n; ++k) {
-    lua_rawgeti(L, t, k);
-    if (!lua_istable(L, -1)) luax::error(L, "option 'sections': entry " + std::to_string(k) + " is not a list of points");
-    const int s = lua_gettop(L);
-    std::vector<Vec3> loop;
-    const lua_Integer m = luaL_len(L, s);
-    for (lua_Integer i = 1; i <= m; ++i) {
-      lua_rawgeti(L, s, i);
-      Vec3 p = Vec3::Zero();
-      bool ok = lua_istable(L, -1);
-      for (int c = 0; ok && c < 3; ++c) {
-        lua_rawgeti(L, -1, c + 1);
-        ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
-        if (ok) p[c] = lua_tonumber(L, -1);
-        lua_pop(L, 1);
-      }
-      if (!ok)
-        luax::error(L, "option 'sections': section " + std::to_string(k) + ", point " + std::to_string(i) +
-                           ": expected {x, y, z} of finite numbers");
-      loop.push_back(p);
-      lua_pop(L, 1);
-    }
-    b.sections.push_back(std::move(loop));
-    lua_pop(L, 1);
-  }
+  b.sections = check_point_loops(L, lua_gettop(L), "", "sections", "section");
   lua_pop(L, 1);
   for (const char* key : {"hub_meridian", "casing_meridian"}) {
     o.push_raw(key);

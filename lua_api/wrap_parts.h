@@ -4,6 +4,7 @@
 // takes, and the one result table they all return; and the Blisk type,
 // shared with bliskrun.cad_blisk (wrap_cad.cpp).
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/io/blade_sections.h"
@@ -14,6 +15,11 @@
 namespace bliskrun::lua_api {
 
 // cols, edge_margin, span_extension.
+// The list of point lists at stack index t ({{{x, y, z}, ...}, ...}), each
+// point checked finite; errors "<prefix>option '<option>': <item> K, point
+// I: ..." (bliskrun.loft_sections' sections, damaged_blade's loops).
+std::vector<std::vector<Vec3>> check_point_loops(lua_State* L, int t, const std::string& prefix, const char* option,
+                                                 const char* item);
 std::vector<luax::Field> loft_fields();
 LoftOptions loft_options(const luax::Options& o);
 

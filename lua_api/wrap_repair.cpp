@@ -23,6 +23,7 @@
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_geometry.h"
+#include "lua_api/wrap_parts.h"
 
 namespace bliskrun::lua_api {
 struct DamagedBladeHandle {
@@ -240,32 +241,7 @@ int w_damaged_blade(lua_State* L) {
   if (o.has("loops")) {
     if (o.has("rotor37")) luax::error(L, std::string(what) + ": give 'rotor37' or 'loops', not both");
     o.push_raw("loops");
-    const int t = lua_gettop(L);
-    for (lua_Integer k = 1; k <= luaL_len(L, t); ++k) {
-      lua_rawgeti(L, t, k);
-      if (!lua_istable(L, -1))
-        luax::error(L, std::string(what) + ": option 'loops': entry " + std::to_string(k) + " is not a list of points");
-      std::vector<Vec3> loop;
-      const int s = lua_gettop(L);
-      for (lua_Integer i = 1; i <= luaL_len(L, s); ++i) {
-        lua_rawgeti(L, s, i);
-        Vec3 p = Vec3::Zero();
-        bool ok = lua_istable(L, -1);
-        for (int c = 0; ok && c < 3; ++c) {
-          lua_rawgeti(L, -1, c + 1);
-          ok = lua_type(L, -1) == LUA_TNUMBER && std::isfinite(lua_tonumber(L, -1));
-          if (ok) p[c] = lua_tonumber(L, -1);
-          lua_pop(L, 1);
-        }
-        if (!ok)
-          luax::error(L, std::string(what) + ": option 'loops': loop " + std::to_string(k) + ", point " +
-                             std::to_string(i) + ": expected {x, y, z} of finite numbers");
-        loop.push_back(p);
-        lua_pop(L, 1);
-      }
-      loops.push_back(std::move(loop));
-      lua_pop(L, 1);
-    }
+    loops = check_point_loops(L, lua_gettop(L), std::string(what) + ": ", "loops", "loop");
     lua_pop(L, 1);
   }
   const int design_sections = static_cast<int>(o.integer("design_sections", 25));

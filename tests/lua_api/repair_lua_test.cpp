@@ -45,6 +45,8 @@ INSTANTIATE_TEST_SUITE_P(
                         "section 2 has a gap"},
         RecipeErrorCase{"damaged_blade_unknown_key", "bliskrun.damaged_blade{twst = 1}", "unknown option 'twst'"},
         RecipeErrorCase{"damaged_blade_twist", "bliskrun.damaged_blade{twist = 30}", "option 'twist'"},
+        RecipeErrorCase{"damaged_blade_bad_loop", "bliskrun.damaged_blade{loops = {{{0, 0, 0}, {1, 2}}}}",
+                        "bliskrun.damaged_blade: option 'loops': loop 1, point 2: expected {x, y, z} of finite numbers"},
         RecipeErrorCase{"damaged_blade_edge_span",
                         "bliskrun.damaged_blade{edge_depth = 1, edge_from = 0.6, edge_to = 0.5}",
                         "edge_to: expected a span above edge_from"},
