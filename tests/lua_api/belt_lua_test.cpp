@@ -11,6 +11,15 @@
 namespace bliskrun::test {
 namespace {
 
+// A flat face 60 x 20 mm standing in y = 0 from z = 60, and its belt paths:
+// the start of the robot-program recipes below.
+const std::string kFlatFaceAndPaths = R"(
+local pts = {}
+for i = 0, 2 do for j = 0, 6 do pts[#pts + 1] = {10 * j, 0, 60 + 10 * i} end end
+local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
+local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
+)";
+
 std::string read_file(const std::string& path) {
   std::ifstream in(path);
   return std::string((std::istreambuf_iterator<char>(in)), {});
@@ -51,11 +60,7 @@ INSTANTIATE_TEST_SUITE_P(
 // read-back with nothing written.
 TEST(LuaRobotPrograms, PostsWriteReadableProgramsAndAnEditedPostIsRefused) {
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, R"(
-local pts = {}
-for i = 0, 2 do for j = 0, 6 do pts[#pts + 1] = {10 * j, 0, 60 + 10 * i} end end
-local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
-local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
+  const RecipeResult r = run_recipe_text(dir, kFlatFaceAndPaths + R"(
 local cell = bliskrun.robot_cell("kuka_kr120_belt_cell")
 local body = bliskrun.blade_body{faces = {{name = "face", surface = face}}, spacing = 1}
 local grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}
@@ -115,11 +120,7 @@ assert(not ok and msg:find("does not replay the plan"), msg)
 // registration that is not trusted stops the post with what to scan.
 TEST(LuaRobotPrograms, ThePayloadIsTheBladeSolidAndTheGripperInTheControllersFrames) {
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, R"(
-local pts = {}
-for i = 0, 2 do for j = 0, 6 do pts[#pts + 1] = {10 * j, 0, 60 + 10 * i} end end
-local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
-local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
+  const RecipeResult r = run_recipe_text(dir, kFlatFaceAndPaths + R"(
 local body = bliskrun.blade_body{faces = {{name = "face", surface = face}}, spacing = 1}
 -- The blade's x along the flange's z, its z along the flange's y (its y along the flange's x).
 local grip = {origin = {0, 0, 50}, x = {0, 0, 1}, z = {0, 1, 0}}
