@@ -330,6 +330,7 @@ int w_measurement_summary(lua_State* L) {
   luax::set_number(L, "sections", static_cast<double>(m.sections.size()));
   luax::set_number(L, "points", static_cast<double>(points));
   luax::set_number(L, "face", static_cast<double>(m.face.size()));
+  if (std::isfinite(m.planned_top_mm)) luax::set_number(L, "planned_top", m.planned_top_mm);
   return 1;
 }
 
@@ -389,7 +390,10 @@ int w_rebuild_damaged(lua_State* L) {
        Field{"thin_above", Kind::Integer, false, 0, 1 << 30,
              "a section of more points is thinned on the way in (default 20000; 0: never)", {}},
        number_field("thin_spacing", "spacing of a thinned section's points, mm (default a quarter of the smoothing)", 0,
-                    100)});
+                    100),
+       number_field("planned_top",
+                    "the measurement plan's highest section, mm along the axis, when the measurement does not state it "
+                    "(tells a broken tip from the plan's margin)", -1e6, 1e6)});
   o.push_raw("measurement");
   const auto m = luax::check<MeasurementHandle>(L, -1).measurement;
   lua_pop(L, 1);
@@ -409,6 +413,7 @@ int w_rebuild_damaged(lua_State* L) {
   ro.min_dent_mm = o.number("min_dent", ro.min_dent_mm);
   ro.rebuild.thin_above = static_cast<int>(o.integer("thin_above", ro.rebuild.thin_above));
   ro.rebuild.thin_spacing_mm = o.number("thin_spacing", ro.rebuild.thin_spacing_mm);
+  ro.planned_top_mm = o.number("planned_top", ro.planned_top_mm);
   return luax::guarded(L, [&] {
     auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
     push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
@@ -420,6 +425,7 @@ int w_rebuild_damaged(lua_State* L) {
     luax::set_number(L, "points", d.points);
     luax::set_bool(L, "tip_extended", r->tip_extended);
     luax::set_number(L, "top_measured", r->top_measured_mm);
+    luax::set_string(L, "tip_basis", r->tip_basis);
     lua_createtable(L, static_cast<int>(r->sections.size()), 0);
     for (size_t k = 0; k < r->sections.size(); ++k) {
       const DamagedSection& s = r->sections[k];

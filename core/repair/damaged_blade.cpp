@@ -295,6 +295,9 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
   SectionMeasurement m;
   m.frame = design.frame;
   m.has_frame = true;
+  // The plan's top is stated even when a broken tip leaves its sections
+  // unmeasured: that is how the rebuild tells a break from the plan's margin.
+  m.planned_top_mm = design.span_height(o.span_to);
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> unit(0, 1);
   std::normal_distribution<double> gauss(0, 1);
@@ -458,7 +461,8 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
     const std::string& key = f[0];
     if (key == "units") {
       if (f.size() != 2 || (f[1] != "mm" && f[1] != "inch")) lines.fail("expected 'units mm' or 'units inch'");
-      if (!m.sections.empty() || !m.face.empty()) lines.fail("expected the units before the first point");
+      if (!m.sections.empty() || !m.face.empty() || std::isfinite(m.planned_top_mm))
+        lines.fail("expected the units before the first point and the planned top");
       scale = f[1] == "inch" ? 25.4 : 1;
       m.units = "mm";
     } else if (key == "axis") {
@@ -479,6 +483,13 @@ SectionMeasurement parse_section_measurement(const std::string& text, const std:
                    " mm is not above the previous one");
       m.sections.push_back(s);
       block = kSection;
+    } else if (key == "planned_top") {
+      const std::vector<double> v = lines.numbers(body.substr(body.find("planned_top") + 11), 1, "planned_top <height>");
+      if (!std::isfinite(m.planned_top_mm)) {
+        m.planned_top_mm = scale * v[0];
+      } else {
+        lines.fail("expected one 'planned_top' line, found a second");
+      }
     } else if (key == "face") {
       if (f.size() != 1) lines.fail("expected 'face' alone on its line");
       block = kFace;
@@ -540,6 +551,7 @@ std::string format_section_measurement(const SectionMeasurement& m) {
     const Vec3& a = m.frame.axis;
     s << "axis " << o.x() << ' ' << o.y() << ' ' << o.z() << ' ' << a.x() << ' ' << a.y() << ' ' << a.z() << '\n';
   }
+  if (std::isfinite(m.planned_top_mm)) s << "planned_top " << m.planned_top_mm << '\n';
   for (const MeasuredSection& sec : m.sections) {
     s << "section " << sec.index << ' ' << sec.height_mm << '\n';
     for (const Vec3& p : sec.points) s << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';

@@ -57,6 +57,7 @@
 // break) are sampled on a grid inside the damaged section just below the
 // break. Deterministic from the seed.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -219,6 +220,11 @@ struct SectionMeasurement {
   bool has_frame = false;
   std::vector<MeasuredSection> sections;
   std::vector<Vec3> face;
+  // The measurement plan's highest section, mm along the axis (NaN: not
+  // stated). With it a broken tip is told from a plan that stops short of
+  // the tip: sections of the plan missing at the top are a break, a margin
+  // above the plan's top is not (damaged_rebuild.h, tip_basis).
+  double planned_top_mm = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Throws ParameterError naming the option out of range.
@@ -230,6 +236,8 @@ SectionMeasurement measure_sections(const DamagedBlade& blade, const Measurement
 //   axis ox oy oz ax ay az         (optional: the stacking frame's origin and axis)
 //   section <k> <height>           then one "x y z" line per point
 //   face                           then "x y z" points on a tip's fracture face
+//   planned_top <height>           (optional: the plan's highest section, even
+//                                   when the probe found nothing there)
 // or a CMM CSV export: lines "x,y,z" or "x,y,z,section" (an optional header
 // line of names first), points grouped by the section column, or — without
 // one — by height along Z rounded to 1 um, which holds only for sections

@@ -186,6 +186,42 @@ SectionRegistration register_section(const std::vector<Vec2>& points, const std:
   return out;
 }
 
+// Is the tip broken (DamagedRebuild::tip_extended)? `basis` says why, with
+// the heights, for the report.
+static bool judge_tip(const SectionMeasurement& m, const DamagedRebuildOptions& o, const DesignBlade& design, double lowest_mm,
+               double highest_mm, double step_mm, std::string& basis) {
+  auto mm = [](double v) { return fixed_text(v, 2) + " mm"; };
+  const double planned = std::isfinite(m.planned_top_mm) ? m.planned_top_mm : o.planned_top_mm;
+  if (highest_mm >= design.h_hi - 0.5 * step_mm) {
+    basis = "the highest measured section at " + mm(highest_mm) + " reaches the design's tip (" + mm(design.h_hi) +
+            ") within half a section step";
+    return false;
+  }
+  if (std::isfinite(planned)) {
+    const std::string stated = std::isfinite(m.planned_top_mm) ? "the measurement's" : "the options'";
+    if (highest_mm < planned - 0.5 * step_mm) {
+      basis = "broken tip: the plan's top section is at " + mm(planned) + " (" + stated + " planned_top), the highest " +
+              "measured at " + mm(highest_mm) + ": the probe found no section above it";
+      return true;
+    }
+    basis = "intact tip: the highest measured section at " + mm(highest_mm) + " is the plan's top (" + stated +
+            " planned_top " + mm(planned) + "); the " + mm(design.h_hi - highest_mm) + " above it to the design's tip " +
+            "is the plan's margin";
+    return false;
+  }
+  const double above = design.h_hi - highest_mm, below = lowest_mm - design.h_lo;
+  if (above > below + 1.5 * step_mm) {
+    basis = "broken tip: " + mm(above) + " unmeasured above the highest section, " + mm(below) +
+            " below the lowest and the sections " + mm(step_mm) + " apart (no planned_top stated: margins taken as "
+            "alike at both ends)";
+    return true;
+  }
+  basis = "intact tip: " + mm(above) + " unmeasured above the highest section, like the " + mm(below) +
+          " below the lowest (no planned_top stated: a break within " + mm(below + 1.5 * step_mm) +
+          " of the tip cannot be told from sections alone)";
+  return false;
+}
+
 DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const DesignBlade& design,
                                const DamagedRebuildOptions& o) {
   const int n = static_cast<int>(measurement.sections.size());
@@ -257,7 +293,7 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
   std::vector<double> steps;
   for (int k = 1; k < n; ++k) steps.push_back(work[k].h - work[k - 1].h);
   const double step = median(steps);
-  const bool extend = design.h_hi - out.top_measured_mm > 1.5 * step;
+  const bool extend = judge_tip(measurement, o, design, work.front().h, out.top_measured_mm, step, out.tip_basis);
 
   // 2. Register the design where it is needed: sections with gaps, and the
   // top six when the tip is to be extended.

@@ -66,6 +66,7 @@
 // the blade is the design moved in its planes except where damaged: a blade
 // worn all over differs from its design by the wear, and the tolerance must
 // then allow for it.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,10 @@ struct DamagedRebuildOptions {
   // over at least min_dent of the profile (0: no dents looked for).
   double dent_depth_mm = 0.05;
   double min_dent_mm = 0.3;
+  // The measurement plan's highest section, mm along the axis, when the
+  // measurement does not state it (SectionMeasurement::planned_top_mm, which
+  // wins). NaN: not stated (the tip's state is then judged by the margins).
+  double planned_top_mm = std::numeric_limits<double>::quiet_NaN();
 };
 
 enum class SectionSource { measured, completed, extended };
@@ -194,7 +199,18 @@ struct DamagedRebuild {
   std::vector<DamagedSection> sections;  // bottom to top, one per loft section
   std::vector<SectionGapFill> fills;
   double top_measured_mm = 0;  // height of the highest measured section
+  // Broken tip or not (issue 43): the design is extended above the highest
+  // measured section only when the measurement shows material missing there —
+  //  - the plan's top stated: the highest measured section lies more than
+  //    half a section step below it (sections of the plan found nothing);
+  //  - not stated: the band left above the highest section is wider than
+  //    the one below the lowest by more than 1.5 section steps (a plan's
+  //    margins taken as alike at both ends; a break smaller than that cannot
+  //    be told from sections alone — state the plan to be sure).
+  // A fixed multiple of the section step alone read a dense measurement's
+  // ordinary margin (3 % of span at 100 sections) as a broken tip.
   bool tip_extended = false;
+  std::string tip_basis;  // the reason, in words, with the heights
   RebuildQuality quality;
 };
 

@@ -149,6 +149,7 @@ for k, s in ipairs(rep.sections) do
 end
 bliskrun.log(string.format("rebuilt: %d measured, %d completed, %d extended sections; mean deviation %.2f um, max %.2f um",
                            counts.measured, counts.completed, counts.extended, rep.mean * 1e3, rep.max * 1e3))
+bliskrun.log("tip: " .. rep.tip_basis)
 -- The rebuild's own check between its sections (issue 43): where it fails,
 -- the region and the paths would follow from a wrong blade, so they are not
 -- made; the report is written and the run fails on its verdict.
@@ -294,6 +295,7 @@ local report = {
   measurement = {sections = summary.sections, points = summary.points, face_points = summary.face, noise_mm = noise},
   rebuild = {mean_deviation_um = rep.mean * 1e3, rms_deviation_um = rep.rms * 1e3, max_deviation_um = rep.max * 1e3,
              points = rep.points, sections = counts, tip_extended = rep.tip_extended,
+             tip_basis = rep.tip_basis,
              least_start_correlation = min_corr,
              noise_floor_um = noise * 1e3 * math.sqrt(2 / math.pi),
              trusted = quality.trusted, message = quality.message, start_method = quality.start_method,
