@@ -422,10 +422,15 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
           if (dist < std::max(3 * w.report.registration_rms_mm, 1e-3)) on.emplace_back(steps, q);
         }
         std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        // Steps count from the gap's own end, not from the last point taken
+        // (adding them up walked an end of five confirmed points 15 steps
+        // into a 17-step gap, the two edges met and the nick's floor line
+        // turned through the blade: issue 43, 800 points a section).
+        const int i_gap_end = i_end;
         for (const auto& [steps, q] : on) {
           if ((q - end).norm() > w.ordered.max_step_mm) break;
           end = q;
-          i_end = ((i_end + d * steps) % m + m) % m;
+          i_end = ((i_gap_end + d * steps) % m + m) % m;
           ++f.confirmed;
         }
         return std::make_pair(end, i_end);
@@ -433,6 +438,22 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       const auto [ea, ja] = extend(pa, ia, dir);
       const auto [eb, jb] = extend(pb, ib, -dir);
       const double half = 0.5 * w.ordered.spacing_mm;
+      // What the confirmed points leave unmeasured: bridged when no wider
+      // than a step and a half, or when the design arc over it stands off
+      // the line between them by less than a probe step — the rule the
+      // region applies to a whole gap (a skipped stretch's sagitta), here to
+      // the stretch the probe did not see.
+      const int taken = (((ja - ia) * dir) % m + m) % m + (((ib - jb) * dir) % m + m) % m;
+      double left_sagitta = 0;
+      if (count - taken > 1 && (ea - eb).norm() > 1e-12) {
+        const Vec2 along = (eb - ea).normalized();
+        for (int s = 0; s <= count - taken; ++s) {
+          const Vec2 q = at(ja + dir * s) - ea;
+          left_sagitta = std::max(left_sagitta, std::abs(q.x() * along.y() - q.y() * along.x()));
+        }
+      }
+      f.bridged = f.confirmed > 0 && (count - taken <= 1 || (ea - eb).norm() <= 1.5 * w.ordered.spacing_mm ||
+                                      left_sagitta < w.ordered.spacing_mm);
       f.edge_a = walk(ea, ja, dir, half, std::max(1, count / 3));
       f.edge_b = walk(eb, jb, -dir, half, std::max(1, count / 3));
       fills.push_back(f);

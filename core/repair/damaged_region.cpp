@@ -195,7 +195,7 @@ DamageFace::DamageFace(const DamagedRebuild& rebuilt, const SectionMeasurement& 
   std::vector<std::vector<std::vector<char>>> bins(sections_.size());
   for (const SectionGapFill& g : rebuilt.fills) {
     const bool dent = !g.floor.empty();
-    if (!dent && (g.length_mm < min_gap_mm || g.sagitta_mm < g.spacing_mm)) {
+    if (!dent && (g.length_mm < min_gap_mm || g.sagitta_mm < g.spacing_mm || g.bridged)) {
       ++skipped_;
       continue;
     }
