@@ -402,58 +402,75 @@ DamagedRebuild rebuild_damaged(const SectionMeasurement& measurement, const Desi
       f.length_mm = g.length_mm;
       f.spacing_mm = w.ordered.spacing_mm;
       put_arc(f, a, ia, dir, count);
-      // The damage's edges (header): half a probe step on from each end,
-      // the end first moved over points the ordering rejected that lie on
-      // the registered design within the noise (the last point before a gap
-      // has neighbours on one side only, and the stray test doubts it).
-      auto extend = [&](Vec2 end, int i_end, int d) {
-        std::vector<std::pair<int, Vec2>> on;  // arc steps from i_end, point
-        for (const Vec2& q : w.rejected) {
-          const int j = model_index.nearest(lift(q), w.ordered.max_step_mm);
-          if (j < 0) continue;
-          const int steps = (((j - i_end) * d) % m + m) % m;
-          if (steps == 0 || steps >= count / 2) continue;
-          double dist = 1e300;
-          for (const int s : {j - 1, j}) {
-            const Vec2 e = at(s + 1) - at(s);
-            const double t = e.squaredNorm() > 0 ? std::clamp((q - at(s)).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
-            dist = std::min(dist, (q - at(s) - t * e).norm());
-          }
-          if (dist < std::max(3 * w.report.registration_rms_mm, 1e-3)) on.emplace_back(steps, q);
+      // Points the ordering rejected inside the gap that lie on the
+      // registered design within the noise: surface the probe did measure
+      // (the last point before a gap has neighbours on one side only, and
+      // the stray test doubts it; near an edge a run of good points can be
+      // doubted beside a true stray). Steps along the arc from end a.
+      std::vector<std::pair<int, Vec2>> on;
+      for (const Vec2& q : w.rejected) {
+        const int j = model_index.nearest(lift(q), w.ordered.max_step_mm);
+        if (j < 0) continue;
+        const int steps = (((j - ia) * dir) % m + m) % m;
+        if (steps == 0 || steps >= count) continue;
+        double dist = 1e300;
+        for (const int s : {j - 1, j}) {
+          const Vec2 e = at(s + 1) - at(s);
+          const double t = e.squaredNorm() > 0 ? std::clamp((q - at(s)).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+          dist = std::min(dist, (q - at(s) - t * e).norm());
         }
-        std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-        // Steps count from the gap's own end, not from the last point taken
-        // (adding them up walked an end of five confirmed points 15 steps
-        // into a 17-step gap, the two edges met and the nick's floor line
-        // turned through the blade: issue 43, 800 points a section).
+        if (dist < std::max(3 * w.report.registration_rms_mm, 1e-3)) on.emplace_back(steps, q);
+      }
+      std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      f.confirmed = static_cast<int>(on.size());
+      // Damage is where the probe saw nothing over a stretch whose design arc
+      // stands off the chord by a probe step or more (the region's rule for a
+      // skipped stretch, g^2/8R, applied to each stretch between the points
+      // on the design). A gap with none such is bridged: not damage.
+      {
+        double worst = 0;
+        std::pair<int, Vec2> from{0, pa};
+        for (size_t i = 0; i <= on.size(); ++i) {
+          const std::pair<int, Vec2> to = i < on.size() ? on[i] : std::make_pair(count, pb);
+          const Vec2 chord = to.second - from.second;
+          if (chord.norm() > 1e-12) {
+            const Vec2 along = chord.normalized();
+            for (int st = from.first + 1; st < to.first; ++st) {
+              const Vec2 q = at(ia + dir * st) - from.second;
+              worst = std::max(worst, std::abs(q.x() * along.y() - q.y() * along.x()));
+            }
+          }
+          from = to;
+        }
+        f.bridged = !on.empty() && worst < w.ordered.spacing_mm;
+      }
+      // The damage's edges (header): half a probe step on from each end,
+      // the end first moved over those points as long as they follow one
+      // another within the largest step, up to half the gap from either end.
+      // Steps count from the gap's own end, not from the last point taken
+      // (adding them up walked an end of five confirmed points 15 steps
+      // into a 17-step gap, the two edges met and the nick's floor line
+      // turned through the blade: issue 43, 800 points a section).
+      auto extend = [&](Vec2 end, int i_end, int d) {
         const int i_gap_end = i_end;
-        for (const auto& [steps, q] : on) {
-          if ((q - end).norm() > w.ordered.max_step_mm) break;
+        auto take = [&](int steps, const Vec2& q) {
+          if ((q - end).norm() > w.ordered.max_step_mm) return false;
           end = q;
           i_end = ((i_gap_end + d * steps) % m + m) % m;
-          ++f.confirmed;
+          return true;
+        };
+        if (d == dir) {
+          for (const auto& [steps, q] : on)
+            if (steps >= count / 2 || !take(steps, q)) break;
+        } else {
+          for (auto it = on.rbegin(); it != on.rend(); ++it)
+            if (count - it->first >= count / 2 || !take(count - it->first, it->second)) break;
         }
         return std::make_pair(end, i_end);
       };
       const auto [ea, ja] = extend(pa, ia, dir);
       const auto [eb, jb] = extend(pb, ib, -dir);
       const double half = 0.5 * w.ordered.spacing_mm;
-      // What the confirmed points leave unmeasured: bridged when no wider
-      // than a step and a half, or when the design arc over it stands off
-      // the line between them by less than a probe step — the rule the
-      // region applies to a whole gap (a skipped stretch's sagitta), here to
-      // the stretch the probe did not see.
-      const int taken = (((ja - ia) * dir) % m + m) % m + (((ib - jb) * dir) % m + m) % m;
-      double left_sagitta = 0;
-      if (count - taken > 1 && (ea - eb).norm() > 1e-12) {
-        const Vec2 along = (eb - ea).normalized();
-        for (int s = 0; s <= count - taken; ++s) {
-          const Vec2 q = at(ja + dir * s) - ea;
-          left_sagitta = std::max(left_sagitta, std::abs(q.x() * along.y() - q.y() * along.x()));
-        }
-      }
-      f.bridged = f.confirmed > 0 && (count - taken <= 1 || (ea - eb).norm() <= 1.5 * w.ordered.spacing_mm ||
-                                      left_sagitta < w.ordered.spacing_mm);
       f.edge_a = walk(ea, ja, dir, half, std::max(1, count / 3));
       f.edge_b = walk(eb, jb, -dir, half, std::max(1, count / 3));
       fills.push_back(f);

@@ -167,12 +167,12 @@ struct SectionGapFill {
   double sagitta_mm = 0;     // largest distance of the arc put in from the line through the ends
   double spacing_mm = 0;     // the section's probe spacing
   double dent_depth_mm = 0;  // a dent's deepest point inside the registered design
-  int confirmed = 0;         // points the ordering rejected at the gap's ends that lie on the design (header)
-  // Those points reach across the gap from both ends (what is left between
-  // them is no wider than a probe step and a half): the probe measured
-  // surface all across, the ordering only doubted it. Not damage; the
-  // region skips it (issue 43: 10 doubted points at an intact trailing edge
-  // made a 0.64 mm "gap" whose edges met, a 143 mm3 region).
+  int confirmed = 0;         // points the ordering rejected inside the gap that lie on the design (header)
+  // Every stretch the probe left unseen between those points (and the
+  // gap's ends) has a design arc standing off its chord by less than a probe
+  // step: surface measured all across, only doubted by the ordering. Not
+  // damage; the region skips it (issue 43, 800 points a section: 10 and 24
+  // doubted points at an intact edge made "nicks" of 143 and 2.8 mm3).
   bool bridged = false;
 };
 
