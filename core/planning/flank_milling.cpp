@@ -506,20 +506,30 @@ FlankAxisFit optimise_flank_axis(const Surface& face, const FlankAxis& start, co
   double best = std::numeric_limits<double>::infinity();
   std::vector<double> r;
   std::vector<Vec3> g;
+  int stalls = 0;
   for (int round = 0; round <= options.minimax_rounds; ++round) {
     Eigen::LevenbergMarquardt<FlankFitFunctor> lm(functor);
-    lm.parameters.maxfev = 60;
-    lm.parameters.xtol = 1e-9;
-    lm.parameters.ftol = 1e-12;
+    // Parameters are mm of axis motion: 1e-7 of relative change is far
+    // below the residual's um; each reweighted round starts where the last
+    // ended, so a few steps suffice.
+    lm.parameters.maxfev = round == 0 ? 40 : 15;
+    lm.parameters.xtol = 1e-7;
+    lm.parameters.ftol = 1e-8;
     lm.minimize(x);
     FlankFitLine l;
     if (!model.residuals_at(x, l, r, g)) break;
     double worst = 0, sum = 0;
     for (double v : r) worst = std::max(worst, std::abs(model.weighted(v)));
+    // Lawson's rounds converge slowly once the band is nearly levelled:
+    // stop when a round gains less than 1 % twice running.
     if (worst < best) {
+      stalls = worst > 0.99 * best ? stalls + 1 : 0;
       best = worst;
       best_x = x;
+    } else {
+      ++stalls;
     }
+    if (stalls >= 2) break;
     // Lawson: each weight grows with its point's error, renormalised; a
     // floor keeps every point in play.
     for (int k = 0; k < n; ++k) {

@@ -154,10 +154,10 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
 ResidualStats residual_stats(const std::vector<double>& values);
 
 struct FlankFitOptions {
-  int points = 25;                               // residual points along the axis the fit uses
+  int points = 16;                               // residual points along the axis the fit uses
   double max_axis_correction_rad = deg_to_rad(0.5);  // largest turn away from the start axis
   double overcut_weight = 1.0;                   // overcut counts this many times material left (>= 1)
-  int minimax_rounds = 8;                        // Lawson reweighting rounds after the least squares
+  int minimax_rounds = 5;                        // Lawson reweighting rounds after the least squares
   int check_points = 40;                         // points of the never-worse comparison
 };
 struct FlankAxisFit {
