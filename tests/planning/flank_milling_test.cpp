@@ -535,6 +535,29 @@ TEST(FlankAxisFit, BeatsTheTwoContactAndBalancedAxesOnATwistedFace) {
               centred, after);
 }
 
+// The stated bias: with overcut counted twice the fit trades overcut for
+// material left — less overcut than the centred fit, and its own weighted
+// band max(left, 2 overcut) no wider than the centred fit's.
+TEST(FlankAxisFit, OvercutWeightLeansTheBandTowardsMaterialLeft) {
+  const TwistedFace face;
+  const FlankCutter cutter(ball(5, 80), 5);
+  FlankFaceRequest rq;
+  rq.face = &face;
+  rq.cutter = &cutter;
+  rq.steps.chord_tol_mm = 0.2;
+  rq.residual_points = 21;
+  const FlankFacePlan centred = plan_flank_face(rq);
+  rq.fit.overcut_weight = 2;
+  const FlankFacePlan leaning = plan_flank_face(rq);
+  const ResidualStats& c = centred.residual.stats;
+  const ResidualStats& l = leaning.residual.stats;
+  EXPECT_GT(l.min_mm, c.min_mm + 1e-4);  // less overcut
+  EXPECT_GT(l.max_mm, c.max_mm);         // paid for by material left
+  EXPECT_LE(std::max(l.max_mm, -2 * l.min_mm), std::max(c.max_mm, -2 * c.min_mm) + 1e-6);
+  std::printf("twisted face, overcut weight 1 / 2: %+.4f / %+.4f vs %+.4f / %+.4f mm\n", c.max_mm, c.min_mm, l.max_mm,
+              l.min_mm);
+}
+
 // The default (optimise = true) never worsens the largest residual: the
 // built-in impeller's four faces (a tapered ball end riding the hub), the
 // fitted plan against optimise = false, pose by pose and per face; every
