@@ -27,6 +27,7 @@ local opt = require("recipe_options"){
   half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
   balance = {type = "boolean", default = true, help = "centre each axis's residual band on zero (false: the paper's axes)"},
   optimise = {type = "boolean", default = true, help = "fit each axis to the face (least squares, then minimax; false: as balanced)"},
+  max_axis_correction = {type = "number", unit = "deg", default = 0.5, range = {0, 10}, help = "largest turn of a fitted axis from the balanced one"},
   flute_length = {type = "number", unit = "mm", default = 90, range = {5, 300}, help = "flute length of the cutter"},
 }
 local set = opt.set
@@ -87,7 +88,7 @@ for _, blade in ipairs{"main", "splitter"} do
     local plan = bliskrun.flank_mill{face = face, design = part[side]:surface(), hub = hub, tool = tool,
                                      ball_radius = tip_radius, world = world, chord_tol = chord_tol,
                                      residual_points = residual_points, balance = balance,
-                                     optimise = opt.optimise}
+                                     optimise = opt.optimise, max_axis_correction = opt.max_axis_correction}
     bliskrun.write_text(name .. ".apt", plan.apt)
     if plan.residual_map then
       plan.residual_map:write_png(name .. "_residual.png",
