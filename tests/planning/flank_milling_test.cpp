@@ -231,6 +231,16 @@ TEST(FlankMilling, CollidingPosesAreTiltedClearOrRefusedNeverEmitted) {
     if (i > 0) EXPECT_TRUE(world.check_motion(body, plan.axes[i - 1].pose, plan.axes[i].pose, Clearances{}).clear) << i;
   }
   for (const FlankRefusal& r : plan.refusals) EXPECT_NE(r.reason.find("obstacle"), std::string::npos) << r.reason;
+  // The axis fit (on by default) changes no refusal: the same stations
+  // refused, for the same reason, as without it.
+  rq.optimise = false;
+  const FlankFacePlan unfitted = plan_flank_face(rq);
+  ASSERT_EQ(unfitted.refusals.size(), plan.refusals.size());
+  for (size_t i = 0; i < plan.refusals.size(); ++i) {
+    EXPECT_EQ(unfitted.refusals[i].v, plan.refusals[i].v);
+    EXPECT_EQ(unfitted.refusals[i].reason, plan.refusals[i].reason);
+  }
+  EXPECT_EQ(unfitted.tilted, plan.tilted);
   // A tilted axis keeps its ball centre and stays in the tangent plane at the hub contact.
   for (size_t i = 0; i < plan.axes.size(); ++i) {
     if (plan.tilt_rad[i] == 0) continue;
