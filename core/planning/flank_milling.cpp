@@ -498,6 +498,8 @@ FlankAxisFit optimise_flank_axis(const Surface& face, const FlankAxis& start, co
   fit.axis = start;
   fit.before = flank_residual(face, {start}, cutter, options.check_points).stats;
   fit.after = fit.before;
+  // Nothing to gain (a developable face's two-contact axis is exact).
+  if (flank_fit_score(fit.before, options.overcut_weight) < 1e-7) return fit;
   FlankFitModel model(face, start, hub, cutter, options);
   const int n = options.points, m = model.unknowns();
   std::vector<double> weights(n, 1.0);
