@@ -4,6 +4,7 @@
 // Channel roughing (issue 13 items 2-3): the channel between main blade 1
 // and splitter 1 notched and widened, geometry alone at 41 stations and
 // with every pose, motion and link checked at `stations` (the argument).
+#include <algorithm>
 #include <benchmark/benchmark.h>
 
 #include "core/geometry/mesh.h"
@@ -68,6 +69,40 @@ void BM_ImpellerPlanOneFace(benchmark::State& state) {
   state.counters["residual_min_um"] = plan.residual.stats.min_mm * 1000;
 }
 BENCHMARK(BM_ImpellerPlanOneFace)->Unit(benchmark::kMillisecond);
+
+// Issue 40 item 0: time per pose of the two-contact axis (flank_axis, then
+// balanced as the recipes do is not separable here) and of its fit
+// (optimise_flank_axis against the same face, ball on the hub): 20 stations
+// of the built-in main blade's plus face. Arg: 0 = two-contact only, 1 = fit.
+void BM_ImpellerFlankAxisPerPose(benchmark::State& state) {
+  const Impeller imp(builtin_impeller_definition());
+  const auto face = imp.face(BladeKind::kMain, 0, CamberSide::kPlus);
+  const FlankCutter cutter(cutter_tool(), 3);
+  const bool fit = state.range(0) == 1;
+  FlankFitOptions o;
+  o.check_points = 40;
+  double worst_before = 0, worst_after = 0, evaluations = 0;
+  for (auto _ : state) {
+    for (int j = 0; j < 20; ++j) {
+      const FlankAxis ax = flank_axis(*face, (j + 0.5) / 20, &imp.hub(), cutter);
+      if (!fit) {
+        benchmark::DoNotOptimize(ax);
+        continue;
+      }
+      const FlankAxisFit f = optimise_flank_axis(*face, ax, &imp.hub(), cutter, o);
+      worst_before = std::max(worst_before, f.before.max_abs_mm);
+      worst_after = std::max(worst_after, f.after.max_abs_mm);
+      evaluations += f.evaluations;
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * 20);
+  if (fit) {
+    state.counters["before_um"] = worst_before * 1000;
+    state.counters["after_um"] = worst_after * 1000;
+    state.counters["evaluations_per_pose"] = evaluations / (20.0 * state.iterations());
+  }
+}
+BENCHMARK(BM_ImpellerFlankAxisPerPose)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // The outer channel on main 1's side of splitter 1, as the recipe plans it
 // (stock 0.5, least stock 0.2, h 0.01, 5 mm levels).

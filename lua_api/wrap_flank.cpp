@@ -68,7 +68,13 @@ int w_flank_mill(lua_State* L) {
        Field{"balance", Kind::Boolean, false, std::nullopt, std::nullopt,
              "shift each axis along the mean face normal to centre its residual on zero; default false", {}},
        Field{"residual_points", Kind::Integer, false, 2, 10000,
-             "points along each axis for the residual; default 40", {}}});
+             "points along each axis for the residual; default 40", {}},
+       Field{"optimise", Kind::Boolean, false, std::nullopt, std::nullopt,
+             "fit each untilted axis to the design face (least squares, then minimax); default true", {}},
+       number_field("max_axis_correction", "largest turn of a fitted axis from the two-contact axis, degrees; default 0.5",
+                    0, 10),
+       number_field("overcut_weight", "overcut counts this many times material left in the fit (>= 1); default 1", 1,
+                    100)});
   o.push_raw("face");
   const std::shared_ptr<const Surface> face = luax::check<SurfaceHandle>(L, -1).surface;
   lua_pop(L, 1);
@@ -116,9 +122,12 @@ int w_flank_mill(lua_State* L) {
     rq.residual_points = static_cast<int>(o.integer("residual_points", 40));
     rq.design = design.get();
     rq.balance_residual = o.boolean("balance", false);
+    rq.optimise = o.boolean("optimise", true);
+    rq.fit.max_axis_correction_rad = deg_to_rad(o.number("max_axis_correction", 0.5));
+    rq.fit.overcut_weight = o.number("overcut_weight", 1.0);
     const FlankFacePlan plan = plan_flank_face(rq);
 
-    lua_createtable(L, 0, 12);
+    lua_createtable(L, 0, 16);
     luax::set_number(L, "stations", plan.stations);
     luax::set_number(L, "tilted", plan.tilted);
     luax::set_number(L, "min_margin", plan.min_margin_mm);
@@ -134,6 +143,7 @@ int w_flank_mill(lua_State* L) {
       luax::set_vec3(L, "d2", a.d2);
       luax::set_vec3(L, "ball_centre", a.ball_centre);
       luax::set_number(L, "s1", a.s1);
+      luax::set_number(L, "correction", rad_to_deg(plan.correction_rad[i]));
       if (i < plan.root_corner_mm.size()) luax::set_number(L, "root_corner", plan.root_corner_mm[i]);
       lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
     }
@@ -155,6 +165,9 @@ int w_flank_mill(lua_State* L) {
     push_stats(L, plan.residual_unbalanced);
     lua_setfield(L, -2, "residual_unbalanced");
     luax::set_number(L, "balanced", plan.balanced);
+    push_stats(L, plan.residual_before);
+    lua_setfield(L, -2, "residual_before");
+    luax::set_number(L, "optimised", plan.optimised);
     if (!plan.root_corner_mm.empty()) {
       push_stats(L, plan.root_corner);
       lua_setfield(L, -2, "root_corner");

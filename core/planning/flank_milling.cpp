@@ -7,6 +7,8 @@
 #include <sstream>
 #include <string>
 
+#include <unsupported/Eigen/NonLinearOptimization>
+
 #include "core/common/error.h"
 #include "core/common/fixed_text.h"
 #include "core/geometry/projection.h"
@@ -266,6 +268,218 @@ FlankAxis balanced(const Surface& face, const FlankAxis& ax, const FlankCutter& 
   return b;
 }
 
+// --- Axis fit (optimise_flank_axis) -----------------------------------------
+
+// One trial axis of the fit: the line, its ball centre and the heights
+// between which the residual is sampled.
+struct FlankFitLine {
+  bool ok = false;
+  Vec3 centre = Vec3::Zero(), a = Vec3::UnitZ();
+  double s_lo = 0, s_hi = 0;
+  Vec3 point(int k, int n) const { return centre + height(k, n) * a; }
+  double height(int k, int n) const { return s_lo + (s_hi - s_lo) * k / (n - 1); }
+};
+
+// The fit's unknowns x -> axis (see the header): x0, x1 move the mid point
+// M of the start axis across it (e1 along the mean face normal, e2 = a0 x
+// e1); x2, x3 turn it (as mm at half the span L: the tangent of the turn is
+// x / L, saturated at tan(max correction) so the bound is hard); x4, without
+// a hub and with a tapered cutter, slides the cutter along its axis.
+class FlankFitModel {
+ public:
+  FlankFitModel(const Surface& face, const FlankAxis& start, const SurfaceOfRevolution* hub,
+                const FlankCutter& cutter, const FlankFitOptions& o)
+      : face_(face), start_(start), hub_(hub), cutter_(cutter), o_(o) {
+    a0_ = start.pose.axis.normalized();
+    Vec3 m = start.n1 + start.n2;
+    m -= m.dot(a0_) * a0_;
+    if (m.norm() < 1e-9) m = a0_.unitOrthogonal();
+    e1_ = m.normalized();
+    e2_ = a0_.cross(e1_);
+    mid_ = 0.5 * (start.d1 + start.d2);
+    half_ = std::max(1.0, 0.5 * (start.d1 - start.d2).norm());
+    h_mid_ = (mid_ - start.ball_centre).dot(a0_);
+    // A cylinder's slide along its axis changes nothing: no fifth unknown.
+    slide_ = !hub && std::abs(cutter.radius_at(0) - cutter.radius_at(std::max(1.0, start.s1))) > 1e-9;
+    tan_cap_ = std::tan(std::max(0.0, o.max_axis_correction_rad));
+    if (hub_) {
+      // The hub offset near the start's ball centre as its tangent plane:
+      // trial lines move the centre by tens of um, where the plane is off
+      // the offset surface by (tens of um)^2 / 2R, nothing against the
+      // residual (the centre's height only moves rho(s) by sin(beta) times
+      // it). The taken line meets the true offset (exact_centre); the
+      // meridian projections of radial_offset were 90 % of the fit's time.
+      channel_ = hub_->radial_offset(start.c1) >= 0 ? 1.0 : -1.0;
+      hub_normal_ = hub_normal(*hub_, start.ball_centre);
+      hub_gap_ = channel_ * hub_->radial_offset(start.ball_centre) - cutter.ball_radius_mm();
+    }
+  }
+  // The taken line's ball centre on the true hub offset.
+  std::optional<Vec3> exact_centre(const FlankFitLine& l) const {
+    if (!hub_) return l.centre;
+    const std::optional<double> s =
+        meet_hub_offset(*hub_, channel_ * cutter_.ball_radius_mm(), l.centre, l.a, 4 * cutter_.ball_radius_mm());
+    if (!s) return std::nullopt;
+    return Vec3(l.centre + *s * l.a);
+  }
+  int unknowns() const { return slide_ ? 5 : 4; }
+
+  FlankFitLine line(const Eigen::VectorXd& x) const {
+    FlankFitLine l;
+    const Vec3 m = mid_ + x[0] * e1_ + x[1] * e2_;
+    Eigen::Vector2d t(x[2] / half_, x[3] / half_);
+    const double tn = t.norm();
+    if (tn > 0) t *= (tan_cap_ > 0 ? tan_cap_ * std::tanh(tn / tan_cap_) : 0.0) / tn;
+    l.a = (a0_ + t[0] * e1_ + t[1] * e2_).normalized();
+    if (hub_) {
+      const double along = hub_normal_.dot(l.a);
+      if (std::abs(along) < 1e-6) return l;  // the axis along the hub: no meeting
+      l.centre = m + ((-hub_gap_ - hub_normal_.dot(m - start_.ball_centre)) / along) * l.a;
+    } else {
+      l.centre = m - h_mid_ * l.a + (slide_ ? x[4] : 0.0) * l.a;
+    }
+    l.s_hi = (start_.d1 - l.centre).dot(l.a);
+    l.s_lo = std::max(0.0, (start_.d2 - l.centre).dot(l.a));
+    l.ok = l.s_hi > l.s_lo;
+    return l;
+  }
+
+  // Residuals of eq. 36 at the fit's points, and the gradient of each's
+  // distance to the face (the unit normal at its foot, envelope theorem).
+  // The same, remembered for the last x: Levenberg–Marquardt asks for the
+  // Jacobian at the point it has just evaluated.
+  bool residuals_at(const Eigen::VectorXd& x, FlankFitLine& l, std::vector<double>& r, std::vector<Vec3>& g) {
+    if (cache_ok_ && x.size() == cache_x_.size() && x == cache_x_) {
+      l = cache_line_;
+      r = cache_r_;
+      g = cache_g_;
+      return true;
+    }
+    l = line(x);
+    if (!l.ok || !residuals(l, r, g)) return false;
+    cache_ok_ = true;
+    cache_x_ = x;
+    cache_line_ = l;
+    cache_r_ = r;
+    cache_g_ = g;
+    return true;
+  }
+  bool residuals(const FlankFitLine& l, std::vector<double>& r, std::vector<Vec3>& g) {
+    const int n = o_.points;
+    r.resize(n);
+    g.resize(n);
+    seeds_.resize(n);
+    ProjectionOptions po;
+    po.tol_mm = 1e-10;
+    for (int k = 0; k < n; ++k) {
+      const double s = l.height(k, n);
+      const Vec3 p = l.centre + s * l.a;
+      po.seed = seeds_[k] ? seeds_[k] : std::optional<Eigen::Vector2d>(
+                                            Eigen::Vector2d(static_cast<double>(k) / (n - 1), start_.v));
+      const SurfaceProjection f = project_to_surface(face_, p, po);
+      if (!f.ok) return false;
+      seeds_[k] = Eigen::Vector2d(f.u, f.v);
+      const Vec3 nf = face_normal(face_.eval(f.u, f.v));
+      const Vec3 d = p - f.point;
+      const double side = d.dot(nf) < 0 ? -1.0 : 1.0;
+      r[k] = side * f.distance - cutter_.radius_at(s);
+      g[k] = f.distance > 1e-9 ? Vec3(side * d / f.distance) : nf;
+    }
+    ++evaluations;
+    return true;
+  }
+  // The weighted error the fit minimises: overcut counts overcut_weight times.
+  double weighted(double r) const { return r < 0 ? o_.overcut_weight * r : r; }
+
+  int evaluations = 0;
+
+ private:
+  const Surface& face_;
+  const FlankAxis& start_;
+  const SurfaceOfRevolution* hub_;
+  const FlankCutter& cutter_;
+  FlankFitOptions o_;
+  Vec3 a0_, e1_, e2_, mid_;
+  double half_ = 1, h_mid_ = 0, tan_cap_ = 0, channel_ = 1, hub_gap_ = 0;
+  Vec3 hub_normal_ = Vec3::UnitZ();
+  bool slide_ = false;
+  std::vector<std::optional<Eigen::Vector2d>> seeds_;
+  bool cache_ok_ = false;
+  Eigen::VectorXd cache_x_;
+  FlankFitLine cache_line_;
+  std::vector<double> cache_r_;
+  std::vector<Vec3> cache_g_;
+};
+
+// Eigen's Levenberg–Marquardt functor: sqrt(weight_k) * weighted(r_k).
+struct FlankFitFunctor {
+  using Scalar = double;
+  FlankFitModel* model;
+  const std::vector<double>* weights;
+  int n_points;
+  int values() const { return n_points; }
+  int inputs() const { return model->unknowns(); }
+  // Out of reach (no hub meeting, no foot): a large constant error, so the
+  // step is rejected and LM shrinks it.
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    FlankFitLine l;
+    f.resize(n_points);
+    std::vector<double> r;
+    std::vector<Vec3> g;
+    if (!model->residuals_at(x, l, r, g)) {
+      f.setConstant(1e3);
+      return 0;
+    }
+    for (int k = 0; k < n_points; ++k) f[k] = std::sqrt((*weights)[k]) * model->weighted(r[k]);
+    return 0;
+  }
+  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& J) const {
+    const int m = inputs();
+    J.setZero(n_points, m);
+    FlankFitLine l;
+    std::vector<double> r;
+    std::vector<Vec3> g;
+    if (!model->residuals_at(x, l, r, g)) return 0;
+    // d r_k / dx_j = g_k . dP_k/dx_j - d rho(s_k)/dx_j, the axis points
+    // differenced (no projection: the foot's motion is second order).
+    constexpr double h = 1e-5;
+    for (int j = 0; j < m; ++j) {
+      Eigen::VectorXd xh = x;
+      xh[j] += h;
+      const FlankFitLine lh = model->line(xh);
+      if (!lh.ok) continue;
+      for (int k = 0; k < n_points; ++k) {
+        const double s = l.height(k, n_points), sh = lh.height(k, n_points);
+        const double dr = g[k].dot(lh.point(k, n_points) - l.point(k, n_points)) / h -
+                          (model_radius(sh) - model_radius(s)) / h;
+        J(k, j) = std::sqrt((*weights)[k]) * (r[k] < 0 ? overcut_weight : 1.0) * dr;
+      }
+    }
+    return 0;
+  }
+  double model_radius(double s) const { return cutter->radius_at(s); }
+  const FlankCutter* cutter;
+  double overcut_weight = 1;
+};
+
+FlankAxis flank_axis_from_line(const FlankAxis& start, const FlankFitLine& l, double r) {
+  FlankAxis ax = start;
+  ax.pose.axis = l.a;
+  ax.ball_centre = l.centre;
+  ax.pose.tip = l.centre - r * l.a;
+  // D1, D2: the axis points nearest the start's (the paper's offsets of the
+  // contacts, moved with the axis).
+  ax.s1 = (start.d1 - l.centre).dot(l.a);
+  ax.s2 = (start.d2 - l.centre).dot(l.a);
+  ax.d1 = l.centre + ax.s1 * l.a;
+  ax.d2 = l.centre + ax.s2 * l.a;
+  return ax;
+}
+
+double flank_fit_score(const ResidualStats& s, double overcut_weight) {
+  return std::max(s.max_mm, -overcut_weight * s.min_mm);
+}
+
 }  // namespace
 
 double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter) {
@@ -273,6 +487,77 @@ double root_corner_material(const FlankAxis& axis, const FlankCutter& cutter) {
   const Vec3 d = axis.c2 - (axis.pose.tip + cutter.grown_by_mm() * a);
   const double along = d.dot(a);
   return cutter.tool().signed_distance(Vec3((d - along * a).norm(), 0, along));
+}
+
+
+FlankAxisFit optimise_flank_axis(const Surface& face, const FlankAxis& start, const SurfaceOfRevolution* hub,
+                                 const FlankCutter& cutter, const FlankFitOptions& options) {
+  if (options.points < 3) throw ParameterError("fit points", "expected at least 3 points along the axis");
+  if (!(options.overcut_weight >= 1)) throw ParameterError("overcut_weight", "expected a weight >= 1");
+  FlankAxisFit fit;
+  fit.axis = start;
+  fit.before = flank_residual(face, {start}, cutter, options.check_points).stats;
+  fit.after = fit.before;
+  // Nothing to gain (a developable face's two-contact axis is exact).
+  if (flank_fit_score(fit.before, options.overcut_weight) < 1e-7) return fit;
+  FlankFitModel model(face, start, hub, cutter, options);
+  const int n = options.points, m = model.unknowns();
+  std::vector<double> weights(n, 1.0);
+  FlankFitFunctor functor{&model, &weights, n, &cutter, options.overcut_weight};
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(m), best_x = x;
+  double best = std::numeric_limits<double>::infinity();
+  std::vector<double> r;
+  std::vector<Vec3> g;
+  int stalls = 0;
+  for (int round = 0; round <= options.minimax_rounds; ++round) {
+    Eigen::LevenbergMarquardt<FlankFitFunctor> lm(functor);
+    // Parameters are mm of axis motion: 1e-7 of relative change is far
+    // below the residual's um; each reweighted round starts where the last
+    // ended, so a few steps suffice.
+    lm.parameters.maxfev = round == 0 ? 40 : 15;
+    lm.parameters.xtol = 1e-7;
+    lm.parameters.ftol = 1e-8;
+    lm.minimize(x);
+    FlankFitLine l;
+    if (!model.residuals_at(x, l, r, g)) break;
+    double worst = 0, sum = 0;
+    for (double v : r) worst = std::max(worst, std::abs(model.weighted(v)));
+    // Lawson's rounds converge slowly once the band is nearly levelled:
+    // stop when a round gains less than 1 % twice running.
+    if (worst < best) {
+      stalls = worst > 0.99 * best ? stalls + 1 : 0;
+      best = worst;
+      best_x = x;
+    } else {
+      ++stalls;
+    }
+    if (stalls >= 2) break;
+    // Lawson: each weight grows with its point's error, renormalised; a
+    // floor keeps every point in play.
+    for (int k = 0; k < n; ++k) {
+      weights[k] *= std::max(std::abs(model.weighted(r[k])), 1e-3 * worst);
+      sum += weights[k];
+    }
+    if (!(sum > 0)) break;
+    for (double& w : weights) w *= n / sum;
+  }
+  fit.evaluations = model.evaluations;
+  FlankFitLine l = model.line(best_x);
+  if (!l.ok) return fit;
+  const std::optional<Vec3> centre = model.exact_centre(l);
+  if (!centre) return fit;
+  l.centre = *centre;
+  const FlankAxis cand = flank_axis_from_line(start, l, cutter.ball_radius_mm());
+  const ResidualStats after = flank_residual(face, {cand}, cutter, options.check_points).stats;
+  // Taken only for a real gain (0.1 nm): an exact start (a developable
+  // face) keeps its axis bit for bit, and so do the programs posted from it.
+  if (flank_fit_score(after, options.overcut_weight) < flank_fit_score(fit.before, options.overcut_weight) - 1e-7) {
+    fit.axis = cand;
+    fit.after = after;
+    fit.improved = true;
+    fit.correction_rad = std::acos(std::clamp(cand.pose.axis.dot(start.pose.axis.normalized()), -1.0, 1.0));
+  }
+  return fit;
 }
 
 FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
@@ -287,7 +572,7 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
   plan.min_margin_mm = std::numeric_limits<double>::infinity();
   const double r = rq.cutter->ball_radius_mm();
   const Surface& design = rq.design ? *rq.design : *rq.face;
-  std::vector<FlankAxis> unbalanced;
+  std::vector<FlankAxis> unbalanced, before;
   for (double v : stations) {
     FlankAxis ax;
     try {
@@ -296,11 +581,32 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
       plan.refusals.push_back({v, e.what()});
       continue;
     }
+    // The fit of the untilted pose (from the balanced axis when balancing).
+    std::optional<FlankAxisFit> fitted;
+    auto fit_of = [&](const FlankAxis& from) {
+      if (!rq.optimise) return;
+      FlankFitOptions fo = rq.fit;
+      fo.check_points = rq.residual_points;
+      try {
+        FlankAxisFit f = optimise_flank_axis(design, from, rq.hub, *rq.cutter, fo);
+        if (f.improved) fitted = std::move(f);
+      } catch (const Error&) {
+        // No foot for a trial point: the unfitted axis stands (it is proved
+        // and measured as before).
+      }
+    };
     if (!rq.world) {
       unbalanced.push_back(ax);
       if (rq.balance_residual) {
         ax = balanced(design, ax, *rq.cutter, rq.residual_points, rq.hub);
         ++plan.balanced;
+      }
+      before.push_back(ax);
+      fit_of(ax);
+      plan.correction_rad.push_back(fitted ? fitted->correction_rad : 0.0);
+      if (fitted) {
+        ax = fitted->axis;
+        ++plan.optimised;
       }
       plan.axes.push_back(ax);
       plan.tilt_rad.push_back(0);
@@ -316,6 +622,15 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
       std::vector<FlankAxis> tries;
       if (rq.balance_residual) tries.push_back(balanced(design, plain, *rq.cutter, rq.residual_points, rq.hub));
       tries.push_back(plain);
+      // Untilted: the fitted pose first (its start is tries[0]).
+      int fit_index = -1;
+      if (i == 0) {
+        fit_of(tries.front());
+        if (fitted) {
+          tries.insert(tries.begin(), fitted->axis);
+          fit_index = 0;
+        }
+      }
       for (size_t k = 0; k < tries.size() && !done; ++k) {
         const FlankAxis& cand = tries[k];
         const PoseCheck pc = rq.world->check(*rq.body, cand.pose, rq.clearances, 0.0);
@@ -334,9 +649,14 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
         }
         plan.axes.push_back(cand);
         unbalanced.push_back(plain);
+        const bool is_fit = static_cast<int>(k) == fit_index;
+        before.push_back(is_fit ? tries[1] : cand);
+        plan.correction_rad.push_back(is_fit ? fitted->correction_rad : 0.0);
+        if (is_fit) ++plan.optimised;
         plan.tilt_rad.push_back(angle);
         if (angle != 0) ++plan.tilted;
-        if (rq.balance_residual && k == 0) ++plan.balanced;
+        // Balanced: the balanced axis itself, or the fit started from it.
+        if (rq.balance_residual && static_cast<int>(k) <= fit_index + 1) ++plan.balanced;
         done = true;
       }
     }
@@ -413,9 +733,10 @@ FlankFacePlan plan_flank_face(const FlankFaceRequest& rq) {
     plan.root_corner = residual_stats(plan.root_corner_mm);
   }
   plan.residual = flank_residual(design, plan.axes, *rq.cutter, rq.residual_points);
-  plan.residual_unbalanced = rq.balance_residual
-                                 ? flank_residual(design, unbalanced, *rq.cutter, rq.residual_points).stats
-                                 : plan.residual.stats;
+  plan.residual_before = plan.optimised > 0 ? flank_residual(design, before, *rq.cutter, rq.residual_points).stats
+                                            : plan.residual.stats;
+  plan.residual_unbalanced = !rq.balance_residual ? plan.residual_before
+                             : flank_residual(design, unbalanced, *rq.cutter, rq.residual_points).stats;
   return plan;
 }
 

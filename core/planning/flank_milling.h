@@ -28,6 +28,46 @@
 // Residual (eq. 33–36): for points P along the axis between D2 and D1, the
 // shortest distance from P to the face (point inversion, eq. 33–35) minus
 // rho at P's height: > 0 undercut (material left), < 0 overcut.
+//
+// Axis optimisation (issue 40 item 0; optimise_flank_axis below). The
+// two-contact axis is exact only on a developable face; on a twisted ruled
+// face the normals turn along the ruling and the axis through D1, D2 leaves
+// the paper's "concave overcut" mid-ruling. The literature positions the
+// cutter from one or two contacts and then moves ("lifts and twists") it to
+// reduce an error measured along the surface normal: Li, Mann & Bedi, "Error
+// measurements for flank milling", CAD 37 (2005); Menzel, Bedi & Mann,
+// "Triple tangent flank milling of ruled surfaces", CAD 36 (2004); and, with
+// the signed error (point-to-surface distance minus the cutter radius)
+// minimised by bounded least squares over the axis, "Optimal tool size and
+// tool path for flank milling ruled surface with a conical cutter based on
+// normal mapping", Adv. Mech. Eng. 9(8) (2017), doi 10.1177/1687814017724704.
+// Gong, Cao & Liu (CAD 2005) and Zhu, Ding & Xiong (CAD 2010), named in
+// issue 40, are of the same family (not in our reference store; not
+// checked). Here each pose's axis is fitted to the face by the residual the
+// plan reports (eq. 33–36 sampled along the axis):
+//   * unknowns: the axis line (4: its mid point moved across the axis in
+//     two directions, its direction turned in two) and, for a tool of
+//     revolution, its height along the line. With a hub the height is not
+//     free: the ball rides the hub (centre on the hub offset, eq. 26–32),
+//     found again for every trial line; without one, a tapered cutter slides
+//     along its axis as a fifth unknown (a cylinder's slide changes nothing).
+//   * least squares first (Levenberg–Marquardt, Eigen's unsupported
+//     NonLinearOptimization module), the Jacobian from the envelope theorem:
+//     the gradient of the distance to the face is the unit normal at the
+//     foot, so only the axis points are differentiated, no projection.
+//   * then a minimax refinement (the tolerance is a band): Lawson's
+//     iteratively reweighted least squares (weights grow with each point's
+//     error), the best maximum kept.
+//   * overcut counts `overcut_weight` times material left (>= 1: a bias
+//     towards leaving material, stated in the options); 1 = a centred band.
+//   * smoothness: the optimised axis turns at most max_axis_correction away
+//     from the two-contact axis (a hard bound in the parametrisation), so
+//     neighbouring poses turn by at most the two-contact axes' turn plus
+//     twice that (triangle inequality); the two-contact axes are a smooth
+//     sequence along the chord.
+//   * a pose is never made worse: the fitted axis is kept only where its
+//     largest (weighted) residual over the reported points is below the
+//     start's, else the start stays.
 #include <memory>
 #include <optional>
 #include <string>
@@ -113,6 +153,27 @@ FlankResidual flank_residual(const Surface& face, const std::vector<FlankAxis>& 
 
 ResidualStats residual_stats(const std::vector<double>& values);
 
+struct FlankFitOptions {
+  int points = 16;                               // residual points along the axis the fit uses
+  double max_axis_correction_rad = deg_to_rad(0.5);  // largest turn away from the start axis
+  double overcut_weight = 1.0;                   // overcut counts this many times material left (>= 1)
+  int minimax_rounds = 5;                        // Lawson reweighting rounds after the least squares
+  int check_points = 40;                         // points of the never-worse comparison
+};
+struct FlankAxisFit {
+  FlankAxis axis;                    // the fitted axis, or the start where the fit is no better
+  bool improved = false;             // the fitted axis was taken
+  ResidualStats before, after;       // over check_points along the axis, against the face
+  double correction_rad = 0;         // angle between the start axis and the taken one
+  int evaluations = 0;               // residual evaluations (projections of `points` each)
+};
+// Fits the axis of `start` (a flank_axis, balanced or tilted or not) to
+// `face` (the design face) as described at the top. `hub` as for
+// flank_axis: with it, every trial ball centre rides the hub offset.
+// Throws Error where a residual point has no foot on the face.
+FlankAxisFit optimise_flank_axis(const Surface& face, const FlankAxis& start, const SurfaceOfRevolution* hub,
+                                 const FlankCutter& cutter, const FlankFitOptions& options);
+
 // ---------------------------------------------------------------------------
 // One face planned with interference (issue 12 item 5).
 //
@@ -150,6 +211,13 @@ struct FlankFaceRequest {
   // The shifted pose is checked like any other; where it collides the
   // unshifted one is taken. The residual before (unshifted) is reported.
   bool balance_residual = false;
+  // Fit every untilted pose's axis to the design face (optimise_flank_axis,
+  // from the balanced axis when balance_residual). The fitted pose is tried
+  // first and proved like any other; where it collides, or its motion from
+  // the previous pose does, the unfitted pose (and then its tilts) follow as
+  // before. Tilted poses are not fitted (the tilt is the clearance's).
+  bool optimise = true;
+  FlankFitOptions fit;
 };
 
 struct FlankRefusal {
@@ -164,7 +232,10 @@ struct FlankFacePlan {
   PlannedDeparture lead_in, lead_out;
   FlankResidual residual;            // over the emitted poses
   ResidualStats residual_unbalanced; // the same poses before balance_residual's shift
+  ResidualStats residual_before;     // the same poses before the fit (balanced or not): optimise = false's
   int balanced = 0;                  // poses shifted by balance_residual
+  int optimised = 0;                 // poses whose fitted axis was taken
+  std::vector<double> correction_rad;  // per emitted pose: its turn away from the unfitted axis
   int stations = 0;
   int tilted = 0;
   // Material left in the root corner, per emitted pose: the distance from

@@ -26,6 +26,8 @@ local opt = require("recipe_options"){
   tip_radius = {type = "number", unit = "mm", default = 2, range = {0.5, 20}, help = "tip (ball) radius of the tapered ball end"},
   half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
   balance = {type = "boolean", default = true, help = "centre each axis's residual band on zero (false: the paper's axes)"},
+  optimise = {type = "boolean", default = true, help = "fit each axis to the face (least squares, then minimax; false: as balanced)"},
+  max_axis_correction = {type = "number", unit = "deg", default = 0.5, range = {0, 10}, help = "largest turn of a fitted axis from the balanced one"},
   flute_length = {type = "number", unit = "mm", default = 90, range = {5, 300}, help = "flute length of the cutter"},
 }
 local set = opt.set
@@ -85,7 +87,8 @@ for _, blade in ipairs{"main", "splitter"} do
     -- each axis) against the lofted face, the blade as designed.
     local plan = bliskrun.flank_mill{face = face, design = part[side]:surface(), hub = hub, tool = tool,
                                      ball_radius = tip_radius, world = world, chord_tol = chord_tol,
-                                     residual_points = residual_points, balance = balance}
+                                     residual_points = residual_points, balance = balance,
+                                     optimise = opt.optimise, max_axis_correction = opt.max_axis_correction}
     bliskrun.write_text(name .. ".apt", plan.apt)
     if plan.residual_map then
       plan.residual_map:write_png(name .. "_residual.png",
@@ -107,6 +110,7 @@ for _, blade in ipairs{"main", "splitter"} do
                           refusals = plan.refusals, tilted = plan.tilted,
                           lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
                           residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
+                          residual_before = plan.residual_before, optimised = plan.optimised,
                           balanced = plan.balanced}
     print(string.format("%-22s ruled fit max %8.1f um RMS %7.1f um %s; %3d stations, %3d poses, %3d refused, %2d tilted; residual to the lofted face max %+.4f min %+.4f mm (paper's axes %+.4f / %+.4f)",
                         name, fit.max * 1000, fit.rms * 1000, fit.max <= tolerance and "(ok)" or "(EXCEEDS tolerance)",

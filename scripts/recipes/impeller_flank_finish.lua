@@ -33,6 +33,7 @@ local opt = require("recipe_options"){
   clearance = {type = "number", unit = "mm", default = 0.5, range = {0, 10}, help = "clearance of the whole tool from the neighbouring faces and the hub"},
   apt_blades = {type = "integer", default = 1, range = {1, 1000}, help = "blades written to APT, by rotation"},
   balance = {type = "boolean", default = true, help = "centre each axis's residual band on zero (false: the paper's axes)"},
+  optimise = {type = "boolean", default = true, help = "fit each axis to the face (least squares, then minimax; false: as balanced)"},
   tip_radius = {type = "number", unit = "mm", default = 3, range = {0.5, 20}, help = "tip (ball) radius of the tapered ball end"},
   half_angle = {type = "number", unit = "deg", default = 2, range = {0, 15}, help = "half angle of the cutter's taper"},
 }
@@ -75,7 +76,8 @@ for _, kind in ipairs{"main", "splitter"} do
     local world = iw.face_world(imp, meshes, kind, side)
     local plan = bliskrun.flank_mill{face = face, hub = hub, tool = tool, ball_radius = tip_radius,
                                      world = world, chord_tol = chord_tol, clearance = clearance,
-                                     residual_points = residual_points, balance = balance}
+                                     residual_points = residual_points, balance = balance,
+                                     optimise = opt.optimise}
     local name = string.format("impeller_%s_%s", kind, side)
     -- APT of blade 1, and of further blades turned about Z.
     local apt = {plan.apt}
@@ -120,6 +122,7 @@ for _, kind in ipairs{"main", "splitter"} do
                           lead_in = plan.lead_in.clear, lead_out = plan.lead_out.clear,
                           lead_reason = (plan.lead_in.reason or "") .. (plan.lead_out.reason or ""),
                           residual = plan.residual, residual_unbalanced = plan.residual_unbalanced,
+                          residual_before = plan.residual_before, optimised = plan.optimised,
                           balanced = plan.balanced, per_pose = per_pose, root_corner = plan.root_corner}
     totals.poses = totals.poses + #plan.poses
     totals.refused = totals.refused + #plan.refusals

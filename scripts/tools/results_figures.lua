@@ -310,13 +310,15 @@ M["impeller_flank_finish.lua"] = {
   json = "impeller_flank_finish.json",
   about = "Blade 1's four faces (main blade and splitter, plus and minus side) flank-milled with a tapered ball "
           .. "end (r 3, 2°). Residual: the distance of the machined face from the design, > 0 material left, "
-          .. "< 0 cut below; each axis shifted to centre its residual (balanced), and with the paper's axes.",
+          .. "< 0 cut below; each axis fitted to the face (least squares, then minimax; issue 40), before the "
+          .. "fit (shifted to centre its residual: balanced), and the paper's axes.",
   rows = (function()
     local rows = {{"poses, tilted, refused", fmt("%d, %d, %d", "totals.poses", "totals.tilted", "totals.refused")}}
     for _, f in ipairs{"main_plus", "main_minus", "splitter_plus", "splitter_minus"} do
       local p = "faces.impeller_" .. f
-      rows[#rows + 1] = {f:gsub("_", " ") .. ": residual balanced / paper's axes, max / min (mm)",
-                         fmt("%+.3f / %+.3f, %+.3f / %+.3f", p .. ".residual.max", p .. ".residual.min",
+      rows[#rows + 1] = {f:gsub("_", " ") .. ": residual fitted / balanced / paper's axes, max / min (mm)",
+                         fmt("%+.3f / %+.3f, %+.3f / %+.3f, %+.3f / %+.3f", p .. ".residual.max", p .. ".residual.min",
+                             p .. ".residual_before.max", p .. ".residual_before.min",
                              p .. ".residual_unbalanced.max", p .. ".residual_unbalanced.min")}
     end
     return rows
@@ -472,9 +474,10 @@ M["hecc_impeller_flank_finish.lua --data"] = {
     local rows = {}
     for _, f in ipairs{"main_pressure", "main_suction", "splitter_pressure", "splitter_suction"} do
       local p = "faces.hecc_" .. f
-      rows[#rows + 1] = {f:gsub("_", " ") .. ": ruled fit max / RMS (µm), poses, refused, residual max / min (mm)",
-                         fmt("%.0f / %.0f, %d, %d, %+.3f / %+.3f", p .. ".ruled_fit.max_um", p .. ".ruled_fit.rms_um",
-                             p .. ".poses", p .. ".refused", p .. ".residual.max", p .. ".residual.min")}
+      rows[#rows + 1] = {f:gsub("_", " ") .. ": ruled fit max / RMS (µm), poses, refused, residual max / min (mm), before the axis fit",
+                         fmt("%.0f / %.0f, %d, %d, %+.3f / %+.3f, %+.3f / %+.3f", p .. ".ruled_fit.max_um",
+                             p .. ".ruled_fit.rms_um", p .. ".poses", p .. ".refused", p .. ".residual.max",
+                             p .. ".residual.min", p .. ".residual_before.max", p .. ".residual_before.min")}
     end
     return rows
   end)(),

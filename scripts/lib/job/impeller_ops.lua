@@ -157,12 +157,18 @@ function M.flank_finish(o)
     clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     mesh_tol = {type = "number", check = positive},
     balance = {type = "boolean"},
+    optimise = {type = "boolean"},
+    max_axis_correction = {type = "number", check = function(v)
+      if not (v >= 0 and v <= 10) then return "expected 0..10 degrees" end end},
+    overcut_weight = {type = "number", check = function(v) if not (v >= 1) then return "expected >= 1" end end},
     feed = {type = "number", check = positive},
   }, 2)
   local op = {kind = "flank_finish", tool = o.tool, blades = o.blades,
               faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
               chord_tol = o.chord_tol or 0.005, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
-              balance = o.balance ~= false, feed = o.feed or 600, lift = 5}
+              balance = o.balance ~= false, optimise = o.optimise ~= false,
+              max_axis_correction = o.max_axis_correction, overcut_weight = o.overcut_weight,
+              feed = o.feed or 600, lift = 5}
   function op.plan_flanks(self, j, index)
     require_impeller(j, "job.flank_finish")
     local iw = require("impeller_world")
@@ -179,7 +185,8 @@ function M.flank_finish(o)
                                        hub = j.part:hub(), tool = tool.tool,
                                        ball_radius = tool.ball_radius, world = world,
                                        chord_tol = self.chord_tol, clearance = self.clearance, balance = self.balance,
-                                       residual_points = 10}
+                                       optimise = self.optimise, max_axis_correction = self.max_axis_correction,
+                                       overcut_weight = self.overcut_weight, residual_points = 10}
       if #plan.refusals > 0 or not plan.lead_in.clear or not plan.lead_out.clear then
         error(string.format("job.flank_finish: %s face: %d poses refused%s; nothing of it is emitted", name,
                             #plan.refusals, (plan.lead_in.clear and plan.lead_out.clear) and ""
@@ -218,7 +225,13 @@ function M.flank_finish(o)
                            operation = index}
       units[#units + 1] = {name = name, moves = moves,
                            report = {poses = #plan.poses, stations = plan.stations, tilted = plan.tilted,
+                                     -- the emitted (fitted, with optimise) axes' residual; before the fit apart
                                      residual_max = plan.residual.max, residual_min = plan.residual.min,
+                                     residual_mean = plan.residual.mean,
+                                     residual_before_max = plan.residual_before.max,
+                                     residual_before_min = plan.residual_before.min,
+                                     residual_before_mean = plan.residual_before.mean,
+                                     optimised = plan.optimised,
                                      -- apart from the residual: the corner the ball riding the hub leaves
                                      root_corner_max = plan.root_corner and plan.root_corner.max,
                                      min_margin = min_margin, lead_min_margin = lead_min}}
