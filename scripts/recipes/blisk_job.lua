@@ -1,4 +1,8 @@
--- The built-in blisk's blades finished as one job (issue 18): both flanks by
+-- The built-in blisk from the blank to the finished blades as one job
+-- (issues 18, 41): the channels either side of the blades roughed in levels
+-- by a tapered ball end, 0.5 mm of stock left on the flanks and the hub
+-- (job.rough_channels; --set rough=false starts from a part already
+-- roughed), then both flanks finished by
 -- the drum wheel (blisk_drum_finish.lua), the trailing edges by the bottom of
 -- a flat-end mill (blade_edges.lua), the roots and channel floor by a ball
 -- (blisk_hub_finish.lua), the leading edges last with the part turned over;
@@ -11,6 +15,10 @@
 --   (bliskrun scripts/recipes/blisk_job.lua --help lists the options below)
 local opt = require("recipe_options"){
   blades = {type = "integer", default = 2, range = {1, 1000}, help = "blades to machine, from blade 1"},
+  rough = {type = "boolean", default = true,
+           help = "rough the channels either side of the blades first (tapered ball end, levels from the casing)"},
+  stock = {type = "number", unit = "mm", range = {0.1, 3}, default = 0.5,
+           help = "stock the roughing leaves on the flanks and the hub"},
   sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"},
            help = "flanks the drum wheel finishes"},
   edges = {type = "boolean", default = true, help = "finish the leading and trailing edges (flat-end mill)"},
@@ -52,8 +60,25 @@ local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, 
 -- Every tool axis within 118 deg of the table's in its setup (the A cradle
 -- and the B head tilt to 120); turned over, the leading edges' also 35 deg
 -- off it, clear of the cone where the A/C cradle changes sides of A = 0.
-local operations = {job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002,
-                                    feed = 600, periodic = periodic}}
+-- The roughing tool: a 6 mm tapered ball end (1.5 deg), 36 mm of flute to
+-- reach the hub from outside the casing with its axis tilted between the
+-- blades (the narrowest passage is 10.5 mm: the ball and 0.5 mm each side
+-- leave 3.5 mm to tilt in).
+local rougher = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 1.5, flute_length = 36,
+                                               shank = {diameter = 10, length = 40}, holder = {diameter = 32, length = 40}}
+local operations = {}
+if opt.rough then
+  -- The channels either side of the blades finished: channel k lies between
+  -- blade k's suction flank and blade k+1's pressure flank, so blades 1..N
+  -- need channels N (round to the last) and 1..N.
+  local n, channels = blisk:blade_count(), {}
+  for _, k in ipairs(blades) do channels[#channels + 1] = k end
+  if #blades < n then channels[#channels + 1] = n end
+  operations[1] = job.rough_channels{tool = "rougher", blades = channels, stock = opt.stock, feed = 1200,
+                                     periodic = periodic}
+end
+operations[#operations + 1] = job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014,
+                                              chord_tol = 0.002, feed = 600, periodic = periodic}
 if edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"trailing"}, span = span,
                                                 feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118}}
@@ -79,10 +104,12 @@ for k, z in ipairs{-23, -11, 0, 11} do
               radius = 63 + 3 * math.min(top, 22) / 22 + 0.5}
 end
 local j = job.new{
-  name = "blisk blades" .. (edges and ", edges" or "") .. (hub and ", hub and roots" or ""),
+  name = (opt.rough and "blisk channels roughed, " or "") .. "blisk blades" .. (edges and ", edges" or "")
+         .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
   -- --set tool_life=MM: whole blades per wheel up to that cutting length, then the next sister wheel.
-  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
+  tools = {rougher = {number = 3, length = 125, spindle_rpm = 9000, tool = rougher, ball_radius = 3},
+           wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
                     sisters = opt.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
            mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill},
            ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}},
@@ -105,6 +132,6 @@ j:run{name = "blisk_job",
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
                fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
                stock = blank}},
-  settings = {blades = #blades, sides = opt.sides, edges = edges,
+  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}
