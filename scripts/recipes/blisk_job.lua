@@ -19,6 +19,13 @@ local opt = require("recipe_options"){
            help = "rough the channels either side of the blades first (tapered ball end, levels from the casing)"},
   stock = {type = "number", unit = "mm", range = {0.1, 3}, default = 0.5,
            help = "stock the roughing leaves on the flanks and the hub"},
+  rough_stations = {type = "integer", default = 41, range = {5, 401},
+                    help = "roughing stations per level, inlet to outlet (poses between them keep the stock within its chord tolerance)"},
+  rough_samples = {type = "string", default = "60,300", help = "simulation samples u,v of the roughing's stock (span, chord)",
+                   check = function(v)
+                     local u, w = v:match("^%s*(%d+)%s*,%s*(%d+)%s*$")
+                     if not (u and tonumber(u) >= 2 and tonumber(w) >= 2) then return "expected two integers u,v >= 2" end
+                   end},
   sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"},
            help = "flanks the drum wheel finishes"},
   edges = {type = "boolean", default = true, help = "finish the leading and trailing edges (flat-end mill)"},
@@ -40,6 +47,10 @@ local opt = require("recipe_options"){
                   help = "sample spacing of the seams between operations"},
   tool_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
                help = "cutting length per wheel, then the next sister wheel (T15, T25, ...)"},
+  blank_resolution = {type = "number", unit = "mm", range = {0.05, 5}, default = 0.5,
+                      help = "ray spacing of the stock model (the blank cut by every move: removed, air cut, left)"},
+  blank = {type = "boolean", default = true,
+           help = "with rough: cut the blank of revolution by every move, the stock reported after every operation"},
   blade_map = {type = "choice", default = true, choices = {true, false, "lean"},
                help = "the blade-1 map of every operation (lean: fewer samples)"},
 }
@@ -74,8 +85,10 @@ if opt.rough then
   local n, channels = blisk:blade_count(), {}
   for _, k in ipairs(blades) do channels[#channels + 1] = k end
   if #blades < n then channels[#channels + 1] = n end
+  local su, sv = opt.rough_samples:match("(%d+)%s*,%s*(%d+)")
   operations[1] = job.rough_channels{tool = "rougher", blades = channels, stock = opt.stock, feed = 1200,
-                                     periodic = periodic}
+                                     periodic = periodic, stations = opt.rough_stations,
+                                     samples = {math.tointeger(tonumber(su)), math.tointeger(tonumber(sv))}}
 end
 operations[#operations + 1] = job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014,
                                               chord_tol = 0.002, feed = 600, periodic = periodic}
@@ -103,7 +116,30 @@ for k, z in ipairs{-23, -11, 0, 11} do
   blank[k] = {name = "disc " .. k, cylinder = {{0, 0, z}, {0, 0, top}},
               radius = 63 + 3 * math.min(top, 22) / 22 + 0.5}
 end
+-- The blank (issue 41): the forged disc turned to a solid of revolution —
+-- the disc, z -23 to 23, 0.5 mm over the hub (r 60 + 0.5 to 66 + 0.5: the
+-- hub's stock), and over it the blade ring turned to the blades' envelope:
+-- out to the casing cone (r 90 at z = -22 to 96 at 22; the roughing's
+-- default top) and axially 1 mm beyond the edges (the blades' leading
+-- edges run from z = -15.7 at the hub, r 58.5, to -11.7 at r 97.5, the
+-- trailing edges from 15.3 to 11.4, measured on blade 1's flanks), so the
+-- annulus in front of and behind the blade row is the disc's alone. Only
+-- with the roughing: without it the part is already roughed, not a blank.
+-- Every move of every operation, links included, cuts it in program order
+-- (job/stock.lua): the report gives per operation the volume removed, the
+-- share of its cutting path in air and the stock left.
+local function hub_r(z) return 63 + 3 * z / 22 + 0.5 end
+local function casing_r(z) return 93 + 3 * z / 22 end
+-- Where an edge's envelope (z = z0 + slope (r - 58.5), 1 mm out) meets a
+-- cone r = r0 + 3 z / 22: solved for z.
+local function meet(z0, slope, r0) return (z0 + slope * (r0 - 58.5)) / (1 - slope * 3 / 22) end
+local le_hub, le_casing = meet(-16.68, 4 / 39, 63.5), meet(-16.68, 4 / 39, 93)
+local te_hub, te_casing = meet(16.34, -3.96 / 39, 63.5), meet(16.34, -3.96 / 39, 93)
+local stock_blank = opt.blank and opt.rough and {resolution = opt.blank_resolution,
+  profile = {{0, -23}, {hub_r(-23), -23}, {hub_r(le_hub), le_hub}, {casing_r(le_casing), le_casing},
+             {casing_r(te_casing), te_casing}, {hub_r(te_hub), te_hub}, {hub_r(23), 23}, {0, 23}}} or nil
 local j = job.new{
+  blank = stock_blank,
   name = (opt.rough and "blisk channels roughed, " or "") .. "blisk blades" .. (edges and ", edges" or "")
          .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
@@ -132,6 +168,7 @@ j:run{name = "blisk_job",
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
                fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
                stock = blank}},
-  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, sides = opt.sides, edges = edges,
+  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, rough_stations = opt.rough and opt.rough_stations or nil,
+              blank_resolution_mm = stock_blank and opt.blank_resolution or nil, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}

@@ -14,6 +14,7 @@
 #include <string>
 #include <nlohmann/json.hpp>
 
+#include "core/common/types.h"
 #include "test_support.h"
 
 namespace bliskrun::test {
@@ -67,6 +68,38 @@ TEST(BliskRoughJobRecipe, ChannelsRoughedThenFlanksFinishedFromTheBlankPostedFor
     EXPECT_GE(s["stock_min_mm"].get<double>(), 0.5 - 0.05) << name;
     EXPECT_LE(s["stock_max_mm"].get<double>(), 0.5 + 0.05) << name;
   }
+  // The stock model (job.new's blank, the recipe's blank of revolution):
+  // the blank its profile's volume (Pappus: r = 93 + 3 z / 22 over z -23 ..
+  // 23), cut by every move in program order; per operation what it removed
+  // and what is left, each the one before less the removed; no rapid
+  // through material. The roughing removes two channels between hub and
+  // casing less the blades and the stock: within the two pitches of the
+  // annulus between them (pi 30 156 44 / 22 each) and more than 40 % of it.
+  const auto& st = j["stock"];
+  const double blank = kPi * (93.0 * 93 * 46 + 9.0 / 484 * 2 * 23 * 23 * 23 / 3);
+  EXPECT_NEAR(st["blank_exact_mm3"].get<double>(), blank, 1e-6 * blank);
+  EXPECT_NEAR(st["blank_mm3"].get<double>(), blank, 0.005 * blank);
+  ASSERT_EQ(st["operations"].size(), 2u);
+  EXPECT_EQ(st["operations"][0]["kind"].get<std::string>(), "rough_channels");
+  EXPECT_EQ(st["operations"][1]["kind"].get<std::string>(), "drum_finish");
+  const double pitches = 2 * kPi * 30 * 156 * 44 / 22;
+  const double roughed = st["operations"][0]["removed_mm3"].get<double>();
+  EXPECT_GT(roughed, 0.4 * pitches);
+  EXPECT_LT(roughed, pitches);
+  double left = st["blank_mm3"].get<double>();
+  for (const auto& e : st["operations"]) {
+    left -= e["removed_mm3"].get<double>();
+    EXPECT_NEAR(e["left_mm3"].get<double>(), left, 1e-6 * blank) << e["kind"];
+    EXPECT_GT(e["removed_mm3"].get<double>(), 0) << e["kind"];
+    EXPECT_GE(e["air_share"].get<double>(), 0) << e["kind"];
+    EXPECT_LE(e["air_share"].get<double>(), 1) << e["kind"];
+    EXPECT_EQ(e["rapid_cut_moves"].get<int>(), 0) << e["kind"];
+  }
+  // The finish takes the 0.5 mm stock off the flanks: far less than the
+  // roughing, at most the stock's layer over both flanks' area (< 2 x 2000
+  // mm2 x 0.5 mm with the resolution's slack).
+  EXPECT_LT(st["operations"][1]["removed_mm3"].get<double>(), 0.1 * roughed);
+
   // The finish after it cuts no deeper than its chord tolerance.
   EXPECT_GE(j["simulation"]["overcut_mm"].get<double>(), -0.002 - 1e-4);
 

@@ -1,6 +1,9 @@
-// Issue 41 (recipe size, Release only: ~40 s): one channel of the built-in
-// blisk roughed in levels
-// (core/planning/channel_levels.h), checked independently of the planner's
+// Issue 41 (recipe size, Release only: ~12 s): one channel of the built-in
+// blisk roughed in levels (core/planning/channel_levels.h) from a blank
+// whose top stands 8 mm over the hub (the lower quarter of the channel, its
+// narrowest and most twisted part, where the blades' rounds and the hub
+// meet: the casing's 30 mm and 22 channels are the bench's,
+// bench/blisk_roughing_bench.cpp), checked independently of the planner's
 // own proofs: the stock it leaves on both flanks and the hub by the
 // undercut simulation (core/sim: every emitted move swept with the tool's
 // exact distance, the true flanks and hub sampled) and every emitted pose
@@ -31,6 +34,7 @@ namespace {
 
 constexpr double kStock = 0.5;
 constexpr double kTolerance = 0.05;  // the stock's band (issue 41)
+constexpr double kTopOverHub = 8;   // the blank's top, radially over the hub (r 60 -> 66 over z -22 -> 22)
 
 Tool rougher() {
   TaperedBallEndMillSpec s;
@@ -66,7 +70,11 @@ std::shared_ptr<const Surface> edge_round(const std::shared_ptr<const Surface>& 
 // the surfaces the independent check measures.
 struct Channel {
   BuiltinBlisk blisk;
-  SurfaceOfRevolution hub{blisk.hub_meridian()}, casing{blisk.casing_meridian()};
+  SurfaceOfRevolution hub{blisk.hub_meridian()}, casing{blisk.casing_meridian()}, top{raised(blisk.hub_meridian())};
+  static std::vector<Vec2> raised(std::vector<Vec2> m) {
+    for (Vec2& p : m) p.y() += kTopOverHub;  // (z, r)
+    return m;
+  }
   std::shared_ptr<const Surface> flank[2][2] = {
       {blisk.flank_surface(0, FlankSide::kPressure), blisk.flank_surface(0, FlankSide::kSuction)},
       {blisk.flank_surface(1, FlankSide::kPressure), blisk.flank_surface(1, FlankSide::kSuction)}};
@@ -93,7 +101,7 @@ struct Channel {
     rq.left = {left.get(), 1, 0, {part[0][2].get(), part[0][3].get(), flank[0][0].get()}};
     rq.right = {right.get(), 0, 1, {part[1][2].get(), part[1][3].get(), flank[1][1].get()}};
     rq.hub = &hub;
-    rq.top = &casing;
+    rq.top = &top;
     rq.cutter = &cutter;
     rq.world = &world;
     rq.body = &body;
@@ -161,12 +169,14 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
   const ChannelLevelsPlan plan = plan_channel_levels(ch.request(13));
   ASSERT_TRUE(plan.complete) << plan.stopped;
   ASSERT_TRUE(plan.refusals.empty()) << plan.refusals.front().reason;
-  // Levels from the casing (30 mm over the hub, along its normal) down to
-  // the hub's stock, each at most the step-down below the one before; the
-  // flanks' and the hub's cusps as measured within the scallop.
-  EXPECT_NEAR(plan.top_height_min_mm, 30 * std::cos(std::atan(6.0 / 44)), 0.01);
+  // Levels from the top (8 mm over the hub radially, along its normal)
+  // down to the hub's stock, each at most the step-down below the one
+  // before; the flanks' and the hub's cusps as measured within the scallop.
+  const double top_height = kTopOverHub * std::cos(std::atan(6.0 / 44));
+  EXPECT_NEAR(plan.top_height_min_mm, top_height, 0.01);
+  EXPECT_NEAR(plan.top_height_max_mm, top_height, 0.01);
   EXPECT_LE(plan.level_step_max_mm, 1.0 + 1e-9);
-  EXPECT_GE(plan.levels, 29);
+  EXPECT_GE(plan.levels, static_cast<int>(std::ceil(top_height - kStock)));
   EXPECT_LE(std::max(plan.face_cusp_max_mm[0], plan.face_cusp_max_mm[1]), 0.03);
   EXPECT_LE(plan.hub_cusp_max_mm, 0.03);
   EXPECT_LE(plan.step_over_max_mm, 2.0 + 1e-9);
@@ -180,8 +190,9 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
   const std::vector<ToolPass> passes{all};
 
   // Stock left, by the simulation: the flanks from 1 mm over the ball's
-  // corner (r + hub stock over the hub) to the casing, the hub r + stock +
-  // 0.5 mm clear of both flanks between the hub level's ends.
+  // corner (r + hub stock over the hub) to the top, the hub r + stock +
+  // 0.5 mm clear of both flanks between the hub level's ends. Above the top
+  // is no blank: only the least stock counts there.
   const double corner = 3 + kStock + 1.0;
   const auto over_hub = [&](const Vec3& p) {
     const SurfaceProjection pr = project_to_surface(ch.hub, p);
@@ -211,10 +222,14 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
     EXPECT_GE(least, kStock - kTolerance) << name;
     return std::make_pair(lo, hi);
   };
-  const auto on_flank = [&](const Vec3& p) { return over_hub(p) >= corner && ch.casing.radial_offset(p) <= 0; };
+  const auto on_flank = [&](const Vec3& p) { return over_hub(p) >= corner && ch.top.radial_offset(p) <= 0; };
   UndercutOptions fo;
-  fo.samples_u = 60;   // ~0.5 mm along the span: the cusps between levels (~0.8 mm apart) show
-  fo.samples_v = 120;
+  // The flanks up to r 74 (their grids span 39 mm radially, r 58.5 .. 97.5:
+  // the top stands 8 mm over the hub, r 61 .. 65), ~0.45 mm along the span: the
+  // cusps between levels (~0.8 mm apart) show.
+  fo.u1 = 0.4;
+  fo.samples_u = 36;
+  fo.samples_v = 160;
   fo.search_above_mm = 1.5;
   fo.threads = 2;
   const auto l = check("blade 0 suction", *ch.left, fo, on_flank);
@@ -227,6 +242,7 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
   ho.u1 = plan.hub_u_out;
   ho.v0 = -0.06;
   ho.v1 = 0.12;
+  ho.samples_u = 60;  // ~0.7 mm along the hub's meridian
   ho.samples_v = 160;
   ho.flip_normal = true;  // the hub's pu x pv points at the axis
   const Surface* faces[2] = {ch.left.get(), ch.right.get()};
