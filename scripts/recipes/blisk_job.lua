@@ -19,8 +19,8 @@ local opt = require("recipe_options"){
            help = "rough the channels either side of the blades first (tapered ball end, levels from the casing)"},
   stock = {type = "number", unit = "mm", range = {0.1, 3}, default = 0.5,
            help = "stock the roughing leaves on the flanks and the hub"},
-  rough_stations = {type = "integer", default = 41, range = {5, 401},
-                    help = "roughing stations per level, inlet to outlet (poses between them keep the stock within its chord tolerance)"},
+  blank_top = {type = "number", unit = "mm", range = {4, 30}, default_text = "the casing (30)",
+               help = "the blank's blade ring turned to this height over the hub (radially) instead of the casing; the roughing starts there"},
   rough_samples = {type = "string", default = "60,300", help = "simulation samples u,v of the roughing's stock (span, chord)",
                    check = function(v)
                      local u, w = v:match("^%s*(%d+)%s*,%s*(%d+)%s*$")
@@ -77,7 +77,7 @@ local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, 
 -- leave 3.5 mm to tilt in).
 local rougher = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 1.5, flute_length = 36,
                                                shank = {diameter = 10, length = 40}, holder = {diameter = 32, length = 40}}
-local operations = {}
+local operations, rough_top = {}, nil
 if opt.rough then
   -- The channels either side of the blades finished: channel k lies between
   -- blade k's suction flank and blade k+1's pressure flank, so blades 1..N
@@ -85,9 +85,11 @@ if opt.rough then
   local n, channels = blisk:blade_count(), {}
   for _, k in ipairs(blades) do channels[#channels + 1] = k end
   if #blades < n then channels[#channels + 1] = n end
+  -- The blank's top (below): the casing's cone unless --set blank_top=MM.
+  rough_top = opt.blank_top and {{-22, 60 + opt.blank_top}, {22, 66 + opt.blank_top}} or nil
   local su, sv = opt.rough_samples:match("(%d+)%s*,%s*(%d+)")
   operations[1] = job.rough_channels{tool = "rougher", blades = channels, stock = opt.stock, feed = 1200,
-                                     periodic = periodic, stations = opt.rough_stations,
+                                     periodic = periodic, top = rough_top,
                                      samples = {math.tointeger(tonumber(su)), math.tointeger(tonumber(sv))}}
 end
 operations[#operations + 1] = job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014,
@@ -120,7 +122,8 @@ end
 -- the disc, z -23 to 23, 0.5 mm over the hub (r 60 + 0.5 to 66 + 0.5: the
 -- hub's stock), and over it the blade ring turned to the blades' envelope:
 -- out to the casing cone (r 90 at z = -22 to 96 at 22; the roughing's
--- default top) and axially 1 mm beyond the edges (the blades' leading
+-- default top; --set blank_top=MM turns it to MM over the hub) and
+-- axially 1 mm beyond the edges (the blades' leading
 -- edges run from z = -15.7 at the hub, r 58.5, to -11.7 at r 97.5, the
 -- trailing edges from 15.3 to 11.4, measured on blade 1's flanks), so the
 -- annulus in front of and behind the blade row is the disc's alone. Only
@@ -129,12 +132,13 @@ end
 -- (job/stock.lua): the report gives per operation the volume removed, the
 -- share of its cutting path in air and the stock left.
 local function hub_r(z) return 63 + 3 * z / 22 + 0.5 end
-local function casing_r(z) return 93 + 3 * z / 22 end
+local top_over_hub = opt.blank_top or 30
+local function casing_r(z) return 63 + top_over_hub + 3 * z / 22 end
 -- Where an edge's envelope (z = z0 + slope (r - 58.5), 1 mm out) meets a
 -- cone r = r0 + 3 z / 22: solved for z.
 local function meet(z0, slope, r0) return (z0 + slope * (r0 - 58.5)) / (1 - slope * 3 / 22) end
-local le_hub, le_casing = meet(-16.68, 4 / 39, 63.5), meet(-16.68, 4 / 39, 93)
-local te_hub, te_casing = meet(16.34, -3.96 / 39, 63.5), meet(16.34, -3.96 / 39, 93)
+local le_hub, le_casing = meet(-16.68, 4 / 39, 63.5), meet(-16.68, 4 / 39, 63 + top_over_hub)
+local te_hub, te_casing = meet(16.34, -3.96 / 39, 63.5), meet(16.34, -3.96 / 39, 63 + top_over_hub)
 local stock_blank = opt.blank and opt.rough and {resolution = opt.blank_resolution,
   profile = {{0, -23}, {hub_r(-23), -23}, {hub_r(le_hub), le_hub}, {casing_r(le_casing), le_casing},
              {casing_r(te_casing), te_casing}, {hub_r(te_hub), te_hub}, {hub_r(23), 23}, {0, 23}}} or nil
@@ -168,7 +172,7 @@ j:run{name = "blisk_job",
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
                fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
                stock = blank}},
-  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, rough_stations = opt.rough and opt.rough_stations or nil,
+  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, blank_top_mm = opt.rough and opt.blank_top or nil,
               blank_resolution_mm = stock_blank and opt.blank_resolution or nil, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}
