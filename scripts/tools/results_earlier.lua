@@ -21,6 +21,17 @@ return {
              .. "3-minute target, the machine simulation of the four programs alone 330–400 s CPU of either "
              .. "(since the 71 s below); the roughing's own share ~107 s CPU: planning and proving its channel "
              .. "~60 s, its stock sweep ~25 s, posting its 203 k moves the rest"},
+  {recipe = "blisk_job.lua", settings = "blades=1 edges=false hub=false samples_u=40 samples_v=200",
+   measured = "2026-11-28, 6b52e04 (from the blank of revolution)",
+   figures = "the blank (disc 0.5 mm over the hub, blade ring to the casing cone and 1 mm beyond the edges) "
+             .. "1 000 854 mm3 on 0.5 mm rays (Pappus 1 000 807), 3.6 MB; channels 1 and 22 roughed (36 levels, "
+             .. "8 515 poses proved, 0 refused): removed 31 835 mm3, 6 % of 33 509 mm cutting path in air; the drum "
+             .. "finish of blade 1 removed 1 233 mm3, 10 % in air, 6 of its rapids through 22 mm3 of stock and the "
+             .. "shank or holder in the stock on 78 moves (up to 1.8 mm3) — the leads at the blade's edges, to be "
+             .. "looked at; the stock cut by all 20 101 moves 6.9 s CPU. The roughing's stock by the independent "
+             .. "sweep: flanks 0.492–0.516 mm, hub 0.499–0.540 mm (target 0.5 ± 0.05). 112 s CPU, 376 MB peak "
+             .. "(machine simulation 16 + 17 s of it); wall not comparable (11 min on a machine shared by five "
+             .. "engineers' builds and runs)"},
   {recipe = "blisk_job.lua", settings = "blades=22 rough=false", measured = "2026-11-27, 418ef99",
    figures = "110 plans, 517 374 moves, 109 links; Fanuc 1 331 008 + 1 492 124 blocks (tip within 3.1 µm "
              .. "of the plan), Heidenhain 285 955 + 231 413 blocks (0.9 µm); blade 1's map: nothing unreached, "
