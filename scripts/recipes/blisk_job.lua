@@ -47,7 +47,8 @@ local opt = require("recipe_options"){
                   help = "sample spacing of the seams between operations"},
   tool_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
                help = "cutting length per wheel, then the next sister wheel (T15, T25, ...)"},
-  blank_resolution = {type = "number", unit = "mm", range = {0.05, 5}, default = 0.5,
+  -- 1 mm: the figures within ~1 % of 0.5 mm's (removed, air share) at a sixth of the cost (bench/RESULTS.md)
+  blank_resolution = {type = "number", unit = "mm", range = {0.05, 5}, default = 1,
                       help = "ray spacing of the stock model (the blank cut by every move: removed, air cut, left)"},
   blank = {type = "boolean", default = true,
            help = "with rough: cut the blank of revolution by every move, the stock reported after every operation"},
