@@ -1,4 +1,4 @@
-// scripts/recipes/blisk_job.lua from the blank (issue 41; ~20 s): the
+// scripts/recipes/blisk_job.lua from the blank (issue 41; ~47 s CPU): the
 // blank's blade ring turned to 8 mm over the hub (--set blank_top=8: the
 // whole 30 mm channel is bench/'s and blades=22's, bench/RESULTS.md), the
 // channels either side of blade 1 roughed in levels (job.rough_channels),
