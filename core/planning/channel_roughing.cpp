@@ -20,6 +20,13 @@ const char* to_string(ChannelPassKind kind) {
   return "?";
 }
 
+double height_to_ball(const Vec3& q, const Vec3& n, const Vec3& c, double r) {
+  const Vec3 w = c - q;
+  const double b = w.dot(n), disc = b * b - w.squaredNorm() + r * r;
+  if (disc < 0) return std::numeric_limits<double>::infinity();
+  return b - std::sqrt(disc);
+}
+
 namespace {
 
 // The channel's hub section and axes at one station.
@@ -214,18 +221,6 @@ class Channel {
   double u_in_ = 0, u_out_ = 1;  // the hub's meridian parameter at the inlet and outlet stations
 };
 
-// How far above the stock surface point q, along its normal n, the ball
-// (centre c, radius r) leaves material: the lower intersection of the
-// normal line with the sphere, or "everywhere" when the line misses it.
-// This is the scallop height as the paper draws it (Fig. 4), not the
-// distance to the ball along the line to its centre.
-double height_to_ball(const Vec3& q, const Vec3& n, const Vec3& c, double r) {
-  const Vec3 w = c - q;
-  const double b = w.dot(n), disc = b * b - w.squaredNorm() + r * r;
-  if (disc < 0) return std::numeric_limits<double>::infinity();
-  return b - std::sqrt(disc);
-}
-
 // The widening paths' ball centres of one side at a station, k = 0 (the
 // notch) .. n (the finishing pose): the straight line between the two
 // centres, each point put back over the hub (r + stock along its normal).
@@ -361,44 +356,22 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
   for (int j = 1; j <= plan.notch_levels; ++j) specs.push_back({ChannelPassKind::Notch, j});
   for (int k = 1; k <= plan.widen_left; ++k) specs.push_back({ChannelPassKind::WidenLeft, k});
   for (int k = 1; k <= plan.widen_right; ++k) specs.push_back({ChannelPassKind::WidenRight, k});
+  ChannelChecks checks;
+  checks.world = rq.world;
+  checks.body = rq.body;
+  checks.clearances = rq.clearances;
+  checks.motion_tol_mm = rq.motion_tol_mm;
+  checks.link = rq.link;
   std::vector<ChannelPass> passes;
+  ChannelPieces pieces(checks, passes, plan.refusals);
   // The passes whose ball runs on the hub: the deepest notch level and
   // every widening path.
   const auto on_hub = [&](const ChannelPass& pass) {
     return pass.kind != ChannelPassKind::Notch || pass.index == plan.notch_levels;
   };
-  // Takes a pose into the pass being built: refused (the pass split) when
-  // it is not clear, a new piece when the motion into it is not.
-  const auto accept = [&](const Spec& spec, const ToolPose& pose, double t, const PoseCheck* checked,
-                          ChannelPass& current, const auto& close) {
-    if (rq.world) {
-      const PoseCheck pc = checked ? *checked : rq.world->check(*rq.body, pose, rq.clearances, 0.0);
-      if (!pc.clear) {
-        plan.refusals.push_back({spec.kind, spec.index, t, "pose: " + describe(pc, *rq.world)});
-        close();
-        return;
-      }
-      if (!current.poses.empty()) {
-        const MotionCheck mc =
-            rq.world->check_motion(*rq.body, current.poses.back(), pose, rq.clearances, rq.motion_tol_mm);
-        if (!mc.clear) {
-          plan.refusals.push_back({spec.kind, spec.index, t,
-                                   "motion from the previous pose: " + describe(mc.at, *rq.world) +
-                                       (mc.undecided ? " (undecided)" : "")});
-          close();  // this pose starts a new piece, reached by a link
-        }
-      }
-    }
-    current.t.push_back(t);
-    current.poses.push_back(pose);
-  };
   for (size_t p = 0; p < specs.size(); ++p) {
     const Spec& spec = specs[p];
-    ChannelPass current{spec.kind, spec.index, {}, {}};
-    const auto close = [&] {
-      if (!current.poses.empty()) passes.push_back(current);
-      current = ChannelPass{spec.kind, spec.index, {}, {}};
-    };
+    pieces.begin(spec.kind, spec.index);
     for (int q = 0; q < rq.stations; ++q) {
       const size_t station = static_cast<size_t>(p % 2 == 0 ? q : rq.stations - 1 - q);
       const Station& s = st[station];
@@ -429,56 +402,102 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       }
       // On the hub, the poses the chord tolerance needs between the last
       // pose and this one first; each is checked like a station's.
+      const ChannelPass& current = pieces.current();
       if (on_hub(current) && !current.poses.empty()) {
         std::vector<std::pair<double, ToolPose>> between;
         hub_chord_poses(ch, s, current.poses.back(), current.t.back(), pose, s.t, r, rq.hub_chord_tol_mm, 0, between);
         plan.inserted += static_cast<long>(between.size());
-        for (const auto& tp : between) accept(spec, tp.second, tp.first, nullptr, current, close);
+        for (const auto& tp : between) pieces.add(tp.second, tp.first);
       }
-      accept(spec, pose, s.t, rq.world ? &pc : nullptr, current, close);
+      pieces.add(pose, s.t, rq.world ? &pc : nullptr);
     }
-    close();
+    pieces.end();
   }
 
   // Between consecutive pieces: where the next starts at the station the
   // last ended (the zigzag's turn), a straight step-over or step-down at
   // the feed when that motion is proved clear — the way a zigzag runs, and
   // through material this channel's earlier passes have cut or the next
-  // one cuts anyway. Otherwise a link up the tool axis. The plan stops at
-  // the first piece it cannot reach.
-  LinkChecks checks;
-  checks.world = rq.world;
-  checks.body = rq.body;
-  checks.clearances = rq.clearances;
-  checks.motion_tol_mm = rq.motion_tol_mm;
-  if (rq.world) checks.traverse_world = rq.world->unchecked_pairs();  // the face being machined, for the cutter
+  // one cuts anyway. On the hub the step keeps the ball on the hub's
+  // offset too: a straight step across the channel (from one side's last
+  // path to the other side's first) cuts a chord into the convex hub —
+  // 72 um on the built-in impeller's inlet before these poses.
+  const ChannelStep step = [&](const ChannelPass& from, const ChannelPass& to,
+                               std::vector<std::pair<double, ToolPose>>& between) {
+    if (from.t.back() != to.t.front()) return false;
+    if (on_hub(from) && on_hub(to)) {
+      const double t = to.t.front();
+      const Station& s = st[static_cast<size_t>(std::lround(t * (rq.stations - 1)))];
+      hub_chord_poses(ch, s, from.poses.back(), t, to.poses.front(), t, r, rq.hub_chord_tol_mm, 0, between);
+    }
+    return true;
+  };
+  join_channel_pieces(std::move(passes), checks, step, plan);
+  return plan;
+}
+
+void ChannelPieces::begin(ChannelPassKind kind, int index, int level) {
+  close();
+  current_ = ChannelPass{kind, index, level, {}, {}};
+}
+
+void ChannelPieces::close() {
+  if (!current_.poses.empty()) pieces_.push_back(current_);
+  current_.t.clear();
+  current_.poses.clear();
+}
+
+void ChannelPieces::add(const ToolPose& pose, double t, const PoseCheck* checked, const MotionCheck* motion) {
+  if (checks_.world) {
+    const PoseCheck pc = checked ? *checked : checks_.world->check(*checks_.body, pose, checks_.clearances, 0.0);
+    if (!pc.clear) {
+      refusals_.push_back({current_.kind, current_.index, current_.level, t, "pose: " + describe(pc, *checks_.world)});
+      close();
+      return;
+    }
+    if (!current_.poses.empty()) {
+      const MotionCheck mc = motion ? *motion
+                                    : checks_.world->check_motion(*checks_.body, current_.poses.back(), pose,
+                                                                  checks_.clearances, checks_.motion_tol_mm);
+      if (!mc.clear) {
+        refusals_.push_back({current_.kind, current_.index, current_.level, t,
+                             "motion from the previous pose: " + describe(mc.at, *checks_.world) +
+                                 (mc.undecided ? " (undecided)" : "")});
+        close();  // this pose starts a new piece, reached by a link
+      }
+    }
+  }
+  current_.t.push_back(t);
+  current_.poses.push_back(pose);
+}
+
+void join_channel_pieces(std::vector<ChannelPass> passes, const ChannelChecks& checks, const ChannelStep& step,
+                         ChannelPath& plan) {
+  LinkChecks link_checks;
+  link_checks.world = checks.world;
+  link_checks.body = checks.body;
+  link_checks.clearances = checks.clearances;
+  link_checks.motion_tol_mm = checks.motion_tol_mm;
+  if (checks.world) link_checks.traverse_world = checks.world->unchecked_pairs();  // the face being machined, for the cutter
+  const CollisionWorld* world = checks.world;
   for (size_t i = 0; i < passes.size(); ++i) {
-    if (i > 0 && rq.world) {
+    if (i > 0 && world) {
       const ToolPose& a = plan.passes.back().poses.back();  // passes[i - 1], already moved into the plan
       const ToolPose& b = passes[i].poses.front();
-      if (plan.passes.back().t.back() == passes[i].t.front()) {
-        // On the hub the step keeps the ball on the hub's offset too: a
-        // straight step across the channel (from one side's last path to
-        // the other side's first) cuts a chord into the convex hub —
-        // 72 um on the built-in impeller's inlet before these poses.
-        std::vector<std::pair<double, ToolPose>> between;
-        if (on_hub(plan.passes.back()) && on_hub(passes[i])) {
-          const double t = passes[i].t.front();
-          const Station& s = st[static_cast<size_t>(std::lround(t * (rq.stations - 1)))];
-          hub_chord_poses(ch, s, a, t, b, t, r, rq.hub_chord_tol_mm, 0, between);
-        }
+      std::vector<std::pair<double, ToolPose>> between;
+      if (step && step(plan.passes.back(), passes[i], between)) {
         bool clear = true;
         const ToolPose* previous = &a;
         for (const auto& tp : between) {
-          clear = rq.world->check(*rq.body, tp.second, rq.clearances, 0.0).clear &&
-                  rq.world->check_motion(*rq.body, *previous, tp.second, rq.clearances, rq.motion_tol_mm).clear;
+          clear = world->check(*checks.body, tp.second, checks.clearances, 0.0).clear &&
+                  world->check_motion(*checks.body, *previous, tp.second, checks.clearances, checks.motion_tol_mm).clear;
           if (!clear) break;
           previous = &tp.second;
         }
-        if (clear && rq.world->check_motion(*rq.body, *previous, b, rq.clearances, rq.motion_tol_mm).clear) {
-          PlannedLink step;  // no via poses: a direct step (along the hub where it follows it)
-          step.clear = true;
-          plan.links.push_back(std::move(step));
+        if (clear && world->check_motion(*checks.body, *previous, b, checks.clearances, checks.motion_tol_mm).clear) {
+          PlannedLink direct;  // no via poses: a direct step (along the hub where it follows it)
+          direct.clear = true;
+          plan.links.push_back(std::move(direct));
           for (auto it = between.rbegin(); it != between.rend(); ++it) {
             passes[i].t.insert(passes[i].t.begin(), it->first);
             passes[i].poses.insert(passes[i].poses.begin(), it->second);
@@ -493,15 +512,16 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
       // not clear (a splitter's leading edge, a leaning blade) twice, four
       // and eight times as far: out of the channel rather than along it.
       PlannedLink link;
-      LinkOptions up = rq.link;
+      LinkOptions up = checks.link;
       for (int tries = 0; tries < 4 && !link.clear; ++tries, up.retract_mm *= 2) {
-        PlannedLink attempt = plan_link({a, a.axis}, {b, b.axis}, checks, up);
+        PlannedLink attempt = plan_link({a, a.axis}, {b, b.axis}, link_checks, up);
         if (attempt.clear || tries == 0) link = std::move(attempt);
       }
       if (!link.clear) {
         plan.complete = false;
         plan.stopped = std::string("link into ") + to_string(passes[i].kind) + " " + std::to_string(passes[i].index) +
-                       ": " + link.reason;
+                       (passes[i].level > 0 ? " of level " + std::to_string(passes[i].level) : std::string()) + ": " +
+                       link.reason;
         break;
       }
       plan.links.push_back(std::move(link));
@@ -509,21 +529,20 @@ ChannelPlan plan_channel(const ChannelRequest& rq) {
     plan.poses += static_cast<long>(passes[i].poses.size());
     plan.passes.push_back(std::move(passes[i]));
   }
-  if (rq.world && !plan.passes.empty()) {
+  if (world && !plan.passes.empty()) {
     const ToolPose& first = plan.passes.front().poses.front();
     const ToolPose& last = plan.passes.back().poses.back();
-    plan.lead_in = plan_departure({first, first.axis}, checks, rq.link);
-    plan.lead_out = plan_departure({last, last.axis}, checks, rq.link);
+    plan.lead_in = plan_departure({first, first.axis}, link_checks, checks.link);
+    plan.lead_out = plan_departure({last, last.axis}, link_checks, checks.link);
     if (!plan.lead_in.clear || !plan.lead_out.clear) {
       plan.complete = false;
       if (plan.stopped.empty())
         plan.stopped = std::string("lead-") + (plan.lead_in.clear ? "out: " + plan.lead_out.reason : "in: " + plan.lead_in.reason);
     }
   }
-  return plan;
 }
 
-Toolpath channel_moves(const ChannelPlan& plan) {
+Toolpath channel_moves(const ChannelPath& plan) {
   Toolpath moves;
   if (plan.lead_in.clear) moves.push_back({Move::Kind::Rapid, plan.lead_in.away, 0, "start", {}});
   for (size_t i = 0; i < plan.passes.size(); ++i) {

@@ -68,7 +68,9 @@
 // pass and the next clear pose is reached by a link; links go up the tool
 // axis and back down (links.h), proved the same way; a link that cannot
 // be proved ends the plan there, with the reason.
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/collision/collision_world.h"
@@ -89,6 +91,11 @@ namespace bliskrun {
 struct ChannelFace {
   const Surface* face = nullptr;
   double v_inlet = 0, v_outlet = 1;
+  // The rest of the blade the face belongs to — its edge rounds, its other
+  // flank — which a ball beyond the face's chord may come nearer than the
+  // face itself: the levels' contacts keep the stock off them too
+  // (channel_levels.h). Not read by notching and widening.
+  std::vector<const Surface*> blade;
   double v_at(double t) const { return v_inlet + (v_outlet - v_inlet) * t; }
 };
 
@@ -117,9 +124,15 @@ struct ChannelRequest {
 enum class ChannelPassKind { Notch, WidenLeft, WidenRight };
 const char* to_string(ChannelPassKind kind);
 
+// A pass of a channel plan. The impeller's notching and widening (this
+// file): a notch level or a widening path. A blisk channel's levels
+// (channel_levels.h): at level `level`, the slot in the level's middle
+// (Notch, index 0) or the k-th path from it towards the left or right face
+// (WidenLeft / WidenRight, index k).
 struct ChannelPass {
   ChannelPassKind kind = ChannelPassKind::Notch;
   int index = 0;                  // notch level 1..L (deepest last) or widening path k = 1..N
+  int level = 0;                  // a level of channel_levels.h (1 = the top); 0 here
   std::vector<double> t;          // station of each pose
   std::vector<ToolPose> poses;    // tip and axis; a refusal splits a pass into two
 };
@@ -127,11 +140,14 @@ struct ChannelPass {
 struct ChannelRefusal {
   ChannelPassKind kind = ChannelPassKind::Notch;
   int index = 0;
+  int level = 0;
   double t = 0;
   std::string reason;
 };
 
-struct ChannelPlan {
+// The proved path of a channel, whichever strategy made it: its passes in
+// cutting order and how each is reached from the one before.
+struct ChannelPath {
   std::vector<ChannelPass> passes;       // in cutting order
   std::vector<PlannedLink> links;        // links[i]: from passes[i]'s last pose to passes[i + 1]'s first;
                                          // no via poses: a direct step at the feed (zigzag turn)
@@ -139,6 +155,12 @@ struct ChannelPlan {
   PlannedDeparture lead_in, lead_out;    // up the tool axis at the first and last pose (with a world)
   bool complete = true;                  // false: a link could not be proved; the plan stops there
   std::string stopped;                   // why, when not complete
+  long poses = 0;
+  long turned = 0;                       // poses whose axis was turned further to clear a blade
+  long inserted = 0;                     // poses inserted between stations (chord tolerance)
+};
+
+struct ChannelPlan : ChannelPath {
   int notch_levels = 0;
   int widen_left = 0, widen_right = 0;   // N per side
   int paths_added = 0;                   // beyond eq. 13's N, where a station's measured cusp exceeded h
@@ -147,9 +169,6 @@ struct ChannelPlan {
   double scallop_max_mm = 0;             // measured on the hub over every station
   double scallop_outlet_mm = 0;          // measured at the outlet station
   double deepest_step_mm = 0;            // largest depth between notch levels at any station
-  long poses = 0;
-  long turned = 0;                       // widening poses whose axis was turned further to clear a blade
-  long inserted = 0;                     // poses inserted between stations on the hub (hub_chord_tol_mm)
   double hub_stock_mm = 0;               // as planned (the request's, or the stock)
 };
 
@@ -159,7 +178,65 @@ struct ChannelPlan {
 // step), the links' via poses (Rapid, named by their leg), the lead-out's
 // away pose (Rapid, "retract"). Nothing after a link that could not be
 // proved, and no Stop: the plan's `stopped` says why it ends there.
-Toolpath channel_moves(const ChannelPlan& plan);
+Toolpath channel_moves(const ChannelPath& plan);
+
+// How far above the stock surface point q, along its unit normal n, the
+// ball (centre c, radius r) leaves material: the lower intersection of the
+// normal line with the sphere, or +infinity when the line misses it — the
+// scallop height as the impeller paper draws it (Fig. 4), not the distance
+// to the ball along the line to its centre.
+double height_to_ball(const Vec3& q, const Vec3& n, const Vec3& c, double r);
+
+// What a channel's poses, motions and links are proved against (both
+// strategies): `world` may be null (no checks: geometry tests).
+struct ChannelChecks {
+  const CollisionWorld* world = nullptr;
+  const ToolBody* body = nullptr;
+  Clearances clearances;
+  double motion_tol_mm = 1e-3;
+  LinkOptions link;
+};
+
+// Takes the poses of passes, in cutting order, into proved pieces: a pose
+// that is not clear is refused and splits its pass; a pose whose motion from
+// the previous one is not clear starts a new piece (reached by a link). With
+// no world every pose is taken.
+class ChannelPieces {
+ public:
+  ChannelPieces(const ChannelChecks& checks, std::vector<ChannelPass>& pieces, std::vector<ChannelRefusal>& refusals)
+      : checks_(checks), pieces_(pieces), refusals_(refusals) {}
+  void begin(ChannelPassKind kind, int index, int level = 0);
+  // `checked`: the pose's check when the caller already has it; `motion`:
+  // the check of the motion from the pose before, likewise.
+  void add(const ToolPose& pose, double t, const PoseCheck* checked = nullptr, const MotionCheck* motion = nullptr);
+  // The piece being built (empty after a refusal).
+  const ChannelPass& current() const { return current_; }
+  // Closes the pass's last piece.
+  void end() { close(); }
+
+ private:
+  void close();
+  const ChannelChecks& checks_;
+  std::vector<ChannelPass>& pieces_;
+  std::vector<ChannelRefusal>& refusals_;
+  ChannelPass current_;
+};
+
+// Poses to insert between the end of one piece and the start of the next
+// when they may be joined by a direct step at the feed (`between`, in
+// order); false: they are to be joined by a link.
+using ChannelStep = std::function<bool(const ChannelPass& from, const ChannelPass& to,
+                                       std::vector<std::pair<double, ToolPose>>& between)>;
+
+// Joins pieces (in cutting order) into `plan`: a direct step at the feed
+// where `step` allows it and every pose and motion of it is proved,
+// otherwise a link up the tool axis (links.h; link.retract_mm, then twice,
+// four and eight times as far), and the lead-in and lead-out up the axis.
+// A link that cannot be proved ends the plan there (complete = false,
+// stopped = why). Without a world nothing is proved and no link is made
+// (plan.links stays empty).
+void join_channel_pieces(std::vector<ChannelPass> pieces, const ChannelChecks& checks, const ChannelStep& step,
+                         ChannelPath& plan);
 
 // Throws ParameterError naming the missing or impossible option, Error when
 // the channel's geometry cannot be found (a face not meeting the hub's

@@ -51,6 +51,81 @@ function M.around_blade(blisk, k, opts)
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
+-- The world a channel is roughed in (job.rough_channels, bliskrun.channel_levels):
+-- channel k lies between blade k's suction flank and blade k+1's pressure
+-- flank. Both flanks of both blades and the hub, for every tool part: the
+-- roughing's cutter keeps the stock off all of them (its clearance, the
+-- hub's stock less an allowance, is the planner's; opts.face_margin, the
+-- faces' stock beyond the hub's, is added on the flanks). Blades farther
+-- round cannot be reached from inside the channel: the holder stands ~75 mm
+-- up the tool, far over their tips.
+-- The flanks are trimmed between the hub and the top (the casing, or
+-- opts.top, the blank's top as a surface of revolution).
+-- opts.chord_tol (0.01 mm), opts.face_margin (0), opts.meshes: a cache
+-- {[blade] = {pressure =, suction =}, hub =} of tessellations at chord_tol,
+-- filled as needed and shared between channels.
+function M.around_channel(blisk, k, opts)
+  opts = opts or {}
+  local n = blisk:blade_count()
+  assert(math.type(k) == "integer" and k >= 1 and k <= n,
+         string.format("channel %s does not exist; channels are 1..%d", tostring(k), n))
+  local tol, cache = opts.chord_tol or 0.01, opts.meshes or {}
+  local top = opts.top or blisk:casing()
+  local surfaces = {}
+  for _, b in ipairs{k, k % n + 1} do
+    cache[b] = cache[b] or {}
+    for _, side in ipairs{"suction", "pressure"} do
+      -- The blade as it is: its flank from the hub to the top (the flank's
+      -- grid reaches past the casing, up to 7 mm at the inlet, where no
+      -- material is; the shank passes there).
+      cache[b][side] = cache[b][side] or bliskrun.trim_flank{flank = blisk:flank(b, side), hub = blisk:hub(),
+                                                             casing = top}:tessellate(tol)
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = cache[b][side],
+                                 margin = opts.face_margin or 0}
+    end
+  end
+  for _, b in ipairs{k, k % n + 1} do
+    for _, edge in ipairs{"leading", "trailing"} do
+      cache[b][edge] = cache[b][edge] or M.edge_round(blisk, b, edge, top).surface:tessellate(tol)
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge), mesh = cache[b][edge],
+                                 margin = opts.face_margin or 0}
+    end
+  end
+  cache.hub = cache.hub or blisk:hub():tessellate(tol)
+  surfaces[#surfaces + 1] = {name = "hub", mesh = cache.hub}
+  return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- Blade b's leading or trailing edge round (bliskrun.edge_region, no
+-- overlap onto the flanks) from the hub row up to the top (the casing, or a
+-- surface of revolution `top`): the flank's grid reaches past the casing,
+-- where no material is.
+function M.edge_round(blisk, b, edge, top)
+  local first, second = blisk:flank(b, "pressure"), blisk:flank(b, "suction")
+  if edge == "trailing" then first, second = second, first end
+  top = top or blisk:casing()
+  -- The span where the edge end (first's v = 0) meets the top: its foot on
+  -- the top's surface lies along the top's normal from it, outward there.
+  local function above(u)
+    local p = first:point(u, 0)
+    local f = top:project(p)
+    local n = top:eval(f.u, f.v).normal
+    local d = (p.x - f.point.x) * n.x + (p.y - f.point.y) * n.y + (p.z - f.point.z) * n.z
+    local out = n.x * p.x + n.y * p.y  -- the normal's sense away from the axis
+    return (out >= 0) == (d >= 0) and f.distance > 0
+  end
+  local lo, hi = 0, 1
+  if above(1) then
+    for _ = 1, 40 do
+      local m = 0.5 * (lo + hi)
+      if above(m) then hi = m else lo = m end
+    end
+  else
+    hi = 1
+  end
+  return bliskrun.edge_region{first = first, second = second, overlap = 0, span = {0, hi}}
+end
+
 -- The worlds around every blade (k = 1..N), each flank and the hub
 -- tessellated once and shared; the same check surfaces as around_blade
 -- (neighbours, hub, the blade itself for the shank). opts as for around_blade.

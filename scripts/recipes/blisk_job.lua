@@ -1,4 +1,8 @@
--- The built-in blisk's blades finished as one job (issue 18): both flanks by
+-- The built-in blisk from the blank to the finished blades as one job
+-- (issues 18, 41): the channels either side of the blades roughed in levels
+-- by a tapered ball end, 0.5 mm of stock left on the flanks and the hub
+-- (job.rough_channels; --set rough=false starts from a part already
+-- roughed), then both flanks finished by
 -- the drum wheel (blisk_drum_finish.lua), the trailing edges by the bottom of
 -- a flat-end mill (blade_edges.lua), the roots and channel floor by a ball
 -- (blisk_hub_finish.lua), the leading edges last with the part turned over;
@@ -11,6 +15,17 @@
 --   (bliskrun scripts/recipes/blisk_job.lua --help lists the options below)
 local opt = require("recipe_options"){
   blades = {type = "integer", default = 2, range = {1, 1000}, help = "blades to machine, from blade 1"},
+  rough = {type = "boolean", default = true,
+           help = "rough the channels either side of the blades first (tapered ball end, levels from the casing)"},
+  stock = {type = "number", unit = "mm", range = {0.1, 3}, default = 0.5,
+           help = "stock the roughing leaves on the flanks and the hub"},
+  blank_top = {type = "number", unit = "mm", range = {4, 30}, default_text = "the casing (30)",
+               help = "the blank's blade ring turned to this height over the hub (radially) instead of the casing; the roughing starts there"},
+  rough_samples = {type = "string", default = "60,300", help = "simulation samples u,v of the roughing's stock (span, chord)",
+                   check = function(v)
+                     local u, w = v:match("^%s*(%d+)%s*,%s*(%d+)%s*$")
+                     if not (u and tonumber(u) >= 2 and tonumber(w) >= 2) then return "expected two integers u,v >= 2" end
+                   end},
   sides = {type = "string", default = "both", choices = {"both", "pressure", "suction"},
            help = "flanks the drum wheel finishes"},
   edges = {type = "boolean", default = true, help = "finish the leading and trailing edges (flat-end mill)"},
@@ -32,6 +47,11 @@ local opt = require("recipe_options"){
                   help = "sample spacing of the seams between operations"},
   tool_life = {type = "number", unit = "mm", range = {1, 1e7}, default_text = "none",
                help = "cutting length per wheel, then the next sister wheel (T15, T25, ...)"},
+  -- 1 mm: the figures within ~1 % of 0.5 mm's (removed, air share) at a sixth of the cost (bench/RESULTS.md)
+  blank_resolution = {type = "number", unit = "mm", range = {0.05, 5}, default = 1,
+                      help = "ray spacing of the stock model (the blank cut by every move: removed, air cut, left)"},
+  blank = {type = "boolean", default = true,
+           help = "with rough: cut the blank of revolution by every move, the stock reported after every operation"},
   blade_map = {type = "choice", default = true, choices = {true, false, "lean"},
                help = "the blade-1 map of every operation (lean: fewer samples)"},
 }
@@ -52,8 +72,29 @@ local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, 
 -- Every tool axis within 118 deg of the table's in its setup (the A cradle
 -- and the B head tilt to 120); turned over, the leading edges' also 35 deg
 -- off it, clear of the cone where the A/C cradle changes sides of A = 0.
-local operations = {job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014, chord_tol = 0.002,
-                                    feed = 600, periodic = periodic}}
+-- The roughing tool: a 6 mm tapered ball end (1.5 deg), 36 mm of flute to
+-- reach the hub from outside the casing with its axis tilted between the
+-- blades (the narrowest passage is 10.5 mm: the ball and 0.5 mm each side
+-- leave 3.5 mm to tilt in).
+local rougher = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 1.5, flute_length = 36,
+                                               shank = {diameter = 10, length = 40}, holder = {diameter = 32, length = 40}}
+local operations, rough_top = {}, nil
+if opt.rough then
+  -- The channels either side of the blades finished: channel k lies between
+  -- blade k's suction flank and blade k+1's pressure flank, so blades 1..N
+  -- need channels N (round to the last) and 1..N.
+  local n, channels = blisk:blade_count(), {}
+  for _, k in ipairs(blades) do channels[#channels + 1] = k end
+  if #blades < n then channels[#channels + 1] = n end
+  -- The blank's top (below): the casing's cone unless --set blank_top=MM.
+  rough_top = opt.blank_top and {{-22, 60 + opt.blank_top}, {22, 66 + opt.blank_top}} or nil
+  local su, sv = opt.rough_samples:match("(%d+)%s*,%s*(%d+)")
+  operations[1] = job.rough_channels{tool = "rougher", blades = channels, stock = opt.stock, feed = 1200,
+                                     periodic = periodic, top = rough_top,
+                                     samples = {math.tointeger(tonumber(su)), math.tointeger(tonumber(sv))}}
+end
+operations[#operations + 1] = job.drum_finish{tool = "wheel", blades = blades, sides = sides, residual = 0.014,
+                                              chord_tol = 0.002, feed = 600, periodic = periodic}
 if edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"trailing"}, span = span,
                                                 feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118}}
@@ -78,11 +119,38 @@ for k, z in ipairs{-23, -11, 0, 11} do
   blank[k] = {name = "disc " .. k, cylinder = {{0, 0, z}, {0, 0, top}},
               radius = 63 + 3 * math.min(top, 22) / 22 + 0.5}
 end
+-- The blank (issue 41): the forged disc turned to a solid of revolution —
+-- the disc, z -23 to 23, 0.5 mm over the hub (r 60 + 0.5 to 66 + 0.5: the
+-- hub's stock), and over it the blade ring turned to the blades' envelope:
+-- out to the casing cone (r 90 at z = -22 to 96 at 22; the roughing's
+-- default top; --set blank_top=MM turns it to MM over the hub) and
+-- axially 1 mm beyond the edges (the blades' leading
+-- edges run from z = -15.7 at the hub, r 58.5, to -11.7 at r 97.5, the
+-- trailing edges from 15.3 to 11.4, measured on blade 1's flanks), so the
+-- annulus in front of and behind the blade row is the disc's alone. Only
+-- with the roughing: without it the part is already roughed, not a blank.
+-- Every move of every operation, links included, cuts it in program order
+-- (job/stock.lua): the report gives per operation the volume removed, the
+-- share of its cutting path in air and the stock left.
+local function hub_r(z) return 63 + 3 * z / 22 + 0.5 end
+local top_over_hub = opt.blank_top or 30
+local function casing_r(z) return 63 + top_over_hub + 3 * z / 22 end
+-- Where an edge's envelope (z = z0 + slope (r - 58.5), 1 mm out) meets a
+-- cone r = r0 + 3 z / 22: solved for z.
+local function meet(z0, slope, r0) return (z0 + slope * (r0 - 58.5)) / (1 - slope * 3 / 22) end
+local le_hub, le_casing = meet(-16.68, 4 / 39, 63.5), meet(-16.68, 4 / 39, 63 + top_over_hub)
+local te_hub, te_casing = meet(16.34, -3.96 / 39, 63.5), meet(16.34, -3.96 / 39, 63 + top_over_hub)
+local stock_blank = opt.blank and opt.rough and {resolution = opt.blank_resolution,
+  profile = {{0, -23}, {hub_r(-23), -23}, {hub_r(le_hub), le_hub}, {casing_r(le_casing), le_casing},
+             {casing_r(te_casing), te_casing}, {hub_r(te_hub), te_hub}, {hub_r(23), 23}, {0, 23}}} or nil
 local j = job.new{
-  name = "blisk blades" .. (edges and ", edges" or "") .. (hub and ", hub and roots" or ""),
+  blank = stock_blank,
+  name = (opt.rough and "blisk channels roughed, " or "") .. "blisk blades" .. (edges and ", edges" or "")
+         .. (hub and ", hub and roots" or ""),
   part = blisk, clearance_radius = 110, operations = operations,
   -- --set tool_life=MM: whole blades per wheel up to that cutting length, then the next sister wheel.
-  tools = {wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
+  tools = {rougher = {number = 3, length = 125, spindle_rpm = 9000, tool = rougher, ball_radius = 3},
+           wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
                     sisters = opt.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
            mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill},
            ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}},
@@ -105,6 +173,7 @@ j:run{name = "blisk_job",
               {machine = "monoblock_like_head_table", post = "heidenhain", file = "blisk_job_bc_heidenhain.h",
                fixture = {{name = "fixture", cylinder = {{0, 0, -100}, {0, 0, -23}}, radius = 50}},
                stock = blank}},
-  settings = {blades = #blades, sides = opt.sides, edges = edges,
+  settings = {blades = #blades, rough = opt.rough, stock_mm = opt.rough and opt.stock or nil, blank_top_mm = opt.rough and opt.blank_top or nil,
+              blank_resolution_mm = stock_blank and opt.blank_resolution or nil, sides = opt.sides, edges = edges,
               edge_span = string.format("%g, %g", span[1], span[2]), periodic = periodic, tool_life_mm = opt.tool_life or "none", samples_u = opt.samples_u,
               samples_v = opt.samples_v}}

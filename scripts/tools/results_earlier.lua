@@ -9,7 +9,33 @@ return {
   {recipe = "blisk_drum_finish.lua", settings = "all_blades=true", measured = "before 2026-11-27",
    figures = "both flanks of all 22 blades planned on 2 threads in 18.4 s wall; the whole recipe, blade 1 "
              .. "simulated too, 27 s"},
-  {recipe = "blisk_job.lua", settings = "blades=22", measured = "2026-11-27, 418ef99",
+  {recipe = "blisk_job.lua", settings = "blades=22", measured = "2026-11-28, 16b0d70 + channel roughing (issue 41)",
+   figures = "from the blank: 132 plans, 743 248 moves, 131 links; the roughing's channel 1 (blade 1 suction to "
+             .. "blade 2 pressure) 36 levels 0.81 mm apart, 382 passes 1.99 mm apart at most, 9 249 poses, every "
+             .. "one proved, the other 21 channels its path turned; the stock it leaves, simulated: flanks "
+             .. "0.492–0.516 mm, hub 0.499–0.540 mm (0.5 ± 0.05). Fanuc 2 151 663 + 1 844 345 blocks, "
+             .. "Heidenhain 673 615 + 423 898, machine simulation PASS for all four; blade 1's map as without the "
+             .. "roughing; verdict PASS. 8:27 wall (507 s), 473 s user, 5.3 GB peak on the 2-core machine with "
+             .. "another 1-core job beside it for part of the run. The same job from a roughed part (`rough=false`) "
+             .. "on the same machine the same hour: 6:23 wall, 366 s user, 4.8 GB — both far past issue 41's "
+             .. "3-minute target, the machine simulation of the four programs alone 330–400 s CPU of either "
+             .. "(since the 71 s below); the roughing's own share ~107 s CPU: planning and proving its channel "
+             .. "~60 s, its stock sweep ~25 s, posting its 203 k moves the rest"},
+  {recipe = "blisk_job.lua", settings = "blades=1 edges=false hub=false samples_u=40 samples_v=200",
+   measured = "2026-11-28, 6b52e04 (from the blank of revolution)",
+   figures = "the blank (disc 0.5 mm over the hub, blade ring to the casing cone and 1 mm beyond the edges) "
+             .. "1 000 854 mm3 on 0.5 mm rays (Pappus 1 000 807), 3.6 MB; channels 1 and 22 roughed (36 levels, "
+             .. "8 515 poses proved, 0 refused): removed 31 835 mm3, 6 % of 33 509 mm cutting path in air; the drum "
+             .. "finish of blade 1 removed 1 233 mm3, 10 % in air, 6 of its rapids through 22 mm3 of stock and the "
+             .. "shank or holder in the stock on 78 moves (up to 1.8 mm3) — the leads at the blade's edges, to be "
+             .. "looked at; the stock cut by all 20 101 moves 6.9 s CPU. The roughing's stock by the independent "
+             .. "sweep: flanks 0.492–0.516 mm, hub 0.499–0.540 mm (target 0.5 ± 0.05). 112 s CPU, 376 MB peak "
+             .. "(machine simulation 16 + 17 s of it); wall not comparable (11 min on a machine shared by five "
+             .. "engineers' builds and runs). With blank_top=8 (the test's): the stock cut of 8 613 moves 1.3 s "
+             .. "CPU on 0.5 mm rays (2.2 MB), 0.2 s on 1 mm rays (0.6 MB; the job's default since), the figures "
+             .. "within 1 %: the roughing removed 7 137 / 7 112 mm3, 4 / 5 % in air, the finish 399 / 395 mm3, 73 / "
+             .. "76 % in air (the flanks over the 8 mm ring), its 4 rapids through 18.5 / 19.2 mm3"},
+  {recipe = "blisk_job.lua", settings = "blades=22 rough=false", measured = "2026-11-27, 418ef99",
    figures = "110 plans, 517 374 moves, 109 links; Fanuc 1 331 008 + 1 492 124 blocks (tip within 3.1 µm "
              .. "of the plan), Heidenhain 285 955 + 231 413 blocks (0.9 µm); blade 1's map: nothing unreached, "
              .. "left ≤ 13.3 µm on the flanks (LE 12.9, TE 12.6, root strip 5.6, floor 4.8 µm), overcut "
@@ -56,6 +82,12 @@ return {
              .. "16 440 poses, none refused (23 finishing contacts beside the lofted edges' ripples lifted "
              .. "off by ≤ 4.04 µm instead of refused), left ≤ 6.75 µm, overcut 1.99 / 1.79 µm (region / band); "
              .. "16.8 s wall"},
+  {recipe = "bench", measured = "2026-11-28, blisk channel roughing (issue 41)",
+   figures = "BM_BliskChannelLevelsProved: channel 1 of the built-in blisk roughed in levels (6 mm tapered ball end, "
+             .. "0.5 mm stock, step-down 1, step-over 2, scallop 0.03, 41 stations), every pose, motion, step and "
+             .. "link proved against both blades (flanks to the casing, edge rounds) and the hub, 2 threads: 36 "
+             .. "levels, 9 249 poses, 0 refused, 28.3 s wall, 55.5 s CPU: 3.1 ms wall (6.0 ms CPU) per pose; 97 MB "
+             .. "peak (with two other 1-core jobs on the machine: 60.7 s wall)"},
   {recipe = "bench", measured = "before 2026-11-27; CPU time unless said",
    figures = "interpolate a 100 × 500 / 200 × 1000 grid 3.6 / 14.7 ms; curvature statistics over 100 × 500 "
              .. "/ 200 × 1000 samples 24.6 / 102 ms; narrowest passage of the built-in blisk 98 ms; read and "

@@ -356,7 +356,7 @@ end
 local function blade1_simulation(report)
   local rows = {}
   for _, f in ipairs(get(report, "simulation.flanks") or {}) do
-    if f.blade == 1 and not f.turned_from then
+    if f.blade == 1 and not f.turned_from and f.operation ~= "rough_channels" then  -- the roughing's stock: its own row
       rows[#rows + 1] = string.format("%s %.2f / %.2f", f.side, UM * f.undercut_max_mm, UM * f.overcut_mm)
     end
   end
@@ -366,13 +366,32 @@ end
 
 M["blisk_job.lua"] = {
   json = "blisk_job.json",
-  about = "The built-in blisk's first blades as one job: drum finish of both flanks, trailing edges, root "
+  about = "The built-in blisk's first blades as one job from the blank: the channels either side roughed in "
+          .. "levels (0.5 mm stock left), then drum finish of both flanks, trailing edges, root "
           .. "strips and channel floors, leading edges last; blade 1 planned, simulated and turned onto the "
           .. "others; posted per machine and setup (setup 2: the part turned over for the leading edges). The "
           .. "fillet region is the design's sharp corner between hub and blade, which the r 1.5 mm ball leaves "
           .. "as its own radius (reported apart).",
   rows = {
     {"plans, moves, links", fmt("%d, %d, %d", function(r) return r.flanks and #r.flanks, "flanks" end, "moves", "links")},
+    {"roughing, channel 1: levels, passes, poses; level step, path step (mm); cusps flanks / hub (µm)", function(r)
+      local g = get(r, "roughing")
+      if not g or not g[1] then return nil, "roughing" end
+      g = g[1]
+      return string.format("%d, %d, %d; %.3f, %.3f; %.1f / %.1f / %.1f", g.levels, g.passes, g.poses,
+                           g.level_step_max_mm, g.step_over_max_mm, UM * g.face_cusp_max_mm[1],
+                           UM * g.face_cusp_max_mm[2], UM * g.hub_cusp_max_mm)
+    end},
+    {"roughing, channel 1: stock left, simulated (mm)", function(r)
+      local s = get(r, "roughing")
+      s = s and s[1] and s[1].simulated
+      if not s then return nil, "roughing[1].simulated" end
+      local out = {}
+      for _, g in ipairs(s.surfaces) do
+        out[#out + 1] = string.format("%s %.3f..%.3f", g.name, g.stock_min_mm, g.stock_max_mm)
+      end
+      return table.concat(out, "; ")
+    end},
     {"blade 1 per operation: material left max / overcut (µm)", blade1_simulation},
     {"seams between operations on blade 1: material left max (µm), unreached, overcut (µm)", function(r)
       if not r.seams or #r.seams == 0 then return nil, "seams" end

@@ -21,8 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Two blades: the flanks by the drum wheel, then the trailing and the
-// leading edges by the flat-end mill (a narrow span keeps it quick), blade 2
+// Two blades, already roughed (rough=false; the roughing's own run:
+// blisk_rough_job_test.cpp): the flanks by the drum wheel, then the
+// trailing and the leading edges by the flat-end mill (a narrow span keeps it quick), blade 2
 // blade 1's paths turned; one program per machine and setup (the leading
 // edges with the part turned over), each read back.
 TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachineAndSetup) {
@@ -33,7 +34,7 @@ TEST(BliskJobRecipe, FlanksAndEdgesOfTwoBladesBecomeOneVerifiedProgramPerMachine
   TempDir dir;
   const std::string out = dir.path() + "/out";
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blisk_job.lua", "--out", out,
-                                       "--quiet", "--set", "blades=2", "--set", "edge_span=0.5,0.56", "--set",
+                                       "--quiet", "--set", "blades=2", "--set", "rough=false", "--set", "edge_span=0.5,0.56", "--set",
                                        "samples_u=40", "--set", "samples_v=200", "--set", "edge_samples_u=120",
                                        "--set", "edge_samples_v=40", "--set", "blade_map=lean"});
   // The edge windows (span 0.5-0.56) border nothing: below them down to

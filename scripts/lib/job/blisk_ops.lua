@@ -1,6 +1,6 @@
--- The blisk operations of a job (scripts/lib/job.lua is the entry): drum-
--- wheel flank finishing, edge finishing with a flat-end mill, the hub and
--- blade roots with a ball end. Each is its option table, checked at the
+-- The blisk operations of a job (scripts/lib/job.lua is the entry): channel
+-- roughing in levels, drum-wheel flank finishing, edge finishing with a
+-- flat-end mill, the hub and blade roots with a ball end. Each is its option table, checked at the
 -- recipe's line, and a plan_flanks(self, j) that plans its units (one per
 -- flank, edge or root) and refuses to emit anything unproved. A blisk's
 -- blades are one blade turned: with `periodic` the first blade is planned
@@ -25,7 +25,8 @@ local function blades_of(self, j, plan_blade)
       units = {}
       for i, u in ipairs(base) do
         units[i] = {side = u.side, plan = u.plan, report = u.report, turned_from = base_k, flanks = u.flanks,
-                    surface = u.surface, moves_list = turned_moves(u.moves_list, 2 * math.pi * (k - base_k) / n)}
+                    surface = u.surface, link_cutter = u.link_cutter,
+                    moves_list = turned_moves(u.moves_list, 2 * math.pi * (k - base_k) / n)}
       end
     else
       units = plan_blade(k)
@@ -34,10 +35,222 @@ local function blades_of(self, j, plan_blade)
     for _, u in ipairs(units) do
       flanks[#flanks + 1] = {blade = k, side = u.side, plan = u.plan, report = u.report, feed = self.feed,
                              moves_list = u.moves_list, turned_from = u.turned_from, flanks = u.flanks,
-                             surface = u.surface}
+                             surface = u.surface, link_cutter = u.link_cutter}
     end
   end
   return flanks
+end
+
+-- Channel roughing in levels (issue 41; bliskrun.channel_levels,
+-- core/planning/channel_levels.h): channel k — between blade k's suction
+-- flank and blade k+1's pressure flank — cleared from the blank's top (the
+-- casing, or `top`, a surface of revolution) down to the hub in levels of
+-- at most `step_down` mm, paths at most `step_over` mm apart, leaving
+-- `stock` on both flanks and `hub_stock` on the hub within `scallop`; every
+-- pose, motion and link proved against both blades and the hub with the
+-- whole tool, the cutter kept the stock (less `allowance`) off them.
+-- `blades` lists the channels by their first blade. Periodic by default:
+-- the first channel planned, the others its path turned by the pitch.
+function M.rough_channels(o)
+  local function non_negative(v) if not (v >= 0) then return "expected >= 0 mm" end end
+  check_options("job.rough_channels", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    stock = {type = "number", check = function(v) if not (v > 0 and v < 10) then return "expected 0 < stock < 10 mm" end end},
+    hub_stock = {type = "number", check = function(v) if not (v > 0 and v < 10) then return "expected 0 < hub_stock < 10 mm" end end},
+    step_down = {type = "number", check = positive},
+    step_over = {type = "number", check = positive},
+    scallop = {type = "number", check = positive},
+    stations = {type = "number", check = function(v) if math.type(v) ~= "integer" or v < 2 then return "expected an integer >= 2" end end},
+    chord_tol = {type = "number", check = positive},
+    tilt = {type = "number", check = function(v) if not (v >= 0 and v < 45) then return "expected 0 <= tilt < 45 deg" end end},
+    clearance = {type = "number", check = non_negative},
+    allowance = {type = "number", check = non_negative},
+    tolerance = {type = "number", check = positive},
+    mesh_tol = {type = "number", check = positive},
+    top = {type = "table", check = function(v)
+      if #v < 2 then return "expected the top's meridian, {{z, r}, ...} (at least 2 points)" end
+      for _, q in ipairs(v) do
+        if type(q) ~= "table" or type(q[1]) ~= "number" or type(q[2]) ~= "number" or q[2] < 0 then
+          return "expected the top's meridian, {{z, r}, ...} with r >= 0"
+        end
+      end
+    end},
+    periodic = {type = "boolean"},
+    feed = {type = "number", check = positive},
+    samples = {type = "table", check = function(v)
+      if not (math.type(v[1]) == "integer" and math.type(v[2]) == "integer" and v[1] >= 2 and v[2] >= 2) then
+        return "expected {span, chord} integers >= 2"
+      end
+    end},
+  }, 2)
+  local op = {kind = "rough_channels", tool = o.tool, blades = o.blades, stock = o.stock or 0.5,
+              step_down = o.step_down or 1.0, step_over = o.step_over or 2.0, scallop = o.scallop or 0.03,
+              stations = o.stations or 41, chord_tol = o.chord_tol or 0.005, tilt = o.tilt or 3,
+              clearance = o.clearance or 0.5, allowance = o.allowance or 0.035, tolerance = o.tolerance or 0.05,
+              mesh_tol = o.mesh_tol or 0.01, top = o.top, periodic = o.periodic ~= false, feed = o.feed or 1000,
+              samples = o.samples or {60, 300}}
+  op.hub_stock = o.hub_stock or op.stock
+  if op.hub_stock > op.stock then error("job.rough_channels: option 'hub_stock': expected at most the stock", 2) end
+  if op.allowance + op.mesh_tol + 0.005 > op.tolerance then
+    error(string.format("job.rough_channels: option 'allowance': %g mm plus the world's tessellation (%g mm) must "
+                        .. "stay inside the tolerance (%g mm) with 5 um to spare", op.allowance, op.mesh_tol,
+                        op.tolerance), 2)
+  end
+  function op.plan_flanks(self, j)
+    local blisk = j.part
+    local n = blisk:blade_count()
+    local entry = j.tools[self.tool]
+    -- The blank's top over the channels: the casing unless given (a blank
+    -- turned to the casing contour before the channels are roughed).
+    local top_meridian = self.top or blisk:casing_meridian()
+    local top = self.top and bliskrun.surface_of_revolution{meridian = self.top} or blisk:casing()
+    j.channel_meshes = j.channel_meshes or {}
+    j.channel_meshes[self.mesh_tol] = j.channel_meshes[self.mesh_tol] or {}
+    return blades_of(self, j, function(k)
+      local left, right = blisk:flank(k, "suction"), blisk:flank(k % n + 1, "pressure")
+      -- The rest of each blade (its rounds up to the top, its other flank):
+      -- a ball passing a flank's end keeps the stock off them too.
+      local bw = require("blisk_world")
+      local function rest(b, other)
+        return {bw.edge_round(blisk, b, "leading", top).surface, bw.edge_round(blisk, b, "trailing", top).surface,
+                blisk:flank(b, other)}
+      end
+      local world = require("blisk_world").around_channel(blisk, k, {chord_tol = self.mesh_tol, top = top,
+        face_margin = self.stock - self.hub_stock, meshes = j.channel_meshes[self.mesh_tol]})
+      local plan = bliskrun.channel_levels{left = left, right = right, left_v = {1, 0}, right_v = {0, 1},
+                                           left_blade = rest(k, "pressure"), right_blade = rest(k % n + 1, "suction"),
+                                           hub = blisk:hub(), top = top, tool = entry.tool,
+                                           ball_radius = entry.ball_radius, world = world, stations = self.stations,
+                                           stock = self.stock, hub_stock = self.hub_stock, step_down = self.step_down,
+                                           step_over = self.step_over, scallop = self.scallop,
+                                           chord_tol = self.chord_tol, tilt = self.tilt, clearance = self.clearance,
+                                           allowance = self.allowance}
+      if #plan.refusals > 0 or not plan.complete then
+        local first = plan.refusals[1]
+        error(string.format("job.rough_channels: channel %d (blade %d suction to blade %d pressure): %d poses refused%s%s; "
+                            .. "nothing of it is emitted", k, k, k % n + 1, #plan.refusals,
+                            first and string.format(" (first: level %d %s %d at t = %.3f: %s)", first.level or 0,
+                                                    first.kind, first.index, first.t, first.reason) or "",
+                            plan.complete and "" or ", stopped: " .. plan.stopped), 0)
+      end
+      local report = {row_count = #plan.passes, poses = plan.poses, levels = plan.levels,
+                      levels_added = plan.levels_added, paths_added = plan.paths_added,
+                      steps = plan.steps, links = plan.links - plan.steps,
+                      turned = plan.turned, inserted = plan.inserted, level_step_max = plan.level_step_max,
+                      step_over_max = plan.step_over_max, axial_engagement_max = plan.axial_engagement_max,
+                      slot_width = plan.slot_width, face_cusp_max = plan.face_cusp_max,
+                      hub_cusp_max = plan.hub_cusp_max, top_height = {plan.top_height_min, plan.top_height_max},
+                      corner = plan.corner, stock = self.stock, hub_stock = plan.hub_stock,
+                      cutter_clearance = plan.cutter_clearance, step_down = self.step_down,
+                      step_over = self.step_over, scallop = self.scallop}
+      -- The stock it leaves, measured by the independent simulation (core/sim,
+      -- bliskrun.simulate: the moves swept with the tool's exact distance)
+      -- on both flanks and the hub where the roughing reaches them: each
+      -- flank from the ball's corner with the hub (the hub level's highest
+      -- contact) up to the top, the hub between the hub level's first and
+      -- last stations and r + stock or more from both flanks (closer is the
+      -- ball's corner).
+      local function simulate(_, so)
+        so = so or {}
+        return M.rough_stock(self, {blisk = blisk, k = k, left = left, right = right, tool = entry.tool,
+                                    ball_radius = entry.ball_radius, moves = plan.moves, plan = plan,
+                                    top_meridian = top_meridian, samples = so.samples or self.samples})
+      end
+      -- The job's links leave and reach the channel over the stock: their
+      -- legs there keep the cutter as far off as the plan's own.
+      return {{side = "channel", plan = {simulate = simulate}, report = report, moves_list = plan.moves,
+               link_cutter = plan.cutter_clearance}}
+    end)
+  end
+  return op
+end
+
+-- The stock a channel's roughing leaves (job.rough_channels' unit
+-- simulate): both flanks and the hub swept by the unit's moves
+-- (bliskrun.simulate), each over the region the roughing reaches (above).
+-- c = {blisk, k, left, right, tool, ball_radius, moves, plan, top_meridian,
+-- samples = {span, chord}}. Returns {surfaces = {{name, stock_min_mm,
+-- stock_max_mm, untouched, samples, map, seconds}, ...}, stock_min_mm,
+-- stock_max_mm, untouched, and the job's fields: undercut_max (the largest
+-- stock left), undercut_mean, overcut (0: nothing cut below the design)}.
+function M.rough_stock(op, c)
+  local su, sv = c.samples[1], c.samples[2]
+  local g = c.ball_radius + op.stock
+  local hub_m = c.blisk:hub_meridian()
+  local faces = {{name = string.format("blade %d suction", c.k), surface = c.left, corner = c.plan.corner[1]},
+                 {name = string.format("blade %d pressure", c.k % c.blisk:blade_count() + 1), surface = c.right,
+                  corner = c.plan.corner[2]}}
+  local search_above = op.stock + 1
+  local out = {surfaces = {}, stock_min_mm = math.huge, stock_max_mm = -math.huge, untouched = 0,
+               undercut_mean = 0, overcut = 0}
+  local function add(name, r, samples)
+    out.surfaces[#out.surfaces + 1] = {name = name, stock_min_mm = r.residual_min, stock_max_mm = r.residual_max,
+                                       untouched = r.untouched, samples = samples, map = r.map, seconds = r.seconds,
+                                       overcut_mm = r.overcut}
+    if r.residual_min then
+      out.stock_min_mm = math.min(out.stock_min_mm, r.residual_min)
+      out.stock_max_mm = math.max(out.stock_max_mm, r.residual_max)
+    end
+    out.untouched = out.untouched + r.untouched
+    out.overcut = math.min(out.overcut, r.overcut)
+  end
+  -- The flanks: from the corner to the top.
+  for _, f in ipairs(faces) do
+    local keep, kept = {}, 0
+    for a = 0, su - 1 do
+      for b = 0, sv - 1 do
+        local p = f.surface:point(a / (su - 1), b / (sv - 1))
+        local ok = meridian_height(hub_m, p) >= f.corner and meridian_height(c.top_meridian, p) <= 0
+        keep[#keep + 1] = ok
+        if ok then kept = kept + 1 end
+      end
+    end
+    add(f.name, bliskrun.simulate{surface = f.surface, passes = {{tool = c.tool, poses = c.moves}}, samples_u = su,
+                                  samples_v = sv, search_above = search_above, keep = keep}, kept)
+  end
+  -- The hub: its samples window (u over the hub level's stations, v round
+  -- the channel) sampled with the moves turned by `turn` so the window lies
+  -- inside v in (0, 1) whatever the channel's angle.
+  local lo, hi, ref = math.huge, -math.huge, nil
+  for _, m in ipairs(c.moves) do
+    local x, y = m.tip[1] + c.ball_radius * m.axis[1], m.tip[2] + c.ball_radius * m.axis[2]
+    local th = math.atan(y, x)
+    ref = ref or th
+    th = ref + math.atan(math.sin(th - ref), math.cos(th - ref))
+    lo, hi = math.min(lo, th), math.max(hi, th)
+  end
+  local turn = math.pi - 0.5 * (lo + hi)
+  local v0, v1 = (lo + turn) / (2 * math.pi), (hi + turn) / (2 * math.pi)
+  local hub, hu, hv = c.blisk:hub(), su, sv
+  local keep, kept = {}, 0
+  local cs, sn = math.cos(-turn), math.sin(-turn)
+  for a = 0, hu - 1 do
+    for b = 0, hv - 1 do
+      local q = hub:point(c.plan.hub_u_in + (c.plan.hub_u_out - c.plan.hub_u_in) * a / (hu - 1), v0 + (v1 - v0) * b / (hv - 1))
+      local p = {x = cs * q.x - sn * q.y, y = sn * q.x + cs * q.y, z = q.z}
+      local ok = true
+      for _, f in ipairs(faces) do
+        local foot = f.surface:project({p.x, p.y, p.z})
+        if not foot or foot.v <= 1e-9 or foot.v >= 1 - 1e-9 then ok = false; break end
+        local n = f.surface:eval(foot.u, foot.v).normal
+        local d = (p.x - foot.point.x) * n.x + (p.y - foot.point.y) * n.y + (p.z - foot.point.z) * n.z
+        if d < g then ok = false; break end
+      end
+      keep[#keep + 1] = ok
+      if ok then kept = kept + 1 end
+    end
+  end
+  local turned = require("job.geometry").turned_moves(c.moves, turn)
+  -- The hub's normal out of its material points away from the axis.
+  local e = hub:eval(0.5 * (c.plan.hub_u_in + c.plan.hub_u_out), 0)
+  local flip = e.normal.x * e.point.x + e.normal.y * e.point.y < 0
+  add("hub", bliskrun.simulate{surface = hub, passes = {{tool = c.tool, poses = turned}}, samples_u = hu, samples_v = hv,
+                               u = {c.plan.hub_u_in, c.plan.hub_u_out}, v = {v0, v1}, search_above = search_above,
+                               flip_normal = flip, keep = keep}, kept)
+  if out.stock_min_mm == math.huge then out.stock_min_mm, out.stock_max_mm = nil, nil end
+  out.undercut_max = out.stock_max_mm or 0
+  return out
 end
 
 -- Drum-wheel flank finishing (blisk paper §3) of the given blades' flanks,

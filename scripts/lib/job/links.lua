@@ -32,6 +32,20 @@ function Job:world_around(k)
   return self.worlds[k]
 end
 
+-- A blisk's flank as the part has it, for the links' proofs: between the
+-- hub and the casing. The flank's grid reaches past the casing (up to 7 mm
+-- at the built-in blisk's inlet), where no material is: a roughing tool's
+-- flute stands there when it leaves its channel.
+function Job:link_flank(b, side)
+  self.link_flanks = self.link_flanks or {}
+  local key = b .. side
+  if not self.link_flanks[key] then
+    self.link_flanks[key] = bliskrun.trim_flank{flank = self.part:flank(b, side), hub = self.part:hub(),
+                                                casing = self.part:casing()}
+  end
+  return self.link_flanks[key]
+end
+
 -- What a link's back-out from, or approach to, blade k's flanks is proved
 -- against: the neighbours and the hub as the plans see them (0.01 mm), and
 -- blade k itself for every tool part, the cutter included (0.01 mm, added as
@@ -44,13 +58,13 @@ function Job:link_world(k)
     local surfaces = {}
     for _, b in ipairs{(k - 2) % n + 1, k % n + 1} do
       for _, side in ipairs{"pressure", "suction"} do
-        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self.part:flank(b, side),
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self:link_flank(b, side),
                                    chord_tol = tol}
       end
     end
     surfaces[#surfaces + 1] = {name = "hub", surface = self.part:hub(), chord_tol = tol}
     for _, side in ipairs{"pressure", "suction"} do
-      surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = self.part:flank(k, side),
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = self:link_flank(k, side),
                                  chord_tol = tol, margin = tol}
     end
     self.link_worlds[k] = bliskrun.collision_world{surfaces = surfaces}
@@ -67,7 +81,7 @@ function Job:part_world()
     local surfaces = {}
     for b = 1, self.part:blade_count() do
       for _, side in ipairs{"pressure", "suction"} do
-        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self.part:flank(b, side),
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self:link_flank(b, side),
                                    chord_tol = 0.05, margin = 0.05}
       end
     end
@@ -100,7 +114,12 @@ end
 -- along a's axis, travel over the surface (the axis turning from a's to
 -- b's), then in along b's axis. Each motion is proved clear of the part with
 -- the whole tool.
-function Job:link(a, b, tool, what, blade_a, blade_b)
+-- cutter_a / cutter_b (mm, optional): the cutter's clearance on the first
+-- and the last leg, where a or b stands in a roughed channel over its stock.
+-- tool_a (optional): the tool that ends at a, when it is another: the
+-- back-out is its last move (the tool change happens out on the clearance
+-- surface), so the first leg is proved with it.
+function Job:link(a, b, tool, what, blade_a, blade_b, cutter_a, cutter_b, tool_a)
   local surface = self.clearance_surface
   local function back_out(pose, which)
     local p = surface.back_out(pose)
@@ -121,8 +140,9 @@ function Job:link(a, b, tool, what, blade_a, blade_b)
   poses[#poses + 1] = b
   local from = a
   for i, to in ipairs(poses) do
-    self:prove_motion(from, to, tool, i, #poses, blade_a, blade_b,
-                      string.format("%s: link motion %d of %d", what, i, #poses))
+    local cutter = math.max(i == 1 and cutter_a or 0, i == #poses and cutter_b or 0)
+    self:prove_motion(from, to, i == 1 and tool_a or tool, i, #poses, blade_a, blade_b,
+                      string.format("%s: link motion %d of %d", what, i, #poses), cutter > 0 and cutter or nil)
     from = to
   end
   table.remove(poses)  -- b itself is the next plan's first move
@@ -132,14 +152,19 @@ end
 -- Proves the motion from pose `a` to pose `b` clear of the part with the
 -- whole tool, in the world of link leg `leg` of `legs` (Job:leg_world);
 -- an error naming `what` otherwise.
-function Job:prove_motion(a, b, tool, leg, legs, blade_a, blade_b, what)
+-- `cutter`: the cutter's clearance there instead of the job's link clearance.
+function Job:prove_motion(a, b, tool, leg, legs, blade_a, blade_b, what, cutter)
   a, b = {tip = a.tip, axis = a.axis}, {tip = b.tip, axis = b.axis}
   local world, angle = self:leg_world(leg, legs, blade_a, blade_b)
   if angle ~= 0 then
     local iw = require("impeller_world")
     a, b = iw.turn(a, angle), iw.turn(b, angle)
   end
-  local m = world:check_motion(tool, a, b, {clearance = self.link_clearance})
+  local clearance = self.link_clearance
+  if cutter then
+    clearance = {cutter = math.max(cutter, clearance.cutter or 0), shank = clearance.shank, holder = clearance.holder}
+  end
+  local m = world:check_motion(tool, a, b, {clearance = clearance})
   if not m.clear then
     error(string.format("job: %s is not proved clear of the part (margin %.3f mm at t = %.3f)", what,
                         m.min_margin or 0 / 0, m.t or 0 / 0), 0)

@@ -76,7 +76,7 @@ function M.new(spec)
       numbers[n] = name
     end
   end
-  local blisk_ops = {drum_finish = true, edge_finish = true, hub_finish = true}
+  local blisk_ops = {rough_channels = true, drum_finish = true, edge_finish = true, hub_finish = true}
   local impeller_ops = {notch = true, widen = true, flank_finish = true}
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
@@ -98,7 +98,7 @@ function M.new(spec)
                             spec.part:blade_count()), 2)
       end
     end
-    if impeller_ops[op.kind] and op.kind ~= "widen" and not t.ball_radius then
+    if (impeller_ops[op.kind] and op.kind ~= "widen" or op.kind == "rough_channels") and not t.ball_radius then
       error(string.format("job.new: operations[%d] (%s): tool '%s' needs ball_radius (the radius of its tip ball, mm)",
                           i, op.kind, op.tool), 2)
     end
@@ -276,8 +276,11 @@ function Job:plan()
       local plan_moves = f.moves_list
       if last then
         local first = plan_moves[1]
+        -- A roughing unit's end and start lie in its channel, over the stock
+        -- it leaves: the legs there keep its cutter clearance (a rapid
+        -- through the stock would cut it).
         local link = self:link(last.pose, {tip = first.tip, axis = first.axis}, t.tool, "link to " .. what,
-                               last.blade, f.blade)
+                               last.blade, f.blade, last.link_cutter, f.link_cutter, last.tool_body)
         links = links + 1
         for k, p in ipairs(link) do
           -- The back-out to the clearance cylinder is the old tool's last
@@ -296,7 +299,7 @@ function Job:plan()
                              operation_kind = self.operations[o].kind, blade = f.blade, side = f.side}
       end
       last = {pose = {tip = plan_moves[#plan_moves].tip, axis = plan_moves[#plan_moves].axis}, blade = f.blade,
-              tool = number}
+              tool = number, tool_body = t.tool, link_cutter = f.link_cutter}
       flanks[#flanks + 1] = {operation = i, kind = op.kind, blade = f.blade, side = f.side, plan = f.plan,
                              report = f.report, moves = #plan_moves, first_move = first_move,
                              turned_from = f.turned_from, design_flanks = f.flanks, surface = f.surface}

@@ -52,6 +52,32 @@ function M.blisk.planned(r)
   end
   -- Turned units are their first blade's: the first two blades and the
   -- last are printed, the others elided.
+  -- The roughing's figures: the first channel planned (the others its
+  -- path turned), its levels, engagement and the cusps it measured.
+  for _, f in ipairs(planned.flanks) do
+    if f.kind == "rough_channels" and not f.turned_from then
+      local p = f.report
+      json.roughing = json.roughing or {}
+      json.roughing[#json.roughing + 1] = {channel = f.blade, levels = p.levels, levels_added = p.levels_added,
+        passes = p.row_count, poses = p.poses, steps = p.steps, links = p.links, turned = p.turned,
+        inserted = p.inserted,
+        stock_mm = p.stock, hub_stock_mm = p.hub_stock, step_down_mm = p.step_down, step_over_mm = p.step_over,
+        level_step_max_mm = p.level_step_max, step_over_max_mm = p.step_over_max,
+        axial_engagement_max_mm = p.axial_engagement_max, slot_width_mm = p.slot_width,
+        face_cusp_max_mm = p.face_cusp_max, hub_cusp_max_mm = p.hub_cusp_max, scallop_mm = p.scallop,
+        corner_mm = p.corner, top_height_mm = p.top_height, cutter_clearance_mm = p.cutter_clearance}
+      print(string.format("  roughing, channel %d (blade %d suction to blade %d pressure): %d levels (%d added for the "
+                          .. "cusp), %d passes, %d poses, joined by %d steps at the feed and %d links up the tool "
+                          .. "axis; stock %.2f mm (hub %.2f)", f.blade, f.blade, f.blade % j.part:blade_count() + 1,
+                          p.levels, p.levels_added, p.row_count, p.poses, p.steps, p.links, p.stock, p.hub_stock))
+      print(string.format("    engagement: levels %.3f mm apart (step-down %.2f), paths %.3f mm apart (step-over "
+                          .. "%.2f), axial at most %.3f mm, the slot %.2f mm wide; cusps measured %.1f / %.1f um on "
+                          .. "the flanks, %.1f um on the hub (scallop %.0f um)", p.level_step_max, p.step_down,
+                          p.step_over_max, p.step_over, p.axial_engagement_max, p.slot_width,
+                          1e3 * p.face_cusp_max[1], 1e3 * p.face_cusp_max[2], 1e3 * p.hub_cusp_max,
+                          1e3 * p.scallop))
+    end
+  end
   for _, f in ipairs(planned.flanks) do
     if not f.turned_from or f.blade <= 2 or f.blade == j.part:blade_count() then
       print(string.format("  blade %2d %-14s  rows %3d%s  poses %5d  refused 0%s", f.blade, f.side, f.report.row_count,
@@ -76,6 +102,24 @@ function M.blisk.simulated(r)
       undercut_max_mm = f.undercut_max, undercut_mean_mm = f.undercut_mean, overcut_mm = f.overcut,
       overcut_move = f.overcut_move, overcut_motion = f.overcut_motion, turned_from = f.turned_from,
       unreached = f.unreached, fillet_left_max_mm = f.fillet_left_max}
+  end
+  for _, f in ipairs(sim.flanks) do
+    if f.kind == "rough_channels" and not f.turned_from and f.stock then
+      -- The stock the roughing leaves, per surface where it reaches.
+      local entry
+      for _, e in ipairs(json.roughing or {}) do if e.channel == f.blade then entry = e end end
+      local surfaces = {}
+      for _, s in ipairs(f.stock.surfaces) do
+        surfaces[#surfaces + 1] = {name = s.name, stock_min_mm = s.stock_min_mm, stock_max_mm = s.stock_max_mm,
+                                   untouched = s.untouched, samples = s.samples}
+        print(string.format("  simulated roughing, channel %d, %-18s stock left %s (%d samples, %d untouched)",
+                            f.blade, s.name .. ":", s.stock_min_mm and string.format("%.3f..%.3f mm", s.stock_min_mm,
+                              s.stock_max_mm) or "none reached", s.samples, s.untouched))
+      end
+      if entry then
+        entry.simulated = {surfaces = surfaces, stock_min_mm = f.stock.stock_min_mm, stock_max_mm = f.stock.stock_max_mm}
+      end
+    end
   end
   for _, f in ipairs(sim.flanks) do
     if f.kind == "edge_finish" and not f.turned_from then
@@ -133,8 +177,12 @@ function M.map_scale_um(r)
     end
   else
     for _, op in ipairs(r.job.operations) do
-      local p = seams.promise(op)
-      t = math.max(t, math.abs(p.left), math.abs(p.cut))
+      -- The maps are of the finished part: the roughing's stock (which no
+      -- map shows) would spread their scale a hundredfold.
+      if op.kind ~= "rough_channels" then
+        local p = seams.promise(op)
+        t = math.max(t, math.abs(p.left), math.abs(p.cut))
+      end
     end
   end
   r.map_scale_um = r.o.map_scale_um or round_scale_um(2e3 * t)
@@ -251,6 +299,26 @@ function M.blisk.page(r)
     {title = "Programs, read back and swept as each controller moves", table = {columns = {"file", "machine", "post",
       "blocks", "positioning moves", "tip deviation (µm)", "cutter off the proved motion (µm)",
       "tool off the proved motion (µm)", "overcut at most (µm)"}, rows = program_rows}}}
+  for _, e in ipairs(json.roughing or {}) do
+    local rows = {{"levels (added for the cusp)", string.format("%d (%d)", e.levels, e.levels_added)},
+                  {"passes, poses; steps and links between passes", string.format("%d, %d; %d, %d", e.passes, e.poses,
+                                                                                     e.steps, e.links)},
+                  {"depth between levels (step-down)", string.format("%.3f mm (%.2f)", e.level_step_max_mm, e.step_down_mm)},
+                  {"distance between paths (step-over)", string.format("%.3f mm (%.2f)", e.step_over_max_mm, e.step_over_mm)},
+                  {"axial engagement at most (level + the cusp above)", string.format("%.3f mm", e.axial_engagement_max_mm)},
+                  {"the slot's width (full radial engagement)", string.format("%.2f mm", e.slot_width_mm)},
+                  {"cusp measured: left flank, right flank, hub", string.format("%.1f, %.1f, %.1f µm (scallop %.0f)",
+                    1e3 * e.face_cusp_max_mm[1], 1e3 * e.face_cusp_max_mm[2], 1e3 * e.hub_cusp_max_mm, 1e3 * e.scallop_mm)}}
+    for _, s in ipairs(e.simulated and e.simulated.surfaces or {}) do
+      rows[#rows + 1] = {"stock left (simulated), " .. s.name, s.stock_min_mm and string.format("%.3f .. %.3f mm (%d samples)",
+                           s.stock_min_mm, s.stock_max_mm, s.samples) or "not reached"}
+    end
+    sections[#sections + 1] = {title = string.format("Channel roughing, channel %d (the others its path turned)", e.channel),
+      text = string.format("Levels from the top down to the hub, %.2f mm stock left on both flanks and %.2f mm on the hub; "
+                           .. "every pose, motion and link proved with the whole tool against both blades and the hub, "
+                           .. "the cutter at least %.3f mm off them.", e.stock_mm, e.hub_stock_mm, e.cutter_clearance_mm),
+      table = {columns = {"figure", "value"}, rows = rows}}
+  end
   if json.blade_map then
     pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                                image = json.blade_map.picture}
@@ -282,6 +350,7 @@ function M.blisk.requirements(r, stop)
     for _, f in ipairs(sim.flanks) do
       local k = by_kind[f.kind]
       if k then k.left = math.max(k.left or -math.huge, f.undercut_max) end
+      if k and f.stock and f.stock.stock_min_mm then k.least = math.min(k.least or math.huge, f.stock.stock_min_mm) end
     end
     for _, op in ipairs(r.job.operations) do
       local k = by_kind[op.kind]
@@ -289,6 +358,11 @@ function M.blisk.requirements(r, stop)
         k.listed = true
         q[#q + 1] = {name = string.format("material left, %s (simulated, its units)", op.kind:gsub("_", " ")),
                      unit = "µm", measured = 1e3 * k.left, at_most = 1e3 * k.promise.left}
+        -- The roughing's stock is also bounded below: the finishers meet it.
+        if k.promise.least then
+          q[#q + 1] = {name = string.format("least stock left, %s (simulated, its units)", op.kind:gsub("_", " ")),
+                       unit = "µm", measured = k.least and 1e3 * k.least, at_least = 1e3 * k.promise.least}
+        end
       end
     end
     for _, f in ipairs(sim.seams or {}) do

@@ -20,7 +20,13 @@ local function blade_passes(self)
   local n = self.part:blade_count()
   local passes, last, moves_of = {}, nil, {}
   for i, m in ipairs(self.planned.moves) do
-    local key = m.operation_kind ~= "link" and (m.blade == 1 or (m.operation_kind == "hub_finish" and
+    -- Not the roughing's: it keeps its stock (less its tolerance) off the
+    -- design everywhere (its plan's proofs, its own simulation), so what
+    -- the finished blade keeps and where it is cut are the finishers'
+    -- alone, and where no finisher reaches the map says so rather than
+    -- showing the roughing's stock.
+    local key = m.operation_kind ~= "link" and m.operation_kind ~= "rough_channels" and
+                (m.blade == 1 or (m.operation_kind == "hub_finish" and
                 (m.blade == n or m.blade == 2))) and (m.operation .. ":" .. m.blade) or nil
     if key then
       if key ~= last then
@@ -209,6 +215,11 @@ local function promise(op)
   if op.kind == "drum_finish" then return {left = op.residual + op.chord_tol, cut = -op.chord_tol} end
   if op.kind == "edge_finish" then return {left = op.e2, cut = op.e1} end
   if op.kind == "hub_finish" then return {left = op.scallop + 2 * op.chord_tol, cut = -0.002} end
+  -- The roughing: its stock within its tolerance where it reaches (least:
+  -- the thinnest stock it may leave); it cuts nothing below the design.
+  if op.kind == "rough_channels" then
+    return {left = op.stock + op.tolerance, least = op.hub_stock - op.tolerance, cut = 0}
+  end
   return {left = 0, cut = 0}
 end
 

@@ -25,6 +25,11 @@ M.options = {
   search_below = {type = "number", check = positive},
   seams = {type = "boolean"},
   seam_spacing = {type = "number", check = positive},
+  rough_samples = {type = "table", check = function(v)
+    if not (math.type(v[1]) == "integer" and math.type(v[2]) == "integer" and v[1] >= 2 and v[2] >= 2) then
+      return "expected {span, chord} integers >= 2"
+    end
+  end},
 }
 
 -- The independent simulation (core/sim) of every flank after all the moves
@@ -50,7 +55,12 @@ function Job:simulate(o)
   for _, f in ipairs(self.planned.flanks) do
     local sim = done[f.plan]
     if not sim then
-      if f.kind == "edge_finish" then
+      if f.kind == "rough_channels" then
+        -- The stock the roughing leaves on both flanks and the hub
+        -- (job.rough_channels' rough_stock), apart from the finishers'
+        -- figures: it is what they meet, not what the job leaves.
+        sim = f.plan:simulate{samples = o.rough_samples}
+      elseif f.kind == "edge_finish" then
         sim = f.plan:simulate{samples_u = o.edge_samples_u or 200, samples_v = o.edge_samples_v or 400,
                               flanks = f.design_flanks}
       elseif f.kind == "hub_finish" then
@@ -70,10 +80,10 @@ function Job:simulate(o)
                undercut_mean = sim.undercut_mean, overcut = sim.overcut, overcut_motion = sim.overcut_motion,
                overcut_move = sim.overcut_move and f.first_move + sim.overcut_move - 1 or nil, map = sim.map,
                flank_overcut = sim.flank_overcut, turned_from = f.turned_from, unreached = sim.unreached,
-               fillet_left_max = sim.fillet_left_max}
+               fillet_left_max = sim.fillet_left_max, stock = f.kind == "rough_channels" and sim or nil}
     if sim.flank_overcut and sim.flank_overcut < r.overcut then r.overcut = sim.flank_overcut end
     out.flanks[#out.flanks + 1] = r
-    if sim.undercut_max > out.undercut_max then out.undercut_max = sim.undercut_max end
+    if f.kind ~= "rough_channels" and sim.undercut_max > out.undercut_max then out.undercut_max = sim.undercut_max end
     if sim.overcut < out.overcut then
       out.overcut = sim.overcut
       out.overcut_at = r
