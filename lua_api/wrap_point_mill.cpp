@@ -166,7 +166,7 @@ int w_point_plan_simulate(lua_State* L) {
     const PointMillRequest& rq = p.request;
     const PointMillResult& r = *p.result;
     uo.flip_normal = rq.face.flip_normal;
-    uo.u0 = rq.rows == PointMillRows::AlongFlow ? r.first_row_u : r.first_row_u;
+    uo.u0 = r.first_row_u;  // the hub-side boundary: below it is the fillet's (hub finish)
     uo.u1 = rq.u1, uo.v0 = rq.v0, uo.v1 = rq.v1;
     // The ball rounds off past the rows' ends along v: measured inside them.
     uo.search_above_mm = 0.2;
