@@ -219,6 +219,33 @@ TEST(PointMilling, TwistedFaceScallopAndChordBoundEveryRow) {
   EXPECT_LE(res.max_turn_rad_per_mm, rq.max_turn_rad_per_mm + 1e-9);
 }
 
+TEST(PointMilling, RowsAcrossTheFlowRunHubToShroudWithinTheScallop) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "a plan with gouge proofs: a second in Release, a minute sanitized";
+#endif
+  const auto face = std::make_shared<const TwistedFace>(15, 25, 3, 0.3);
+  const Tool tool = point_tool();
+  PointMillRequest rq = twisted_request(face, tool);
+  rq.rows = PointMillRows::AcrossFlow;
+  rq.scallop_mm = 0.03;
+  rq.v0 = 0.3, rq.v1 = 0.5;
+  const PointMillResult res = plan_point_milling(rq);
+  ASSERT_TRUE(res.complete());
+  EXPECT_LE(res.scallop_max_mm, rq.scallop_mm);
+  EXPECT_GT(res.scallop_max_mm, 0.5 * rq.scallop_mm);
+  // Each pass at constant v, its contacts from the hub-side boundary to the
+  // shroud (or back, zigzag), the axis up the span.
+  for (const PointMillPass& pass : res.passes) {
+    for (const PointMillPose& pp : pass.poses) {
+      EXPECT_NEAR(pp.v, pass.level, 1e-12);
+      EXPECT_GE(pp.u, res.first_row_u - 1e-12);
+      EXPECT_GT(pp.pose.axis.z(), 0.5);
+    }
+  }
+  EXPECT_NEAR(res.passes.front().level, 0.3, 1e-12);
+  EXPECT_NEAR(res.passes.back().level, 0.5, 1e-12);
+}
+
 // Distance from q to the box [lo, hi].
 double box_distance(const Vec3& q, const Vec3& lo, const Vec3& hi) {
   const Vec3 d = (lo - q).cwiseMax(q - hi).cwiseMax(Vec3::Zero());
