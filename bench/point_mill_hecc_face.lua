@@ -18,7 +18,7 @@ local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, fl
                                               holder = {diameter = 40, length = 60}}
 local t0 = os.clock()
 local meshes = iw.meshes(part, 0.05)
-local world = iw.face_world(part, meshes, opt.kind, opt.side)
+local world = iw.face_world(part, meshes, opt.kind, opt.side, {hub_cutter = true})
 local other = opt.side == "plus" and "minus" or "plus"
 local face, back = iw.design_face(part, 1, opt.side, opt.kind), iw.design_face(part, 1, other, opt.kind)
 local e, q = face:eval(0.5, 0.5), back:point(0.5, 0.5)

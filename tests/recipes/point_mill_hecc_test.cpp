@@ -1,7 +1,8 @@
 // Point milling (issue 40) of a real face: a chord-wise window of the NASA
 // HECC impeller's main-blade minus face (the lofted face, the one flank
 // milling misses by 0.23 mm) planned with its own world (the blades either
-// side and the hub, 0.05 mm meshes) through the executable; every emitted
+// side and the hub, 0.05 mm meshes; the hub for the cutter too, exactly)
+// through the executable; every emitted
 // move then checked in an independent collision check against a finer
 // tessellation (0.01 mm) of the same surfaces, and the plan's moves
 // simulated on the lofted face. Skipped without ../shared/data.
@@ -30,14 +31,14 @@ local face, back = iw.design_face(part, 1, "minus", "main"), iw.design_face(part
 local e, q = face:eval(0.5, 0.5), back:point(0.5, 0.5)
 local flip = e.normal[1] * (e.point[1] - q[1]) + e.normal[2] * (e.point[2] - q[2]) + e.normal[3] * (e.point[3] - q[3]) < 0
 local plan = bliskrun.point_mill{face = {surface = face, flip = flip}, tool = cutter,
-                                 world = iw.face_world(part, iw.meshes(part, 0.05), "main", "minus"),
+                                 world = iw.face_world(part, iw.meshes(part, 0.05), "main", "minus", {hub_cutter = true}),
                                  v = {0.45, 0.55}, scallop = 0.05, chord_tol = 0.02, allowed_overcut = 0.02,
                                  clearance = 0.5, holder_clearance = 0.5}
 local r = plan:report()
 assert(r.complete, "refused: " .. tostring(r.refusals[1] and r.refusals[1].reason or r.refused[1]))
 assert(r.scallop_measured <= 0.05 and r.max_deviation <= 0.02, "scallop or chord beyond the asked")
 -- Independent: a world of the same surfaces tessellated five times finer.
-local fine = iw.face_world(part, iw.meshes(part, 0.01), "main", "minus")
+local fine = iw.face_world(part, iw.meshes(part, 0.01), "main", "minus", {hub_cutter = true})
 local checked = 0
 for _, m in ipairs(plan:moves()) do
   local c = fine:check(cutter, {tip = m.tip, axis = m.axis}, {clearance = {cutter = 0, shank = 0.5, holder = 0.5}})

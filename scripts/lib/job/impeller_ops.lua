@@ -316,7 +316,7 @@ function M.point_mill(o)
       local q = back:point(0.5, 0.5)
       local d = {e.point[1] - q[1], e.point[2] - q[2], e.point[3] - q[3]}
       local flip = e.normal[1] * d[1] + e.normal[2] * d[2] + e.normal[3] * d[3] < 0
-      local world = iw.face_world(j.part, meshes, kind, side)
+      local world = iw.face_world(j.part, meshes, kind, side, {hub_cutter = true})
       local plan = bliskrun.point_mill{face = {surface = face, flip = flip, name = "blade 1 " .. name},
                                        tool = tool.tool, world = world, rows = self.rows, scallop = self.scallop,
                                        chord_tol = self.chord_tol, lean = self.lean, lead = self.lead,
