@@ -79,7 +79,7 @@ class PointMillCentreCurve : public Curve {
   double a_, r_;
 };
 
-double polyline_length(const PointMillFace& f, double a) {
+double point_mill_row_length(const PointMillFace& f, double a) {
   double len = 0;
   Vec3 prev = f.eval(a, f.b0).p;
   for (int i = 1; i <= 64; ++i) {
@@ -91,8 +91,8 @@ double polyline_length(const PointMillFace& f, double a) {
 }
 
 // The row's centres every ~0.05 mm (for the scallop measurement).
-std::vector<Vec3> dense_centres(const PointMillFace& f, double a, double r) {
-  const int n = std::max(50, static_cast<int>(std::ceil(polyline_length(f, a) / 0.05)));
+std::vector<Vec3> point_mill_dense_centres(const PointMillFace& f, double a, double r) {
+  const int n = std::max(50, static_cast<int>(std::ceil(point_mill_row_length(f, a) / 0.05)));
   std::vector<Vec3> out(static_cast<size_t>(n) + 1);
   const PointMillCentreCurve c(f, a, r);
   for (int i = 0; i <= n; ++i) out[static_cast<size_t>(i)] = c.at(f.b0 + (f.b1 - f.b0) * i / n);
@@ -100,9 +100,9 @@ std::vector<Vec3> dense_centres(const PointMillFace& f, double a, double r) {
 }
 
 // The scallop between rows at a and a_next, measured.
-double scallop_between(const PointMillFace& f, double a, double a_next, double r, const std::vector<Vec3>& ca,
+double point_mill_scallop_between(const PointMillFace& f, double a, double a_next, double r, const std::vector<Vec3>& ca,
                        const std::vector<Vec3>& cb) {
-  const int nb = std::max(40, static_cast<int>(std::ceil(polyline_length(f, 0.5 * (a + a_next)) / kPointMillAlongMm)));
+  const int nb = std::max(40, static_cast<int>(std::ceil(point_mill_row_length(f, 0.5 * (a + a_next)) / kPointMillAlongMm)));
   std::vector<Vec3> pts, nrm;
   for (int j = 0; j <= nb; ++j) {
     const double b = f.b0 + (f.b1 - f.b0) * j / nb;
@@ -118,7 +118,7 @@ double scallop_between(const PointMillFace& f, double a, double a_next, double r
 // The closed form's step (mm along the surface) from the row at a: the
 // smallest over its stations (the face's normal curvature across the rows,
 // > 0 convex), and the largest |dS/da| to turn it into a parameter step.
-void closed_form_step(const PointMillFace& f, double a, double h, double r, double& step_mm, double& da) {
+void point_mill_closed_form_step(const PointMillFace& f, double a, double h, double r, double& step_mm, double& da) {
   step_mm = std::numeric_limits<double>::infinity();
   double speed = 0;
   for (int i = 0; i <= 16; ++i) {
@@ -279,7 +279,7 @@ struct PointMillPlanner {
   }
 };
 
-double turn_per_mm(const PointMillPose& a, const PointMillPose& b) {
+double point_mill_turn_per_mm(const PointMillPose& a, const PointMillPose& b) {
   const double d = (b.contact - a.contact).norm();
   const double ang = std::acos(std::clamp(a.pose.axis.dot(b.pose.axis), -1.0, 1.0));
   return d > 1e-9 ? ang / d : (ang > 1e-9 ? std::numeric_limits<double>::infinity() : 0.0);
@@ -371,20 +371,20 @@ PointMillResult plan_point_milling(const PointMillRequest& rq, Progress& progres
   // ---- rows: the closed form, then measured and tightened ----
   std::vector<double> levels{f.a0};
   res.rows.push_back(PointMillRow{f.a0});
-  std::vector<Vec3> prev_c = dense_centres(f, f.a0, r);
+  std::vector<Vec3> prev_c = point_mill_dense_centres(f, f.a0, r);
   while (levels.back() < f.a1) {
     progress.check();
     const double a = levels.back();
     double step_mm = 0, da = 0;
-    closed_form_step(f, a, rq.scallop_mm, r, step_mm, da);
+    point_mill_closed_form_step(f, a, rq.scallop_mm, r, step_mm, da);
     PointMillRow row;
     row.closed_form_step_mm = step_mm;
     double next = 0, measured = 0;
     std::vector<Vec3> next_c;
     for (int tries = 0;; ++tries) {
       next = std::min(a + da, f.a1);
-      next_c = dense_centres(f, next, r);
-      measured = scallop_between(f, a, next, r, prev_c, next_c);
+      next_c = point_mill_dense_centres(f, next, r);
+      measured = point_mill_scallop_between(f, a, next, r, prev_c, next_c);
       if (measured <= rq.scallop_mm) break;
       if (tries > 30) throw Error("point milling: the scallop between rows does not close (rows " +
                                   std::to_string(a) + ")");
@@ -450,7 +450,7 @@ PointMillResult plan_point_milling(const PointMillRequest& rq, Progress& progres
     bool fast = false;
     for (const PointMillPass& pass : p.passes)
       for (size_t i = 1; i < pass.poses.size(); ++i)
-        if (turn_per_mm(pass.poses[i - 1], pass.poses[i]) > rq.max_turn_rad_per_mm) fast = true;
+        if (point_mill_turn_per_mm(pass.poses[i - 1], pass.poses[i]) > rq.max_turn_rad_per_mm) fast = true;
     if (fast) {
       std::vector<double> env(cs.size());
       for (size_t i = 0; i < cs.size(); ++i) {
@@ -477,7 +477,7 @@ PointMillResult plan_point_milling(const PointMillRequest& rq, Progress& progres
     res.poses += static_cast<int>(p.poses.size());
     for (size_t i = 0; i < p.poses.size(); ++i) {
       res.tilted += p.poses[i].tilted;
-      if (i > 0) res.max_turn_rad_per_mm = std::max(res.max_turn_rad_per_mm, turn_per_mm(p.poses[i - 1], p.poses[i]));
+      if (i > 0) res.max_turn_rad_per_mm = std::max(res.max_turn_rad_per_mm, point_mill_turn_per_mm(p.poses[i - 1], p.poses[i]));
     }
   }
 

@@ -320,7 +320,10 @@ function M.point_mill(o)
       local plan = bliskrun.point_mill{face = {surface = face, flip = flip, name = "blade 1 " .. name},
                                        tool = tool.tool, world = world, rows = self.rows, scallop = self.scallop,
                                        chord_tol = self.chord_tol, lean = self.lean, lead = self.lead,
-                                       max_turn = self.max_turn, hub_stop = self.hub_stop,
+                                       max_turn = self.max_turn,
+                                       -- Default 3 r: the ball fits a root corner down to ~37 deg
+                                       -- there (r / tan(theta / 2)); below is the fillet's.
+                                       hub_stop = self.hub_stop or 3 * (tool.ball_radius or 1),
                                        clearance = self.clearance, holder_clearance = self.clearance,
                                        guard_spacing = self.guard_spacing, allowed_overcut = self.allowed_overcut}
       local rep = plan:report()
