@@ -25,6 +25,7 @@ void open_all(lua_State* L) {
   open_repair(L);
   open_repair_paths(L);
   open_hub_finish(L);
+  open_point_mill(L);
   open_stock(L);
   open_flank(L);
   open_belt(L);

@@ -31,6 +31,7 @@ void open_sim(lua_State* L);        // wrap_sim.cpp: simulate (undercut of any s
 void open_repair(lua_State* L);     // wrap_repair.cpp: rebuild_sections (a blade lofted through measured sections)
 void open_repair_paths(lua_State* L);  // wrap_repair_paths.cpp: close_blade, repair_paths (repair zigzag / spiral, offset layers)
 void open_hub_finish(lua_State* L);  // wrap_hub_finish.cpp: hub_finish (blade root strip and channel floor, (tapered) ball end)
+void open_point_mill(lua_State* L);  // wrap_point_mill.cpp: point_mill (five-axis point milling of a face, (tapered) ball end)
 void open_stock(lua_State* L);      // wrap_stock.cpp: stock (the material-removal model: a blank of revolution cut by moves)
 
 // Registers everything into a new global table `bliskrun`.

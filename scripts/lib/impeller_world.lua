@@ -156,13 +156,19 @@ end
 -- blades and splitters either side (every tool part), this face, the
 -- blade's other face and the hub (shank and holder only: the cutter is meant
 -- to touch them).
-function M.face_world(imp, meshes, kind, side)
+-- o.hub_cutter = true (point milling, whose ball is not meant to touch the
+-- hub): the hub also for the cutter, as the surface of revolution itself
+-- (analytic, no mesh).
+function M.face_world(imp, meshes, kind, side, o)
   local n = imp:blade_count()
   local other = side == "plus" and "minus" or "plus"
   local surfaces = {
     {name = "this face", mesh = meshes.face(kind, 1, side), parts = {"shank", "holder"}, margin = meshes.tol},
     {name = "own other face", mesh = meshes.face(kind, 1, other), parts = {"shank", "holder"}, margin = meshes.tol},
     {name = "hub", mesh = meshes.hub(), parts = {"shank", "holder"}, margin = meshes.tol}}
+  if o and o.hub_cutter then
+    surfaces[#surfaces + 1] = {name = "hub (cutter)", revolution = meshes.hub_inside(0), parts = {"cutter"}}
+  end
   local neighbours = kind == "main" and {{"main", 2}, {"main", n}, {"splitter", 1}, {"splitter", n}}
                                      or {{"main", 1}, {"main", 2}, {"splitter", 2}, {"splitter", n}}
   add_faces(surfaces, imp, meshes, neighbours)

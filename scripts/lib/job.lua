@@ -23,7 +23,7 @@
 -- The library, by part (scripts/lib/job/):
 --   model.lua          the Job: job.new, its tools and tool life, j:plan
 --   blisk_ops.lua      job.rough_channels, job.drum_finish, job.edge_finish, job.hub_finish
---   impeller_ops.lua   job.notch, job.widen, job.flank_finish
+--   impeller_ops.lua   job.notch, job.widen, job.flank_finish, job.point_mill
 --   clearance.lua      the clearance surfaces links run on
 --   links.lua          the collision worlds, j:link and its proofs
 --   simulate.lua       j:simulate (a blisk's units, an impeller's surfaces), the stops after it
@@ -52,6 +52,7 @@ return {
   rough_channels = blisk_ops.rough_channels, drum_finish = blisk_ops.drum_finish, edge_finish = blisk_ops.edge_finish,
   hub_finish = blisk_ops.hub_finish,
   notch = impeller_ops.notch, widen = impeller_ops.widen, flank_finish = impeller_ops.flank_finish,
+  point_mill = impeller_ops.point_mill,
   cylinder = clearance.cylinder, turned_moves = geometry.turned_moves, approach_length = post.approach_length,
   thinnest_blade = simulate.thinnest_blade,
 }

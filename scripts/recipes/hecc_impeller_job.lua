@@ -5,8 +5,12 @@
 -- blades are not ruled (fits 0.7-1 mm off): roughing leaves the largest fit
 -- error + 0.5 mm as stock, and flank finishing with a ruled cutter spreads
 -- the fit error + and - over the lofted face, far beyond a 0.05 mm thickness
--- tolerance — the run says so per face (finish.<face>.within_tolerance):
--- these faces need point milling.
+-- tolerance. So each face is finished by flank milling where its flank plan's
+-- residual against the lofted face (the flank finish's own figure) is within
+-- the tolerance and by five-axis point milling (job.point_mill,
+-- instead_of_flank) where it is not; the run says which per face
+-- (finish.<face>.method) and simulates the point-milled faces against the
+-- lofted faces (finish.<face>.within_tolerance).
 --
 --   bliskrun scripts/recipes/hecc_impeller_job.lua --data ../shared/data --out out [--set NAME=VALUE]...
 --            (--help lists them)
@@ -17,6 +21,14 @@ local opt = require("recipe_options")(require("impeller_job_options"){
   min_stock = {type = "number", unit = "mm", default = 0.2, range = {0, 10}, help = "least stock the notch leaves"},
   tolerance = {type = "number", unit = "mm", default = 0.05, range = {1e-4, 1}, help = "blade thickness tolerance"},
   set = {type = "string", default = "design", choices = {"design", "cold"}, help = "which HECC geometry set"},
+  point_mill = {type = "boolean", default = true,
+                help = "point-mill the faces flank milling leaves beyond the tolerance (false: flank-mill every face)"},
+  point_scallop = {type = "number", unit = "mm", default = 0.02, range = {1e-4, 0.5},
+                   help = "scallop height of the point-milled faces, measured on the face"},
+  point_chord_tol = {type = "number", unit = "mm", default = 0.005, range = {1e-4, 0.5},
+                     help = "chord tolerance of the point-milled rows (the ball centre's path)"},
+  point_overcut = {type = "number", unit = "mm", default = 0.005, range = {1e-4, 0.5},
+                   help = "how far a point-milling move may cut below the face (caps the chord on convex rows)"},
 })
 local job = require("job")
 
@@ -45,6 +57,10 @@ local j = job.new{
                life_mm = opt.rough_life, sisters = opt.rough_life and {11, 21, 31, 41, 51, 61, 71} or nil},
     finisher = {number = 2, length = 150, spindle_rpm = 18000, tool = cutter, ball_radius = 2,
                 life_mm = finish_life, sisters = {12, 22, 32, 42, 52, 62, 72}},
+    -- The point-milling finisher: the same cutter, its own pocket (a face
+    -- point-milled is some 15-50 m of cutting: no flank finisher's life).
+    point_finisher = opt.point_mill and {number = 3, length = 150, spindle_rpm = 18000, tool = cutter,
+                                         ball_radius = 2} or nil,
   },
   operations = {
     job.notch{tool = "rougher", blades = blades, stock = stock, min_stock = min_stock,
@@ -54,6 +70,12 @@ local j = job.new{
               feed = 1000},
     job.flank_finish{tool = "finisher", blades = blades, chord_tol = opt.chord_tol,
                      faces = job.split_list(opt.faces), feed = 600},
+    -- The faces the flank finish leaves beyond the tolerance, point-milled
+    -- (their flank units dropped): scallop + chord well inside 0.05 mm.
+    opt.point_mill and job.point_mill{tool = "point_finisher", blades = blades, faces = job.split_list(opt.faces),
+                                      instead_of_flank = opt.tolerance, scallop = opt.point_scallop,
+                                      chord_tol = opt.point_chord_tol, allowed_overcut = opt.point_overcut,
+                                      feed = 600} or nil,
   },
 }
 -- Simulated: stock up to the roughing stock + the fit error tracked; an

@@ -24,6 +24,7 @@
 #include "core/common/error.h"
 #include "core/geometry/closed_curve.h"
 #include "core/geometry/root_find.h"
+#include "core/planning/ball_cutter.h"
 #include "core/planning/hub_finish.h"
 
 namespace bliskrun::hub_detail {
@@ -120,12 +121,7 @@ struct Poly3 {
 };
 Poly3 fit_poly3(const std::vector<double>& z, const std::vector<double>& y, const std::vector<double>& w);
 
-// The ball's radius: the tip's radius of curvature (R^2 = 2 r z - z^2 on
-// the ball; a tapered ball's cutter is wider above it).
-double ball_radius(const Tool& tool);
-// The taper's half angle: the cone's slope near the top of the flute (0 for
-// a plain ball end's cylinder).
-double taper_rad(const Tool& tool);
+// The ball's radius and the taper: ball_radius, taper_rad (core/planning/ball_cutter.h).
 
 // ---- closed blades (closed_root.cpp) ----
 

@@ -1,6 +1,6 @@
 // Shapes the hub finish plans on: the hub offset out of the material, a
-// cubic fitted to a blade's mid-line, and the ball's radius and taper read
-// from the tool's profile.
+// cubic fitted to a blade's mid-line (the ball's radius and taper:
+// core/planning/ball_cutter.h).
 #include <Eigen/Dense>
 #include <cmath>
 
@@ -36,18 +36,6 @@ Poly3 fit_poly3(const std::vector<double>& z, const std::vector<double>& y, cons
   const Eigen::Vector4d c = A.colPivHouseholderQr().solve(b);
   for (int k = 0; k < 4; ++k) p.a[k] = c(k);
   return p;
-}
-
-double ball_radius(const Tool& tool) {
-  const double z = 1e-3 * tool.cutter().z_max();
-  const double R = tool.cutter().radius_at(z);
-  return (R * R + z * z) / (2 * z);
-}
-
-double taper_rad(const Tool& tool) {
-  const Profile& p = tool.cutter();
-  const double z1 = p.z_min() + 0.8 * (p.z_max() - p.z_min()), z2 = p.z_min() + 0.9 * (p.z_max() - p.z_min());
-  return std::atan2(p.radius_at(z2) - p.radius_at(z1), z2 - z1);
 }
 
 }  // namespace bliskrun::hub_detail

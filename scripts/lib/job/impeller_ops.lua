@@ -241,4 +241,128 @@ function M.flank_finish(o)
   return op
 end
 
+
+-- Point milling (issue 40) of blade faces with the tip of a (tapered)
+-- ball-end mill (bliskrun.point_mill) on the faces as designed (the lofted
+-- faces where the part has them): rows along the flow spaced by the
+-- scallop measured on the face, every pose, cutting motion, step, link and
+-- lead proved against the blades either side and the hub (the face's own
+-- world, as job.flank_finish's). faces = list as job.flank_finish's, or
+-- "where flank milling misses": `instead_of_flank = tolerance` takes the
+-- faces a job.flank_finish of the same job leaves beyond the tolerance (its
+-- plans' residuals against the face as designed: the flank finish's own
+-- figure), and the flank finish's units of those faces are dropped.
+function M.point_mill(o)
+  local face_names = {["main plus"] = true, ["main minus"] = true, ["splitter plus"] = true,
+                      ["splitter minus"] = true}
+  check_options("job.point_mill", o, {
+    tool = {type = "string", required = true},
+    blades = {type = "table", required = true, check = blade_list},
+    faces = {type = "table", check = function(v)
+      if #v == 0 then return "expected a list of faces" end
+      for _, f in ipairs(v) do
+        if not face_names[f] then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
+      end
+    end},
+    instead_of_flank = {type = "number", check = positive},
+    scallop = {type = "number", check = positive},
+    chord_tol = {type = "number", check = positive},
+    rows = {type = "string", check = function(v) if v ~= "along" and v ~= "across" then return "expected 'along' or 'across'" end end},
+    lean = {type = "number", check = positive},
+    lead = {type = "number"},
+    max_turn = {type = "number", check = positive},
+    hub_stop = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    mesh_tol = {type = "number", check = positive},
+    guard_spacing = {type = "number", check = positive},
+    allowed_overcut = {type = "number", check = positive},
+    simulate = {type = "table"},
+    feed = {type = "number", check = positive},
+  }, 2)
+  local op = {kind = "point_mill", tool = o.tool, blades = o.blades,
+              faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
+              instead_of_flank = o.instead_of_flank, scallop = o.scallop or 0.005, chord_tol = o.chord_tol or 0.002,
+              rows = o.rows or "along", lean = o.lean or 10, lead = o.lead or 0, max_turn = o.max_turn or 2,
+              hub_stop = o.hub_stop, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
+              guard_spacing = o.guard_spacing or 0.1, allowed_overcut = o.allowed_overcut or 0.005,
+              simulate = o.simulate or {samples = {60, 240}},
+              feed = o.feed or 600}
+  -- The faces this operation mills in job j: its list, or those a flank
+  -- finish planned before it leaves beyond `instead_of_flank`.
+  function op.chosen_faces(self, j, planned_of)
+    if not self.instead_of_flank then return self.faces end
+    local out, allowed = {}, {}
+    for _, f in ipairs(self.faces) do allowed[f] = true end
+    self.decisions = {}
+    for i, other in ipairs(j.operations) do
+      if other.kind == "flank_finish" and planned_of[i] then
+        for _, u in ipairs(planned_of[i]) do
+          local r = u.report
+          if u.blade == other.blades[1] and allowed[u.side] and r.residual_max then
+            local worst = math.max(r.residual_max, -r.residual_min)
+            local point = worst > self.instead_of_flank
+            self.decisions[u.side] = {flank_residual_mm = worst, tolerance_mm = self.instead_of_flank,
+                                      method = point and "point milling" or "flank milling"}
+            if point then out[#out + 1] = u.side end
+          end
+        end
+      end
+    end
+    return out
+  end
+  function op.plan_flanks(self, j, index, planned_of)
+    require_impeller(j, "job.point_mill")
+    local iw = require("impeller_world")
+    local meshes = j:impeller_meshes(self.mesh_tol)
+    local tool = j.tools[self.tool]
+    local units = {}
+    self.chosen = self:chosen_faces(j, planned_of or {})
+    for _, name in ipairs(self.chosen) do
+      local kind, side = name:match("^(%a+) (%a+)$")
+      if kind == "splitter" and not j.part:has_splitter() then
+        error("job.point_mill: the impeller has no splitters; faces = {'" .. name .. "'}", 0)
+      end
+      local other = side == "plus" and "minus" or "plus"
+      local face, back = iw.design_face(j.part, 1, side, kind), iw.design_face(j.part, 1, other, kind)
+      -- Out of the material: away from the blade's other face.
+      local e = face:eval(0.5, 0.5)
+      local q = back:point(0.5, 0.5)
+      local d = {e.point[1] - q[1], e.point[2] - q[2], e.point[3] - q[3]}
+      local flip = e.normal[1] * d[1] + e.normal[2] * d[2] + e.normal[3] * d[3] < 0
+      local world = iw.face_world(j.part, meshes, kind, side, {hub_cutter = true})
+      local plan = bliskrun.point_mill{face = {surface = face, flip = flip, name = "blade 1 " .. name},
+                                       tool = tool.tool, world = world, rows = self.rows, scallop = self.scallop,
+                                       chord_tol = self.chord_tol, lean = self.lean, lead = self.lead,
+                                       max_turn = self.max_turn,
+                                       -- Default 3 r: the ball fits a root corner down to ~37 deg
+                                       -- there (r / tan(theta / 2)); below is the fillet's.
+                                       hub_stop = self.hub_stop or 3 * (tool.ball_radius or 1),
+                                       clearance = self.clearance, holder_clearance = self.clearance,
+                                       guard_spacing = self.guard_spacing, allowed_overcut = self.allowed_overcut}
+      local rep = plan:report()
+      if not rep.complete then
+        local why = #rep.refusals > 0 and rep.refusals[1].reason or rep.refused[1]
+        error(string.format("job.point_mill: %s face: %d poses refused, %d connections refused (first: %s); "
+                            .. "nothing of it is emitted", name, #rep.refusals, #rep.refused, tostring(why)), 0)
+      end
+      -- Against the face as designed: the plan's own moves simulated.
+      local sim = plan:simulate(self.simulate)
+      local moves = {}
+      for i, m in ipairs(plan:moves()) do
+        moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion, operation = index}
+      end
+      units[#units + 1] = {name = name, moves = moves,
+                           report = {poses = rep.poses, rows = rep.rows, tilted = rep.tilted,
+                                     scallop = rep.scallop, scallop_measured = rep.scallop_measured,
+                                     scallop_closed_form = rep.scallop_closed_form, max_deviation = rep.max_deviation,
+                                     max_turn = rep.max_turn, first_row_u = rep.first_row_u,
+                                     residual_max = sim.left_max, residual_min = math.min(0, sim.overcut),
+                                     untouched = sim.untouched, seconds = rep.seconds,
+                                     decision = self.decisions and self.decisions[name]}}
+    end
+    return per_blade(j, units, self.blades)
+  end
+  return op
+end
+
 return M

@@ -77,7 +77,7 @@ function M.new(spec)
     end
   end
   local blisk_ops = {rough_channels = true, drum_finish = true, edge_finish = true, hub_finish = true}
-  local impeller_ops = {notch = true, widen = true, flank_finish = true}
+  local impeller_ops = {notch = true, widen = true, flank_finish = true, point_mill = true}
   for i, op in ipairs(spec.operations) do
     if type(op) ~= "table" or not op.kind then
       error(string.format("job.new: operations[%d]: expected an operation (job.drum_finish{...}, job.notch{...}, ...)",
@@ -247,7 +247,22 @@ function Job:plan()
     for i, op in ipairs(self.operations) do
       if (op.kind == "hub_finish") == (pass == 2) then
         if self.on_plan_step then self.on_plan_step(op) end  -- j:run's progress line
-        planned_of[i] = op:plan_flanks(self, i)
+        planned_of[i] = op:plan_flanks(self, i, planned_of)
+      end
+    end
+  end
+  -- A point mill that took faces over from a flank finish (job.point_mill's
+  -- instead_of_flank): the flank finish's units of those faces are dropped.
+  for i, op in ipairs(self.operations) do
+    if op.kind == "point_mill" and op.instead_of_flank then
+      local taken = {}
+      for _, f in ipairs(op.chosen or {}) do taken[f] = true end
+      for k, other in ipairs(self.operations) do
+        if other.kind == "flank_finish" and planned_of[k] then
+          local kept = {}
+          for _, u in ipairs(planned_of[k]) do if not taken[u.side] then kept[#kept + 1] = u end end
+          planned_of[k] = kept
+        end
       end
     end
   end

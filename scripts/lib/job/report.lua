@@ -392,8 +392,9 @@ function M.impeller.requirements(r, stop)
   end
   for _, u in ipairs(r.json.units) do
     local f = r.json.finish and r.json.finish[u.name]
-    if u.operation == "flank_finish" and f then
-      q[#q + 1] = {name = "flank finish, " .. u.name .. ": largest deviation from the face as designed", unit = "µm",
+    if (u.operation == "flank_finish" or u.operation == "point_mill") and f then
+      q[#q + 1] = {name = u.operation:gsub("_", " ") .. ", " .. u.name .. ": largest deviation from the face as designed"
+                     .. (u.operation == "point_mill" and " (simulated)" or ""), unit = "µm",
                    measured = 1e3 * math.max(f.residual_max_mm, -f.residual_min_mm),
                    at_most = 1e3 * r.json.thickness_tolerance_mm}
     end
@@ -424,12 +425,14 @@ function M.impeller.planned(r)
   json.moves_by_operation = by_op
   print(string.format("  moves: notch %d, widen %d, flank finish %d, links %d", by_op.notch or 0, by_op.widen or 0,
                       by_op.flank_finish or 0, by_op.link or 0))
+  if by_op.point_mill then print(string.format("  moves: point mill %d", by_op.point_mill)) end
   local tolerance = r.o.thickness_tolerance
   if tolerance then json.thickness_tolerance_mm, json.finish = tolerance, {} end
   for _, f in ipairs(planned.flanks) do
     if f.blade == 1 then
       json.units[#json.units + 1] = {operation = f.kind, name = f.side, moves = f.moves, report = f.report}
       if tolerance and f.kind == "flank_finish" then M.impeller.verdict(r, f, tolerance) end
+      if tolerance and f.kind == "point_mill" then M.impeller.point_verdict(r, f, tolerance) end
     end
   end
 end
@@ -450,6 +453,28 @@ function M.impeller.verdict(r, f, tolerance)
   print(string.format("  %s: flank finish%s leaves %+.3f .. %+.3f mm against the face as designed: %s", f.side,
                       fit and string.format(" on the ruled fit (fit %.3f mm)", fit.max) or "", p.residual_min,
                       p.residual_max, ok and "within tolerance" or string.format("NOT within +-%.3f mm", tolerance)))
+end
+
+-- A face's point milling against the thickness tolerance: the material its
+-- own moves leave on the face as designed and how deep they cut it
+-- (simulated), the scallop measured against the recipe's, and why the face
+-- is point-milled (job.point_mill's instead_of_flank: the flank finish's
+-- residual beyond the tolerance).
+function M.impeller.point_verdict(r, f, tolerance)
+  local p = f.report
+  local ok = p.residual_max <= tolerance and p.residual_min >= -tolerance
+  local d = p.decision
+  r.json.finish[f.side] = {method = "point milling", residual_max_mm = p.residual_max, residual_min_mm = p.residual_min,
+    scallop_mm = p.scallop, scallop_measured_mm = p.scallop_measured, max_turn_deg_per_mm = p.max_turn,
+    flank_residual_mm = d and d.flank_residual_mm, within_tolerance = ok,
+    note = (d and string.format("flank milling leaves %.3f mm (> %.3f): point-milled; ", d.flank_residual_mm,
+                                d.tolerance_mm) or "")
+      .. (ok and "point milling holds the design within the tolerance" or "NOT within tolerance")}
+  print(string.format("  %s: point milling%s, %d rows, scallop %.1f um measured (%.1f um asked), leaves %+.3f .. "
+                      .. "%+.3f mm against the face as designed (simulated): %s", f.side,
+                      d and string.format(" (flank residual %.3f mm > %.3f)", d.flank_residual_mm, d.tolerance_mm) or "",
+                      p.rows, 1e3 * p.scallop_measured, 1e3 * p.scallop, p.residual_min, p.residual_max,
+                      ok and "within tolerance" or string.format("NOT within +-%.3f mm", tolerance)))
 end
 
 function M.impeller.simulated(r)
@@ -478,14 +503,15 @@ function M.impeller.page(r)
     local rows = {}
     for _, u in ipairs(json.units) do
       local f = json.finish[u.name]
-      if u.operation == "flank_finish" and f then
-        rows[#rows + 1] = {u.name, 1e3 * f.residual_min_mm, 1e3 * f.residual_max_mm, f.within_tolerance and "yes" or "NO"}
+      if (u.operation == "flank_finish" or u.operation == "point_mill") and f then
+        rows[#rows + 1] = {u.name, u.operation == "point_mill" and "point milling" or "flank milling",
+                           1e3 * f.residual_min_mm, 1e3 * f.residual_max_mm, f.within_tolerance and "yes" or "NO"}
       end
     end
-    sections[#sections + 1] = {title = "Flank finishing against the faces as designed", text = string.format(
-      "Residual of the ruled cutter's axes (balanced) against the design; thickness tolerance %.3f mm.",
-      json.thickness_tolerance_mm),
-      table = {columns = {"face", "residual min (µm)", "residual max (µm)", "within tolerance"}, rows = rows}}
+    sections[#sections + 1] = {title = "Face finishing against the faces as designed", text = string.format(
+      "Flank milling: residual of the ruled cutter's axes (balanced) against the design; point milling: the "
+      .. "material its moves leave (simulated); thickness tolerance %.3f mm.", json.thickness_tolerance_mm),
+      table = {columns = {"face", "method", "residual min (µm)", "residual max (µm)", "within tolerance"}, rows = rows}}
   end
   sections[#sections + 1] = {title = "Material left (simulated, blade 1's faces and one pitch of the hub)",
     table = {columns = {"surface", "moves of", "left min (µm)", "left max (µm)", "undercut mean (µm)", "overcut (µm)",

@@ -232,7 +232,9 @@ end
 function M.impeller_overcut_allowed(units, slack)
   local allowed = {}
   for _, u in ipairs(units) do
-    if u.operation == "flank_finish" then allowed[u.name] = math.min(0, u.report.residual_min) - slack end
+    if u.operation == "flank_finish" or u.operation == "point_mill" then
+      allowed[u.name] = math.min(0, u.report.residual_min) - slack
+    end
   end
   return allowed
 end

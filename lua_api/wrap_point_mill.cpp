@@ -1,0 +1,320 @@
+// bliskrun.point_mill{...}: five-axis point milling of a face with a ball or
+// tapered ball end (core/planning/point_milling.h): the plan's report, its
+// moves, the simulation of the face (core/sim). Lengths in mm, angles in
+// degrees. See docs/lua_api/point_milling.md.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/planning/point_milling.h"
+#include "core/sim/undercut.h"
+#include "lua_api/finish_moves.h"
+#include "lua_api/lua_tool.h"
+#include "lua_api/modules.h"
+#include "lua_api/runner.h"
+#include "lua_api/wrap_collision.h"
+#include "lua_api/wrap_geometry.h"
+
+namespace bliskrun::lua_api {
+
+// A plan and everything its request points to, kept alive together.
+struct LuaPointMillPlan {
+  std::shared_ptr<const Tool> tool;
+  std::shared_ptr<const CollisionWorld> world;
+  PointMillRequest request;
+  std::shared_ptr<const PointMillResult> result;
+};
+
+}  // namespace bliskrun::lua_api
+
+namespace bliskrun::luax {
+template <>
+struct TypeName<lua_api::LuaPointMillPlan> {
+  static constexpr const char* name = "bliskrun.PointMillPlan";
+};
+}  // namespace bliskrun::luax
+
+namespace bliskrun::lua_api {
+
+namespace {
+
+using luax::Field;
+using luax::Kind;
+using luax::number_field;
+
+LuaPointMillPlan& check_point_plan(lua_State* L) { return luax::check<LuaPointMillPlan>(L, 1); }
+
+// A Surface, or {surface = Surface, flip = bool, name = string}.
+PointMillSurface point_surface_at(lua_State* L, int idx, const std::string& where, const std::string& fallback_name) {
+  PointMillSurface s;
+  s.name = fallback_name;
+  if (const SurfaceHandle* h = luax::test<SurfaceHandle>(L, idx)) {
+    s.surface = h->surface;
+    return s;
+  }
+  if (!lua_istable(L, idx)) luax::error(L, where + ": expected a bliskrun.Surface or {surface =, flip =, name =}");
+  lua_getfield(L, idx, "surface");
+  const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+  if (!h) luax::error(L, where + ": field 'surface': expected a bliskrun.Surface");
+  s.surface = h->surface;
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "flip");
+  if (!lua_isnil(L, -1)) {
+    if (!lua_isboolean(L, -1)) luax::error(L, where + ": field 'flip': expected a boolean");
+    s.flip_normal = lua_toboolean(L, -1);
+  }
+  lua_pop(L, 1);
+  lua_getfield(L, idx, "name");
+  if (lua_isstring(L, -1)) s.name = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  return s;
+}
+
+// plan:report() -> {rows =, poses =, scallop = {target =, measured =, closed_form =}, ...}
+int w_point_plan_report(lua_State* L) {
+  const LuaPointMillPlan& p = check_point_plan(L);
+  const PointMillResult& r = *p.result;
+  const PointMillRequest& rq = p.request;
+  lua_createtable(L, 0, 24);
+  luax::set_string(L, "tool", rq.tool->description());
+  luax::set_number(L, "ball_radius", r.ball_radius_mm);
+  luax::set_number(L, "taper", r.taper_rad * 180 / kPi);
+  luax::set_number(L, "rows", static_cast<double>(r.rows.size()));
+  luax::set_number(L, "passes", static_cast<double>(r.passes.size()));
+  luax::set_number(L, "poses", r.poses);
+  luax::set_number(L, "tilted", r.tilted);
+  luax::set_number(L, "smoothed_rows", r.smoothed_rows);
+  luax::set_number(L, "gouge_splits", r.gouge_splits);
+  luax::set_number(L, "steps", r.steps);
+  luax::set_number(L, "links", r.links);
+  luax::set_number(L, "refused_links", r.refused_connections);
+  luax::set_number(L, "first_row_u", r.first_row_u);
+  luax::set_number(L, "scallop", rq.scallop_mm);
+  luax::set_number(L, "scallop_measured", r.scallop_max_mm);
+  luax::set_number(L, "scallop_closed_form", r.scallop_closed_form_mm);
+  luax::set_number(L, "chord_tol", rq.steps.chord_tol_mm);
+  luax::set_number(L, "max_deviation", r.max_deviation_mm);
+  luax::set_number(L, "max_turn", r.max_turn_rad_per_mm * 180 / kPi);
+  luax::set_number(L, "max_turn_allowed", rq.max_turn_rad_per_mm * 180 / kPi);
+  luax::set_bool(L, "complete", r.complete());
+  luax::set_number(L, "seconds", r.seconds);
+  double smin = 1e300, smax = 0;
+  for (size_t i = 1; i < r.rows.size(); ++i) smin = std::min(smin, r.rows[i].step_mm), smax = std::max(smax, r.rows[i].step_mm);
+  luax::set_number(L, "step_min", r.rows.size() > 1 ? smin : 0);
+  luax::set_number(L, "step_max", smax);
+  lua_createtable(L, static_cast<int>(r.refusals.size()), 0);
+  for (size_t i = 0; i < r.refusals.size(); ++i) {
+    lua_createtable(L, 0, 3);
+    luax::set_number(L, "row", r.refusals[i].row + 1);
+    luax::set_vec3(L, "point", r.refusals[i].contact);
+    luax::set_string(L, "reason", r.refusals[i].reason);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+  lua_setfield(L, -2, "refusals");
+  lua_newtable(L);
+  int k = 0;
+  for (const PointMillConnection& c : r.connections)
+    if (!c.clear) {
+      lua_pushstring(L, c.reason.c_str());
+      lua_rawseti(L, -2, ++k);
+    }
+  lua_setfield(L, -2, "refused");
+  return 1;
+}
+
+// plan:moves() -> {{kind =, motion =, tip =, axis =, row =}, ...} up to the
+// first refused connection.
+int w_point_plan_moves(lua_State* L) {
+  const LuaPointMillPlan& p = check_point_plan(L);
+  return luax::guarded(L, [&] {
+    push_finish_moves(L, point_mill_moves(*p.result));
+    return 1;
+  });
+}
+
+// plan:simulate{samples = {u, v}, sweep_step =, threads =} -> {left_max =, left_mean =, overcut =, untouched =,
+// samples =, seconds =}: the material the plan's moves leave on the face
+// (the lofted design surface itself) over the window it mills, from the
+// first row up.
+int w_point_plan_simulate(lua_State* L) {
+  const LuaPointMillPlan& p = check_point_plan(L);
+  const luax::Options o(L, 2, "plan:simulate",
+                        {Field{"samples", Kind::Table, false, std::nullopt, std::nullopt,
+                               "{span, chord} samples of the face (default {120, 400})", {}},
+                         number_field("sweep_step", "largest cutter-point motion between evaluated positions, mm "
+                                                    "(default 0.05)", 1e-3, 10),
+                         Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
+  UndercutOptions uo;
+  uo.samples_u = 120, uo.samples_v = 400;
+  if (o.has("samples")) {
+    o.push_raw("samples");
+    const int t = lua_gettop(L);
+    if (luaL_len(L, t) != 2) luax::error(L, "plan:simulate: option 'samples': expected {span, chord}");
+    for (int k = 1; k <= 2; ++k) {
+      lua_rawgeti(L, t, k);
+      int isnum = 0;
+      const lua_Integer n = lua_tointegerx(L, -1, &isnum);
+      if (!isnum || n < 2 || n > 20000) luax::error(L, "plan:simulate: option 'samples': expected integers in [2, 20000]");
+      (k == 1 ? uo.samples_u : uo.samples_v) = static_cast<int>(n);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  uo.sweep_step_mm = o.number("sweep_step", 0.05);
+  uo.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  return luax::guarded(L, [&] {
+    const PointMillRequest& rq = p.request;
+    const PointMillResult& r = *p.result;
+    uo.flip_normal = rq.face.flip_normal;
+    uo.u0 = r.first_row_u;  // the hub-side boundary: below it is the fillet's (hub finish)
+    uo.u1 = rq.u1, uo.v0 = rq.v0, uo.v1 = rq.v1;
+    // The ball rounds off past the rows' ends along v: measured inside them.
+    uo.search_above_mm = 0.2;
+    const ToolpathPasses tp = toolpath_passes(point_mill_moves(r));
+    const UndercutResult u = simulate_undercut(*rq.face.surface, *rq.tool, tp.passes, uo, context(L).progress);
+    lua_createtable(L, 0, 8);
+    luax::set_number(L, "samples", static_cast<double>(u.samples_u) * u.samples_v);
+    luax::set_number(L, "untouched", u.untouched);
+    luax::set_number(L, "left_max", u.undercut_max_mm);
+    luax::set_number(L, "left_mean", u.undercut_mean_mm);
+    luax::set_number(L, "overcut", u.overcut_mm);
+    luax::set_number(L, "u0", uo.u0);
+    return 1;
+  });
+}
+
+int w_point_plan_tostring(lua_State* L) {
+  const LuaPointMillPlan& p = check_point_plan(L);
+  lua_pushfstring(L, "bliskrun.PointMillPlan(%d rows, %d poses, %d refusals)", static_cast<int>(p.result->rows.size()),
+                  p.result->poses, static_cast<int>(p.result->refusals.size()));
+  return 1;
+}
+
+// bliskrun.point_mill{face =, tool =, neighbours =, ...} -> plan
+int w_point_mill(lua_State* L) {
+  static const char* what = "bliskrun.point_mill";
+  const luax::Options o(
+      L, 1, what,
+      {Field{"face", Kind::Any, true, std::nullopt, std::nullopt,
+             "the face milled: a Surface or {surface =, flip =, name =} (u hub -> shroud, v along the chord)", {}},
+       Field{"neighbours", Kind::Table, false, std::nullopt, std::nullopt,
+             "surfaces the tool must not cut and must clear (the facing blade or splitter, the hub, ...): a list of "
+             "Surface or {surface =, flip =, name =}", {}},
+       Field{"tool", Kind::Any, true, std::nullopt, std::nullopt, "a ball or tapered ball-end mill", {}},
+       Field{"world", Kind::Any, false, std::nullopt, std::nullopt,
+             "CollisionWorld to check against instead of the default (the face for the shank, the neighbours)", {}},
+       Field{"rows", Kind::String, false, std::nullopt, std::nullopt,
+             "\"along\" the flow (constant u; default) or \"across\" (constant v)", {}},
+       Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "{u0, u1} window milled (default {0, 1})", {}},
+       Field{"v", Kind::Table, false, std::nullopt, std::nullopt, "{v0, v1} window milled (default {0, 1})", {}},
+       number_field("hub_stop", "first row's contact this far above the window's hub edge, mm (default: the ball radius)",
+                    0, 100),
+       number_field("scallop", "scallop height, measured on the face, mm (default 0.005)", 1e-6, 1),
+       number_field("chord_tol", "chord tolerance of the ball centre's path, mm (default 0.002)", 1e-6, 1),
+       number_field("max_step", "longest step along a row, mm (default 2)", 1e-3, 100),
+       number_field("lead", "lead angle: the tool's top towards the feed, degrees (default 0)", -45, 45),
+       number_field("lean", "initial lean of the axis from the face, degrees (default 10)", 0.01, 60),
+       number_field("lean_step", "step of the lean while clearing, degrees (default 1)", 0.01, 45),
+       number_field("lean_max", "largest lean, degrees (default 45)", 0.01, 89),
+       number_field("side_tilt", "sideways turns of the axis while clearing, up to +- degrees (default 20; 0: none)", 0, 90),
+       number_field("side_step", "step of the sideways turn, degrees (default 5)", 0.01, 90),
+       number_field("max_turn", "largest turn of the axis per mm of contact travel, degrees (default 2)", 1e-3, 90),
+       number_field("clearance", "shank clearance from the world, mm (default 0.2)", 0, 100),
+       number_field("holder_clearance", "holder clearance from the world, mm (default 1)", 0, 100),
+       number_field("retract", "links: largest retract up the tool axis, mm (default 5)", 1e-3, 1000),
+       number_field("min_retract", "links: smallest retract tried, mm (default 0.1)", 1e-4, 1000),
+       number_field("allowed_overcut", "how far any move may cut below the design, mm (default 0.002)", 1e-6, 1),
+       number_field("guard_spacing", "design samples of the gouge guards, mm apart (default 0.1)", 0.01, 10),
+       Field{"threads", Kind::Integer, false, 1, 256,
+             "rows planned on this many threads (default: the run's --threads); the plan does not depend on it", {}}});
+  LuaPointMillPlan plan;
+  PointMillRequest& rq = plan.request;
+  o.push_raw("face");
+  rq.face = point_surface_at(L, lua_gettop(L), std::string(what) + ": option 'face'", "the face");
+  lua_pop(L, 1);
+  if (o.has("neighbours")) {
+    o.push_raw("neighbours");
+    const int t = lua_gettop(L);
+    const lua_Integer n = luaL_len(L, t);
+    for (lua_Integer i = 1; i <= n; ++i) {
+      lua_rawgeti(L, t, i);
+      rq.neighbours.push_back(point_surface_at(L, lua_gettop(L),
+                                               std::string(what) + ": option 'neighbours' [" + std::to_string(i) + "]",
+                                               "neighbour " + std::to_string(i)));
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  o.push_raw("tool");
+  LuaTool* lt = luax::test<LuaTool>(L, -1);
+  if (!lt) luax::error(L, std::string(what) + ": option 'tool': expected a bliskrun.Tool (a (tapered) ball-end mill)");
+  lua_pop(L, 1);
+  plan.tool = std::make_shared<const Tool>(lt->tool);
+  rq.tool = plan.tool.get();
+  if (o.has("world")) {
+    o.push_raw("world");
+    const LuaWorld* lw = luax::test<LuaWorld>(L, -1);
+    if (!lw) luax::error(L, std::string(what) + ": option 'world': expected a bliskrun.CollisionWorld");
+    plan.world = lw->world;
+    rq.world = plan.world.get();
+    lua_pop(L, 1);
+  }
+  const std::string rows = o.string("rows", "along");
+  if (rows != "along" && rows != "across")
+    luax::error(L, std::string(what) + ": option 'rows': expected \"along\" or \"across\", got '" + rows + "'");
+  rq.rows = rows == "along" ? PointMillRows::AlongFlow : PointMillRows::AcrossFlow;
+  auto pair = [&](const char* key, double& a, double& b) {
+    if (!o.has(key)) return;
+    o.push_raw(key);
+    const int t = lua_gettop(L);
+    if (luaL_len(L, t) != 2) luax::error(L, std::string(what) + ": option '" + key + "': expected {lo, hi}");
+    lua_rawgeti(L, t, 1);
+    lua_rawgeti(L, t, 2);
+    int ia = 0, ib = 0;
+    a = lua_tonumberx(L, -2, &ia);
+    b = lua_tonumberx(L, -1, &ib);
+    if (!ia || !ib || !(0 <= a && a < b && b <= 1))
+      luax::error(L, std::string(what) + ": option '" + key + "': expected numbers {lo, hi} with 0 <= lo < hi <= 1");
+    lua_pop(L, 3);
+  };
+  pair("u", rq.u0, rq.u1);
+  pair("v", rq.v0, rq.v1);
+  rq.hub_stop_mm = o.number("hub_stop", -1);
+  rq.scallop_mm = o.number("scallop", rq.scallop_mm);
+  rq.steps.chord_tol_mm = o.number("chord_tol", rq.steps.chord_tol_mm);
+  rq.steps.max_step_mm = o.number("max_step", rq.steps.max_step_mm);
+  rq.lead_rad = deg_to_rad(o.number("lead", 0));
+  rq.lean_rad = deg_to_rad(o.number("lean", 10));
+  rq.lean_step_rad = deg_to_rad(o.number("lean_step", 1));
+  rq.lean_max_rad = deg_to_rad(o.number("lean_max", 45));
+  rq.side_tilt_rad = deg_to_rad(o.number("side_tilt", 20));
+  rq.side_step_rad = deg_to_rad(o.number("side_step", 5));
+  rq.max_turn_rad_per_mm = deg_to_rad(o.number("max_turn", 2));
+  rq.clearances.shank_mm = o.number("clearance", rq.clearances.shank_mm);
+  rq.clearances.holder_mm = o.number("holder_clearance", rq.clearances.holder_mm);
+  rq.links.retract_mm = o.number("retract", rq.links.retract_mm);
+  rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
+  rq.allowed_overcut_mm = o.number("allowed_overcut", rq.allowed_overcut_mm);
+  rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
+  rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  return luax::guarded(L, [&] {
+    plan.result = std::make_shared<const PointMillResult>(plan_point_milling(rq, context(L).progress));
+    luax::push_new<LuaPointMillPlan>(L, std::move(plan));
+    return 1;
+  });
+}
+
+}  // namespace
+
+void open_point_mill(lua_State* L) {
+  static const luaL_Reg plan_methods[] = {{"report", w_point_plan_report},
+                                          {"moves", w_point_plan_moves},
+                                          {"simulate", w_point_plan_simulate},
+                                          {nullptr, nullptr}};
+  luax::register_type(L, luax::TypeName<LuaPointMillPlan>::name, plan_methods, &luax::gc_value<LuaPointMillPlan>,
+                      w_point_plan_tostring);
+  static const luaL_Reg functions[] = {{"point_mill", w_point_mill}, {nullptr, nullptr}};
+  luaL_setfuncs(L, functions, 0);
+}
+
+}  // namespace bliskrun::lua_api
