@@ -18,6 +18,7 @@
 #include "core/geometry/differential.h"
 #include "core/geometry/mesh.h"
 #include "core/planning/ball_cutter.h"
+#include "core/planning/pass_moves.h"
 #include "core/planning/repair_paths.h"
 #include "core/sim/undercut.h"
 
@@ -547,36 +548,6 @@ PointMillResult plan_point_milling(const PointMillRequest& rq, Progress& progres
   return res;
 }
 
-Toolpath point_mill_moves(const PointMillResult& r) {
-  Toolpath out;
-  auto add = [&](Move::Kind kind, const ToolPose& pose, int row, const std::string& motion,
-                 const std::string& reason = "") {
-    Move m;
-    m.kind = kind;
-    m.pose = pose;
-    m.row = row;
-    m.motion = motion;
-    m.reason = reason;
-    out.push_back(std::move(m));
-  };
-  if (r.passes.empty()) return out;
-  for (size_t p = 0; p <= r.passes.size(); ++p) {
-    const PointMillConnection& c = r.connections[p];
-    const int row = r.passes[std::min(p, r.passes.size() - 1)].row;
-    std::string reach = "approach";
-    if (!c.clear) {
-      add(Move::Kind::Stop, ToolPose{}, row, "stop", c.reason);
-    } else {
-      const Move::Kind kind = c.kind == PointMillConnection::Kind::Step ? Move::Kind::Feed : Move::Kind::Rapid;
-      for (size_t i = 0; i < c.poses.size(); ++i) add(kind, c.poses[i], row, c.motion[i]);
-      if (c.kind == PointMillConnection::Kind::Step) reach = "step";
-    }
-    if (p == r.passes.size()) break;
-    const PointMillPass& pass = r.passes[p];
-    for (size_t i = 0; i < pass.poses.size(); ++i)
-      add(Move::Kind::Feed, pass.poses[i].pose, pass.row, i == 0 ? reach : "cut");
-  }
-  return out;
-}
+Toolpath point_mill_moves(const PointMillResult& r) { return passes_to_moves(r.passes, r.connections); }
 
 }  // namespace bliskrun

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/planning/hub_finish/internal.h"
+#include "core/planning/pass_moves.h"
 #include "core/toolpath/apt.h"
 
 namespace bliskrun {
@@ -17,38 +18,7 @@ namespace {
 // One part's program (hub_finish_moves(part)), without its lead-in or its
 // lead-out where the join replaces them.
 Toolpath part_moves(const HubFinishPart& part, bool lead_in, bool lead_out) {
-  Toolpath out;
-  auto add = [&](Move::Kind kind, const ToolPose& pose, int row, const std::string& motion,
-                 const std::string& reason = "") {
-    Move m;
-    m.kind = kind;
-    m.pose = pose;
-    m.row = row;
-    m.motion = motion;
-    m.reason = reason;
-    out.push_back(std::move(m));
-  };
-  if (part.passes.empty()) return out;
-  for (size_t p = 0; p <= part.passes.size(); ++p) {
-    const HubFinishConnection& c = part.connections[p];
-    const int row = part.passes[std::min(p, part.passes.size() - 1)].row;
-    std::string reach = "approach";
-    if ((p == 0 && !lead_in) || (p == part.passes.size() && !lead_out)) {
-      // the join's
-    } else if (!c.clear) {
-      add(Move::Kind::Stop, ToolPose{}, row, "stop", c.reason);
-    } else {
-      const Move::Kind kind =
-          c.kind == HubFinishConnection::Kind::Step ? Move::Kind::Feed : Move::Kind::Rapid;
-      for (size_t i = 0; i < c.poses.size(); ++i) add(kind, c.poses[i], row, c.motion[i]);
-      if (c.kind == HubFinishConnection::Kind::Step) reach = "step";
-    }
-    if (p == part.passes.size()) break;
-    const HubFinishPass& pass = part.passes[p];
-    for (size_t i = 0; i < pass.poses.size(); ++i)
-      add(Move::Kind::Feed, pass.poses[i].pose, pass.row, i == 0 ? reach : "cut");
-  }
-  return out;
+  return passes_to_moves(part.passes, part.connections, lead_in, lead_out);
 }
 
 }  // namespace
