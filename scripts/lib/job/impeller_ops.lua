@@ -138,21 +138,25 @@ function M.widen(o)
           feed = o.feed or 1000, plan_flanks = function() return {} end}  -- its moves come with the notch's plan
 end
 
+-- A list of blade faces (job.flank_finish's and job.point_mill's `faces`).
+local all_faces = {"main plus", "main minus", "splitter plus", "splitter minus"}
+local function face_list(v)
+  if #v == 0 then return "expected a list of faces" end
+  for _, f in ipairs(v) do
+    local known = false
+    for _, name in ipairs(all_faces) do known = known or f == name end
+    if not known then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
+  end
+end
+
 -- Flank finishing (§4.3) of blade faces with the side of a (tapered)
 -- ball-end mill (bliskrun.flank_mill): faces = list of "main plus", "main
 -- minus", "splitter plus", "splitter minus" (default all four).
 function M.flank_finish(o)
-  local face_names = {["main plus"] = true, ["main minus"] = true, ["splitter plus"] = true,
-                      ["splitter minus"] = true}
   check_options("job.flank_finish", o, {
     tool = {type = "string", required = true},
     blades = {type = "table", required = true, check = blade_list},
-    faces = {type = "table", check = function(v)
-      if #v == 0 then return "expected a list of faces" end
-      for _, f in ipairs(v) do
-        if not face_names[f] then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
-      end
-    end},
+    faces = {type = "table", check = face_list},
     chord_tol = {type = "number", check = positive},
     clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     mesh_tol = {type = "number", check = positive},
@@ -164,7 +168,7 @@ function M.flank_finish(o)
     feed = {type = "number", check = positive},
   }, 2)
   local op = {kind = "flank_finish", tool = o.tool, blades = o.blades,
-              faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
+              faces = o.faces or {table.unpack(all_faces)},
               chord_tol = o.chord_tol or 0.005, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
               balance = o.balance ~= false, optimise = o.optimise ~= false,
               max_axis_correction = o.max_axis_correction, overcut_weight = o.overcut_weight,
@@ -253,17 +257,10 @@ end
 -- plans' residuals against the face as designed: the flank finish's own
 -- figure), and the flank finish's units of those faces are dropped.
 function M.point_mill(o)
-  local face_names = {["main plus"] = true, ["main minus"] = true, ["splitter plus"] = true,
-                      ["splitter minus"] = true}
   check_options("job.point_mill", o, {
     tool = {type = "string", required = true},
     blades = {type = "table", required = true, check = blade_list},
-    faces = {type = "table", check = function(v)
-      if #v == 0 then return "expected a list of faces" end
-      for _, f in ipairs(v) do
-        if not face_names[f] then return "expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'" end
-      end
-    end},
+    faces = {type = "table", check = face_list},
     instead_of_flank = {type = "number", check = positive},
     scallop = {type = "number", check = positive},
     chord_tol = {type = "number", check = positive},
@@ -280,7 +277,7 @@ function M.point_mill(o)
     feed = {type = "number", check = positive},
   }, 2)
   local op = {kind = "point_mill", tool = o.tool, blades = o.blades,
-              faces = o.faces or {"main plus", "main minus", "splitter plus", "splitter minus"},
+              faces = o.faces or {table.unpack(all_faces)},
               instead_of_flank = o.instead_of_flank, scallop = o.scallop or 0.005, chord_tol = o.chord_tol or 0.002,
               rows = o.rows or "along", lean = o.lean or 10, lead = o.lead or 0, max_turn = o.max_turn or 2,
               hub_stop = o.hub_stop, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
