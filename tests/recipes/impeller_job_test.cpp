@@ -196,6 +196,17 @@ TEST(ImpellerJobRecipe, ABadOperationFailsAtItsLineAndWritesNothing) {
   EXPECT_EQ(blade.exit_code, 1);
   EXPECT_NE(blade.output.find("recipe.lua:4: job.new: operations[3] (flank_finish): blade 18 does not exist; the part has 17"), std::string::npos) << blade.output;
   EXPECT_FALSE(fs::exists(dir.path() + "/out/never.txt"));
+  // A face the impeller has not: both face operations share the check.
+  for (const char* op : {"flank_finish", "point_mill"}) {
+    const RecipeResult face = run_recipe_text(
+        dir, impeller_job("job.widen{tool = \"r\", blades = {1}}",
+                          std::string("job.") + op + "{tool = \"r\", blades = {1}, faces = {\"main pluss\"}}"));
+    EXPECT_EQ(face.exit_code, 1);
+    EXPECT_NE(face.output.find(std::string("recipe.lua:7: job.") + op + ": option 'faces'"), std::string::npos)
+        << face.output;
+    EXPECT_NE(face.output.find("expected 'main plus', 'main minus', 'splitter plus', 'splitter minus'"),
+              std::string::npos) << face.output;
+  }
 }
 
 }  // namespace
