@@ -1,5 +1,6 @@
 #include "test_support.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -148,6 +149,13 @@ Tool flat_end_mill(double radius_mm, double corner_mm, double flute_mm, double s
   s.shank = {2 * radius_mm, shank_mm};
   if (holder_mm > 0) s.holder = {6 * radius_mm, holder_mm};
   return Tool::flat_end_mill(s);
+}
+
+Tool paper_drum_wheel() { return Tool::drum_wheel({8, 50, 4, {6, 96}, {}}); }
+
+ToolPose tilted_pose(const Vec3& tip, double tilt_rad, double azimuth_rad) {
+  return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
+                    std::cos(tilt_rad))};
 }
 
 }  // namespace bliskrun::test

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/tools/pose.h"
 #include "core/tools/tool.h"
 
 namespace bliskrun::test {
@@ -80,5 +81,12 @@ std::string shared_data_dir();
 // 2R wide and shank_mm long, and a holder 6R wide and holder_mm long (0:
 // none) — the edge finish's tool in the tests.
 Tool flat_end_mill(double radius_mm, double corner_mm, double flute_mm, double shank_mm, double holder_mm = 0);
+
+// The blisk paper's drum wheel (Table 3, wheel 2): 8 mm across, barrel
+// radius 50 mm, head 4 mm, shank 6 x 96.
+Tool paper_drum_wheel();
+
+// A pose at `tip` whose axis leans tilt_rad from +z towards azimuth_rad.
+ToolPose tilted_pose(const Vec3& tip, double tilt_rad, double azimuth_rad);
 
 }  // namespace bliskrun::test

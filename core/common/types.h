@@ -16,6 +16,7 @@ using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
 constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kDeg = kPi / 180;  // one degree in radians: 5 * kDeg
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline double deg_to_rad(double deg) { return deg * kPi / 180.0; }
 inline double rad_to_deg(double rad) { return rad * 180.0 / kPi; }

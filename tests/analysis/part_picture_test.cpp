@@ -33,7 +33,7 @@ PaintedPiece plate() {
   return p;
 }
 
-size_t count(const std::string& text, const std::string& what) {
+size_t occurrences(const std::string& text, const std::string& what) {
   size_t n = 0;
   for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
@@ -46,7 +46,7 @@ TEST(PartPicture, TheSceneHasEveryPointAndTwoTrianglesACell) {
   EXPECT_NE(scene.find("face_indices { 1200,"), std::string::npos);
   // Three colours: the scale's two ends and the plain part.
   EXPECT_NE(scene.find("texture_list { 3,"), std::string::npos);
-  EXPECT_EQ(count(scene, "texture {"), 3u);
+  EXPECT_EQ(occurrences(scene, "texture {"), 3u);
   EXPECT_NE(scene.find("orthographic"), std::string::npos);
 }
 

@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::TempDir;
 
-const double kS = std::sqrt(0.5);
+const double kArcWeight_ = std::sqrt(0.5);
 
 // A wavy bicubic B-spline patch, 60 x 40 mm, with an interior knot each way.
 NurbsSurface wavy_bspline() {
@@ -41,7 +41,7 @@ NurbsSurface quarter_cylinder() {
   std::vector<Vec3> ctrl;
   std::vector<double> w;
   for (double z : {5.0, 45.0})
-    for (const auto& [p, wt] : {std::pair{Vec3(r, 0, 0), 1.0}, {Vec3(r, r, 0), kS}, {Vec3(0, r, 0), 1.0}}) {
+    for (const auto& [p, wt] : {std::pair{Vec3(r, 0, 0), 1.0}, {Vec3(r, r, 0), kArcWeight_}, {Vec3(0, r, 0), 1.0}}) {
       ctrl.push_back(p + Vec3(100, -50, z));
       w.push_back(wt);
     }
@@ -50,7 +50,7 @@ NurbsSurface quarter_cylinder() {
 
 NurbsCurve half_circle(double r) {
   return NurbsCurve(2, {0, 0, 0, 0.5, 0.5, 1, 1, 1},
-                    {{r, 0, 7}, {r, r, 7}, {0, r, 7}, {-r, r, 7}, {-r, 0, 7}}, {1, kS, 1, kS, 1});
+                    {{r, 0, 7}, {r, r, 7}, {0, r, 7}, {-r, r, 7}, {-r, 0, 7}}, {1, kArcWeight_, 1, kArcWeight_, 1});
 }
 
 double max_gap(const Surface& a, const Surface& b, int n = 30) {
@@ -317,7 +317,7 @@ TEST(CadIges, AnalyticSurfaceIsConvertedExactly) {
 
 // The message names the file (DataError: "<file>:<line>: ...") and holds
 // `what`.
-void expect_error(const std::string& path, const std::string& what) {
+void expect_cad_error(const std::string& path, const std::string& what) {
   try {
     read_cad(path);
     ADD_FAILURE() << path << ": read without error";
@@ -329,17 +329,17 @@ void expect_error(const std::string& path, const std::string& what) {
 
 TEST(CadErrors, MissingFileAndUnknownFormat) {
   const TempDir dir;
-  expect_error(dir.path() + "/none.step", "cannot open");
-  expect_error(dir.write("part.dxf", "0\nSECTION\n"), "unknown CAD format '.dxf'");
+  expect_cad_error(dir.path() + "/none.step", "cannot open");
+  expect_cad_error(dir.write("part.dxf", "0\nSECTION\n"), "unknown CAD format '.dxf'");
 }
 
 TEST(CadErrors, CorruptAndEmptyFiles) {
   const TempDir dir;
-  expect_error(dir.write("garbage.step", "this is not STEP\n"), "truncated or corrupt");
-  expect_error(dir.write("garbage.igs", "neither is this\n"), "");
+  expect_cad_error(dir.write("garbage.step", "this is not STEP\n"), "truncated or corrupt");
+  expect_cad_error(dir.write("garbage.igs", "neither is this\n"), "");
   const std::string empty = dir.path() + "/empty.step";
   write_step(empty, {});
-  expect_error(empty, "no surface and no curve");
+  expect_cad_error(empty, "no surface and no curve");
 }
 
 TEST(CadErrors, TruncatedStepFile) {
@@ -351,7 +351,7 @@ TEST(CadErrors, TruncatedStepFile) {
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
-  expect_error(dir.write("cut.step", text.substr(0, text.size() / 2)), "");
+  expect_cad_error(dir.write("cut.step", text.substr(0, text.size() / 2)), "");
 }
 
 TEST(CadErrors, TruncatedIgesFile) {
@@ -362,7 +362,7 @@ TEST(CadErrors, TruncatedIgesFile) {
   ss << in.rdbuf();
   const std::string text = ss.str();
   const TempDir dir;
-  expect_error(dir.write("cut.igs", text.substr(0, text.size() / 2)), "");
+  expect_cad_error(dir.write("cut.igs", text.substr(0, text.size() / 2)), "");
 }
 
 // A hand-made IGES file (fixed 80-column records) with one cubic Bezier as a
@@ -395,7 +395,7 @@ TEST(CadErrors, UnconvertibleIgesEntityNamesItsDirectoryLine) {
   // Bezier (0,0,0) (3,1,0) (6,-1,0) (10,0,0) at t = 1/2: (37/8, 0, 0).
   EXPECT_NEAR((m.curves[0].curve->point(0.5) - Vec3(37.0 / 8, 0, 0)).norm(), 0, 1e-12);
   const std::string bad = dir.write("bad.igs", kBadIges);
-  expect_error(bad, "bad.igs:3: IGES D1 (type 126): unsupported or invalid entity");
+  expect_cad_error(bad, "bad.igs:3: IGES D1 (type 126): unsupported or invalid entity");
 }
 
 TEST(CadErrors, DegenerateSurfaceNamesItsEntity) {
@@ -407,8 +407,8 @@ TEST(CadErrors, DegenerateSurfaceNamesItsEntity) {
   const TempDir dir;
   const std::string path = dir.path() + "/collapsed.step";
   write_step(path, {&s});
-  expect_error(path, "u = 0 edge collapses to a point");
-  expect_error(path, "STEP #");
+  expect_cad_error(path, "u = 0 edge collapses to a point");
+  expect_cad_error(path, "STEP #");
 }
 
 }  // namespace

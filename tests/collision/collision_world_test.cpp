@@ -16,6 +16,7 @@
 #include "core/collision/collision_world.h"
 #include "core/common/error.h"
 #include "core/geometry/mesh.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -31,10 +32,6 @@ constexpr double kFclTolMm = 1e-9;
 void expect_enclosing_distance(double fcl_mm, double true_mm, const ToolBody& body, const std::string& what) {
   EXPECT_LE(fcl_mm, true_mm + kFclTolMm) << what;
   EXPECT_GE(fcl_mm, true_mm - body.overestimate_mm() - kFclTolMm) << what;
-}
-
-Tool paper_wheel() {  // blisk paper Table 3, wheel 2
-  return Tool::drum_wheel({8, 50, 4, {6, 96}, {}});
 }
 
 TEST(CollisionWorld, BallEndAbovePlaneMatchesAnalyticDistance) {
@@ -340,7 +337,7 @@ TEST(CollisionWorld, TessellatedSurfaceAtChordTolerance) {
 TEST(CollisionWorld, MotionBetweenTwoClearPosesThroughAFinIsCaught) {
   CollisionWorld world;
   world.add("blade", grid_mesh(Vec3(0, -20, -10), Vec3(0, 40, 0), Vec3(0, 0, 13), 4, 4));  // x = 0, z up to 3
-  const ToolBody body(paper_wheel(), 1e-3);
+  const ToolBody body(test::paper_drum_wheel(), 1e-3);
   const Clearances clearances{0.5, 0.5, 0};
   const ToolPose from{Vec3(-6, 0, 1), Vec3::UnitZ()}, to{Vec3(6, 0, 1), Vec3::UnitZ()};
   // Each pose alone: the head (radius 4) is 2 mm from the fin.
@@ -369,7 +366,7 @@ TEST(CollisionWorld, MotionBetweenTwoClearPosesThroughAFinIsCaught) {
 TEST(CollisionWorld, MotionThatOnlyTurnsTheAxisIsChecked) {
   // Tip fixed, axis swings from -30 to +30 degrees about Y: the shank's top
   // end (z 100 when upright) sweeps an arc through a block at the top.
-  const ToolBody body(paper_wheel(), 1e-3);
+  const ToolBody body(test::paper_drum_wheel(), 1e-3);
   const Clearances clearances{0.5, 0.5, 0};
   const auto axis = [](double deg) { return Vec3(std::sin(deg_to_rad(deg)), 0, std::cos(deg_to_rad(deg))); };
   const ToolPose from{Vec3::Zero(), axis(-30)}, to{Vec3::Zero(), axis(30)};

@@ -7,16 +7,15 @@
 #include "collision/test_meshes.h"
 #include "core/collision/collision_world.h"
 #include "core/collision/fast_check.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
 
 using test::grid_mesh;
 
-Tool paper_wheel() { return Tool::drum_wheel({8, 50, 4, {6, 96}, {}}); }
-
 TEST(FastCheck, ComparesRadiusWithRofZInHeadAndShankAbove) {
-  const Tool t = paper_wheel();
+  const Tool t = test::paper_drum_wheel();
   const ToolPose pose{Vec3(10, 0, 0), Vec3::UnitX()};  // tool lying along +x
   const Clearances c{0.1, 0.2, 0};
   // In the head at Z = 2 (R = 4): a point 4.05 from the axis conflicts with
@@ -63,7 +62,7 @@ TEST(FastCheck, MissesAThinFeatureBetweenItsPoints) {
   sheet.triangles = {Eigen::Vector3i(0, 1, 2)};
   CollisionWorld world;
   world.add("sheet", sheet);
-  const Tool tool = paper_wheel();
+  const Tool tool = test::paper_drum_wheel();
   const ToolPose pose{Vec3::Zero(), Vec3::UnitZ()};
   EXPECT_TRUE(fast_check(tool, pose, sheet.vertices, Clearances{}).clear);
   const PoseCheck fcl = world.check(ToolBody(tool), pose, Clearances{});
@@ -77,7 +76,7 @@ TEST(FastCheck, ComparesRadiallySoItIgnoresPointsBelowTheTip) {
   TriangleMesh speck = grid_mesh(Vec3(-0.5, -0.5, -0.1), Vec3(1, 0, 0), Vec3(0, 1, 0));
   CollisionWorld world;
   world.add("speck", speck);
-  const Tool tool = paper_wheel();
+  const Tool tool = test::paper_drum_wheel();
   const ToolPose pose{Vec3::Zero(), Vec3::UnitZ()};
   const Clearances c{0.5, 0.5, 0};
   EXPECT_TRUE(fast_check(tool, pose, speck.vertices, c).clear);
@@ -92,7 +91,7 @@ TEST(FastCheck, PassesBothPosesOfFig9WhileTheMotionCollides) {
   const TriangleMesh fin = grid_mesh(Vec3(0, -20, -10), Vec3(0, 40, 0), Vec3(0, 0, 13), 200, 130);
   CollisionWorld world;
   world.add("blade", fin);
-  const Tool tool = paper_wheel();
+  const Tool tool = test::paper_drum_wheel();
   const ToolBody body(tool);
   const Clearances c{0.5, 0.5, 0};
   const ToolPose from{Vec3(-6, 0, 1), Vec3::UnitZ()}, to{Vec3(6, 0, 1), Vec3::UnitZ()};

@@ -7,13 +7,12 @@
 #include "collision/test_meshes.h"
 #include "core/collision/tilt.h"
 #include "core/common/error.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
 
 using test::grid_mesh;
-
-Tool paper_wheel() { return Tool::drum_wheel({8, 50, 4, {6, 96}, {}}); }
 
 // Contact at the origin on the plane z = 0, path along +x: Y_SL = +y.
 const ContactFrame kFlat{Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};
@@ -50,7 +49,7 @@ TEST(Tilt, RotaryLimitMeasuresTheAxisTurnedIntoTheWorkingPlane) {
 }
 
 TEST(Tilt, PlacedToolTouchesTheTangentPlaneAtTheContact) {
-  const Tool tool = paper_wheel();
+  const Tool tool = test::paper_drum_wheel();
   const ContactFrame f{Vec3(3, -1, 2), Vec3(1, 1, 0), Vec3(0, 0, 1)};
   for (double lead_deg : {0.0, 1.0, 2.0, 5.0, 30.0}) {
     const Vec3 axis = axis_from_lead_tilt(f, deg_to_rad(lead_deg), deg_to_rad(7));
@@ -106,7 +105,7 @@ CollisionWorld plate_world(double top, double x0 = -100, double x1 = 100) {
 }
 
 TEST(Tilt, ClearsAWallAtTheClosedFormLead) {
-  const ToolBody body(paper_wheel());
+  const ToolBody body(test::paper_drum_wheel());
   TiltSettings s;
   s.lead_step_rad = deg_to_rad(0.5);
   s.clearances = Clearances{0.5, 0.5, 0};
@@ -135,7 +134,7 @@ TEST(Tilt, ClearsAWallAtTheClosedFormLead) {
 }
 
 TEST(Tilt, RefusesWhatTheAxisLimitForbidsAndSaysWhy) {
-  const ToolBody body(paper_wheel());
+  const ToolBody body(test::paper_drum_wheel());
   const CollisionWorld world = plate_world(30);  // needs about 28° of lead
   TiltSettings s;
   s.clearances = Clearances{0.5, 0.5, 0};
@@ -221,7 +220,7 @@ TEST(Tilt, PathRefusesPosesAndMotionsItCannotClear) {
   // A high, narrow plate at x in [-5, 5]: the middle contact cannot lift its
   // shank over it within A ±10°, and the motion from the first accepted pose
   // to the last would cut through it (paper Fig. 9) — both refused.
-  const ToolBody body(paper_wheel());
+  const ToolBody body(test::paper_drum_wheel());
   const CollisionWorld world = plate_world(30, -5, 5);
   TiltSettings s;
   s.clearances = Clearances{0.5, 0.5, 0};

@@ -103,7 +103,7 @@ TEST(InterpolateGrid, ReproducesBicubicDataExactly) {
 }
 
 // Twisted blade-like sheet: the smooth surface a CAD export samples.
-Vec3 blade(double a, double b) {
+Vec3 blade_point(double a, double b) {
   // a: span in [0, 30] mm, b: chord in [0, 40] mm.
   const double twist = 0.6 * a / 30;
   const double camber = 3.0 * std::sin(kPi * b / 40);
@@ -120,7 +120,7 @@ TEST(InterpolateGrid, DenseGridIsAccurateBetweenRowsIncludingTheEdges) {
   PointGrid g(r, c);
   auto spacing = [](double x) { return 0.5 - 0.5 * std::cos(kPi * x); };  // clustered ends
   for (int i = 0; i < r; ++i)
-    for (int j = 0; j < c; ++j) g.at(i, j) = blade(30 * spacing(i / (r - 1.0)), 40 * spacing(j / (c - 1.0)));
+    for (int j = 0; j < c; ++j) g.at(i, j) = blade_point(30 * spacing(i / (r - 1.0)), 40 * spacing(j / (c - 1.0)));
   const BSplineSurface s = interpolate_grid(g);
   const GridParameters par = averaged_grid_parameters(g);
   double worst_edge = 0, worst_mid = 0;
@@ -134,16 +134,16 @@ TEST(InterpolateGrid, DenseGridIsAccurateBetweenRowsIncludingTheEdges) {
       double b = 40 * 0.5 * (spacing(j / (c - 1.0)) + spacing((j + 1) / (c - 1.0)));
       for (int it = 0; it < 30; ++it) {
         const double h = 1e-6;
-        const Vec3 p = blade(a, b);
-        const Vec3 pa = (blade(a + h, b) - blade(a - h, b)) / (2 * h);
-        const Vec3 pb = (blade(a, b + h) - blade(a, b - h)) / (2 * h);
+        const Vec3 p = blade_point(a, b);
+        const Vec3 pa = (blade_point(a + h, b) - blade_point(a - h, b)) / (2 * h);
+        const Vec3 pb = (blade_point(a, b + h) - blade_point(a, b - h)) / (2 * h);
         Eigen::Matrix2d J;
         J << pa.dot(pa), pa.dot(pb), pa.dot(pb), pb.dot(pb);
         const Eigen::Vector2d step = J.ldlt().solve(Eigen::Vector2d((q - p).dot(pa), (q - p).dot(pb)));
         a += step.x();
         b += step.y();
       }
-      const double dev = (blade(a, b) - q).norm();
+      const double dev = (blade_point(a, b) - q).norm();
       const bool edge = i <= 1 || i >= r - 3 || j <= 1 || j >= c - 3;
       (edge ? worst_edge : worst_mid) = std::max(edge ? worst_edge : worst_mid, dev);
     }

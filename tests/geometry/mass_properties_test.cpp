@@ -22,7 +22,7 @@ Frame placed(const Vec3& at, double angle_deg, const Vec3& axis) {
 }
 
 // A box as 12 outward triangles, corners at ±size/2, then placed.
-void box_mesh(const Vec3& size, const Frame& where, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& t) {
+void append_box(const Vec3& size, const Frame& where, std::vector<Vec3>& v, std::vector<std::array<int, 3>>& t) {
   v.clear();
   for (int i = 0; i < 8; ++i)
     v.push_back(where * Vec3((i & 1 ? 0.5 : -0.5) * size.x(), (i & 2 ? 0.5 : -0.5) * size.y(),
@@ -45,7 +45,7 @@ TEST(MassProperties, ABoxIsItsClosedFormAnywhereAndTurned) {
   for (const Frame& where : {Frame(Frame::Identity()), placed(Vec3(300, -150, 900), 37, Vec3(1, 2, 3))}) {
     std::vector<Vec3> v;
     std::vector<std::array<int, 3>> t;
-    box_mesh(size, where, v, t);
+    append_box(size, where, v, t);
     const MassProperties m = solid_mass_properties(v, t, density);
     EXPECT_NEAR(m.volume_mm3, 384000, 1e-6);
     EXPECT_NEAR(m.mass_kg, 3.0144, 1e-9);
@@ -129,7 +129,7 @@ TEST(MassProperties, PrincipalAxesDiagonaliseAndStayNearTheFrame) {
 TEST(MassProperties, AnOpenSurfaceIsRefusedNamingAnEdge) {
   std::vector<Vec3> v;
   std::vector<std::array<int, 3>> t;
-  box_mesh(Vec3(1, 2, 3), Frame::Identity(), v, t);
+  append_box(Vec3(1, 2, 3), Frame::Identity(), v, t);
   t.pop_back();
   try {
     solid_mass_properties(v, t, 1e-6);
@@ -137,7 +137,7 @@ TEST(MassProperties, AnOpenSurfaceIsRefusedNamingAnEdge) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("not closed"), std::string::npos) << e.what();
   }
-  box_mesh(Vec3(1, 2, 3), Frame::Identity(), v, t);
+  append_box(Vec3(1, 2, 3), Frame::Identity(), v, t);
   std::swap(t[0][1], t[0][2]);  // one triangle turned against its neighbours
   EXPECT_THROW(solid_mass_properties(v, t, 1e-6), Error);
 }

@@ -13,7 +13,7 @@
 namespace bliskrun {
 namespace {
 
-const double kS = std::sqrt(0.5);  // weight of a 90-degree arc's middle point
+const double kArcWeight = std::sqrt(0.5);  // weight of a 90-degree arc's middle point
 
 // Full circle of radius r in XY as a rational quadratic: four 90-degree arcs
 // (Piegl & Tiller, Ex. 7.2). Control points and weights.
@@ -22,19 +22,19 @@ struct Conic {
   std::vector<Vec3> ctrl;
   std::vector<double> w;
 };
-Conic circle(double r) {
+Conic conic_circle(double r) {
   return {{0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1},
           {{r, 0, 0}, {r, r, 0}, {0, r, 0}, {-r, r, 0}, {-r, 0, 0},
            {-r, -r, 0}, {0, -r, 0}, {r, -r, 0}, {r, 0, 0}},
-          {1, kS, 1, kS, 1, kS, 1, kS, 1}};
+          {1, kArcWeight, 1, kArcWeight, 1, kArcWeight, 1, kArcWeight, 1}};
 }
 
 // Sphere of radius r about the origin: the meridian half circle (in XZ, from
 // the south pole to the north pole) swept by the full circle about Z.
 NurbsSurface sphere(double r) {
   const std::vector<Vec3> mer = {{0, 0, -r}, {r, 0, -r}, {r, 0, 0}, {r, 0, r}, {0, 0, r}};
-  const std::vector<double> mw = {1, kS, 1, kS, 1};
-  const Conic c = circle(1.0);
+  const std::vector<double> mw = {1, kArcWeight, 1, kArcWeight, 1};
+  const Conic c = conic_circle(1.0);
   std::vector<Vec3> ctrl;
   std::vector<double> w;
   for (size_t i = 0; i < mer.size(); ++i)
@@ -46,8 +46,8 @@ NurbsSurface sphere(double r) {
 }
 
 // Cylinder of radius r about Z, height h: u along Z (linear), v around.
-NurbsSurface cylinder(double r, double h, std::vector<double> knots_u = {0, 0, 1, 1}) {
-  const Conic c = circle(r);
+NurbsSurface nurbs_cylinder(double r, double h, std::vector<double> knots_u = {0, 0, 1, 1}) {
+  const Conic c = conic_circle(r);
   std::vector<Vec3> ctrl;
   std::vector<double> w;
   for (double z : {0.0, h})
@@ -60,7 +60,7 @@ NurbsSurface cylinder(double r, double h, std::vector<double> knots_u = {0, 0, 1
 
 TEST(NurbsCurve, RationalQuadraticCircleIsExactWithCurvatureOneOverR) {
   const double r = 37.5;
-  const Conic c = circle(r);
+  const Conic c = conic_circle(r);
   const NurbsCurve curve(2, c.knots, c.ctrl, c.w);
   for (int k = 0; k <= 400; ++k) {
     const CurveDerivs d = curve.eval(k / 400.0);
@@ -71,12 +71,12 @@ TEST(NurbsCurve, RationalQuadraticCircleIsExactWithCurvatureOneOverR) {
   }
   // Each arc is symmetric in its span, so a span's middle is its angle's.
   EXPECT_NEAR((curve.point(0.25) - Vec3(0, r, 0)).norm(), 0, 1e-12);
-  EXPECT_NEAR((curve.point(0.625) - r * Vec3(-kS, -kS, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((curve.point(0.625) - r * Vec3(-kArcWeight, -kArcWeight, 0)).norm(), 0.0, 1e-12);
 }
 
 TEST(NurbsSurface, CylinderOnExactRadiusWithPrincipalCurvatures) {
   const double r = 20, h = 55;
-  const NurbsSurface s = cylinder(r, h);
+  const NurbsSurface s = nurbs_cylinder(r, h);
   EXPECT_FALSE(s.is_polynomial());
   for (int i = 0; i <= 10; ++i)
     for (int j = 0; j <= 40; ++j) {
@@ -188,7 +188,7 @@ TEST(NurbsSurface, UnitWeightsReproduceTheBSpline) {
 // Projection and tessellation see a NURBS as any Surface.
 TEST(NurbsSurface, ProjectionAndTessellationWorkOnIt) {
   const double r = 20;
-  const NurbsSurface s = cylinder(r, 30);
+  const NurbsSurface s = nurbs_cylinder(r, 30);
   const Vec3 q(25 * std::cos(0.7), 25 * std::sin(0.7), 12);
   const SurfaceProjection pr = project_to_surface(s, q);
   ASSERT_TRUE(pr.ok) << pr.failure;
@@ -200,7 +200,7 @@ TEST(NurbsSurface, ProjectionAndTessellationWorkOnIt) {
 }
 
 TEST(NurbsSurface, RejectsBadWeightsAndSizes) {
-  const Conic c = circle(1);
+  const Conic c = conic_circle(1);
   std::vector<double> w = c.w;
   w[3] = 0;
   EXPECT_THROW(NurbsCurve(2, c.knots, c.ctrl, w), ParameterError);

@@ -18,7 +18,7 @@
 namespace bliskrun {
 namespace {
 
-ModelSample sample(const std::vector<std::shared_ptr<const Surface>>& surfaces, int n, double u1 = 1) {
+ModelSample sample_model(const std::vector<std::shared_ptr<const Surface>>& surfaces, int n, double u1 = 1) {
   ModelSample m;
   for (const auto& s : surfaces)
     for (int i = 0; i < n; ++i)
@@ -47,7 +47,7 @@ std::vector<Vec3> scan_of(const std::vector<std::shared_ptr<const Surface>>& fla
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0, noise_mm);
   std::uniform_real_distribution<double> unit(0, 1);
-  const ModelSample seen = sample(flanks, n, 0.9);
+  const ModelSample seen = sample_model(flanks, n, 0.9);
   std::vector<Vec3> scan;
   for (size_t i = 0; i < seen.points.size(); ++i) {
     Vec3 p = seen.points[i] + noise(rng) * seen.normals[i];
@@ -59,10 +59,10 @@ std::vector<Vec3> scan_of(const std::vector<std::shared_ptr<const Surface>>& fla
 
 // How far a blade point is from where the fit puts it: found * clamp should
 // be the identity; the worst over the model's samples.
-double error_on_blade_mm(const Frame& found, const Frame& clamp, const ModelSample& blade) {
+double error_on_blade_mm(const Frame& found, const Frame& clamp, const ModelSample& trusted_blade) {
   const Frame left = found * clamp;
   double worst = 0;
-  for (size_t i = 0; i < blade.points.size(); i += 97) worst = std::max(worst, (left * blade.points[i] - blade.points[i]).norm());
+  for (size_t i = 0; i < trusted_blade.points.size(); i += 97) worst = std::max(worst, (left * trusted_blade.points[i] - trusted_blade.points[i]).norm());
   return worst;
 }
 
@@ -70,10 +70,10 @@ struct Blade {
   BuiltinBlisk blisk;
   std::shared_ptr<const Surface> pressure = blisk.flank_surface(0, FlankSide::kPressure);
   std::shared_ptr<const Surface> suction = blisk.flank_surface(0, FlankSide::kSuction);
-  ModelSample model = sample({pressure, suction}, 300);
+  ModelSample model = sample_model({pressure, suction}, 300);
 };
 
-const Blade& blade() {
+const Blade& trusted_blade() {
   static const Blade b;
   return b;
 }
@@ -85,7 +85,7 @@ RegistrationOptions pre_aligned() {
 }
 
 TEST(RegistrationTrust, RecoversFiveDegreesAndFiveMillimetresOnTheBladeWithinFiveMicrometres) {
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   // Each turn about an axis through the rotor axis, the hardest way round:
   // at the blade (r 60-96 mm) 5 deg alone moves it 5-8 mm.
   std::vector<std::tuple<double, Vec3, Vec3>> cases = {
@@ -108,7 +108,7 @@ TEST(RegistrationTrust, RecoversFiveDegreesAndFiveMillimetresOnTheBladeWithinFiv
 
 TEST(RegistrationTrust, WithoutThePreAlignmentTheSameClampingIsLost) {
   // The fine ICP alone from the nominal pose: what the pre-alignment is for.
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   const Frame clamp = clamping(5, Vec3(5, 0, 0));
   bool lost = false;
   try {
@@ -121,7 +121,7 @@ TEST(RegistrationTrust, WithoutThePreAlignmentTheSameClampingIsLost) {
 }
 
 TEST(RegistrationTrust, RefusesAOneFlankScanAndSaysWhatToScan) {
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   const Frame clamp = clamping(0.5, Vec3(0.3, 0.2, -0.25));
   const RegistrationResult one = register_points(scan_of({b.pressure}, clamp, 0.005, 5), b.model, pre_aligned());
   const RegistrationResult both = register_points(scan_of({b.pressure, b.suction}, clamp, 0.005, 5), b.model, pre_aligned());
@@ -147,7 +147,7 @@ TEST(RegistrationTrust, RefusesAOneFlankScanAndSaysWhatToScan) {
 }
 
 TEST(RegistrationTrust, AnRmsAboveTheStatedNoiseIsRefused) {
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   const Frame clamp = clamping(0.5, Vec3(0.3, 0.2, -0.25));
   // Scanned with 25 um noise, stated 5 um: the rms tells.
   const RegistrationResult r = register_points(scan_of({b.pressure, b.suction}, clamp, 0.025, 7), b.model, pre_aligned());
@@ -164,7 +164,7 @@ TEST(RegistrationTrust, AnRmsAboveTheStatedNoiseIsRefused) {
 }
 
 TEST(RegistrationTrust, AFitStoppedBeforeConvergingIsRefused) {
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   RegistrationOptions o;
   o.max_iterations = 2;
   const RegistrationResult r = register_points(scan_of({b.pressure, b.suction}, clamping(0.5, Vec3(0.3, 0.2, -0.25)), 0.005, 9), b.model, o);
@@ -218,14 +218,14 @@ TEST(PoseUncertainty, TheReportedSigmaIsTheScatterOfRepeatedFits) {
   // deviation of the fitted poses' translation of the centroid and rotation
   // matches the reported sigma (the estimate's, from one fit's residuals)
   // within the scatter of a 60-sample standard deviation (~ 9 %, 3 sigma 27 %).
-  const Blade& b = blade();
+  const Blade& b = trusted_blade();
   const Frame clamp = clamping(0.3, Vec3(0.1, 0.1, 0.1));
   constexpr int kFits = 60;
   Eigen::Matrix<double, 6, 1> sum = Eigen::Matrix<double, 6, 1>::Zero(), sq = sum, reported = sum;
   for (int k = 0; k < kFits; ++k) {
     std::mt19937 rng(100 + k);
     std::normal_distribution<double> noise(0, 0.01);
-    const ModelSample seen = sample({b.pressure, b.suction}, 30, 0.9);
+    const ModelSample seen = sample_model({b.pressure, b.suction}, 30, 0.9);
     std::vector<Vec3> scan;
     for (size_t i = 0; i < seen.points.size(); ++i) scan.push_back(clamp * (seen.points[i] + noise(rng) * seen.normals[i]));
     const RegistrationResult r = register_points(scan, b.model);

@@ -26,7 +26,7 @@ std::string small_data(const std::string& hub_line_3 = "10 0 0 1") {
          "11 1 0 1\n";              // 12
 }
 
-std::string error_of(const std::string& text) {
+std::string camber_error_of(const std::string& text) {
   try {
     parse_camber_data(text, "camber.dat");
   } catch (const DataError& e) {
@@ -60,34 +60,34 @@ TEST(CamberData, BuiltinImpellerRoundTripsExactly) {
 }
 
 TEST(CamberData, BadDataIsAnErrorAtFileAndLine) {
-  EXPECT_EQ(error_of("blades 5\nmain shroud 3\n1 0 0 1\n2 0 0 1\n3 0 0 1\n"),
+  EXPECT_EQ(camber_error_of("blades 5\nmain shroud 3\n1 0 0 1\n2 0 0 1\n3 0 0 1\n"),
             "camber.dat:2: main shroud: expected at least 4 camber points, got 3");
-  EXPECT_EQ(error_of(small_data("10 nan 0 1")),
+  EXPECT_EQ(camber_error_of(small_data("10 nan 0 1")),
             "camber.dat:11: expected a finite number (x y z h of main hub), got 'nan'");
-  EXPECT_EQ(error_of(small_data("10 0 0 0")),
+  EXPECT_EQ(camber_error_of(small_data("10 0 0 0")),
             "camber.dat:11: main hub: expected a half thickness h > 0, got 0.000000");
-  EXPECT_EQ(error_of(small_data("8.5 -1.5 0 1")),
+  EXPECT_EQ(camber_error_of(small_data("8.5 -1.5 0 1")),
             "camber.dat:11: main hub: points must advance along the curve (leading edge -> "
             "trailing edge); this one turns back by 90 degrees or more");
-  EXPECT_EQ(error_of(small_data("9 -1 0 1")), "camber.dat:11: main hub: point repeats the previous point");
-  EXPECT_EQ(error_of(small_data("10 0 0")),
+  EXPECT_EQ(camber_error_of(small_data("9 -1 0 1")), "camber.dat:11: main hub: point repeats the previous point");
+  EXPECT_EQ(camber_error_of(small_data("10 0 0")),
             "camber.dat:11: expected 4 numbers (x y z h of main hub), got 3 fields");
-  EXPECT_EQ(error_of("blades 5\nmain shroud 4\n1 0 0 1\n"),
+  EXPECT_EQ(camber_error_of("blades 5\nmain shroud 4\n1 0 0 1\n"),
             "camber.dat:4: unexpected end of file; expected main shroud point 2 of 4 (x y z h)");
-  EXPECT_NE(error_of("main hub 4\n8 -2 0 1\n9 -1 0 1\n10 0 0 1\n11 1 0 1\n").find("expected a 'blades N' line"),
+  EXPECT_NE(camber_error_of("main hub 4\n8 -2 0 1\n9 -1 0 1\n10 0 0 1\n11 1 0 1\n").find("expected a 'blades N' line"),
             std::string::npos);
   // Hub and shroud of one blade pair point by point: unequal lists are
   // refused at the later list's header (line 8), whichever comes first.
   std::string five_hub = small_data();
   five_hub.replace(five_hub.find("main hub 4"), 10, "main hub 5");
-  EXPECT_EQ(error_of(five_hub + "12 2 0 1\n"),
+  EXPECT_EQ(camber_error_of(five_hub + "12 2 0 1\n"),
             "camber.dat:8: expected as many points in 'main hub' as in 'main shroud' (4: point i of each "
             "lies on one ruling), got 5");
-  EXPECT_EQ(error_of(five_hub.substr(five_hub.find("main hub")) + "12 2 0 1\nblades 5\n" +
+  EXPECT_EQ(camber_error_of(five_hub.substr(five_hub.find("main hub")) + "12 2 0 1\nblades 5\n" +
                      five_hub.substr(five_hub.find("main shroud"), five_hub.find("main hub") - five_hub.find("main shroud"))),
             "camber.dat:8: expected as many points in 'main shroud' as in 'main hub' (5: point i of each "
             "lies on one ruling), got 4");
-  EXPECT_EQ(error_of("blades 5\nwheel 4\n"),
+  EXPECT_EQ(camber_error_of("blades 5\nwheel 4\n"),
             "camber.dat:2: expected 'blades N', 'splitter_offset F' or a list header "
             "'main|splitter shroud|hub <count>', got 'wheel 4'");
 }

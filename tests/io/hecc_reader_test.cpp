@@ -18,7 +18,7 @@ std::string loop_text(const std::string& header, char sep, int rows) {
   return s;
 }
 
-void expect_error(const std::string& text, const std::string& where, const std::string& what) {
+void expect_hecc_error(const std::string& text, const std::string& where, const std::string& what) {
   try {
     parse_hecc_section(text, "s.txt", false);
     ADD_FAILURE() << "no error; expected " << where << " " << what;
@@ -46,14 +46,14 @@ TEST(HeccReader, ConvertsInchesAndRThetaBothLayouts) {
 }
 
 TEST(HeccReader, MalformedInputNamesFileLine) {
-  expect_error(loop_text("X R THETA", ' ', 10), "s.txt:1:", "unknown header");
-  expect_error(loop_text("1.0 2.0", ' ', 10), "s.txt:1:", "unknown header");
+  expect_hecc_error(loop_text("X R THETA", ' ', 10), "s.txt:1:", "unknown header");
+  expect_hecc_error(loop_text("1.0 2.0", ' ', 10), "s.txt:1:", "unknown header");
   EXPECT_EQ(parse_hecc_section(loop_text("0.5 1.0 2.0", ' ', 10), "s", false).size(), 11u);  // header-less file
-  expect_error(loop_text("X R*THETA R", ' ', 3), "s.txt:", "short block: expected at least 8 rows");
+  expect_hecc_error(loop_text("X R*THETA R", ' ', 3), "s.txt:", "short block: expected at least 8 rows");
   std::string bad = loop_text("X R*THETA R", ' ', 10);
   bad.replace(bad.find("2.0", bad.find('\n')), 3, "two");
-  expect_error(bad, "s.txt:2:", "expected a finite number");
-  expect_error(loop_text("X R*THETA R", ' ', 10) + "1.0 2.0\r\n", "s.txt:12:", "expected 3 numbers");
+  expect_hecc_error(bad, "s.txt:2:", "expected a finite number");
+  expect_hecc_error(loop_text("X R*THETA R", ' ', 10) + "1.0 2.0\r\n", "s.txt:12:", "expected 3 numbers");
   try {
     parse_hecc_flowpath("x r\n1.0\n", "hub.txt");
     ADD_FAILURE();

@@ -53,7 +53,7 @@ void put(std::string* out, T v, bool big = false) {
   for (size_t i = 0; i < sizeof(T); ++i) out->push_back(static_cast<char>(b[big ? sizeof(T) - 1 - i : i]));
 }
 
-std::string error_of(const std::string& bytes, const std::string& name, PointCloudFormat f = PointCloudFormat::kAuto) {
+std::string cloud_error_of(const std::string& bytes, const std::string& name, PointCloudFormat f = PointCloudFormat::kAuto) {
   try {
     PointCloudReadOptions o;
     o.format = f;
@@ -103,19 +103,19 @@ TEST(PointCloudReader, CsvHeaderThatNamesNothingIsSkippedAndColumnsArePositional
   ASSERT_EQ(c.points.size(), 2u);
   EXPECT_EQ(c.points[1], Vec3(4, 5, 6));
   // ... and in an XYZ file a header is an error at its line.
-  EXPECT_EQ(error_of("x y z\n1 2 3\n", "pts.xyz"), "pts.xyz:1: expected a number in column 1 (x), got 'x'");
+  EXPECT_EQ(cloud_error_of("x y z\n1 2 3\n", "pts.xyz"), "pts.xyz:1: expected a number in column 1 (x), got 'x'");
 }
 
 TEST(PointCloudReader, TextErrorsNameFileAndLine) {
-  EXPECT_EQ(error_of("1 2 3\n4 5\n", "s.xyz"), "s.xyz:2: expected 3 fields as at line 1, got 2");
-  EXPECT_EQ(error_of("1 2\n", "s.xyz"), "s.xyz:1: expected 3 fields (x y z) or 6 (x y z nx ny nz), got 2");
-  EXPECT_EQ(error_of("# c\n1 2 nan\n", "s.xyz"), "s.xyz:2: expected a finite number in column 3 (z), got 'nan'");
-  EXPECT_EQ(error_of("1,,3\n", "s.csv"), "s.csv:1: expected a number in column 2 (y), got ''");
-  EXPECT_EQ(error_of("1 2 3 0 0 1e999\n", "s.xyz"), "s.xyz:1: expected a number in column 6 (nz), got '1e999'");
-  EXPECT_EQ(error_of("# only a comment\n\n", "s.xyz"), "s.xyz:2: expected at least one point, the file has none");
-  EXPECT_EQ(error_of("x,y\n1,2\n", "s.csv"), "s.csv:1: expected the header to name columns x, y and z, 'z' is missing");
-  EXPECT_EQ(error_of("x,y,z,nx\n1,2,3,4\n", "s.csv"), "s.csv:1: expected the header to name all of nx, ny, nz or none");
-  EXPECT_EQ(error_of("z,x,y\n1,2\n", "s.csv"), "s.csv:2: expected at least 3 fields (the header's columns), got 2");
+  EXPECT_EQ(cloud_error_of("1 2 3\n4 5\n", "s.xyz"), "s.xyz:2: expected 3 fields as at line 1, got 2");
+  EXPECT_EQ(cloud_error_of("1 2\n", "s.xyz"), "s.xyz:1: expected 3 fields (x y z) or 6 (x y z nx ny nz), got 2");
+  EXPECT_EQ(cloud_error_of("# c\n1 2 nan\n", "s.xyz"), "s.xyz:2: expected a finite number in column 3 (z), got 'nan'");
+  EXPECT_EQ(cloud_error_of("1,,3\n", "s.csv"), "s.csv:1: expected a number in column 2 (y), got ''");
+  EXPECT_EQ(cloud_error_of("1 2 3 0 0 1e999\n", "s.xyz"), "s.xyz:1: expected a number in column 6 (nz), got '1e999'");
+  EXPECT_EQ(cloud_error_of("# only a comment\n\n", "s.xyz"), "s.xyz:2: expected at least one point, the file has none");
+  EXPECT_EQ(cloud_error_of("x,y\n1,2\n", "s.csv"), "s.csv:1: expected the header to name columns x, y and z, 'z' is missing");
+  EXPECT_EQ(cloud_error_of("x,y,z,nx\n1,2,3,4\n", "s.csv"), "s.csv:1: expected the header to name all of nx, ny, nz or none");
+  EXPECT_EQ(cloud_error_of("z,x,y\n1,2\n", "s.csv"), "s.csv:2: expected at least 3 fields (the header's columns), got 2");
 }
 
 // ---- PLY ----------------------------------------------------------------------
@@ -187,7 +187,7 @@ TEST(PointCloudReader, PlyErrorsNameHeaderLineOrByteOffset) {
   const std::string good = binary_ply<float>(p, {}, false);
   const size_t body = good.find("end_header\r\n") + 12;  // 12 bytes of x y z + 1 of quality per vertex
   // Truncated inside the vertices: the element does not fit, said where it starts.
-  EXPECT_EQ(error_of(good.substr(0, body + 20), "t.ply"),
+  EXPECT_EQ(cloud_error_of(good.substr(0, body + 20), "t.ply"),
             "t.ply: byte " + std::to_string(body) + ": truncated: element 'vertex' has 3 × 13 bytes, 20 remain (header line 3)");
   // Cut inside the faces after the vertices: the faces are not read, the points are whole.
   EXPECT_EQ(parse_point_cloud(good.substr(0, good.size() - 2), "t.ply").points.size(), 3u);
@@ -195,32 +195,32 @@ TEST(PointCloudReader, PlyErrorsNameHeaderLineOrByteOffset) {
   const std::string faces_first =
       "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
       "element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n\x03";
-  EXPECT_EQ(error_of(faces_first + std::string(8, '\0'), "t.ply"),
+  EXPECT_EQ(cloud_error_of(faces_first + std::string(8, '\0'), "t.ply"),
             "t.ply: byte " + std::to_string(faces_first.size()) +
                 ": truncated: expected property 'vertex_indices' of face 0, 8 bytes remain");
   // NaN at vertex 1's y.
   std::string nan = good;
   const float q = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(&nan[body + 13 + 4], &q, 4);
-  EXPECT_EQ(error_of(nan, "t.ply"),
+  EXPECT_EQ(cloud_error_of(nan, "t.ply"),
             "t.ply: byte " + std::to_string(body + 17) + ": expected a finite y of vertex 1, got nan");
   // Header errors at their line.
-  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty int x\nproperty float y\nproperty float z\nend_header\n1 2 3\n", "t.ply"),
+  EXPECT_EQ(cloud_error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty int x\nproperty float y\nproperty float z\nend_header\n1 2 3\n", "t.ply"),
             "t.ply:3: expected vertex property 'x' of type float or double");
-  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex -2\n", "t.ply"),
+  EXPECT_EQ(cloud_error_of("ply\nformat ascii 1.0\nelement vertex -2\n", "t.ply"),
             "t.ply:3: expected a count of 0 or more for element 'vertex', got '-2'");
-  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n", "t.ply"),
+  EXPECT_EQ(cloud_error_of("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n", "t.ply"),
             "t.ply:3: expected at least one vertex, the element has 0");
-  EXPECT_EQ(error_of("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n", "t.ply"),
+  EXPECT_EQ(cloud_error_of("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n", "t.ply"),
             "t.ply:4: unexpected end of file; expected 'end_header'");
-  EXPECT_EQ(error_of("ply\nformat binary 1.0\n", "t.ply"),
+  EXPECT_EQ(cloud_error_of("ply\nformat binary 1.0\n", "t.ply"),
             "t.ply:2: expected format ascii, binary_little_endian or binary_big_endian, got 'binary'");
-  EXPECT_EQ(error_of("plx\n", "t.ply"), "t.ply:1: expected 'ply' on the first line of a PLY file");
+  EXPECT_EQ(cloud_error_of("plx\n", "t.ply"), "t.ply:1: expected 'ply' on the first line of a PLY file");
   // ASCII body errors at the body's line.
   const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
-  EXPECT_EQ(error_of(ascii + "1 2 3\n4 5 inf\n", "t.ply"), "t.ply:9: expected a finite number in column 3 (z), got 'inf'");
-  EXPECT_EQ(error_of(ascii + "1 2 3\n4 5\n", "t.ply"), "t.ply:9: expected a value for property 'z', the line has 2 fields");
-  EXPECT_EQ(error_of(ascii + "1 2 3\n", "t.ply"), "t.ply:9: unexpected end of file; element 'vertex' has 2 lines, 1 remain");
+  EXPECT_EQ(cloud_error_of(ascii + "1 2 3\n4 5 inf\n", "t.ply"), "t.ply:9: expected a finite number in column 3 (z), got 'inf'");
+  EXPECT_EQ(cloud_error_of(ascii + "1 2 3\n4 5\n", "t.ply"), "t.ply:9: expected a value for property 'z', the line has 2 fields");
+  EXPECT_EQ(cloud_error_of(ascii + "1 2 3\n", "t.ply"), "t.ply:9: unexpected end of file; element 'vertex' has 2 lines, 1 remain");
 }
 
 // ---- STL ----------------------------------------------------------------------
@@ -272,29 +272,29 @@ TEST(PointCloudReader, AsciiStlGivesDistinctVerticesInInches) {
   PointCloudReadOptions o;
   o.mm_per_unit = 25.4;
   expect_square(read_point_cloud(dir.write("part.stl", text), o), 25.4);
-  EXPECT_EQ(error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\nvertex 1 2\n", "a.stl"),
+  EXPECT_EQ(cloud_error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\nvertex 1 2\n", "a.stl"),
             "a.stl:5: expected 'vertex x y z', got 2 numbers");
-  EXPECT_EQ(error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\nendloop\n", "a.stl"),
+  EXPECT_EQ(cloud_error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\nendloop\n", "a.stl"),
             "a.stl:5: expected 3 vertices in the loop of line 3, got 1");
-  EXPECT_EQ(error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 nan 3\n", "a.stl"),
+  EXPECT_EQ(cloud_error_of("solid a\nfacet normal 0 0 1\nouter loop\nvertex 1 nan 3\n", "a.stl"),
             "a.stl:4: expected a finite number in column 3 (y), got 'nan'");
-  EXPECT_EQ(error_of("solid a\nendsolid a\n", "a.stl"), "a.stl:2: expected at least one vertex, the file has none");
+  EXPECT_EQ(cloud_error_of("solid a\nendsolid a\n", "a.stl"), "a.stl:2: expected at least one vertex, the file has none");
 }
 
 TEST(PointCloudReader, BinaryStlErrorsNameTheByteOffset) {
   const std::string good = binary_stl("b");
-  EXPECT_EQ(error_of(good.substr(0, 60), "b.stl"),
+  EXPECT_EQ(cloud_error_of(good.substr(0, 60), "b.stl"),
             "b.stl: byte 60: truncated: a binary STL has an 84-byte header, the file has 60 bytes");
-  EXPECT_EQ(error_of(good.substr(0, good.size() - 1), "b.stl"),
+  EXPECT_EQ(cloud_error_of(good.substr(0, good.size() - 1), "b.stl"),
             "b.stl: byte 80: the count says 2 triangles (184 bytes), the file has 183 bytes (truncated)");
-  EXPECT_EQ(error_of(good + "x", "b.stl"), "b.stl: byte 80: the count says 2 triangles (184 bytes), the file has 185 bytes");
+  EXPECT_EQ(cloud_error_of(good + "x", "b.stl"), "b.stl: byte 80: the count says 2 triangles (184 bytes), the file has 185 bytes");
   std::string zero = good.substr(0, 84);
   zero[80] = 0;
-  EXPECT_EQ(error_of(zero, "b.stl"), "b.stl: byte 80: expected at least one triangle, the count is 0");
+  EXPECT_EQ(cloud_error_of(zero, "b.stl"), "b.stl: byte 80: expected at least one triangle, the count is 0");
   std::string nan = good;
   const float inf = std::numeric_limits<float>::infinity();
   std::memcpy(&nan[84 + 50 + 12 + 12 * 2 + 8], &inf, 4);  // triangle 1, vertex 3, z
-  EXPECT_EQ(error_of(nan, "b.stl"), "b.stl: byte 178: expected a finite z of triangle 1 vertex 3");
+  EXPECT_EQ(cloud_error_of(nan, "b.stl"), "b.stl: byte 178: expected a finite z of triangle 1 vertex 3");
   try {
     parse_point_cloud(nan, "b.stl");
     FAIL();
@@ -313,7 +313,7 @@ TEST(PointCloudReader, FormatFromContentWithoutExtensionAndForced) {
   PointCloudReadOptions o;
   o.format = PointCloudFormat::kCsv;
   EXPECT_EQ(parse_point_cloud("x,y,z\n1,2,3\n", "scan.txt", o).points.at(0), Vec3(1, 2, 3));
-  EXPECT_EQ(error_of("", "none.xyz"), "none.xyz:0: expected at least one point, the file has none");
+  EXPECT_EQ(cloud_error_of("", "none.xyz"), "none.xyz:0: expected at least one point, the file has none");
   test::TempDir dir;
   EXPECT_THROW(read_point_cloud(dir.path() + "/missing.ply"), DataError);
 }

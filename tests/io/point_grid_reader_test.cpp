@@ -13,7 +13,7 @@ namespace bliskrun {
 namespace {
 
 // Runs the parser and returns the DataError's message ("" if none).
-std::string error_of(const std::string& text, const PointGridReadOptions& o = {}) {
+std::string grid_error_of(const std::string& text, const PointGridReadOptions& o = {}) {
   try {
     parse_point_grid(text, "blade.txt", o);
   } catch (const DataError& e) {
@@ -54,47 +54,47 @@ TEST(PointGridReader, ColumnMajorFromHeaderOrOptions) {
 
 TEST(PointGridReader, ErrorsNameFileLineAndExpectation) {
   const std::string h = "# grid 2 2\n";
-  EXPECT_EQ(error_of(h + "0 0 0\n1 0 abc\n0 1 0\n1 1 0\n"),
+  EXPECT_EQ(grid_error_of(h + "0 0 0\n1 0 abc\n0 1 0\n1 1 0\n"),
             "blade.txt:3: expected a number in column 3 (z), got 'abc'");
-  EXPECT_EQ(error_of(h + "0 0 0\n1 0\n"), "blade.txt:3: expected 3 fields (x y z), got 2");
-  EXPECT_EQ(error_of(h + "0,0,0,0\n"), "blade.txt:2: expected 3 fields (x y z), got 4");
-  EXPECT_EQ(error_of(h + "0 nan 0\n"),
+  EXPECT_EQ(grid_error_of(h + "0 0 0\n1 0\n"), "blade.txt:3: expected 3 fields (x y z), got 2");
+  EXPECT_EQ(grid_error_of(h + "0,0,0,0\n"), "blade.txt:2: expected 3 fields (x y z), got 4");
+  EXPECT_EQ(grid_error_of(h + "0 nan 0\n"),
             "blade.txt:2: expected a finite number in column 2 (y), got 'nan'");
-  EXPECT_EQ(error_of(h + "inf 0 0\n"),
+  EXPECT_EQ(grid_error_of(h + "inf 0 0\n"),
             "blade.txt:2: expected a finite number in column 1 (x), got 'inf'");
-  EXPECT_EQ(error_of(h + "0 0 0\n1 0 0\n0 1 0\n"),
+  EXPECT_EQ(grid_error_of(h + "0 0 0\n1 0 0\n0 1 0\n"),
             "blade.txt:4: expected 2 x 2 = 4 points, got 3");
-  EXPECT_EQ(error_of(h + "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 2\n"),
+  EXPECT_EQ(grid_error_of(h + "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2 2 2\n"),
             "blade.txt:6: expected 2 x 2 = 4 points, got 5");
-  EXPECT_EQ(error_of("0 0 0\n"),
+  EXPECT_EQ(grid_error_of("0 0 0\n"),
             "blade.txt:0: expected a '# grid ROWS COLS [order=row|column]' header or rows and "
             "cols options");
-  EXPECT_EQ(error_of("# grid 1 4\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n"),
+  EXPECT_EQ(grid_error_of("# grid 1 4\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n"),
             "blade.txt:1: expected at least 2 rows and 2 columns, got 1 x 4");
-  EXPECT_EQ(error_of("# grid two 4\n"),
+  EXPECT_EQ(grid_error_of("# grid two 4\n"),
             "blade.txt:1: expected '# grid ROWS COLS [order=row|column]' with integer ROWS and "
             "COLS");
-  EXPECT_EQ(error_of("# grid 2 2 order=diagonal\n"),
+  EXPECT_EQ(grid_error_of("# grid 2 2 order=diagonal\n"),
             "blade.txt:1: expected '# grid ROWS COLS [order=row|column]', got 'order=diagonal'");
   PointGridReadOptions o;
   o.rows = 3;
-  EXPECT_EQ(error_of(h + "0 0 0\n", o), "blade.txt:1: header says 2 rows, options say 3");
+  EXPECT_EQ(grid_error_of(h + "0 0 0\n", o), "blade.txt:1: header says 2 rows, options say 3");
 }
 
 TEST(PointGridReader, DegenerateGridNamesBothLines) {
   // Repeat along a row: point (0,1) on line 3 repeats line 2.
-  EXPECT_EQ(error_of("# grid 2 2\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n"),
+  EXPECT_EQ(grid_error_of("# grid 2 2\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n"),
             "blade.txt:3: expected distinct consecutive points along row 0, point (0, 1) repeats "
             "line 2");
   // Repeat along a column, column-major: u-neighbours are consecutive lines.
-  EXPECT_EQ(error_of("# grid 2 2 order=column\n0 0 0\n0 0 0\n1 0 0\n2 1 0\n"),
+  EXPECT_EQ(grid_error_of("# grid 2 2 order=column\n0 0 0\n0 0 0\n1 0 0\n2 1 0\n"),
             "blade.txt:3: expected distinct consecutive points along column 0, point (1, 0) "
             "repeats line 2");
-  EXPECT_EQ(error_of("# grid 2 2\n0 0 0\n1 0 0\n0 0 0\n1 1 0\n"),
+  EXPECT_EQ(grid_error_of("# grid 2 2\n0 0 0\n1 0 0\n0 0 0\n1 1 0\n"),
             "blade.txt:4: expected distinct consecutive points along column 0, point (1, 0) "
             "repeats line 2");
   // A row collapsed to one point (zero-length row).
-  EXPECT_NE(error_of("# grid 2 3\n0 0 0\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n2 1 0\n")
+  EXPECT_NE(grid_error_of("# grid 2 3\n0 0 0\n0 0 0\n0 0 0\n0 1 0\n1 1 0\n2 1 0\n")
                 .find("along row 0"),
             std::string::npos);
 }

@@ -34,7 +34,7 @@ const char* kHubShroud =
     " Zhub\n 3 points\n -1.0 0.0 1.0\n Rhub\n 3 points\n 17.5 17.6 17.7\n"
     " Zshroud\n 2 points\n -1.0 1.0\n Rshroud\n 2 points\n 25.0 24.0\n";
 
-void expect_error(const std::string& geo, const std::string& hs, const std::string& where, const std::string& what) {
+void expect_rotor37_error(const std::string& geo, const std::string& hs, const std::string& where, const std::string& what) {
   try {
     parse_rotor37(geo, "g.dat", hs, "hs.dat");
     ADD_FAILURE() << "no error; expected " << where << " " << what;
@@ -64,36 +64,36 @@ TEST(Rotor37Reader, ConvertsCentimetresAndRadiansToThePartFrame) {
 }
 
 TEST(Rotor37Reader, UnknownHeaderNamesLine) {
-  expect_error(" Table IV NASA Rotor 38\n", kHubShroud, "g.dat:1:", "unknown header");
+  expect_rotor37_error(" Table IV NASA Rotor 38\n", kHubShroud, "g.dat:1:", "unknown header");
   std::string g = geometry();
   g.replace(g.find("THETA 2"), 7, "PHI   2");
-  expect_error(g, kHubShroud, "g.dat:5:", "unknown header");
+  expect_rotor37_error(g, kHubShroud, "g.dat:5:", "unknown header");
 }
 
 TEST(Rotor37Reader, ShortBlockNamesLine) {
   std::string g = " Table IV NASA Rotor 37 Blade Geometry\n Z and R are in centimeters\n\n" + surface(1, 50) + surface(2);
   // Line 4 title, 5 header, 6..55 data; line 56 is the next title.
-  expect_error(g, kHubShroud, "g.dat:56:", "short block: expected 100 points");
+  expect_rotor37_error(g, kHubShroud, "g.dat:56:", "short block: expected 100 points");
 }
 
 TEST(Rotor37Reader, WrongCountsNameLine) {
-  expect_error(geometry(12), kHubShroud, "g.dat:", "expected 13 surfaces, got 12");
+  expect_rotor37_error(geometry(12), kHubShroud, "g.dat:", "expected 13 surfaces, got 12");
   std::string hs = kHubShroud;
   hs.replace(hs.find("17.5 17.6 17.7"), 14, "17.5 17.6");
-  expect_error(geometry(), hs, "hs.dat:", "short block: expected 3 values of Rhub");
+  expect_rotor37_error(geometry(), hs, "hs.dat:", "short block: expected 3 values of Rhub");
   std::string wrong = kHubShroud;
   wrong.replace(wrong.find(" 25.0 24.0"), 10, " 25.0 24.0 23.0");
-  expect_error(geometry(), wrong, "hs.dat:", "wrong count: expected 2 values of Rshroud");
+  expect_rotor37_error(geometry(), wrong, "hs.dat:", "wrong count: expected 2 values of Rshroud");
 }
 
 TEST(Rotor37Reader, NonNumericFieldNamesLine) {
   std::string g = geometry();
   g.replace(g.find("20.0"), 4, "2O.0");
-  expect_error(g, kHubShroud, "g.dat:6:", "expected a finite number");
+  expect_rotor37_error(g, kHubShroud, "g.dat:6:", "expected a finite number");
   std::string missing = geometry();
   const size_t at = missing.find("\n2 ");
   missing.replace(missing.find(' ', at + 3), 1, "\n");  // splits row J = 2 into two lines
-  expect_error(missing, kHubShroud, "g.dat:7:", "expected 5 numbers");
+  expect_rotor37_error(missing, kHubShroud, "g.dat:7:", "expected 5 numbers");
 }
 
 TEST(Rotor37Reader, RealFileMatchesProvenanceFigures) {

@@ -20,7 +20,7 @@ local face = bliskrun.point_grid{rows = 3, cols = 7, points = pts}:surface()
 local paths = bliskrun.belt_paths{face = face, wheel = bliskrun.contact_wheel{radius = 20, width = 10}, scallop = 0.05}.paths
 )";
 
-std::string read_file(const std::string& path) {
+std::string read_belt_file(const std::string& path) {
   std::ifstream in(path);
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
@@ -87,7 +87,7 @@ local ok, msg = pcall(plan.write_program, plan, {post = bad, file = "bad.src"})
 assert(not ok and msg:find("does not replay the plan"), msg)
 )");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string krl = read_file(dir.path() + "/out/p.src"), rapid = read_file(dir.path() + "/out/p.mod");
+  const std::string krl = read_belt_file(dir.path() + "/out/p.src"), rapid = read_belt_file(dir.path() + "/out/p.mod");
   // KSS: DEF names the file; INI fold; home first; the wheel is BASE data,
   // the blade TOOL data; #TCP while grinding, #BASE restored.
   EXPECT_NE(krl.find("\nDEF p( )\n"), std::string::npos);
@@ -158,7 +158,7 @@ end
   const double parallel = mg * (90 - zc) * (90 - zc) + mb * (50 - zc) * (50 - zc);
   const double jx = 64500 + mb * (10 * 10 + 40 * 40) / 12 + parallel, jy = 64500 + mb * (120 * 120 + 40 * 40) / 12 + parallel,
                jz = 48000 + mb * (120 * 120 + 10 * 10) / 12;
-  const std::string krl = read_file(dir.path() + "/out/p.src");
+  const std::string krl = read_belt_file(dir.path() + "/out/p.src");
   const size_t at = krl.find("$LOAD = ");
   ASSERT_NE(at, std::string::npos);
   double M, X, Y, Z, A, B, C, JX, JY, JZ;
@@ -177,7 +177,7 @@ end
   // RAPID: tload the gripper alone (flange frame), the payload the plate in
   // the blade frame — its centre of gravity at the blade origin, not at the
   // flange's (0, 0, 50); its moments about the blade's own axes.
-  const std::string rapid = read_file(dir.path() + "/out/p.mod");
+  const std::string rapid = read_belt_file(dir.path() + "/out/p.mod");
   EXPECT_NE(rapid.find(",[15.000,[0.000,0.000,90.000],[1.000000000,0.000000000,0.000000000,0.000000000],0.064500000,0.064500000,0.048000000]];"),
             std::string::npos)
       << rapid.substr(0, 900);

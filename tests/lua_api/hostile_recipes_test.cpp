@@ -25,7 +25,7 @@ struct Hostile {
   std::string name, path;
 };
 
-std::vector<Hostile> corpus() {
+std::vector<Hostile> hostile_corpus() {
   std::vector<Hostile> out;
   for (const auto& e : fs::directory_iterator(std::string(BLISKRUN_SOURCE_DIR) + "/tests/lua_api/hostile"))
     if (e.path().extension() == ".lua") out.push_back({e.path().stem().string(), e.path().string()});
@@ -67,7 +67,7 @@ TEST_P(HostileRecipe, EndsCleanlyWithItsMessage) {
       EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << "left behind: " << e.path();
 }
 
-INSTANTIATE_TEST_SUITE_P(Corpus, HostileRecipe, ::testing::ValuesIn(corpus()),
+INSTANTIATE_TEST_SUITE_P(Corpus, HostileRecipe, ::testing::ValuesIn(hostile_corpus()),
                          [](const ::testing::TestParamInfo<Hostile>& info) { return info.param.name; });
 
 // The previous file survives a failed write (file_size_limit.lua).

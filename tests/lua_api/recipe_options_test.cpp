@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string recipe(const std::string& name) { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name; }
+std::string recipe_file(const std::string& name) { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name; }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -59,7 +59,7 @@ TEST(RecipeOptions, HelpListsEveryShippedRecipesOptionsWithoutPlanning) {
 
 TEST(RecipeOptions, HelpRowGivesTypeUnitDefaultRangeAndHelp) {
   TempDir dir;
-  const RecipeResult r = run_bliskrun({recipe("blisk_drum_finish.lua"), "--help", "--out", dir.path() + "/out"});
+  const RecipeResult r = run_bliskrun({recipe_file("blisk_drum_finish.lua"), "--help", "--out", dir.path() + "/out"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string row = help_row(r.output, "chord_tol");
   ASSERT_FALSE(row.empty()) << r.output;
@@ -74,7 +74,7 @@ TEST(RecipeOptions, HelpRowGivesTypeUnitDefaultRangeAndHelp) {
 TEST(RecipeOptions, UnknownNameIsRefusedWithTheKnownNames) {
   TempDir dir;
   const RecipeResult r = run_bliskrun(
-      {recipe("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "c_rnage=20"});
+      {recipe_file("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "c_rnage=20"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "--set c_rnage=20: this recipe has no option 'c_rnage'")) << r.output;
   EXPECT_TRUE(has(r.output, "did you mean 'c_range'?")) << r.output;
@@ -90,7 +90,7 @@ TEST(RecipeOptions, UnknownNameIsRefusedWithTheKnownNames) {
 TEST(RecipeOptions, MillimetreValueOfAMicrometreToleranceIsRefused) {
   TempDir dir;
   const RecipeResult r = run_bliskrun(
-      {recipe("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "chord_tol=2"});
+      {recipe_file("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "chord_tol=2"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "--set chord_tol=2: expected 1e-05..0.1 mm")) << r.output;
   EXPECT_TRUE(has(r.output, "2 um is chord_tol=0.002")) << r.output;
@@ -98,7 +98,7 @@ TEST(RecipeOptions, MillimetreValueOfAMicrometreToleranceIsRefused) {
   // The same slip in another recipe, and a plausible value passes the check
   // (the run then stops at the unknown name that follows it).
   const RecipeResult job = run_bliskrun(
-      {recipe("impeller_job.lua"), "--quiet", "--out", dir.path() + "/out2", "--set", "chord_tol=5"});
+      {recipe_file("impeller_job.lua"), "--quiet", "--out", dir.path() + "/out2", "--set", "chord_tol=5"});
   EXPECT_EQ(job.exit_code, 1);
   EXPECT_TRUE(has(job.output, "--set chord_tol=5: expected 1e-05..0.1 mm")) << job.output;
 }
@@ -106,7 +106,7 @@ TEST(RecipeOptions, MillimetreValueOfAMicrometreToleranceIsRefused) {
 TEST(RecipeOptions, WheelWiderThanTheNarrowestPassageIsRefusedBeforePlanning) {
   TempDir dir;
   const RecipeResult r = run_bliskrun(
-      {recipe("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "wheel_diameter=12"});
+      {recipe_file("blisk_drum_finish.lua"), "--quiet", "--out", dir.path() + "/out", "--set", "wheel_diameter=12"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   // The built-in blisk's d_min is 10.502 mm (docs/lua_api/parts.md: ~10.5).
   EXPECT_TRUE(has(r.output, "its diameter 12.000 mm is not below the narrowest passage between the blades, "
@@ -121,7 +121,7 @@ TEST(RecipeOptions, WheelWiderThanTheNarrowestPassageIsRefusedBeforePlanning) {
 TEST(RecipeOptions, WheelWiderThanARealPartsPassageIsRefusedBeforeAnythingIsWritten) {
   if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 wheel check skipped";
   TempDir dir;
-  const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--quiet", "--out",
+  const RecipeResult r = run_bliskrun({recipe_file("rotor67_finish.lua"), "--data", shared_data_dir(), "--quiet", "--out",
                                        dir.path() + "/out", "--set", "wheel_diameter=21"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "its diameter 21.000 mm is not below the narrowest passage between the blades, "

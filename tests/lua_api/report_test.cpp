@@ -14,7 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
+std::string slurp_report(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
@@ -66,7 +66,7 @@ TEST(Report, WellFormedSelfContainedPageWithTocTablesChartsAndPictures) {
   test::TempDir dir;
   const auto r = test::run_recipe_text(dir, kReportRecipe);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string html = slurp(fs::path(dir.path()) / "out" / "report.html");
+  const std::string html = slurp_report(fs::path(dir.path()) / "out" / "report.html");
   expect_well_formed_and_self_contained(html);
   EXPECT_NE(html.find("<title>Test &lt;run&gt;</title>"), std::string::npos);
   EXPECT_NE(html.find("<li><a href=\"#s2\">Pictures</a></li>"), std::string::npos);
@@ -104,7 +104,7 @@ TEST(Report, VerdictFirstPassesWithinTheTolerances) {
   test::TempDir dir;
   const auto r = test::run_recipe_text(dir, verdict_recipe("5"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string html = slurp(fs::path(dir.path()) / "out" / "report.html");
+  const std::string html = slurp_report(fs::path(dir.path()) / "out" / "report.html");
   expect_well_formed_and_self_contained(html);
   const size_t verdict = html.find("<section id=\"verdict\" class=\"verdict pass\">");
   ASSERT_NE(verdict, std::string::npos);
@@ -114,7 +114,7 @@ TEST(Report, VerdictFirstPassesWithinTheTolerances) {
                       "<td>PASS</td>"), std::string::npos) << html;
   EXPECT_NE(html.find("<td class=\"n\">1.31</td>"), std::string::npos);
   // The JSON report starts with the verdict; the other keys stay sorted.
-  const std::string json = slurp(fs::path(dir.path()) / "out" / "run.json");
+  const std::string json = slurp_report(fs::path(dir.path()) / "out" / "run.json");
   EXPECT_EQ(json.find("{\n  \"verdict\": {"), 0u) << json.substr(0, 80);
   EXPECT_LT(json.find("\"a\": 1"), json.find("\"z\""));
   EXPECT_NE(json.find("\"overall\": \"PASS\""), std::string::npos);
@@ -127,11 +127,11 @@ TEST(Report, VerdictFailsWhenATolerancesIsExceededAndTheRunExitsNonZeroAfterTheP
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("verdict FAIL: overcut: deepest cut below the design 1.31 µm (limit <= 1 µm)"),
             std::string::npos) << r.output;
-  const std::string html = slurp(fs::path(dir.path()) / "out" / "report.html");
+  const std::string html = slurp_report(fs::path(dir.path()) / "out" / "report.html");
   EXPECT_NE(html.find("Verdict: <strong>FAIL</strong>"), std::string::npos);
   EXPECT_NE(html.find("<tr class=\"fail\"><td>overcut: deepest cut below the design</td>"), std::string::npos);
   EXPECT_NE(html.find("<tr class=\"pass\"><td>material left</td>"), std::string::npos);
-  const std::string json = slurp(fs::path(dir.path()) / "out" / "run.json");
+  const std::string json = slurp_report(fs::path(dir.path()) / "out" / "run.json");
   EXPECT_NE(json.find("\"overall\": \"FAIL\""), std::string::npos);
 }
 
@@ -176,7 +176,7 @@ TEST(Report, OpensInHeadlessChromium) {
   const std::string flags = " --headless --no-sandbox --disable-gpu --user-data-dir=" + dir.path() + "/profile ";
   ASSERT_EQ(std::system((browser + flags + "--dump-dom file://" + page.string() + " > " + dom.string() +
                          " 2>/dev/null").c_str()), 0);
-  const std::string d = slurp(dom);
+  const std::string d = slurp_report(dom);
   size_t rows = 0;
   for (size_t p = d.find("<tr>"); p != std::string::npos; p = d.find("<tr>", p + 1)) ++rows;
   EXPECT_EQ(rows, 3u);  // heading + 2 rows
@@ -188,7 +188,7 @@ TEST(Report, OpensInHeadlessChromium) {
   ASSERT_EQ(std::system((browser + " --headless --no-sandbox --disable-gpu --user-data-dir=" + verdict_dir.path() +
                          "/profile --dump-dom file://" + verdict_dir.path() + "/out/report.html > " +
                          verdict_dom.string() + " 2>/dev/null").c_str()), 0);
-  const std::string vd = slurp(verdict_dom);
+  const std::string vd = slurp_report(verdict_dom);
   ASSERT_NE(vd.find("Verdict: <strong>PASS</strong>"), std::string::npos);
   EXPECT_LT(vd.find("Verdict: <strong>PASS</strong>"), vd.find("<nav>"));
   EXPECT_NE(d.find("data:image/png;base64,"), std::string::npos);

@@ -12,7 +12,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
+std::string slurp_vtk(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
@@ -54,22 +54,22 @@ assert(pvd:match("run%.pvd$"))
 )");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const fs::path out = fs::path(dir.path()) / "out";
-  const std::string pvd = slurp(out / "run.pvd");
+  const std::string pvd = slurp_vtk(out / "run.pvd");
   for (const char* f : {"run_1_pressure_flank.vtp", "run_2_toolpath.vtp", "run_3_refused.vtp"}) {
     EXPECT_NE(pvd.find(std::string("file=\"") + f + "\""), std::string::npos) << f;
     ASSERT_TRUE(fs::exists(out / f)) << f;
   }
-  const std::string flank = slurp(out / "run_1_pressure_flank.vtp");
+  const std::string flank = slurp_vtk(out / "run_1_pressure_flank.vtp");
   EXPECT_EQ(declared(flank, "NumberOfPoints"), 35);
   EXPECT_EQ(declared(flank, "NumberOfPolys"), 2 * 4 * 6);
   EXPECT_EQ(count_values(flank, "connectivity"), 3u * 48);
-  const std::string path = slurp(out / "run_2_toolpath.vtp");
+  const std::string path = slurp_vtk(out / "run_2_toolpath.vtp");
   EXPECT_EQ(declared(path, "NumberOfPoints"), 9);
   EXPECT_EQ(declared(path, "NumberOfLines"), 1);
   EXPECT_EQ(count_values(path, "tool_axis"), 27u);
   EXPECT_EQ(count_values(path, "feed"), 9u);
   EXPECT_NE(path.find("\n          9 18 0.5\n"), std::string::npos);  // last tip, exactly
-  const std::string refused = slurp(out / "run_3_refused.vtp");
+  const std::string refused = slurp_vtk(out / "run_3_refused.vtp");
   EXPECT_EQ(declared(refused, "NumberOfVerts"), 3);
   EXPECT_EQ(count_values(refused, "reason"), 3u);
   EXPECT_NE(refused.find("0 = holder; 1 = shank;"), std::string::npos);

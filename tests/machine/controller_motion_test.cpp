@@ -13,17 +13,13 @@
 #include "core/machine/motion.h"
 #include "core/machine/verify.h"
 #include "machine/test_machines.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
 
-constexpr double kDeg = kPi / 180;
 const ToolReach kReach{5.0, 120.0};  // a cutter reaching 5 mm from its tip, holder top 120 mm
 
-ToolPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
-  return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
-                    std::cos(tilt_rad))};
-}
 
 // The whole tool's departure from the planned motion a -> b while the
 // controller moves from block `from` to block `to`, by brute force: dense
@@ -49,9 +45,9 @@ double dense_tool_deviation(const Kinematics& kin, ControllerMotion motion, cons
 std::vector<PlannedMove> pole_swing() {
   std::vector<PlannedMove> path(2);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(30, 0, 5), 5 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(30, 0, 5), 5 * kDeg, 0);
   path[1].feed_mm_per_min = 600;
-  path[1].pose = tilted(Vec3(30, 2, 5), 5 * kDeg, 150 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(30, 2, 5), 5 * kDeg, 150 * kDeg);
   return path;
 }
 
@@ -207,11 +203,11 @@ TEST(ControllerMotion, WayInAndOutRunAlongTheToolAxisFromTheSafeHeight) {
   const Kinematics kin(m, 80.0);
   std::vector<PlannedMove> path(3);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(40, 0, 20), 30 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(40, 0, 20), 30 * kDeg, 0);
   path[1].feed_mm_per_min = 500;
-  path[1].pose = tilted(Vec3(40, 5, 20), 30 * kDeg, 10 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(40, 5, 20), 30 * kDeg, 10 * kDeg);
   path[2] = path[1];
-  path[2].pose = tilted(Vec3(40, 10, 20), 30 * kDeg, 20 * kDeg);
+  path[2].pose = test::tilted_pose(Vec3(40, 10, 20), 30 * kDeg, 20 * kDeg);
   MotionOptions o;
   o.start.linear_mm = Vec3(100, -50, 120);
   o.approach.enabled = true;
@@ -294,7 +290,7 @@ TEST(ControllerMotion, ContinuousRotaryIsResetAtLinksWithinTheInputRange) {
       PlannedMove p;
       p.kind = k == 0 ? MoveKind::Rapid : MoveKind::Feed;
       p.feed_mm_per_min = 800;
-      p.pose = tilted(Vec3(20 + 0.2 * k, 0, 10 + row), 40 * kDeg, azimuth);
+      p.pose = test::tilted_pose(Vec3(20 + 0.2 * k, 0, 10 + row), 40 * kDeg, azimuth);
       if (k < 10) azimuth += 20 * kDeg;
       path.push_back(p);
     }
@@ -327,9 +323,9 @@ TEST(ControllerMotion, FeedKeepsTheCutterAndTheRotariesWithinTheirLimits) {
   const Kinematics kin(m, 80.0);
   std::vector<PlannedMove> path(2);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(0, 0, 5), 30 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(0, 0, 5), 30 * kDeg, 0);
   path[1].feed_mm_per_min = 600;
-  path[1].pose = tilted(Vec3(0.1, 0, 5), 30 * kDeg, 10 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(0.1, 0, 5), 30 * kDeg, 10 * kDeg);
   MotionOptions o;
   o.tcp = false;
   o.chord_tol_mm = 10;  // one block, as planned (the timing is the point here)

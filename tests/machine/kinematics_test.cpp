@@ -12,7 +12,6 @@ namespace {
 
 using test::angle_between;
 
-constexpr double kDeg = kPi / 180;
 
 class EveryConfiguration : public ::testing::TestWithParam<int> {
  protected:

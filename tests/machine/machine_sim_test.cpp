@@ -26,7 +26,7 @@ MachineBody box(const std::string& name, const std::string& frame, Vec3 lo, Vec3
   return b;
 }
 
-MachineBody cylinder(const std::string& name, const std::string& frame, Vec3 from, Vec3 to, double r) {
+MachineBody cylinder_body(const std::string& name, const std::string& frame, Vec3 from, Vec3 to, double r) {
   MachineBody b;
   b.name = name;
   b.frame = frame;
@@ -58,7 +58,7 @@ const BodyApproach* pair(const MachineSimReport& r, const std::string& a, const 
 // slab from the gauge point up, wider than the table.
 MachineDefinition trunnion_with_slab_head() {
   MachineDefinition m = table_table_ac();
-  m.bodies = {cylinder("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
+  m.bodies = {cylinder_body("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
               box("head", "spindle", {-1000, -1000, 0}, {1000, 1000, 100})};
   return m;
 }
@@ -95,7 +95,7 @@ TEST(MachineSim, BadBodiesAreNamed) {
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("bodies[1].frame: 'W' is no frame of this machine"), std::string::npos) << e.what();
   }
-  m.bodies = {cylinder("spindle", "spindle", {0, 0, 0}, {0, 0, 0}, 10)};
+  m.bodies = {cylinder_body("spindle", "spindle", {0, 0, 0}, {0, 0, 0}, 10)};
   EXPECT_THROW(validate(m), ParameterError);
   m.bodies = {box("a", "base", {0, 0, 0}, {1, 1, 1}), box("a", "A", {0, 0, 0}, {1, 1, 1})};
   EXPECT_THROW(validate(m), ParameterError);
@@ -165,7 +165,7 @@ TEST(MachineSim, FixturePassedAtOneMillimetreReportsOneMillimetre) {
 // than the clearance must be reported.
 TEST(MachineSim, BoundHoldsAgainstDenseReplay) {
   MachineDefinition m = table_table_ac();
-  m.bodies = {cylinder("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
+  m.bodies = {cylinder_body("table", "C", {0, 3, -30}, {0, 3, 0}, 150),
               box("cradle cheek", "A", {160, -100, -170}, {220, 100, 30}),
               box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}),
               box("ram", "Z", {-80, 70, 0}, {80, 200, 600})};

@@ -6,11 +6,11 @@
 
 #include "core/common/error.h"
 #include "machine/test_machines.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
 
-constexpr double kDeg = kPi / 180;
 
 double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
@@ -33,10 +33,6 @@ double dense_deviation(const Kinematics& kin, const MachineAxes& a, const Machin
   return worst;
 }
 
-ToolPose tilted(const Vec3& tip, double tilt_rad, double azimuth_rad) {
-  return {tip, Vec3(std::sin(tilt_rad) * std::cos(azimuth_rad), std::sin(tilt_rad) * std::sin(azimuth_rad),
-                    std::cos(tilt_rad))};
-}
 
 // The bound move_deviation reports is never below the true departure, and
 // the sampled value never above it.
@@ -72,10 +68,10 @@ TEST(MachineMotion, SplittingKeepsANinetyDegreeSwingWithinTolerance) {
   const double tol = 0.002;
   std::vector<PlannedMove> path(2);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(40, 0, 5), 30 * kDeg, 0);
   path[1].kind = MoveKind::Feed;
   path[1].feed_mm_per_min = 1000;
-  path[1].pose = tilted(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
 
   MachineAxes start;
   const MachineAxes a = kin.inverse(path[0].pose, start), b = kin.inverse(path[1].pose, a);
@@ -113,11 +109,11 @@ TEST(MachineMotion, RapidsThatTurnARotaryAreSplitPositioningMoves) {
   const double tol = 0.005;
   std::vector<PlannedMove> path(3);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(40, 0, 5), 30 * kDeg, 0);
   path[1].kind = MoveKind::Rapid;  // C turns 60 deg: a link between rows
-  path[1].pose = tilted(Vec3(20, 35, 8), 30 * kDeg, 60 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(20, 35, 8), 30 * kDeg, 60 * kDeg);
   path[2].kind = MoveKind::Rapid;  // two linear axes, rotaries fixed
-  path[2].pose = tilted(Vec3(25, 40, 8), 30 * kDeg, 60 * kDeg);
+  path[2].pose = test::tilted_pose(Vec3(25, 40, 8), 30 * kDeg, 60 * kDeg);
   MotionOptions options;
   options.chord_tol_mm = tol;
   const MachineProgram program = plan_machine_motion(kin, path, options);
@@ -153,9 +149,9 @@ TEST(MachineMotion, TcpOutputIsNotSplitAtTheTip) {
   const Kinematics kin(test::table_table_ac(), 80.0);
   std::vector<PlannedMove> path(2);
   path[0].kind = MoveKind::Rapid;
-  path[0].pose = tilted(Vec3(40, 0, 5), 30 * kDeg, 0);
+  path[0].pose = test::tilted_pose(Vec3(40, 0, 5), 30 * kDeg, 0);
   path[1].feed_mm_per_min = 1000;
-  path[1].pose = tilted(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
+  path[1].pose = test::tilted_pose(Vec3(0, 40, 5), 30 * kDeg, 90 * kDeg);
   MotionOptions options;
   options.tcp = true;
   EXPECT_EQ(plan_machine_motion(kin, path, options).moves.size(), 2u);

@@ -17,7 +17,6 @@
 namespace bliskrun {
 namespace {
 
-constexpr double kDeg = kPi / 180;
 
 std::string scripts() { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts"; }
 
@@ -84,7 +83,7 @@ struct Written {
 };
 
 // `job` fills in what the test states beyond the name and the tool.
-Written write(lua_State* L, const std::string& machine_file, const std::string& post, bool tcp,
+Written write_program(lua_State* L, const std::string& machine_file, const std::string& post, bool tcp,
               const std::function<void(lua_api::PostJob&)>& job_of = {}) {
   Written w;
   w.kin = std::make_unique<Kinematics>(load_machine(L, machine_file), 80.0);
@@ -110,7 +109,7 @@ Written write(lua_State* L, const std::string& machine_file, const std::string& 
 // Literal programs: any change to a post's wording shows up here.
 TEST(MachinePosts, FanucMachineAxesProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", false);
+  const Written w = write_program(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", false);
   EXPECT_EQ(w.text,
             "%\n"
             "O1000 (BLADE 1)\n"
@@ -148,7 +147,7 @@ TEST(MachinePosts, FanucTcpProgramIsLiteral) {
   LuaState lua;
   // The second setup of a job: turned over, another work offset, a second
   // tool the header lists though this short path never calls it, a note.
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
     job.tools.push_back({7, 95.25, 0});
     job.work_offset = 2;
     job.setup = {"turned over (inlet up)", true, 0};
@@ -207,7 +206,7 @@ int line_ending(const std::vector<std::string>& lines, const std::string& tail) 
 
 TEST(MachinePosts, FanucShopOptions) {
   LuaState lua;
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "dmg_like_ac_trunnion.lua", "fanuc", true, [](lua_api::PostJob& job) {
     job.work_offset = 9;  // G54.1 P3
     job.coolant = "through";
     job.program_number = 4711;
@@ -229,7 +228,7 @@ TEST(MachinePosts, FanucShopOptions) {
 
 TEST(MachinePosts, HeidenhainShopOptions) {
   LuaState lua;
-  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
     job.coolant = "flood";
     job.program_number = 1234;
   });
@@ -244,7 +243,7 @@ TEST(MachinePosts, HeidenhainShopOptions) {
 
 TEST(MachinePosts, SiemensShopOptionsAndOff) {
   LuaState lua;
-  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
     job.coolant = "mist";
     job.program_number = 42;
   });
@@ -254,7 +253,7 @@ TEST(MachinePosts, SiemensShopOptionsAndOff) {
   EXPECT_EQ(line_ending(lines, " M9"), line_ending(lines, " TRAFOOF") + 1) << w.text;
   // "off": coolant off after the tool change, nothing to switch off at the end.
   LuaState again;
-  const Written off = write(again.L, "gantry_head_head.lua", "siemens840d", true,
+  const Written off = write_program(again.L, "gantry_head_head.lua", "siemens840d", true,
                             [](lua_api::PostJob& job) { job.coolant = "off"; });
   const auto off_lines = lines_of(off.text);
   const int m9 = line_ending(off_lines, " M9");
@@ -266,7 +265,7 @@ TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
   LuaState lua;
   // Work offset 5 is the first settable frame past G57; a part clocked on
   // its fixture; a note whose trailing '~' would have continued the block.
-  const Written w = write(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "gantry_head_head.lua", "siemens840d", true, [](lua_api::PostJob& job) {
     job.work_offset = 5;
     job.setup = {"", false, 16.3636};
     job.notes = {"blade 1 at the fixture's pin ~"};
@@ -302,7 +301,7 @@ TEST(MachinePosts, SiemensTraoriProgramIsLiteral) {
 
 TEST(MachinePosts, HeidenhainTcpmProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
+  const Written w = write_program(lua.L, "monoblock_like_head_table.lua", "heidenhain", true, [](lua_api::PostJob& job) {
     job.tools.push_back({9, 112.5, 6000});
     job.work_offset = 3;
     job.setup = {"turned over (inlet up)", true, 0};
@@ -341,12 +340,12 @@ TEST(MachinePosts, HeidenhainTcpmProgramIsLiteral) {
   EXPECT_EQ(read.front().work_offset, 3);
   EXPECT_EQ(read.front().line, 20);
   LuaState again;
-  EXPECT_THROW(write(again.L, "monoblock_like_head_table.lua", "heidenhain", false), Error);
+  EXPECT_THROW(write_program(again.L, "monoblock_like_head_table.lua", "heidenhain", false), Error);
 }
 
 TEST(MachinePosts, LinuxcncTrtProgramIsLiteral) {
   LuaState lua;
-  const Written w = write(lua.L, "dmg_like_ac_trunnion.lua", "linuxcnc", false,  // trt: TCP anyway
+  const Written w = write_program(lua.L, "dmg_like_ac_trunnion.lua", "linuxcnc", false,  // trt: TCP anyway
                           [](lua_api::PostJob& job) { job.work_offset = 8; });
   EXPECT_TRUE(w.tcp_always);
   EXPECT_EQ(w.text,
@@ -377,7 +376,7 @@ TEST(MachinePosts, LinuxcncTrtProgramIsLiteral) {
             "M30\n"
             "%\n");
   LuaState other;
-  EXPECT_THROW(write(other.L, "monoblock_like_head_table.lua", "linuxcnc", true), Error);
+  EXPECT_THROW(write_program(other.L, "monoblock_like_head_table.lua", "linuxcnc", true), Error);
 }
 
 // Every post's program reads back and replays onto the plan, on every
@@ -392,7 +391,7 @@ TEST(MachinePosts, EveryPostReadsBackWithinTolerance) {
       {"dmg_like_ac_trunnion.lua", "linuxcnc", true}};
   for (const Case& c : cases) {
     LuaState lua;
-    const Written w = write(lua.L, c.machine, c.post, c.tcp);
+    const Written w = write_program(lua.L, c.machine, c.post, c.tcp);
     VerifyOptions options;
     options.read.file_name = std::string(c.post) + ".nc";
     options.read.tcp = w.tcp_always;
@@ -400,7 +399,7 @@ TEST(MachinePosts, EveryPostReadsBackWithinTolerance) {
     EXPECT_EQ(report.moves, static_cast<long>(w.plan.moves.size())) << c.machine << " " << c.post;
     EXPECT_LT(report.max_position_mm, 0.005) << c.machine << " " << c.post;
     LuaState lua2;
-    EXPECT_EQ(write(lua2.L, c.machine, c.post, c.tcp).text, w.text);
+    EXPECT_EQ(write_program(lua2.L, c.machine, c.post, c.tcp).text, w.text);
   }
 }
 

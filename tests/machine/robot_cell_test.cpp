@@ -13,7 +13,7 @@ namespace {
 // A KR 120-class arm, one wheel 1.7 m in front of it at table height, its
 // normal facing the robot and its axis horizontal; the blade held 150 mm out
 // along the flange's z axis.
-RobotCell test_cell() {
+RobotCell reach_cell() {
   RobotCell cell;
   cell.name = "test cell";
   RobotArm& arm = cell.arm;
@@ -49,7 +49,7 @@ std::vector<BladeContact> strip(double z) {
 }
 
 TEST(RobotCell, TheContactLiesOnTheWheelWithItsNormalIntoIt) {
-  const RobotCell cell = test_cell();
+  const RobotCell cell = reach_cell();
   const BeltStation& st = cell.station("fine");
   const BladeContact c{Vec3(12, -3, 40), Vec3(0.3, 1, 0.1).normalized(), Vec3(1, -0.3, 0).normalized()};
   for (bool turned : {false, true}) {
@@ -63,7 +63,7 @@ TEST(RobotCell, TheContactLiesOnTheWheelWithItsNormalIntoIt) {
 }
 
 TEST(RobotCell, EveryGrindingMovePutsItsContactOnTheWheelThroughTheArmsKinematics) {
-  const RobotCell cell = test_cell();
+  const RobotCell cell = reach_cell();
   const BeltStation& st = cell.station("fine");
   RobotGrindingOptions o;
   o.start = cell.home;
@@ -92,7 +92,7 @@ TEST(RobotCell, EveryGrindingMovePutsItsContactOnTheWheelThroughTheArmsKinematic
 }
 
 TEST(RobotCell, AStationOutOfReachRefusesThePathsAndEmitsNothing) {
-  RobotCell cell = test_cell();
+  RobotCell cell = reach_cell();
   cell.stations[0].contact.translation() = Vec3(4000, 0, 900);  // beyond 2.7 m
   RobotGrindingOptions o;
   o.start = cell.home;
@@ -105,9 +105,9 @@ TEST(RobotCell, AStationOutOfReachRefusesThePathsAndEmitsNothing) {
 // The strip's face, blade frame: the plane y = 0 (normal +y), x in
 // [-40, 40], z in [0, 40]; and optionally a wall across it at z = 30
 // standing 30 mm towards the wheel (a root platform beside the paths).
-class Plane : public Surface {
+class CellPlane : public Surface {
  public:
-  Plane(Vec3 o, Vec3 a, Vec3 b) : o_(o), a_(a), b_(b) {}
+  CellPlane(Vec3 o, Vec3 a, Vec3 b) : o_(o), a_(a), b_(b) {}
   SurfaceDerivs eval(double u, double v) const override {
     SurfaceDerivs d;
     d.p = o_ + u * a_ + v * b_;
@@ -122,13 +122,13 @@ class Plane : public Surface {
 
 BladeBody strip_body(bool wall) {
   std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> faces{
-      {"flank", std::make_shared<Plane>(Vec3(-40, 0, 0), Vec3(80, 0, 0), Vec3(0, 0, 40))}};
-  if (wall) faces.push_back({"platform", std::make_shared<Plane>(Vec3(-40, 0, 30), Vec3(80, 0, 0), Vec3(0, 30, 0))});
+      {"flank", std::make_shared<CellPlane>(Vec3(-40, 0, 0), Vec3(80, 0, 0), Vec3(0, 0, 40))}};
+  if (wall) faces.push_back({"platform", std::make_shared<CellPlane>(Vec3(-40, 0, 30), Vec3(80, 0, 0), Vec3(0, 30, 0))});
   return BladeBody::sample(faces, 0.5);
 }
 
 TEST(RobotCell, TheWheelAndBeltAreCheckedAgainstTheWholeBladeOnEveryMoveAndBetween) {
-  const RobotCell cell = test_cell();
+  const RobotCell cell = reach_cell();
   RobotGrindingOptions o;
   o.start = cell.home;
   const BladeBody clear = strip_body(false);
@@ -169,7 +169,7 @@ TEST(RobotCell, TheWheelAndBeltAreCheckedAgainstTheWholeBladeOnEveryMoveAndBetwe
 // way. Home 15 mm into the wheel: no staging pose helps, both ends are
 // refused, named, and nothing of the plan may be posted.
 TEST(RobotCell, TheJointMovesFromAndBackToHomeAreCheckedAgainstTheWheel) {
-  const RobotCell cell = test_cell();
+  const RobotCell cell = reach_cell();
   const BeltStation& st = cell.stations[0];
   const BladeBody body = strip_body(false);
   RobotGrindingOptions o;

@@ -118,7 +118,7 @@ TEST(KukaStatus, EveryBranchOfTheInverseHasTheStatusOfItsGeometry) {
 }
 
 // A cell with the KR 120 R2700-2 and one wheel 1.7 m ahead at 900 mm.
-RobotCell test_cell(const RobotArm& arm, const JointAngles& home) {
+RobotCell program_cell(const RobotArm& arm, const JointAngles& home) {
   RobotCell cell;
   cell.name = "test cell";
   cell.arm = arm;
@@ -139,7 +139,7 @@ RobotCell test_cell(const RobotArm& arm, const JointAngles& home) {
 
 // Contacts on a cylinder of radius 100 about the blade's z axis: the normal
 // turns 1.15° per 2 mm step.
-std::vector<BladeContact> arc(double z) {
+std::vector<BladeContact> contact_arc(double z) {
   std::vector<BladeContact> path;
   for (int i = 0; i <= 20; ++i) {
     const double a = -0.2 + 0.02 * i;
@@ -203,7 +203,7 @@ std::string krl(const RobotCell& cell, const RobotGrindingPlan& plan, const Vari
 }
 
 // RAPID as the controller reads it: a stationary tool and a work object held by the robot.
-std::string rapid(const RobotCell& cell, const RobotGrindingPlan& plan, const Variant& v, const std::string& name = "T") {
+std::string robot_rapid(const RobotCell& cell, const RobotGrindingPlan& plan, const Variant& v, const std::string& name = "T") {
   const BeltStation& st = cell.stations[0];
   const JointAngles& h = cell.home;
   char b[600];
@@ -234,25 +234,25 @@ std::string rapid(const RobotCell& cell, const RobotGrindingPlan& plan, const Va
   return text + "  ENDPROC\nENDMODULE\n";
 }
 
-struct Fixture {
-  RobotCell kuka = test_cell(kuka_arm(), deg(0, -90, 90, 0, 30, 0));
-  RobotCell abb = test_cell(abb_arm(), deg(0, 0, 0, 0, 30, 0));
+struct ProgramFixture {
+  RobotCell kuka = program_cell(kuka_arm(), deg(0, -90, 90, 0, 30, 0));
+  RobotCell abb = program_cell(abb_arm(), deg(0, 0, 0, 0, 30, 0));
   RobotGrindingPlan plan_for(const RobotCell& cell) const {
     RobotGrindingOptions o;
     o.start = cell.home;
-    const RobotGrindingPlan p = plan_robot_grinding(cell, cell.stations[0], {arc(20), arc(22)}, o);
+    const RobotGrindingPlan p = plan_robot_grinding(cell, cell.stations[0], {contact_arc(20), contact_arc(22)}, o);
     EXPECT_TRUE(p.refusals.empty());
     return p;
   }
 };
 
 RobotVerifyReport replay(const RobotCell& cell, const RobotGrindingPlan& plan, RobotDialect d, const Variant& v) {
-  const std::string text = d == RobotDialect::KukaKrl ? krl(cell, plan, v) : rapid(cell, plan, v);
+  const std::string text = d == RobotDialect::KukaKrl ? krl(cell, plan, v) : robot_rapid(cell, plan, v);
   return verify_robot_program(cell, cell.stations[0], plan, read_robot_program({{"T", text}}, "T", d), d);
 }
 
 TEST(RobotProgram, WrittenByTheManualsItReplaysThePlan) {
-  const Fixture f;
+  const ProgramFixture f;
   for (RobotDialect d : {RobotDialect::KukaKrl, RobotDialect::AbbRapid}) {
     const RobotCell& cell = d == RobotDialect::KukaKrl ? f.kuka : f.abb;
     const RobotGrindingPlan plan = f.plan_for(cell);
@@ -273,7 +273,7 @@ TEST(RobotProgram, WrittenByTheManualsItReplaysThePlan) {
 // The frames' roles: with the wheel and the blade in each other's places the
 // targets put the blade nowhere near the wheel — the read-back fails.
 TEST(RobotProgram, SwappedFramesFailTheReadBack) {
-  const Fixture f;
+  const ProgramFixture f;
   for (RobotDialect d : {RobotDialect::KukaKrl, RobotDialect::AbbRapid}) {
     const RobotCell& cell = d == RobotDialect::KukaKrl ? f.kuka : f.abb;
     const RobotGrindingPlan plan = f.plan_for(cell);
@@ -290,7 +290,7 @@ TEST(RobotProgram, SwappedFramesFailTheReadBack) {
 // not stand in is reported; ABB's MoveL with ConfL on goes to the written
 // cfx or stops.
 TEST(RobotProgram, AWrongStatusBitFailsTheReadBack) {
-  const Fixture f;
+  const ProgramFixture f;
   for (int bit : {1, 2, 4}) {
     Variant first;
     first.first_status_xor = bit;
@@ -310,7 +310,7 @@ TEST(RobotProgram, AWrongStatusBitFailsTheReadBack) {
 }
 
 TEST(RobotProgram, NoAxisMoveFirstOrAFeedTheOrientationSpeedCapsFails) {
-  const Fixture f;
+  const ProgramFixture f;
   const RobotGrindingPlan plan = f.plan_for(f.abb);
   Variant no_home;
   no_home.home = false;
@@ -327,19 +327,19 @@ TEST(RobotProgram, NoAxisMoveFirstOrAFeedTheOrientationSpeedCapsFails) {
 // Module structure: a main module calling station procedures loads; two
 // modules declaring `PROC main`, or one PERS name with two values, do not.
 TEST(RobotProgram, RapidModulesShareOneTaskAndAreRefusedWhenTheyClash) {
-  const Fixture f;
+  const ProgramFixture f;
   const RobotGrindingPlan plan = f.plan_for(f.abb);
   const std::map<std::string, std::string> ok = {
       {"MAIN", "MODULE MAIN\n  PROC main()\n    A;\n    B;\n  ENDPROC\nENDMODULE\n"},
-      {"A", rapid(f.abb, plan, {}, "A")},
-      {"B", rapid(f.abb, plan, {}, "B")}};
+      {"A", robot_rapid(f.abb, plan, {}, "A")},
+      {"B", robot_rapid(f.abb, plan, {}, "B")}};
   const auto targets = read_robot_program(ok, "MAIN", RobotDialect::AbbRapid);
   EXPECT_EQ(targets.size(), 2 * (plan.moves.size() + 1));
   std::map<std::string, std::string> two_mains = ok;
   two_mains["A"].replace(two_mains["A"].find("PROC A()"), 8, "PROC main()");
   EXPECT_THROW(read_robot_program(two_mains, "MAIN", RobotDialect::AbbRapid), Error);
   std::map<std::string, std::string> shared = ok;
-  std::string b = rapid(f.abb, plan, {}, "B");
+  std::string b = robot_rapid(f.abb, plan, {}, "B");
   b.replace(b.find("tw_B :="), 4, "tw_A");  // B declares A's tool, at another place
   b.replace(b.find("[[1700.0000"), 11, "[[1701.0000");
   shared["B"] = b;
@@ -353,7 +353,7 @@ TEST(RobotProgram, RapidModulesShareOneTaskAndAreRefusedWhenTheyClash) {
 
 // A station program calling its parts replays as the one program it was cut from.
 TEST(RobotProgram, SplitProgramsReplayAsOne) {
-  const Fixture f;
+  const ProgramFixture f;
   const RobotGrindingPlan plan = f.plan_for(f.kuka);
   const std::string whole = krl(f.kuka, plan, {});
   // Cut after the first path's lift-off: the part programs hold the moves.
@@ -415,7 +415,7 @@ std::string replaced(std::string text, const std::string& what, const std::strin
 }
 
 TEST(RobotProgram, TheLoadIsReadAsTheControllerAddsItUp) {
-  const Fixture f;
+  const ProgramFixture f;
   // A 15 kg gripper (a cylinder Ø 160 x 180 mm, 90 mm out on the flange
   // axis) and a 0.43 kg titanium plate in the blade frame, off its origin and
   // turned, so the blade's tensor is full and the frames matter.
@@ -433,7 +433,7 @@ TEST(RobotProgram, TheLoadIsReadAsTheControllerAddsItUp) {
     const RobotCell& cell = krl_dialect ? f.kuka : f.abb;
     const RobotGrindingPlan plan = f.plan_for(cell);
     const MassProperties payload = combined(gripper, transformed(blade, cell.grip));  // on the flange
-    const std::string base = krl_dialect ? krl(cell, plan, {}) : rapid(cell, plan, {});
+    const std::string base = krl_dialect ? krl(cell, plan, {}) : robot_rapid(cell, plan, {});
     auto with_load = [&](const MassProperties& flange_or_gripper, const MassProperties& grip_load) {
       if (krl_dialect) return replaced(base, "$IPO_MODE = #TCP\n", "$LOAD = " + load_text(flange_or_gripper, true) +
                                                                      "\n$IPO_MODE = #TCP\n");

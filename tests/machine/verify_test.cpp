@@ -11,7 +11,6 @@
 namespace bliskrun {
 namespace {
 
-constexpr double kDeg = kPi / 180;
 
 // Starting on the A < 0 branch: A stops at +30 deg, the sweep tilts to 50.
 MotionOptions on_negative_a(bool tcp) {
@@ -66,7 +65,7 @@ std::string write_iso(const MachineProgram& program, const MachineDefinition& m)
   return out.str();
 }
 
-VerifyOptions named(const std::string& file) {
+VerifyOptions verify_named(const std::string& file) {
   VerifyOptions o;
   o.read.file_name = file;
   return o;
@@ -77,7 +76,7 @@ TEST(MachineVerify, WrittenProgramReplaysWithinResolution) {
     const Kinematics kin(test::table_table_ac(), 70.0);
     const MachineProgram plan = plan_machine_motion(kin, sweep(), on_negative_a(tcp));
     const std::string text = write_iso(plan, kin.machine());
-    const VerifyReport report = verify_program(text, kin, plan, named("sweep.nc"));
+    const VerifyReport report = verify_program(text, kin, plan, verify_named("sweep.nc"));
     EXPECT_EQ(report.moves, static_cast<long>(plan.moves.size()));
     // Rounding to 0.001 mm / 0.001 deg at lever arms near 100 mm: a few um.
     EXPECT_GT(report.max_position_mm, 0.0);
@@ -110,7 +109,7 @@ TEST(MachineVerify, CorruptedWordIsFlaggedAtItsLine) {
   }
   ASSERT_GT(target, 0);
   try {
-    verify_program(corrupted, kin, plan, named("sweep.nc"));
+    verify_program(corrupted, kin, plan, verify_named("sweep.nc"));
     FAIL() << "expected the corrupted word to be flagged";
   } catch (const DataError& e) {
     EXPECT_EQ(e.line(), target) << e.what();
@@ -119,7 +118,7 @@ TEST(MachineVerify, CorruptedWordIsFlaggedAtItsLine) {
   // A missing block is a count mismatch.
   const size_t last_g1 = text.rfind("G1");
   std::string shortened = text.substr(0, last_g1) + text.substr(text.find('\n', last_g1) + 1);
-  EXPECT_THROW(verify_program(shortened, kin, plan, named("sweep.nc")), DataError);
+  EXPECT_THROW(verify_program(shortened, kin, plan, verify_named("sweep.nc")), DataError);
 }
 
 TEST(MachineVerify, ReplayUsesTheProgrammedTipUnderTcp) {

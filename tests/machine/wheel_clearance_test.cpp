@@ -37,7 +37,7 @@ std::shared_ptr<const Surface> floor_face(double x0, double x1, double y0, doubl
   return patch([=](double u, double v) { return Vec3(x0 + (x1 - x0) * u, y0 + (y1 - y0) * v, 0); });
 }
 
-BeltStation wheel(double r, double w, double compliance) {
+BeltStation belt_wheel(double r, double w, double compliance) {
   BeltStation s;
   s.name = "test";
   s.wheel_radius_mm = r;
@@ -68,7 +68,7 @@ TEST(BladeBody, SamplesEveryFaceAtMostTheSpacingApart) {
 
 TEST(WheelClearance, AFlatFaceTouchesTheWheelOnlyAtTheContactLine) {
   const BladeBody body = BladeBody::sample({{"flank", floor_face(-40, 40, -40, 40)}}, 0.5);
-  const WheelClearance check(body, wheel(25, 12, 0.5));
+  const WheelClearance check(body, belt_wheel(25, 12, 0.5));
   WheelContactReport r;
   check.check_pose(contact_at(Vec3(3, 2, 0)), r);
   EXPECT_EQ(r.poses, 1);
@@ -90,7 +90,7 @@ TEST(WheelClearance, AFaceConcaveAlongThePathDigsInByTheSagittaOfHalfTheWidth) {
   const BladeBody body = BladeBody::sample({{"pressure", face}}, 0.05);
   const double sagitta = R - std::sqrt(R * R - w * w / 4);
   {
-    const WheelClearance check(body, wheel(20, w, 0.5));
+    const WheelClearance check(body, belt_wheel(20, w, 0.5));
     WheelContactReport r;
     check.check_pose(contact_at(Vec3::Zero()), r);
     EXPECT_EQ(r.collisions, 0) << r.first_collision;
@@ -99,7 +99,7 @@ TEST(WheelClearance, AFaceConcaveAlongThePathDigsInByTheSagittaOfHalfTheWidth) {
   }
   {
     // A harder wheel that gives only 0.2 mm: the ends of the wheel collide.
-    const WheelClearance check(body, wheel(20, w, 0.2));
+    const WheelClearance check(body, belt_wheel(20, w, 0.2));
     WheelContactReport r;
     check.check_pose(contact_at(Vec3::Zero()), r);
     EXPECT_EQ(r.collisions, 1);
@@ -116,7 +116,7 @@ TEST(WheelClearance, AWallBesideThePathMeetsTheWheelAsTheCircleSays) {
   const double r = 25;
   const auto wall = patch([](double u, double v) { return Vec3(-30 + 60 * u, 0, 20 * v); });
   const BladeBody body = BladeBody::sample({{"flank", floor_face(-30, 30, -60, 0)}, {"wall", wall}}, 0.25);
-  const WheelClearance check(body, wheel(r, 12, 0.5));
+  const WheelClearance check(body, belt_wheel(r, 12, 0.5));
   for (double d : {22.0, 24.0}) {
     WheelContactReport rep;
     check.check_pose(contact_at(Vec3(0, -d, 0)), rep);
@@ -136,12 +136,12 @@ TEST(WheelClearance, ThePartOfTheBladeBehindTheWheelMeetsTheBelt) {
   const auto behind = patch([=](double u, double v) { return Vec3(-3 + 6 * u, -5 + 10 * v, r + r + 60); });
   const BladeBody body = BladeBody::sample({{"flank", floor_face(-20, 20, -20, 20)}, {"shroud", behind}}, 0.5);
   WheelContactReport rep;
-  WheelClearance(body, wheel(r, 12, 0.5)).check_pose(contact_at(Vec3::Zero()), rep);
+  WheelClearance(body, belt_wheel(r, 12, 0.5)).check_pose(contact_at(Vec3::Zero()), rep);
   ASSERT_EQ(rep.collisions, 1);
   EXPECT_NE(rep.first_collision.find("belt"), std::string::npos) << rep.first_collision;
   // Depth = the distance to the slab's side: 6 - |x| at the sample nearest x = 0.
   EXPECT_NEAR(rep.max_collision_depth_mm, 6, 0.25);
-  BeltStation no_belt = wheel(r, 12, 0.5);
+  BeltStation no_belt = belt_wheel(r, 12, 0.5);
   no_belt.belt_run_mm = 50;  // ends before the patch
   WheelContactReport short_run;
   WheelClearance(body, no_belt).check_pose(contact_at(Vec3::Zero()), short_run);
@@ -154,7 +154,7 @@ TEST(WheelClearance, TheMotionBetweenTwoClearPosesIsSweptTheWayTheControllerMove
   const double r = 25;
   const auto plate = patch([](double u, double v) { return Vec3(0, -5 + 10 * u, 8 * v); });
   const BladeBody body = BladeBody::sample({{"flank", floor_face(-60, 60, -20, 20)}, {"plate", plate}}, 0.25);
-  const WheelClearance check(body, wheel(r, 12, 0.5));
+  const WheelClearance check(body, belt_wheel(r, 12, 0.5));
   const Frame a = contact_at(Vec3(-40, 0, 0), 5), b = contact_at(Vec3(40, 0, 0), 5);
   WheelContactReport ends;
   check.check_pose(a, ends);
@@ -174,8 +174,8 @@ TEST(WheelClearance, TheMotionBetweenTwoClearPosesIsSweptTheWayTheControllerMove
 
 TEST(WheelClearance, RejectsAnImpossibleWheel) {
   const BladeBody body = BladeBody::sample({{"flank", floor_face(-1, 1, -1, 1)}}, 0.5);
-  EXPECT_THROW(WheelClearance(body, wheel(25, 12, 30)), ParameterError);  // gives more than its radius
-  EXPECT_THROW(WheelClearance(body, wheel(0, 12, 0.5)), ParameterError);
+  EXPECT_THROW(WheelClearance(body, belt_wheel(25, 12, 30)), ParameterError);  // gives more than its radius
+  EXPECT_THROW(WheelClearance(body, belt_wheel(0, 12, 0.5)), ParameterError);
 }
 
 }  // namespace

@@ -28,10 +28,10 @@ NurbsCurve meridian_curve(const std::vector<Vec2>& zr) {
                     {1, 1});
 }
 
-struct Fixture {
+struct CadBliskFixture {
   BuiltinBlisk blisk;
   CadModel step;  // blade 1's flanks (pressure, suction), hub and casing, read back
-  explicit Fixture(const std::string& dir) : blisk(params()) {
+  explicit CadBliskFixture(const std::string& dir) : blisk(params()) {
     // The fixture of CadStep.BuiltinBliskFlankRoundTripWithin10nm (tests/cad):
     // each flank the kernel's B-spline through its grid.
     const NurbsSurface pressure(interpolate_grid(blisk.flank_grid(0, FlankSide::kPressure)));
@@ -60,7 +60,7 @@ TEST(CadBlisk, BuiltinBliskFromStepBlade1ReproducesEveryBladeWithin10nm) {
                   "run the same code under the sanitizers";
 #endif
   const test::TempDir dir;
-  const Fixture f(dir.path());
+  const CadBliskFixture f(dir.path());
   ASSERT_EQ(f.step.faces.size(), 2u);
   ASSERT_EQ(f.step.curves.size(), 2u);
   const CadBlisk cad = f.rebuild(f.blisk.blade_count());
@@ -103,7 +103,7 @@ TEST(CadBlisk, BuiltinBliskFromStepBlade1ReproducesEveryBladeWithin10nm) {
 
 TEST(CadBlisk, TwoFlankFacesInAnyParametrisationAreToldApartAndOriented) {
   const test::TempDir dir;
-  const Fixture f(dir.path());
+  const CadBliskFixture f(dir.path());
   const auto p = f.step.faces.at(0).surface, s = f.step.faces.at(1).surface;
   // Swapped, reversed, in either order: the same pressure and suction
   // flanks, u hub -> tip, normals out of the material.
@@ -134,7 +134,7 @@ void expect_refused(const std::function<void()>& build, const std::string& name,
 
 TEST(CadBlisk, BadInputIsRefusedNamingWhatIsWrong) {
   const test::TempDir dir;
-  const Fixture f(dir.path());
+  const CadBliskFixture f(dir.path());
   const auto p = f.step.faces.at(0).surface, s = f.step.faces.at(1).surface;
   const auto hub = f.revolution(0), casing = f.revolution(1);
   expect_refused([&] { CadBlisk(p, s, hub, casing, 1); }, "blade_count", "[2, 400], got 1");

@@ -23,7 +23,7 @@ struct Flank {
 };
 
 // The exact flank sampled about every 0.2 mm.
-Flank sample(const Surface& s, int nu, int nv) {
+Flank sample_flank(const Surface& s, int nu, int nv) {
   Flank f;
   f.points.reserve(static_cast<size_t>(nu) * nv);
   for (int i = 0; i < nu; ++i)
@@ -74,7 +74,7 @@ TEST(DrumFinishBlisk, EveryEmittedMoveOfThePressureFlankPlanClearsTheMachinedFla
   ASSERT_EQ(plan.total_refusals, 0);
   ASSERT_EQ(plan.refused_links, 0);
 
-  const Flank flank = sample(*rq.flank, 200, 250);
+  const Flank flank = sample_flank(*rq.flank, 200, 250);
   // The flank points are about 0.2 mm apart: between them the wheel (radius
   // 4 mm about its axis) can dip up to 0.2^2 / (8 * 4) = 1.3 um more.
   const double allowed = rq.links.allowed_overcut_mm + 0.0013;

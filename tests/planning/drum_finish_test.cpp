@@ -9,6 +9,7 @@
 #include "core/common/error.h"
 #include "core/geometry/mesh.h"
 #include "tests/collision/test_meshes.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -36,10 +37,9 @@ class CylinderFlank : public Surface {
 
 SurfaceOfRevolution radial_cylinder(double r) { return SurfaceOfRevolution({Vec2(-200, r), Vec2(200, r)}); }
 
-Tool wheel() { return Tool::drum_wheel({8, 50, 4, {6, 96}, {}}); }
 
-struct Fixture {
-  Tool tool = wheel();
+struct DrumFixture {
+  Tool tool = test::paper_drum_wheel();
   SurfaceOfRevolution hub = radial_cylinder(kY0 + kR * std::sin(-0.25));
   SurfaceOfRevolution casing = radial_cylinder(kY0 + kR * std::sin(0.25));
   CollisionWorld world;
@@ -58,7 +58,7 @@ struct Fixture {
 };
 
 TEST(DrumFinish, TrimmedBetweenHubAndCasingRowsSpacedByTheClosedFormCutWidth) {
-  Fixture f;
+  DrumFixture f;
   // A neighbouring "blade" wall far above the passage.
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   const DrumFinishRequest rq = f.request();
@@ -131,12 +131,12 @@ double min_hub_offset(const Tool& tool, const SurfaceOfRevolution& hub, const To
 }
 
 TEST(DrumFinish, FirstRowIsTheLowestWhereTheWheelClearsTheHub) {
-  Fixture f;
+  DrumFixture f;
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   DrumFinishRequest rq = f.request();
   rq.hub_clearance_mm = 0.05;
   const DrumFinishResult res = plan_drum_finish(rq);
-  // At u' = 0 the wheel's lower half would be in the hub: the first row is raised.
+  // At u' = 0 the test::paper_drum_wheel's lower half would be in the hub: the first row is raised.
   ASSERT_GT(res.first_row_u, 0.01);
   ASSERT_FALSE(res.rows.front().poses.empty());
   double lowest = std::numeric_limits<double>::infinity();
@@ -147,7 +147,7 @@ TEST(DrumFinish, FirstRowIsTheLowestWhereTheWheelClearsTheHub) {
   EXPECT_LE(lowest, rq.hub_clearance_mm + 0.02);
   // The 3-D strip left above the hub curve is what the report says.
   EXPECT_NEAR(res.hub_strip_mm, (res.trimmed->point(res.first_row_u, 0.5) - res.trimmed->point(0, 0.5)).norm(), 0.05);
-  // A row 0.3 mm lower would put the wheel into the hub.
+  // A row 0.3 mm lower would put the test::paper_drum_wheel into the hub.
   const double du = 0.3 / res.trimmed->eval(res.first_row_u, 0.5).pu.norm();
   ContactFrame frame;
   const SurfaceDerivs d = res.trimmed->eval(res.first_row_u - du, 0.5);
@@ -164,14 +164,14 @@ TEST(DrumFinish, FirstRowIsTheLowestWhereTheWheelClearsTheHub) {
 // the scallop between two full-width rows is the residual height itself,
 // and nothing is cut below the design.
 TEST(DrumFinish, SimulatedPathLeavesTheResidualHeightAndNoGouge) {
-  Fixture f;
+  DrumFixture f;
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   const DrumFinishRequest rq = f.request();
   const DrumFinishResult plan = plan_drum_finish(rq);
   UndercutOptions o;
   o.samples_u = 300;
   o.samples_v = 60;
-  o.v0 = 0.2;  // away from the row ends, where the wheel runs out
+  o.v0 = 0.2;  // away from the row ends, where the test::paper_drum_wheel runs out
   o.v1 = 0.8;
   const DrumFinishSimulation full = simulate_drum_finish(plan, rq, o);
   const UndercutResult& sim = full.undercut;
@@ -185,7 +185,7 @@ TEST(DrumFinish, SimulatedPathLeavesTheResidualHeightAndNoGouge) {
   EXPECT_GT(full.first_machined_row, 0);  // the hub strip is sampled too
   for (int j = 0; j < sim.samples_v; ++j) EXPECT_NEAR(sim.residual_mm[first + j], 0, 1e-4) << j;
   // Every other row removed: the kept rows are two spacings (~6.4 mm)
-  // apart, wider than the wheel's 4 mm head, so a strip between them is
+  // apart, wider than the test::paper_drum_wheel's 4 mm head, so a strip between them is
   // never reached within search_above (untouched): the simulation sees the
   // spacing.
   DrumFinishResult sparse = plan;
@@ -199,7 +199,7 @@ TEST(DrumFinish, SimulatedPathLeavesTheResidualHeightAndNoGouge) {
 // its links replaced by the old rule (straight up the axis by 5 mm, then
 // across) cuts into the concave flank, and the simulation names the move.
 TEST(DrumFinish, SimulationSweepsTheLinksAndCatchesAnInjectedGougingLink) {
-  Fixture f;
+  DrumFixture f;
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   const DrumFinishRequest rq = f.request();
   const DrumFinishResult plan = plan_drum_finish(rq);
@@ -237,7 +237,7 @@ TEST(DrumFinish, SimulationSweepsTheLinksAndCatchesAnInjectedGougingLink) {
 }
 
 TEST(DrumFinish, AllFlanksOnTwoThreadsMatchOneByOne) {
-  Fixture f;
+  DrumFixture f;
   f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   std::vector<DrumFinishRequest> rqs(3, f.request());
   rqs[1].residual_height_mm = 0.008;
@@ -251,8 +251,8 @@ TEST(DrumFinish, AllFlanksOnTwoThreadsMatchOneByOne) {
 }
 
 TEST(DrumFinish, AWallInThePathGivesRefusalsNotPoses) {
-  Fixture f;
-  // Horizontal wall 6 mm above the flank bottom: the wheel (radius 4, axis
+  DrumFixture f;
+  // Horizontal wall 6 mm above the flank bottom: the test::paper_drum_wheel (radius 4, axis
   // 4 mm above the contact) reaches 8 mm there, whatever the lead.
   f.world.add("wall", grid_mesh(Vec3(-50, kY0 - 100, 6), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
   const DrumFinishResult res = plan_drum_finish(f.request());
@@ -268,7 +268,7 @@ TEST(DrumFinish, AWallInThePathGivesRefusalsNotPoses) {
 }
 
 TEST(DrumFinish, MissingInputsAreNamed) {
-  Fixture f;
+  DrumFixture f;
   DrumFinishRequest rq = f.request();
   rq.hub = nullptr;
   EXPECT_THROW(plan_drum_finish(rq), ParameterError);

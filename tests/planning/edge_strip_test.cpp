@@ -16,9 +16,9 @@ namespace {
 // Cylinder of radius rho about the Y axis, material inside: u around (the
 // feed, angle (u - 0.5) * span), v along the axis; S(0.5, 0.5) = (0, 0, rho)
 // with pu along +X and the normal +Z.
-class Cylinder : public Surface {
+class StripCylinder : public Surface {
  public:
-  Cylinder(double rho, double angle_span, double length) : rho_(rho), a_(angle_span), len_(length) {}
+  StripCylinder(double rho, double angle_span, double length) : rho_(rho), a_(angle_span), len_(length) {}
   SurfaceDerivs eval(double u, double v) const override {
     const double t = (u - 0.5) * a_, c = std::cos(t), s = std::sin(t);
     SurfaceDerivs d;
@@ -52,7 +52,7 @@ class Sphere : public Surface {
   double rho_, a_;
 };
 
-Tool mill(double R, double r) { return test::flat_end_mill(R, r, 2 * R, 20); }
+Tool strip_mill(double R, double r) { return test::flat_end_mill(R, r, 2 * R, 20); }
 
 StripWidth width_at(const Surface& s, const Tool& tool, const EdgePosition& pos, const StripSampling& sm,
                     const Band& band) {
@@ -61,9 +61,9 @@ StripWidth width_at(const Surface& s, const Tool& tool, const EdgePosition& pos,
 }
 
 TEST(EdgeStripTest, PositionPutsTheContactOnTheToolWithTheAxisAsSpecified) {
-  const Cylinder cyl(0.4, 1.0, 20);
+  const StripCylinder cyl(0.4, 1.0, 20);
   const EdgeFrame f = edge_frame(cyl.eval(0.5, 0.5));
-  const Tool tool = mill(5, 1);
+  const Tool tool = strip_mill(5, 1);
   const FlatEnd fe = flat_end_of(tool);
   EXPECT_DOUBLE_EQ(fe.radius_mm, 5);
   EXPECT_DOUBLE_EQ(fe.corner_mm, 1);
@@ -83,8 +83,8 @@ TEST(EdgeStripTest, PositionPutsTheContactOnTheToolWithTheAxisAsSpecified) {
 // x = -l) over that band: 2 sqrt(R² - (l - ρ tan β)²).
 TEST(EdgeStripTest, FlatBottomOnACylinderMatchesTheChordOfTheDisc) {
   const double rho = 0.4, e2 = 0.01, R = 5;
-  const Cylinder cyl(rho, 1.0, 20);
-  const Tool tool = mill(R, 0);
+  const StripCylinder cyl(rho, 1.0, 20);
+  const Tool tool = strip_mill(R, 0);
   const double beta = 0.999 * std::acos(rho / (rho + e2));
   StripSampling sm;
   sm.half_width_mm = 6;
@@ -113,7 +113,7 @@ TEST(EdgeStripTest, FlatBottomOnACylinderMatchesTheChordOfTheDisc) {
 TEST(EdgeStripTest, FlatBottomOnASphereMatchesTheClippedCap) {
   const double rho = 20, e2 = 0.01, R = 5, l = 4.8;
   const Sphere sph(rho, 0.2);
-  const Tool tool = mill(R, 0);
+  const Tool tool = strip_mill(R, 0);
   StripSampling sm;
   sm.half_width_mm = 1.2;
   sm.across = 481;  // 0.005 mm
@@ -133,16 +133,16 @@ TEST(EdgeStripTest, FlatBottomOnASphereMatchesTheClippedCap) {
 // independent of the profile's signed distance and of sphere tracing.
 TEST(EdgeStripTest, SideContactOnACylinderMatchesTheBallAndTheTorus) {
   const double e2 = 0.01;
-  const Cylinder cyl(0.4, 1.0, 20);
+  const StripCylinder cyl(0.4, 1.0, 20);
   StripSampling sm;
   sm.half_width_mm = 2;
   sm.across = 801;  // 0.005 mm
   sm.along = 1;
-  const StripWidth ball = width_at(cyl, mill(3, 3), {EdgeContact::Corner, 0, 0.2, 0}, sm, {-0.001, e2});
+  const StripWidth ball = width_at(cyl, strip_mill(3, 3), {EdgeContact::Corner, 0, 0.2, 0}, sm, {-0.001, e2});
   EXPECT_NEAR(ball.width_mm, 2 * std::sqrt(2 * 3 * e2 - e2 * e2), 0.002);
 
   const double R = 5, r = 1, theta = 10 * kPi / 180;
-  const Tool torus_tool = mill(R, r);
+  const Tool torus_tool = strip_mill(R, r);
   const StripWidth torus = width_at(cyl, torus_tool, {EdgeContact::Corner, 0, theta, 0}, sm, {-0.001, e2});
   const EdgeFrame f = edge_frame(cyl.eval(0.5, 0.5));
   const Eigen::Isometry3d to_tool =
@@ -168,8 +168,8 @@ TEST(EdgeStripTest, SideContactOnACylinderMatchesTheBallAndTheTorus) {
 TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
   // Inside a cylinder (normal flipped: material outside): a flat bottom
   // tangent at C digs into the concave wall beside it.
-  const Cylinder cyl(8, 1.0, 20);
-  const Tool tool = mill(5, 1);
+  const StripCylinder cyl(8, 1.0, 20);
+  const Tool tool = strip_mill(5, 1);
   StripSampling sm;
   sm.half_width_mm = 6;
   sm.across = 121;
@@ -192,8 +192,8 @@ TEST(EdgeStripTest, GougingPoseIsRefusedByConditionOne) {
 // the screen stops at the first sample below e1) — over bottom and corner poses on a convex
 // and a concave wall, gouging or not; the same with the gouge samples shared.
 TEST(EdgeStripTest, TiledScreeningAgreesWithEverySampleOneByOne) {
-  const Cylinder cyl(8, 1.0, 20);
-  const Tool tool = mill(5, 1);
+  const StripCylinder cyl(8, 1.0, 20);
+  const Tool tool = strip_mill(5, 1);
   const Band band{-0.001, 0.02};
   StripSampling sm;
   sm.across = 121;

@@ -23,7 +23,7 @@ Tool tapered(double r, double half_angle_deg, double flute) {
   return Tool::tapered_ball_end_mill(s);
 }
 
-Tool ball(double r, double flute) {
+Tool flank_ball(double r, double flute) {
   BallEndMillSpec s;
   s.radius_mm = r;
   s.flute_length_mm = flute;
@@ -40,9 +40,9 @@ TEST(FlankMilling, TaperedCutterRadiusGrowsBySinBetaAlongTheAxis) {
   for (double s : {0.0, 1.0, 10.0, 25.0, 50.0})
     EXPECT_NEAR(c.radius_at(s), 3 + s * std::sin(deg_to_rad(4)), 1e-9) << s;
   EXPECT_NEAR(c.flute_top_mm(), 57.0, 1e-9);
-  const FlankCutter b(ball(4, 30), 4);
+  const FlankCutter b(flank_ball(4, 30), 4);
   EXPECT_NEAR(b.radius_at(12.0), 4.0, 1e-12);  // a ball end's side is a cylinder
-  EXPECT_THROW(FlankCutter(ball(4, 30), 3), ParameterError);
+  EXPECT_THROW(FlankCutter(flank_ball(4, 30), 3), ParameterError);
 }
 
 TEST(FlankMilling, AxisPassesThroughD1AndD2AndTheBallSitsOnTheHubOffset) {
@@ -78,7 +78,7 @@ TEST(FlankMilling, CylinderOnADevelopableRuledFaceLeavesNoResidual) {
     c.shroud.push_back({Vec3(80 * std::cos(a), 80 * std::sin(a), 40), 1.0});
   }
   const RuledBlade blade(c);
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
     const auto face = blade.face(side);
     std::vector<FlankAxis> axes;
@@ -107,7 +107,7 @@ class TwistedFace : public Surface {
 
 TEST(FlankMilling, TwistedRuledFaceIsOvercutInTheMiddleOfEachPose) {
   const TwistedFace face;
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   std::vector<FlankAxis> axes;
   for (double v : {0.1, 0.5, 0.9}) axes.push_back(flank_axis(face, v, nullptr, cutter));
   const int n = 21;
@@ -288,13 +288,13 @@ TEST(FlankMilling, MinimumClearanceIncludesTheLeadsAsBruteForceFindsIt) {
   const ToolPose last = first.axes.back().pose, away = first.lead_out.away;
   const PoseMotion out(last, away);
   const ToolPose mid = out.pose_at(0.5);
-  const Vec3 ball = mid.tip + 3 * mid.axis;
+  const Vec3 flank_ball = mid.tip + 3 * mid.axis;
   // Beside the path, on the side away from the earlier poses (past the
   // face's end, where no pose reaches).
   Vec3 side = mid.axis.cross(away.tip - last.tip).normalized();
   if (side.dot(last.tip - first.axes[first.axes.size() - 2].pose.tip) < 0) side = -side;
   CollisionWorld world;
-  world.add("speck", speck(ball + 3.8 * side));
+  world.add("speck", speck(flank_ball + 3.8 * side));
   rq.world = &world;
   const FlankFacePlan plan = plan_flank_face(rq);
   ASSERT_TRUE(plan.lead_in.clear && plan.lead_out.clear);
@@ -337,7 +337,7 @@ TEST(FlankMilling, RootCornerMaterialIsTheBallsDistanceFromTheCorner) {
   // The hub: the plane z = 0 (the rulings run on past it, cut back to it),
   // profile outlet -> inlet so the channel side (z > 0) is positive.
   const SurfaceOfRevolution hub(std::vector<Vec2>{Vec2(0, 200), Vec2(0, 100), Vec2(0, 10)});
-  const FlankCutter cutter(ball(r, 40), r);
+  const FlankCutter cutter(flank_ball(r, 40), r);
   for (CamberSide side : {CamberSide::kPlus, CamberSide::kMinus}) {
     const auto face = blade.face(side);
     FlankFaceRequest rq;
@@ -376,7 +376,7 @@ namespace {
 // along the axes, within 5 %.
 TEST(FlankMilling, UndercutSimulationAgreesWithTheAxisResidual) {
   const TwistedFace face;
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   std::vector<FlankAxis> axes;
   ToolPass pass;
   for (int j = 0; j <= 200; ++j) {
@@ -416,7 +416,7 @@ namespace {
 // band centred on zero: the largest error halves (before/after reported).
 TEST(FlankMilling, BalancedAxesHalveTheResidualOnATwistedFace) {
   const TwistedFace face;
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   FlankFaceRequest rq;
   rq.face = &face;
   rq.cutter = &cutter;
@@ -477,7 +477,7 @@ FlankAxis disturbed(const FlankAxis& ax, const Vec3& about, double angle, const 
 TEST(FlankAxisFit, FindsTheExactAxisOfACylinderOnAHoleWall) {
   const HoleWall wall;
   const double r = 5;
-  const FlankCutter cutter(ball(r, 60), r);
+  const FlankCutter cutter(flank_ball(r, 60), r);
   FlankFitOptions o;
   for (double v : {0.2, 0.7}) {
     const FlankAxis exact = flank_axis(wall, v, nullptr, cutter);
@@ -511,7 +511,7 @@ TEST(FlankAxisFit, FindsTheExactAxisOfACylinderOnAHoleWall) {
 // the turn.
 TEST(FlankAxisFit, BeatsTheTwoContactAndBalancedAxesOnATwistedFace) {
   const TwistedFace face;
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   const ToolBody body(cutter.tool());
   FlankFaceRequest rq;
   rq.face = &face;
@@ -552,7 +552,7 @@ TEST(FlankAxisFit, BeatsTheTwoContactAndBalancedAxesOnATwistedFace) {
 // band max(left, 2 overcut) no wider than the centred fit's.
 TEST(FlankAxisFit, OvercutWeightLeansTheBandTowardsMaterialLeft) {
   const TwistedFace face;
-  const FlankCutter cutter(ball(5, 80), 5);
+  const FlankCutter cutter(flank_ball(5, 80), 5);
   FlankFaceRequest rq;
   rq.face = &face;
   rq.cutter = &cutter;

@@ -39,7 +39,7 @@ class ConcaveCylinder : public Surface {
 
 // Drum wheel 2 of the blisk paper: D_t 8, R_c 50, L_c 4.
 constexpr double kRc = 50;
-Tool wheel() { return Tool::drum_wheel({8, kRc, 4, {6, 96}, {}}); }
+Tool link_wheel() { return Tool::drum_wheel({8, kRc, 4, {6, 96}, {}}); }
 
 UndercutOptions sampling() {
   UndercutOptions o;
@@ -53,7 +53,7 @@ UndercutOptions sampling() {
 
 // The wheel touching the flank at (u, 0.5) with its axis along the span
 // (the drum-finish axis at lead 0), as the planner places it.
-LinkEnd contact(const Tool& tool, double u) {
+LinkEnd contact_end(const Tool& tool, double u) {
   const SurfaceDerivs d = ConcaveCylinder().eval(u, 0.5);
   ContactFrame f;
   f.point = d.p;
@@ -71,10 +71,10 @@ LinkEnd contact(const Tool& tool, double u) {
 // z = s R_c / (rho - R_c), on the head while that is within L_c / 2. Even the
 // contact point alone (z = 0) enters by s^2 / (2 rho).
 TEST(Links, AxisRetractOnAConcaveFlankCutsInByTheClosedForm) {
-  const Tool tool = wheel();
+  const Tool tool = link_wheel();
   const ConcaveCylinder flank;
   const GougeGuard guard(flank, sampling());
-  const LinkEnd a = contact(tool, 0.5);
+  const LinkEnd a = contact_end(tool, 0.5);
   for (double s : {0.5, 1.0, 1.5}) {
     SCOPED_TRACE(s);
     ToolPose up = a.pose;
@@ -93,7 +93,7 @@ TEST(Links, AxisRetractOnAConcaveFlankCutsInByTheClosedForm) {
 }
 
 TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithinTheAllowance) {
-  const Tool tool = wheel();
+  const Tool tool = link_wheel();
   const ConcaveCylinder flank;
   const GougeGuard guard(flank, sampling());
   const CollisionWorld nothing;
@@ -105,7 +105,7 @@ TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithi
   checks.guard_margin_mm = guard.between_samples_mm(4);
   // Two neighbouring rows, 2.4 mm apart along the span (a drum-finish row
   // spacing), linked at the same end.
-  const LinkEnd a = contact(tool, 0.5), b = contact(tool, 0.5 + 2.4 / (2 * kPhi * kRho));
+  const LinkEnd a = contact_end(tool, 0.5), b = contact_end(tool, 0.5 + 2.4 / (2 * kPhi * kRho));
   LinkOptions o;
   o.allowed_overcut_mm = 0.002;
   const PlannedLink normal = plan_link(a, b, checks, o);
@@ -170,13 +170,13 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
 }
 
 TEST(Links, RejectsBadOptions) {
-  const Tool tool = wheel();
+  const Tool tool = link_wheel();
   const CollisionWorld nothing;
   const ToolBody body(tool, 0.02);
   LinkChecks checks;
   checks.world = &nothing;
   checks.body = &body;
-  const LinkEnd a = contact(tool, 0.5), b = contact(tool, 0.6);
+  const LinkEnd a = contact_end(tool, 0.5), b = contact_end(tool, 0.6);
   LinkOptions o;
   o.retract_mm = 0;
   EXPECT_THROW(plan_link(a, b, checks, o), ParameterError);

@@ -24,9 +24,9 @@ namespace {
 // A cambered, twisted face: span z = H u, chord c = C (v - 1/2), camber
 // y0 = A sin(pi v), the section turned by T u about Z. pu x pv points to +y
 // (the camber's convex side) at u = 0.
-class TwistedFace : public Surface {
+class PointTwistedFace : public Surface {
  public:
-  TwistedFace(double H, double C, double A, double T) : H_(H), C_(C), A_(A), T_(T) {}
+  PointTwistedFace(double H, double C, double A, double T) : H_(H), C_(C), A_(A), T_(T) {}
   SurfaceDerivs eval(double u, double v) const override {
     const double th = T_ * u, c = std::cos(th), s = std::sin(th);
     const double ch = C_ * (v - 0.5), y0 = A_ * std::sin(kPi * v);
@@ -134,7 +134,7 @@ TEST(PointMilling, TwistedFaceScallopAndChordBoundEveryRow) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "plans ~1000 poses with gouge proofs: several seconds in Release, minutes sanitized";
 #endif
-  const auto face = std::make_shared<const TwistedFace>(15, 25, 3, 0.3);
+  const auto face = std::make_shared<const PointTwistedFace>(15, 25, 3, 0.3);
   const Tool tool = point_tool();
   const PointMillRequest rq = twisted_request(face, tool);
   const PointMillResult res = plan_point_milling(rq);
@@ -223,7 +223,7 @@ TEST(PointMilling, RowsAcrossTheFlowRunHubToShroudWithinTheScallop) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "a plan with gouge proofs: a second in Release, a minute sanitized";
 #endif
-  const auto face = std::make_shared<const TwistedFace>(15, 25, 3, 0.3);
+  const auto face = std::make_shared<const PointTwistedFace>(15, 25, 3, 0.3);
   const Tool tool = point_tool();
   PointMillRequest rq = twisted_request(face, tool);
   rq.rows = PointMillRows::AcrossFlow;
@@ -252,7 +252,7 @@ double box_distance(const Vec3& q, const Vec3& lo, const Vec3& hi) {
   return d.norm();
 }
 
-TriangleMesh box_mesh(const Vec3& lo, const Vec3& hi) {
+TriangleMesh box_between(const Vec3& lo, const Vec3& hi) {
   TriangleMesh m;
   for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
   const int f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
@@ -295,7 +295,7 @@ TEST(PointMilling, TiltClearsALedgeBesideTheFaceAndRefusesWhatNoAxisClears) {
   // A flat face (x along the chord, z up the span, normal +y) and a ledge
   // sticking out of its plane 15 mm above its top: at the 10 deg lean the
   // flute passes through it from the top rows.
-  const auto face = std::make_shared<const TwistedFace>(15, 20, 0, 0);
+  const auto face = std::make_shared<const PointTwistedFace>(15, 20, 0, 0);
   const Tool tool = point_tool();
   PointMillRequest rq = twisted_request(face, tool);
   rq.scallop_mm = 0.05;
@@ -305,7 +305,7 @@ TEST(PointMilling, TiltClearsALedgeBesideTheFaceAndRefusesWhatNoAxisClears) {
   PartMask no_cutter;
   no_cutter.cutter = false;
   world.add("face (shank)", tessellate(*face, 0.05), CheckSurfaceOptions{no_cutter, 0.05});
-  world.add("ledge", box_mesh(lo, hi));
+  world.add("ledge", box_between(lo, hi));
   rq.world = &world;
 
   PointMillRequest free_rq = rq;
@@ -330,7 +330,7 @@ TEST(PointMilling, TiltClearsALedgeBesideTheFaceAndRefusesWhatNoAxisClears) {
   CollisionWorld wide;
   wide.add("face (shank)", tessellate(*face, 0.05), CheckSurfaceOptions{no_cutter, 0.05});
   const Vec3 lo2(-15, 0, 22), hi2(15, 40, 24);
-  wide.add("ledge", box_mesh(lo2, hi2));
+  wide.add("ledge", box_between(lo2, hi2));
   rq.world = &wide;
   const PointMillResult refused = plan_point_milling(rq);
   EXPECT_FALSE(refused.refusals.empty());
@@ -339,7 +339,7 @@ TEST(PointMilling, TiltClearsALedgeBesideTheFaceAndRefusesWhatNoAxisClears) {
 }
 
 TEST(PointMillingParameters, ErrorsNameTheOption) {
-  const auto face = std::make_shared<const TwistedFace>(15, 25, 3, 0.3);
+  const auto face = std::make_shared<const PointTwistedFace>(15, 25, 3, 0.3);
   const Tool tool = point_tool();
   const Tool flat = Tool::flat_end_mill({3, 0.5, 20, {6, 30}, {}});
   auto expect_key = [&](PointMillRequest rq, const char* key) {

@@ -19,9 +19,9 @@ namespace {
 
 // A cylinder of radius rho about Z: u around it (angle a u), v along it
 // (length len v); pu x pv points out of the axis (convex to the tool).
-class Cylinder : public Surface {
+class PathsCylinder : public Surface {
  public:
-  Cylinder(double rho, double angle, double len) : rho_(rho), a_(angle), len_(len) {}
+  PathsCylinder(double rho, double angle, double len) : rho_(rho), a_(angle), len_(len) {}
   SurfaceDerivs eval(double u, double v) const override {
     const double t = a_ * u, c = std::cos(t), s = std::sin(t);
     SurfaceDerivs d;
@@ -37,9 +37,9 @@ class Cylinder : public Surface {
 };
 
 // A plane patch: u along x (width w), v along y (length len), normal +z.
-class Plane : public Surface {
+class PathsPlane : public Surface {
  public:
-  Plane(double w, double len) : w_(w), len_(len) {}
+  PathsPlane(double w, double len) : w_(w), len_(len) {}
   SurfaceDerivs eval(double u, double v) const override {
     SurfaceDerivs d;
     d.p = Vec3(w_ * u, len_ * v, 0);
@@ -165,10 +165,10 @@ TEST(RepairPaths, ZigzagScallopOnAFlatAndACylinderMatchesTheClosedFormAndBruteFo
     std::shared_ptr<const Surface> s;
     double width_mm;
     if (std::isinf(rho)) {
-      s = std::make_shared<Plane>(6.0, 10.0);
+      s = std::make_shared<PathsPlane>(6.0, 10.0);
       width_mm = 6;
     } else {
-      s = std::make_shared<Cylinder>(rho, 0.3, 10.0);  // 6 mm around
+      s = std::make_shared<PathsCylinder>(rho, 0.3, 10.0);  // 6 mm around
       width_mm = rho * 0.3;
     }
     RepairPathRequest rq = finishing_only(s, tool, world);
@@ -320,7 +320,7 @@ TEST(RepairPaths, EachZigzagLayerStartsOnTheSideWhereTheLayerBeforeEnded) {
   // blade's edge: through the blade).
   const Tool tool = ball_mill(3);
   const CollisionWorld world = far_world();
-  auto s = std::make_shared<Plane>(20.0, 60.0);
+  auto s = std::make_shared<PathsPlane>(20.0, 60.0);
   RepairPathRequest rq = finishing_only(s, tool, world);
   rq.u0 = 0.4;
   rq.u1 = 0.5;
@@ -349,7 +349,7 @@ TEST(RepairPaths, EachZigzagLayerStartsOnTheSideWhereTheLayerBeforeEnded) {
 TEST(RepairPaths, ArcLeadOutsAreTangentToThePassAndBridgesJoinThem) {
   const Tool tool = ball_mill(3);
   const CollisionWorld world = far_world();
-  auto s = std::make_shared<Cylinder>(20.0, 0.3, 10.0);
+  auto s = std::make_shared<PathsCylinder>(20.0, 0.3, 10.0);
   RepairPathRequest rq = finishing_only(s, tool, world);
   rq.v0 = 0.2;
   rq.v1 = 0.8;
@@ -503,7 +503,7 @@ TEST(RepairPaths, TheAxisTiltsAwayWhereTheHolderWouldHitAWall) {
   const Tool tool = ball_mill(3, 30, 25);
   CollisionWorld world;
   world.add("wall", quad(Vec3(14, -50, -5), Vec3(14, 50, -5), Vec3(14, 50, 100), Vec3(14, -50, 100)));
-  auto s = std::make_shared<Plane>(4.0, 10.0);
+  auto s = std::make_shared<PathsPlane>(4.0, 10.0);
   RepairPathRequest rq = finishing_only(s, tool, world);
   rq.scallop_mm = 0.05;
   rq.tilt.clearances.shank_mm = rq.tilt.clearances.holder_mm = 0.5;

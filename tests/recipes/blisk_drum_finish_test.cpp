@@ -15,21 +15,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string recipe(const char* name) { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name; }
+std::string recipe_path(const char* name) { return std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/" + name; }
 
-std::string slurp(const fs::path& p) {
+std::string slurp_file(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
-size_t count(const std::string& text, const std::string& what) {
+size_t count_of(const std::string& text, const std::string& what) {
   size_t n = 0;
   for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
 }
 
 std::vector<std::string> finish_args(const std::string& out, const char* threads) {
-  return {recipe("blisk_drum_finish.lua"), "--out", out, "--quiet", "--threads", threads,
+  return {recipe_path("blisk_drum_finish.lua"), "--out", out, "--quiet", "--threads", threads,
           "--set", "samples_u=80", "--set", "samples_v=400"};
 }
 
@@ -38,7 +38,7 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
   const RecipeResult r = run_bliskrun(finish_args(dir.path(), "2"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_run_report(dir.path(), "blisk_drum_finish.pvd"));
-  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_finish.json"));
+  const nlohmann::json j = nlohmann::json::parse(slurp_file(fs::path(dir.path()) / "blisk_drum_finish.json"));
   EXPECT_TRUE(j["verified"].get<bool>());
   EXPECT_EQ(j["wheel"]["rule"], "extended");
   // The concave pressure flank: the shank (d 6 x 96) lies along the blade
@@ -84,15 +84,15 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     EXPECT_EQ(sim["samples"].get<int>(), (80 + sim["first_machined_row"].get<int>()) * 400);
     // APT: one GOTO per pose, two per link between rows, the lead-in and
     // the lead-out (every move of the program simulated).
-    const std::string apt = slurp(fs::path(dir.path()) / f["apt"].get<std::string>());
+    const std::string apt = slurp_file(fs::path(dir.path()) / f["apt"].get<std::string>());
     const size_t rows = f["rows"].size();
-    EXPECT_EQ(count(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1) + 2);
-    EXPECT_EQ(count(apt, "RAPID"), 2 * (rows - 1) + 2);
+    EXPECT_EQ(count_of(apt, "GOTO/"), f["poses"].get<size_t>() + 2 * (rows - 1) + 2);
+    EXPECT_EQ(count_of(apt, "RAPID"), 2 * (rows - 1) + 2);
     EXPECT_EQ(f["links"]["retract"], "normal");
     EXPECT_GT(f["links"]["offset_min"].get<double>(), 0.0);
     EXPECT_GE(f["links"]["deepest_cut"].get<double>(), -chord_tol);
-    EXPECT_EQ(count(apt, "$$ ROW "), rows);
-    EXPECT_EQ(count(apt, "STOP"), 0u);
+    EXPECT_EQ(count_of(apt, "$$ ROW "), rows);
+    EXPECT_EQ(count_of(apt, "STOP"), 0u);
     // The JSON carries the same toolpath: feeds at the poses, two rapids per
     // link, the lead-in and lead-out; each move says which motion ends at it.
     EXPECT_EQ(f["toolpath"].size(), f["poses"].get<size_t>() + 2 * (rows - 1) + 2);
@@ -106,7 +106,7 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
     const fs::path png = fs::path(dir.path()) / sim["picture"].get<std::string>();
     ASSERT_TRUE(fs::exists(png));
     EXPECT_LT(fs::file_size(png), 1000000u);
-    const RgbImage im = decode_png(slurp(png), png.string());
+    const RgbImage im = decode_png(slurp_file(png), png.string());
     HeatMapOptions defaults;
     defaults.title = "x";
     EXPECT_EQ(im.height, heat_map_raster_layout(defaults).height);
@@ -128,18 +128,18 @@ TEST(BliskDrumFinishRecipe, PlansBothFlanksClearAndTheSimulationFindsTheResidual
 TEST(BliskDrumFinishRecipe, VerdictFailsTheRunAfterThePageWhenARequirementFails) {
   TempDir pass_dir, fail_dir;
   const std::vector<std::string> small = {"--set", "samples_u=40", "--set", "samples_v=150"};
-  std::vector<std::string> args = {recipe("blisk_drum_finish.lua"), "--out", pass_dir.path(), "--quiet",
+  std::vector<std::string> args = {recipe_path("blisk_drum_finish.lua"), "--out", pass_dir.path(), "--quiet",
                                    "--threads", "2"};
   args.insert(args.end(), small.begin(), small.end());
   const RecipeResult ok = run_bliskrun(args);
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
-  const std::string json = slurp(fs::path(pass_dir.path()) / "blisk_drum_finish.json");
+  const std::string json = slurp_file(fs::path(pass_dir.path()) / "blisk_drum_finish.json");
   EXPECT_EQ(json.find("{\n  \"verdict\": {"), 0u);
   const nlohmann::json v = nlohmann::json::parse(json)["verdict"];
   EXPECT_EQ(v["overall"], "PASS");
   EXPECT_EQ(v["requirements"].size(), 10u);  // five per flank
   for (const auto& q : v["requirements"]) EXPECT_TRUE(q["pass"].get<bool>()) << q.dump();
-  const std::string page = slurp(fs::path(pass_dir.path()) / "report.html");
+  const std::string page = slurp_file(fs::path(pass_dir.path()) / "report.html");
   EXPECT_LT(page.find("Verdict: <strong>PASS</strong>"), page.find("<nav>"));
 
   args[2] = fail_dir.path();
@@ -147,9 +147,9 @@ TEST(BliskDrumFinishRecipe, VerdictFailsTheRunAfterThePageWhenARequirementFails)
   const RecipeResult bad = run_bliskrun(args);
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("verdict FAIL: pressure flank: refused poses and links"), std::string::npos) << bad.output;
-  const nlohmann::json fail = nlohmann::json::parse(slurp(fs::path(fail_dir.path()) / "blisk_drum_finish.json"));
+  const nlohmann::json fail = nlohmann::json::parse(slurp_file(fs::path(fail_dir.path()) / "blisk_drum_finish.json"));
   EXPECT_EQ(fail["verdict"]["overall"], "FAIL");
-  EXPECT_NE(slurp(fs::path(fail_dir.path()) / "report.html").find("Verdict: <strong>FAIL</strong>"), std::string::npos);
+  EXPECT_NE(slurp_file(fs::path(fail_dir.path()) / "report.html").find("Verdict: <strong>FAIL</strong>"), std::string::npos);
 }
 
 // Issue 7: same recipe and inputs give the same bytes, whatever the thread
@@ -162,7 +162,7 @@ TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {
   for (const auto& e : fs::directory_iterator(one.path())) {
     const fs::path other = fs::path(two.path()) / e.path().filename();
     ASSERT_TRUE(fs::exists(other)) << other;
-    EXPECT_EQ(slurp(e.path()), slurp(other)) << e.path().filename();
+    EXPECT_EQ(slurp_file(e.path()), slurp_file(other)) << e.path().filename();
     ++files;
   }
   EXPECT_EQ(files, 11);  // json, 2 apt, 2 png, pvd, 2 flank vtp, 2 toolpath vtp, report.html
@@ -170,13 +170,13 @@ TEST(BliskDrumFinishRecipe, OneAndTwoThreadsWriteIdenticalBytes) {
 
 TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceedsTheTolerance) {
   TempDir dir;
-  const RecipeResult r = run_bliskrun({recipe("blisk_drum_study.lua"), "--out", dir.path(), "--quiet", "--set",
+  const RecipeResult r = run_bliskrun({recipe_path("blisk_drum_study.lua"), "--out", dir.path(), "--quiet", "--set",
                                        "samples_u=60", "--set", "samples_v=300"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_run_report(dir.path(), "blisk_drum_study.pvd"));
   EXPECT_NE(r.output.find("Table 4"), std::string::npos);
   EXPECT_NE(r.output.find("Table 5"), std::string::npos);
-  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "blisk_drum_study.json"));
+  const nlohmann::json j = nlohmann::json::parse(slurp_file(fs::path(dir.path()) / "blisk_drum_study.json"));
   const nlohmann::json& g = j["groups"];
   const double tol = j["chord_tol_mm"];
   // Wheel 2 (extended rule) needs fewer rows than wheel 1 at the same residual.
@@ -201,7 +201,7 @@ TEST(BliskDrumStudyRecipe, ExtendedWheelNeedsFewerRowsAndOnlyConstantChordExceed
   // Variable chord puts more points where the curvature rises (Fig. 12).
   EXPECT_GT(g["b"]["poses"].get<int>(), g["a"]["poses"].get<int>());
   for (const char* f : {"fig12_points_per_row.svg", "fig13_chord_error.svg"}) {
-    const std::string svg = slurp(fs::path(dir.path()) / f);
+    const std::string svg = slurp_file(fs::path(dir.path()) / f);
     EXPECT_NE(svg.find("<polyline"), std::string::npos) << f;
   }
 }
@@ -218,12 +218,12 @@ TEST(Rotor67FinishRecipe, PlansARealFlankClearAndTheSimulationFindsNoGouge) {
   GTEST_SKIP() << "Rotor 67 finishing recipe skipped under the sanitizers (runs in the Release suite)";
 #endif
   TempDir dir;
-  const RecipeResult r = run_bliskrun({recipe("rotor67_finish.lua"), "--data", shared_data_dir(), "--out",
+  const RecipeResult r = run_bliskrun({recipe_path("rotor67_finish.lua"), "--data", shared_data_dir(), "--out",
                                        dir.path(), "--quiet", "--set", "samples_u=150", "--set", "samples_v=300",
                                        "--set", "side=suction"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has_run_report(dir.path(), "rotor67_finish.pvd"));
-  const nlohmann::json j = nlohmann::json::parse(slurp(fs::path(dir.path()) / "rotor67_finish.json"));
+  const nlohmann::json j = nlohmann::json::parse(slurp_file(fs::path(dir.path()) / "rotor67_finish.json"));
   EXPECT_EQ(j["part"]["blades"].get<int>(), 22);
   // Table 2 of Rotor 67: the extended wheel R_c 50, D_t 18 (d_min 20.13 mm).
   EXPECT_EQ(j["wheel"]["table2"]["barrel_radius"].get<double>(), 50.0);

@@ -36,7 +36,7 @@ namespace {
 using test_channel::Channel;
 using test_channel::kStock;
 
-constexpr double kTolerance = 0.05;  // the stock's band (issue 41)
+constexpr double kSweepTolerance = 0.05;  // the stock's band (issue 41)
 constexpr double kTopOverHub = 8;   // the blank's top, radially over the hub (r 60 -> 66 over z -22 -> 22)
 
 
@@ -61,7 +61,7 @@ double face_distance(const Surface& s, const Vec3& x, Eigen::Vector2d& seed) {
 // rho tan^2(beta) / 2, ~1 um here). d(x, enough): the distance from x,
 // exact below `enough`, at least `enough` otherwise.
 template <class Distance>
-double part_clearance(const Tool& tool, ToolPartId part, const ToolPose& pose, double need, double ball, double z0,
+double sweep_part_clearance(const Tool& tool, ToolPartId part, const ToolPose& pose, double need, double ball, double z0,
                       Distance&& d) {
   const Profile& p = tool.profile(part);
   double worst = std::numeric_limits<double>::infinity();
@@ -141,11 +141,11 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
         ++kept;
         lo = std::min(lo, left);
         hi = std::max(hi, left);
-        if (!(std::abs(left - kStock) <= kTolerance)) ++off;
+        if (!(std::abs(left - kStock) <= kSweepTolerance)) ++off;
       }
     EXPECT_GT(kept, 500) << name;
     EXPECT_EQ(off, 0) << name << ": stock left " << lo << " .. " << hi << " mm";
-    EXPECT_GE(least, kStock - kTolerance) << name;
+    EXPECT_GE(least, kStock - kSweepTolerance) << name;
     return std::make_pair(lo, hi);
   };
   const auto on_flank = [&](const Vec3& p) { return over_hub(p) >= corner && ch.top.radial_offset(p) <= 0; };
@@ -239,8 +239,8 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
   const double ball_r = 3 / std::cos(deg_to_rad(1.5)), ball_top = 3;
   double cutter_min = std::numeric_limits<double>::infinity(), body_min = cutter_min;
   for (const Move& m : moves) {
-    const double c = part_clearance(ch.tool, ToolPartId::Cutter, m.pose, kStock, ball_r, ball_top, distance);
-    if (c < kStock - kTolerance) {
+    const double c = sweep_part_clearance(ch.tool, ToolPartId::Cutter, m.pose, kStock, ball_r, ball_top, distance);
+    if (c < kStock - kSweepTolerance) {
       const Vec3 b = m.pose.tip + 3 * m.pose.axis;
       std::string near;
       double best = 1e9;
@@ -255,9 +255,9 @@ TEST(ChannelLevelsSweep, OneBuiltinChannelLeavesAUniformStockCheckedByAnIndepend
     }
     cutter_min = std::min(cutter_min, c);
     for (ToolPartId part : {ToolPartId::Shank, ToolPartId::Holder})
-      body_min = std::min(body_min, part_clearance(ch.tool, part, m.pose, kStock, 0, 0, distance));
+      body_min = std::min(body_min, sweep_part_clearance(ch.tool, part, m.pose, kStock, 0, 0, distance));
   }
-  EXPECT_GE(cutter_min, kStock - kTolerance);
+  EXPECT_GE(cutter_min, kStock - kSweepTolerance);
   EXPECT_GE(body_min, kStock);
 }
 

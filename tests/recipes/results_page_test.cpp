@@ -11,7 +11,7 @@
 namespace bliskrun::test {
 namespace {
 
-std::string read_file(const std::string& path) {
+std::string read_page(const std::string& path) {
   std::ifstream in(path);
   std::stringstream s;
   s << in.rdbuf();
@@ -27,7 +27,7 @@ struct ResultsPage : ::testing::Test {
     const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/tools/results.lua", "--data",
                                          dir.path(), "--out", dir.path() + "/page", "--quiet"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    page = read_file(dir.path() + "/page/RESULTS.md");
+    page = read_page(dir.path() + "/page/RESULTS.md");
   }
 };
 

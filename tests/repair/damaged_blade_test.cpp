@@ -14,14 +14,11 @@
 #include "core/parts/builtin_blisk.h"
 #include "core/repair/damaged_blade.h"
 #include "core/repair/damaged_rebuild.h"
+#include "repair/builtin_design.h"
 
 namespace bliskrun {
 namespace {
 
-const DesignBlade& design() {
-  static const DesignBlade d = builtin_design_blade(BuiltinBlisk(), 0, 25);
-  return d;
-}
 
 // Distance from q to the closed polygon.
 double polygon_distance(const Vec2& q, const std::vector<Vec2>& poly) {
@@ -62,7 +59,7 @@ TEST(DamagedBlade, MeasurementFileRoundTripsExactly) {
   mo.sections = 6;
   mo.points = 120;
   mo.face_points = 10;
-  const SectionMeasurement m = measure_sections(DamagedBlade(design(), dmg), mo);
+  const SectionMeasurement m = measure_sections(DamagedBlade(test::builtin_blade_design(), dmg), mo);
   ASSERT_EQ(m.sections.size(), 4u);  // spans 0.03 .. 0.97 in 6: the break at 0.7 takes the top two
   ASSERT_EQ(m.face.size(), 10u);
   const SectionMeasurement r = parse_section_measurement(format_section_measurement(m), "x");
@@ -77,7 +74,7 @@ TEST(DamagedBlade, MeasurementFileRoundTripsExactly) {
   }
   EXPECT_EQ(r.face, m.face);
   // The plan's top (span 0.97) is stated although the probe found nothing there.
-  EXPECT_EQ(m.planned_top_mm, design().span_height(0.97));
+  EXPECT_EQ(m.planned_top_mm, test::builtin_blade_design().span_height(0.97));
   EXPECT_EQ(r.planned_top_mm, m.planned_top_mm);
 }
 
@@ -140,24 +137,24 @@ TEST(DamagedBlade, AMeasurementErrorIsNamedAtTheDataFilesLine) {
   // by its number.
   std::string text = "units mm\n";
   for (int k = 0; k < 3; ++k) {
-    const double h = design().span_height(0.2 + 0.3 * k);
-    const std::vector<Vec2> s = plane_section(design().loft, design().frame, h, k == 1 ? 4 * 16 : 400);
+    const double h = test::builtin_blade_design().span_height(0.2 + 0.3 * k);
+    const std::vector<Vec2> s = plane_section(test::builtin_blade_design().loft, test::builtin_blade_design().frame, h, k == 1 ? 4 * 16 : 400);
     text += "section " + std::to_string(k + 1) + " " + std::to_string(h) + "\n";
     const int step = k == 1 ? 16 : 1;  // section 2: 4 points
     for (size_t j = 0; j < s.size(); j += step) {
-      const Vec3 p = design().frame.point(h, s[j]);
+      const Vec3 p = test::builtin_blade_design().frame.point(h, s[j]);
       char line[128];
       std::snprintf(line, sizeof line, "%.9f %.9f %.9f\n", p.x(), p.y(), p.z());
       text += line;
     }
   }
   SectionMeasurement m = parse_section_measurement(text, "blade.txt");
-  m.frame = design().frame;
+  m.frame = test::builtin_blade_design().frame;
   m.has_frame = true;
   const int line = m.sections[1].line;
   EXPECT_EQ(line, 2 + 400 + 1);
   try {
-    rebuild_damaged(m, design());
+    rebuild_damaged(m, test::builtin_blade_design());
     ADD_FAILURE() << "a 4-point section was rebuilt";
   } catch (const ParameterError& e) {
     EXPECT_NE(std::string(e.what()).find("blade.txt:" + std::to_string(line) + ": section 2"), std::string::npos) << e.what();
@@ -165,7 +162,7 @@ TEST(DamagedBlade, AMeasurementErrorIsNamedAtTheDataFilesLine) {
 }
 
 TEST(DamagedBlade, IcpRecoversAKnownRigidMotionOfASection) {
-  const DesignBlade& d = design();
+  const DesignBlade& d = test::builtin_blade_design();
   const double h = d.span_height(0.5);
   const std::vector<Vec2> model = plane_section(d.loft, d.frame, h, 1024);
   // The measured section: the same blade sampled elsewhere (at other v),
@@ -194,13 +191,13 @@ TEST(DamagedBlade, RebuiltEdgeDamagedSectionsAreTheDeformedDesign) {
   dmg.edge_from = 0.35;
   dmg.edge_to = 0.75;
   dmg.edge_depth_mm = 1.0;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   MeasurementOptions mo;
   mo.sections = 12;
   mo.points = 1200;
   mo.noise_mm = 0.002;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   int completed = 0;
   double worst = 0;
   for (const DamagedSection& s : r.sections) {
@@ -246,15 +243,15 @@ TEST(DamagedBlade, ADensePlansMarginIsNotABrokenTip) {
   mo.sections = 60;  // 3 % of span above the top section, 1.6 % between sections
   mo.points = 240;
   mo.face_points = 0;
-  SectionMeasurement m = measure_sections(DamagedBlade(design(), dmg), mo);
+  SectionMeasurement m = measure_sections(DamagedBlade(test::builtin_blade_design(), dmg), mo);
   const double step = m.sections[1].height_mm - m.sections[0].height_mm;
-  const double margin = design().h_hi - m.sections.back().height_mm;
+  const double margin = test::builtin_blade_design().h_hi - m.sections.back().height_mm;
   ASSERT_GT(margin, 1.5 * step);  // the old rule's case
-  const DamagedRebuild planned = rebuild_damaged(m, design());
+  const DamagedRebuild planned = rebuild_damaged(m, test::builtin_blade_design());
   EXPECT_FALSE(planned.tip_extended) << planned.tip_basis;
   EXPECT_NE(planned.tip_basis.find("is the plan's top"), std::string::npos) << planned.tip_basis;
   m.planned_top_mm = std::numeric_limits<double>::quiet_NaN();  // a file without the plan's top
-  const DamagedRebuild by_margins = rebuild_damaged(m, design());
+  const DamagedRebuild by_margins = rebuild_damaged(m, test::builtin_blade_design());
   EXPECT_FALSE(by_margins.tip_extended) << by_margins.tip_basis;
   EXPECT_NE(by_margins.tip_basis.find("cannot be told from sections alone"), std::string::npos) << by_margins.tip_basis;
 }
@@ -267,20 +264,20 @@ TEST(DamagedBlade, ABreakIsToldFromThePlanOrTheMargins) {
   mo.sections = 10;
   mo.points = 300;
   mo.face_points = 0;
-  SectionMeasurement m = measure_sections(DamagedBlade(design(), dmg), mo);
+  SectionMeasurement m = measure_sections(DamagedBlade(test::builtin_blade_design(), dmg), mo);
   ASSERT_EQ(m.sections.size(), 8u);  // spans 0.03 .. 0.97 in 10: the break at 0.8 takes the top two
-  const DamagedRebuild planned = rebuild_damaged(m, design());
+  const DamagedRebuild planned = rebuild_damaged(m, test::builtin_blade_design());
   EXPECT_TRUE(planned.tip_extended);
   EXPECT_NE(planned.tip_basis.find("broken tip: the plan's top section"), std::string::npos) << planned.tip_basis;
   m.planned_top_mm = std::numeric_limits<double>::quiet_NaN();
-  const DamagedRebuild by_margins = rebuild_damaged(m, design());
+  const DamagedRebuild by_margins = rebuild_damaged(m, test::builtin_blade_design());
   EXPECT_TRUE(by_margins.tip_extended);
   EXPECT_NE(by_margins.tip_basis.find("broken tip: "), std::string::npos) << by_margins.tip_basis;
   // The plan stated in the options when the file does not: a plan that
   // ended at the highest measured section makes the same blade intact.
   DamagedRebuildOptions o;
   o.planned_top_mm = m.sections.back().height_mm;
-  const DamagedRebuild stated = rebuild_damaged(m, design(), o);
+  const DamagedRebuild stated = rebuild_damaged(m, test::builtin_blade_design(), o);
   EXPECT_FALSE(stated.tip_extended);
   EXPECT_NE(stated.tip_basis.find("the options' planned_top"), std::string::npos) << stated.tip_basis;
 }
@@ -295,11 +292,11 @@ TEST(DamagedBlade, RebuildOnTwoThreadsIsTheRebuildOnOne) {
   mo.sections = 12;
   mo.points = 800;
   mo.outlier_fraction = 0.005;
-  const SectionMeasurement m = measure_sections(DamagedBlade(design(), dmg), mo);
+  const SectionMeasurement m = measure_sections(DamagedBlade(test::builtin_blade_design(), dmg), mo);
   DamagedRebuildOptions one, two;
   two.rebuild.threads = 2;
-  const DamagedRebuild a = rebuild_damaged(m, design(), one);
-  const DamagedRebuild b = rebuild_damaged(m, design(), two);
+  const DamagedRebuild a = rebuild_damaged(m, test::builtin_blade_design(), one);
+  const DamagedRebuild b = rebuild_damaged(m, test::builtin_blade_design(), two);
   ASSERT_EQ(a.loft.grid.points.size(), b.loft.grid.points.size());
   for (size_t i = 0; i < a.loft.grid.points.size(); ++i) ASSERT_EQ(a.loft.grid.points[i], b.loft.grid.points[i]) << i;
   EXPECT_EQ(a.deviation.mean_mm, b.deviation.mean_mm);
@@ -315,12 +312,12 @@ TEST(DamagedBlade, RebuildOnTwoThreadsIsTheRebuildOnOne) {
   bad.sections[9].points.resize(5);
   std::string one_says, two_says;
   try {
-    rebuild_damaged(bad, design(), one);
+    rebuild_damaged(bad, test::builtin_blade_design(), one);
   } catch (const ParameterError& e) {
     one_says = e.what();
   }
   try {
-    rebuild_damaged(bad, design(), two);
+    rebuild_damaged(bad, test::builtin_blade_design(), two);
   } catch (const ParameterError& e) {
     two_says = e.what();
   }
@@ -340,12 +337,12 @@ TEST(DamagedBlade, ADenseMeasurementIsThinnedOnTheWayInAndRebuiltAsASparseOne) {
   BladeDamage dmg;
   dmg.twist_rad = deg_to_rad(1.5);
   dmg.edge = true;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   MeasurementOptions mo;
   mo.sections = 10;
   mo.points = 40000;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   for (const DamagedSection& s : r.sections) {
     EXPECT_GT(s.thinned, 30000) << s.height_mm;
@@ -362,7 +359,7 @@ TEST(DamagedBlade, ADenseMeasurementIsThinnedOnTheWayInAndRebuiltAsASparseOne) {
   MeasurementOptions few = mo;
   few.sections = 3;
   few.points = 21000;
-  const DamagedRebuild r_all = rebuild_damaged(measure_sections(blade, few), design(), all);
+  const DamagedRebuild r_all = rebuild_damaged(measure_sections(blade, few), test::builtin_blade_design(), all);
   for (const DamagedSection& s : r_all.sections) EXPECT_EQ(s.thinned, 0);
 }
 
@@ -372,14 +369,14 @@ TEST(DamagedBlade, BadDamageAndMeasurementOptionsAreNamed) {
   dmg.edge_from = 0.6;
   dmg.edge_to = 0.5;
   try {
-    DamagedBlade(design(), dmg);
+    DamagedBlade(test::builtin_blade_design(), dmg);
     FAIL();
   } catch (const ParameterError& e) {
     EXPECT_EQ(e.name(), "edge_to");
   }
   MeasurementOptions mo;
   mo.noise_mm = -1;
-  EXPECT_THROW(measure_sections(DamagedBlade(design(), BladeDamage{}), mo), ParameterError);
+  EXPECT_THROW(measure_sections(DamagedBlade(test::builtin_blade_design(), BladeDamage{}), mo), ParameterError);
 }
 
 }  // namespace

@@ -11,14 +11,11 @@
 #include "core/parts/builtin_blisk.h"
 #include "core/repair/damaged_blade.h"
 #include "core/repair/damaged_region.h"
+#include "repair/builtin_design.h"
 
 namespace bliskrun {
 namespace {
 
-const DesignBlade& design() {
-  static const DesignBlade d = builtin_design_blade(BuiltinBlisk(), 0, 25);
-  return d;
-}
 
 // Area of the closed polygon where keep(x, y) holds, by horizontal scan
 // lines dy apart: the inside stretches between sorted crossings, each
@@ -90,12 +87,12 @@ TEST(DamagedRegion, BrokenTipHasTheVolumeOfTheCut) {
   dmg.bend_mm = 0.2;
   dmg.tip = true;
   dmg.tip_span = 0.8;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   MeasurementOptions mo;
   mo.sections = 20;
   mo.points = 800;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.tip_extended);
   DamagedRegionOptions ro;
   ro.samples_u = 60;
@@ -104,12 +101,12 @@ TEST(DamagedRegion, BrokenTipHasTheVolumeOfTheCut) {
   ASSERT_TRUE(region.tip);
   EXPECT_EQ(region.nicked_sections, 0);
   EXPECT_LT(region.face_rms_mm, 3 * mo.noise_mm);
-  EXPECT_LT(std::acos(std::min(1.0, region.break_normal.dot(design().frame.axis))), 0.01);  // the break's plane
+  EXPECT_LT(std::acos(std::min(1.0, region.break_normal.dot(test::builtin_blade_design().frame.axis))), 0.01);  // the break's plane
   // The truth: the design's sections above the break (a rigid in-plane
   // motion keeps their area), scan-line areas, midpoint rule over height.
-  const double H = design().span_height(dmg.tip_span);
+  const double H = test::builtin_blade_design().span_height(dmg.tip_span);
   const int slices = 40;
-  const double dh = (design().h_hi - H) / slices;
+  const double dh = (test::builtin_blade_design().h_hi - H) / slices;
   double truth = 0, thickest = 0;
   for (int i = 0; i < slices; ++i) {
     const std::vector<Vec2> s = blade.deformed_section(H + (i + 0.5) * dh, 1024);
@@ -141,19 +138,19 @@ TEST(DamagedRegion, LeadingEdgeNickVolumeAndExtent) {
   dmg.edge_from = 0.3;
   dmg.edge_to = 0.7;
   dmg.edge_depth_mm = 1.2;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   MeasurementOptions mo;
   mo.sections = 30;
   mo.points = 800;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   DamagedRegionOptions ro;
   ro.samples_u = 60;
   ro.samples_v = 600;
   const DamagedRegion region = damaged_region(r, m, ro);
   EXPECT_FALSE(region.tip);
   EXPECT_GE(region.nicked_sections, 10);
-  const double h0 = design().span_height(dmg.edge_from), h1 = design().span_height(dmg.edge_to);
+  const double h0 = test::builtin_blade_design().span_height(dmg.edge_from), h1 = test::builtin_blade_design().span_height(dmg.edge_to);
   const int slices = 60;
   double truth = 0, deepest = 0;
   for (int i = 0; i < slices; ++i) {
@@ -222,9 +219,9 @@ TEST(DamagedRegion, NicksReachingTheEndSectionsAreRegionsOfTheirVolume) {
   // measured section (the rebuilt blade's heights; beyond them there is no
   // rebuilt blade to measure a region on).
   for (const auto& [from, to] : {std::pair{0.0, 0.12}, std::pair{0.5, 1.0}}) {
-    const DamagedBlade blade(design(), nick(from, to));
+    const DamagedBlade blade(test::builtin_blade_design(), nick(from, to));
     const SectionMeasurement m = measured(blade);
-    const DamagedRebuild r = rebuild_damaged(m, design());
+    const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
     ASSERT_TRUE(r.quality.trusted) << r.quality.message;
     const DamagedRegion region = damaged_region(r, m);
     EXPECT_FALSE(region.empty);
@@ -251,20 +248,20 @@ TEST(DamagedRegion, ASparseProbesNickOnATwistedBladeIsItsVolume) {
   // trailing edge left 0.21 mm unseen, 5 um off the design; 5: they met
   // across it (seeds 3 and 4 measured +0.18 % / +0.48 %).
   for (const int seed : {1, 2, 5}) {
-    const DamagedBlade blade(design(), nick(0.35, 0.75));
+    const DamagedBlade blade(test::builtin_blade_design(), nick(0.35, 0.75));
     MeasurementOptions mo;
     mo.sections = 30;
     mo.points = 800;
     mo.face_points = 0;
     mo.seed = seed;
     const SectionMeasurement m = measure_sections(blade, mo);
-    const DamagedRebuild r = rebuild_damaged(m, design());
+    const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
     ASSERT_TRUE(r.quality.trusted) << r.quality.message;
     DamagedRegionOptions ro;
     ro.samples_u = 60;
     ro.samples_v = 600;
     const DamagedRegion region = damaged_region(r, m, ro);
-    const double truth = removed_volume(blade, design().span_height(0.3), design().span_height(0.8), 100);
+    const double truth = removed_volume(blade, test::builtin_blade_design().span_height(0.3), test::builtin_blade_design().span_height(0.8), 100);
     std::printf("seed %d: region %.3f mm3, truth %.3f mm3 (%+.2f %%), v %.3f..%.3f\n", seed, region.volume_mm3, truth,
                 100 * (region.volume_mm3 / truth - 1), region.v_from, region.v_to);
     EXPECT_NEAR(region.volume_mm3, truth, 0.03 * truth) << "seed " << seed;
@@ -279,7 +276,7 @@ TEST(DamagedRegion, AStretchTheProbeSkippedOnAnIntactFlankIsNoRegion) {
   BladeDamage dmg;
   dmg.twist_rad = deg_to_rad(1.5);
   dmg.bend_mm = 0.3;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   SectionMeasurement m = measured(blade);
   int sections = 0;
   for (MeasuredSection& s : m.sections) {
@@ -308,7 +305,7 @@ TEST(DamagedRegion, AStretchTheProbeSkippedOnAnIntactFlankIsNoRegion) {
     s.points = kept;
     ++sections;
   }
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   const DamagedRegion region = damaged_region(r, m);
   EXPECT_TRUE(region.empty) << region.volume_mm3 << " mm3";
@@ -325,18 +322,18 @@ TEST(DamagedRegion, TwoNicksAtTheSameHeightsStayTwo) {
   // A nick at the leading edge and a stretch missing over the trailing
   // edge's apex (it cannot be told from a nick) at the same heights: every
   // gap of every section kept and paired by overlap, not the largest only.
-  const DamagedBlade blade(design(), nick(0.4, 0.65));
+  const DamagedBlade blade(test::builtin_blade_design(), nick(0.4, 0.65));
   MeasurementOptions mo;
   mo.sections = 30;
   mo.points = 2000;
   mo.face_points = 0;
   mo.unseen_arc_mm = 1.26;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   const DamagedRegion region = damaged_region(r, m);
   const SectionMeasurement m_nick = measured(blade);
-  const DamagedRegion nick_only = damaged_region(rebuild_damaged(m_nick, design()), m_nick);
+  const DamagedRegion nick_only = damaged_region(rebuild_damaged(m_nick, test::builtin_blade_design()), m_nick);
   int both = 0;
   for (const SectionGapFill& f : r.fills) both += f.length_mm > 0.3;
   EXPECT_GT(region.nicks, region.nicked_sections);  // two in a section
@@ -360,15 +357,15 @@ TEST(DamagedRegion, LeadingAndTrailingEdgeNicksAtTheSameHeightsAreTwoOfTheirVolu
   dmg.te_from = 0.35;
   dmg.te_to = 0.6;
   dmg.te_depth_mm = 0.8;
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   const SectionMeasurement m = measured(blade);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   const DamagedRegion region = damaged_region(r, m);
-  const double truth = removed_volume(blade, design().span_height(0.3), design().span_height(0.75), 100);
+  const double truth = removed_volume(blade, test::builtin_blade_design().span_height(0.3), test::builtin_blade_design().span_height(0.75), 100);
   BladeDamage le_only = dmg;
   le_only.te_edge = false;
-  const double le_truth = removed_volume(DamagedBlade(design(), le_only), design().span_height(0.3), design().span_height(0.75), 100);
+  const double le_truth = removed_volume(DamagedBlade(test::builtin_blade_design(), le_only), test::builtin_blade_design().span_height(0.3), test::builtin_blade_design().span_height(0.75), 100);
   std::printf("two nicks: region %.3f mm3 (%d in %d sections), truth %.3f mm3 (%+.2f %%; the leading edge's %.3f), "
               "max thickness %.3f mm\n",
               region.volume_mm3, region.nicks, region.nicked_sections, truth, 100 * (region.volume_mm3 / truth - 1),
@@ -397,16 +394,16 @@ TEST(DamagedRegion, ATrailingEdgeCornerBrokenOffAtTheTipIsItsVolume) {
   dmg.tip = true;
   dmg.tip_span = 1.0;
   dmg.tip_tilt_rad = deg_to_rad(44);
-  const DamagedBlade blade(design(), dmg);
+  const DamagedBlade blade(test::builtin_blade_design(), dmg);
   MeasurementOptions mo;
   mo.sections = 30;
   mo.points = 2000;
   const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, design());
+  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   EXPECT_FALSE(r.tip_extended);
   const DamagedRegion region = damaged_region(r, m);
-  const double truth = removed_volume(blade, design().span_height(0.5), r.sections.back().height_mm, 200);
+  const double truth = removed_volume(blade, test::builtin_blade_design().span_height(0.5), r.sections.back().height_mm, 200);
   std::printf("trailing-edge corner: region %.2f mm3 (tip plane alone %.2f), truth %.2f mm3 (%+.2f %%)\n",
               region.volume_mm3, region.tip_volume_mm3, truth, 100 * (region.volume_mm3 / truth - 1));
   EXPECT_TRUE(region.tip);
@@ -443,15 +440,15 @@ TEST(DamagedRegion, ATiltedBreakAndANickWhereTheyMeetAreCountedOnce) {
     dmg.tip = true;
     dmg.tip_span = 0.8;
     dmg.tip_tilt_rad = deg_to_rad(30);
-    const DamagedBlade blade(design(), dmg);
+    const DamagedBlade blade(test::builtin_blade_design(), dmg);
     MeasurementOptions mo;
     mo.sections = 30;
     mo.points = 2000;
     const SectionMeasurement m = measure_sections(blade, mo);
-    const DamagedRebuild r = rebuild_damaged(m, design());
+    const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
     ASSERT_TRUE(r.quality.trusted) << r.quality.message;
     const DamagedRegion region = damaged_region(r, m);
-    const double truth = removed_volume(blade, design().span_height(0.5), design().h_hi, 100);
+    const double truth = removed_volume(blade, test::builtin_blade_design().span_height(0.5), test::builtin_blade_design().h_hi, 100);
     std::printf("tilted break%s: region %.2f mm3 (tip alone %.2f), truth %.2f mm3 (%.2f %%)\n", edge ? " and nick" : "",
                 region.volume_mm3, region.tip_volume_mm3, truth, 100 * (region.volume_mm3 / truth - 1));
     EXPECT_NEAR(region.volume_mm3, truth, 0.03 * truth);

@@ -13,14 +13,11 @@
 #include "core/parts/builtin_blisk.h"
 #include "core/repair/damaged_blade.h"
 #include "core/repair/damaged_rebuild.h"
+#include "repair/builtin_design.h"
 
 namespace bliskrun {
 namespace {
 
-const DesignBlade& design() {
-  static const DesignBlade d = builtin_design_blade(BuiltinBlisk(), 0, 25);
-  return d;
-}
 
 // Largest distance of the points from the closed polygon (nearest vertex by
 // brute force, then the segments beside it).
@@ -52,7 +49,7 @@ DamagedBlade edge_blade() {
   dmg.edge_from = 0.4;
   dmg.edge_to = 0.65;
   dmg.edge_depth_mm = 1.0;
-  return DamagedBlade(design(), dmg);
+  return DamagedBlade(test::builtin_blade_design(), dmg);
 }
 
 // Largest distance of the rebuilt blade from the truth midway between its sections.
@@ -89,7 +86,7 @@ TEST(RebuildCheck, ThirtySeedsNoneSilentlyWrong) {
     mo.points = 2000;
     mo.face_points = 0;
     mo.seed = seed;
-    const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), design(), o);
+    const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), test::builtin_blade_design(), o);
     const double truth = truth_between(r, blade);
     log += "seed " + std::to_string(seed) + ": check " + std::to_string(1e3 * r.quality.between_max_mm) + " um, truth " +
            std::to_string(1e3 * truth) + " um, " + r.quality.start_method + (r.quality.trusted ? "" : " NOT TRUSTED") + "\n";
@@ -116,7 +113,7 @@ TEST(RebuildCheck, AWrongCurvatureStartIsRepairedByTheDesignsStart) {
   o.forced_start_section = 5;
   o.forced_start_shift_mm = 3;
   o.forced_start_attempts = 1;  // only the curvature alignment is wrong
-  const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), design(), o);
+  const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), test::builtin_blade_design(), o);
   ASSERT_EQ(r.quality.attempt_max_mm.size(), 2u);
   EXPECT_GT(r.quality.attempt_max_mm[0], 0.010);
   EXPECT_TRUE(r.quality.trusted) << r.quality.message;
@@ -133,7 +130,7 @@ TEST(RebuildCheck, ARebuildMadeWrongOnPurposeFails) {
   DamagedRebuildOptions o;
   o.forced_start_section = 5;
   o.forced_start_shift_mm = 3;  // the start moved 3 mm along the profile, in every attempt
-  const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), design(), o);
+  const DamagedRebuild r = rebuild_damaged(measure_sections(blade, mo), test::builtin_blade_design(), o);
   EXPECT_FALSE(r.quality.trusted);
   EXPECT_EQ(r.quality.attempts, 2);
   EXPECT_NE(r.quality.message.find("not trustworthy between its sections"), std::string::npos) << r.quality.message;
@@ -141,7 +138,7 @@ TEST(RebuildCheck, ARebuildMadeWrongOnPurposeFails) {
   // And the check saw what the truth sees: the loft is wrong between the sections.
   EXPECT_GT(truth_between(r, blade), 0.010);
   // The same measurement without the sabotage is trusted.
-  const DamagedRebuild good = rebuild_damaged(measure_sections(blade, mo), design());
+  const DamagedRebuild good = rebuild_damaged(measure_sections(blade, mo), test::builtin_blade_design());
   EXPECT_TRUE(good.quality.trusted) << good.quality.message;
   EXPECT_LT(truth_between(good, blade), 0.010);
 }

@@ -15,7 +15,7 @@ namespace {
 using test::add_noise;
 using test::blade_profile;
 
-std::vector<Vec3> circle(double R, int n) {
+std::vector<Vec3> circle_points(double R, int n) {
   std::vector<Vec3> out;
   for (int i = 0; i < n; ++i) out.emplace_back(R * std::cos(2 * kPi * i / n), R * std::sin(2 * kPi * i / n), 0);
   return out;
@@ -38,13 +38,13 @@ TEST(SectionSmoothing, ShrinksANoiseFreeCircleByExactlyTheStatedFactor) {
   // With points evenly spaced on a circle the discrete energy's minimiser is
   // the circle of radius R / (1 + (L/R)^4) (section_curve.h).
   const double R = 10, L = 2;
-  const SmoothedSection s = smooth_section(circle(R, 400), L);
+  const SmoothedSection s = smooth_section(circle_points(R, 400), L);
   const double expected = R / (1 + std::pow(L / R, 4));
   for (const Vec3& q : s.points) EXPECT_NEAR(q.norm(), expected, 1e-9);
   EXPECT_NEAR(s.max_shift_mm, R - expected, 1e-9);
   // L = 0 keeps the points.
   const std::vector<Vec3> noisy = [] {
-    std::vector<Vec3> p = circle(10, 100);
+    std::vector<Vec3> p = circle_points(10, 100);
     add_noise(p, 0.01, 1);
     return p;
   }();
@@ -60,7 +60,7 @@ TEST(SectionSmoothing, ANoisyCircleConvergesToTheCircleAsTheNoiseVanishes) {
   const double bias = R - R / (1 + std::pow(L / R, 4));  // the noise-free limit's shrink
   double last_max = INFINITY;
   for (const double sigma : {0.04, 0.02, 0.01, 0.005, 0.0025, 0.0}) {
-    std::vector<Vec3> p = circle(R, 400);
+    std::vector<Vec3> p = circle_points(R, 400);
     add_noise(p, sigma, 7);
     const SmoothedSection s = smooth_section(p, L);
     double mean_r = 0;
@@ -82,14 +82,14 @@ TEST(SectionSmoothing, CurvatureOfTheSmoothedCircleIsOneOverItsRadius) {
   const double R = 10, L = 0.6;
   const double shrunk = R / (1 + std::pow(L / R, 4));
   for (bool clockwise : {false, true}) {
-    std::vector<Vec3> p = circle(R, 400);
+    std::vector<Vec3> p = circle_points(R, 400);
     if (clockwise) std::reverse(p.begin(), p.end());
     const CurvatureProfile exact = curvature_profile(smooth_section(p, L).curve, 1024);
     ASSERT_EQ(exact.curvature.size(), 1024u);
     EXPECT_NEAR(exact.length_mm, 2 * kPi * shrunk, 1e-6);
     for (double k : exact.curvature) EXPECT_NEAR(k * shrunk, 1.0, 5e-5);  // convex: positive either way
   }
-  std::vector<Vec3> p = circle(R, 400);
+  std::vector<Vec3> p = circle_points(R, 400);
   add_noise(p, 0.005, 8);
   const CurvatureProfile noisy = curvature_profile(smooth_section(p, L).curve, 1024);
   double mean = 0, worst = 0;
@@ -102,13 +102,13 @@ TEST(SectionSmoothing, CurvatureOfTheSmoothedCircleIsOneOverItsRadius) {
 }
 
 TEST(SectionSmoothing, RejectsImpossibleInput) {
-  EXPECT_THROW(smooth_section(circle(1, 20), -0.1), ParameterError);
-  EXPECT_THROW(smooth_section(circle(1, 20), NAN), ParameterError);
-  EXPECT_THROW(smooth_section(circle(1, 4), 0.1), ParameterError);
-  std::vector<Vec3> p = circle(1, 20);
+  EXPECT_THROW(smooth_section(circle_points(1, 20), -0.1), ParameterError);
+  EXPECT_THROW(smooth_section(circle_points(1, 20), NAN), ParameterError);
+  EXPECT_THROW(smooth_section(circle_points(1, 4), 0.1), ParameterError);
+  std::vector<Vec3> p = circle_points(1, 20);
   p[5] = p[6];
   EXPECT_THROW(smooth_section(p, 0.1), ParameterError);
-  p = circle(1, 20);
+  p = circle_points(1, 20);
   p[5].z() = NAN;
   EXPECT_THROW(smooth_section(p, 0.1), ParameterError);
 }
@@ -191,7 +191,7 @@ TEST(SectionAlignment, AProfileOfConstantCurvatureKeepsItsStart) {
 }
 
 TEST(SectionAlignment, RejectsMismatchedOrTooShortProfiles) {
-  const ClosedCurve c = smooth_section(circle(5, 100), 0).curve;
+  const ClosedCurve c = smooth_section(circle_points(5, 100), 0).curve;
   const CurvatureProfile p = curvature_profile(c, 64);
   const StartAlignment same = align_start(p, p);  // a profile lines up with itself
   EXPECT_NEAR(same.shift_samples, 0, 1e-9);

@@ -13,7 +13,7 @@ namespace bliskrun {
 namespace {
 
 // The plane z = 0 over [-10, 10] x [-5, 5], normal +Z (material below).
-class Plane : public Surface {
+class UndercutPlane : public Surface {
  public:
   SurfaceDerivs eval(double u, double v) const override {
     SurfaceDerivs d;
@@ -24,7 +24,7 @@ class Plane : public Surface {
   }
 };
 
-Tool ball(double radius) {
+Tool undercut_ball(double radius) {
   BallEndMillSpec spec;
   spec.radius_mm = radius;
   spec.flute_length_mm = 2 * radius;
@@ -32,7 +32,7 @@ Tool ball(double radius) {
   return Tool::ball_end_mill(spec);
 }
 
-ToolPose at(double x, double y, double z) { return {Vec3(x, y, z), Vec3::UnitZ()}; }
+ToolPose pose_at(double x, double y, double z) { return {Vec3(x, y, z), Vec3::UnitZ()}; }
 
 UndercutOptions plane_options() {
   UndercutOptions o;
@@ -44,10 +44,10 @@ UndercutOptions plane_options() {
 
 TEST(Undercut, TwoBallPassesLeaveTheAnalyticScallop) {
   const double r = 5, w = 2;
-  const std::vector<ToolPass> passes = {{at(-12, -w / 2, 0), at(12, -w / 2, 0)},
-                                        {at(-12, w / 2, 0), at(12, w / 2, 0)}};
+  const std::vector<ToolPass> passes = {{pose_at(-12, -w / 2, 0), pose_at(12, -w / 2, 0)},
+                                        {pose_at(-12, w / 2, 0), pose_at(12, w / 2, 0)}};
   const UndercutOptions o = plane_options();
-  const UndercutResult res = simulate_undercut(Plane(), ball(r), passes, o);
+  const UndercutResult res = simulate_undercut(UndercutPlane(), undercut_ball(r), passes, o);
   ASSERT_EQ(res.residual_mm.size(), static_cast<size_t>(41 * 101));
   for (int i = 0; i < o.samples_u; ++i) {
     for (int j = 0; j < o.samples_v; ++j) {
@@ -88,7 +88,7 @@ TEST(Undercut, DrumWheelStraightPassLeavesTheBarrelProfile) {
   auto pose = [&](double x) { return ToolPose{Vec3(x, -lc / 2, dt / 2), Vec3::UnitY()}; };
   UndercutOptions o = plane_options();
   o.samples_v = 201;  // y every 0.05 mm
-  const UndercutResult res = simulate_undercut(Plane(), wheel, {{pose(-14), pose(14)}}, o);
+  const UndercutResult res = simulate_undercut(UndercutPlane(), wheel, {{pose(-14), pose(14)}}, o);
   int checked = 0;
   for (int i = 0; i < o.samples_u; ++i)
     for (int j = 0; j < o.samples_v; ++j) {
@@ -110,8 +110,8 @@ TEST(Undercut, DrumWheelStraightPassLeavesTheBarrelProfile) {
 TEST(Undercut, MotionBetweenPosesIsSwept) {
   // Two poses 20 mm apart: every sample on the line between them is cut to
   // zero, which a pose-only check would miss (the ball touches only two spots).
-  const std::vector<ToolPass> passes = {{at(-10, 0, 0), at(10, 0, 0)}};
-  const UndercutResult res = simulate_undercut(Plane(), ball(3), passes, plane_options());
+  const std::vector<ToolPass> passes = {{pose_at(-10, 0, 0), pose_at(10, 0, 0)}};
+  const UndercutResult res = simulate_undercut(UndercutPlane(), undercut_ball(3), passes, plane_options());
   for (int i = 0; i < 41; ++i) EXPECT_NEAR(res.residual_mm[i * 101 + 50], 0.0, 2e-5) << i;
 }
 
@@ -119,11 +119,11 @@ TEST(Undercut, MotionBetweenPosesIsSwept) {
 // lower of the two balls' profiles at every sample, and the overcut is found
 // in the second run's pass, numbered after the first run's.
 TEST(Undercut, SeveralToolsLeaveTheLowerOfTheirProfiles) {
-  const Tool big = ball(5), small = ball(2);
-  const std::vector<ToolPass> rough = {{at(-12, -1, 0.2), at(12, -1, 0.2)}, {at(-12, 3, 0.2), at(12, 3, 0.2)}};
-  const std::vector<ToolPass> finish = {{at(-12, 1, -0.01), at(12, 1, -0.01)}};
+  const Tool big = undercut_ball(5), small = undercut_ball(2);
+  const std::vector<ToolPass> rough = {{pose_at(-12, -1, 0.2), pose_at(12, -1, 0.2)}, {pose_at(-12, 3, 0.2), pose_at(12, 3, 0.2)}};
+  const std::vector<ToolPass> finish = {{pose_at(-12, 1, -0.01), pose_at(12, 1, -0.01)}};
   const UndercutOptions o = plane_options();
-  const UndercutResult res = simulate_undercut(Plane(), {ToolRun{&big, &rough}, ToolRun{&small, &finish}}, o);
+  const UndercutResult res = simulate_undercut(UndercutPlane(), {ToolRun{&big, &rough}, ToolRun{&small, &finish}}, o);
   for (int j = 0; j < o.samples_v; ++j) {
     const double y = -5 + 10.0 * j / (o.samples_v - 1);
     double expected = std::numeric_limits<double>::infinity();
@@ -136,21 +136,21 @@ TEST(Undercut, SeveralToolsLeaveTheLowerOfTheirProfiles) {
   EXPECT_NEAR(res.overcut_mm, -0.01, 2e-5);
   EXPECT_EQ(res.overcut_pass, 2);  // the finisher's pass, after the rougher's two
   // One run of the same passes gives what the single-tool call gives.
-  const UndercutResult one = simulate_undercut(Plane(), {ToolRun{&big, &rough}}, o);
-  const UndercutResult same = simulate_undercut(Plane(), big, rough, o);
+  const UndercutResult one = simulate_undercut(UndercutPlane(), {ToolRun{&big, &rough}}, o);
+  const UndercutResult same = simulate_undercut(UndercutPlane(), big, rough, o);
   EXPECT_EQ(one.residual_mm, same.residual_mm);
 }
 
 TEST(Undercut, GougeIsNegative) {
-  const std::vector<ToolPass> passes = {{at(-12, 0, -0.03), at(12, 0, -0.03)}};
-  const UndercutResult res = simulate_undercut(Plane(), ball(4), passes, plane_options());
+  const std::vector<ToolPass> passes = {{pose_at(-12, 0, -0.03), pose_at(12, 0, -0.03)}};
+  const UndercutResult res = simulate_undercut(UndercutPlane(), undercut_ball(4), passes, plane_options());
   EXPECT_NEAR(res.overcut_mm, -0.03, 2e-5);
   EXPECT_NEAR(res.residual_mm[20 * 101 + 50], -0.03, 2e-5);
 }
 
 TEST(Undercut, StatisticsMatchTheResidualMap) {
-  const std::vector<ToolPass> passes = {{at(-12, -1, 0), at(12, -1, 0)}, {at(-12, 1, 0), at(12, 1, 0)}};
-  const UndercutResult res = simulate_undercut(Plane(), ball(5), passes, plane_options());
+  const std::vector<ToolPass> passes = {{pose_at(-12, -1, 0), pose_at(12, -1, 0)}, {pose_at(-12, 1, 0), pose_at(12, 1, 0)}};
+  const UndercutResult res = simulate_undercut(UndercutPlane(), undercut_ball(5), passes, plane_options());
   std::vector<double> u;
   for (double x : res.residual_mm)
     if (std::isfinite(x)) u.push_back(std::max(0.0, x));
@@ -164,13 +164,13 @@ TEST(Undercut, StatisticsMatchTheResidualMap) {
 }
 
 TEST(Undercut, SameResultForAnyThreadCount) {
-  const std::vector<ToolPass> passes = {{at(-12, -1, 0), at(0, -1.2, 0.01), at(12, -1, 0)},
-                                        {at(-12, 1, 0), at(12, 1.3, 0)}};
+  const std::vector<ToolPass> passes = {{pose_at(-12, -1, 0), pose_at(0, -1.2, 0.01), pose_at(12, -1, 0)},
+                                        {pose_at(-12, 1, 0), pose_at(12, 1.3, 0)}};
   UndercutOptions one = plane_options(), two = plane_options();
   one.threads = 1;
   two.threads = 2;
-  const UndercutResult a = simulate_undercut(Plane(), ball(5), passes, one);
-  const UndercutResult b = simulate_undercut(Plane(), ball(5), passes, two);
+  const UndercutResult a = simulate_undercut(UndercutPlane(), undercut_ball(5), passes, one);
+  const UndercutResult b = simulate_undercut(UndercutPlane(), undercut_ball(5), passes, two);
   ASSERT_EQ(a.residual_mm.size(), b.residual_mm.size());
   for (size_t i = 0; i < a.residual_mm.size(); ++i)
     ASSERT_EQ(std::memcmp(&a.residual_mm[i], &b.residual_mm[i], sizeof(double)), 0) << i;
@@ -182,11 +182,11 @@ TEST(Undercut, SameResultForAnyThreadCount) {
 // are traced. Three overlapping passes of a ball, scallops 0.1 mm apart.
 TEST(Undercut, SettledSamplesAreTracedNoMoreAndTheRestIsUnchanged) {
   std::vector<ToolPass> passes;
-  for (double y : {-0.1, 0.0, 0.1}) passes.push_back({at(-12, y, 0), at(12, y, 0)});
+  for (double y : {-0.1, 0.0, 0.1}) passes.push_back({pose_at(-12, y, 0), pose_at(12, y, 0)});
   UndercutOptions all = plane_options(), settled = plane_options();
   settled.settled_mm = 0.002;
-  const UndercutResult a = simulate_undercut(Plane(), ball(5), passes, all);
-  const UndercutResult b = simulate_undercut(Plane(), ball(5), passes, settled);
+  const UndercutResult a = simulate_undercut(UndercutPlane(), undercut_ball(5), passes, all);
+  const UndercutResult b = simulate_undercut(UndercutPlane(), undercut_ball(5), passes, settled);
   ASSERT_EQ(a.residual_mm.size(), b.residual_mm.size());
   int above = 0, below = 0;
   for (size_t i = 0; i < a.residual_mm.size(); ++i) {
@@ -207,12 +207,12 @@ TEST(Undercut, SettledSamplesAreTracedNoMoreAndTheRestIsUnchanged) {
 TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
   // Doubling the sampled area away from a short pass (same density) must not
   // double the work: far tiles are pruned by the Lipschitz bound.
-  const std::vector<ToolPass> passes = {{at(-9, 0, 0), at(-8, 0, 0)}};
+  const std::vector<ToolPass> passes = {{pose_at(-9, 0, 0), pose_at(-8, 0, 0)}};
   UndercutOptions near = plane_options(), wide = plane_options();
   wide.samples_u = 81;
   wide.u1 = 2;  // x up to +30 mm
-  const UndercutResult a = simulate_undercut(Plane(), ball(2), passes, near);
-  const UndercutResult b = simulate_undercut(Plane(), ball(2), passes, wide);
+  const UndercutResult a = simulate_undercut(UndercutPlane(), undercut_ball(2), passes, near);
+  const UndercutResult b = simulate_undercut(UndercutPlane(), undercut_ball(2), passes, wide);
   EXPECT_EQ(a.tool_positions, b.tool_positions);
   EXPECT_LT(b.line_evaluations, a.line_evaluations * 11 / 10);
   EXPECT_LT(a.line_evaluations, a.tool_positions * 41L * 101L / 4);
@@ -220,7 +220,7 @@ TEST(Undercut, CostFollowsSamplesNearTheToolNotAllSamples) {
 
 // A cylinder of radius 20 about X, its top near z = 0 (normal out): a flank
 // the flat bottom of an end mill lies over, curving away from it.
-class Cylinder : public Surface {
+class UndercutCylinder : public Surface {
  public:
   SurfaceDerivs eval(double u, double v) const override {
     const double r = 20, x = 16 * u - 8, a = (v - 0.5) * 0.8;
@@ -242,8 +242,8 @@ class Cylinder : public Surface {
 TEST(Undercut, GuardPruningBelowTheBottomAgreesWithTracingEverySample) {
   const Tool mill = test::flat_end_mill(3, 0.5, 9, 30);
   const Profile& cutter = mill.cutter();
-  const Plane plane;
-  const Cylinder cylinder;
+  const UndercutPlane plane;
+  const UndercutCylinder cylinder;
   int compared = 0, cut = 0;
   for (const Surface* surface : {static_cast<const Surface*>(&plane), static_cast<const Surface*>(&cylinder)}) {
     UndercutOptions o = guard_sampling(*surface, 0.1, 0.3, 0.7, 0.2, 0.8);
@@ -285,7 +285,7 @@ TEST(Undercut, GuardPruningBelowTheBottomAgreesWithTracingEverySample) {
 TEST(Undercut, RejectsBadOptions) {
   UndercutOptions o = plane_options();
   o.samples_u = 1;
-  EXPECT_THROW(simulate_undercut(Plane(), ball(2), {}, o), ParameterError);
+  EXPECT_THROW(simulate_undercut(UndercutPlane(), undercut_ball(2), {}, o), ParameterError);
 }
 
 }  // namespace

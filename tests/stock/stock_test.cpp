@@ -21,7 +21,7 @@ namespace bliskrun {
 namespace {
 
 // A cylinder of radius r from z0 to z1.
-BlankProfile cylinder(double r, double z0, double z1) {
+BlankProfile cylinder_blank(double r, double z0, double z1) {
   return BlankProfile({{0, z0}, {r, z0}, {r, z1}, {0, z1}});
 }
 
@@ -33,7 +33,7 @@ Move feed(const Vec3& tip, const Vec3& axis = Vec3::UnitZ()) {
   return m;
 }
 
-Move rapid(const Vec3& tip, const Vec3& axis = Vec3::UnitZ()) {
+Move rapid_to(const Vec3& tip, const Vec3& axis = Vec3::UnitZ()) {
   Move m = feed(tip, axis);
   m.kind = Move::Kind::Rapid;
   m.motion = "traverse";
@@ -47,7 +47,7 @@ double chord_integral(double R, double w) {
 }
 
 TEST(BlankProfile, VolumeIsPappusAndBadProfilesAreRefused) {
-  EXPECT_NEAR(cylinder(20, 0, 10).volume(), kPi * 400 * 10, 1e-9);
+  EXPECT_NEAR(cylinder_blank(20, 0, 10).volume(), kPi * 400 * 10, 1e-9);
   // A ring with a bore, given clockwise: r 5..20, height 10.
   const BlankProfile ring({{5, 0}, {5, 10}, {20, 10}, {20, 0}});
   EXPECT_NEAR(ring.volume(), kPi * (400 - 25) * 10, 1e-9);
@@ -58,8 +58,8 @@ TEST(BlankProfile, VolumeIsPappusAndBadProfilesAreRefused) {
   EXPECT_THROW(BlankProfile({{0, 0}, {1, 0}, {2, 0}}), ParameterError);                  // no area
   EXPECT_THROW(BlankProfile({{0, 0}, {2, 2}, {2, 0}, {0, 2}}), ParameterError);          // a bow tie
   EXPECT_THROW(BlankProfile({{0, 0}, {std::nan(""), 0}, {0, 1}}), ParameterError);
-  EXPECT_THROW(Stock(cylinder(20, 0, 10), {0.001}), ParameterError);
-  EXPECT_THROW(Stock(cylinder(20, 0, 10), {5}), ParameterError);  // more than a quarter of the height
+  EXPECT_THROW(Stock(cylinder_blank(20, 0, 10), {0.001}), ParameterError);
+  EXPECT_THROW(Stock(cylinder_blank(20, 0, 10), {5}), ParameterError);  // more than a quarter of the height
 }
 
 TEST(Stock, BlankVolumeOnTheGrids) {
@@ -146,8 +146,8 @@ TEST(Stock, SlotByAFlatEndMillThroughACylinder) {
   const double R = 4, depth = 3;
   const Tool flat = Tool::flat_end_mill({R, 0, 20, {}, {}});
   for (double h : {0.5, 0.25}) {
-    Stock s(cylinder(30, 0, 20), {h});
-    const Toolpath moves{rapid({-40, 0, 20 - depth}), feed({40, 0, 20 - depth})};
+    Stock s(cylinder_blank(30, 0, 20), {h});
+    const Toolpath moves{rapid_to({-40, 0, 20 - depth}), feed({40, 0, 20 - depth})};
     const CutResult r = s.cut(moves, flat, {});
     const double expected = depth * chord_integral(30, R);
     EXPECT_NEAR(r.removed_mm3 / expected, 1, 2e-3) << "resolution " << h;
@@ -188,7 +188,7 @@ TEST(Stock, SlotByABallEndMillThroughACylinder) {
   }
   expected *= 2 * w / n / 3;
   const Tool ball = Tool::ball_end_mill({R, 20, {}, {}});
-  const Toolpath moves{rapid({-40, 0, 20 - depth}), feed({40, 0, 20 - depth})};
+  const Toolpath moves{rapid_to({-40, 0, 20 - depth}), feed({40, 0, 20 - depth})};
   CutOptions o;
   o.step_mm = 0.1;  // scallops between samples 0.1²/(8·4) = 0.3 µm
   // The section (17.2 mm²) is only ~70 cells of 0.5 mm: the grids' count
@@ -196,7 +196,7 @@ TEST(Stock, SlotByABallEndMillThroughACylinder) {
   // +1.9 % and +0.35 %; +0.17 % at 0.125 mm).
   double error_coarse = 0;
   for (double h : {0.5, 0.25}) {
-    Stock s(cylinder(30, 0, 20), {h});
+    Stock s(cylinder_blank(30, 0, 20), {h});
     const CutResult r = s.cut(moves, ball, o);
     const double error = std::abs(r.removed_mm3 / expected - 1);
     EXPECT_LT(error, h == 0.5 ? 0.025 : 0.005) << "resolution " << h;
@@ -217,7 +217,7 @@ TEST(Stock, SlotByABallEndMillThroughACylinder) {
   }
   // At the default step (the resolution) the sampling's scallops, 2 µm
   // high, cost less than 0.1 % of the volume.
-  Stock fine(cylinder(30, 0, 20), {0.25}), coarse(cylinder(30, 0, 20), {0.25});
+  Stock fine(cylinder_blank(30, 0, 20), {0.25}), coarse(cylinder_blank(30, 0, 20), {0.25});
   const double by_fine_steps = fine.cut(moves, ball, o).removed_mm3;
   const double by_default_steps = coarse.cut(moves, ball, {}).removed_mm3;
   EXPECT_LT(by_default_steps, by_fine_steps);
@@ -232,13 +232,13 @@ TEST(Stock, HelixOfOverlappingPlunges) {
   // tool retracts up its axis and moves over the blank (air).
   const double R = 3, rho = 15, top = 20;
   const Tool flat = Tool::flat_end_mill({R, 0.0, 25, {}, {}});
-  Stock s(cylinder(30, 0, top), {0.25});
+  Stock s(cylinder_blank(30, 0, top), {0.25});
   Toolpath moves;
   double expected = 0, air_expected = 0, path = 0;
   const double c = 2 * rho * std::sin(deg_to_rad(10));
   const double lens = 2 * R * R * std::acos(c / (2 * R)) - 0.5 * c * std::sqrt(4 * R * R - c * c);
   Vec3 last(rho, 0, top + 2);
-  moves.push_back(rapid(last));
+  moves.push_back(rapid_to(last));
   for (int k = 0; k < 12; ++k) {
     const double a = deg_to_rad(20.0 * k), depth = 4 + 0.5 * k;
     const Vec3 above(rho * std::cos(a), rho * std::sin(a), top + 2), bottom(above.x(), above.y(), top - depth);
@@ -267,7 +267,7 @@ TEST(Stock, HelixOfOverlappingPlunges) {
 }
 
 TEST(Stock, MovesAboveTheBlankCutAir) {
-  Stock s(cylinder(30, 0, 20), {0.5});
+  Stock s(cylinder_blank(30, 0, 20), {0.5});
   const Tool ball = Tool::ball_end_mill({4, 20, {8, 30}, {}});
   // A 5-axis move, the axis turning 30°, the ball's lowest point 0.1 mm
   // above the top at both ends (the tip rises by R (1 - cos 30°) as the
@@ -288,18 +288,18 @@ TEST(Stock, MovesAboveTheBlankCutAir) {
 }
 
 TEST(Stock, RapidsAndShanksInTheStockAreReported) {
-  Stock s(cylinder(30, 0, 20), {0.5});
+  Stock s(cylinder_blank(30, 0, 20), {0.5});
   // Flute 5 mm, shank as wide: a slot 8 mm deep runs 3 mm of shank through
   // the stock above the flutes; then a rapid through the blank (a crash).
   const Tool flat = Tool::flat_end_mill({4, 0.5, 5, {8, 40}, {}});
-  const CutResult r = s.cut({rapid({-40, 0, 12}), feed({0, 0, 12}), rapid({0, 20, 12})}, flat, {});
+  const CutResult r = s.cut({rapid_to({-40, 0, 12}), feed({0, 0, 12}), rapid_to({0, 20, 12})}, flat, {});
   EXPECT_GT(r.moves[1].body_mm3, 1.0);
   EXPECT_EQ(r.body_contact_moves, 2);
   EXPECT_EQ(r.rapid_cut_moves, 1);
   EXPECT_GT(r.rapid_removed_mm3, 100);
   CutOptions quiet;
   quiet.check_body = false;
-  EXPECT_EQ(Stock(cylinder(30, 0, 20), {0.5}).cut({rapid({-40, 0, 12}), feed({0, 0, 12})}, flat, quiet).body_contact_moves, 0);
+  EXPECT_EQ(Stock(cylinder_blank(30, 0, 20), {0.5}).cut({rapid_to({-40, 0, 12}), feed({0, 0, 12})}, flat, quiet).body_contact_moves, 0);
 }
 
 TEST(Stock, MaterialAboveASurfacePoint) {
@@ -327,7 +327,7 @@ TEST(Stock, ThreadsChangeNoFigure) {
   // The grids are cut side by side: one thread or three, every figure and
   // the state are the same, bit for bit.
   const Tool bull = Tool::flat_end_mill({3, 1, 10, {6, 20}, {}});
-  Toolpath moves{rapid({-35, -5, 18})};
+  Toolpath moves{rapid_to({-35, -5, 18})};
   for (int k = 0; k < 40; ++k) {
     const double a = 0.15 * k;
     moves.push_back(feed({-30 + 1.5 * k, 8 * std::sin(a), 17 - 0.1 * k},
@@ -336,7 +336,7 @@ TEST(Stock, ThreadsChangeNoFigure) {
   std::vector<CutResult> results;
   std::vector<double> volumes;
   for (int threads : {1, 3}) {
-    Stock s(cylinder(30, 0, 20), {0.5});
+    Stock s(cylinder_blank(30, 0, 20), {0.5});
     CutOptions o;
     o.threads = threads;
     results.push_back(s.cut(moves, bull, o));
@@ -353,7 +353,7 @@ TEST(Stock, ThreadsChangeNoFigure) {
 }
 
 TEST(Stock, BadMovesAndGridsAreRefused) {
-  Stock s(cylinder(30, 0, 20), {0.5});
+  Stock s(cylinder_blank(30, 0, 20), {0.5});
   const Tool ball = Tool::ball_end_mill({4, 20, {}, {}});
   EXPECT_THROW(s.cut({feed({0, 0, 30}), feed({0, 0, std::nan("")})}, ball, {}), ParameterError);
   EXPECT_THROW(s.cut({feed({0, 0, 30}), feed({0, 0, 30}, -Vec3::UnitZ())}, ball, {}), ParameterError);
@@ -363,7 +363,7 @@ TEST(Stock, BadMovesAndGridsAreRefused) {
   EXPECT_THROW(s.cut({feed({0, 0, 30})}, ball, o), ParameterError);
   EXPECT_EQ(s.volume(), s.blank_volume());
   // 10^11 rays.
-  EXPECT_THROW(Stock(cylinder(1e4, 0, 1e3), {0.05}), ParameterError);
+  EXPECT_THROW(Stock(cylinder_blank(1e4, 0, 1e3), {0.05}), ParameterError);
 }
 
 // Even-odd point-in-polygon, the blank's meridian without BlankProfile.
@@ -407,9 +407,9 @@ TEST(Stock, StateAfterAFiveAxisSequenceAgainstBruteForce) {
     Toolpath moves;
   };
   std::vector<Pass> passes{
-      {&ball, {rapid({-14, -3, 7}, axis(20, 0)), feed({-6, -4, 6.5}, axis(20, 0)), feed({4, 2, 6}, axis(35, 60)),
+      {&ball, {rapid_to({-14, -3, 7}, axis(20, 0)), feed({-6, -4, 6.5}, axis(20, 0)), feed({4, 2, 6}, axis(35, 60)),
                feed({9, 8, 7.5}, axis(10, 120))}},
-      {&bull, {rapid({14, -9, 8}, axis(15, 200)), feed({6, -6, 7}, axis(25, 180)), feed({-3, -10, 7.5}, axis(5, 90)),
+      {&bull, {rapid_to({14, -9, 8}, axis(15, 200)), feed({6, -6, 7}, axis(25, 180)), feed({-3, -10, 7.5}, axis(5, 90)),
                feed(Vec3(-3, -10, 7.5) - 3.5 * axis(5, 90), axis(5, 90))}}};
   CutOptions o;
   o.step_mm = 0.3;

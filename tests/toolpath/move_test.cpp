@@ -11,7 +11,7 @@
 namespace bliskrun {
 namespace {
 
-Move at(Move::Kind kind, double x, int row, const char* motion) {
+Move move_at(Move::Kind kind, double x, int row, const char* motion) {
   Move m;
   m.kind = kind;
   m.pose.tip = Vec3(x, 0, 0);
@@ -32,11 +32,11 @@ Move stop(int row, const char* reason) {
 // lead-in, row 0 (2 feeds), a link (rapid), row 1 (2 feeds), a refused
 // link, row 2 (1 feed), lead-out.
 Toolpath program() {
-  return {at(Move::Kind::Rapid, 0, 0, "start"), at(Move::Kind::Feed, 1, 0, "approach"),
-          at(Move::Kind::Feed, 2, 0, "cut"),    at(Move::Kind::Rapid, 3, 1, "traverse"),
-          at(Move::Kind::Feed, 4, 1, "approach"), at(Move::Kind::Feed, 5, 1, "cut"),
-          stop(2, "link: blocked"),            at(Move::Kind::Feed, 6, 2, "start"),
-          at(Move::Kind::Rapid, 7, 2, "retract")};
+  return {move_at(Move::Kind::Rapid, 0, 0, "start"), move_at(Move::Kind::Feed, 1, 0, "approach"),
+          move_at(Move::Kind::Feed, 2, 0, "cut"),    move_at(Move::Kind::Rapid, 3, 1, "traverse"),
+          move_at(Move::Kind::Feed, 4, 1, "approach"), move_at(Move::Kind::Feed, 5, 1, "cut"),
+          stop(2, "link: blocked"),            move_at(Move::Kind::Feed, 6, 2, "start"),
+          move_at(Move::Kind::Rapid, 7, 2, "retract")};
 }
 
 TEST(Toolpath, PassesEndAtStopsAndNameTheirFirstMove) {

@@ -14,7 +14,7 @@ namespace bliskrun {
 namespace {
 
 // Blisk paper Table 3, wheel 2 (the extended design): D_t 8, R_c 50, L_c 4, d 6, h 96.
-Tool paper_wheel(double barrel_radius = 50) {
+Tool paper_wheel_of_barrel(double barrel_radius = 50) {
   DrumWheelSpec s;
   s.max_diameter_mm = 8;
   s.barrel_radius_mm = barrel_radius;
@@ -24,7 +24,7 @@ Tool paper_wheel(double barrel_radius = 50) {
 }
 
 std::vector<Tool> every_tool() {
-  std::vector<Tool> tools{paper_wheel()};
+  std::vector<Tool> tools{paper_wheel_of_barrel()};
   tools.push_back(Tool::conical_drum_wheel({6, 9, 30, 5, {5, 40}, {}}));
   tools.push_back(Tool::flat_end_mill({5, 1.5, 20, {10, 30}, {30, 40}}));
   tools.push_back(Tool::ball_end_mill({3, 15, {6, 30}, {}}));
@@ -76,7 +76,7 @@ bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& q) {
 
 TEST(DrumWheel, ProfileIsTheBarrelArcCentredAtHalfHeight) {
   for (double rc : {20.0, 50.0}) {  // Table 3 wheels 1 and 2
-    const Tool t = paper_wheel(rc);
+    const Tool t = paper_wheel_of_barrel(rc);
     for (int i = 0; i <= 400; ++i) {
       const double z = 4.0 * i / 400;
       const double expected = 4.0 - rc + std::sqrt(rc * rc - (z - 2.0) * (z - 2.0));
@@ -250,8 +250,8 @@ TEST(Tools, InvalidParametersNameTheParameter) {
   EXPECT_EQ(name_of([] { Tool::tapered_ball_end_mill({1.5, deg_to_rad(90), 25, {}, {}}); }), "half_angle");
   EXPECT_EQ(name_of([] { Tool::contact_wheel({50, -1, {}, {}}); }), "width");
   EXPECT_EQ(name_of([] { Tool::conical_drum_wheel({6, 9, 1, 5, {}, {}}); }), "barrel_radius");
-  EXPECT_EQ(name_of([] { paper_wheel().cut_width(2, 0.0, -0.01); }), "residual_height");
-  EXPECT_EQ(name_of([] { paper_wheel().cut_width(2, 0.03, 0.01); }), "normal_curvature");  // 1/0.03 < R_c: gouge
+  EXPECT_EQ(name_of([] { paper_wheel_of_barrel().cut_width(2, 0.0, -0.01); }), "residual_height");
+  EXPECT_EQ(name_of([] { paper_wheel_of_barrel().cut_width(2, 0.03, 0.01); }), "normal_curvature");  // 1/0.03 < R_c: gouge
   // The message says why, with the numbers.
   try {
     Tool::drum_wheel({8, 3.9, 4, {6, 96}, {}});
@@ -264,7 +264,7 @@ TEST(Tools, InvalidParametersNameTheParameter) {
 // profile meets the residual surface, against the circle-circle closed form.
 TEST(DrumWheel, CutWidthMatchesCircleIntersection) {
   for (double rc : {20.0, 50.0}) {
-    const Tool t = paper_wheel(rc);
+    const Tool t = paper_wheel_of_barrel(rc);
     for (double h : {0.002, 0.014}) {
       // Flat surface: chord of the barrel circle at depth h.
       EXPECT_NEAR(t.cut_width(2, 0, h).width_mm, 2 * std::sqrt(2 * rc * h - h * h), 1e-9);
@@ -290,17 +290,17 @@ TEST(DrumWheel, CutWidthMatchesCircleIntersection) {
   }
   // The paper's numbers: a 14 µm residual on a flat flank gives a 2.37 mm
   // row with R_c = 50 and 1.50 mm with R_c = 20 (the extended design's gain).
-  EXPECT_NEAR(paper_wheel(50).cut_width(2, 0, 0.014).width_mm, 2.366, 1e-3);
-  EXPECT_NEAR(paper_wheel(20).cut_width(2, 0, 0.014).width_mm, 1.497, 1e-3);
+  EXPECT_NEAR(paper_wheel_of_barrel(50).cut_width(2, 0, 0.014).width_mm, 2.366, 1e-3);
+  EXPECT_NEAR(paper_wheel_of_barrel(20).cut_width(2, 0, 0.014).width_mm, 1.497, 1e-3);
   // A residual the barrel does not reach within the 4 mm head: the end faces
   // bound the strip.
-  EXPECT_NEAR(paper_wheel(50).cut_width(2, 0, 0.05).width_mm, 4, 1e-12);
+  EXPECT_NEAR(paper_wheel_of_barrel(50).cut_width(2, 0, 0.05).width_mm, 4, 1e-12);
   // A flat side against a flat surface never rises: no finite width.
   EXPECT_THROW(Tool::flat_end_mill({5, 1, 20, {}, {}}).cut_width(10, 0, 0.01), ParameterError);
 }
 
 TEST(DrumWheel, EffectiveRadiusFollowsEuler) {
-  const Tool t = paper_wheel(50);
+  const Tool t = paper_wheel_of_barrel(50);
   EXPECT_NEAR(t.effective_radius(2, 0), 50, 1e-12);           // along the axis: R_c
   EXPECT_NEAR(t.effective_radius(2, kPi / 2), 4, 1e-12);      // round the axis: D_t/2
   EXPECT_NEAR(t.effective_radius(2, kPi / 4), 1 / (0.5 / 50 + 0.5 / 4), 1e-12);
@@ -317,7 +317,7 @@ TEST(Profile, PointWithNormalOnArcsAndCorners) {
   }
   // The drum wheel's bottom corner carries every normal between the bottom
   // face's and the arc's first one.
-  const Tool wheel = paper_wheel(50);
+  const Tool wheel = paper_wheel_of_barrel(50);
   const double r_end = 4 - 50 + std::sqrt(2500 - 4);
   const ProfilePoint corner = wheel.cutter().point_with_normal(Vec2(std::cos(-0.5), std::sin(-0.5)));
   EXPECT_NEAR((corner.point - Vec2(r_end, 0)).norm(), 0, 1e-12);
@@ -394,7 +394,7 @@ TEST(ToolFcl, ALongCutterIsTwoPiecesWhoseBottomReachesLess) {
   EXPECT_EQ(parts.front().reach_mm, parts.front().pieces[1].reach_mm);
   // The shank, and a short cutter, stay whole.
   EXPECT_EQ(parts[1].pieces.size(), 1u);
-  EXPECT_EQ(fcl_parts(paper_wheel(), 0.01).front().pieces.size(), 1u);
+  EXPECT_EQ(fcl_parts(paper_wheel_of_barrel(), 0.01).front().pieces.size(), 1u);
 }
 
 }  // namespace
