@@ -68,72 +68,47 @@ TEST(BladeEdgesRecipe, RefusedContactsFailTheRun) {
 }
 
 #if !defined(BLISKRUN_SANITIZED)
-// The same recipe on NASA Rotor 67's trailing edge (a band of 5 % of the
-// span, small samples): the edge region built from flanks lofted to the
-// data's edge points, every pose and link proved, no gouge. Before the
-// region followed the data (a circle fitted between flank ends a chord
-// margin from the edge) the whole edge refused ~2700 contacts and ~2200
-// links and the simulation found 0.1 mm overcut. In this band the rows'
-// steps jump from u 0 to 0.19 over the nearly straight flank overlap; the
-// two contacts, a corner and a bottom planned, were both tilted to one axis
-// yet kept the break between their families, and the partial rows sent
-// there had no step inside the part: 26 um left (measured), now within e2.
-// blade_edges.lua on Rotor 67's TE over the span window v0..v1 (small
-// samples): its JSON report, or null (the failure recorded) when it fails.
-nlohmann::json rotor67_trailing_band(const std::string& data, const std::string& v0, const std::string& v1) {
+// The same recipe on NASA Rotor 67's trailing edge near the hub (v
+// 0.145-0.155, small samples), one run asserting what two runs (this band
+// and one at mid-span, 0.43-0.46, ~65 s each) asserted apart: the edge
+// region built from flanks lofted to the data's edge points, every pose and
+// link proved, no gouge, the band held. Before the region followed the
+// data (a circle fitted between flank ends a chord margin from the edge)
+// the whole edge refused ~2700 contacts and ~2200 links and the simulation
+// found 0.1 mm overcut. Near the hub the axes on the round's side lean 0.4
+// towards the blisk's axis and the holder, 120 mm up the tool, sits at its
+// clearance of the hub: one link, into a 2-pose partial row from across
+// the round, swept the holder inside that clearance on every route, and
+// was emitted as a stop; a route radially out, tried for it, cut 0.1 mm
+// into a flank beyond the guards (found only by this recipe's simulation).
+// Now every traverse is proved against the own blade with the cutter too,
+// and the link is proved with the rows either side rearranged. (Measured:
+// 212 poses, left 13.2 um, overcut 0.74 / 0.38 um edge / flanks.)
+TEST(BladeEdgesRecipe, Rotor67TrailingEdgeNearTheHubIsProvedAndLinksEveryPass) {
+  const std::string data = shared_data_dir();
+  if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 edge recipe skipped";
   TempDir dir;
   const std::string out = dir.path() + "/out";
   const RecipeResult r = run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_edges.lua", "--data",
-                                       data, "--out", out, "--quiet", "--set", "edges=trailing", "--set", "v0=" + v0,
-                                       "--set", "v1=" + v1, "--set", "samples_u=80", "--set", "samples_v=60"});
-  EXPECT_EQ(r.exit_code, 0) << r.output;
-  if (r.exit_code != 0) return nullptr;
+                                       data, "--out", out, "--quiet", "--set", "edges=trailing", "--set", "v0=0.145",
+                                       "--set", "v1=0.155", "--set", "samples_u=80", "--set", "samples_v=60"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(out + "/blade_edges.json");
-  return nlohmann::json::parse(in);
-}
-
-TEST(BladeEdgesRecipe, Rotor67TrailingEdgeBandIsProvedAndDoesNotGouge) {
-  const std::string data = shared_data_dir();
-  if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 edge recipe skipped";
-  const nlohmann::json j = rotor67_trailing_band(data, "0.43", "0.46");
-  ASSERT_FALSE(j.is_null());
+  const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["part"].get<std::string>(), "NASA Rotor 67 blade 1");
   const auto& e = j["edges"]["trailing"];
-  EXPECT_TRUE(e["verified"].get<bool>());
+  EXPECT_TRUE(e["verified"].get<bool>());  // the flank cut by the radial route: -100 um
   EXPECT_LT(e["region"]["circle_misfit_mm"].get<double>(), 0.002);  // the flanks meet
   EXPECT_LT(e["region"]["fit_deviation_mm"].get<double>(), 0.002);
   EXPECT_EQ(e["refusals"].get<int>(), 0);
-  EXPECT_EQ(e["refused_links"].get<int>(), 0);
-  EXPECT_GT(e["poses"].get<int>(), 200);
+  EXPECT_EQ(e["refused_links"].get<int>(), 0);    // 1 before
+  EXPECT_GE(e["rearranged_rows"].get<int>(), 1);  // the link's rows cut the other way or order
+  EXPECT_GT(e["poses"].get<int>(), 150);
   const double e1 = -0.001;
   EXPECT_GE(e["simulation"]["overcut_mm"].get<double>(), e1);
   EXPECT_GE(e["simulation"]["flank_overcut_mm"].get<double>(), e1);
   EXPECT_EQ(e["simulation"]["untouched"].get<int>(), 0);
-  EXPECT_LE(e["simulation"]["undercut_max_mm"].get<double>(), 0.02 + 1e-3);  // measured 17.1 um
-  EXPECT_TRUE(e["within_band"].get<bool>());
-}
-
-// Rotor 67's TE near the hub (v 0.145-0.155), where the axes on the round's
-// side lean 0.4 towards the blisk's axis and the holder, 120 mm up the
-// tool, sits at its clearance of the hub: one link, into a 2-pose partial
-// row from across the round, swept the holder inside that clearance on
-// every route, and was emitted as a stop; a route radially out, tried for
-// it, cut 0.1 mm into a flank beyond the guards (found only by this
-// recipe's simulation). Now every traverse is proved against the own
-// blade with the cutter too, and the link is proved with the rows either
-// side rearranged.
-TEST(BladeEdgesRecipe, Rotor67TrailingEdgeNearTheHubLinksEveryPass) {
-  const std::string data = shared_data_dir();
-  if (data.empty()) GTEST_SKIP() << "../shared/data not present: Rotor 67 edge recipe skipped";
-  const nlohmann::json j = rotor67_trailing_band(data, "0.145", "0.155");
-  ASSERT_FALSE(j.is_null());
-  const auto& e = j["edges"]["trailing"];
-  EXPECT_EQ(e["refused_links"].get<int>(), 0);    // 1 before
-  EXPECT_GE(e["rearranged_rows"].get<int>(), 1);  // the link's rows cut the other way or order
-  EXPECT_EQ(e["refusals"].get<int>(), 0);
-  EXPECT_TRUE(e["verified"].get<bool>());         // the flank cut by the radial route: -100 um
-  EXPECT_GE(e["simulation"]["flank_overcut_mm"].get<double>(), -0.001);
-  EXPECT_GE(e["simulation"]["overcut_mm"].get<double>(), -0.001);
+  EXPECT_LE(e["simulation"]["undercut_max_mm"].get<double>(), 0.02 + 1e-3);
   EXPECT_TRUE(e["within_band"].get<bool>());
 }
 #endif
