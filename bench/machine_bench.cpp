@@ -5,7 +5,11 @@
 #include <cmath>
 #include <random>
 
+#include "core/geometry/mesh.h"
+#include "core/machine/machine_sim.h"
 #include "core/machine/robot.h"
+#include "core/parts/builtin_blisk.h"
+#include "core/tools/tool.h"
 #include "core/machine/verify.h"
 #include "core/machine/wheel_clearance.h"
 #include "lua_api/machine_host.h"
@@ -92,6 +96,83 @@ void BM_PostAndVerify(benchmark::State& state) {
 BENCHMARK(BM_PostAndVerify)->Args({10000, 0})->Args({10000, 1})->Args({100000, 0})->Args({100000, 1})
     ->Unit(benchmark::kMillisecond);
 
+
+// The machine simulation (issue 42) with the part: the DMG-like trunnion's
+// bodies, the blisk job's fixture and disc, all 22 blades of the built-in
+// blisk as meshes (both flanks, 0.05 mm, as blisk_world.part_bodies), the
+// edge finish's flat-end mill on a 100 mm stick-out, replaying blocks that
+// run the tip along blade 1's pressure flank 3.3 mm off it (the shank a
+// few tenths from the blade), the tool leaning 10-30 deg towards the
+// passage, 20 rows by 150 blocks: joint-linear blocks as the Fanuc post
+// writes them. items_per_second: blocks per CPU second (the blisk job's
+// Fanuc programs are ~160 000 blocks with 2 blades, ~1.4 million with 22).
+void BM_MachineSimBladesPerBlock(benchmark::State& state) {
+  lua_State* L = luaL_newstate();
+  luaL_openlibs(L);
+  const MachineDefinition machine = dmg_like_trunnion(L);
+  lua_close(L);
+  const BuiltinBlisk blisk;
+  MachineSetupBodies setup;
+  for (int b = 0; b < blisk.blade_count(); ++b) {
+    MachineBody body;
+    body.name = "blade " + std::to_string(b + 1);
+    body.frame = "part";
+    body.shape = BodyShape::Mesh;
+    body.margin_mm = 0.05;
+    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
+      body.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(b, side), 0.05)));
+    setup.part.push_back(body);
+  }
+  auto cylinder = [](const std::string& name, double z0, double z1, double r) {
+    MachineBody b;
+    b.name = name;
+    b.frame = "part";
+    b.shape = BodyShape::Cylinder;
+    b.from_mm = Vec3(0, 0, z0);
+    b.to_mm = Vec3(0, 0, z1);
+    b.radius_mm = r;
+    return b;
+  };
+  setup.fixture = {cylinder("fixture", -120, -23, 50)};
+  setup.stock = {cylinder("disc", -23, 23, 66.5)};
+  const double length = 100;
+  const auto mill = std::make_shared<const Tool>(Tool::flat_end_mill({3, 0.5, 9, {6, 50}, {12, 40}}));
+  const Kinematics kin(machine, length);
+  const std::shared_ptr<const Surface> flank = blisk.flank_surface(0, FlankSide::kPressure);
+  std::vector<ProgramMove> blocks;
+  MachineAxes q;
+  q.rotary_rad = {-0.5, 0};
+  const int rows = 20, cols = 150;
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) {
+      const double u = 0.3 + 0.6 * i / (rows - 1), v = 0.1 + 0.8 * (i % 2 ? cols - 1 - j : j) / (cols - 1);
+      const SurfaceDerivs d = flank->eval(u, v);
+      const Vec3 n = d.pu.cross(d.pv).normalized(), up = d.pu.normalized();
+      const double lean = deg_to_rad(10 + 20 * v);
+      ToolPose pose;
+      pose.tip = d.p + 3.3 * n;
+      pose.axis = (std::cos(lean) * up + std::sin(lean) * n).normalized();
+      q = kin.inverse(pose, q);
+      ProgramMove m;
+      m.line = static_cast<int>(blocks.size()) + 1;
+      m.axes = q;
+      m.tool = 7;
+      blocks.push_back(m);
+    }
+  MachineSimOptions o;
+  o.start = blocks.front().axes;
+  MachineSimReport r;
+  for (auto _ : state) {
+    r = simulate_machine(blocks, machine, {SimTool{7, length, mill}}, setup, o);
+    benchmark::DoNotOptimize(r);
+  }
+  state.counters["blocks"] = static_cast<double>(blocks.size());
+  state.counters["pairs"] = static_cast<double>(r.pairs);
+  state.counters["queries"] = static_cast<double>(r.queries);
+  state.counters["closest_mm"] = r.closest.empty() ? -1 : r.closest.front().distance_mm;
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(blocks.size()));  // blocks per second
+}
+BENCHMARK(BM_MachineSimBladesPerBlock)->Unit(benchmark::kMillisecond);
 
 // Six-axis arm (issue 15 item 8: IK <= 5 us per pose, all branches): every
 // solution of a pose on a KUKA KR 120-class arm, poses from random joints.

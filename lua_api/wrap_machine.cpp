@@ -217,7 +217,7 @@ int w_machine_body_clearance(lua_State* L) {
     MachineSimOptions options;
     options.start = q;
     const MachineSimReport r =
-        simulate_machine({at}, m.definition, {SimTool{1, o.number("tool_length", 0), nullptr}}, {}, {}, options);
+        simulate_machine({at}, m.definition, {SimTool{1, o.number("tool_length", 0), nullptr}}, {}, options);
     if (r.closest.empty()) {
       lua_pushnil(L);
       return 1;

@@ -15,6 +15,10 @@
 #include <sstream>
 #include <tuple>
 
+#include <time.h>
+
+#include "core/analysis/machine_picture.h"
+#include "core/analysis/part_picture.h"
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"
 #include "core/common/parallel.h"
@@ -26,6 +30,7 @@
 #include "lua_api/machine_host.h"
 #include "lua_api/modules.h"
 #include "lua_api/runner.h"
+#include "lua_api/wrap_geometry.h"
 
 namespace bliskrun {
 
@@ -122,7 +127,16 @@ std::vector<PlannedMove> check_path(lua_State* L, int idx, std::vector<int>* too
 // read-back and replay, writing the file.
 struct PostSeconds {
   double read = 0, motion = 0, post = 0, verify = 0, machine = 0, write = 0;
+  double machine_cpu = 0;  // the machine simulation's CPU time on its thread
 };
+
+// CPU seconds this thread has used: what a stage costs on a shared machine,
+// whatever else runs beside it.
+double thread_cpu_seconds() {
+  timespec t{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 void push_report(lua_State* L, const VerifyReport& r, const PostedProgram& p) {
   lua_createtable(L, 0, 8);
@@ -297,6 +311,11 @@ const std::vector<luax::Field>& post_write_fields() {
        "machine simulation: no contact deeper than this is missed, closest approaches within it, mm (default 0.5)", {}},
       {"fixture", luax::Kind::Table, false, {}, {}, "bodies {name=, box=|cylinder=|cone=, radius=} in the part frame", {}},
       {"stock", luax::Kind::Table, false, {}, {}, "the blank's bodies, part frame (the tool may cut them)", {}},
+      {"part", luax::Kind::Table, false, {}, {},
+       "the part's own bodies {name=, mesh=|meshes=, margin=}: meshes in the part's frame, placed by `setup`", {}},
+      {"machine_picture", luax::Kind::String, false, {}, {},
+       "PNG of the machine at the closest approach (or the collision), relative to the out folder; "
+       "written where POV-Ray is installed", {}},
   };
   return fields;
 }
@@ -361,9 +380,65 @@ struct PostRequest {
   // The machine simulation (machine_sim.h).
   bool machine_check = true;
   double machine_clearance_mm = 0.5;
-  std::vector<MachineBody> fixture, stock;
+  MachineSetupBodies setup_bodies;
+  std::string machine_picture;  // resolved for writing; empty: none asked
+  std::string machine_picture_name;  // as the option gave it
   std::vector<std::shared_ptr<const Tool>> tool_bodies;  // per job tool; null without `body`
 };
+
+// The part's own bodies: {{name=, mesh = Mesh | meshes = {Mesh, ...},
+// margin = mm, frame = "part"}, ...}, meshes in the part's own frame and
+// placed by the setup (turned over, then clocked) as j:post turns the path.
+std::vector<MachineBody> read_part_bodies(lua_State* L, int idx, const std::string& what, const PostSetup& setup) {
+  idx = lua_absindex(L, idx);
+  std::vector<MachineBody> out;
+  Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
+  if (setup.flip) placement.linear() = Vec3(1, -1, -1).asDiagonal();
+  placement = Eigen::AngleAxisd(deg_to_rad(setup.clocking_deg), Vec3::UnitZ()) * placement;
+  const lua_Unsigned n = lua_rawlen(L, idx);
+  for (lua_Unsigned i = 1; i <= n; ++i) {
+    lua_rawgeti(L, idx, static_cast<lua_Integer>(i));
+    const std::string where = what + "[" + std::to_string(i) + "]";
+    if (!lua_istable(L, -1)) luax::error(L, where + ": expected {name=, mesh= | meshes=, margin=}");
+    const luax::Options o(L, lua_gettop(L), where, {
+        {"name", luax::Kind::String, true, {}, {}, "the body's name in reports", {}},
+        {"frame", luax::Kind::String, false, {}, {}, "the frame it stands on (default \"part\")", {}},
+        {"mesh", luax::Kind::Any, false, {}, {}, "a bliskrun.Mesh (surface:tessellate(tol))", {}},
+        {"meshes", luax::Kind::Table, false, {}, {}, "several meshes making one body (a blade's flanks)", {}},
+        {"margin", luax::Kind::Number, false, 0.0, 100.0, "how far the true surface may lie from the mesh, mm", {}},
+    });
+    if (o.has("mesh") == o.has("meshes")) luax::error(L, where + ": give exactly one of 'mesh' and 'meshes'");
+    MachineBody b;
+    b.name = o.string("name", "");
+    b.frame = o.string("frame", "part");
+    b.shape = BodyShape::Mesh;
+    b.margin_mm = o.number("margin", 0);
+    b.placement = placement;
+    auto mesh_at = [&](int at, const std::string& field) {
+      const MeshHandle* m = luax::test<MeshHandle>(L, at);
+      if (!m) luax::error(L, field + ": expected a bliskrun.Mesh (surface:tessellate(tol))");
+      b.meshes.push_back(m->mesh);
+    };
+    if (o.has("mesh")) {
+      o.push_raw("mesh");
+      mesh_at(-1, where + ".mesh");
+      lua_pop(L, 1);
+    } else {
+      o.push_raw("meshes");
+      const lua_Unsigned m = lua_rawlen(L, -1);
+      if (m == 0) luax::error(L, where + ".meshes: expected a list of at least one bliskrun.Mesh");
+      for (lua_Unsigned k = 1; k <= m; ++k) {
+        lua_rawgeti(L, -1, static_cast<lua_Integer>(k));
+        mesh_at(-1, where + ".meshes[" + std::to_string(k) + "]");
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+    }
+    out.push_back(std::move(b));
+    lua_pop(L, 1);
+  }
+  return out;
+}
 
 // Reads the option table at `idx` (`what` names it in messages); the post
 // option is left to the caller (a name is resolved into post_file here).
@@ -488,8 +563,17 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
   for (const char* key : {"fixture", "stock"}) {
     if (!o.has(key)) continue;
     o.push_raw(key);
-    (key[0] == 'f' ? r.fixture : r.stock) = check_bodies(L, -1, what + " " + key, "part");
+    (key[0] == 'f' ? r.setup_bodies.fixture : r.setup_bodies.stock) = check_bodies(L, -1, what + " " + key, "part");
     lua_pop(L, 1);
+  }
+  if (o.has("part")) {
+    o.push_raw("part");
+    r.setup_bodies.part = read_part_bodies(L, -1, what + " part", r.job.setup);
+    lua_pop(L, 1);
+  }
+  if (o.has("machine_picture")) {
+    r.machine_picture_name = o.string("machine_picture", "");
+    r.machine_picture = context(L).resolve_write(L, r.machine_picture_name);
   }
   return r;
 }
@@ -518,7 +602,40 @@ struct PostOutcome {
   bool simulated = false;
   MachineSimReport machine;
   std::string machine_note;
+  // The machine's picture at the closest approach (or the collision):
+  // written where asked and POV-Ray runs; else why not.
+  bool picture_written = false;
+  std::string picture_name, picture_note;  // the picture as the option named it
 };
+
+// The machine at the simulation's closest approach, or its first
+// collision, as a picture (machine_picture.h); a failure to render is a
+// note, never the post's failure.
+void write_machine_picture(const PostRequest& r, const std::vector<SimTool>& tools, PostOutcome& out) {
+  const MachineSimReport& m = out.machine;
+  if (r.machine_picture.empty() || (!m.collided && m.closest.empty())) return;
+  if (!part_renderer_available()) {
+    out.picture_note = "POV-Ray not installed: the machine's picture is not drawn (apt-get install povray)";
+    return;
+  }
+  const BodyApproach& at = m.collided ? m.first_collision : m.closest.front();
+  try {
+    MachinePictureOptions o;
+    o.title = fs::path(r.file).filename().string() + (m.collided ? ": first collision" : ": closest approach");
+    std::ostringstream footer;
+    footer.setf(std::ios::fixed);
+    footer.precision(2);
+    footer << at.a << " / " << at.b << (at.distance_mm < 0 ? " overlap " : " ") << std::abs(at.distance_mm)
+           << " mm at line " << at.line << " (block " << at.block + 1 << "), T" << at.tool << "; "
+           << r.machine.name;
+    o.footer = footer.str();
+    write_machine_picture_png(machine_scene(r.machine, tools, r.setup_bodies, at), r.machine_picture, o);
+    out.picture_written = true;
+    out.picture_name = r.machine_picture_name;
+  } catch (const std::exception& e) {
+    out.picture_note = std::string("the machine's picture is not drawn: ") + e.what();
+  }
+}
 
 // The Lua post's part: the program's text from its machine motion.
 using LuaPost = std::function<std::string(const Kinematics& first_tool, const MachineProgram& plan)>;
@@ -580,7 +697,7 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
   t0 = Clock::now();
   if (!r.machine_check) {
     out.machine_note = "machine simulation skipped (machine_check = false): the machine's bodies, fixture and stock were NOT checked";
-  } else if (r.machine.bodies.empty() && r.fixture.empty()) {
+  } else if (r.machine.bodies.empty() && r.setup_bodies.fixture.empty()) {
     out.machine_note = "machine simulation not run: machine " + r.machine.name + " has no bodies";
   } else {
     MachineSimOptions sim;
@@ -590,11 +707,15 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
     std::vector<SimTool> sim_tools;
     for (size_t k = 0; k < r.job.tools.size(); ++k)
       sim_tools.push_back({r.job.tools[k].number, r.job.tools[k].length_mm, r.tool_bodies[k]});
-    out.machine = simulate_machine(blocks, r.machine, sim_tools, r.fixture, r.stock, sim);
+    const double cpu0 = thread_cpu_seconds();
+    out.machine = simulate_machine(blocks, r.machine, sim_tools, r.setup_bodies, sim);
+    out.seconds.machine_cpu = thread_cpu_seconds() - cpu0;
     out.simulated = true;
+    write_machine_picture(r, sim_tools, out);
     if (out.machine.collided)
       throw DataError(posted.file, out.machine.first_collision.line,
-                      "machine simulation: " + machine_sim_summary(out.machine) + "; nothing written");
+                      "machine simulation: " + machine_sim_summary(out.machine) + "; nothing written" +
+                          (out.picture_written ? " (the collision drawn in " + r.machine_picture_name + ")" : ""));
   }
   out.seconds.machine = since(t0);
   verdict += "; machine " + (out.simulated ? machine_sim_summary(out.machine) : std::string("NOT simulated"));
@@ -693,6 +814,16 @@ void push_machine_check(lua_State* L, const PostOutcome& out) {
   luax::set_number(L, "skipped", static_cast<double>(m.skipped));
   luax::set_number(L, "blocks", static_cast<double>(m.blocks));
   luax::set_number(L, "seconds", out.seconds.machine);
+  luax::set_number(L, "cpu_seconds", out.seconds.machine_cpu);
+  luax::set_number(L, "unbounded_blocks", static_cast<double>(m.unbounded_blocks));
+  if (!out.picture_note.empty()) {
+    luax::push(L, out.picture_note);
+    lua_setfield(L, -2, "picture_note");
+  }
+  if (out.picture_written) {
+    luax::push(L, out.picture_name);
+    lua_setfield(L, -2, "picture");
+  }
   lua_createtable(L, static_cast<int>(m.closest.size()), 0);
   for (size_t k = 0; k < m.closest.size(); ++k) {
     const BodyApproach& a = m.closest[k];
@@ -705,6 +836,7 @@ void push_machine_check(lua_State* L, const PostOutcome& out) {
     luax::set_number(L, "line", a.line);
     luax::set_number(L, "block", static_cast<double>(a.block + 1));
     luax::set_number(L, "t", a.t);
+    luax::set_number(L, "tool", a.tool);
     lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
   }
   lua_setfield(L, -2, "closest");

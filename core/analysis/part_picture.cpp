@@ -211,24 +211,27 @@ namespace {
 
 // Runs POV-Ray in `dir` on scene.pov, writing part.png. Throws Error with
 // the renderer's last lines on failure.
-void run_povray(const fs::path& dir, const PartPictureOptions& o) {
+void run_povray(const fs::path& dir, int width_px, int height_px, const std::string& povray) {
   const std::string log = (dir / "povray.log").string();
   const std::vector<std::string> args = {
-      o.povray, "+Iscene.pov", "+Opart.png", "+FN", "+W" + std::to_string(o.width_px),
-      "+H" + std::to_string(o.height_px), "+A0.1", "+R3", "-D", "-P", "+Q9", "+WT2", "-V", "+GA"};
+      povray, "+Iscene.pov", "+Opart.png", "+FN", "+W" + std::to_string(width_px),
+      "+H" + std::to_string(height_px), "+A0.1", "+R3", "-D", "-P", "+Q9", "+WT2", "-V", "+GA"};
+  // Everything the child needs is made before the fork: a worker thread
+  // (post.write_all) may fork while another holds the allocator's lock.
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const std::string folder = dir.string();
   const pid_t pid = ::fork();
-  if (pid < 0) throw Error("part picture: cannot start " + o.povray + " (fork failed)");
+  if (pid < 0) throw Error("part picture: cannot start " + povray + " (fork failed)");
   if (pid == 0) {
-    if (::chdir(dir.c_str()) != 0) ::_exit(126);
+    if (::chdir(folder.c_str()) != 0) ::_exit(126);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd >= 0) {
       ::dup2(fd, 1);
       ::dup2(fd, 2);
       ::close(fd);
     }
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
     ::execvp(argv[0], argv.data());
     ::_exit(127);
   }
@@ -241,8 +244,8 @@ void run_povray(const fs::path& dir, const PartPictureOptions& o) {
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string tail = text.size() > 600 ? text.substr(text.size() - 600) : text;
   if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-    throw Error("part picture: the renderer '" + o.povray + "' is not installed (Debian: apt-get install povray)");
-  throw Error("part picture: " + o.povray + " failed (" +
+    throw Error("part picture: the renderer '" + povray + "' is not installed (Debian: apt-get install povray)");
+  throw Error("part picture: " + povray + " failed (" +
               (WIFEXITED(status) ? "exit " + std::to_string(WEXITSTATUS(status)) : std::string("killed")) +
               "): " + tail);
 }
@@ -267,21 +270,26 @@ struct TempFolder {
 
 }  // namespace
 
-RgbImage render_part_picture(const std::vector<PaintedPiece>& pieces, const PartPictureOptions& o) {
-  if (o.width_px < 50 || o.height_px < 50 || o.width_px > 8000 || o.height_px > 8000)
+RgbImage render_povray_scene(const std::string& scene, int width_px, int height_px, const std::string& povray) {
+  if (width_px < 50 || height_px < 50 || width_px > 8000 || height_px > 8000)
     throw ParameterError("width/height", "expected 50..8000 pixels");
-  if (o.levels < 2) throw ParameterError("levels", "expected at least 2 colours");
-  const std::string scene = part_picture_scene(pieces, o);
   TempFolder tmp;
   {
     std::ofstream out(tmp.path / "scene.pov");
     out << scene;
     if (!out) throw Error("part picture: cannot write the scene in " + tmp.path.string());
   }
-  run_povray(tmp.path, o);
+  run_povray(tmp.path, width_px, height_px, povray);
   std::ifstream in(tmp.path / "part.png", std::ios::binary);
-  const RgbImage part = decode_png(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()),
-                                   "the rendered picture");
+  return decode_png(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()),
+                    "the rendered picture");
+}
+
+RgbImage render_part_picture(const std::vector<PaintedPiece>& pieces, const PartPictureOptions& o) {
+  if (o.width_px < 50 || o.height_px < 50 || o.width_px > 8000 || o.height_px > 8000)
+    throw ParameterError("width/height", "expected 50..8000 pixels");
+  if (o.levels < 2) throw ParameterError("levels", "expected at least 2 colours");
+  const RgbImage part = render_povray_scene(part_picture_scene(pieces, o), o.width_px, o.height_px, o.povray);
 
   // The picture: title above, the part, the colour bar and its legend right.
   const int margin = 10, title_h = o.title.empty() ? 0 : 24, bar_w = 18, labels_w = 70;

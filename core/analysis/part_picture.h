@@ -50,6 +50,13 @@ struct PartPictureOptions {
 // True when the renderer can be run (the executable is on PATH).
 bool part_renderer_available(const std::string& povray = "povray");
 
+// A POV-Ray scene (its text) rendered to a picture width x height pixels
+// (antialiased), in a temporary folder removed after. Throws Error when the
+// renderer cannot be run or fails (its last output lines in the message).
+// Shared with the machine's picture (machine_picture.h).
+RgbImage render_povray_scene(const std::string& scene, int width_px, int height_px,
+                             const std::string& povray = "povray");
+
 // The scene POV-Ray renders (exposed for tests: it is plain text).
 std::string part_picture_scene(const std::vector<PaintedPiece>& pieces, const PartPictureOptions& options);
 

@@ -9,6 +9,23 @@
 namespace bliskrun {
 
 void bounding_sphere(const MachineBody& b, Vec3& centre, double& radius) {
+  if (b.shape == BodyShape::Mesh) {
+    // About the placed vertices' box centre: within a few percent of the
+    // smallest sphere for a blade, and one pass.
+    Vec3 lo = Vec3::Constant(kInf), hi = Vec3::Constant(-kInf);
+    for (const auto& m : b.meshes)
+      for (const Vec3& v : m->vertices) {
+        const Vec3 p = b.placement * v;
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    centre = 0.5 * (lo + hi);
+    radius = 0;
+    for (const auto& m : b.meshes)
+      for (const Vec3& v : m->vertices) radius = std::max(radius, (b.placement * v - centre).norm());
+    radius += b.margin_mm;
+    return;
+  }
   if (b.shape == BodyShape::Box) {
     centre = 0.5 * (b.min_mm + b.max_mm);
     radius = 0.5 * (b.max_mm - b.min_mm).norm();
@@ -33,6 +50,27 @@ void validate_bodies(const std::vector<MachineBody>& bodies, const std::vector<s
       std::string list;
       for (const std::string& f : frames) list += (list.empty() ? "" : ", ") + f;
       throw ParameterError(field + ".frame", "'" + b.frame + "' is no frame of this machine, expected one of: " + list);
+    }
+    if (b.shape == BodyShape::Mesh) {
+      size_t triangles = 0;
+      for (size_t k = 0; k < b.meshes.size(); ++k) {
+        const std::string mesh = field + ".meshes[" + std::to_string(k + 1) + "]";
+        if (!b.meshes[k]) throw ParameterError(mesh, "expected a mesh");
+        const TriangleMesh& m = *b.meshes[k];
+        for (const Vec3& v : m.vertices)
+          if (!v.allFinite()) throw ParameterError(mesh, "expected finite vertices");
+        for (const Eigen::Vector3i& t : m.triangles)
+          for (int j = 0; j < 3; ++j)
+            if (t[j] < 0 || t[j] >= static_cast<int>(m.vertices.size()))
+              throw ParameterError(mesh, "triangle vertex index " + std::to_string(t[j]) + " outside the " +
+                                             std::to_string(m.vertices.size()) + " vertices");
+        triangles += m.triangles.size();
+      }
+      if (triangles == 0) throw ParameterError(field + ".meshes", "expected at least one triangle");
+      if (!b.placement.matrix().allFinite()) throw ParameterError(field + ".placement", "expected a finite placement");
+      if (!std::isfinite(b.margin_mm) || b.margin_mm < 0)
+        throw ParameterError(field + ".margin", "expected a margin >= 0 mm");
+      continue;
     }
     if (b.shape == BodyShape::Box) {
       if (!b.min_mm.allFinite() || !b.max_mm.allFinite())

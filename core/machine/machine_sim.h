@@ -6,15 +6,21 @@
 // each other with FCL, as VERICUT's machine simulation does.
 //
 // Which pairs. Bodies on one rigid link never move relative to each other
-// and are not checked. The machine's bodies on two links joined by one joint
-// (the cradle and the table it carries, the table slide and the bed) are the
-// machine builder's business — their bearing keeps them apart — and are not
-// checked either; every other pair is: the head and spindle housing against
-// the table, cradle, fixture and stock; the cradle against the column. The
-// tool (cutter, shank, holder) is checked against every part-side and base
-// body except the stock, which it cuts (its clearance from the part was
-// proved when it was planned). Each tool part stands as six stacked
-// cylinders, each of its largest radius over its slice (conservative).
+// and are not checked (the fixture, the stock and the part on the part
+// link). The machine's bodies on two links joined by one joint (the cradle
+// and the table it carries, the table slide and the bed) are the machine
+// builder's business — their bearing keeps them apart — and are not checked
+// either; every other pair is: the head and spindle housing against the
+// table, cradle, fixture, stock and part; the cradle against the column.
+// The tool (cutter, shank, holder) is checked against every part-side and
+// base body except the stock, which it cuts; against the part (its blades)
+// the shank and the holder are checked and the cutter is not — it touches
+// the part by design, and the planner proved it (with the shank and holder)
+// against the blade it cuts, that blade's neighbours and the hub, and the
+// read-back sweep kept the controller's motion within the body tolerance
+// of that proof. Each tool part stands as cylinders over six slices of its
+// length, each of the slice's largest radius (conservative); neighbouring
+// slices of one radius are one cylinder.
 //
 // The bound. Along a block each body point moves at most
 //     V_b = S + sum_i |dtheta_i| R_i     (per unit of the block's parameter t)
@@ -23,6 +29,14 @@
 // body's reach from the pivot of rotary i carrying it (its bounding sphere's
 // far side, plus twice the pivot distances of the rotaries between). The
 // distance of a pair therefore changes by at most V = V_a + V_b per unit t.
+// Under TCP a body on the spindle's link moves relative to the part's link
+// at most |dtip| + W r (r its reach from the tip, W the rotaries' relative
+// turn: sqrt(w1^2 + w2^2 + 2 |w1 w2| cos) with the rotaries linear, w1 + w2
+// with vector orientation), and a pair of such bodies takes the smaller.
+// A body on a link that carries the other's (the cradle and the part on
+// the table it carries) moves with it under every joint but those between
+// them: V is the joints between alone (the table's turn times the part's
+// reach from its pivot).
 // From a distance d measured at t, with m the pair's closest approach so
 // far and e = max(c, m / 10) (c the clearance), the next sample is taken at
 // t + (d - m + e) / V (conservative advancement): in between the pair stays
@@ -32,13 +46,38 @@
 // where that is larger (a pair 200 mm apart is measured every 20 mm). The
 // budget carries over blocks: a pair far apart is not measured again until
 // the blocks' summed motion bounds could have brought it within reach —
-// the broad phase over each block's swept bounds that keeps this cheap.
-// Under TCP with vector orientation the rotaries are not linear in t; their
-// motion is summed over 16 sub-steps, an estimate, not a bound.
+// the broad phase over each block's swept bounds that keeps this cheap. A
+// mesh (the part's blades) is asked only whether it lies within d_s =
+// m + e + 2 V of the other body (FCL prunes its hierarchy by that bound):
+// a blade farther away costs a bounding-volume test, and d_s — a lower
+// bound — stands for d.
+//
+// Vector orientation. Under TCP with vector orientation the tool axis runs
+// along the great circle at a constant rate Theta and the rotaries follow
+// it (controller_axes), not linearly: their turn over a block is bounded
+// (vector_turn_bound) from the orientation k = R(d1, t1) R(d2, t2) s
+// (kinematics.h). With c = d1.k, s_phi = sqrt(1 - c^2) and G(c) = 1 -
+// (d1.d2)^2 - (d2.s)^2 - c^2 + 2 (d1.d2)(d2.s) c (the squared triple
+// product of d1, d2 and R(d2, t2) s):
+//     |t2'| <= Theta s_phi / sqrt(G(c)),
+//     |t1'| <= (Theta s_phi + |t2'| |d1.d2 - (d2.s) c|) / s_phi^2,
+// rates that depend on c alone. Along the arc c is a sinusoid, so over
+// each of 16 sub-steps its range is known in closed form, and the largest
+// rate over that range bounds the sub-step's turn; their sum bounds the
+// block's. This holds while the rotaries follow one branch of the
+// solution. Where the arc passes through the primary axis' pole (s_phi = 0)
+// or the secondary's reach limit (G = 0) the rates are unbounded, and where
+// the modelled controller switches branches (its rotaries at a sub-step's
+// end are not the continuation of the last sub-step's: near the pole the
+// solution nearest the linear one jumps by half a turn of the primary) the
+// model itself jumps: such a block is counted
+// (MachineSimReport::unbounded_blocks) and swept with its sampled turn, an
+// estimate, not a bound.
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/geometry/mesh.h"
 #include "core/machine/kinematics.h"
 #include "core/machine/machine_bodies.h"
 #include "core/machine/program_reader.h"
@@ -67,6 +106,7 @@ struct BodyApproach {
   int line = 0;            // program line
   double t = 0;            // along the block
   MachineAxes axes;        // machine axes there (slide words, rotaries)
+  int tool = 0;            // the T number in the spindle there (0 before the first call)
 };
 
 struct MachineSimReport {
@@ -81,6 +121,10 @@ struct MachineSimReport {
   long colliding_blocks = 0;
   std::vector<BodyApproach> closest;  // one per pair, nearest first
   std::vector<std::string> unchecked;  // tools without a body
+  // Vector-orientation blocks whose rotaries' turn is not bounded (see
+  // "Vector orientation"), and the program line of the first.
+  long unbounded_blocks = 0;
+  int first_unbounded_line = 0;
   bool pass() const { return !collided; }
 };
 
@@ -93,6 +137,8 @@ class MachineChain {
   int spindle_link() const { return spindle_; }
   int part_link() const { return part_; }
   bool adjacent(int a, int b) const;
+  // Whether link a carries link b (is b, or a link between b and the base).
+  bool carries(int a, int b) const;
   bool tool_side(int link) const { return links_[static_cast<size_t>(link)].tool_side; }
   // World (the machine bed) from the link's home coordinates (machine_bodies.h).
   Eigen::Isometry3d pose(int link, const MachineAxes& q) const;
@@ -120,15 +166,66 @@ class MachineChain {
   int spindle_ = 0, part_ = 0;
 };
 
+// What stands on the machine besides its own bodies (frame "part" or any
+// other frame of the machine): the fixture, the stock (the tool may cut
+// it) and the part itself (meshes: its blades; checked against the
+// machine, the shank and the holder).
+struct MachineSetupBodies {
+  std::vector<MachineBody> fixture, stock, part;
+};
+
 // Replays `blocks` (read_program) on `machine` with its bodies, the setup's
-// fixture and stock (frame "part" or any other frame of the machine) and
-// the tools. Throws ParameterError for a body on an unknown frame, a block
-// calling a tool not in `tools`.
+// bodies and the tools. Throws ParameterError for a body on an unknown
+// frame, a block calling a tool not in `tools`.
 MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const MachineDefinition& machine,
-                                  const std::vector<SimTool>& tools, const std::vector<MachineBody>& fixture,
-                                  const std::vector<MachineBody>& stock, const MachineSimOptions& options);
+                                  const std::vector<SimTool>& tools, const MachineSetupBodies& setup,
+                                  const MachineSimOptions& options);
+
+// See "Vector orientation" above: per rotary axis (MachineDefinition::rotary
+// order) a bound on its turn (total variation, rad) over a block from
+// `from` to `to` under TCP with vector orientation (controller_axes), and
+// the same per sub-step. `bounded` is false where the arc passes a singular
+// direction (the bounds are then infinite) or where the modelled controller
+// switches rotary branches: at a sub-step's end its rotaries are not the
+// solution nearest the last sub-step's, or turned further than the bound.
+// `sampled_rad`: the turn summed over the sub-steps' ends (an estimate).
+struct VectorTurnBound {
+  std::array<double, 2> turn_rad{0.0, 0.0};
+  std::vector<std::array<double, 2>> step_rad;  // `steps` sub-steps of equal t
+  std::array<double, 2> sampled_rad{0.0, 0.0};
+  bool bounded = true;
+};
+VectorTurnBound vector_turn_bound(const Kinematics& kin, const MachineAxes& from, const MachineAxes& to,
+                                  const Vec3& tip_from, const Vec3& tip_to, int steps = 16);
+
+// The machine as it stands at one pose of a program (an approach the
+// simulation reported): every body placed in the machine frame, for a
+// picture (core/analysis/machine_picture.h). The pair `at` names is
+// highlighted, with its nearest points.
+struct PlacedBody {
+  std::string name;
+  enum Role { Machine, Fixture, Stock, Part, Tool } role = Machine;
+  BodyShape shape = BodyShape::Box;
+  // Box: its edge lengths, centred on the origin; cylinder and cone: radius
+  // and length along +Z, centred on the origin (a cone's apex at
+  // +length / 2); mesh: the meshes' own coordinates.
+  Vec3 size_mm = Vec3::Zero();
+  double radius_mm = 0, length_mm = 0;
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // machine frame from the body's coordinates
+  bool highlighted = false;
+};
+struct MachineScene {
+  std::vector<PlacedBody> bodies;
+  BodyApproach at;
+  Vec3 nearest_a = Vec3::Zero(), nearest_b = Vec3::Zero();  // machine frame; equal where they overlap
+};
+// Throws ParameterError when `at` names no pair of these bodies.
+MachineScene machine_scene(const MachineDefinition& machine, const std::vector<SimTool>& tools,
+                           const MachineSetupBodies& setup, const BodyApproach& at);
 
 // "PASS: closest approach 3.2 mm (head / fixture, line 120), clearance 0.5 mm"
+// (with ", N vector-orientation blocks not bounded" where there are)
 // or "FAIL: collision head / table at line 80 (block 12), depth 4.1 mm".
 std::string machine_sim_summary(const MachineSimReport& report);
 

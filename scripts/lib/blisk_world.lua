@@ -126,6 +126,37 @@ function M.edge_round(blisk, b, edge, top)
   return bliskrun.edge_region{first = first, second = second, overlap = 0, span = {0, hi}}
 end
 
+-- Every blade's flanks tessellated at `tol` (mm), once per blisk and
+-- tolerance: meshes[b].pressure, meshes[b].suction. Shared by the worlds
+-- below and the part's bodies in the machine simulation (part_bodies).
+local flank_cache = setmetatable({}, {__mode = "k"})
+function M.flank_meshes(blisk, tol)
+  flank_cache[blisk] = flank_cache[blisk] or {}
+  local cached = flank_cache[blisk][tol]
+  if cached then return cached end
+  local meshes = {}
+  for b = 1, blisk:blade_count() do
+    meshes[b] = {}
+    for _, side in ipairs{"pressure", "suction"} do meshes[b][side] = blisk:flank(b, side):tessellate(tol) end
+  end
+  flank_cache[blisk][tol] = meshes
+  return meshes
+end
+
+-- The blisk's blades as bodies of the machine simulation (post.write's
+-- `part`): each blade its two flanks as one mesh body, in the part frame,
+-- the tolerance as margin — the meshes the worlds check the shank and
+-- holder against (the own blade's, 0.05 mm). The disc under them is the
+-- recipe's stock.
+function M.part_bodies(blisk, tol)
+  tol = tol or 0.05
+  local bodies = {}
+  for b, m in ipairs(M.flank_meshes(blisk, tol)) do
+    bodies[b] = {name = "blade " .. b, meshes = {m.pressure, m.suction}, margin = tol}
+  end
+  return bodies
+end
+
 -- The worlds around every blade (k = 1..N), each flank and the hub
 -- tessellated once and shared; the same check surfaces as around_blade
 -- (neighbours, hub, the blade itself for the shank). opts as for around_blade.
@@ -133,20 +164,10 @@ function M.all_blades(blisk, opts)
   opts = opts or {}
   local n = blisk:blade_count()
   local tol = opts.chord_tol or 0.01
-  local meshes = {}
-  for b = 1, n do
-    meshes[b] = {}
-    for _, side in ipairs{"pressure", "suction"} do meshes[b][side] = blisk:flank(b, side):tessellate(tol) end
-  end
+  local meshes = M.flank_meshes(blisk, tol)
   local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
   local own_tol = opts.own_chord_tol or 0.05
-  local own = {}
-  if opts.own ~= false then
-    for b = 1, n do
-      own[b] = {}
-      for _, side in ipairs{"pressure", "suction"} do own[b][side] = blisk:flank(b, side):tessellate(own_tol) end
-    end
-  end
+  local own = opts.own ~= false and M.flank_meshes(blisk, own_tol) or {}
   local worlds = {}
   for k = 1, n do
     local surfaces = {}

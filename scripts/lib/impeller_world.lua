@@ -199,6 +199,21 @@ function M.whole(imp, meshes)
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
+-- The impeller's blades as bodies of the machine simulation (post.write's
+-- `part`): each main blade and each splitter its two faces as one mesh
+-- body, in the part frame, from the same cache the worlds take (meshes =
+-- iw.meshes(imp, tol)), the tolerance as margin.
+function M.part_bodies(imp, meshes)
+  local bodies = {}
+  for b = 1, imp:blade_count() do
+    for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
+      bodies[#bodies + 1] = {name = (kind == "main" and "blade " or "splitter ") .. b,
+                             meshes = {meshes.face(kind, b, "plus"), meshes.face(kind, b, "minus")}, margin = meshes.tol}
+    end
+  end
+  return bodies
+end
+
 -- A 2-D polyline {{x, y}, ...} with its arc length: line.arc[i] at point
 -- i, line.arc_of(x, y) the arc length of the polyline point nearest (x, y),
 -- line.at_arc(s) -> x, y (clamped to the ends). Meridian profiles of the

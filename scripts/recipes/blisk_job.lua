@@ -64,8 +64,12 @@ local a, b = opt.edge_span:match("^%s*([%d.]+)%s*,%s*([%d.]+)%s*$")
 local span, periodic, edges, hub = {tonumber(a), tonumber(b)}, opt.periodic, opt.edges, opt.hub
 
 local wheel = finish.design_wheels(blisk, {c_range = 30}).wheels.extended  -- the extended wheel of Table 2
+-- A 60 mm slim holder, 120 mm stick-out: on 100 mm (a 40 mm holder) the
+-- machine simulation put the DMG-like trunnion's spindle nose (Ø120) 3.4 mm
+-- into blades 6 and 7 while the trunnion tilted blade 1's trailing edge
+-- under the tool.
 local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,
-                                    shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 40}}
+                                    shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 60}}
 -- 40 mm of flute to reach the hub from outside the casing.
 local ball = bliskrun.tapered_ball_end_mill{tip_radius = 1.5, half_angle = 2.5, flute_length = 40,
                                             shank = {diameter = 8, length = 30}, holder = {diameter = 32, length = 40}}
@@ -152,7 +156,7 @@ local j = job.new{
   tools = {rougher = {number = 3, length = 125, spindle_rpm = 9000, tool = rougher, ball_radius = 3},
            wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel, life_mm = opt.tool_life,
                     sisters = opt.tool_life and {15, 25, 35, 45, 55, 65, 75} or nil},
-           mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill},
+           mill = {number = 7, length = 120, spindle_rpm = 12000, tool = mill},
            ball = {number = 9, length = 130, spindle_rpm = 15000, tool = ball}},
 }
 -- The leading edges face the table (the blisk's axis on C, inlet down): cut

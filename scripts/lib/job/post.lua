@@ -74,6 +74,22 @@ function Job:program_ends(moves, up)
   return out
 end
 
+-- The part itself as bodies of the machine simulation (post.write's
+-- `part`): every blade of the blisk or impeller as a mesh in the part
+-- frame, the meshes the collision worlds check the tool against (shared,
+-- tessellated once), made once per job. post.write places them by the
+-- program's setup (turned over, clocked) as the path is.
+function Job:part_bodies()
+  if not self.part_bodies_list then
+    if self.part_kind == "blisk" then
+      self.part_bodies_list = require("blisk_world").part_bodies(self.part)
+    else
+      self.part_bodies_list = require("impeller_world").part_bodies(self.part, self:impeller_meshes(0.05))
+    end
+  end
+  return self.part_bodies_list
+end
+
 -- The one-line summary of a posted program (post.write's report) and its
 -- entry for a run's JSON report. m = {machine =, name =, post =, file =, setup =}.
 local function program_entry(m, r)
@@ -98,15 +114,21 @@ local function program_entry(m, r)
       near[k] = string.format("%s / %s %.1f mm (line %d)", c.a, c.b, c.distance, c.line)
     end
     print(string.format("    machine simulation %s: %d pairs, %d distance queries (%d pair-blocks cleared by the broad phase), "
-                        .. "%.2f s; nearest: %s", mc.verdict, mc.pairs, mc.queries, mc.skipped, mc.seconds,
-                        table.concat(near, ", ")))
+                        .. "%.2f s (%.2f s CPU); nearest: %s", mc.verdict, mc.pairs, mc.queries, mc.skipped, mc.seconds,
+                        mc.cpu_seconds, table.concat(near, ", ")))
+    if mc.unbounded_blocks > 0 then print("    WARNING: " .. mc.summary) end
+    if mc.picture_note then print("    " .. mc.picture_note) end
   end
+  -- The nearest pairs (of up to a thousand with a blisk's blades).
   local closest = {}
   for k, c in ipairs(mc.closest or {}) do
-    closest[k] = {a = c.a, b = c.b, distance_mm = c.distance, line = c.line, block = c.block}
+    if k > 20 then break end
+    closest[k] = {a = c.a, b = c.b, distance_mm = c.distance, line = c.line, block = c.block, tool = c.tool}
   end
   return {machine_check = {verdict = mc.verdict, summary = mc.summary, warning = mc.warning, clearance_mm = mc.clearance,
-                           seconds = mc.seconds, pairs = mc.pairs, queries = mc.queries, closest = closest},
+                           seconds = mc.seconds, cpu_seconds = mc.cpu_seconds, pairs = mc.pairs, queries = mc.queries,
+                           skipped = mc.skipped, unbounded_blocks = mc.unbounded_blocks, picture = mc.picture,
+                           picture_note = mc.picture_note, closest = closest},
           file = m.file, machine = m.name or m.machine, post = m.post, blocks = r.moves, positioning = r.positioning,
           max_position_mm = r.max_position, max_angle_deg = r.max_angle, setup = m.setup and m.setup.name or nil,
           controller = r.controller, swept_cutter_mm = r.swept_cutter, swept_tool_mm = r.swept_tool,
@@ -162,7 +184,8 @@ function Job:post_program(m)
   return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
                                     work_offset = m.work_offset, coolant = m.coolant,
                                     program_number = m.program_number, notes = m.notes,
-                                    machine_check = m.machine_check, fixture = m.fixture, stock = m.stock})
+                                    machine_check = m.machine_check, fixture = m.fixture, stock = m.stock, part = m.part,
+                                    machine_picture = m.machine_picture})
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -177,7 +200,8 @@ function Job:post_programs(list, level)
   for i, m in ipairs(list) do
     local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
                work_offset = m.work_offset, coolant = m.coolant, program_number = m.program_number, notes = m.notes,
-               machine_check = m.machine_check, fixture = m.fixture, stock = m.stock}
+               machine_check = m.machine_check, fixture = m.fixture, stock = m.stock, part = m.part,
+               machine_picture = m.machine_picture}
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, level)}
     requests[i], offsets[i] = self:post_options(o, paths[key][1], level), {paths[key][2], paths[key][3]}
@@ -214,8 +238,17 @@ local function check_post_options(o, level)
     program_number = {type = "number"},  -- O-number / PGM name (post.write checks it)
     notes = {type = "table"},         -- header lines of the recipe's own
     -- The machine simulation (post.write): false skips it, with a warning
-    -- in the report; the fixture's and the stock's bodies, part frame.
+    -- in the report; the fixture's and the stock's bodies, part frame; the
+    -- part's (default: its blades, j:part_bodies(); false: none); the
+    -- machine's picture at the closest approach (default <file>_machine.png;
+    -- false: none).
     machine_check = {type = "boolean"}, fixture = {type = "table"}, stock = {type = "table"},
+    part = {type = "any", check = function(v)
+      if v ~= false and type(v) ~= "table" then return "expected a list of bodies or false" end
+    end},
+    machine_picture = {type = "any", check = function(v)
+      if v ~= false and type(v) ~= "string" then return "expected a file name or false" end
+    end},
   }, level)
 end
 
@@ -300,7 +333,10 @@ function Job:post_options(o, path, level)
           chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length, proved_up = M.approach_length},
           setup = setup,
           work_offset = o.work_offset, coolant = o.coolant, program_number = o.program_number, notes = o.notes,
-          machine_check = o.machine_check, fixture = o.fixture, stock = o.stock}
+          machine_check = o.machine_check, fixture = o.fixture, stock = o.stock,
+          part = o.part ~= false and (o.part or self:part_bodies()) or nil,
+          machine_picture = o.machine_picture ~= false and (o.machine_picture or o.file:gsub("%.[^./]*$", "") .. "_machine.png")
+                            or nil}
 end
 
 -- A move out of travel (or out of reach) names the job's move: say which

@@ -39,6 +39,30 @@ end
 
 local M = {blisk = {}, impeller = {}}
 
+-- One section per posted program: the machine simulation's verdict and, beside
+-- it, the machine at the closest approach of two bodies (post.write's
+-- machine_picture; a note where POV-Ray is not installed).
+local function machine_sections(programs)
+  local out = {}
+  for _, p in ipairs(programs) do
+    local mc = p.machine_check
+    if mc and mc.verdict ~= "SKIPPED" then
+      local near = {}
+      for k = 1, math.min(5, #mc.closest) do
+        local c = mc.closest[k]
+        near[k] = string.format("%s / %s %.1f mm (line %d)", c.a, c.b, c.distance_mm, c.line)
+      end
+      local text = {mc.summary, string.format("%d pairs of bodies, %d distance queries, %.1f s CPU; nearest: %s.",
+                                              mc.pairs, mc.queries, mc.cpu_seconds or 0, table.concat(near, ", "))}
+      if mc.picture_note then text[#text + 1] = mc.picture_note end
+      out[#out + 1] = {title = "Machine simulation: " .. p.file, text = text, image = mc.picture}
+    elseif mc then
+      out[#out + 1] = {title = "Machine simulation: " .. p.file, text = "WARNING: " .. (mc.warning or "not run")}
+    end
+  end
+  return out
+end
+
 -- ---- a blisk -------------------------------------------------------------
 
 function M.blisk.planned(r)
@@ -319,6 +343,7 @@ function M.blisk.page(r)
                            .. "the cutter at least %.3f mm off them.", e.stock_mm, e.hub_stock_mm, e.cutter_clearance_mm),
       table = {columns = {"figure", "value"}, rows = rows}}
   end
+  for _, m in ipairs(machine_sections(json.programs)) do sections[#sections + 1] = m end
   if json.blade_map then
     pictures[#pictures + 1] = {title = "Blade 1 after the job, one map (flanks, edges, root strip, fillet, channel floor)",
                                image = json.blade_map.picture}
@@ -518,6 +543,7 @@ function M.impeller.page(r)
                         "overcut at move", "untouched samples"}, rows = r.simulated.rows}}
   sections[#sections + 1] = {title = "Programs, read back and replayed", table = {columns = {"file", "machine", "post",
     "blocks", "positioning moves", "tip deviation (µm)"}, rows = program_rows}}
+  for _, m in ipairs(machine_sections(json.programs)) do sections[#sections + 1] = m end
   for _, p in ipairs(r.simulated.pictures) do sections[#sections + 1] = p end
   return sections, {{name = "job toolpath", moves = planned.moves}},
          {{r.o.name .. "_left_*.png", "the maps of the material left above"}}
