@@ -17,7 +17,7 @@
 
 #include <time.h>
 
-#include "core/analysis/machine_picture.h"
+#include "core/machine/machine_picture.h"
 #include "core/analysis/part_picture.h"
 #include "core/common/atomic_file.h"
 #include "core/common/error.h"

@@ -200,7 +200,7 @@ VectorTurnBound vector_turn_bound(const Kinematics& kin, const MachineAxes& from
 
 // The machine as it stands at one pose of a program (an approach the
 // simulation reported): every body placed in the machine frame, for a
-// picture (core/analysis/machine_picture.h). The pair `at` names is
+// picture (core/machine/machine_picture.h). The pair `at` names is
 // highlighted, with its nearest points.
 struct PlacedBody {
   std::string name;

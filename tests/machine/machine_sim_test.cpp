@@ -458,7 +458,7 @@ TEST(MachineSim, PartMeshBoundHoldsAgainstDenseReplay) {
 #endif
   MachineDefinition m = table_table_ac();
   m.bodies = {box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}), box("ram", "Z", {-80, 70, 0}, {80, 200, 600}),
-              cylinder("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
+              cylinder_body("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
   const BuiltinBlisk blisk;
   MachineBody blade;
   blade.name = "blade 1";

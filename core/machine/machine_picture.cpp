@@ -1,4 +1,4 @@
-#include "core/analysis/machine_picture.h"
+#include "core/machine/machine_picture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -131,7 +131,7 @@ std::string scene_text(const MachineScene& scene, const MachinePictureOptions& o
   const double depth = z_hi - z_lo;
 
   std::ostringstream s;
-  s << "// bliskrun machine picture (core/analysis/machine_picture.cpp)\n"
+  s << "// bliskrun machine picture (core/machine/machine_picture.cpp)\n"
     << "#version 3.7;\nglobal_settings { assumed_gamma 1.0 ambient_light rgb <1, 1, 1> }\n"
     << "background { rgb <1, 1, 1> }\n"
     << "camera { orthographic location <" << num(centre.x()) << ", " << num(centre.y()) << ", "
