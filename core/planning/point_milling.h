@@ -53,6 +53,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/surface.h"
 #include "core/planning/links.h"
+#include "core/planning/pass_moves.h"
 #include "core/planning/row_steps.h"
 #include "core/toolpath/move.h"
 #include "core/tools/tool.h"
@@ -134,15 +135,7 @@ struct PointMillRefusal {
   std::string reason;
 };
 
-struct PointMillConnection {
-  enum class Kind { Step, Link, Departure };
-  Kind kind = Kind::Step;
-  int from_pass = -1, to_pass = -1;
-  std::vector<ToolPose> poses;
-  std::vector<std::string> motion;
-  bool clear = false;
-  std::string reason;
-};
+using PointMillConnection = PassConnection;  // core/planning/pass_moves.h
 
 struct PointMillResult {
   std::vector<PointMillRow> rows;
