@@ -70,6 +70,9 @@ function Job:cut_stock(planned)
         if m.kind == "rapid" and r.moves[k].removed_mm3 >= contact then
           m.kind, m.feed, m.in_stock = "feed", feed, true
           out.rapids_fed = (out.rapids_fed or 0) + 1
+          out.fed = out.fed or {}
+          out.fed[#out.fed + 1] = {move = i + k - 1, operation = op, motion = m.motion or "?",
+                                   removed_mm3 = r.moves[k].removed_mm3, length_mm = r.moves[k].length_mm}
         end
       end
       stock = before
@@ -131,6 +134,10 @@ function M.report(r)
   print(string.format("  stock cut by %d moves in %.1f s (%.1f s CPU)", #r.planned.moves, seconds, s.cpu_seconds))
   if s.rapids_fed then
     print(string.format("  %d rapids through the stock turned into feeds at their operation's feed rate", s.rapids_fed))
+    for _, m in ipairs(s.fed) do
+      print(string.format("    move %d, operation %d (%s): %.2f mm3 over %.1f mm", m.move, m.operation, m.motion,
+                          m.removed_mm3, m.length_mm))
+    end
   end
   -- The moves the verdict fails on, named (the first 20).
   for k, m in ipairs(s.offending or {}) do
