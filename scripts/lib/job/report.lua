@@ -13,11 +13,13 @@ local seams = require("job.seams")
 local simulate = require("job.simulate")
 local run_report = require("run_report")
 
--- What every job states: no refusal (planning stops at the first one and
+-- What every job states: with a blank, no rapid and no shank or holder in
+-- the stock (job/stock.lua); no refusal (planning stops at the first one and
 -- names it, so a run that got here has none), and every posted program's
 -- cutter and tool within the post's tolerances of the proved motion as its
 -- controller moves (the read-back sweep).
 local function common_requirements(r, q)
+  require("job.stock").requirements(r, q)
   q[#q + 1] = {name = "refused poses and links", unit = "count", measured = r.json.refusals or 0, at_most = 0,
                note = "planning stops at a refusal"}
   -- The limit is the post's tolerance plus what the output resolution
