@@ -57,14 +57,14 @@ function Job:cut_stock(planned)
     local opts = {from = last, step = b.step, check_body = b.check_body, per_move = true}
     local before = stock:copy()
     local r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
-    -- A rapid that removes stock — a link's approach or back-out proved
+    -- What stock:cut calls rounding (its air default times the spacing).
+    local contact = 0.001 * info.resolution
+    -- A rapid that removes stock — an approach, retract or link proved
     -- against the finished part, through the stock an earlier operation
     -- left — is a feed at the operation's feed rate: the stretch is cut
     -- again from the stock before it with those moves turned (the posted
-    -- program with them). One rule for every operation's links.
+    -- program with them). One rule for every operation's rapids.
     if r.rapid_cut_moves > 0 then
-      -- What stock:cut calls rounding (its air default times the spacing).
-      local contact = 0.001 * info.resolution
       local feed = self.operations[op].feed
       for k, m in ipairs(stretch) do
         if m.kind == "rapid" and r.moves[k].removed_mm3 >= contact then
@@ -80,7 +80,7 @@ function Job:cut_stock(planned)
       r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
     end
     for k, m in ipairs(stretch) do
-      if r.moves[k].body_mm3 > 0 or (m.kind == "rapid" and r.moves[k].removed_mm3 >= 0.001 * info.resolution) then
+      if r.moves[k].body_mm3 > 0 or (m.kind == "rapid" and r.moves[k].removed_mm3 >= contact) then
         out.offending = out.offending or {}
         out.offending[#out.offending + 1] = {move = i + k - 1, operation = op, kind = m.kind,
           motion = m.motion or m.operation_kind, body_mm3 = r.moves[k].body_mm3, removed_mm3 = r.moves[k].removed_mm3}
