@@ -183,6 +183,44 @@ int w_point_plan_simulate(lua_State* L) {
   });
 }
 
+// plan:root_strip{samples = {u, v}} -> {height =, height_min =, u0 =, u1 =, left_max =, left_mean =, samples =}:
+// the strip between the window's hub-side edge and the first row (hub_stop),
+// which the rows do not finish: the distance from its design points to the
+// nearest ball of the plan's moves (measure_root_strip), mm.
+int w_point_plan_root_strip(lua_State* L) {
+  const LuaPointMillPlan& p = check_point_plan(L);
+  const luax::Options o(L, 2, "plan:root_strip",
+                        {Field{"samples", Kind::Table, false, std::nullopt, std::nullopt,
+                               "{span, chord} samples of the strip (default {12, 200})", {}}});
+  int su = 12, sv = 200;
+  if (o.has("samples")) {
+    o.push_raw("samples");
+    const int t = lua_gettop(L);
+    if (luaL_len(L, t) != 2) luax::error(L, "plan:root_strip: option 'samples': expected {span, chord}");
+    for (int k = 1; k <= 2; ++k) {
+      lua_rawgeti(L, t, k);
+      int isnum = 0;
+      const lua_Integer n = lua_tointegerx(L, -1, &isnum);
+      if (!isnum || n < 2 || n > 20000) luax::error(L, "plan:root_strip: option 'samples': expected integers in [2, 20000]");
+      (k == 1 ? su : sv) = static_cast<int>(n);
+      lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+  }
+  return luax::guarded(L, [&] {
+    const PointMillStrip st = measure_root_strip(p.request, *p.result, su, sv);
+    lua_createtable(L, 0, 8);
+    luax::set_number(L, "height", st.height_mm);
+    luax::set_number(L, "height_min", st.height_min_mm);
+    luax::set_number(L, "u0", st.u0);
+    luax::set_number(L, "u1", st.u1);
+    luax::set_number(L, "left_max", st.material_max_mm);
+    luax::set_number(L, "left_mean", st.material_mean_mm);
+    luax::set_number(L, "samples", st.samples);
+    return 1;
+  });
+}
+
 int w_point_plan_tostring(lua_State* L) {
   const LuaPointMillPlan& p = check_point_plan(L);
   lua_pushfstring(L, "bliskrun.PointMillPlan(%d rows, %d poses, %d refusals)", static_cast<int>(p.result->rows.size()),
@@ -310,6 +348,7 @@ void open_point_mill(lua_State* L) {
   static const luaL_Reg plan_methods[] = {{"report", w_point_plan_report},
                                           {"moves", w_point_plan_moves},
                                           {"simulate", w_point_plan_simulate},
+                                          {"root_strip", w_point_plan_root_strip},
                                           {nullptr, nullptr}};
   luax::register_type(L, luax::TypeName<LuaPointMillPlan>::name, plan_methods, &luax::gc_value<LuaPointMillPlan>,
                       w_point_plan_tostring);

@@ -62,6 +62,7 @@
 #include "core/geometry/surface.h"
 #include "core/toolpath/move.h"
 #include "core/planning/links.h"
+#include "core/planning/pass_moves.h"
 #include "core/planning/row_steps.h"
 #include "core/sim/undercut.h"
 #include "core/tools/tool.h"
@@ -158,15 +159,7 @@ struct HubFinishPass {
   double max_deviation_mm = 0;  // measured chord deviation of the centre path
 };
 
-struct HubFinishConnection {
-  enum class Kind { Step, Link, Departure };
-  Kind kind = Kind::Step;
-  int from_pass = -1, to_pass = -1;   // -1: the operation's start / end
-  std::vector<ToolPose> poses;        // between the passes' own poses
-  std::vector<std::string> motion;    // "step", or a link's "retract"/"traverse"/"approach", "start"
-  bool clear = false;
-  std::string reason;
-};
+using HubFinishConnection = PassConnection;  // core/planning/pass_moves.h
 
 struct HubFinishPart {
   HubFinishOp op = HubFinishOp::Root;

@@ -7,11 +7,25 @@
 // motion. A pass's first move is named after how it was reached ("approach"
 // after a link or lead, "step" after a step), the rest "cut".
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "core/toolpath/move.h"
 
 namespace bliskrun {
+
+// A proved (or refused) join of such a plan: the hub finish and point
+// milling both use this one type (HubFinishConnection, PointMillConnection
+// name it), so a link or lead is built and checked the same way in both.
+struct PassConnection {
+  enum class Kind { Step, Link, Departure };
+  Kind kind = Kind::Step;
+  int from_pass = -1, to_pass = -1;   // -1: the operation's start / end
+  std::vector<ToolPose> poses;        // between the passes' own poses
+  std::vector<std::string> motion;    // "step", or a link's "retract"/"traverse"/"approach", "start"
+  bool clear = false;
+  std::string reason;                 // why not clear
+};
 
 // `lead_in` / `lead_out` false: that connection is left out (something
 // else, e.g. a join between two parts, replaces it).

@@ -550,4 +550,70 @@ PointMillResult plan_point_milling(const PointMillRequest& rq, Progress& progres
 
 Toolpath point_mill_moves(const PointMillResult& r) { return passes_to_moves(r.passes, r.connections); }
 
+PointMillStrip measure_root_strip(const PointMillRequest& rq, const PointMillResult& res, int samples_u, int samples_v) {
+  if (!rq.face.surface) throw ParameterError("face", "the face milled is required");
+  if (samples_u < 2 || samples_v < 2) throw ParameterError("samples", "the root strip needs at least 2 x 2 samples");
+  PointMillStrip st;
+  st.u0 = rq.u0, st.u1 = res.first_row_u;
+  const Surface& s = *rq.face.surface;
+  // The strip's height along the face at each v: the u edge's arc length
+  // (Simpson on |pu|, 16 panels: the faces are smooth over a few mm).
+  st.height_min_mm = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < samples_v; ++j) {
+    const double v = rq.v0 + (rq.v1 - rq.v0) * j / (samples_v - 1);
+    double len = 0;
+    const int n = 16;
+    for (int i = 0; i <= n; ++i) {
+      const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+      len += w * s.eval(st.u0 + (st.u1 - st.u0) * i / n, v).pu.norm();
+    }
+    len *= (st.u1 - st.u0) / n / 3;
+    st.height_mm = std::max(st.height_mm, len);
+    st.height_min_mm = std::min(st.height_min_mm, len);
+  }
+  if (!(st.u1 > st.u0)) {  // no strip: the rows start at the edge
+    st.height_mm = st.height_min_mm = 0;
+    return st;
+  }
+  // The ball centres' segments, every move of the program.
+  const double r = res.ball_radius_mm;
+  std::vector<std::pair<Vec3, Vec3>> segs;
+  for (const std::vector<ToolPose>& pass : toolpath_passes(point_mill_moves(res)).passes)
+    for (size_t i = 0; i < pass.size(); ++i) {
+      const Vec3 c = pass[i].tip + r * pass[i].axis;
+      const Vec3 b = i == 0 ? c : Vec3(pass[i - 1].tip + r * pass[i - 1].axis);
+      segs.emplace_back(b, c);
+    }
+  // The strip sampled from u0 up to (not on) the first row.
+  const int n = samples_u * samples_v;
+  std::vector<double> dist(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+  parallel_for_index(static_cast<size_t>(n), rq.threads, [&](size_t k) {
+    const int i = static_cast<int>(k) / samples_v, j = static_cast<int>(k) % samples_v;
+    const double u = st.u0 + (st.u1 - st.u0) * i / samples_u;
+    const double v = rq.v0 + (rq.v1 - rq.v0) * j / (samples_v - 1);
+    const Vec3 p = s.eval(u, v).p;
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& sg : segs) {
+      const Vec3 d = sg.second - sg.first;
+      const double dd = d.squaredNorm();
+      const double t = dd > 0 ? std::clamp((p - sg.first).dot(d) / dd, 0.0, 1.0) : 0.0;
+      best = std::min(best, (p - (sg.first + t * d)).norm());
+    }
+    dist[k] = best - r;
+  });
+  double sum = 0;
+  st.material_max_mm = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    sum += dist[static_cast<size_t>(k)];
+    if (dist[static_cast<size_t>(k)] > st.material_max_mm) {
+      st.material_max_mm = dist[static_cast<size_t>(k)];
+      st.max_u = st.u0 + (st.u1 - st.u0) * (k / samples_v) / samples_u;
+      st.max_v = rq.v0 + (rq.v1 - rq.v0) * (k % samples_v) / (samples_v - 1);
+    }
+  }
+  st.material_mean_mm = sum / n;
+  st.samples = n;
+  return st;
+}
+
 }  // namespace bliskrun

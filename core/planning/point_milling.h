@@ -53,6 +53,7 @@
 #include "core/common/progress.h"
 #include "core/geometry/surface.h"
 #include "core/planning/links.h"
+#include "core/planning/pass_moves.h"
 #include "core/planning/row_steps.h"
 #include "core/toolpath/move.h"
 #include "core/tools/tool.h"
@@ -134,15 +135,7 @@ struct PointMillRefusal {
   std::string reason;
 };
 
-struct PointMillConnection {
-  enum class Kind { Step, Link, Departure };
-  Kind kind = Kind::Step;
-  int from_pass = -1, to_pass = -1;
-  std::vector<ToolPose> poses;
-  std::vector<std::string> motion;
-  bool clear = false;
-  std::string reason;
-};
+using PointMillConnection = PassConnection;  // core/planning/pass_moves.h
 
 struct PointMillResult {
   std::vector<PointMillRow> rows;
@@ -174,6 +167,30 @@ PointMillResult plan_point_milling(const PointMillRequest& request, Progress& pr
 // "step", then "cut"), steps (Feed) and links (Rapid) between passes, the
 // lead-out; a Stop with the reason where a connection was refused.
 Toolpath point_mill_moves(const PointMillResult& result);
+
+// The root strip (issue 40): the band of the face between the window's
+// hub-side edge (u0: the hub or the fillet's offset) and the first row
+// (first_row_u), which the rows stop above (hub_stop_mm) and so do not
+// finish. Measured, to be reported apart from the face's residual: at
+// samples_u x samples_v points of the strip, the distance from the design
+// point to the nearest ball of the program's moves (every move, rows and
+// connections: the ball centre's motion taken as the straight segment
+// between consecutive poses, which it leaves by far less than a micron at
+// the planner's stations). Only the ball is measured: the taper and shank
+// stand up the span, away from the hub, so the figure is what the ball end
+// leaves — the material there is at least that thick (more where the
+// previous operation left more), and nothing of this operation finishes it.
+struct PointMillStrip {
+  double u0 = 0, u1 = 0;          // the strip's parameters: window edge to the first row
+  double height_mm = 0;           // largest along-face distance from u0 to u1 over v (the strip's height)
+  double height_min_mm = 0;       // smallest (>= hub_stop_mm: the stop is taken at the narrowest v)
+  double material_max_mm = 0;     // largest distance to the nearest ball, over the strip's samples
+  double material_mean_mm = 0;
+  double max_u = 0, max_v = 0;    // where the largest is
+  int samples = 0;
+};
+PointMillStrip measure_root_strip(const PointMillRequest& request, const PointMillResult& result, int samples_u = 12,
+                                  int samples_v = 200);
 
 // Measurement (for the planner and the tests): the scallop height between
 // two rows of ball centres (polylines, each centre a ball of radius r), at

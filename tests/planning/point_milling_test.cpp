@@ -246,6 +246,72 @@ TEST(PointMilling, RowsAcrossTheFlowRunHubToShroudWithinTheScallop) {
   EXPECT_NEAR(res.passes.back().level, 0.5, 1e-12);
 }
 
+// A plane face x = C (v - 1/2), y = 0, z = H u; pu x pv = +y, out of the material.
+class PointStripPlane : public Surface {
+ public:
+  PointStripPlane(double H, double C) : H_(H), C_(C) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    SurfaceDerivs d;
+    d.p = Vec3(C_ * (v - 0.5), 0, H_ * u);
+    d.pu = Vec3(0, 0, H_);
+    d.pv = Vec3(C_, 0, 0);
+    d.puu = d.puv = d.pvv = Vec3::Zero();
+    return d;
+  }
+
+ private:
+  double H_, C_;
+};
+
+// The root strip the rows stop above (issue 40): its height is hub_stop's,
+// and the material the ball leaves in it is what a brute force finds (every
+// emitted pass, the centre sub-sampled every 0.01 mm between poses, against
+// every strip sample) and, on a plane, the closed form: a point d below the
+// first row's contact is sqrt(d^2 + r^2) - r from the ball.
+TEST(PointMilling, RootStripHeightIsTheHubStopAndItsMaterialIsMeasured) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "a plan with gouge proofs: a second in Release, a minute sanitized";
+#endif
+  const double H = 15, C = 10;
+  const auto face = std::make_shared<const PointStripPlane>(H, C);
+  const Tool tool = point_tool();
+  PointMillRequest rq = twisted_request(face, tool);
+  rq.scallop_mm = 0.05;
+  const double r = 1.5, stop = 3 * r;
+  rq.hub_stop_mm = stop;
+  rq.u1 = (stop + 3) / H;
+  const PointMillResult res = plan_point_milling(rq);
+  ASSERT_TRUE(res.complete());
+  const int su = 6, sv = 21;
+  const PointMillStrip st = measure_root_strip(rq, res, su, sv);
+  EXPECT_NEAR(st.u1, stop / H, 1e-12);
+  EXPECT_NEAR(st.height_mm, stop, 1e-9);
+  EXPECT_NEAR(st.height_min_mm, stop, 1e-9);
+  EXPECT_EQ(st.samples, su * sv);
+  // Closed form: the largest at the window's edge, a full stop below the row.
+  EXPECT_NEAR(st.material_max_mm, std::sqrt(stop * stop + r * r) - r, 1e-3);
+  EXPECT_NEAR(st.max_u, 0, 1e-12);
+  // Brute force over the same samples.
+  double worst = 0, sum = 0;
+  for (int i = 0; i < su; ++i)
+    for (int j = 0; j < sv; ++j) {
+      const Vec3 p = face->eval(st.u1 * i / su, static_cast<double>(j) / (sv - 1)).p;
+      double best = std::numeric_limits<double>::infinity();
+      for (const PointMillPass& pass : res.passes)
+        for (size_t k = 0; k < pass.poses.size(); ++k) {
+          const Vec3 a = k ? pass.poses[k - 1].centre : pass.poses[k].centre, b = pass.poses[k].centre;
+          const int n = 1 + static_cast<int>((b - a).norm() / 0.01);
+          for (int m = 0; m <= n; ++m) best = std::min(best, (p - (a + (b - a) * m / n)).norm() - r);
+        }
+      worst = std::max(worst, best);
+      sum += best;
+    }
+  EXPECT_NEAR(st.material_max_mm, worst, 1e-4);
+  EXPECT_NEAR(st.material_mean_mm, sum / (su * sv), 1e-4);
+  // Far beyond any finishing tolerance: the strip is not finished by these rows.
+  EXPECT_GT(st.material_max_mm, 1.0);
+}
+
 // Distance from q to the box [lo, hi].
 double box_distance(const Vec3& q, const Vec3& lo, const Vec3& hi) {
   const Vec3 d = (lo - q).cwiseMax(q - hi).cwiseMax(Vec3::Zero());

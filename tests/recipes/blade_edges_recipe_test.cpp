@@ -64,6 +64,22 @@ TEST(BladeEdgesRecipe, RefusedContactsFailTheRun) {
   if (e["simulation"]["untouched"].get<int>() > 0) {
     EXPECT_TRUE(e["simulation"]["undercut_capped"].get<bool>());
     EXPECT_NE(e["simulation"]["undercut_text"].get<std::string>().find("never reached"), std::string::npos);
+    // The verdict states the material left as a bound with the count, not
+    // the capped figure as a measure.
+    bool found = false;
+    for (const auto& q : j["verdict"]["requirements"]) {
+      if (q["name"].get<std::string>().find("material left") == std::string::npos) continue;
+      found = true;
+      EXPECT_FALSE(q["pass"].get<bool>());
+      ASSERT_TRUE(q["measured"].is_string()) << q.dump();
+      EXPECT_EQ(q["measured"].get<std::string>().rfind(">= ", 0), 0u) << q.dump();
+      EXPECT_NE(q["note"].get<std::string>().find(std::to_string(e["simulation"]["untouched"].get<int>()) +
+                                                  " samples never reached"),
+                std::string::npos)
+          << q.dump();
+    }
+    EXPECT_TRUE(found);
+    EXPECT_NE(r.output.find("a lower bound"), std::string::npos) << r.output;
   }
 }
 

@@ -16,6 +16,7 @@
 #include "core/stock/stock.h"
 #include "core/tools/pose.h"
 #include "core/tools/tool.h"
+#include "test_support.h"
 
 namespace bliskrun {
 namespace {
@@ -484,6 +485,67 @@ TEST(Stock, StateAfterAFiveAxisSequenceAgainstBruteForce) {
   // The stock's volume is the mean of the three grids' ray sums.
   EXPECT_NEAR(stock.volume(), total_model * h * h / 3, 1e-6 * stock.volume());
   EXPECT_LT(stock.volume(), stock.blank_volume() - 50);
+}
+
+// The job's stock verdict (scripts/lib/job/stock.lua, issue 41): a job's
+// moves cut a small blank through Job:cut_stock as a planned job's would —
+// operation 1 a slot 2 mm deep with the flutes (clean), operation 2 a rapid
+// diagonally through the blank, operation 3 a plunge 8 mm deep with 5 mm of
+// flute and a step sideways there (the shank in the stock). The rapid is turned into a feed at its
+// operation's rate (it cuts the same); the shank FAILs the verdict, naming
+// operation 3 and its move count; operation 1 alone PASSes with its stock
+// requirements measured 0. A rapid left in the stock (the figures of a
+// stock:cut, as the job would have them) FAILs it, naming the operation.
+const char* kStockVerdictRecipe = R"LUA(
+local Job = require("job.model").Job
+local stock_report = require("job.stock")
+local run_report = require("run_report")
+local flat = bliskrun.flat_end_mill{radius = 4, corner_radius = 0.5, flute_length = 5, shank = {diameter = 8, length = 40}}
+local up = {0, 0, 1}
+local profile = {{0, 0}, {20, 0}, {20, 10}, {0, 10}}
+local function mv(op, kind, x, y, z) return {operation = op, tool = 1, kind = kind, tip = {x, y, z}, axis = up} end
+local function verdict(moves, ops)
+  local j = setmetatable({blank = {profile = profile, resolution = 1}, operations = ops,
+                          tools = {{number = 1, tool = flat}}}, Job)
+  local r = {planned = {moves = moves}}
+  r.planned.stock = j:cut_stock(r.planned)
+  return run_report.verdict(stock_report.requirements(r, {})), r.planned.stock
+end
+local slot = {mv(1, "rapid", -30, 0, 15), mv(1, "rapid", -30, 0, 8), mv(1, "feed", 30, 0, 8), mv(1, "rapid", 30, 0, 15)}
+local clean, st = verdict(slot, {{kind = "rough_channels", feed = 900}})
+assert(st.operations[1].removed_mm3 > 100, "the slot cuts")
+assert(clean.overall == "PASS" and #clean.requirements == 2, run_report.failures(clean))
+for _, q in ipairs(clean.requirements) do assert(q.measured == 0 and q.at_most == 0, q.name) end
+local all = table.move(slot, 1, #slot, 1, {})
+for _, m in ipairs({mv(2, "rapid", 30, 10, 15), mv(2, "rapid", -30, 10, 6), mv(2, "rapid", -30, -10, 15),
+                    mv(3, "rapid", 0, -10, 15), mv(3, "feed", 0, -10, 2), mv(3, "feed", 10, -10, 2),
+                    mv(3, "feed", 10, -10, 15)}) do
+  all[#all + 1] = m
+end
+local ops = {{kind = "rough_channels", feed = 900}, {kind = "drum_finish", feed = 500}, {kind = "hub_finish", feed = 700}}
+local bad, st2 = verdict(all, ops)
+assert(all[6].kind == "feed" and all[6].feed == 500 and all[5].kind == "rapid" and all[7].kind == "rapid",
+       "the rapid through the stock, and only it, turned into a feed")
+assert(st2.rapids_fed == 1 and st2.operations[2].rapid_cut_moves == 0 and st2.operations[2].removed_mm3 > 50)
+local function has(text, what) return text:find(what, 1, true) ~= nil end
+local why = run_report.failures(bad)
+assert(bad.overall == "FAIL" and has(why, "operation 3 (hub finish): shank or holder in the stock (moves) ")
+       and not has(why, "operation 1 (") and not has(why, "operation 2 (") and not has(why, "rapids through"), why)
+-- A rapid in the stock as stock:cut reports it, in the job's figures.
+local raw = bliskrun.stock{profile = profile, resolution = 1}:cut({mv(2, "rapid", 30, 10, 15), mv(2, "rapid", -30, 10, 6)}, flat)
+local e = {operation = 2, kind = "drum_finish", rapid_cut_moves = raw.rapid_cut_moves,
+           rapid_removed_mm3 = raw.rapid_removed_mm3, body_contact_moves = raw.body_contact_moves,
+           body_contact_max_mm3 = raw.body_contact_max_mm3}
+local crash = run_report.verdict(stock_report.requirements({planned = {stock = {operations = {e}}}}, {}))
+why = run_report.failures(crash)
+assert(crash.overall == "FAIL" and has(why, "operation 2 (drum finish): rapids through the stock (moves) 1 count")
+       and not has(why, "shank"), why)
+)LUA";
+
+TEST(Stock, JobVerdictFailsOnARapidOrAShankInTheStock) {
+  test::TempDir dir;
+  const test::RecipeResult r = test::run_recipe_text(dir, kStockVerdictRecipe);
+  EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts the verdicts (the sandbox has no io)
 }
 
 }  // namespace

@@ -344,6 +344,10 @@ function M.point_mill(o)
       end
       -- Against the face as designed: the plan's own moves simulated.
       local sim = plan:simulate(self.simulate)
+      -- The root strip the rows stop above (hub_stop): measured apart from
+      -- the face's residual (which covers the rows' window only); no later
+      -- operation of the job finishes it, and the verdict says so.
+      local strip = plan:root_strip()
       local moves = {}
       for i, m in ipairs(plan:moves()) do
         moves[i] = {kind = m.kind, tip = m.tip, axis = m.axis, row = m.row, motion = m.motion, operation = index}
@@ -355,6 +359,9 @@ function M.point_mill(o)
                                      max_turn = rep.max_turn, first_row_u = rep.first_row_u,
                                      residual_max = sim.left_max, residual_min = math.min(0, sim.overcut),
                                      untouched = sim.untouched, seconds = rep.seconds,
+                                     strip_height = strip.height, strip_height_min = strip.height_min,
+                                     strip_left_max = strip.left_max, strip_left_mean = strip.left_mean,
+                                     strip_finished_by = nil,
                                      decision = self.decisions and self.decisions[name]}}
     end
     return per_blade(j, units, self.blades)

@@ -13,11 +13,13 @@ local seams = require("job.seams")
 local simulate = require("job.simulate")
 local run_report = require("run_report")
 
--- What every job states: no refusal (planning stops at the first one and
+-- What every job states: with a blank, no rapid and no shank or holder in
+-- the stock (job/stock.lua); no refusal (planning stops at the first one and
 -- names it, so a run that got here has none), and every posted program's
 -- cutter and tool within the post's tolerances of the proved motion as its
 -- controller moves (the read-back sweep).
 local function common_requirements(r, q)
+  require("job.stock").requirements(r, q)
   q[#q + 1] = {name = "refused poses and links", unit = "count", measured = r.json.refusals or 0, at_most = 0,
                note = "planning stops at a refusal"}
   -- The limit is the post's tolerance plus what the output resolution
@@ -422,6 +424,14 @@ function M.impeller.requirements(r, stop)
                      .. (u.operation == "point_mill" and " (simulated)" or ""), unit = "µm",
                    measured = 1e3 * math.max(f.residual_max_mm, -f.residual_min_mm),
                    at_most = 1e3 * r.json.thickness_tolerance_mm}
+      -- The root strip below the point-milled rows: its material is the
+      -- face's too, so an unfinished strip fails the face.
+      if u.operation == "point_mill" and f.root_strip and not f.root_strip.finished_by then
+        q[#q + 1] = {name = "point mill, " .. u.name .. string.format(": root strip (%.2f mm high, below the rows) "
+                       .. "material left", f.root_strip.height_mm), unit = "µm",
+                     measured = 1e3 * f.root_strip.left_max_mm, at_most = 1e3 * r.json.thickness_tolerance_mm,
+                     note = "unfinished: no operation of the job finishes it"}
+      end
     end
   end
   return common_requirements(r, q)
@@ -487,18 +497,31 @@ end
 -- residual beyond the tolerance).
 function M.impeller.point_verdict(r, f, tolerance)
   local p = f.report
-  local ok = p.residual_max <= tolerance and p.residual_min >= -tolerance
+  local rows_ok = p.residual_max <= tolerance and p.residual_min >= -tolerance
+  -- The root strip (hub_stop high, below the first row) is the face's
+  -- too: unfinished, the face is not within the tolerance whatever the
+  -- rows' residual says.
+  local strip_ok = not p.strip_left_max or p.strip_left_max <= tolerance or p.strip_finished_by ~= nil
+  local ok = rows_ok and strip_ok
   local d = p.decision
+  local strip_note = p.strip_left_max and string.format("root strip %.2f mm high below the rows leaves up to %.3f mm%s",
+    p.strip_height, p.strip_left_max, p.strip_finished_by and (" (finished by " .. p.strip_finished_by .. ")")
+      or strip_ok and "" or ": UNFINISHED, no operation finishes it") or nil
   r.json.finish[f.side] = {method = "point milling", residual_max_mm = p.residual_max, residual_min_mm = p.residual_min,
     scallop_mm = p.scallop, scallop_measured_mm = p.scallop_measured, max_turn_deg_per_mm = p.max_turn,
-    flank_residual_mm = d and d.flank_residual_mm, within_tolerance = ok,
+    flank_residual_mm = d and d.flank_residual_mm, within_tolerance = ok, rows_within_tolerance = rows_ok,
+    root_strip = p.strip_left_max and {height_mm = p.strip_height, height_min_mm = p.strip_height_min,
+                                       left_max_mm = p.strip_left_max, left_mean_mm = p.strip_left_mean,
+                                       finished = strip_ok, finished_by = p.strip_finished_by} or nil,
     note = (d and string.format("flank milling leaves %.3f mm (> %.3f): point-milled; ", d.flank_residual_mm,
                                 d.tolerance_mm) or "")
-      .. (ok and "point milling holds the design within the tolerance" or "NOT within tolerance")}
+      .. (rows_ok and "the rows hold the design within the tolerance" or "the rows are NOT within tolerance")
+      .. (strip_note and "; " .. strip_note or "")}
   print(string.format("  %s: point milling%s, %d rows, scallop %.1f um measured (%.1f um asked), leaves %+.3f .. "
-                      .. "%+.3f mm against the face as designed (simulated): %s", f.side,
+                      .. "%+.3f mm over the rows against the face as designed (simulated)%s: %s", f.side,
                       d and string.format(" (flank residual %.3f mm > %.3f)", d.flank_residual_mm, d.tolerance_mm) or "",
                       p.rows, 1e3 * p.scallop_measured, 1e3 * p.scallop, p.residual_min, p.residual_max,
+                      strip_note and "; " .. strip_note or "",
                       ok and "within tolerance" or string.format("NOT within +-%.3f mm", tolerance)))
 end
 

@@ -53,8 +53,39 @@ function Job:cut_stock(planned)
     local op, tool = moves[i].operation, moves[i].tool
     local j = i
     while j < #moves and moves[j + 1].operation == op and moves[j + 1].tool == tool do j = j + 1 end
-    local r = stock:cut(table.move(moves, i, j, 1, {}), self:tool_entry(tool).tool,
-                        {from = last, step = b.step, check_body = b.check_body})
+    local stretch = table.move(moves, i, j, 1, {})
+    local opts = {from = last, step = b.step, check_body = b.check_body, per_move = true}
+    local before = stock:copy()
+    local r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
+    -- What stock:cut calls rounding (its air default times the spacing).
+    local contact = 0.001 * info.resolution
+    -- A rapid that removes stock — an approach, retract or link proved
+    -- against the finished part, through the stock an earlier operation
+    -- left — is a feed at the operation's feed rate: the stretch is cut
+    -- again from the stock before it with those moves turned (the posted
+    -- program with them). One rule for every operation's rapids.
+    if r.rapid_cut_moves > 0 then
+      local feed = self.operations[op].feed
+      for k, m in ipairs(stretch) do
+        if m.kind == "rapid" and r.moves[k].removed_mm3 >= contact then
+          m.kind, m.feed, m.in_stock = "feed", feed, true
+          out.rapids_fed = (out.rapids_fed or 0) + 1
+          out.fed = out.fed or {}
+          out.fed[#out.fed + 1] = {move = i + k - 1, operation = op, motion = m.motion or "?",
+                                   removed_mm3 = r.moves[k].removed_mm3, length_mm = r.moves[k].length_mm}
+        end
+      end
+      stock = before
+      out.stock = stock
+      r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
+    end
+    for k, m in ipairs(stretch) do
+      if r.moves[k].body_mm3 > 0 or (m.kind == "rapid" and r.moves[k].removed_mm3 >= contact) then
+        out.offending = out.offending or {}
+        out.offending[#out.offending + 1] = {move = i + k - 1, operation = op, kind = m.kind,
+          motion = m.motion or m.operation_kind, body_mm3 = r.moves[k].body_mm3, removed_mm3 = r.moves[k].removed_mm3}
+      end
+    end
     local e = by_op[op]
     for _, k in ipairs({"removed_mm3", "cut_mm", "air_cut_mm", "rapid_removed_mm3", "rapid_cut_moves",
                         "body_contact_moves", "seconds"}) do
@@ -101,7 +132,44 @@ function M.report(r)
       rate_max_mm2 = e.rate_max_mm2, axial_max_mm = e.axial_max_mm, radial_max_mm = e.radial_max_mm}
   end
   print(string.format("  stock cut by %d moves in %.1f s (%.1f s CPU)", #r.planned.moves, seconds, s.cpu_seconds))
+  if s.rapids_fed then
+    print(string.format("  %d rapids through the stock turned into feeds at their operation's feed rate", s.rapids_fed))
+    for _, m in ipairs(s.fed) do
+      print(string.format("    move %d, operation %d (%s): %.2f mm3 over %.1f mm", m.move, m.operation, m.motion,
+                          m.removed_mm3, m.length_mm))
+    end
+  end
+  -- The moves the verdict fails on, named (the first 20).
+  for k, m in ipairs(s.offending or {}) do
+    if k > 20 then print(string.format("  ... %d more", #s.offending - 20)) break end
+    print(string.format("  move %d, operation %d (%s %s): %s", m.move, m.operation, m.kind, m.motion or "?",
+                        m.body_mm3 > 0 and string.format("shank or holder %.2f mm3 in the stock", m.body_mm3)
+                          or string.format("rapid removes %.2f mm3", m.removed_mm3)))
+  end
+  json.rapids_turned_to_feeds = s.rapids_fed or 0
   r.json.stock = json
+end
+
+-- What the verdict states of the stock (report.lua's common requirements):
+-- per operation, no rapid removing stock and no shank or holder in it. A
+-- rapid is proved against the finished part, not against the material an
+-- earlier operation left, so a stock cut by one is a crash the part's
+-- proofs cannot see; the report names the operation and the move count.
+function M.requirements(r, q)
+  local s = r.planned and r.planned.stock
+  if not s then return q end
+  for _, e in ipairs(s.operations) do
+    local what = string.format("operation %d (%s)", e.operation, e.kind:gsub("_", " "))
+    q[#q + 1] = {name = what .. ": rapids through the stock (moves)", unit = "count", measured = e.rapid_cut_moves,
+                 at_most = 0, note = e.rapid_cut_moves > 0
+                   and string.format("%d rapids remove %.1f mm3 of stock", e.rapid_cut_moves, e.rapid_removed_mm3)
+                   or nil}
+    q[#q + 1] = {name = what .. ": shank or holder in the stock (moves)", unit = "count",
+                 measured = e.body_contact_moves, at_most = 0, note = e.body_contact_moves > 0
+                   and string.format("%d moves, up to %.2f mm3 in the stock", e.body_contact_moves,
+                                     e.body_contact_max_mm3) or nil}
+  end
+  return q
 end
 
 -- The report page's table: the stock after each operation.
