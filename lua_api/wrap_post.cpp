@@ -309,6 +309,9 @@ const std::vector<luax::Field>& post_write_fields() {
        "replay the program with the machine's bodies, fixture and stock (default true; false skips, with a warning)", {}},
       {"machine_clearance", luax::Kind::Number, false, 1e-3, 100.0,
        "machine simulation: no contact deeper than this is missed, closest approaches within it, mm (default 0.5)", {}},
+      {"machine_near_zone", luax::Kind::Number, false, 1e-3, 1e6,
+       "machine simulation: closest approaches are measured within this zone; a pair beyond it is only proved to "
+       "stay out of it, mm (default 10, at least machine_clearance)", {}},
       {"fixture", luax::Kind::Table, false, {}, {}, "bodies {name=, box=|cylinder=|cone=, radius=} in the part frame", {}},
       {"stock", luax::Kind::Table, false, {}, {}, "the blank's bodies, part frame (the tool may cut them)", {}},
       {"part", luax::Kind::Table, false, {}, {},
@@ -380,6 +383,7 @@ struct PostRequest {
   // The machine simulation (machine_sim.h).
   bool machine_check = true;
   double machine_clearance_mm = 0.5;
+  double machine_near_zone_mm = 10;
   MachineSetupBodies setup_bodies;
   std::string machine_picture;  // resolved for writing; empty: none asked
   std::string machine_picture_name;  // as the option gave it
@@ -560,6 +564,10 @@ PostRequest read_post_request(lua_State* L, int idx, const std::string& what) {
   read_post_header(L, o, what, r.job);
   r.machine_check = o.boolean("machine_check", true);
   r.machine_clearance_mm = o.number("machine_clearance", 0.5);
+  r.machine_near_zone_mm = o.number("machine_near_zone", 10);
+  if (r.machine_near_zone_mm < r.machine_clearance_mm)
+    throw ParameterError("machine_near_zone", "expected at least machine_clearance (" +
+                                                     std::to_string(r.machine_clearance_mm) + " mm)");
   for (const char* key : {"fixture", "stock"}) {
     if (!o.has(key)) continue;
     o.push_raw(key);
@@ -702,6 +710,7 @@ PostOutcome post_program(const PostRequest& r, const PostTraits& traits, Progres
   } else {
     MachineSimOptions sim;
     sim.clearance_mm = r.machine_clearance_mm;
+    sim.near_zone_mm = r.machine_near_zone_mm;
     sim.file_name = posted.file;
     sim.start = posted.start;
     std::vector<SimTool> sim_tools;
@@ -789,8 +798,8 @@ void push_cycle_time(lua_State* L, const CycleTime& c, const std::vector<std::st
 }
 
 // machine_check = {verdict = "PASS" | "FAIL" | "SKIPPED", summary =,
-// warning = (when not run), clearance =, pairs =, queries =, skipped =,
-// blocks =, closest = {{a=, b=, distance=, line=, block=, t=}, ...} nearest
+// warning = (when not run), clearance =, near_zone =, pairs =, queries =, skipped =,
+// blocks =, closest = {{a=, b=, distance=, line=, block=, t=, tool=, queries=, beyond_zone=}, ...} nearest
 // first, unchecked = {"T3", ...} tools without a body}.
 void push_machine_check(lua_State* L, const PostOutcome& out) {
   lua_createtable(L, 0, 10);
@@ -809,6 +818,7 @@ void push_machine_check(lua_State* L, const PostOutcome& out) {
   luax::push(L, machine_sim_summary(m));
   lua_setfield(L, -2, "summary");
   luax::set_number(L, "clearance", m.clearance_mm);
+  luax::set_number(L, "near_zone", m.near_zone_mm);
   luax::set_number(L, "pairs", static_cast<double>(m.pairs));
   luax::set_number(L, "queries", static_cast<double>(m.queries));
   luax::set_number(L, "skipped", static_cast<double>(m.skipped));
@@ -837,6 +847,9 @@ void push_machine_check(lua_State* L, const PostOutcome& out) {
     luax::set_number(L, "block", static_cast<double>(a.block + 1));
     luax::set_number(L, "t", a.t);
     luax::set_number(L, "tool", a.tool);
+    luax::set_number(L, "queries", static_cast<double>(a.queries));
+    lua_pushboolean(L, a.beyond_zone);
+    lua_setfield(L, -2, "beyond_zone");
     lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
   }
   lua_setfield(L, -2, "closest");

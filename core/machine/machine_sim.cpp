@@ -605,6 +605,9 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
                                   const std::vector<SimTool>& tools, const MachineSetupBodies& setup,
                                   const MachineSimOptions& options) {
   if (!(options.clearance_mm > 0)) throw ParameterError("clearance", "expected a clearance > 0 mm");
+  if (!(options.near_zone_mm >= options.clearance_mm))
+    throw ParameterError("near_zone", "expected a near-miss zone at least the clearance (" +
+                                          std::to_string(options.clearance_mm) + " mm)");
   SimWorld world = sim_world(machine, tools, setup);
   const std::vector<SimBody>& bodies = world.bodies;
   const std::vector<Kinematics>& kins = world.kins;
@@ -612,6 +615,7 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
   const MachineChain& chain0 = chains.front();
   MachineSimReport report;
   report.clearance_mm = options.clearance_mm;
+  report.near_zone_mm = options.near_zone_mm;
   report.unchecked = world.unchecked;
   const double c = options.clearance_mm;
 
@@ -655,8 +659,10 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
   report.blocks = static_cast<long>(blocks.size());
 
   // How far below the closest approach so far a pair may stray unmeasured
-  // (machine_sim.h): the clearance, or a tenth of a distance far above it.
-  const auto allowance = [c](double m) { return std::max(c, 0.1 * m); };
+  // (machine_sim.h): the clearance, or a tenth of a distance far above it,
+  // or down to the near-miss zone.
+  const double zone = options.near_zone_mm;
+  const auto allowance = [c, zone](double m) { return std::max({c, 0.1 * m, m - zone}); };
   for (size_t i = 0; i < blocks.size(); ++i) {
     const ProgramMove& got = blocks[i];
     const int k = tool_index(got.tool);
@@ -830,6 +836,7 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
           d = sim_pair_distance(a, pa, b, pb);
         }
         ++report.queries;
+        ++p.best.queries;
         if (!bounded && d < p.best.distance_mm) {
           p.best.distance_mm = d;
           p.best.block = static_cast<long>(i);
@@ -866,8 +873,12 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
     if (swept) ++report.swept_blocks; else ++report.unswept_blocks;
     if (block_collided) ++report.colliding_blocks;
   }
-  for (const SimPairState& p : pairs)
-    if (std::isfinite(p.best.distance_mm)) report.closest.push_back(p.best);
+  for (SimPairState& p : pairs)
+    if (std::isfinite(p.best.distance_mm)) {
+      const double m = p.best.distance_mm;
+      p.best.beyond_zone = m - zone > std::max(c, 0.1 * m);
+      report.closest.push_back(p.best);
+    }
   std::sort(report.closest.begin(), report.closest.end(),
             [](const BodyApproach& x, const BodyApproach& y) { return x.distance_mm < y.distance_mm; });
   return report;
@@ -925,7 +936,11 @@ std::string machine_sim_summary(const MachineSimReport& r) {
     out << "PASS: no pair of bodies to check";
   } else {
     const BodyApproach& n = r.closest.front();
-    out << "PASS: closest approach " << n.distance_mm << " mm (" << n.a << " / " << n.b << ", line " << n.line << ")";
+    if (n.beyond_zone)
+      out << "PASS: no pair within the " << r.near_zone_mm << " mm near-miss zone (nearest sampled " << n.distance_mm
+          << " mm: " << n.a << " / " << n.b << ", line " << n.line << ")";
+    else
+      out << "PASS: closest approach " << n.distance_mm << " mm (" << n.a << " / " << n.b << ", line " << n.line << ")";
   }
   out << ", clearance " << r.clearance_mm << " mm";
   if (r.unbounded_blocks > 0)

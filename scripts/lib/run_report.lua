@@ -50,6 +50,16 @@ end
 -- machine_check, as the job's program entry keeps it): no contact of the
 -- machine's bodies, fixture, stock and tool; a skipped simulation passes
 -- with its warning as the note, so a recipe that chose to skip it says so.
+-- One pair's closest approach as a line: "spindle nose / blade 3 6.8 mm
+-- (line 4509)", or "> 10 mm" for a pair only proved to stay beyond the
+-- near-miss zone (its nearest sample is not its closest approach). `c` as
+-- post.write's machine_check.closest entries or the job's (distance_mm).
+function M.approach_text(c, near_zone)
+  local figure = c.beyond_zone and string.format("> %g mm", near_zone)
+                 or string.format("%.1f mm", c.distance_mm or c.distance)
+  return string.format("%s / %s %s (line %d)", c.a, c.b, figure, c.line)
+end
+
 function M.machine_requirement(file, mc)
   if mc.verdict == "SKIPPED" then
     return {name = file .. ": machine simulation (bodies, fixture, stock)", unit = "mm", measured = "skipped",
@@ -57,7 +67,8 @@ function M.machine_requirement(file, mc)
   end
   local near = mc.closest and mc.closest[1]
   return {name = file .. ": machine simulation, closest approach of two bodies", unit = "mm",
-          measured = near and near.distance_mm or nil, at_least = 0, pass = mc.verdict == "PASS",
+          measured = near and (near.beyond_zone and string.format("> %g", mc.near_zone_mm) or near.distance_mm) or nil,
+          at_least = 0, pass = mc.verdict == "PASS",
           note = mc.summary}
 end
 

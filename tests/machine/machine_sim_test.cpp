@@ -163,6 +163,18 @@ TEST(MachineSim, FixturePassedAtOneMillimetreReportsOneMillimetre) {
   }
 }
 
+// A pair's closest approach against a dense replay's minimum: within the
+// zone never above it by more than the clearance, and never below it (less
+// the dense sampling's own slack, 0.3 mm); beyond the zone, the pair truly
+// never entered it.
+void expect_closest_matches_dense(const BodyApproach& ap, double dense, const MachineSimOptions& o) {
+  if (dense > 0) EXPECT_GE(ap.distance_mm, dense - 0.3) << ap.a << " / " << ap.b;
+  if (ap.beyond_zone)
+    EXPECT_GE(dense, o.near_zone_mm - 0.3) << ap.a << " / " << ap.b;
+  else
+    EXPECT_LE(ap.distance_mm, dense + o.clearance_mm + 1e-6) << ap.a << " / " << ap.b;
+}
+
 // Brute force: the same blocks sampled densely (1000 steps each), the pair
 // distances measured with FCL directly. The simulation's closest approach
 // of every pair must be within the clearance above the dense minimum and
@@ -197,86 +209,94 @@ void check_against_dense_replay(bool vector) {
     blocks.back().vector = tcp && vector;
   }
   const Kinematics kin(m, length);
-  MachineSimOptions o;
-  o.clearance_mm = 0.5;
-  o.start = blocks.front().axes;
-  const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, length, nullptr}}, {fixture, {}, {}}, o);
-  EXPECT_EQ(r.unbounded_blocks, 0);
+  // The default near-miss zone, and one covering every pair (each closest
+  // approach then measured to its allowance).
+  for (double zone : {10.0, 1e9}) {
+    SCOPED_TRACE("near-miss zone " + std::to_string(zone) + " mm");
+    MachineSimOptions o;
+    o.clearance_mm = 0.5;
+    o.near_zone_mm = zone;
+    o.start = blocks.front().axes;
+    const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, length, nullptr}}, {fixture, {}, {}}, o);
+    EXPECT_EQ(r.unbounded_blocks, 0);
 
-  // The dense replay, state as the simulation keeps it.
-  const MachineChain chain(m, length);
-  std::vector<MachineBody> all = m.bodies;
-  all.insert(all.end(), fixture.begin(), fixture.end());
-  struct Placed {
-    std::shared_ptr<fcl::CollisionGeometryd> g;
-    Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
-    int link = 0;
-  };
-  std::vector<Placed> placed;
-  for (const MachineBody& b : all) {
-    Placed p;
-    p.link = chain.link_of(b.frame);
-    const Vec3 offset = b.frame == "part" ? m.part_origin_mm : Vec3::Zero();
-    if (b.shape == BodyShape::Box) {
-      const Vec3 s = b.max_mm - b.min_mm;
-      p.g = std::make_shared<fcl::Boxd>(s.x(), s.y(), s.z());
-      p.local.translation() = 0.5 * (b.min_mm + b.max_mm) + offset;
-    } else {
-      p.g = std::make_shared<fcl::Cylinderd>(b.radius_mm, (b.to_mm - b.from_mm).norm());
-      p.local.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), (b.to_mm - b.from_mm).normalized()).toRotationMatrix();
-      p.local.translation() = 0.5 * (b.from_mm + b.to_mm) + offset;
-    }
-    placed.push_back(p);
-  }
-  auto distance = [&](const Placed& a, const Placed& b, const MachineAxes& q) {
-    const fcl::Transform3d ta = chain.pose(a.link, q) * a.local, tb = chain.pose(b.link, q) * b.local;
-    fcl::DistanceRequestd req;
-    req.gjk_solver_type = fcl::GST_LIBCCD;
-    fcl::DistanceResultd res;
-    fcl::distance(a.g.get(), ta, b.g.get(), tb, req, res);
-    if (res.min_distance > 0) return res.min_distance;
-    fcl::CollisionRequestd creq(1, true);
-    fcl::CollisionResultd cres;
-    fcl::collide(a.g.get(), ta, b.g.get(), tb, creq, cres);
-    return cres.isCollision() ? -cres.getContact(0).penetration_depth : 0.0;
-  };
-  int compared = 0;
-  for (const BodyApproach& ap : r.closest) {
-    size_t ia = 0, ib = 0;
-    for (size_t k = 0; k < all.size(); ++k) {
-      if (all[k].name == ap.a) ia = k;
-      if (all[k].name == ap.b) ib = k;
-    }
-    double dense = std::numeric_limits<double>::infinity();
-    MachineAxes prev_axes = blocks.front().axes;
-    Vec3 prev_tip = kin.forward(prev_axes).tip;
-    for (size_t i = 0; i < blocks.size(); ++i) {
-      const ProgramMove& b = blocks[i];
-      MachineAxes to = b.axes;
-      Vec3 tip;
-      if (b.tcp) {
-        tip = b.axes.linear_mm;
-        to.linear_mm = kin.linear_for(tip, to.rotary_rad);
+    // The dense replay, state as the simulation keeps it.
+    const MachineChain chain(m, length);
+    std::vector<MachineBody> all = m.bodies;
+    all.insert(all.end(), fixture.begin(), fixture.end());
+    struct Placed {
+      std::shared_ptr<fcl::CollisionGeometryd> g;
+      Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+      int link = 0;
+    };
+    std::vector<Placed> placed;
+    for (const MachineBody& b : all) {
+      Placed p;
+      p.link = chain.link_of(b.frame);
+      const Vec3 offset = b.frame == "part" ? m.part_origin_mm : Vec3::Zero();
+      if (b.shape == BodyShape::Box) {
+        const Vec3 s = b.max_mm - b.min_mm;
+        p.g = std::make_shared<fcl::Boxd>(s.x(), s.y(), s.z());
+        p.local.translation() = 0.5 * (b.min_mm + b.max_mm) + offset;
       } else {
-        tip = kin.forward(to).tip;
+        p.g = std::make_shared<fcl::Cylinderd>(b.radius_mm, (b.to_mm - b.from_mm).norm());
+        p.local.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), (b.to_mm - b.from_mm).normalized()).toRotationMatrix();
+        p.local.translation() = 0.5 * (b.from_mm + b.to_mm) + offset;
       }
-      const bool both_tcp = b.tcp && i > 0 && blocks[i - 1].tcp;
-      const ControllerMotion motion = !both_tcp ? ControllerMotion::JointLinear
-                                                : (vector ? ControllerMotion::TcpVector : ControllerMotion::TcpRotaryLinear);
-      const int n = i == 0 ? 1 : 1000;
-      for (int s = i == 0 ? 1 : 0; s <= n; ++s) {
-        const MachineAxes q = i == 0 ? to : controller_axes(kin, motion, prev_axes, to, prev_tip, tip, double(s) / n);
-        dense = std::min(dense, distance(placed[ia], placed[ib], q));
-      }
-      prev_axes = to;
-      prev_tip = tip;
+      placed.push_back(p);
     }
-    ++compared;
-    EXPECT_LE(ap.distance_mm, dense + o.clearance_mm + 1e-6) << ap.a << " / " << ap.b;
-    if (dense > 0) EXPECT_GE(ap.distance_mm, dense - 0.3) << ap.a << " / " << ap.b;  // the dense replay's own step
-    if (dense < -o.clearance_mm) EXPECT_TRUE(r.collided) << ap.a << " / " << ap.b;
+    auto distance = [&](const Placed& a, const Placed& b, const MachineAxes& q) {
+      const fcl::Transform3d ta = chain.pose(a.link, q) * a.local, tb = chain.pose(b.link, q) * b.local;
+      fcl::DistanceRequestd req;
+      req.gjk_solver_type = fcl::GST_LIBCCD;
+      fcl::DistanceResultd res;
+      fcl::distance(a.g.get(), ta, b.g.get(), tb, req, res);
+      if (res.min_distance > 0) return res.min_distance;
+      fcl::CollisionRequestd creq(1, true);
+      fcl::CollisionResultd cres;
+      fcl::collide(a.g.get(), ta, b.g.get(), tb, creq, cres);
+      return cres.isCollision() ? -cres.getContact(0).penetration_depth : 0.0;
+    };
+    int compared = 0, beyond = 0;
+    for (const BodyApproach& ap : r.closest) {
+      size_t ia = 0, ib = 0;
+      for (size_t k = 0; k < all.size(); ++k) {
+        if (all[k].name == ap.a) ia = k;
+        if (all[k].name == ap.b) ib = k;
+      }
+      double dense = std::numeric_limits<double>::infinity();
+      MachineAxes prev_axes = blocks.front().axes;
+      Vec3 prev_tip = kin.forward(prev_axes).tip;
+      for (size_t i = 0; i < blocks.size(); ++i) {
+        const ProgramMove& b = blocks[i];
+        MachineAxes to = b.axes;
+        Vec3 tip;
+        if (b.tcp) {
+          tip = b.axes.linear_mm;
+          to.linear_mm = kin.linear_for(tip, to.rotary_rad);
+        } else {
+          tip = kin.forward(to).tip;
+        }
+        const bool both_tcp = b.tcp && i > 0 && blocks[i - 1].tcp;
+        const ControllerMotion motion = !both_tcp ? ControllerMotion::JointLinear
+                                                  : (vector ? ControllerMotion::TcpVector : ControllerMotion::TcpRotaryLinear);
+        const int n = i == 0 ? 1 : 1000;
+        for (int s = i == 0 ? 1 : 0; s <= n; ++s) {
+          const MachineAxes q = i == 0 ? to : controller_axes(kin, motion, prev_axes, to, prev_tip, tip, double(s) / n);
+          dense = std::min(dense, distance(placed[ia], placed[ib], q));
+        }
+        prev_axes = to;
+        prev_tip = tip;
+      }
+      ++compared;
+      expect_closest_matches_dense(ap, dense, o);
+      if (dense < -o.clearance_mm) EXPECT_TRUE(r.collided) << ap.a << " / " << ap.b;
+      beyond += ap.beyond_zone;
+    }
+    EXPECT_GE(compared, 5);
+    if (zone < 1e9) EXPECT_GT(beyond, 0) << "some pair should stay beyond the zone";
+    else EXPECT_EQ(beyond, 0);
   }
-  EXPECT_GE(compared, 5);
 }
 
 TEST(MachineSim, BoundHoldsAgainstDenseReplay) { check_against_dense_replay(false); }
@@ -534,8 +554,7 @@ TEST(MachineSim, PartMeshBoundHoldsAgainstDenseReplay) {
     }
     ++compared;
     ASSERT_GT(dense, 0) << body.name << ": the program should pass the blade, not hit it";
-    EXPECT_LE(ap->distance_mm, dense + o.clearance_mm + 1e-6) << body.name;
-    EXPECT_GE(ap->distance_mm, dense - 0.3) << body.name;  // the dense replay's own step
+    expect_closest_matches_dense(*ap, dense, o);
   }
   EXPECT_TRUE(r.pass());
   EXPECT_EQ(compared, 3);

@@ -111,7 +111,7 @@ local function program_entry(m, r)
     local near = {}
     for k = 1, math.min(3, #mc.closest) do
       local c = mc.closest[k]
-      near[k] = string.format("%s / %s %.1f mm (line %d)", c.a, c.b, c.distance, c.line)
+      near[k] = require("run_report").approach_text(c, mc.near_zone)
     end
     print(string.format("    machine simulation %s: %d pairs, %d distance queries (%d pair-blocks cleared by the broad phase), "
                         .. "%.2f s (%.2f s CPU); nearest: %s", mc.verdict, mc.pairs, mc.queries, mc.skipped, mc.seconds,
@@ -123,9 +123,11 @@ local function program_entry(m, r)
   local closest = {}
   for k, c in ipairs(mc.closest or {}) do
     if k > 20 then break end
-    closest[k] = {a = c.a, b = c.b, distance_mm = c.distance, line = c.line, block = c.block, tool = c.tool}
+    closest[k] = {a = c.a, b = c.b, distance_mm = c.distance, line = c.line, block = c.block, tool = c.tool,
+                  queries = c.queries, beyond_zone = c.beyond_zone}
   end
   return {machine_check = {verdict = mc.verdict, summary = mc.summary, warning = mc.warning, clearance_mm = mc.clearance,
+                           near_zone_mm = mc.near_zone,
                            seconds = mc.seconds, cpu_seconds = mc.cpu_seconds, pairs = mc.pairs, queries = mc.queries,
                            skipped = mc.skipped, unbounded_blocks = mc.unbounded_blocks, picture = mc.picture,
                            picture_note = mc.picture_note, closest = closest},

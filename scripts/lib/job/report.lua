@@ -52,7 +52,7 @@ local function machine_sections(programs)
       local near = {}
       for k = 1, math.min(5, #mc.closest) do
         local c = mc.closest[k]
-        near[k] = string.format("%s / %s %.1f mm (line %d)", c.a, c.b, c.distance_mm, c.line)
+        near[k] = run_report.approach_text(c, mc.near_zone_mm)
       end
       local text = {mc.summary, string.format("%d pairs of bodies, %d distance queries, %.1f s CPU; nearest: %s.",
                                               mc.pairs, mc.queries, mc.cpu_seconds or 0, table.concat(near, ", "))}
