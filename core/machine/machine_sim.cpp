@@ -873,12 +873,25 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
     if (swept) ++report.swept_blocks; else ++report.unswept_blocks;
     if (block_collided) ++report.colliding_blocks;
   }
-  for (SimPairState& p : pairs)
-    if (std::isfinite(p.best.distance_mm)) {
-      const double m = p.best.distance_mm;
-      p.best.beyond_zone = m - zone > std::max(c, 0.1 * m);
+  // One entry per pair of names: a tool part's slices are one body to the
+  // reader (its nearest slice's approach; the slices' queries summed; beyond
+  // the zone only if every slice stayed beyond it).
+  for (SimPairState& p : pairs) {
+    if (!std::isfinite(p.best.distance_mm)) continue;
+    const double m = p.best.distance_mm;
+    p.best.beyond_zone = m - zone > std::max(c, 0.1 * m);
+    auto same = std::find_if(report.closest.begin(), report.closest.end(),
+                             [&](const BodyApproach& x) { return x.a == p.best.a && x.b == p.best.b; });
+    if (same == report.closest.end()) {
       report.closest.push_back(p.best);
+      continue;
     }
+    const long queries = same->queries + p.best.queries;
+    const bool beyond = same->beyond_zone && p.best.beyond_zone;
+    if (m < same->distance_mm) *same = p.best;
+    same->queries = queries;
+    same->beyond_zone = beyond;
+  }
   std::sort(report.closest.begin(), report.closest.end(),
             [](const BodyApproach& x, const BodyApproach& y) { return x.distance_mm < y.distance_mm; });
   return report;
