@@ -32,6 +32,10 @@ return function(own)
              check = function(v) return list_of(v, {"main plus", "main minus", "splitter plus", "splitter minus"}) end},
     sim_u = {type = "integer", default = 60, range = {2, 5000}, help = "simulation samples along the span"},
     sim_v = {type = "integer", default = 300, range = {2, 20000}, help = "simulation samples along the chord"},
+    machine_clearance = {type = "number", unit = "mm", default = 0.5, range = {0.001, 100},
+                         help = "machine simulation: no contact deeper than this is missed"},
+    machine_near_zone = {type = "number", unit = "mm", default = 10, range = {0.001, 1e6},
+                         help = "machine simulation: closest approaches measured within this zone (at least the clearance)"},
   }
   for name, d in pairs(own or {}) do decl[name] = d end
   return decl

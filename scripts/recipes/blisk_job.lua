@@ -41,6 +41,10 @@ local opt = require("recipe_options"){
              help = "height of the root strip's top above the hub"},
   samples_u = {type = "integer", default = 100, range = {2, 5000}, help = "simulation samples along the span"},
   samples_v = {type = "integer", default = 500, range = {2, 20000}, help = "simulation samples along the chord"},
+  machine_clearance = {type = "number", unit = "mm", default = 0.5, range = {0.001, 100},
+                       help = "machine simulation: no contact deeper than this is missed"},
+  machine_near_zone = {type = "number", unit = "mm", default = 10, range = {0.001, 1e6},
+                       help = "machine simulation: closest approaches measured within this zone (at least the clearance)"},
   edge_samples_u = {type = "integer", range = {2, 5000}, default_text = "the job's", help = "edge simulation samples, span"},
   edge_samples_v = {type = "integer", range = {2, 20000}, default_text = "the job's", help = "edge simulation samples, chord"},
   seam_spacing = {type = "number", unit = "mm", range = {0.001, 10}, default_text = "the job's",
@@ -171,6 +175,7 @@ j:run{name = "blisk_job",
   -- stock (post.write's machine simulation): the fixture a mandrel column
   -- from the table face (the part frame's origin stands 120 / 100 mm above
   -- it) to the disc's face, the stock the disc (above).
+  machine_clearance = opt.machine_clearance, machine_near_zone = opt.machine_near_zone,
   programs = {{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "blisk_job_ac_fanuc.nc",
                fixture = {{name = "fixture", cylinder = {{0, 0, -120}, {0, 0, -23}}, radius = 50}},
                stock = blank},

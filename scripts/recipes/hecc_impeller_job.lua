@@ -87,6 +87,7 @@ j:run{name = "hecc_impeller_job", title = "Job: NASA HECC impeller", thickness_t
   simulate = opt.simulate ~= false and {samples_u = opt.sim_u, samples_v = opt.sim_v,
                                          search_above = stock + fit_max + 0.5, search_below = search_below},
   overcut_slack = 0.02,
+  machine_clearance = opt.machine_clearance, machine_near_zone = opt.machine_near_zone,
   programs = {{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "hecc_impeller_job_bc_heidenhain.h"},
               {machine = bliskrun.machine.load("table_table_bc", {name = "B/C trunnion 600 (Fanuc)"}),
                name = "table_table_bc", post = "fanuc", file = "hecc_impeller_job_bc_fanuc.nc"}},

@@ -50,6 +50,7 @@ local j = job.new{
 -- cradle that tilts one way (-120..+30 deg) runs out of travel.
 j:run{name = "impeller_job", json = {part = "built-in impeller"},
   simulate = opt.simulate ~= false and {samples_u = opt.sim_u, samples_v = opt.sim_v},
+  machine_clearance = opt.machine_clearance, machine_near_zone = opt.machine_near_zone,
   programs = {{machine = "bc_trunnion_hermle_like", post = "heidenhain", file = "impeller_job_bc_heidenhain.h"},
               {machine = bliskrun.machine.load("table_table_bc", {name = "B/C trunnion 600 (Fanuc)"}),
                name = "table_table_bc", post = "fanuc", file = "impeller_job_bc_fanuc.nc"}},

@@ -182,12 +182,18 @@ end
 -- Posts for one machine (j:post) and prints the one-line summary; returns
 -- the program's entry for a run's JSON report. m = {machine = name or
 -- Machine, name = (how the report calls a Machine), post =, file =}.
+-- What a programs entry hands to j:post (check_post_options says what each is).
+local program_keys = {"machine", "post", "file", "setup", "start", "work_offset", "coolant", "program_number", "notes",
+                      "machine_check", "machine_clearance", "machine_near_zone", "fixture", "stock", "part",
+                      "machine_picture"}
+local function post_request_of(m)
+  local o = {}
+  for _, k in ipairs(program_keys) do o[k] = m[k] end
+  return o
+end
+
 function Job:post_program(m)
-  return program_entry(m, self:post{machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
-                                    work_offset = m.work_offset, coolant = m.coolant,
-                                    program_number = m.program_number, notes = m.notes,
-                                    machine_check = m.machine_check, fixture = m.fixture, stock = m.stock, part = m.part,
-                                    machine_picture = m.machine_picture})
+  return program_entry(m, self:post(post_request_of(m)))
 end
 
 -- Posts several programs at once (bliskrun.post.write_all: on the run's
@@ -200,10 +206,7 @@ function Job:post_programs(list, level)
   level = level or 3
   local requests, offsets, paths = {}, {}, {}
   for i, m in ipairs(list) do
-    local o = {machine = m.machine, post = m.post, file = m.file, setup = m.setup, start = m.start,
-               work_offset = m.work_offset, coolant = m.coolant, program_number = m.program_number, notes = m.notes,
-               machine_check = m.machine_check, fixture = m.fixture, stock = m.stock, part = m.part,
-               machine_picture = m.machine_picture}
+    local o = post_request_of(m)
     local key = m.setup or "whole"
     paths[key] = paths[key] or {self:program_path(o, level)}
     requests[i], offsets[i] = self:post_options(o, paths[key][1], level), {paths[key][2], paths[key][3]}
@@ -245,6 +248,8 @@ local function check_post_options(o, level)
     -- machine's picture at the closest approach (default <file>_machine.png;
     -- false: none).
     machine_check = {type = "boolean"}, fixture = {type = "table"}, stock = {type = "table"},
+    machine_clearance = {type = "number", check = positive},  -- mm (post.write: default 0.5)
+    machine_near_zone = {type = "number", check = positive},  -- mm (post.write: default 10)
     part = {type = "any", check = function(v)
       if v ~= false and type(v) ~= "table" then return "expected a list of bodies or false" end
     end},
@@ -335,7 +340,8 @@ function Job:post_options(o, path, level)
           chord_tol = o.chord_tol or 0.002, start = o.start, approach = {proved = M.approach_length, proved_up = M.approach_length},
           setup = setup,
           work_offset = o.work_offset, coolant = o.coolant, program_number = o.program_number, notes = o.notes,
-          machine_check = o.machine_check, fixture = o.fixture, stock = o.stock,
+          machine_check = o.machine_check, machine_clearance = o.machine_clearance,
+          machine_near_zone = o.machine_near_zone, fixture = o.fixture, stock = o.stock,
           part = o.part ~= false and (o.part or self:part_bodies()) or nil,
           machine_picture = o.machine_picture ~= false and (o.machine_picture or o.file:gsub("%.[^./]*$", "") .. "_machine.png")
                             or nil}

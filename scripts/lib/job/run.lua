@@ -36,11 +36,12 @@ end
 
 -- One program per machine and setup: file "x.nc" becomes "x_setup1.nc", ...
 -- when there is more than one setup.
-local function program_list(programs, setups)
+local function program_list(programs, setups, defaults)
   local list = {}
   for _, m in ipairs(programs) do
     for k, setup in ipairs(setups or {false}) do
       local p = {}
+      for key, value in pairs(defaults) do p[key] = value end
       for key, value in pairs(m) do p[key] = value end
       if setup then
         p.setup = setup
@@ -90,6 +91,10 @@ function Job:run(o)
     end},
     json = {type = "table"},
     sections = {type = "function"},
+    -- Every program's machine simulation, where its entry does not say
+    -- (post.write's machine_clearance and machine_near_zone, mm).
+    machine_clearance = {type = "number", check = positive},
+    machine_near_zone = {type = "number", check = positive},
   }, 2)
   if type(o.simulate) == "table" then check_options("job:run simulate", o.simulate, simulate.options, 2) end
   local steps = report[self.part_kind]
@@ -134,7 +139,9 @@ function Job:run(o)
     step(string.format("post and read back %d program%s", #o.programs * (o.setups and #o.setups or 1),
                        #o.programs * (o.setups and #o.setups or 1) == 1 and "" or "s"))
     local setups = o.setups and split_setups(r.planned, o.setups)
-    r.json.programs = self:post_programs(program_list(o.programs, setups), 4)
+    r.json.programs = self:post_programs(program_list(o.programs, setups,
+                                                              {machine_clearance = o.machine_clearance,
+                                                               machine_near_zone = o.machine_near_zone}), 4)
     steps.posted(r)
   end
   local verdict = run_report.verdict(steps.requirements(r, stop), stop and "Nothing posted: " .. stop or nil)
