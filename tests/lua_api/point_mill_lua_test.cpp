@@ -40,7 +40,10 @@ INSTANTIATE_TEST_SUITE_P(
                         "half_angle = 12, flute_length = 40}, lean = 5}",
                         "lean"},
         RecipeErrorCase{"Neighbour", "bliskrun.point_mill{face = " PM_FACE ", tool = " PM_TOOL ", neighbours = {3}}",
-                        "option 'neighbours' [1]"}),
+                        "option 'neighbours' [1]"},
+        RecipeErrorCase{"HubNotARevolution",
+                        "bliskrun.point_mill{face = " PM_FACE ", tool = " PM_TOOL ", hub = " PM_FACE "}",
+                        "option 'hub': expected a surface of revolution"}),
     error_case_name);
 
 }  // namespace
