@@ -154,24 +154,43 @@ class PointMillHubMeridian {
       zr_.emplace_back(p.x(), p.y());
       t_.push_back(t);
     }
+    for (size_t b = 0; b * kBlock < zr_.size() - 1; ++b) {
+      Vec2 lo = zr_[b * kBlock], hi = lo;
+      for (size_t i = b * kBlock; i <= std::min(zr_.size() - 1, (b + 1) * kBlock); ++i)
+        lo = lo.cwiseMin(zr_[i]), hi = hi.cwiseMax(zr_[i]);
+      lo_.push_back(lo), hi_.push_back(hi);
+    }
     sign_ = 1;
     sign_ = signed_distance(channel) < 0 ? -1 : 1;
   }
   // Signed distance of q from the hub; `t` receives the meridian parameter
-  // of the foot.
+  // of the foot. The segments in blocks of kBlock with their boxes: a
+  // block whose box is farther than the best so far is skipped (the
+  // solves call this some hundred times per v).
   double signed_distance(const Vec3& q, double* t = nullptr) const {
     const Vec2 p(q.z(), std::hypot(q.x(), q.y()));
     double best = std::numeric_limits<double>::infinity(), side = 1, bt = 0;
-    for (size_t i = 0; i + 1 < zr_.size(); ++i) {
-      const Vec2 a = zr_[i], d = zr_[i + 1] - a;
-      const double dd = d.squaredNorm();
-      const double s = dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-      const Vec2 e = p - (a + s * d);
-      const double dist = e.norm();
-      if (dist < best) {
-        best = dist;
-        side = d.x() * e.y() - d.y() * e.x() >= 0 ? 1 : -1;
-        bt = t_[i] + s * (t_[i + 1] - t_[i]);
+    const size_t segs = zr_.size() - 1;
+    // Blocks nearest first (by box distance), so the rest are mostly skipped.
+    std::vector<std::pair<double, size_t>> order(lo_.size());
+    for (size_t b = 0; b < lo_.size(); ++b) {
+      const Vec2 d = (lo_[b] - p).cwiseMax(p - hi_[b]).cwiseMax(Vec2::Zero());
+      order[b] = {d.norm(), b};
+    }
+    std::sort(order.begin(), order.end());
+    for (const auto& [box, b] : order) {
+      if (box >= best) break;
+      for (size_t i = b * kBlock; i < std::min(segs, (b + 1) * kBlock); ++i) {
+        const Vec2 a = zr_[i], d = zr_[i + 1] - a;
+        const double dd = d.squaredNorm();
+        const double s = dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+        const Vec2 e = p - (a + s * d);
+        const double dist = e.norm();
+        if (dist < best) {
+          best = dist;
+          side = d.x() * e.y() - d.y() * e.x() >= 0 ? 1 : -1;
+          bt = t_[i] + s * (t_[i + 1] - t_[i]);
+        }
       }
     }
     if (t) *t = bt;
@@ -179,7 +198,8 @@ class PointMillHubMeridian {
   }
 
  private:
-  std::vector<Vec2> zr_;
+  static constexpr size_t kBlock = 16;
+  std::vector<Vec2> zr_, lo_, hi_;
   std::vector<double> t_;
   double sign_ = 1;
 };
