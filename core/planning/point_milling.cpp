@@ -389,7 +389,6 @@ PointMillHubGuardSurface point_mill_hub_guard(const PointMillRequest& rq, const 
   }
   const double dt = pad_mm / std::max(speed, 1e-9);
   const double tmin = *std::min_element(ts.begin(), ts.end()), tmax = *std::max_element(ts.begin(), ts.end());
-  const double span = prof.t_max() - prof.t_min();
   g.u0 = std::max(prof.t_min(), tmin - dt), g.u1 = std::min(prof.t_max(), tmax + dt);
   // Out of the material: towards the first fillet ball's centre.
   const SurfaceDerivs d0 = s.eval(fl.u.front(), fl.v.front());
@@ -399,7 +398,6 @@ PointMillHubGuardSurface point_mill_hub_guard(const PointMillRequest& rq, const 
   const double a0 = angles.front() - (mid - kPi);
   const SurfaceDerivs h = g.surface->eval(t0, a0 / (2 * kPi));
   g.flip = h.pu.cross(h.pv).dot(c0 - h.p) < 0;
-  (void)span;
   return g;
 }
 
