@@ -136,7 +136,7 @@ struct PointMillPose {
 
 struct PointMillPass {
   int row = 0;
-  double level = 0;       // the row's constant parameter (u along the flow, v across)
+  double level = 0;       // the row's constant parameter (u along the flow, v across; of milled_surface)
   bool reversed = false;  // runs towards decreasing parameter
   std::vector<PointMillPose> poses;
 };
