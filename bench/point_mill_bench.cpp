@@ -74,8 +74,9 @@ void BM_PointMillRootStripIndexed(benchmark::State& state) {
 }
 BENCHMARK(BM_PointMillRootStripIndexed)->Unit(benchmark::kMillisecond);
 
-// The brute force it replaced, over the same band's samples (the fillet
-// line's u taken from the indexed measure's band, every v).
+// The brute force it replaced, over the same band's samples (each column
+// from the indexed measure's lower edge, the fillet line, up to the top):
+// its figure must be the indexed one's.
 void BM_PointMillRootStripBruteForce(benchmark::State& state) {
   const PointMillBenchFace& f = point_mill_bench_face();
   if (!f.ok) return state.SkipWithError("../shared/data not present");
@@ -91,8 +92,9 @@ void BM_PointMillRootStripBruteForce(benchmark::State& state) {
     }
   std::vector<Vec3> pts;
   for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 200; ++j)
-      pts.push_back(f.face->eval(st.u0 + (st.u1 - st.u0) * i / 12, j / 199.0).p);
+    for (size_t j = 0; j < st.v.size(); ++j)
+      if (st.u1 > st.lower_u[j])
+        pts.push_back(f.face->eval(st.lower_u[j] + (st.u1 - st.lower_u[j]) * i / 12, st.v[j]).p);
   double worst = 0;
   for (auto _ : state) {
     worst = -std::numeric_limits<double>::infinity();

@@ -937,6 +937,7 @@ PointMillStrip measure_root_strip(const PointMillRequest& rq, const PointMillRes
   }
   st.u0 = *std::min_element(lower.begin(), lower.end());
   st.u1 = top;
+  st.v = vs, st.lower_u = lower;
   // The band's height along the face at each v: the u edge's arc length
   // (Simpson on |pu|, 16 panels: the faces are smooth over a few mm).
   auto arc = [&](double ua, double ub, double v) {

@@ -228,6 +228,7 @@ struct PointMillStrip {
   // fillet, (sqrt(2) - 1) r at a square corner; its largest and where.
   double corner_max_mm = 0, corner_u = 0, corner_v = 0;
   int corner_samples = 0;
+  std::vector<double> v, lower_u;  // the band's columns: v and its lower edge's u (the fillet line or u0)
 };
 PointMillStrip measure_root_strip(const PointMillRequest& request, const PointMillResult& result, int samples_u = 12,
                                   int samples_v = 200);

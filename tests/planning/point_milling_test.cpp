@@ -411,6 +411,8 @@ TEST(PointMilling, RowsCarriedDownToTheFilletFinishTheRootStrip) {
   EXPECT_NEAR(lowest, r, 1e-6);  // the first row touches the hub
   const PointMillStrip after = measure_root_strip(rq, res, su, sv);
   EXPECT_NEAR(after.u0, r / H, 1e-9);
+  ASSERT_EQ(after.lower_u.size(), static_cast<size_t>(sv));
+  for (double u : after.lower_u) EXPECT_NEAR(u, r / H, 1e-9);  // the fillet line at every column
   EXPECT_NEAR(after.height_mm, before.height_mm, 1e-9);  // the same band
   EXPECT_EQ(after.samples, su * sv);
   // Brute force over the same samples.
