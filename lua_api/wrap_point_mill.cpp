@@ -89,6 +89,11 @@ int w_point_plan_report(lua_State* L) {
   luax::set_number(L, "links", r.links);
   luax::set_number(L, "refused_links", r.refused_connections);
   luax::set_number(L, "first_row_u", r.first_row_u);
+  luax::set_bool(L, "follows_fillet", r.follows_fillet);
+  if (r.follows_fillet) {
+    luax::set_number(L, "fillet_u_min", r.fillet_u_min);
+    luax::set_number(L, "fillet_u_max", r.fillet_u_max);
+  }
   luax::set_number(L, "scallop", rq.scallop_mm);
   luax::set_number(L, "scallop_measured", r.scallop_max_mm);
   luax::set_number(L, "scallop_closed_form", r.scallop_closed_form_mm);
@@ -166,27 +171,30 @@ int w_point_plan_simulate(lua_State* L) {
     const PointMillRequest& rq = p.request;
     const PointMillResult& r = *p.result;
     uo.flip_normal = rq.face.flip_normal;
-    uo.u0 = r.first_row_u;  // the hub-side boundary: below it is the fillet's (hub finish)
-    uo.u1 = rq.u1, uo.v0 = rq.v0, uo.v1 = rq.v1;
+    // The rows' window: from the hub stop up, or following the fillet the
+    // face trimmed at the fillet line (below it: the root corner,
+    // plan:root_strip's corner).
+    uo.u0 = r.milled_u0, uo.u1 = r.milled_u1, uo.v0 = rq.v0, uo.v1 = rq.v1;
     // The ball rounds off past the rows' ends along v: measured inside them.
     uo.search_above_mm = 0.2;
     const ToolpathPasses tp = toolpath_passes(point_mill_moves(r));
-    const UndercutResult u = simulate_undercut(*rq.face.surface, *rq.tool, tp.passes, uo, context(L).progress);
+    const UndercutResult u = simulate_undercut(*r.milled_surface, *rq.tool, tp.passes, uo, context(L).progress);
     lua_createtable(L, 0, 8);
     luax::set_number(L, "samples", static_cast<double>(u.samples_u) * u.samples_v);
     luax::set_number(L, "untouched", u.untouched);
     luax::set_number(L, "left_max", u.undercut_max_mm);
     luax::set_number(L, "left_mean", u.undercut_mean_mm);
     luax::set_number(L, "overcut", u.overcut_mm);
-    luax::set_number(L, "u0", uo.u0);
+    luax::set_number(L, "u0", r.first_row_u);
     return 1;
   });
 }
 
-// plan:root_strip{samples = {u, v}} -> {height =, height_min =, u0 =, u1 =, left_max =, left_mean =, samples =}:
-// the strip between the window's hub-side edge and the first row (hub_stop),
-// which the rows do not finish: the distance from its design points to the
-// nearest ball of the plan's moves (measure_root_strip), mm.
+// plan:root_strip{samples = {u, v}} -> {height =, height_min =, u0 =, u1 =, left_max =, left_mean =, samples =,
+// max_u =, max_v =, from_fillet =, corner_left_max =, corner_u =, corner_v =}: the band from the hub (the
+// fillet line when the plan has the hub, else the window's edge) up to the hub stop: the distance from its
+// design points to the nearest ball of the plan's moves (measure_root_strip), mm; the corner below the
+// fillet line apart.
 int w_point_plan_root_strip(lua_State* L) {
   const LuaPointMillPlan& p = check_point_plan(L);
   const luax::Options o(L, 2, "plan:root_strip",
@@ -217,6 +225,14 @@ int w_point_plan_root_strip(lua_State* L) {
     luax::set_number(L, "left_max", st.material_max_mm);
     luax::set_number(L, "left_mean", st.material_mean_mm);
     luax::set_number(L, "samples", st.samples);
+    luax::set_number(L, "max_u", st.max_u);
+    luax::set_number(L, "max_v", st.max_v);
+    luax::set_bool(L, "from_fillet", st.from_fillet);
+    if (st.from_fillet) {
+      luax::set_number(L, "corner_left_max", st.corner_max_mm);
+      luax::set_number(L, "corner_u", st.corner_u);
+      luax::set_number(L, "corner_v", st.corner_v);
+    }
     return 1;
   });
 }
@@ -245,8 +261,14 @@ int w_point_mill(lua_State* L) {
              "\"along\" the flow (constant u; default) or \"across\" (constant v)", {}},
        Field{"u", Kind::Table, false, std::nullopt, std::nullopt, "{u0, u1} window milled (default {0, 1})", {}},
        Field{"v", Kind::Table, false, std::nullopt, std::nullopt, "{v0, v1} window milled (default {0, 1})", {}},
-       number_field("hub_stop", "first row's contact this far above the window's hub edge, mm (default: the ball radius)",
-                    0, 100),
+       number_field("hub_stop", "first row's contact this far above the window's hub edge, mm (default: the ball radius; "
+                                "following the fillet: the root band plan:root_strip measures)", 0, 100),
+       Field{"hub", Kind::Any, false, std::nullopt, std::nullopt,
+             "the hub the face stands on (a surface of revolution: impeller:hub()): the rows are carried down to the "
+             "fillet line, the hub guarded", {}},
+       Field{"follow_fillet", Kind::Boolean, false, std::nullopt, std::nullopt,
+             "with a hub: carry the rows down to the fillet line (default true; false: stop at hub_stop, the band "
+             "still measured from the fillet line)", {}},
        number_field("scallop", "scallop height, measured on the face, mm (default 0.005)", 1e-6, 1),
        number_field("chord_tol", "chord tolerance of the ball centre's path, mm (default 0.002)", 1e-6, 1),
        number_field("max_step", "longest step along a row, mm (default 2)", 1e-3, 100),
@@ -318,6 +340,16 @@ int w_point_mill(lua_State* L) {
   pair("u", rq.u0, rq.u1);
   pair("v", rq.v0, rq.v1);
   rq.hub_stop_mm = o.number("hub_stop", -1);
+  if (o.has("hub")) {
+    o.push_raw("hub");
+    const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+    rq.hub = h ? std::dynamic_pointer_cast<const SurfaceOfRevolution>(h->surface) : nullptr;
+    if (!rq.hub)
+      luax::error(L, std::string(what) + ": option 'hub': expected a surface of revolution (impeller:hub(), "
+                                         "bliskrun.surface_of_revolution)");
+    lua_pop(L, 1);
+  }
+  rq.follow_fillet = o.boolean("follow_fillet", true);
   rq.scallop_mm = o.number("scallop", rq.scallop_mm);
   rq.steps.chord_tol_mm = o.number("chord_tol", rq.steps.chord_tol_mm);
   rq.steps.max_step_mm = o.number("max_step", rq.steps.max_step_mm);

@@ -19,10 +19,22 @@
 //    centre runs straight, so that is how far the cut leaves the row — on a
 //    convex face below the design, so the tolerance is capped by the allowed
 //    overcut (PointMillResult::chord_tol_mm).
-//  - Hub-side boundary: the first row stops at the fillet's offset — its
-//    contact lies `hub_stop_mm` along the face above the window's u0 edge
-//    (default: the ball's radius; the hub finish's fillet row covers the
-//    corner below it). Stated in the result (first_row_u).
+//  - Hub-side boundary, two ways (stated in the result: follows_fillet,
+//    first_row_u):
+//    * with the hub (PointMillRequest::hub, follow_fillet): the rows are
+//      carried down to the fillet line — the first row's ball touches the
+//      face and the hub at once (its centre r from both), and the rows are
+//      the iso-lines of the face trimmed between that line and the window's
+//      top (p(u_f(v) + a (u1 - u_f(v)), v)), spaced by the measured scallop
+//      as everywhere. Below the fillet line lies the root corner: the
+//      fillet of the ball's radius no ball of that radius can enter,
+//      reported apart (measure_root_strip's corner). The hub is then a
+//      guarded surface too (its window along the fillet line, sampled as
+//      the face is): no pose or cutting motion cuts it more than
+//      allowed_overcut_mm, and the axis is tilted clear of it per pose.
+//    * without: the first row stops at a fixed offset — its contact lies
+//      `hub_stop_mm` along the face above the window's u0 edge (default:
+//      the ball's radius); the strip below is left to another operation.
 //  - Tool axis: up the face's span (towards the shroud side, where the
 //    spindle is) leaning away from the face by lean_rad (more than the
 //    taper's half angle, so the cone stands off the face), turned about the
@@ -51,6 +63,7 @@
 #include "core/collision/collision_world.h"
 #include "core/collision/tilt.h"
 #include "core/common/progress.h"
+#include "core/geometry/revolution.h"
 #include "core/geometry/surface.h"
 #include "core/planning/links.h"
 #include "core/planning/pass_moves.h"
@@ -78,7 +91,15 @@ struct PointMillRequest {
   const CollisionWorld* world = nullptr;
   PointMillRows rows = PointMillRows::AlongFlow;
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;    // the face's window milled
-  double hub_stop_mm = -1;                  // < 0: the ball's radius
+  double hub_stop_mm = -1;                  // < 0: the ball's radius (with the hub: the root band measured)
+  // The hub the face stands on (a surface of revolution about Z): with
+  // follow_fillet the rows are carried down to the fillet line; without,
+  // measure_root_strip still measures from the fillet line (main's stop
+  // measured the same way).
+  std::shared_ptr<const SurfaceOfRevolution> hub;
+  bool follow_fillet = true;
+  // The fillet line found at this many v of the window (cubic through them).
+  int fillet_samples = 41;
   double scallop_mm = 0.005;
   StepOptions steps{ChordMethod::Variable, 0.002, true, 2.0, 1e-4};
   double lead_rad = 0;                      // along-flow rows: turn about the normal towards the feed
@@ -115,7 +136,7 @@ struct PointMillPose {
 
 struct PointMillPass {
   int row = 0;
-  double level = 0;       // the row's constant parameter (u along the flow, v across)
+  double level = 0;       // the row's constant parameter (u along the flow, v across; of milled_surface)
   bool reversed = false;  // runs towards decreasing parameter
   std::vector<PointMillPose> poses;
 };
@@ -143,7 +164,15 @@ struct PointMillResult {
   std::vector<PointMillConnection> connections;  // lead-in, between passes, lead-out
   std::vector<PointMillRefusal> refusals;
   double ball_radius_mm = 0, taper_rad = 0;
-  double first_row_u = 0;          // the hub-side boundary taken (u of the first row)
+  double first_row_u = 0;          // the hub-side boundary taken (u of the first row; following the fillet, its lowest)
+  // Following the fillet: the first row lies on the fillet line, u from
+  // fillet_u_min to fillet_u_max over the window; the rows were planned on
+  // the face trimmed there (milled_surface, window u [0, 1], the face's v),
+  // and each pose's u, v are the face's own.
+  bool follows_fillet = false;
+  double fillet_u_min = 0, fillet_u_max = 0;
+  std::shared_ptr<const Surface> milled_surface;  // the face or, following the fillet, the face trimmed at it
+  double milled_u0 = 0, milled_u1 = 1;            // the rows' window on milled_surface (u; v is the request's)
   double scallop_max_mm = 0;       // measured, over every pair of rows
   double scallop_closed_form_mm = 0;  // the closed form's prediction at the steps taken (largest)
   double max_deviation_mm = 0;
@@ -168,26 +197,38 @@ PointMillResult plan_point_milling(const PointMillRequest& request, Progress& pr
 // lead-out; a Stop with the reason where a connection was refused.
 Toolpath point_mill_moves(const PointMillResult& result);
 
-// The root strip (issue 40): the band of the face between the window's
-// hub-side edge (u0: the hub or the fillet's offset) and the first row
-// (first_row_u), which the rows stop above (hub_stop_mm) and so do not
-// finish. Measured, to be reported apart from the face's residual: at
-// samples_u x samples_v points of the strip, the distance from the design
-// point to the nearest ball of the program's moves (every move, rows and
-// connections: the ball centre's motion taken as the straight segment
-// between consecutive poses, which it leaves by far less than a micron at
-// the planner's stations). Only the ball is measured: the taper and shank
-// stand up the span, away from the hub, so the figure is what the ball end
-// leaves — the material there is at least that thick (more where the
-// previous operation left more), and nothing of this operation finishes it.
+// The root strip (issue 40): the band of the face from the hub up to the
+// hub stop (u0 + hub_stop_mm along the face; the first row of a plan that
+// stops there), which a plan that stops does not finish and a plan that
+// follows the fillet mills. Its lower edge is the fillet line where the
+// request has the hub (below it the root corner, the fillet of the ball's
+// radius, is measured apart: corner_*), else the window's u0 edge.
+// Measured, to be reported apart from the face's residual: at samples_u x
+// samples_v points of the band (every v, u from the lower edge up to, not
+// on, the top), the distance from the design point to the nearest ball of
+// the program's moves (every move, rows and connections: the ball centre's
+// motion taken as the straight segment between consecutive poses, which
+// it leaves by far less than a micron at the planner's stations). Only the
+// ball is measured: the taper and shank stand up the span, away from the
+// hub, so the figure is what the ball end leaves — the material there is at
+// least that thick (more where the previous operation left more). The
+// nearest segment is found through a PointIndex of the segments cut into
+// pieces (near-linear in samples + moves), exactly: every piece that could
+// be nearer than the nearest piece's midpoint is measured.
 struct PointMillStrip {
-  double u0 = 0, u1 = 0;          // the strip's parameters: window edge to the first row
-  double height_mm = 0;           // largest along-face distance from u0 to u1 over v (the strip's height)
-  double height_min_mm = 0;       // smallest (>= hub_stop_mm: the stop is taken at the narrowest v)
-  double material_max_mm = 0;     // largest distance to the nearest ball, over the strip's samples
+  double u0 = 0, u1 = 0;          // the band's parameters: lower edge (lowest over v) to the top
+  bool from_fillet = false;       // the lower edge is the fillet line (else the window's u0)
+  double height_mm = 0;           // largest along-face distance from the lower edge to the top over v
+  double height_min_mm = 0;       // smallest
+  double material_max_mm = 0;     // largest distance to the nearest ball, over the band's samples
   double material_mean_mm = 0;
   double max_u = 0, max_v = 0;    // where the largest is
   int samples = 0;
+  // The root corner below the fillet line (from_fillet only): the ball's
+  // fillet, (sqrt(2) - 1) r at a square corner; its largest and where.
+  double corner_max_mm = 0, corner_u = 0, corner_v = 0;
+  int corner_samples = 0;
+  std::vector<double> v, lower_u;  // the band's columns: v and its lower edge's u (the fillet line or u0)
 };
 PointMillStrip measure_root_strip(const PointMillRequest& request, const PointMillResult& result, int samples_u = 12,
                                   int samples_v = 200);

@@ -158,7 +158,9 @@ end
 -- to touch them).
 -- o.hub_cutter = true (point milling, whose ball is not meant to touch the
 -- hub): the hub also for the cutter, as the surface of revolution itself
--- (analytic, no mesh).
+-- (analytic, no mesh); a number d (point milling carried down to the
+-- fillet, whose ball touches the hub and whose planner guards it): the hub
+-- less d for the cutter.
 function M.face_world(imp, meshes, kind, side, o)
   local n = imp:blade_count()
   local other = side == "plus" and "minus" or "plus"
@@ -167,7 +169,9 @@ function M.face_world(imp, meshes, kind, side, o)
     {name = "own other face", mesh = meshes.face(kind, 1, other), parts = {"shank", "holder"}, margin = meshes.tol},
     {name = "hub", mesh = meshes.hub(), parts = {"shank", "holder"}, margin = meshes.tol}}
   if o and o.hub_cutter then
-    surfaces[#surfaces + 1] = {name = "hub (cutter)", revolution = meshes.hub_inside(0), parts = {"cutter"}}
+    local depth = type(o.hub_cutter) == "number" and o.hub_cutter or 0
+    surfaces[#surfaces + 1] = {name = depth > 0 and "hub (cutter, less the allowance)" or "hub (cutter)",
+                               revolution = meshes.hub_inside(depth), parts = {"cutter"}}
   end
   local neighbours = kind == "main" and {{"main", 2}, {"main", n}, {"splitter", 1}, {"splitter", n}}
                                      or {{"main", 1}, {"main", 2}, {"splitter", 2}, {"splitter", n}}

@@ -29,6 +29,9 @@ local opt = require("recipe_options")(require("impeller_job_options"){
                      help = "chord tolerance of the point-milled rows (the ball centre's path)"},
   point_overcut = {type = "number", unit = "mm", default = 0.005, range = {1e-4, 0.5},
                    help = "how far a point-milling move may cut below the face (caps the chord on convex rows)"},
+  point_fillet = {type = "boolean", default = true,
+                  help = "carry the point-milled rows down to the fillet line (false: stop 3 ball radii above the "
+                         .. "hub, the root strip left unfinished)"},
 })
 local job = require("job")
 
@@ -75,7 +78,7 @@ local j = job.new{
     opt.point_mill and job.point_mill{tool = "point_finisher", blades = blades, faces = job.split_list(opt.faces),
                                       instead_of_flank = opt.tolerance, scallop = opt.point_scallop,
                                       chord_tol = opt.point_chord_tol, allowed_overcut = opt.point_overcut,
-                                      feed = 600} or nil,
+                                      follow_fillet = opt.point_fillet, feed = 600} or nil,
   },
 }
 -- Simulated: stock up to the roughing stock + the fit error tracked; an

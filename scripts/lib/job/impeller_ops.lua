@@ -269,6 +269,7 @@ function M.point_mill(o)
     lead = {type = "number"},
     max_turn = {type = "number", check = positive},
     hub_stop = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    follow_fillet = {type = "boolean"},
     clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     mesh_tol = {type = "number", check = positive},
     guard_spacing = {type = "number", check = positive},
@@ -280,7 +281,7 @@ function M.point_mill(o)
               faces = o.faces or {table.unpack(all_faces)},
               instead_of_flank = o.instead_of_flank, scallop = o.scallop or 0.005, chord_tol = o.chord_tol or 0.002,
               rows = o.rows or "along", lean = o.lean or 10, lead = o.lead or 0, max_turn = o.max_turn or 2,
-              hub_stop = o.hub_stop, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
+              hub_stop = o.hub_stop, follow_fillet = o.follow_fillet ~= false, clearance = o.clearance or 0.5, mesh_tol = o.mesh_tol or 0.05,
               guard_spacing = o.guard_spacing or 0.1, allowed_overcut = o.allowed_overcut or 0.005,
               simulate = o.simulate or {samples = {60, 240}},
               feed = o.feed or 600}
@@ -326,11 +327,20 @@ function M.point_mill(o)
       local q = back:point(0.5, 0.5)
       local d = {e.point[1] - q[1], e.point[2] - q[2], e.point[3] - q[3]}
       local flip = e.normal[1] * d[1] + e.normal[2] * d[2] + e.normal[3] * d[3] < 0
-      local world = iw.face_world(j.part, meshes, kind, side, {hub_cutter = true})
+      -- Following the fillet the ball touches the hub by design: the
+      -- planner guards the hub along the fillet line within
+      -- allowed_overcut, and the world holds the hub for the cutter less
+      -- the hub finish's allowance (a guard against gross errors, as the
+      -- channel world's); stopping, the exact hub.
+      local world = iw.face_world(j.part, meshes, kind, side,
+                                  {hub_cutter = self.follow_fillet and iw.hub_finish_allowance or true})
       local plan = bliskrun.point_mill{face = {surface = face, flip = flip, name = "blade 1 " .. name},
                                        tool = tool.tool, world = world, rows = self.rows, scallop = self.scallop,
                                        chord_tol = self.chord_tol, lean = self.lean, lead = self.lead,
                                        max_turn = self.max_turn,
+                                       -- The rows carried down to the fillet line (the ball touching
+                                       -- face and hub); the band up to hub_stop measured as the root strip.
+                                       hub = j.part:hub(), follow_fillet = self.follow_fillet,
                                        -- Default 3 r: the ball fits a root corner down to ~37 deg
                                        -- there (r / tan(theta / 2)); below is the fillet's.
                                        hub_stop = self.hub_stop or 3 * (tool.ball_radius or 1),
@@ -361,7 +371,10 @@ function M.point_mill(o)
                                      untouched = sim.untouched, seconds = rep.seconds,
                                      strip_height = strip.height, strip_height_min = strip.height_min,
                                      strip_left_max = strip.left_max, strip_left_mean = strip.left_mean,
-                                     strip_finished_by = nil,
+                                     strip_from_fillet = strip.from_fillet, root_corner_max = strip.corner_left_max,
+                                     follows_fillet = rep.follows_fillet, allowed_overcut = self.allowed_overcut,
+                                     strip_finished_by = rep.follows_fillet and "the rows carried down to the fillet"
+                                                         or nil,
                                      decision = self.decisions and self.decisions[name]}}
     end
     return per_blade(j, units, self.blades)

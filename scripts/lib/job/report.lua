@@ -424,13 +424,17 @@ function M.impeller.requirements(r, stop)
                      .. (u.operation == "point_mill" and " (simulated)" or ""), unit = "µm",
                    measured = 1e3 * math.max(f.residual_max_mm, -f.residual_min_mm),
                    at_most = 1e3 * r.json.thickness_tolerance_mm}
-      -- The root strip below the point-milled rows: its material is the
-      -- face's too, so an unfinished strip fails the face.
-      if u.operation == "point_mill" and f.root_strip and not f.root_strip.finished_by then
-        q[#q + 1] = {name = "point mill, " .. u.name .. string.format(": root strip (%.2f mm high, below the rows) "
-                       .. "material left", f.root_strip.height_mm), unit = "µm",
+      -- The root strip (the face from the fillet line up to the hub stop):
+      -- its material is the face's too, so an unfinished strip fails the
+      -- face; measured the same way whether the rows stop above it or are
+      -- carried down through it.
+      if u.operation == "point_mill" and f.root_strip then
+        q[#q + 1] = {name = "point mill, " .. u.name .. string.format(": root strip (%.2f mm high, %s up to the hub "
+                       .. "stop) material left", f.root_strip.height_mm,
+                       f.root_strip.from_fillet and "fillet line" or "hub edge"), unit = "µm",
                      measured = 1e3 * f.root_strip.left_max_mm, at_most = 1e3 * r.json.thickness_tolerance_mm,
-                     note = "unfinished: no operation of the job finishes it"}
+                     note = f.root_strip.finished_by and ("finished by " .. f.root_strip.finished_by)
+                       or "unfinished: no operation of the job finishes it"}
       end
     end
   end
@@ -501,18 +505,26 @@ function M.impeller.point_verdict(r, f, tolerance)
   -- The root strip (hub_stop high, below the first row) is the face's
   -- too: unfinished, the face is not within the tolerance whatever the
   -- rows' residual says.
-  local strip_ok = not p.strip_left_max or p.strip_left_max <= tolerance or p.strip_finished_by ~= nil
+  -- Measured, never assumed: a strip the rows were carried through still
+  -- fails beyond the tolerance.
+  local strip_ok = not p.strip_left_max or p.strip_left_max <= tolerance
   local ok = rows_ok and strip_ok
   local d = p.decision
-  local strip_note = p.strip_left_max and string.format("root strip %.2f mm high below the rows leaves up to %.3f mm%s",
-    p.strip_height, p.strip_left_max, p.strip_finished_by and (" (finished by " .. p.strip_finished_by .. ")")
-      or strip_ok and "" or ": UNFINISHED, no operation finishes it") or nil
+  local strip_note = p.strip_left_max and string.format("root strip %.2f mm high (%s up to the hub stop) leaves up to "
+    .. "%.3f mm%s", p.strip_height, p.strip_from_fillet and "fillet line" or "hub edge", p.strip_left_max,
+    strip_ok and (p.strip_finished_by and (" (" .. p.strip_finished_by .. ")") or "")
+      or (p.strip_finished_by and ": NOT within tolerance although " .. p.strip_finished_by
+          or ": UNFINISHED, no operation finishes it"))
+    .. (p.root_corner_max and string.format("; root corner below the fillet line %.3f mm (the ball's fillet, apart)",
+                                            p.root_corner_max) or "") or nil
   r.json.finish[f.side] = {method = "point milling", residual_max_mm = p.residual_max, residual_min_mm = p.residual_min,
     scallop_mm = p.scallop, scallop_measured_mm = p.scallop_measured, max_turn_deg_per_mm = p.max_turn,
     flank_residual_mm = d and d.flank_residual_mm, within_tolerance = ok, rows_within_tolerance = rows_ok,
     root_strip = p.strip_left_max and {height_mm = p.strip_height, height_min_mm = p.strip_height_min,
                                        left_max_mm = p.strip_left_max, left_mean_mm = p.strip_left_mean,
-                                       finished = strip_ok, finished_by = p.strip_finished_by} or nil,
+                                       from_fillet = p.strip_from_fillet, finished = strip_ok,
+                                       finished_by = strip_ok and p.strip_finished_by or nil} or nil,
+    root_corner_max_mm = p.root_corner_max, follows_fillet = p.follows_fillet,
     note = (d and string.format("flank milling leaves %.3f mm (> %.3f): point-milled; ", d.flank_residual_mm,
                                 d.tolerance_mm) or "")
       .. (rows_ok and "the rows hold the design within the tolerance" or "the rows are NOT within tolerance")

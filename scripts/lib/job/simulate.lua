@@ -235,6 +235,11 @@ function M.impeller_overcut_allowed(units, slack)
     if u.operation == "flank_finish" or u.operation == "point_mill" then
       allowed[u.name] = math.min(0, u.report.residual_min) - slack
     end
+    -- Point milling carried down to the fillet touches the hub: its
+    -- planner proves no deeper than its allowed overcut there.
+    if u.operation == "point_mill" and u.report.follows_fillet then
+      allowed.hub = math.min(allowed.hub or -0.002, -u.report.allowed_overcut - slack)
+    end
   end
   return allowed
 end
