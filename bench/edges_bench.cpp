@@ -185,6 +185,10 @@ void whole_edge_counters(benchmark::State& state, const EdgeFinishRequest& rq) {
     state.counters["cpu_s"] = cpu_s;
     state.counters["ms_per_pose"] = r.total_poses > 0 ? 1e3 * cpu_s / r.total_poses : 0;
     state.counters["passes"] = st.passes;
+    state.counters["lifted"] = st.lifted_links;
+    state.counters["cut_mm"] = st.cutting_mm;
+    state.counters["noncut_mm"] = st.non_cutting_mm;
+    state.counters["lift_mm"] = st.lift_mm;
     state.counters["rows"] = static_cast<double>(r.rows.size());
     state.counters["side_rows"] = r.side_rows;
     state.counters["poses"] = r.total_poses;
@@ -245,31 +249,44 @@ void BM_EdgeOneRow(benchmark::State& state) {
 }
 BENCHMARK(BM_EdgeOneRow)->Unit(benchmark::kMillisecond)->Iterations(3);
 
-// Args: the edge (0 leading, 1 trailing) and the planner's threads (a
-// row's contacts and guard sweeps; the rest runs on one). ms_per_pose: the
+// Args: the edge (0 leading, 1 trailing), the planner's threads (a row's
+// contacts and guard sweeps; the rest runs on one) and the short lift in um
+// (EdgeFinishRequest::short_lift_mm; 0: off, the default). ms_per_pose: the
 // process's CPU (every thread) per emitted pose; "Time" is wall.
 void BM_EdgeWholeEdge(benchmark::State& state) {
   EdgeSetup& s = setup();
   EdgeFinishRequest rq = s.recipe_request(state.range(0) == 1);
   rq.threads = static_cast<int>(state.range(1));
+  rq.short_lift_mm = 1e-3 * static_cast<double>(state.range(2));
   whole_edge_counters(state, rq);
 }
 BENCHMARK(BM_EdgeWholeEdge)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
-    ->Args({0, 1})
-    ->Args({1, 1})
-    ->Args({0, 2})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({0, 2, 0})
+    ->Args({0, 1, 200})
+    ->Args({1, 1, 200})
     ->UseRealTime();
 
-// Args: the edge (0 leading, 1 trailing), the planner's threads.
+// Args: the edge (0 leading, 1 trailing), the planner's threads, the short
+// lift in um (as BM_EdgeWholeEdge).
 void BM_EdgeWholeEdgeRotor67(benchmark::State& state) {
   if (!std::filesystem::exists(kRotor67)) return state.SkipWithError("../shared/data not present");
   EdgeFinishRequest rq = rotor67().request(state.range(0) == 1);
   rq.threads = static_cast<int>(state.range(1));
+  rq.short_lift_mm = 1e-3 * static_cast<double>(state.range(2));
   whole_edge_counters(state, rq);
 }
-BENCHMARK(BM_EdgeWholeEdgeRotor67)->Unit(benchmark::kMillisecond)->Iterations(1)->Args({0, 1})->Args({1, 1})->UseRealTime();
+BENCHMARK(BM_EdgeWholeEdgeRotor67)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({0, 1, 200})
+    ->Args({1, 1, 200})
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace bliskrun

@@ -169,6 +169,8 @@ int w_edge_finish(lua_State* L) {
          Field{"half_width", Kind::Number, false, 0.01, 100.0, "strip samples across the feed each side, mm (default R + 1)", {}},
          Field{"across", Kind::Integer, false, 3, 10001, "strip samples across (odd, default 81)", {}},
          Field{"retract", Kind::Number, false, 0.01, 1000.0, "links: retract up the tool axis, mm (default 3)", {}},
+         Field{"short_lift", Kind::Number, false, 0.0, 10.0,
+               "near passes joined by a fed lift of this much up the axes, mm (default 0: none)", {}},
          Field{"cutter_clearance", Kind::Number, false, 0.0, 100.0, "cutter to check surfaces, mm (default 0)", {}},
          Field{"shank_clearance", Kind::Number, false, 0.0, 100.0, "shank to check surfaces, mm (default 0.1)", {}},
          Field{"holder_clearance", Kind::Number, false, 0.0, 100.0, "holder to check surfaces, mm (default 0.5)", {}},
@@ -257,6 +259,7 @@ int w_edge_finish(lua_State* L) {
     rq.sampling.across = static_cast<int>(o.integer("across", 81));
     if (rq.sampling.across % 2 == 0) luax::error(L, what + ": option 'across': expected an odd count");
     rq.retract_mm = o.number("retract", 3.0);
+    rq.short_lift_mm = o.number("short_lift", 0.0);
     rq.clearances.cutter_mm = o.number("cutter_clearance", 0.0);
     rq.clearances.shank_mm = o.number("shank_clearance", 0.1);
     rq.clearances.holder_mm = o.number("holder_clearance", 0.5);
@@ -298,6 +301,8 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "passes", stats.passes);
   set_integer(L, "single_move_passes", stats.single_move_passes);
   set_integer(L, "direct_links", stats.direct_links);
+  set_integer(L, "lifted_links", stats.lifted_links);
+  set_number(L, "lift_length", stats.lift_mm);
   set_number(L, "cutting_length", stats.cutting_mm);
   set_number(L, "non_cutting_length", stats.non_cutting_mm);
   set_number(L, "checked_v0", r.checked_v0);

@@ -118,6 +118,15 @@ struct EdgeFinishRequest {
   Clearances clearances;
   double motion_tol_mm = 1e-3;
   double retract_mm = 3.0;              // links: up the tool axis
+  // With short_lift_mm > 0, two passes whose ends are near (within the
+  // tool's diameter, axes within 45 deg) that no straight cutting motion
+  // joins are joined by a lift of this much up both axes, across and down,
+  // fed (EdgeFinishLink::lifted): one pass, not a retract of retract_mm, a
+  // traverse and a plunge (rapid). Off by default: on the built-in TE it
+  // makes 107 passes 41, but the lifts' 234 mm are fed where the retracts
+  // were rapid (bench/RESULTS.md), and on Rotor 67 each lift tried costs a
+  // link's proof more.
+  double short_lift_mm = 0;
   double tool_tol_mm = 1e-3;            // ToolBody meshing tolerance
   int threads = 1;                      // workers for a row's contacts; results do not depend on it
   int comparison_row = -1;              // row whose widths are reported in full (-1: the middle one)
@@ -177,6 +186,10 @@ struct EdgeFinishLink {
   // the surface: the motion proved clear of the world and within e1 of the
   // blade by the design guards (no moves; the two passes are one).
   bool direct = false;
+  // Reached by a short lift (EdgeFinishRequest::short_lift_mm): `moves` up
+  // the axis, across and down, proved as any link's legs and fed, the two
+  // passes one (edge_finish_moves: Feed moves).
+  bool lifted = false;
   bool clear = false;
   std::string reason;
 };
@@ -243,13 +256,16 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
 Toolpath edge_finish_moves(const EdgeFinishResult& result);
 
 // The program's shape (issue 38 item 5): cutting passes (runs of Feed
-// moves), the tip's path length cutting (Feed to Feed) and not (every leg
-// into, between or out of Rapid moves: retracts, traverses, plunges).
+// moves), the tip's path length cutting (Feed to a Feed "cut") and not
+// (every leg into, between or out of Rapid moves, and a short lift's fed
+// legs: retracts, traverses, plunges).
 struct EdgeProgramStats {
   int passes = 0;
   int single_move_passes = 0;  // passes of one or two poses (at most one cutting move)
   double cutting_mm = 0, non_cutting_mm = 0;
   int direct_links = 0;        // passes joined on the surface (EdgeFinishLink::direct)
+  int lifted_links = 0;        // passes joined by a short lift, fed (EdgeFinishLink::lifted)
+  double lift_mm = 0;          // of non_cutting_mm: the short lifts' legs (fed, not rapid)
 };
 EdgeProgramStats edge_program_stats(const EdgeFinishResult& result);
 

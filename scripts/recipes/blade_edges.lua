@@ -58,6 +58,8 @@ local opt = require("recipe_options"){
   chord_tol = {type = "number", unit = "mm", default = 0.001, range = {1e-5, 0.1}, help = "chord height around the edge"},
   optimum = {type = "string", default = "paper", choices = {"paper", "joint"}, help = "how phi and l are chosen (section 3.2)"},
   side_min_lead = {type = "number", unit = "deg", default = 3, range = {0, 45}, help = "smallest lead of the side-edge comparison"},
+  short_lift = {type = "number", unit = "mm", default = 0, range = {0, 10},
+                help = "near passes joined by a fed lift of this much up the axes (0: by retracts and plunges)"},
   samples_u = {type = "integer", default = 200, range = {2, 5000}, help = "simulation samples around the edge"},
   samples_v = {type = "integer", default = 400, range = {2, 20000}, help = "simulation samples along the span"},
 }
@@ -142,7 +144,7 @@ for _, edge in ipairs(edges) do
   local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
                                     span = {settings.v0, settings.v1}, hub = hub, casing = casing, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
-                                    side_min_lead = settings.side_min_lead}
+                                    side_min_lead = settings.side_min_lead, short_lift = opt.short_lift}
   local cpu_plan = os.clock() - cpu0
   local rep = plan:report()
   local stem = string.format("%s_%s", part_name, edge)
@@ -262,10 +264,11 @@ for _, edge in ipairs(edges) do
                         or "left unmachined (the window's start was asked for)",
                       rep.top_strip, rep.top_strip > 0 and "left unmachined (the window's end was asked for)"
                         or "(the rows reach past the casing)"))
-  print(string.format("            %d cutting passes (%d of at most one move), %d joined on the surface; cutting %.0f mm, "
-                      .. "not cutting %.0f mm (ratio %.2f)", rep.passes, rep.single_move_passes, rep.direct_links,
-                      rep.cutting_length, rep.non_cutting_length,
-                      rep.cutting_length / math.max(rep.non_cutting_length, 1e-9)))
+  print(string.format("            %d cutting passes (%d of at most one move), %d joined on the surface, %d by a short lift; "
+                      .. "cutting %.0f mm, not cutting %.0f mm (ratio %.2f; %.0f mm of it short lifts, fed)",
+                      rep.passes, rep.single_move_passes, rep.direct_links, rep.lifted_links, rep.cutting_length,
+                      rep.non_cutting_length, rep.cutting_length / math.max(rep.non_cutting_length, 1e-9),
+                      rep.lift_length))
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links,

@@ -142,6 +142,35 @@ EdgeFinishLink EdgeLinker::link(const EdgeFinishPose& from, const EdgeFinishPose
     link.clear = link.direct = true;
     return link;
   }
+  // Near passes no cutting motion joins (a gouge break within a row, a
+  // bottom <-> corner switch, the next row's start 3-5 mm from this row's
+  // end with the axis turned): a short lift up both axes, across and down,
+  // proved as any link is, fed — one pass (issue 38 item 5: the built-in
+  // TE's 107 passes were mostly joined by 3 mm retracts, traverses and
+  // plunges). The traverse is asked of the design guards first, as
+  // plan_link would ask it after its world checks: on the built-in LE half
+  // the lifts tried (axes turned ~60 deg) cut the round there.
+  if (rq.short_lift_mm > 0 && (to.pose.tip - from.pose.tip).norm() <= 2 * flat_end_of(*rq.tool).radius_mm &&
+      from.pose.axis.normalized().dot(to.pose.axis.normalized()) >= std::cos(deg_to_rad(45.0))) {
+    ToolPose up_a = from.pose, up_b = to.pose;
+    up_a.tip += rq.short_lift_mm * unit_axis(from.pose.axis);
+    up_b.tip += rq.short_lift_mm * unit_axis(to.pose.axis);
+    if (guards.deepest(*rq.tool, up_a, up_b, true) >= 0) {
+      LinkOptions lift = link_options;
+      lift.retract_mm = lift.min_retract_mm = rq.short_lift_mm;
+      const PlannedLink pl = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, lift, {});
+      if (pl.clear) {
+        EdgeFinishLink link;
+        link.from_row = from_row;
+        link.to_row = to_row;
+        link.clear = link.lifted = true;
+        link.moves = pl.via;
+        link.legs = pl.legs;
+        link.offset_mm = pl.offset_mm;
+        return link;
+      }
+    }
+  }
   PlannedLink pl = plan_link({from.pose, from.normal}, {to.pose, to.normal}, link_checks, link_options,
                              round_the_front(rq, from, to));
   if (!pl.clear) {

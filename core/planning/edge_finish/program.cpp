@@ -26,13 +26,16 @@ Toolpath edge_finish_moves(const EdgeFinishResult& result) {
       }
       last_row = ri;
       bool joined = false;  // reached on the surface from the last pass: one pass with it
+      bool lifted = false;  // reached by a short lift, fed: one pass with it
       if (starts_pass && started) {
         const EdgeFinishLink& l = result.links.at(link++);
         joined = l.clear && l.direct;
+        lifted = l.clear && l.lifted;
         if (!l.clear) moves.push_back({Move::Kind::Stop, ToolPose{}, ri, "stop", l.reason});
         else
           for (size_t k = 0; k < l.moves.size(); ++k)
-            moves.push_back({Move::Kind::Rapid, l.moves[k], ri, link_leg_name(l.legs.at(k)), {}});
+            moves.push_back({lifted ? Move::Kind::Feed : Move::Kind::Rapid, l.moves[k], ri,
+                             link_leg_name(l.legs.at(k)), {}});
       }
       const bool after_stop = !moves.empty() && moves.back().kind == Move::Kind::Stop;
       const char* motion =
@@ -50,7 +53,10 @@ Toolpath edge_finish_moves(const EdgeFinishResult& result) {
 
 EdgeProgramStats edge_program_stats(const EdgeFinishResult& result) {
   EdgeProgramStats st;
-  for (const EdgeFinishLink& l : result.links) st.direct_links += l.clear && l.direct ? 1 : 0;
+  for (const EdgeFinishLink& l : result.links) {
+    st.direct_links += l.clear && l.direct ? 1 : 0;
+    st.lifted_links += l.clear && l.lifted ? 1 : 0;
+  }
   const Toolpath moves = edge_finish_moves(result);
   int run = 0;  // Feed moves in the current run
   auto close_run = [&] {
@@ -64,8 +70,13 @@ EdgeProgramStats edge_program_stats(const EdgeFinishResult& result) {
     else ++run;
     if (m.kind == Move::Kind::Stop || i == 0 || moves[i - 1].kind == Move::Kind::Stop) continue;
     const double d = (m.pose.tip - moves[i - 1].pose.tip).norm();
-    const bool cutting = m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Feed;
+    // A short lift's legs are fed but do not cut: only a "cut" feed does
+    // (the first pose of a pass is an "approach" or "start").
+    const bool cutting = m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Feed && m.motion == "cut";
     (cutting ? st.cutting_mm : st.non_cutting_mm) += d;
+    // Fed but not cutting: a short lift's legs (retract, traverse) and the
+    // way down into the next pass's first pose.
+    if (!cutting && m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Feed) st.lift_mm += d;
   }
   close_run();
   return st;
