@@ -19,6 +19,10 @@ local M = {}
 --   built-in LE). Not the default: the cover stands up to 0.01 mm outside
 --   the tool, and the drum wheel, which runs that close to the hub, then
 --   had 194 poses of a suction flank refused.
+-- opts.hub_stock: the stock still on the hub, mm (0): the hub again (as a
+--   surface of revolution), for the shank and holder only, with that margin — an operation that runs before
+--   the hub is finished keeps its shank and holder off the stock there (the
+--   cutter cuts it; job.edge_finish after job.rough_channels).
 function M.around_blade(blisk, k, opts)
   opts = opts or {}
   local n = blisk:blade_count()
@@ -36,6 +40,13 @@ function M.around_blade(blisk, k, opts)
   if opts.hub ~= false then
     surfaces[#surfaces + 1] = opts.analytic_hub and {name = "hub", revolution = blisk:hub(), chord_tol = tol}
                               or {name = "hub", surface = blisk:hub(), chord_tol = tol}
+    if (opts.hub_stock or 0) > 0 then
+      -- Measured without a mesh (analytic_hub's sphere cover, at most 0.01
+      -- mm pessimistic, nothing against a margin this size): a second hub
+      -- mesh was ~100 MB more in the blisk job.
+      surfaces[#surfaces + 1] = {name = "hub's stock", revolution = blisk:hub(), chord_tol = tol,
+                                 margin = opts.hub_stock, parts = {"shank", "holder"}}
+    end
   end
   if opts.own ~= false then
     -- The blade being machined, for the shank and holder only (the cutter

@@ -492,7 +492,8 @@ TEST(Stock, StateAfterAFiveAxisSequenceAgainstBruteForce) {
 // operation 1 a slot 2 mm deep with the flutes (clean), operation 2 a rapid
 // diagonally through the blank, operation 3 a plunge 8 mm deep with 5 mm of
 // flute and a step sideways there (the shank in the stock). The rapid is turned into a feed at its
-// operation's rate (it cuts the same); the shank FAILs the verdict, naming
+// operation's rate from 1 mm before the stock on (the part before it a
+// rapid in air, posted apart: the cycle time drops); the shank FAILs the verdict, naming
 // operation 3 and its move count; operation 1 alone PASSes with its stock
 // requirements measured 0. A rapid left in the stock (the figures of a
 // stock:cut, as the job would have them) FAILs it, naming the operation.
@@ -527,6 +528,47 @@ local bad, st2 = verdict(all, ops)
 assert(all[6].kind == "feed" and all[6].feed == 500 and all[5].kind == "rapid" and all[7].kind == "rapid",
        "the rapid through the stock, and only it, turned into a feed")
 assert(st2.rapids_fed == 1 and st2.operations[2].rapid_cut_moves == 0 and st2.operations[2].removed_mm3 > 50)
+-- Fed from where it meets the stock on: its flat bottom reaches the
+-- blank's top (z = 10; the slot at y = 0 is 6 mm away) at t = 5/9 of its
+-- way from (30, 10, 15) to (-30, 10, 6), so it is a rapid up to 1 mm of tip
+-- path before that (the entry bisected to 0.01 mm) and a feed on.
+local d = math.sqrt(60 ^ 2 + 9 ^ 2)
+local t = 5 / 9 - 1 / d
+local split = all[6].rapid_to
+assert(split and math.abs(split.tip[3] - (15 - 9 * t)) < 0.01 and math.abs(split.tip[1] - (30 - 60 * t)) < 0.05
+       and split.tip[2] == 10 and split.axis[3] == 1, "split at the stock")
+assert(math.abs(st2.fed[1].rapid_mm - t * d) < 0.02 and math.abs(st2.fed[1].length_mm - d) < 1e-9)
+-- Independently: from the stock operation 1 left, the rapid part cuts
+-- nothing, cutter, shank or holder; 0.1 mm past the feed's 1 mm it would.
+local after_slot = bliskrun.stock{profile = profile, resolution = 1}
+after_slot:cut(slot, flat)
+local function cut_to(tt)
+  local to = {kind = "rapid", tip = {30 - 60 * tt, 10, 15 - 9 * tt}, axis = up}
+  return after_slot:copy():cut({mv(2, "rapid", 30, 10, 15), to}, flat)
+end
+local air = after_slot:copy():cut({mv(2, "rapid", 30, 10, 15), {kind = "rapid", tip = split.tip, axis = split.axis}}, flat)
+assert(air.removed_mm3 == 0 and air.rapid_cut_moves == 0 and air.body_contact_moves == 0, "the rapid part is in air")
+assert(cut_to(t + 1.1 / d).removed_mm3 > 0, "the feed starts within 1.1 mm of the stock")
+-- Posted (j:program_path): the part in air a rapid of its own before the
+-- feed; the posted cycle time's cutting drops by that part at the feed
+-- rate (32.7 mm at 500 mm/min: 3.9 s), the positioning grows by less.
+-- The way in and out of the program are the job's (proved against its
+-- part), not under test here.
+for _, m in ipairs(all) do if m.kind == "feed" then m.feed = m.feed or ops[m.operation].feed end end
+local j = setmetatable({operations = ops, name = "split rapid", planned = {moves = all},
+                        tools = {{number = 1, tool = flat, length = 80, spindle_rpm = 10000}},
+                        clearance_surface = {contains = function() return false end}, prove_motion = function() end}, Job)
+require("job")
+local path = j:program_path({machine = "dmg_like_ac_trunnion", post = "fanuc", file = "split.nc"}, 1)
+assert(#path == #all + 1 and path[6].kind == "rapid" and path[6].tip == split.tip and path[7] == all[6], "posted split")
+local split_cycle = j:post{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "split.nc"}.cycle_time
+all[6].rapid_to = nil
+local whole_cycle = j:post{machine = "dmg_like_ac_trunnion", post = "fanuc", file = "whole.nc"}.cycle_time
+local saved = 60 * st2.fed[1].rapid_mm / 500
+assert(math.abs(whole_cycle.cut_s - split_cycle.cut_s - saved) < 0.05 * saved
+       and split_cycle.rapid_s > whole_cycle.rapid_s and split_cycle.total_s < whole_cycle.total_s - 0.5 * saved,
+       string.format("cycle: split %.2f s (cut %.2f), whole %.2f s (cut %.2f)", split_cycle.total_s, split_cycle.cut_s,
+                     whole_cycle.total_s, whole_cycle.cut_s))
 local function has(text, what) return text:find(what, 1, true) ~= nil end
 local why = run_report.failures(bad)
 assert(bad.overall == "FAIL" and has(why, "operation 3 (hub finish): shank or holder in the stock (moves) ")

@@ -313,6 +313,20 @@ function M.drum_finish(o)
   return op
 end
 
+-- The stock still on the hub when operation `index` of job j runs: the hub
+-- stock of the last channel roughing before it, unless a hub finish came
+-- between; 0 without a roughing (the part already roughed is the job's
+-- part, as far as any proof knows).
+local function hub_stock_before(j, index)
+  local left = 0
+  for i = 1, (index or #j.operations + 1) - 1 do
+    local op = j.operations[i]
+    if op.kind == "rough_channels" then left = op.hub_stock
+    elseif op.kind == "hub_finish" then left = 0 end
+  end
+  return left
+end
+
 -- Blade edges finished with the bottom of a flat-end mill (edge paper §3,
 -- bliskrun.edge_finish): each blade's leading and trailing edge regions
 -- (bliskrun.edge_region, `overlap` mm onto the flanks) between hub and
@@ -341,22 +355,36 @@ function M.edge_finish(o)
     periodic = {type = "boolean"},
     feed = {type = "number", check = positive},
     reach = {type = "table"},
+    hub_stock = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
   }, 2)
   local op = {kind = "edge_finish", tool = o.tool, blades = o.blades, edges = o.edges or {"leading", "trailing"},
               e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0, 1},
-              periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach}
-  function op.plan_flanks(self, j)
+              periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach, hub_stock = o.hub_stock}
+  function op.plan_flanks(self, j, index)
     local blisk = j.part
     local tool = j.tools[self.tool].tool
+    local hub_stock = self.hub_stock or hub_stock_before(j, index)
     return blades_of(self, j, function(k)
       local units = {}
+      -- The shank and holder kept off the stock still on the hub (the first
+      -- rows run along it with the axis nearly tangent to it: with the hub
+      -- alone as the obstacle the shank stood 0.39 mm over the hub, inside
+      -- the roughing's 0.5 mm).
+      local world = j:world_around(k)
+      if hub_stock > 0 then
+        j.hub_stock_worlds = j.hub_stock_worlds or {}
+        local key = k .. ":" .. hub_stock
+        j.hub_stock_worlds[key] = j.hub_stock_worlds[key]
+          or require("blisk_world").around_blade(blisk, k, {hub_stock = hub_stock})
+        world = j.hub_stock_worlds[key]
+      end
       for _, edge in ipairs(self.edges) do
         -- The flank whose edge end is at v = 0 first (bliskrun.edge_region).
         local first, second = blisk:flank(k, "pressure"), blisk:flank(k, "suction")
         if edge == "trailing" then first, second = second, first end
         local region = bliskrun.edge_region{first = first, second = second, overlap = self.overlap}
         local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool,
-                                          world = j:world_around(k), name = string.format("blade %d %s edge", k, edge),
+                                          world = world, name = string.format("blade %d %s edge", k, edge),
                                           span = self.span, hub = blisk:hub(), casing = blisk:casing(),
                                           e1 = self.e1, e2 = self.e2, reach = self.reach}
         local r = plan:report()

@@ -273,15 +273,27 @@ function Job:program_path(o, level)
   if not self.planned then error("job:post: plan the job first (j:plan())", level) end
   local first, last = 1, #self.planned.moves
   if o.setup then first, last = o.setup.first or 1, o.setup.last or #self.planned.moves end
-  local moves = {}
-  for i = first, last do moves[#moves + 1] = self.planned.moves[i] end
+  local moves, splits = {}, {}
+  for i = first, last do
+    local m = self.planned.moves[i]
+    if m.rapid_to then
+      splits[#splits + 1] = i
+      -- A rapid through the stock fed from where it meets the stock
+      -- (job/stock.lua): at the rapid rate up to there, in air.
+      local air = {}
+      for key, value in pairs(m) do air[key] = value end
+      air.kind, air.feed, air.tip, air.axis, air.rapid_to, air.in_stock = "rapid", nil, m.rapid_to.tip, m.rapid_to.axis, nil, nil
+      moves[#moves + 1] = air
+    end
+    moves[#moves + 1] = m
+  end
   local up = o.setup and o.setup.flip and {0, 0, -1} or {0, 0, 1}
   local ok, ends = pcall(self.program_ends, self, moves, up)
   if not ok then error(tostring(ends), level) end
   -- Job move numbers in messages count the program's moves from `first`;
   -- a way in put before them shifts them by one.
   local shift = #ends > 0 and ends[1] ~= moves[1] and 1 or 0
-  if not o.setup then return ends, first - 1 - shift, {first = first, last = last} end
+  if not o.setup then return ends, first - 1 - shift, {first = first, last = last, splits = splits} end
   local clocking = o.setup.clocking_deg or 0
   if type(clocking) ~= "number" then error("job:post: setup.clocking_deg: expected a number (degrees)", level) end
   local clock = clocking ~= 0 and {c = math.cos(math.rad(clocking)), s = math.sin(math.rad(clocking))} or nil
@@ -303,7 +315,7 @@ function Job:program_path(o, level)
     end
     path[#path + 1] = m
   end
-  return path, first - 1 - shift, {first = first, last = last}
+  return path, first - 1 - shift, {first = first, last = last, splits = splits}
 end
 
 -- post.write's options for a program of `path`: the program's tools in the
@@ -349,13 +361,25 @@ end
 
 -- A move out of travel (or out of reach) names the job's move: say which
 -- operation, blade and flank it belongs to. `offset`: the job move before
--- the program's first; `span` = {first, last}: the program's job moves
--- (j:program_path), so a move before or after them is named as the
+-- the program's first; `span` = {first, last, splits}: the program's job
+-- moves and those split in two (j:program_path), so a move before or after them is named as the
 -- program's way in to its first or out from its last.
 function Job:raise_post_error(message, offset, level, span)
   local start = tonumber(message:match("moves start at move (%d+)")) or 1
   local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
   local k, what = n and offset + start + n - 1, "job move %d"
+  -- The program's moves count a split rapid's part in air apart
+  -- (program_path): job move j stands at j + the splits up to j, its part
+  -- in air just before it (named as j).
+  if k and span and span.splits and #span.splits > 0 and k >= span.first then
+    local c, split = 0, {}
+    for _, x in ipairs(span.splits) do split[x] = true end
+    for j = span.first, span.last do
+      if split[j] then c = c + 1 end
+      if j + c >= k then k = j break end
+      if j == span.last then k = k - c end
+    end
+  end
   if k and span and k < span.first then k, what = span.first, "the way in to job move %d" end
   if k and span and k > span.last then k, what = span.last, "the way out from job move %d" end
   local m = k and self.planned.moves[k]

@@ -25,6 +25,81 @@ function M.check_blank(blank, level)
   }, level + 1)
 end
 
+-- The pose a fraction t along the motion from pose a to move b, as
+-- stock:cut and the machine move: the tip straight, the axis on the great
+-- circle.
+local function pose_at(a, b, t)
+  local tip = {a.tip[1] + t * (b.tip[1] - a.tip[1]), a.tip[2] + t * (b.tip[2] - a.tip[2]),
+               a.tip[3] + t * (b.tip[3] - a.tip[3])}
+  local u, v = a.axis, b.axis
+  local c = math.max(-1, math.min(1, u[1] * v[1] + u[2] * v[2] + u[3] * v[3]))
+  local angle = math.acos(c)
+  local wu, wv
+  if angle < 1e-9 then wu, wv = 1 - t, t
+  else wu, wv = math.sin((1 - t) * angle) / math.sin(angle), math.sin(t * angle) / math.sin(angle) end
+  local axis = {wu * u[1] + wv * v[1], wu * u[2] + wv * v[2], wu * u[3] + wv * v[3]}
+  local n = math.sqrt(axis[1] ^ 2 + axis[2] ^ 2 + axis[3] ^ 2)
+  return {tip = tip, axis = {axis[1] / n, axis[2] / n, axis[3] / n}}
+end
+
+-- The feed starts this far (tip path, mm) before the tool first meets the
+-- stock: the stock is exact along its rays only, and a machine takes a
+-- little path to reach the feed rate from a rapid.
+local FEED_BEFORE_STOCK_MM = 1
+-- The first contact is bisected down to this much tip path, mm.
+local ENTRY_TOL_MM = 0.01
+
+-- The rapids of a stretch that removed stock (r, its first cut from the
+-- stock `before` it) turned into feeds at their operation's feed rate from
+-- where they meet the stock on: the largest fraction t of the motion from
+-- the pose before along which the swept tool — cutter, shank and holder —
+-- still cuts nothing of the stock as the moves before it left it (bisected
+-- on copies), less FEED_BEFORE_STOCK_MM; the move gets rapid_to (that pose:
+-- the program moves there at the rapid rate, then feeds on). A rapid in
+-- material from its start (a retract) is fed whole. Records each in
+-- out.fed.
+local function fed_rapids(self, out, stretch, r, before, tool, opts, contact, first_index, op)
+  local feed = self.operations[op].feed
+  local work, done, prev = before:copy(), 0, opts.from
+  for k, m in ipairs(stretch) do
+    if m.kind == "rapid" and r.moves[k].removed_mm3 >= contact then
+      if k - 1 > done then
+        work:cut(table.move(stretch, done + 1, k - 1, 1, {}), tool,
+                 {from = prev, step = opts.step, check_body = opts.check_body})
+        done, prev = k - 1, stretch[k - 1]
+      end
+      local rapid_mm, length = 0, r.moves[k].length_mm
+      if prev then
+        local dx, dy, dz = m.tip[1] - prev.tip[1], m.tip[2] - prev.tip[2], m.tip[3] - prev.tip[3]
+        length = math.sqrt(dx * dx + dy * dy + dz * dz)
+      end
+      if prev and length > FEED_BEFORE_STOCK_MM then
+        local function clear(t)
+          local p = pose_at(prev, m, t)
+          local c = work:copy():cut({{kind = "rapid", tip = p.tip, axis = p.axis}}, tool,
+                                    {from = prev, step = opts.step, check_body = opts.check_body})
+          return c.removed_mm3 < contact and c.body_contact_moves == 0
+        end
+        local lo, hi = 0, 1
+        while (hi - lo) * length > ENTRY_TOL_MM do
+          local mid = 0.5 * (lo + hi)
+          if clear(mid) then lo = mid else hi = mid end
+        end
+        local t = lo - FEED_BEFORE_STOCK_MM / length
+        if t > 0 then
+          m.rapid_to = pose_at(prev, m, t)
+          rapid_mm = t * length
+        end
+      end
+      m.kind, m.feed, m.in_stock = "feed", feed, true
+      out.rapids_fed = (out.rapids_fed or 0) + 1
+      out.fed = out.fed or {}
+      out.fed[#out.fed + 1] = {move = first_index + k - 1, operation = op, motion = m.motion or "?",
+                               removed_mm3 = r.moves[k].removed_mm3, length_mm = length, rapid_mm = rapid_mm}
+    end
+  end
+end
+
 -- Cuts the stock with the planned moves (Job:plan calls it when the job has
 -- a blank). Returns {stock (the bliskrun.Stock), blank_mm3, blank_exact_mm3,
 -- resolution, operations = {{operation, kind, removed_mm3, cut_mm,
@@ -45,6 +120,8 @@ function Job:cut_stock(planned)
     out.operations[i] = by_op[i]
   end
   local moves, last = planned.moves, nil
+  -- What stock:cut calls rounding (its air default times the spacing).
+  local contact = 0.001 * info.resolution
   local cpu0 = os.clock()
   local i = 1
   while i <= #moves do
@@ -56,34 +133,39 @@ function Job:cut_stock(planned)
     local stretch = table.move(moves, i, j, 1, {})
     local opts = {from = last, step = b.step, check_body = b.check_body, per_move = true}
     local before = stock:copy()
-    local r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
-    -- What stock:cut calls rounding (its air default times the spacing).
-    local contact = 0.001 * info.resolution
+    local tool_body = self:tool_entry(tool).tool
+    local r = stock:cut(stretch, tool_body, opts)
     -- A rapid that removes stock — an approach, retract or link proved
     -- against the finished part, through the stock an earlier operation
-    -- left — is a feed at the operation's feed rate: the stretch is cut
-    -- again from the stock before it with those moves turned (the posted
-    -- program with them). One rule for every operation's rapids.
+    -- left — is a feed at the operation's feed rate from where it meets the
+    -- stock on (fed_rapids); the stretch is cut again from the stock before
+    -- it with those moves split (the posted program with them). One rule
+    -- for every operation's rapids.
+    local expanded, original = stretch, nil
     if r.rapid_cut_moves > 0 then
-      local feed = self.operations[op].feed
+      fed_rapids(self, out, stretch, r, before, tool_body, opts, contact, i, op)
+      expanded, original = {}, {}
       for k, m in ipairs(stretch) do
-        if m.kind == "rapid" and r.moves[k].removed_mm3 >= contact then
-          m.kind, m.feed, m.in_stock = "feed", feed, true
-          out.rapids_fed = (out.rapids_fed or 0) + 1
-          out.fed = out.fed or {}
-          out.fed[#out.fed + 1] = {move = i + k - 1, operation = op, motion = m.motion or "?",
-                                   removed_mm3 = r.moves[k].removed_mm3, length_mm = r.moves[k].length_mm}
+        if m.rapid_to then
+          expanded[#expanded + 1] = {kind = "rapid", tip = m.rapid_to.tip, axis = m.rapid_to.axis}
+          original[#expanded] = k
         end
+        expanded[#expanded + 1] = m
+        original[#expanded] = k
       end
       stock = before
       out.stock = stock
-      r = stock:cut(stretch, self:tool_entry(tool).tool, opts)
+      r = stock:cut(expanded, tool_body, opts)
     end
-    for k, m in ipairs(stretch) do
-      if r.moves[k].body_mm3 > 0 or (m.kind == "rapid" and r.moves[k].removed_mm3 >= contact) then
+    -- The verdict's moves: the rapid part of a split move is checked as the
+    -- rapid it is.
+    for x, m in ipairs(expanded) do
+      local k = original and original[x] or x
+      if r.moves[x].body_mm3 > 0 or (m.kind == "rapid" and r.moves[x].removed_mm3 >= contact) then
         out.offending = out.offending or {}
         out.offending[#out.offending + 1] = {move = i + k - 1, operation = op, kind = m.kind,
-          motion = m.motion or m.operation_kind, body_mm3 = r.moves[k].body_mm3, removed_mm3 = r.moves[k].removed_mm3}
+          motion = stretch[k].motion or stretch[k].operation_kind, body_mm3 = r.moves[x].body_mm3,
+          removed_mm3 = r.moves[x].removed_mm3}
       end
     end
     local e = by_op[op]
@@ -133,10 +215,13 @@ function M.report(r)
   end
   print(string.format("  stock cut by %d moves in %.1f s (%.1f s CPU)", #r.planned.moves, seconds, s.cpu_seconds))
   if s.rapids_fed then
-    print(string.format("  %d rapids through the stock turned into feeds at their operation's feed rate", s.rapids_fed))
+    print(string.format("  %d rapids through the stock turned into feeds at their operation's feed rate from %g mm "
+                        .. "before the stock on", s.rapids_fed, FEED_BEFORE_STOCK_MM))
     for _, m in ipairs(s.fed) do
-      print(string.format("    move %d, operation %d (%s): %.2f mm3 over %.1f mm", m.move, m.operation, m.motion,
-                          m.removed_mm3, m.length_mm))
+      print(string.format("    move %d, operation %d (%s): %.2f mm3 over %.1f mm, %s", m.move, m.operation, m.motion,
+                          m.removed_mm3, m.length_mm, m.rapid_mm > 0
+                            and string.format("rapid %.1f mm, fed %.1f mm", m.rapid_mm, m.length_mm - m.rapid_mm)
+                            or "fed whole (in the stock from its start)"))
     end
   end
   -- The moves the verdict fails on, named (the first 20).
@@ -147,6 +232,14 @@ function M.report(r)
                           or string.format("rapid removes %.2f mm3", m.removed_mm3)))
   end
   json.rapids_turned_to_feeds = s.rapids_fed or 0
+  if s.fed then
+    json.fed_rapids = {}
+    for _, m in ipairs(s.fed) do
+      json.fed_rapids[#json.fed_rapids + 1] = {move = m.move, operation = m.operation, motion = m.motion,
+                                               removed_mm3 = m.removed_mm3, length_mm = m.length_mm,
+                                               rapid_mm = m.rapid_mm}
+    end
+  end
   r.json.stock = json
 end
 
