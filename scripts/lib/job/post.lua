@@ -81,7 +81,9 @@ end
 -- program's setup (turned over, clocked) as the path is.
 function Job:part_bodies()
   if not self.part_bodies_list then
-    if self.part_kind == "blisk" then
+    if not self.part then
+      self.part_bodies_list = {}  -- a job of moves alone (no part to place)
+    elseif self.part_kind == "blisk" then
       self.part_bodies_list = require("blisk_world").part_bodies(self.part)
     else
       self.part_bodies_list = require("impeller_world").part_bodies(self.part, self:impeller_meshes(0.05))
