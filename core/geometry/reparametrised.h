@@ -2,7 +2,8 @@
 // A surface turned about Z, and a surface with its parameters swapped or
 // reversed: exact (derivatives by the chain rule), shared by the parts that
 // repeat a blade around the axis (impeller.cpp, cad_blisk.cpp) and those
-// that orient a CAD face (cad_blisk.cpp).
+// that orient a CAD face (cad_blisk.cpp); the chain rule of a face trimmed
+// in u.
 #include <memory>
 #include <utility>
 
@@ -52,5 +53,20 @@ class ReorientedSurface : public Surface {
   std::shared_ptr<const Surface> s_;
   bool swap_, flip_u_, flip_v_;
 };
+
+// The derivatives of p(U(u, v), v) with U = lo(v) + u w(v) (a face's u
+// trimmed between two curves in its parameters; trimmed_surface.cpp,
+// point_milling.cpp's face above the fillet line) from b, the base's at
+// (U, v): w = dU/du, dw = w', Uv = dU/dv, Uvv = d2U/dv2.
+inline SurfaceDerivs chain_trimmed_u(const SurfaceDerivs& b, double w, double dw, double Uv, double Uvv) {
+  SurfaceDerivs d;
+  d.p = b.p;
+  d.pu = b.pu * w;
+  d.pv = b.pu * Uv + b.pv;
+  d.puu = b.puu * (w * w);
+  d.puv = (b.puu * Uv + b.puv) * w + b.pu * dw;
+  d.pvv = b.puu * (Uv * Uv) + 2.0 * b.puv * Uv + b.pvv + b.pu * Uvv;
+  return d;
+}
 
 }  // namespace bliskrun

@@ -237,15 +237,7 @@ class PointMillFilletFace : public Surface {
     line(v, lo, dlo, ddlo);
     const double w = u1_ - lo, dw = -dlo, ddw = -ddlo;
     const double U = lo + a * w, Uv = dlo + a * dw, Uvv = ddlo + a * ddw;
-    const SurfaceDerivs b = base_->eval(U, v);
-    SurfaceDerivs d;
-    d.p = b.p;
-    d.pu = b.pu * w;
-    d.pv = b.pu * Uv + b.pv;
-    d.puu = b.puu * (w * w);
-    d.puv = (b.puu * Uv + b.puv) * w + b.pu * dw;
-    d.pvv = b.puu * (Uv * Uv) + 2.0 * b.puv * Uv + b.pvv + b.pu * Uvv;
-    return d;
+    return chain_trimmed_u(base_->eval(U, v), w, dw, Uv, Uvv);
   }
 
  private:

@@ -6,6 +6,7 @@
 
 #include "core/common/error.h"
 #include "core/geometry/interpolation.h"
+#include "core/geometry/reparametrised.h"
 
 namespace bliskrun {
 
@@ -67,16 +68,7 @@ SurfaceDerivs TrimmedSurface::eval(double u, double v) const {
   const double U = lo.u + u * w;
   const double Uv = lo.du + u * dw;   // dU/dv
   const double Uvv = lo.ddu + u * ddw;
-  const SurfaceDerivs b = base_->eval(U, v);
-  // Chain rule for p(U(u', v), v).
-  SurfaceDerivs d;
-  d.p = b.p;
-  d.pu = b.pu * w;
-  d.pv = b.pu * Uv + b.pv;
-  d.puu = b.puu * (w * w);
-  d.puv = (b.puu * Uv + b.puv) * w + b.pu * dw;
-  d.pvv = b.puu * (Uv * Uv) + 2.0 * b.puv * Uv + b.pvv + b.pu * Uvv;
-  return d;
+  return chain_trimmed_u(base_->eval(U, v), w, dw, Uv, Uvv);
 }
 
 std::shared_ptr<const TrimmedSurface> trim_between(std::shared_ptr<const Surface> flank,

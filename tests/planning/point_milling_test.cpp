@@ -246,13 +246,13 @@ TEST(PointMilling, RowsAcrossTheFlowRunHubToShroudWithinTheScallop) {
   EXPECT_NEAR(res.passes.back().level, 0.5, 1e-12);
 }
 
-// A plane face x = C (v - 1/2), y = 0, z = H u; pu x pv = +y, out of the material.
+// A plane face x = C (v - 1/2), y = Y, z = H u; pu x pv = +y, out of the material.
 class PointStripPlane : public Surface {
  public:
-  PointStripPlane(double H, double C) : H_(H), C_(C) {}
+  PointStripPlane(double H, double C, double Y = 0) : H_(H), C_(C), Y_(Y) {}
   SurfaceDerivs eval(double u, double v) const override {
     SurfaceDerivs d;
-    d.p = Vec3(C_ * (v - 0.5), 0, H_ * u);
+    d.p = Vec3(C_ * (v - 0.5), Y_, H_ * u);
     d.pu = Vec3(0, 0, H_);
     d.pv = Vec3(C_, 0, 0);
     d.puu = d.puv = d.pvv = Vec3::Zero();
@@ -260,7 +260,7 @@ class PointStripPlane : public Surface {
   }
 
  private:
-  double H_, C_;
+  double H_, C_, Y_;
 };
 
 // The root strip the rows stop above (issue 40): its height is hub_stop's,
@@ -312,25 +312,9 @@ TEST(PointMilling, RootStripHeightIsTheHubStopAndItsMaterialIsMeasured) {
   EXPECT_GT(st.material_max_mm, 1.0);
 }
 
-// A plane face y = 30 (x = C (v - 1/2), z = H u; pu x pv = +y, out of the
-// material) standing square on a flat hub: the annulus z = 0, 10 < rho < 60,
-// as a surface of revolution about Z (its normal +z, into the channel).
-class PointFilletPlane : public Surface {
- public:
-  PointFilletPlane(double H, double C) : H_(H), C_(C) {}
-  SurfaceDerivs eval(double u, double v) const override {
-    SurfaceDerivs d;
-    d.p = Vec3(C_ * (v - 0.5), 30, H_ * u);
-    d.pu = Vec3(0, 0, H_);
-    d.pv = Vec3(C_, 0, 0);
-    d.puu = d.puv = d.pvv = Vec3::Zero();
-    return d;
-  }
-
- private:
-  double H_, C_;
-};
-
+// The plane face at y = 30 (PointStripPlane) standing square on a flat hub:
+// the annulus z = 0, 10 < rho < 60, as a surface of revolution about Z (its
+// normal +z, into the channel).
 std::shared_ptr<const SurfaceOfRevolution> point_flat_hub() {
   std::vector<Vec2> m;
   for (int i = 0; i <= 10; ++i) m.emplace_back(0.0, 10.0 + 5.0 * i);
@@ -368,7 +352,7 @@ TEST(PointMilling, RowsCarriedDownToTheFilletFinishTheRootStrip) {
   GTEST_SKIP() << "two plans with gouge proofs: a second in Release, a minute sanitized";
 #endif
   const double H = 15, C = 10, r = 1.5, stop = 3 * r;
-  const auto face = std::make_shared<const PointFilletPlane>(H, C);
+  const auto face = std::make_shared<const PointStripPlane>(H, C, 30);
   const Tool tool = point_tool();
   PointMillRequest rq = twisted_request(face, tool);
   rq.scallop_mm = 0.02;
