@@ -137,6 +137,25 @@ int w_point_plan_moves(lua_State* L) {
   });
 }
 
+// The `samples = {span, chord}` option of plan:simulate and plan:root_strip:
+// two integers in [2, 20000] into u and v (left as they are without it).
+void read_sample_pair(lua_State* L, const luax::Options& o, const char* where, int& u, int& v) {
+  if (!o.has("samples")) return;
+  o.push_raw("samples");
+  const int t = lua_gettop(L);
+  if (luaL_len(L, t) != 2) luax::error(L, std::string(where) + ": option 'samples': expected {span, chord}");
+  for (int k = 1; k <= 2; ++k) {
+    lua_rawgeti(L, t, k);
+    int isnum = 0;
+    const lua_Integer n = lua_tointegerx(L, -1, &isnum);
+    if (!isnum || n < 2 || n > 20000)
+      luax::error(L, std::string(where) + ": option 'samples': expected integers in [2, 20000]");
+    (k == 1 ? u : v) = static_cast<int>(n);
+    lua_pop(L, 1);
+  }
+  lua_pop(L, 1);
+}
+
 // plan:simulate{samples = {u, v}, sweep_step =, threads =} -> {left_max =, left_mean =, overcut =, untouched =,
 // samples =, seconds =}: the material the plan's moves leave on the face
 // (the lofted design surface itself) over the window it mills, from the
@@ -151,20 +170,7 @@ int w_point_plan_simulate(lua_State* L) {
                          Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
   UndercutOptions uo;
   uo.samples_u = 120, uo.samples_v = 400;
-  if (o.has("samples")) {
-    o.push_raw("samples");
-    const int t = lua_gettop(L);
-    if (luaL_len(L, t) != 2) luax::error(L, "plan:simulate: option 'samples': expected {span, chord}");
-    for (int k = 1; k <= 2; ++k) {
-      lua_rawgeti(L, t, k);
-      int isnum = 0;
-      const lua_Integer n = lua_tointegerx(L, -1, &isnum);
-      if (!isnum || n < 2 || n > 20000) luax::error(L, "plan:simulate: option 'samples': expected integers in [2, 20000]");
-      (k == 1 ? uo.samples_u : uo.samples_v) = static_cast<int>(n);
-      lua_pop(L, 1);
-    }
-    lua_pop(L, 1);
-  }
+  read_sample_pair(L, o, "plan:simulate", uo.samples_u, uo.samples_v);
   uo.sweep_step_mm = o.number("sweep_step", 0.05);
   uo.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
@@ -201,20 +207,7 @@ int w_point_plan_root_strip(lua_State* L) {
                         {Field{"samples", Kind::Table, false, std::nullopt, std::nullopt,
                                "{span, chord} samples of the strip (default {12, 200})", {}}});
   int su = 12, sv = 200;
-  if (o.has("samples")) {
-    o.push_raw("samples");
-    const int t = lua_gettop(L);
-    if (luaL_len(L, t) != 2) luax::error(L, "plan:root_strip: option 'samples': expected {span, chord}");
-    for (int k = 1; k <= 2; ++k) {
-      lua_rawgeti(L, t, k);
-      int isnum = 0;
-      const lua_Integer n = lua_tointegerx(L, -1, &isnum);
-      if (!isnum || n < 2 || n > 20000) luax::error(L, "plan:root_strip: option 'samples': expected integers in [2, 20000]");
-      (k == 1 ? su : sv) = static_cast<int>(n);
-      lua_pop(L, 1);
-    }
-    lua_pop(L, 1);
-  }
+  read_sample_pair(L, o, "plan:root_strip", su, sv);
   return luax::guarded(L, [&] {
     const PointMillStrip st = measure_root_strip(p.request, *p.result, su, sv);
     lua_createtable(L, 0, 8);

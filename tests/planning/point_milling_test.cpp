@@ -263,6 +263,30 @@ class PointStripPlane : public Surface {
   double H_, C_, Y_;
 };
 
+// Brute force: the largest and the mean distance from the face's samples at
+// (u, v) to the balls of every emitted pass, the centres sub-sampled every
+// 0.01 mm.
+struct PointStripBruteForce {
+  double worst = -std::numeric_limits<double>::infinity(), mean = 0;
+};
+PointStripBruteForce point_strip_brute_force(const Surface& face, const PointMillResult& res, const std::vector<Vec2>& uv) {
+  const double r = res.ball_radius_mm;
+  PointStripBruteForce out;
+  for (const Vec2& q : uv) {
+    const Vec3 p = face.eval(q.x(), q.y()).p;
+    double best = std::numeric_limits<double>::infinity();
+    for (const PointMillPass& pass : res.passes)
+      for (size_t k = 0; k < pass.poses.size(); ++k) {
+        const Vec3 a = k ? pass.poses[k - 1].centre : pass.poses[k].centre, b = pass.poses[k].centre;
+        const int n = 1 + static_cast<int>((b - a).norm() / 0.01);
+        for (int m = 0; m <= n; ++m) best = std::min(best, (p - (a + (b - a) * m / n)).norm() - r);
+      }
+    out.worst = std::max(out.worst, best);
+    out.mean += best / static_cast<double>(uv.size());
+  }
+  return out;
+}
+
 // The root strip the rows stop above (issue 40): its height is hub_stop's,
 // and the material the ball leaves in it is what a brute force finds (every
 // emitted pass, the centre sub-sampled every 0.01 mm between poses, against
@@ -292,22 +316,12 @@ TEST(PointMilling, RootStripHeightIsTheHubStopAndItsMaterialIsMeasured) {
   EXPECT_NEAR(st.material_max_mm, std::sqrt(stop * stop + r * r) - r, 1e-3);
   EXPECT_NEAR(st.max_u, 0, 1e-12);
   // Brute force over the same samples.
-  double worst = 0, sum = 0;
+  std::vector<Vec2> uv;
   for (int i = 0; i < su; ++i)
-    for (int j = 0; j < sv; ++j) {
-      const Vec3 p = face->eval(st.u1 * i / su, static_cast<double>(j) / (sv - 1)).p;
-      double best = std::numeric_limits<double>::infinity();
-      for (const PointMillPass& pass : res.passes)
-        for (size_t k = 0; k < pass.poses.size(); ++k) {
-          const Vec3 a = k ? pass.poses[k - 1].centre : pass.poses[k].centre, b = pass.poses[k].centre;
-          const int n = 1 + static_cast<int>((b - a).norm() / 0.01);
-          for (int m = 0; m <= n; ++m) best = std::min(best, (p - (a + (b - a) * m / n)).norm() - r);
-        }
-      worst = std::max(worst, best);
-      sum += best;
-    }
-  EXPECT_NEAR(st.material_max_mm, worst, 1e-4);
-  EXPECT_NEAR(st.material_mean_mm, sum / (su * sv), 1e-4);
+    for (int j = 0; j < sv; ++j) uv.emplace_back(st.u1 * i / su, static_cast<double>(j) / (sv - 1));
+  const PointStripBruteForce brute = point_strip_brute_force(*face, res, uv);
+  EXPECT_NEAR(st.material_max_mm, brute.worst, 1e-4);
+  EXPECT_NEAR(st.material_mean_mm, brute.mean, 1e-4);
   // Far beyond any finishing tolerance: the strip is not finished by these rows.
   EXPECT_GT(st.material_max_mm, 1.0);
 }
@@ -319,25 +333,6 @@ std::shared_ptr<const SurfaceOfRevolution> point_flat_hub() {
   std::vector<Vec2> m;
   for (int i = 0; i <= 10; ++i) m.emplace_back(0.0, 10.0 + 5.0 * i);
   return std::make_shared<const SurfaceOfRevolution>(m);
-}
-
-// Brute force: the largest distance from the face's samples at (u(i, j), v_j)
-// to the balls of every emitted pass, the centres sub-sampled every 0.01 mm.
-double point_strip_brute_force(const Surface& face, const PointMillResult& res, const std::vector<Vec2>& uv) {
-  const double r = res.ball_radius_mm;
-  double worst = -std::numeric_limits<double>::infinity();
-  for (const Vec2& q : uv) {
-    const Vec3 p = face.eval(q.x(), q.y()).p;
-    double best = std::numeric_limits<double>::infinity();
-    for (const PointMillPass& pass : res.passes)
-      for (size_t k = 0; k < pass.poses.size(); ++k) {
-        const Vec3 a = k ? pass.poses[k - 1].centre : pass.poses[k].centre, b = pass.poses[k].centre;
-        const int n = 1 + static_cast<int>((b - a).norm() / 0.01);
-        for (int m = 0; m <= n; ++m) best = std::min(best, (p - (a + (b - a) * m / n)).norm() - r);
-      }
-    worst = std::max(worst, best);
-  }
-  return worst;
 }
 
 // Issue 40, the root strip finished: with the hub, the rows are carried down
@@ -407,13 +402,13 @@ TEST(PointMilling, RowsCarriedDownToTheFilletFinishTheRootStrip) {
       band.emplace_back(r / H + (stop - r) / H * i / su, v);
       corner.emplace_back(r / H * i / su, v);
     }
-  EXPECT_NEAR(after.material_max_mm, point_strip_brute_force(*face, res, band), 1e-4);
+  EXPECT_NEAR(after.material_max_mm, point_strip_brute_force(*face, res, band).worst, 1e-4);
   // Within the scallop (and the chord's sag), far inside 0.05 mm.
   EXPECT_LE(after.material_max_mm, rq.scallop_mm + res.chord_tol_mm + 1e-4);
   // The corner: the fillet row's ball leaves (sqrt(2) - 1) r at the hub.
   EXPECT_NEAR(after.corner_max_mm, (std::sqrt(2.0) - 1) * r, 1e-3);
   EXPECT_NEAR(after.corner_u, 0, 1e-12);
-  EXPECT_NEAR(after.corner_max_mm, point_strip_brute_force(*face, res, corner), 1e-4);
+  EXPECT_NEAR(after.corner_max_mm, point_strip_brute_force(*face, res, corner).worst, 1e-4);
 }
 
 // Distance from q to the box [lo, hi].

@@ -15,13 +15,9 @@
 namespace bliskrun::test {
 namespace {
 
-TEST(PointMillHeccRecipe, EveryPoseOfAMainFaceWindowIsClearOfAFinerTessellation) {
-  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC point-milling recipe skipped";
-#ifdef BLISKRUN_SANITIZED
-  GTEST_SKIP() << "HECC point milling skipped under the sanitizers (runs in the Release suite)";
-#endif
-  TempDir dir;
-  const std::string recipe = dir.write("recipe.lua", R"(
+// Both tests' start: blade 1's main minus face of the HECC design, the r 2
+// tapered ball, and which way the face's normal points out of the material.
+const char* const kHeccMainMinusFace = R"LUA(
 local iw = require("impeller_world")
 local part = require("hecc_impeller_part").load{set = "design"}
 local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, flute_length = 90,
@@ -30,6 +26,15 @@ local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, fl
 local face, back = iw.design_face(part, 1, "minus", "main"), iw.design_face(part, 1, "plus", "main")
 local e, q = face:eval(0.5, 0.5), back:point(0.5, 0.5)
 local flip = e.normal[1] * (e.point[1] - q[1]) + e.normal[2] * (e.point[2] - q[2]) + e.normal[3] * (e.point[3] - q[3]) < 0
+)LUA";
+
+TEST(PointMillHeccRecipe, EveryPoseOfAMainFaceWindowIsClearOfAFinerTessellation) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC point-milling recipe skipped";
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "HECC point milling skipped under the sanitizers (runs in the Release suite)";
+#endif
+  TempDir dir;
+  const std::string recipe = dir.write("recipe.lua", std::string(kHeccMainMinusFace) + R"(
 local plan = bliskrun.point_mill{face = {surface = face, flip = flip}, tool = cutter,
                                  world = iw.face_world(part, iw.meshes(part, 0.05), "main", "minus", {hub_cutter = true}),
                                  v = {0.45, 0.55}, scallop = 0.05, chord_tol = 0.02, allowed_overcut = 0.02,
@@ -69,15 +74,7 @@ TEST(PointMillHeccRecipe, RowsCarriedDownToTheFilletClearTheHubAndFinishTheStrip
   GTEST_SKIP() << "HECC point milling skipped under the sanitizers (runs in the Release suite)";
 #endif
   TempDir dir;
-  const std::string recipe = dir.write("recipe.lua", R"LUA(
-local iw = require("impeller_world")
-local part = require("hecc_impeller_part").load{set = "design"}
-local cutter = bliskrun.tapered_ball_end_mill{tip_radius = 2, half_angle = 2, flute_length = 90,
-                                              shank = {diameter = 12, length = 60},
-                                              holder = {diameter = 40, length = 60}}
-local face, back = iw.design_face(part, 1, "minus", "main"), iw.design_face(part, 1, "plus", "main")
-local e, q = face:eval(0.5, 0.5), back:point(0.5, 0.5)
-local flip = e.normal[1] * (e.point[1] - q[1]) + e.normal[2] * (e.point[2] - q[2]) + e.normal[3] * (e.point[3] - q[3]) < 0
+  const std::string recipe = dir.write("recipe.lua", std::string(kHeccMainMinusFace) + R"LUA(
 local allowance, overcut = 0.3, 0.02
 local plan = bliskrun.point_mill{face = {surface = face, flip = flip}, tool = cutter, hub = part:hub(), hub_stop = 6,
                                  world = iw.face_world(part, iw.meshes(part, 0.05), "main", "minus", {hub_cutter = allowance}),
