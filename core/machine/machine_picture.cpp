@@ -179,7 +179,10 @@ std::string scene_text(const MachineScene& scene, const MachinePictureOptions& o
         break;
       }
     }
-    s << texture << " " << matrix_of(v, b.pose) << " }\n";
+    // A see-through body casts no shadow: its shadow only muddies what it is
+    // drawn see-through to show, and shadow rays through transparent bodies
+    // were half of the render's time (7.7 -> 3.5 s CPU on the blisk job).
+    s << texture << (transmit > 0 ? " no_shadow " : " ") << matrix_of(v, b.pose) << " }\n";
   }
   // The nearest points and the line between them.
   const Vec3 a = v.to_scene(scene.nearest_a), b = v.to_scene(scene.nearest_b);
