@@ -57,6 +57,8 @@ local opt = require("recipe_options"){
         help = "span fraction where the window ends (1: to the casing, the last row past the blade's tip)"},
   chord_tol = {type = "number", unit = "mm", default = 0.001, range = {1e-5, 0.1}, help = "chord height around the edge"},
   optimum = {type = "string", default = "paper", choices = {"paper", "joint"}, help = "how phi and l are chosen (section 3.2)"},
+  method = {type = "string", default = "bottom", choices = {"bottom", "side"},
+            help = "contact positioning: the paper's flat bottom, or the side edge (the comparison, every other step the same)"},
   side_min_lead = {type = "number", unit = "deg", default = 3, range = {0, 45}, help = "smallest lead of the side-edge comparison"},
   short_lift = {type = "number", unit = "mm", default = 0, range = {0, 10},
                 help = "near passes joined by a fed lift of this much up the axes (0: by retracts and plunges)"},
@@ -75,7 +77,7 @@ local which = opt.edges
 local R, r = opt.R, opt.r
 local settings = {e1 = opt.e1, e2 = opt.e2, overlap = opt.overlap,
                   v0 = opt.v0, v1 = opt.v1, chord_tol = opt.chord_tol,
-                  optimum = opt.optimum, side_min_lead = opt.side_min_lead}
+                  optimum = opt.optimum, side_min_lead = opt.side_min_lead, method = opt.method}
 
 -- The part: both flanks of blade 1, its neighbours and the hub as check
 -- surfaces (the blade itself for shank and holder).
@@ -144,10 +146,12 @@ for _, edge in ipairs(edges) do
   local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
                                     span = {settings.v0, settings.v1}, hub = hub, casing = casing, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
-                                    side_min_lead = settings.side_min_lead, short_lift = opt.short_lift}
+                                    side_min_lead = settings.side_min_lead, short_lift = opt.short_lift,
+                                    method = settings.method}
   local cpu_plan = os.clock() - cpu0
   local rep = plan:report()
-  local stem = string.format("%s_%s", part_name, edge)
+  -- The side-edge method's files apart: the default programs keep their names.
+  local stem = string.format("%s_%s%s", part_name, edge, settings.method == "side" and "_side" or "")
   plan:write_apt(stem .. ".apt")
   -- The edge's thickness after machining against the design (issue 14
   -- item 7) at a quarter, half and three quarters of the machined span
@@ -269,6 +273,41 @@ for _, edge in ipairs(edges) do
                       rep.passes, rep.single_move_passes, rep.direct_links, rep.lifted_links, rep.cutting_length,
                       rep.non_cutting_length, rep.cutting_length / math.max(rep.non_cutting_length, 1e-9),
                       rep.lift_length))
+  -- The paper's comparison (its Table; issue 38 item 4), figures of this
+  -- method's program: time by length alone at 400 mm/min fed (cutting and
+  -- plunges, the job's finishing feed) and 10 m/min rapid — no acceleration
+  -- or rotary moves, so a lower bound that favours many short passes.
+  local feed_mm_min, rapid_mm_min = 400, 10000
+  rep.times = {cutting_s = 60 * rep.cutting_length / feed_mm_min, plunge_s = 60 * rep.plunge_length / feed_mm_min,
+               rapid_s = 60 * rep.rapid_length / rapid_mm_min, lift_s = 60 * rep.lift_length / feed_mm_min}
+  rep.times.total_s = rep.times.cutting_s + rep.times.plunge_s + rep.times.rapid_s + rep.times.lift_s
+  -- Where the narrowest strip of the rows proper sits: it spaces the rows.
+  local narrow
+  for _, row in ipairs(rep.rows) do
+    if not row.infill and row.narrowest_width and (not narrow or row.narrowest_width < narrow.narrowest_width) then
+      narrow = row
+    end
+  end
+  if narrow then
+    local where = narrow.narrowest_u < region.round_u0 and (edge == "leading" and "pressure" or "suction") .. " flank's overlap"
+                  or narrow.narrowest_u > region.round_u1 and (edge == "leading" and "suction" or "pressure") .. " flank's overlap"
+                  or (narrow.narrowest_u - region.round_u0 < 0.5 * (region.round_u1 - region.round_u0)
+                      and (edge == "leading" and "pressure" or "suction") .. " half of the round"
+                      or (edge == "leading" and "suction" or "pressure") .. " half of the round")
+    rep.narrowest = {width_mm = narrow.narrowest_width, u = narrow.narrowest_u, v = narrow.v, where = where,
+                     contact = narrow.narrowest_contact, lead_deg = narrow.narrowest_lead, tilted = narrow.narrowest_tilted}
+  end
+  print(string.format("            %s method: %d rows + %d partial, %d passes; cutting %.0f mm (%.0f s), rapid links %.0f mm "
+                      .. "(%.0f s), plunges %.0f mm (%.0f s), total %.0f s at %d mm/min fed, %d rapid (length alone)",
+                      rep.method, rep.row_count, rep.infill_rows, rep.passes, rep.cutting_length, rep.times.cutting_s,
+                      rep.rapid_length, rep.times.rapid_s, rep.plunge_length, rep.times.plunge_s, rep.times.total_s,
+                      feed_mm_min, rapid_mm_min))
+  if rep.narrowest then
+    print(string.format("            narrowest strip %.2f mm at u %.3f v %.3f (round u %.3f-%.3f: %s), %s contact, "
+                        .. "lead %.1f deg%s", rep.narrowest.width_mm, rep.narrowest.u, rep.narrowest.v, region.round_u0,
+                        region.round_u1, rep.narrowest.where, rep.narrowest.contact, rep.narrowest.lead_deg,
+                        rep.narrowest.tilted and ", tilted clear of the world" or ""))
+  end
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links,
