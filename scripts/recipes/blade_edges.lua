@@ -19,7 +19,10 @@
 --   4. the paper's comparison: the same rows with the conventional side-edge
 --      positioning (corner contact, φ = 0, smallest gouge-free lead >=
 --      side_min_lead): strip widths along one row (Fig. 8) and row counts
---      (Fig. 9, paper: 31 vs 48);
+--      (Fig. 9, paper: 31 vs 48) by the same spacing and stopping rule;
+--      --set method=side plans the whole edge that way through every step
+--      (tilting, partial rows, checks, links: the same code), for the
+--      programs' passes, lengths and times side by side (files *_side.*);
 --   5. the independent simulation (core/sim) of every move on the edge
 --      region (undercut/overcut map) and the overcut on both flanks, and
 --      the edge's thickness after machining against the design at three
@@ -281,7 +284,9 @@ for _, edge in ipairs(edges) do
   rep.times = {cutting_s = 60 * rep.cutting_length / feed_mm_min, plunge_s = 60 * rep.plunge_length / feed_mm_min,
                rapid_s = 60 * rep.rapid_length / rapid_mm_min, lift_s = 60 * rep.lift_length / feed_mm_min}
   rep.times.total_s = rep.times.cutting_s + rep.times.plunge_s + rep.times.rapid_s + rep.times.lift_s
-  -- Where the narrowest strip of the rows proper sits: it spaces the rows.
+  -- Where the narrowest strip of the rows proper sits (poses not tilted
+  -- clear of the world: those cut narrower strips, and the partial rows
+  -- fill after them): it spaces the rows.
   local narrow
   for _, row in ipairs(rep.rows) do
     if not row.infill and row.narrowest_width and (not narrow or row.narrowest_width < narrow.narrowest_width) then
@@ -295,7 +300,7 @@ for _, edge in ipairs(edges) do
                       and (edge == "leading" and "pressure" or "suction") .. " half of the round"
                       or (edge == "leading" and "suction" or "pressure") .. " half of the round")
     rep.narrowest = {width_mm = narrow.narrowest_width, u = narrow.narrowest_u, v = narrow.v, where = where,
-                     contact = narrow.narrowest_contact, lead_deg = narrow.narrowest_lead, tilted = narrow.narrowest_tilted}
+                     contact = narrow.narrowest_contact, lead_deg = narrow.narrowest_lead}
   end
   print(string.format("            %s method: %d rows + %d partial, %d passes; cutting %.0f mm (%.0f s), rapid links %.0f mm "
                       .. "(%.0f s), plunges %.0f mm (%.0f s), total %.0f s at %d mm/min fed, %d rapid (length alone)",
@@ -303,10 +308,10 @@ for _, edge in ipairs(edges) do
                       rep.rapid_length, rep.times.rapid_s, rep.plunge_length, rep.times.plunge_s, rep.times.total_s,
                       feed_mm_min, rapid_mm_min))
   if rep.narrowest then
-    print(string.format("            narrowest strip %.2f mm at u %.3f v %.3f (round u %.3f-%.3f: %s), %s contact, "
-                        .. "lead %.1f deg%s", rep.narrowest.width_mm, rep.narrowest.u, rep.narrowest.v, region.round_u0,
-                        region.round_u1, rep.narrowest.where, rep.narrowest.contact, rep.narrowest.lead_deg,
-                        rep.narrowest.tilted and ", tilted clear of the world" or ""))
+    print(string.format("            narrowest strip spacing the rows %.2f mm at u %.3f v %.3f (round u %.3f-%.3f: %s), "
+                        .. "%s contact, lead %.1f deg", rep.narrowest.width_mm, rep.narrowest.u, rep.narrowest.v,
+                        region.round_u0, region.round_u1, rep.narrowest.where, rep.narrowest.contact,
+                        rep.narrowest.lead_deg))
   end
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
