@@ -284,34 +284,36 @@ for _, edge in ipairs(edges) do
   rep.times = {cutting_s = 60 * rep.cutting_length / feed_mm_min, plunge_s = 60 * rep.plunge_length / feed_mm_min,
                rapid_s = 60 * rep.rapid_length / rapid_mm_min, lift_s = 60 * rep.lift_length / feed_mm_min}
   rep.times.total_s = rep.times.cutting_s + rep.times.plunge_s + rep.times.rapid_s + rep.times.lift_s
-  -- Where the narrowest strip of the rows proper sits (poses not tilted
-  -- clear of the world: those cut narrower strips, and the partial rows
-  -- fill after them): it spaces the rows.
-  local narrow
-  for _, row in ipairs(rep.rows) do
-    if not row.infill and row.narrowest_width and (not narrow or row.narrowest_width < narrow.narrowest_width) then
-      narrow = row
+  -- Where the narrowest strip sits on the compared row, for either
+  -- positioning, as planned (before any pose is tilted clear of the world):
+  -- the row's width, which spaces the rows, is its narrowest contact's.
+  local function narrowest_of(widths)
+    local k
+    for i, w in ipairs(widths) do
+      if w > 0 and (not k or w < widths[k]) then k = i end
     end
+    if not k then return nil end
+    local u = cmp.u[k]
+    local first_side, second_side = "pressure", "suction"
+    if edge == "trailing" then first_side, second_side = "suction", "pressure" end
+    local where = u < region.round_u0 and first_side .. " flank's overlap"
+                  or u > region.round_u1 and second_side .. " flank's overlap"
+                  or (u < 0.5 * (region.round_u0 + region.round_u1) and first_side or second_side) .. " half of the round"
+    return {width_mm = widths[k], u = u, where = where, contact = cmp.contact[k]}
   end
-  if narrow then
-    local where = narrow.narrowest_u < region.round_u0 and (edge == "leading" and "pressure" or "suction") .. " flank's overlap"
-                  or narrow.narrowest_u > region.round_u1 and (edge == "leading" and "suction" or "pressure") .. " flank's overlap"
-                  or (narrow.narrowest_u - region.round_u0 < 0.5 * (region.round_u1 - region.round_u0)
-                      and (edge == "leading" and "pressure" or "suction") .. " half of the round"
-                      or (edge == "leading" and "suction" or "pressure") .. " half of the round")
-    rep.narrowest = {width_mm = narrow.narrowest_width, u = narrow.narrowest_u, v = narrow.v, where = where,
-                     contact = narrow.narrowest_contact, lead_deg = narrow.narrowest_lead}
-  end
+  rep.narrowest = {row = cmp.row, v = cmp.v, bottom = narrowest_of(cmp.paper), side = narrowest_of(cmp.side)}
   print(string.format("            %s method: %d rows + %d partial, %d passes; cutting %.0f mm (%.0f s), rapid links %.0f mm "
                       .. "(%.0f s), plunges %.0f mm (%.0f s), total %.0f s at %d mm/min fed, %d rapid (length alone)",
                       rep.method, rep.row_count, rep.infill_rows, rep.passes, rep.cutting_length, rep.times.cutting_s,
                       rep.rapid_length, rep.times.rapid_s, rep.plunge_length, rep.times.plunge_s, rep.times.total_s,
                       feed_mm_min, rapid_mm_min))
-  if rep.narrowest then
-    print(string.format("            narrowest strip spacing the rows %.2f mm at u %.3f v %.3f (round u %.3f-%.3f: %s), "
-                        .. "%s contact, lead %.1f deg", rep.narrowest.width_mm, rep.narrowest.u, rep.narrowest.v,
-                        region.round_u0, region.round_u1, rep.narrowest.where, rep.narrowest.contact,
-                        rep.narrowest.lead_deg))
+  for _, m in ipairs{"bottom", "side"} do
+    local n = rep.narrowest[m]
+    if n then
+      print(string.format("            narrowest strip of row %d (v %.3f), %s positioning: %.2f mm at u %.3f (round u %.3f-%.3f: %s)%s",
+                          cmp.row, cmp.v, m, n.width_mm, n.u, region.round_u0, region.round_u1, n.where,
+                          m == "bottom" and ", " .. n.contact .. " contact" or ""))
+    end
   end
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
