@@ -359,18 +359,6 @@ int w_plan_report(lua_State* L) {
     set_number(L, "max_deviation", row.max_deviation_mm);
     set_bool(L, "reversed", row.reversed);
     set_bool(L, "infill", row.infill);
-    // Where the row's narrowest strip sits (u around the edge) and how it
-    // was cut there: what spaces the rows (plan_rows). Poses tilted clear of
-    // the world afterwards cut narrower strips; partial rows fill after them.
-    const EdgeFinishPose* narrowest = nullptr;
-    for (const EdgeFinishPose& q : row.poses)
-      if (!q.tilted && (!narrowest || q.width_mm < narrowest->width_mm)) narrowest = &q;
-    if (narrowest) {
-      set_number(L, "narrowest_u", narrowest->u);
-      set_number(L, "narrowest_width", narrowest->width_mm);
-      set_string(L, "narrowest_contact", to_string(narrowest->position.contact));
-      set_number(L, "narrowest_lead", rad_to_deg(narrowest->position.lead_rad));
-    }
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "rows");
