@@ -36,7 +36,8 @@ EdgeWidthComparison compare_widths(const EdgeFinishRequest& rq, const std::vecto
 // same spacing (each row's narrowest strip as emitted) and the same stopping
 // rule (this row's reach up covers the window's end). Before issue 38 they
 // had a rule of their own (half the narrowest width, the strips taken as
-// symmetric), which alone made the built-in LE 19 side rows against 18.
+// symmetric, no inserted contacts): built-in TE 17 side rows, 18 by the
+// shared rule (LE 18 either way).
 void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, EdgeFinishResult& out,
                     Progress& progress) {
   EdgeFinishRequest side = rq;
