@@ -161,6 +161,9 @@ int w_edge_finish(lua_State* L) {
          Field{"l_count", Kind::Integer, false, 1, 100, "discretised l values in [r_e, R - r] (default 6)", {}},
          Field{"optimum", Kind::String, false, std::nullopt, std::nullopt,
                "\"paper\" (φ averaged over l, default) or \"joint\" (each l keeps its best φ)", {"paper", "joint"}},
+         Field{"method", Kind::String, false, std::nullopt, std::nullopt,
+               "\"bottom\" (the paper's, default) or \"side\" (the side-edge positioning, every step the same)",
+               {"bottom", "side"}},
          Field{"chord_tol", Kind::Number, false, 1e-6, 1.0, "chord height around the edge, mm (default 0.001)", {}},
          Field{"max_step", Kind::Number, false, 1e-3, 100.0, "longest step along a row, mm (default 0.5)", {}},
          Field{"zigzag", Kind::Boolean, false, std::nullopt, std::nullopt, "alternate row direction (default true)", {}},
@@ -249,6 +252,7 @@ int w_edge_finish(lua_State* L) {
     rq.r_e_mm = o.number("r_e", 1.0);
     rq.l_count = static_cast<int>(o.integer("l_count", 6));
     rq.optimum = o.string("optimum", "paper") == "joint" ? EdgeOptimum::Joint : EdgeOptimum::Paper;
+    rq.method = o.string("method", "bottom") == "side" ? EdgeMethod::Side : EdgeMethod::Bottom;
     rq.steps.chord_tol_mm = o.number("chord_tol", 0.001);
     rq.steps.max_step_mm = o.number("max_step", 0.5);
     rq.zigzag = o.boolean("zigzag", true);
@@ -292,6 +296,7 @@ int w_plan_report(lua_State* L) {
   set_number(L, "e2", rq.band.e2_mm);
   set_number(L, "r_e", rq.r_e_mm);
   set_string(L, "optimum", rq.optimum == EdgeOptimum::Paper ? "paper" : "joint");
+  set_string(L, "method", rq.method == EdgeMethod::Side ? "side" : "bottom");
   set_number(L, "chord_tol", rq.steps.chord_tol_mm);
   set_number(L, "span_v0", r.v0);
   set_number(L, "span_v1", r.v1);
@@ -305,6 +310,8 @@ int w_plan_report(lua_State* L) {
   set_number(L, "lift_length", stats.lift_mm);
   set_number(L, "cutting_length", stats.cutting_mm);
   set_number(L, "non_cutting_length", stats.non_cutting_mm);
+  set_number(L, "rapid_length", stats.rapid_mm);
+  set_number(L, "plunge_length", stats.plunge_mm);
   set_number(L, "checked_v0", r.checked_v0);
   set_number(L, "checked_v1", r.checked_v1);
   set_bool(L, "zigzag", rq.zigzag);

@@ -64,7 +64,12 @@ EdgeFinishResult plan_edge_finish(const EdgeFinishRequest& request, Progress& pr
   // ---- comparison row (Fig. 8) and the side-edge positioning's rows (Fig. 9) ----
   out.comparison = compare_widths(rq, planned);
   const auto t_side = SteadyClock::now();
-  plan_side_rows(rq, ls, out, progress);
+  if (rq.method == EdgeMethod::Side) {  // the rows just planned are the side-edge method's
+    out.side_rows = static_cast<int>(planned.size());
+    set_side_window(rq, out);
+  } else {
+    plan_side_rows(rq, ls, out, progress);
+  }
   out.side_seconds = seconds_since(t_side);
 
   const DesignGuards guards = design_guards(rq, fe);

@@ -40,6 +40,15 @@ enum class EdgeOptimum {
   Joint,  // ours: each l_j keeps its own best φ, then l balanced (no averaging)
 };
 
+// How each contact is positioned (issue 38 item 4: the paper's comparison
+// like for like). Either way the rows go through the same steps — spacing
+// and stopping rule, tilting clear of the world, partial rows, checks,
+// links — so the two programs differ by the positioning alone.
+enum class EdgeMethod {
+  Bottom,  // the paper's: the flat bottom (l, φ) where it cuts, the corner torus where it cannot
+  Side,    // the conventional side-edge positioning: corner torus, φ = 0, smallest gouge-free lead >= side_min_lead
+};
+
 // Strip sampling for an edge region: condition ① on 41 samples over the
 // whole region around (its round is a fraction of the tool's size) on every
 // 4th line across.
@@ -77,6 +86,7 @@ struct EdgeFinishRequest {
   double r_e_mm = 1.0;                  // condition ③: l >= r_e
   int l_count = 6;                      // discretised l in [r_e, R - r]
   EdgeOptimum optimum = EdgeOptimum::Paper;
+  EdgeMethod method = EdgeMethod::Bottom;
   SideSlipSearch search;
   // On a nearly cylindrical edge the width has two equal peaks (φ of either
   // sign, the tool centre towards the hub or the tip across the feed) and
@@ -93,7 +103,7 @@ struct EdgeFinishRequest {
   // back above the ratio), which on a 0.4 mm round left steps of 0.2 µm.
   StepOptions steps{ChordMethod::Constant, 0.001, true, 0.5, 1e-4};
   bool zigzag = true;                   // one-way links go round the edge
-  double side_min_lead_rad = 3.0 * kPi / 180.0;  // conventional side-edge positioning
+  double side_min_lead_rad = 3.0 * kPi / 180.0;  // conventional side-edge positioning (EdgeMethod::Side)
   // Tilting a contact clear of the world (the drum finish's interference
   // loop, core/collision/tilt.h): corner leads θ from tilt_lead_step up to
   // tilt_lead_max, side-slips all round in tilt_slip_step steps, axes within
@@ -232,7 +242,10 @@ struct EdgeFinishResult {
   // Cutting motions the gouge guard (core/sim, the whole edge region and
   // both flanks) found cutting beyond e1: reached by a link instead.
   long gouge_breaks = 0;
-  int side_rows = 0;             // rows the side-edge positioning needs over the same window
+  // Rows the side-edge positioning needs over the same window, by the same
+  // spacing and stopping rule (plan_rows): with EdgeMethod::Side the rows
+  // planned, otherwise side-edge rows planned over the window for the count.
+  int side_rows = 0;
   double side_window_mm = 0;     // span length covered (along the round's middle)
   EdgeWidthComparison comparison;
   double max_deviation_mm = 0;
@@ -266,6 +279,10 @@ struct EdgeProgramStats {
   int direct_links = 0;        // passes joined on the surface (EdgeFinishLink::direct)
   int lifted_links = 0;        // passes joined by a short lift, fed (EdgeFinishLink::lifted)
   double lift_mm = 0;          // of non_cutting_mm: the short lifts' legs (fed, not rapid)
+  // Of non_cutting_mm: the links' rapid legs (retracts, traverses, rapid
+  // approaches, lead-in and lead-out) and the fed plunges from a rapid into
+  // each pass's first pose.
+  double rapid_mm = 0, plunge_mm = 0;
 };
 EdgeProgramStats edge_program_stats(const EdgeFinishResult& result);
 

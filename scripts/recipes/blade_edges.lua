@@ -19,7 +19,10 @@
 --   4. the paper's comparison: the same rows with the conventional side-edge
 --      positioning (corner contact, φ = 0, smallest gouge-free lead >=
 --      side_min_lead): strip widths along one row (Fig. 8) and row counts
---      (Fig. 9, paper: 31 vs 48);
+--      (Fig. 9, paper: 31 vs 48) by the same spacing and stopping rule;
+--      --set method=side plans the whole edge that way through every step
+--      (tilting, partial rows, checks, links: the same code), for the
+--      programs' passes, lengths and times side by side (files *_side.*);
 --   5. the independent simulation (core/sim) of every move on the edge
 --      region (undercut/overcut map) and the overcut on both flanks, and
 --      the edge's thickness after machining against the design at three
@@ -57,6 +60,8 @@ local opt = require("recipe_options"){
         help = "span fraction where the window ends (1: to the casing, the last row past the blade's tip)"},
   chord_tol = {type = "number", unit = "mm", default = 0.001, range = {1e-5, 0.1}, help = "chord height around the edge"},
   optimum = {type = "string", default = "paper", choices = {"paper", "joint"}, help = "how phi and l are chosen (section 3.2)"},
+  method = {type = "string", default = "bottom", choices = {"bottom", "side"},
+            help = "contact positioning: the paper's flat bottom, or the side edge (the comparison, every other step the same)"},
   side_min_lead = {type = "number", unit = "deg", default = 3, range = {0, 45}, help = "smallest lead of the side-edge comparison"},
   short_lift = {type = "number", unit = "mm", default = 0, range = {0, 10},
                 help = "near passes joined by a fed lift of this much up the axes (0: by retracts and plunges)"},
@@ -75,7 +80,7 @@ local which = opt.edges
 local R, r = opt.R, opt.r
 local settings = {e1 = opt.e1, e2 = opt.e2, overlap = opt.overlap,
                   v0 = opt.v0, v1 = opt.v1, chord_tol = opt.chord_tol,
-                  optimum = opt.optimum, side_min_lead = opt.side_min_lead}
+                  optimum = opt.optimum, side_min_lead = opt.side_min_lead, method = opt.method}
 
 -- The part: both flanks of blade 1, its neighbours and the hub as check
 -- surfaces (the blade itself for shank and holder).
@@ -144,10 +149,12 @@ for _, edge in ipairs(edges) do
   local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool, world = world, name = label .. " " .. edge,
                                     span = {settings.v0, settings.v1}, hub = hub, casing = casing, e1 = settings.e1, e2 = settings.e2,
                                     chord_tol = settings.chord_tol, optimum = settings.optimum,
-                                    side_min_lead = settings.side_min_lead, short_lift = opt.short_lift}
+                                    side_min_lead = settings.side_min_lead, short_lift = opt.short_lift,
+                                    method = settings.method}
   local cpu_plan = os.clock() - cpu0
   local rep = plan:report()
-  local stem = string.format("%s_%s", part_name, edge)
+  -- The side-edge method's files apart: the default programs keep their names.
+  local stem = string.format("%s_%s%s", part_name, edge, settings.method == "side" and "_side" or "")
   plan:write_apt(stem .. ".apt")
   -- The edge's thickness after machining against the design (issue 14
   -- item 7) at a quarter, half and three quarters of the machined span
@@ -269,6 +276,45 @@ for _, edge in ipairs(edges) do
                       rep.passes, rep.single_move_passes, rep.direct_links, rep.lifted_links, rep.cutting_length,
                       rep.non_cutting_length, rep.cutting_length / math.max(rep.non_cutting_length, 1e-9),
                       rep.lift_length))
+  -- The paper's comparison (its Table; issue 38 item 4), figures of this
+  -- method's program: time by length alone at 400 mm/min fed (cutting and
+  -- plunges, the job's finishing feed) and 10 m/min rapid — no acceleration
+  -- or rotary moves, so a lower bound that favours many short passes.
+  local feed_mm_min, rapid_mm_min = 400, 10000
+  rep.times = {cutting_s = 60 * rep.cutting_length / feed_mm_min, plunge_s = 60 * rep.plunge_length / feed_mm_min,
+               rapid_s = 60 * rep.rapid_length / rapid_mm_min, lift_s = 60 * rep.lift_length / feed_mm_min}
+  rep.times.total_s = rep.times.cutting_s + rep.times.plunge_s + rep.times.rapid_s + rep.times.lift_s
+  -- Where the narrowest strip sits on the compared row, for either
+  -- positioning, as planned (before any pose is tilted clear of the world):
+  -- the row's width, which spaces the rows, is its narrowest contact's.
+  local function narrowest_of(widths)
+    local k
+    for i, w in ipairs(widths) do
+      if w > 0 and (not k or w < widths[k]) then k = i end
+    end
+    if not k then return nil end
+    local u = cmp.u[k]
+    local first_side, second_side = "pressure", "suction"
+    if edge == "trailing" then first_side, second_side = "suction", "pressure" end
+    local where = u < region.round_u0 and first_side .. " flank's overlap"
+                  or u > region.round_u1 and second_side .. " flank's overlap"
+                  or (u < 0.5 * (region.round_u0 + region.round_u1) and first_side or second_side) .. " half of the round"
+    return {width_mm = widths[k], u = u, where = where, contact = cmp.contact[k]}
+  end
+  rep.narrowest = {row = cmp.row, v = cmp.v, bottom = narrowest_of(cmp.paper), side = narrowest_of(cmp.side)}
+  print(string.format("            %s method: %d rows + %d partial, %d passes; cutting %.0f mm (%.0f s), rapid links %.0f mm "
+                      .. "(%.0f s), plunges %.0f mm (%.0f s), total %.0f s at %d mm/min fed, %d rapid (length alone)",
+                      rep.method, rep.row_count, rep.infill_rows, rep.passes, rep.cutting_length, rep.times.cutting_s,
+                      rep.rapid_length, rep.times.rapid_s, rep.plunge_length, rep.times.plunge_s, rep.times.total_s,
+                      feed_mm_min, rapid_mm_min))
+  for _, m in ipairs{"bottom", "side"} do
+    local n = rep.narrowest[m]
+    if n then
+      print(string.format("            narrowest strip of row %d (v %.3f), %s positioning: %.2f mm at u %.3f (round u %.3f-%.3f: %s)%s",
+                          cmp.row, cmp.v, m, n.width_mm, n.u, region.round_u0, region.round_u1, n.where,
+                          m == "bottom" and ", " .. n.contact .. " contact" or ""))
+    end
+  end
   for _, why in ipairs(rep.refusal_reasons) do print("            refused: " .. why) end
   edge_rows[#edge_rows + 1] = {edge, rep.row_count, rep.side_rows, rep.width_min, rep.width_max, rep.poses,
                                rep.refusals + rep.refused_links,

@@ -440,6 +440,147 @@ class StadiumEdge : public Surface {
   double rho_, flank_, h_;
 };
 
+// A circular edge: a round of radius rho about the Z axis (front at +X),
+// `span` rad of it around (u), straight along Z over [0, height] (v); pu x pv
+// points out of the material.
+class CircularEdge : public Surface {
+ public:
+  CircularEdge(double rho, double span, double height) : rho_(rho), span_(span), h_(height) {}
+  SurfaceDerivs eval(double u, double v) const override {
+    const double a = (u - 0.5) * span_, c = std::cos(a), s = std::sin(a);
+    SurfaceDerivs d;
+    d.p = Vec3(rho_ * c, rho_ * s, h_ * v);
+    d.pu = span_ * rho_ * Vec3(-s, c, 0);
+    d.pv = Vec3(0, 0, h_);
+    d.puu = span_ * span_ * rho_ * Vec3(-c, -s, 0);
+    return d;
+  }
+
+ private:
+  double rho_, span_, h_;
+};
+
+// Issue 38 item 4: the paper's method (flat bottom) and the side-edge
+// positioning go through the same rows — spacing by the narrowest strip,
+// stopping when a row's reach up covers the window's end. On a circular
+// edge every contact is alike, so both have a closed form. Across the feed
+// the round is straight; a row's strip is
+//  - bottom: the flat bottom's diameter along the generator (the search
+//    turns the disc's centre across the feed, φ = ±90°: any φ whose centre
+//    lies within ρ tan(acos(ρ/(ρ + e2))) of the generator gives it), plus
+//    the corner torus where it rises to e2 at either end,
+//    w = 2 (R - r) + 2 sqrt(2 r e2 - e2²); reach up l + w/2 (l = R - r, the
+//    l the balance keeps: the widths at every l_j tie here);
+//  - side: the torus at the smallest lead θ = side_min_lead (the round is
+//    convex: nothing gouges), swept round the edge: the ends y along the
+//    generator where a point e2 above the round, anywhere within the strip's
+//    sweep (±0.12 mm around, StripSampling::along_half_mm), first enters the
+//    torus — the roots of min_γ dist(S(γ, y) + e2 n, Γ) = r (Γ the torus's
+//    centre circle; bisection), symmetric. Leaning forward, the torus dips
+//    closest to the round behind the contact: at the contact alone (γ = 0,
+//    the strip tests' reference) the strip is 10 % narrower. At the round's
+//    two ends the strip's samples stop at the surface and sweep one way
+//    only: the row's narrowest strip (its spacing) is the narrower of the
+//    two one-way sweeps.
+// The rows are then at k w up the span from the window's start until one
+// reaches the end: n = 1 + ceil((L - up) / w).
+TEST(EdgeFinishTest, BothMethodsShareTheStoppingRuleOnACircularEdge) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "two whole plans (1 s CPU in Release); the steps they share are run by the tests above";
+#endif
+  const double rho = 0.4, height = 30, R = 3, r = 0.5, L = 13.5;
+  auto edge = std::make_shared<const CircularEdge>(rho, 2.4, height);
+  const Tool tool = mill(R, r);
+  const CollisionWorld world;
+  EdgeFinishRequest rq;
+  rq.edge = edge;
+  rq.tool = &tool;
+  rq.world = &world;
+  rq.v0 = 0.25;  // the strips' samples (6 mm each way) stay on the surface
+  rq.v1 = rq.v0 + L / height;
+  rq.threads = 2;
+  const double e2 = rq.band.e2_mm;
+  // Bottom.
+  const double w_bottom = 2 * (R - r) + 2 * std::sqrt(2 * r * e2 - e2 * e2);
+  // Side: the torus's centre circle in the tool frame, at the contact's pose.
+  const EdgePosition side_pos{EdgeContact::Corner, 0, rq.side_min_lead_rad, 0};
+  const EdgeFrame f = edge_frame(edge->eval(0.5, 0.5));
+  const Eigen::Isometry3d to_tool = tool_to_part(position_tool(flat_end_of(tool), f, side_pos)).inverse();
+  int k_lo = -60, k_hi = 60;  // the sweep's samples around, γ = k / 60 * 0.12 mm / ρ
+  auto g = [&](double y) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = k_lo; k <= k_hi; ++k) {
+      const double gamma = 0.12 / rho * k / 60;  // around the round from the contact
+      const Vec3 n(std::cos(gamma), std::sin(gamma), 0);
+      const Vec3 q = to_tool * Vec3(f.point + rho * (n - Vec3::UnitX()) + y * f.y + e2 * n);
+      d = std::min(d, std::hypot(std::hypot(q.x(), q.y()) - (R - r), q.z() - r) - r);
+    }
+    return d;
+  };
+  auto root = [&](double lo, double hi) {  // g(lo) < 0 < g(hi)
+    for (int i = 0; i < 100; ++i) {
+      const double m = 0.5 * (lo + hi);
+      (g(m) < 0 ? lo : hi) = m;
+    }
+    return 0.5 * (lo + hi);
+  };
+  auto side_width = [&](int lo, int hi) {
+    k_lo = lo;
+    k_hi = hi;
+    const double top = root(0, 5), bottom = -root(0, -5);
+    EXPECT_NEAR(top, bottom, 1e-6);
+    return top + bottom;
+  };
+  const double w_side_pose = side_width(-60, 60);  // every contact but the two ends
+  const double w_side = std::min(side_width(-60, 0), side_width(0, 60));
+  const double up_side = w_side / 2;
+  auto rows_of = [&](double w, double up) {
+    // Not near a step of the ceiling: a sampling error of the strips could not flip it.
+    const double k = (L - up) / w;
+    EXPECT_GT(k - std::floor(k), 0.1);
+    EXPECT_LT(k - std::floor(k), 0.9);
+    return 1 + static_cast<int>(std::ceil(k));
+  };
+  // The strips are sampled 0.15 mm apart across the feed (81 over ±6 mm),
+  // their ends interpolated: a few hundredths of a mm. Within the along-feed
+  // samples' reach (±0.12 mm) of the round's ends the sweep is cut short
+  // there (the strip samples stop at the surface): the side strips come out
+  // wider, the row's narrowest (its spacing) is not theirs.
+  const double tol = 0.03, u_margin = 0.13 / (2.4 * rho);
+  for (EdgeMethod method : {EdgeMethod::Bottom, EdgeMethod::Side}) {
+    SCOPED_TRACE(method == EdgeMethod::Bottom ? "bottom" : "side");
+    EdgeFinishRequest m = rq;
+    m.method = method;
+    const EdgeFinishResult res = plan_edge_finish(m);
+    const bool bottom = method == EdgeMethod::Bottom;
+    const double w = bottom ? w_bottom : w_side;  // the row's narrowest
+    // The bottom's reach up: the disc's centre l across the feed towards the tip.
+    const double l = bottom ? res.rows.at(0).poses.at(0).position.l_mm : 0;
+    const double up = bottom ? l + w / 2 : up_side;
+    EXPECT_EQ(res.total_refusals, 0);
+    EXPECT_EQ(res.refused_links, 0);
+    int proper = 0;
+    for (const EdgeFinishRow& row : res.rows) {
+      if (row.infill) continue;
+      ++proper;
+      for (const EdgeFinishPose& p : row.poses) {
+        EXPECT_EQ(p.position.contact, bottom ? EdgeContact::Bottom : EdgeContact::Corner);
+        if (bottom) EXPECT_EQ(p.position.l_mm, l);
+        if (p.u < u_margin || p.u > 1 - u_margin) continue;
+        const double wp = bottom ? w_bottom : w_side_pose;
+        EXPECT_NEAR(p.width_mm, wp, tol) << "u " << p.u << " v " << p.v;
+        EXPECT_NEAR(std::max(p.left_mm, p.right_mm), bottom ? up : wp / 2, tol) << "u " << p.u << " v " << p.v;
+      }
+      if (row.spacing_mm > 0) EXPECT_NEAR(row.spacing_mm, w, tol);
+      EXPECT_NEAR(row.right_min_mm, up, tol);
+    }
+    EXPECT_EQ(proper, rows_of(w, up));
+    // The side-edge row count a bottom run reports is the side method's
+    // rows themselves.
+    EXPECT_EQ(res.side_rows, rows_of(w_side, up_side));
+  }
+}
+
 // The edge's thickness behind its front, design and machined (material r
 // left along the normal), against the circle and its offset: at x = rho - d
 // the round is 2 sqrt(rho^2 - x^2) thick, the machined round 2 sqrt((rho +

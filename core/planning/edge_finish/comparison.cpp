@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <string>
 
-#include "core/common/error.h"
 #include "core/planning/edge_finish/internal.h"
 
 namespace bliskrun::edge_detail {
@@ -32,24 +31,22 @@ EdgeWidthComparison compare_widths(const EdgeFinishRequest& rq, const std::vecto
   return cmp;
 }
 
-// The side-edge positioning's own rows over the window, each spaced by its
-// narrowest strip, and the window's length along the span (mm).
+// The side-edge positioning's own rows over the window, planned by the
+// bottom method's plan_rows with the side positions (EdgeMethod::Side): the
+// same spacing (each row's narrowest strip as emitted) and the same stopping
+// rule (this row's reach up covers the window's end). Before issue 38 they
+// had a rule of their own (half the narrowest width, the strips taken as
+// symmetric, no inserted contacts): built-in TE 17 side rows, 18 by the
+// shared rule (LE 18 either way).
 void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, EdgeFinishResult& out,
                     Progress& progress) {
-  double vs = rq.v0;
-  int rows = 0;
-  progress.begin("edge finish, side-edge rows", 0);
-  while (true) {
-    progress.step(rows);
-    ++rows;
-    const PlannedRow pr = plan_row(rq, vs, ls, true, progress);
-    // The side contact is symmetric across the feed (φ = 0): half each way.
-    const double w = pr.row.side_width_mm;
-    if (!(w > 1e-6)) throw Error("edge finish: side-edge positioning has no strip at v = " + std::to_string(vs));
-    if ((rq.v1 - vs) * max_pv(rq, vs) <= w / 2 || vs >= rq.v1 - 1e-12) break;
-    vs = std::min(rq.v1, vs + w / max_pv(rq, vs));
-  }
-  out.side_rows = rows;
+  EdgeFinishRequest side = rq;
+  side.method = EdgeMethod::Side;
+  out.side_rows = static_cast<int>(plan_rows(side, ls, progress).size());
+  set_side_window(rq, out);
+}
+
+void set_side_window(const EdgeFinishRequest& rq, EdgeFinishResult& out) {
   out.side_window_mm = 0;
   const int n = 50;
   for (int i = 0; i < n; ++i)

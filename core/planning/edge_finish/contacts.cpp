@@ -109,7 +109,11 @@ ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const 
   c.frame = edge_frame(d);
   c.strip = make_strip(rq, c.frame, u, v, row_samples);
   const ContactStrip& strip = *c.strip;
-  if (seeds && !side_only) {
+  const bool side_method = rq.method == EdgeMethod::Side;
+  // The side-edge method's position is one short search (corner_min_lead),
+  // the method's definition at every contact: a partial row's contacts take
+  // it too rather than a neighbour's seed.
+  if (seeds && !side_only && !side_method) {
     ContactPlan seeded = c;
     if (seeded_contact(ls, *seeds, seeded)) return seeded;
     c.evaluations = seeded.evaluations;  // the seeds' tries dropped, their evaluations counted
@@ -118,6 +122,12 @@ ContactPlan plan_contact(const EdgeFinishRequest& rq, double u, double v, const 
   c.side_w = side.feasible ? side.width.width_mm : 0.0;
   c.evaluations += 1;
   if (side_only) return c;
+  if (side_method) {  // emitted as a corner contact: the rows' steps take it as they take the bottom method's
+    c.any = side.feasible;
+    c.corner = side.position;
+    c.corner_w = c.side_w;
+    return c;
+  }
   double phi_sum = 0;
   int feasible = 0;
   for (double l : ls) {

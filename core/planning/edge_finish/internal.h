@@ -134,9 +134,12 @@ std::vector<PlannedRow> plan_rows(const EdgeFinishRequest& rq, const std::vector
 // ---- the paper's comparison (comparison.cpp) ----
 
 EdgeWidthComparison compare_widths(const EdgeFinishRequest& rq, const std::vector<PlannedRow>& planned);
-// Sets out.side_rows and out.side_window_mm.
+// Sets out.side_rows (the side-edge method's rows over rq's window, by
+// plan_rows) and out.side_window_mm.
 void plan_side_rows(const EdgeFinishRequest& rq, const std::vector<double>& ls, EdgeFinishResult& out,
                     Progress& progress);
+// Sets out.side_window_mm: the window's length along the round's middle.
+void set_side_window(const EdgeFinishRequest& rq, EdgeFinishResult& out);
 
 // ---- the window (window.cpp) ----
 

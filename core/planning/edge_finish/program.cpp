@@ -77,6 +77,8 @@ EdgeProgramStats edge_program_stats(const EdgeFinishResult& result) {
     // Fed but not cutting: a short lift's legs (retract, traverse) and the
     // way down into the next pass's first pose.
     if (!cutting && m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Feed) st.lift_mm += d;
+    if (m.kind == Move::Kind::Rapid) st.rapid_mm += d;
+    if (m.kind == Move::Kind::Feed && moves[i - 1].kind == Move::Kind::Rapid) st.plunge_mm += d;
   }
   close_run();
   return st;
