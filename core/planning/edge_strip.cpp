@@ -271,6 +271,11 @@ double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, c
       deepest = std::min(deepest, og);
       continue;
     }
+    const double bg = below_bottom(g);
+    if (bg > 1e-9) {
+      deepest = std::min(deepest, bg);
+      continue;
+    }
     for (size_t k = g.begin; k < g.end; ++k) {
       const SampleTile& t = tiles->tiles[k];
       const double ot = outside(t);
@@ -335,6 +340,17 @@ SampleTiles tile_samples(const std::vector<Vec3>& ps, const std::vector<Vec3>& n
   for (SampleTile& t : st.tiles) box_tile(t, ps, ns);
   st.groups = bound_runs(st.tiles.size(), kGroup, [&](size_t i) { return st.tiles[i].centre; },
                          [&](size_t i) { return st.tiles[i].radius; });
+  // A group's box over its samples (its tiles' range), for the same test.
+  for (SampleTile& g : st.groups) {
+    SampleTile over = g;
+    over.begin = st.tiles[g.begin].begin;
+    over.end = st.tiles[g.end - 1].end;
+    box_tile(over, ps, ns);
+    for (int k = 0; k < 3; ++k) {
+      g.axes[k] = over.axes[k];
+      g.half[k] = over.half[k];
+    }
+  }
   return st;
 }
 

@@ -186,8 +186,8 @@ struct SampleTile {
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   size_t begin = 0, end = 0;
-  // A box about the centre holding the samples (tiles only; a group's half
-  // sizes are infinite): axes[2] the samples' mean normal, half[i] their
+  // A box about the centre holding the samples (a group's: all its tiles'
+  // samples; infinite where their normals cancel): axes[2] the samples' mean normal, half[i] their
   // largest offset along axes[i]. Under a flat bottom lying on the surface
   // a tile's sphere reaches above the bottom plane while its samples lie
   // within microns below it: the box tells them outside from one product
