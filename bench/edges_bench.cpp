@@ -12,7 +12,7 @@
 // over the poses emitted; the recipe's final simulation is not in it.
 // BM_EdgeWholeEdgeRotor67: the same on NASA Rotor 67's blade 1 as the
 // recipe builds it (flanks lofted to the edge points with cosine columns,
-// both neighbours, the hub as a mesh, a 120 mm shank); skipped without
+// both neighbours, the hub measured analytically, a 120 mm shank); skipped without
 // ../shared/data.
 #include <benchmark/benchmark.h>
 
@@ -135,7 +135,7 @@ struct Rotor67Setup {
         world.add(std::string(turn < 0 ? "blade before " : "blade after ") + (g == &loft.pressure ? "p" : "s"),
                   tessellate(interpolate_grid(r), 0.01));
       }
-    world.add("hub", tessellate(*hub, 0.01));
+    world.add("hub", std::make_shared<RevolutionDistance>(*hub, 0.01));
     CheckSurfaceOptions own;
     own.parts.cutter = false;
     own.margin_mm = 0.05;

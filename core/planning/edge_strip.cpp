@@ -251,16 +251,40 @@ double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, c
   }
   // A bound wholly outside the cutter stands for what it bounds.
   auto outside = [&](const SampleTile& t) { return cutter.signed_distance(Vec3(to_tool * t.centre)) - t.radius; };
+  // The tool axis in the part frame: z (tool frame) = axis . p + z0. No
+  // point of the cutter lies below its bottom plane z = 0, and a point at
+  // z < 0 is at least -z outside it (FlatEnd::signed_distance), so a tile
+  // whose box lies wholly below the plane stands for its samples by that
+  // bound — positive, as the sphere's: the result is the same wherever it
+  // is below 0 (every caller compares it with e1 <= 0), and the first
+  // sample below stop_below is the same one.
+  const Vec3 axis = to_tool.linear().row(2).transpose();
+  const double z0 = to_tool.translation().z();
+  auto below_bottom = [&](const SampleTile& t) {
+    double top = axis.dot(t.centre) + z0;
+    for (int i = 0; i < 3; ++i) top += t.half[i] * std::abs(axis.dot(t.axes[i]));
+    return -top;
+  };
   for (const SampleTile& g : tiles->groups) {
     const double og = outside(g);
     if (og > 0) {
       deepest = std::min(deepest, og);
       continue;
     }
+    const double bg = below_bottom(g);
+    if (bg > 1e-9) {
+      deepest = std::min(deepest, bg);
+      continue;
+    }
     for (size_t k = g.begin; k < g.end; ++k) {
       const SampleTile& t = tiles->tiles[k];
       const double ot = outside(t);
-      if (ot > 0) deepest = std::min(deepest, ot);
+      if (ot > 0) {
+        deepest = std::min(deepest, ot);
+        continue;
+      }
+      const double bt = below_bottom(t);
+      if (bt > 1e-9) deepest = std::min(deepest, bt);  // clear of rounding in the bound
       else if (range(t.begin, t.end)) return deepest;
     }
   }
@@ -284,12 +308,49 @@ std::vector<SampleTile> bound_runs(size_t count, size_t size, Centre centre, Rad
   return out;
 }
 
-SampleTiles tile_samples(const std::vector<Vec3>& ps) {
+// A tile's box (SampleTile::axes, half): its samples' mean normal, the
+// direction across it from its first sample to the one farthest from that,
+// and the third; each half size the largest offset along it. No box (the
+// half sizes left infinite) where the normals cancel.
+void box_tile(SampleTile& t, const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
+  Vec3 n = Vec3::Zero();
+  for (size_t i = t.begin; i < t.end; ++i) n += ns[i];
+  if (!(n.norm() > 1e-9)) return;
+  n.normalize();
+  size_t far = t.begin;
+  for (size_t i = t.begin; i < t.end; ++i)
+    if ((ps[i] - ps[t.begin]).norm() > (ps[far] - ps[t.begin]).norm()) far = i;
+  Vec3 d = ps[far] - ps[t.begin];
+  d -= n.dot(d) * n;
+  if (!(d.norm() > 1e-12)) d = n.unitOrthogonal();
+  d.normalize();
+  t.axes[0] = d;
+  t.axes[1] = n.cross(d);
+  t.axes[2] = n;
+  for (int k = 0; k < 3; ++k) {
+    t.half[k] = 0;
+    for (size_t i = t.begin; i < t.end; ++i) t.half[k] = std::max(t.half[k], std::abs(t.axes[k].dot(ps[i] - t.centre)));
+  }
+}
+
+SampleTiles tile_samples(const std::vector<Vec3>& ps, const std::vector<Vec3>& ns) {
   constexpr size_t kTile = 8, kGroup = 8;
   SampleTiles st;
   st.tiles = bound_runs(ps.size(), kTile, [&](size_t i) { return ps[i]; }, [](size_t) { return 0.0; });
+  for (SampleTile& t : st.tiles) box_tile(t, ps, ns);
   st.groups = bound_runs(st.tiles.size(), kGroup, [&](size_t i) { return st.tiles[i].centre; },
                          [&](size_t i) { return st.tiles[i].radius; });
+  // A group's box over its samples (its tiles' range), for the same test.
+  for (SampleTile& g : st.groups) {
+    SampleTile over = g;
+    over.begin = st.tiles[g.begin].begin;
+    over.end = st.tiles[g.end - 1].end;
+    box_tile(over, ps, ns);
+    for (int k = 0; k < 3; ++k) {
+      g.axes[k] = over.axes[k];
+      g.half[k] = over.half[k];
+    }
+  }
   return st;
 }
 
@@ -378,7 +439,7 @@ std::shared_ptr<const SharedGougeSamples> share_gouge_samples(std::vector<Vec3> 
   auto out = std::make_shared<SharedGougeSamples>();
   out->p = std::move(p);
   out->n = std::move(n);
-  out->tiles = tile_samples(out->p);
+  out->tiles = tile_samples(out->p, out->n);
   return out;
 }
 
@@ -388,8 +449,8 @@ ContactStrip::ContactStrip(const Tool& tool, const EdgeFrame& frame, StripSample
       frame_(frame),
       samples_(std::move(samples)),
       band_(band),
-      tiles_(tile_samples(samples_.p)),
-      gouge_tiles_(tile_samples(samples_.gouge_p)),
+      tiles_(tile_samples(samples_.p, samples_.n)),
+      gouge_tiles_(tile_samples(samples_.gouge_p, samples_.gouge_n)),
       shared_(std::move(shared)) {}
 
 ToolPose ContactStrip::pose(const EdgePosition& pos) const { return position_tool(flat_, frame_, pos); }

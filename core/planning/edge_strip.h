@@ -186,6 +186,14 @@ struct SampleTile {
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   size_t begin = 0, end = 0;
+  // A box about the centre holding the samples (a group's: all its tiles'
+  // samples; infinite where their normals cancel): axes[2] the samples' mean normal, half[i] their
+  // largest offset along axes[i]. Under a flat bottom lying on the surface
+  // a tile's sphere reaches above the bottom plane while its samples lie
+  // within microns below it: the box tells them outside from one product
+  // per axis (screen_deepest).
+  Vec3 axes[3] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+  double half[3] = {kInf, kInf, kInf};
 };
 // Tiles of 8 samples, and groups of 8 consecutive tiles bounding them (a
 // group's begin/end index tiles): a row's shared samples span the whole

@@ -269,12 +269,23 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
 void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
               const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
   const Eigen::Isometry3d to_tool = to_part.inverse();
+  const Vec3 axis = to_tool.linear().row(2).transpose();  // z (tool frame) = axis . p + z0
+  const double z0 = to_tool.translation().z();
+  const double floor = cutter.z_min() - o.tol_mm;
   for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), o.tol_mm, false, [&](int m) {
     const double left = residual[m].load(std::memory_order_relaxed);
     if (left <= o.settled_mm) return;
     const Sample& smp = idx.samples[m];
     ++evaluations;
-    const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, std::min(o.search_above_mm, left));
+    const double limit = std::min(o.search_above_mm, left);
+    // Where the whole line the trace visits (s from -below up to the
+    // limit) lies below the cutter's lowest plane by more than tol, it
+    // enters nowhere: +inf, the residual unchanged, without the trace (a
+    // sample the position before cut to just under the bottom it still
+    // lies under: most of a flat end's sweep).
+    const double zp = axis.dot(smp.p) + z0, nz = axis.dot(smp.n);
+    if (zp + (nz >= 0 ? std::max(limit, -o.search_below_mm) * nz : -o.search_below_mm * nz) < floor) return;
+    const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, limit);
     if (s < kInf) lower_to(residual[m], s);
   });
 }
@@ -524,11 +535,22 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
     // The same frame again finds nothing deeper, and keeps the first.
     if (s > (include_from ? 0 : 1) && to_tool.matrix() == previous.matrix()) continue;
     previous = to_tool;
+    // The tool axis in the part frame: z (tool frame) = axis . p + z0.
+    const Vec3 axis = to_tool.linear().row(2).transpose();
+    const double z0 = to_tool.translation().z();
+    const double floor = cutter.z_min() - options_.tol_mm;
     for_each_sample_near(cutter, to_tool, idx, range, options_.tol_mm, true, [&](int m) {
       const Sample& smp = idx.samples[m];
       // Only entries below -allowed matter: the trace stops there.
-      const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_,
-                                   std::min(-allowed_mm, cut.depth_mm));
+      const double limit = std::min(-allowed_mm, cut.depth_mm);
+      // The trace visits p + s n for s from -range up to the limit; where
+      // all of that lies below the cutter's lowest plane by more than tol,
+      // every step's bound exceeds tol and the trace enters nowhere (its
+      // answer, +inf, without the trace: a sample under a flat bottom
+      // lying on the surface, most of what the tiles leave).
+      const double zp = axis.dot(smp.p) + z0, nz = axis.dot(smp.n);
+      if (zp + (nz >= 0 ? std::max(limit, -range) * nz : -range * nz) < floor) return;
+      const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_, limit);
       if (e < cut.depth_mm && e < -allowed_mm) {
         cut.depth_mm = e;
         cut.t = t;
