@@ -23,6 +23,14 @@ local M = {}
 --   surface of revolution), for the shank and holder only, with that margin — an operation that runs before
 --   the hub is finished keeps its shank and holder off the stock there (the
 --   cutter cuts it; job.edge_finish after job.rough_channels).
+-- opts.flank_stock: the stock still on blade flanks, {{blade =, side =,
+--   stock = mm}, ...}: each flank trimmed between the hub and opts.top (a
+--   surface of revolution, the casing by default: the blank's top the
+--   roughing started from) with the stock as its margin, for the shank and
+--   holder only (the cutter cuts stock). Distance to the flank below the
+--   stock is inside it: no mesh of the stock itself, the flank's mesh (at
+--   opts.chord_tol, its tolerance added to the margin; opts.meshes: a cache
+--   shared with around_channel) measured with that margin.
 function M.around_blade(blisk, k, opts)
   opts = opts or {}
   local n = blisk:blade_count()
@@ -47,6 +55,13 @@ function M.around_blade(blisk, k, opts)
       surfaces[#surfaces + 1] = {name = "hub's stock", revolution = blisk:hub(), chord_tol = tol,
                                  margin = opts.hub_stock, parts = {"shank", "holder"}}
     end
+  end
+  for _, f in ipairs(opts.flank_stock or {}) do
+    assert(f.side == "pressure" or f.side == "suction", "flank_stock: side must be 'pressure' or 'suction'")
+    assert(type(f.stock) == "number" and f.stock > 0, "flank_stock: stock must be a number > 0 (mm)")
+    local mesh = M.trimmed_flank_mesh(blisk, f.blade, f.side, opts.top, tol, opts.meshes)
+    surfaces[#surfaces + 1] = {name = string.format("blade %d %s's stock", f.blade, f.side), mesh = mesh,
+                               margin = f.stock + tol, parts = {"shank", "holder"}}
   end
   if opts.own ~= false then
     -- The blade being machined, for the shank and holder only (the cutter
@@ -86,12 +101,8 @@ function M.around_channel(blisk, k, opts)
   for _, b in ipairs{k, k % n + 1} do
     cache[b] = cache[b] or {}
     for _, side in ipairs{"suction", "pressure"} do
-      -- The blade as it is: its flank from the hub to the top (the flank's
-      -- grid reaches past the casing, up to 7 mm at the inlet, where no
-      -- material is; the shank passes there).
-      cache[b][side] = cache[b][side] or bliskrun.trim_flank{flank = blisk:flank(b, side), hub = blisk:hub(),
-                                                             casing = top}:tessellate(tol)
-      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = cache[b][side],
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side),
+                                 mesh = M.trimmed_flank_mesh(blisk, b, side, top, tol, cache),
                                  margin = opts.face_margin or 0}
     end
   end
@@ -105,6 +116,19 @@ function M.around_channel(blisk, k, opts)
   cache.hub = cache.hub or blisk:hub():tessellate(tol)
   surfaces[#surfaces + 1] = {name = "hub", mesh = cache.hub}
   return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- Blade b's flank `side` as the blade is: from the hub to `top` (a surface
+-- of revolution; the casing by default) — the flank's grid reaches past the
+-- casing, up to 7 mm at the inlet, where no material is (the shank passes
+-- there) — tessellated at tol mm. cache (optional): {[b] = {[side] = mesh}},
+-- filled as needed (around_channel's `meshes`; one top per cache).
+function M.trimmed_flank_mesh(blisk, b, side, top, tol, cache)
+  cache = cache or {}
+  cache[b] = cache[b] or {}
+  cache[b][side] = cache[b][side] or bliskrun.trim_flank{flank = blisk:flank(b, side), hub = blisk:hub(),
+                                                         casing = top or blisk:casing()}:tessellate(tol)
+  return cache[b][side]
 end
 
 -- Blade b's leading or trailing edge round (bliskrun.edge_region, no
