@@ -267,28 +267,59 @@ local function hub_stock_before(j, index)
   return left
 end
 
--- The stock still on each flank when operation `index` of job j starts:
--- left[b][side] = {stock = mm, top =, mesh_tol =} — the stock the last
--- channel roughing before it left there (its `stock` plus its `tolerance`,
--- the most it promises to leave), its top (the blank's, a meridian or nil
--- for the casing) and its mesh tolerance; nil where a drum finish since has
--- finished that flank, or no roughing reached it (the part already roughed
--- is the job's part, as far as any proof knows).
+-- The stock still on each blade face when operation `index` of job j
+-- starts: left[b][face] = {stock = mm, top =, mesh_tol =, below =} (face:
+-- "pressure", "suction", "leading", "trailing") — the stock the last
+-- channel roughing before it left there (its `stock`, as for the hub: the
+-- shank's clearance on top covers its scallops, 0.49-0.52 mm measured on
+-- the built-in flanks; with stock + tolerance the built-in trailing edge's
+-- plan changed so that one link turned the axis 0.002 deg past the C
+-- table's pole, which the Heidenhain post cannot follow), its top (the
+-- blank's, a meridian or nil for the casing) and its mesh tolerance; after
+-- a drum finish of the flank only its strip up to `below` mm over the hub
+-- (the plan's hub strip, under its first row) until a hub finish of the
+-- blade; nil where an edge finish since has finished that edge, or no
+-- roughing reached the face (the part already roughed is the job's part,
+-- as far as any proof knows).
 local function flank_stock_before(j, index)
   local n, left = j.part:blade_count(), {}
+  local function set(b, face, e) left[b] = left[b] or {}; left[b][face] = e end
   for i = 1, (index or #j.operations + 1) - 1 do
     local op = j.operations[i]
     if op.kind == "rough_channels" then
-      -- Channel c: blade c's suction flank and blade c+1's pressure flank.
+      -- Channel c: blade c's suction flank and blade c+1's pressure flank,
+      -- and both blades' edge rounds (the ball keeps the stock off them).
+      local e = {stock = op.stock, top = op.top, mesh_tol = op.mesh_tol}
       for _, c in ipairs(op.blades) do
-        for _, f in ipairs{{c, "suction"}, {c % n + 1, "pressure"}} do
-          left[f[1]] = left[f[1]] or {}
-          left[f[1]][f[2]] = {stock = op.stock + op.tolerance, top = op.top, mesh_tol = op.mesh_tol}
+        set(c, "suction", e)
+        set(c % n + 1, "pressure", e)
+        for _, b in ipairs{c, c % n + 1} do
+          set(b, "leading", e)
+          set(b, "trailing", e)
         end
       end
     elseif op.kind == "drum_finish" then
+      -- The strip under its first row keeps the stock until the hub finish.
       for _, b in ipairs(op.blades) do
-        for _, side in ipairs(op.sides) do if left[b] then left[b][side] = nil end end
+        for _, side in ipairs(op.sides) do
+          local e = left[b] and left[b][side]
+          if e then
+            set(b, side, op.hub_strip and op.hub_strip > 0 and {stock = e.stock, top = e.top, mesh_tol = e.mesh_tol,
+                                                                 below = op.hub_strip} or nil)
+          end
+        end
+      end
+    elseif op.kind == "edge_finish" then
+      for _, b in ipairs(op.blades) do
+        for _, edge in ipairs(op.edges) do if left[b] then left[b][edge] = nil end end
+      end
+    elseif op.kind == "hub_finish" then
+      -- Its root strip all round the blade, up to `top` (at least 4 mm):
+      -- over the drum finish's strip.
+      for _, b in ipairs(op.blades) do
+        for _, side in ipairs{"pressure", "suction"} do
+          if left[b] and left[b][side] and left[b][side].below then left[b][side] = nil end
+        end
       end
     end
   end
@@ -311,15 +342,17 @@ local function stock_world(self, j, index, k, hub_stock, skip)
   local left = flank_stock_before(j, index)
   local list, top, tol = {}, nil, nil
   for _, d in ipairs{-1, 0, 1} do
-    for _, side in ipairs{"pressure", "suction"} do
+    for _, side in ipairs{"pressure", "suction", "leading", "trailing"} do
       if not (d == 0 and skip and skip(side)) then
         local most
         for _, b in ipairs(self.periodic and self.blades or {k}) do
           local e = left[(b + d - 1) % n + 1] and left[(b + d - 1) % n + 1][side]
-          if e and (not most or e.stock > most.stock) then most = e end
+          -- The whole flank over its strip under the drum's first row.
+          if e and (not most or e.stock > most.stock or (most.below and not e.below)
+                    or (e.below and most.below and e.below > most.below)) then most = e end
         end
         if most then
-          list[#list + 1] = {blade = (k + d - 1) % n + 1, side = side, stock = most.stock}
+          list[#list + 1] = {blade = (k + d - 1) % n + 1, side = side, stock = most.stock, below = most.below}
           top, tol = most.top, most.mesh_tol
         end
       end
@@ -327,7 +360,7 @@ local function stock_world(self, j, index, k, hub_stock, skip)
   end
   if hub_stock <= 0 and #list == 0 then return j:world_around(k), nil end
   local key = string.format("%d:%g", k, hub_stock)
-  for _, f in ipairs(list) do key = key .. string.format(":%d%s%g", f.blade, f.side, f.stock) end
+  for _, f in ipairs(list) do key = key .. string.format(":%d%s%g/%s", f.blade, f.side, f.stock, tostring(f.below)) end
   j.stock_worlds = j.stock_worlds or {}
   if not j.stock_worlds[key] then
     -- The flanks' meshes as the roughing's worlds tessellated them (trimmed
@@ -402,6 +435,9 @@ function M.drum_finish(o)
         -- and its other flank where this operation finished it before.
         local function skip(s)
           if s == side then return top_down end
+          -- Its edge rounds: the wheel runs to the flank's ends, beside them
+          -- (the leads and the row ends); left to the verdict's stock check.
+          if s == "leading" or s == "trailing" then return true end
           for h = 1, i - 1 do if self.sides[h] == s then return true end end
           return false
         end
@@ -422,6 +458,8 @@ function M.drum_finish(o)
       end
       flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed,
                              moves_list = plan:moves()}
+      -- The strip under the first row keeps its stock (flank_stock_before).
+      self.hub_strip = math.max(self.hub_strip or 0, r.hub_strip or 0)
     end
     if not self.periodic then return flanks end
     return blades_of(self, j, function() return flanks end)
@@ -481,7 +519,11 @@ function M.edge_finish(o)
       if self.flank_stock == false then
         world = hub_stock > 0 and stock_world({periodic = false}, j, 1, k, hub_stock) or j:world_around(k)
       else
-        world = stock_world(self, j, index, k, hub_stock)
+        -- Its own edges are the cutter's.
+        world = stock_world(self, j, index, k, hub_stock, function(s)
+          for _, e in ipairs(self.edges) do if e == s then return true end end
+          return false
+        end)
       end
       for _, edge in ipairs(self.edges) do
         -- The flank whose edge end is at v = 0 first (bliskrun.edge_region).
