@@ -67,6 +67,8 @@ std::vector<Field> common_fields() {
             "measure every segment and shorten it to chord_tol (default true; false reproduces eq. 17 as written)", {}},
       Field{"max_step", Kind::Number, false, 1e-3, 1000.0, "longest step along a row, mm (default 5)", {}},
       Field{"zigzag", Kind::Boolean, false, std::nullopt, std::nullopt, "alternate row direction (default true)", {}},
+      Field{"top_down", Kind::Boolean, false, std::nullopt, std::nullopt,
+            "cut the rows from the tip down to the hub (default false: from the hub up)", {}},
       Field{"flip_normal", Kind::Boolean, false, std::nullopt, std::nullopt,
             "the flank's pu x pv points into the material (default false)", {}},
       Field{"width_samples", Kind::Integer, false, 2, 10000, "contacts per row sampled for the width (default 40)", {}},
@@ -111,6 +113,7 @@ LuaDrumPlan read_common(lua_State* L, const luax::Options& o, const std::string&
   rq.steps.guarantee_tolerance = o.boolean("guarantee", true);
   rq.steps.max_step_mm = o.number("max_step", 5.0);
   rq.zigzag = o.boolean("zigzag", true);
+  rq.top_down = o.boolean("top_down", false);
   rq.flip_normal = o.boolean("flip_normal", false);
   rq.width_samples = static_cast<int>(o.integer("width_samples", 40));
   rq.trim_samples_v = static_cast<int>(o.integer("trim_samples", 200));
@@ -264,6 +267,7 @@ int w_drum_plan_report(lua_State* L) {
   set_string(L, "steps", rq.steps.method == ChordMethod::Constant ? "constant" : "variable");
   set_bool(L, "guarantee", rq.steps.guarantee_tolerance);
   set_bool(L, "zigzag", rq.zigzag);
+  set_bool(L, "top_down", rq.top_down);
   lua_pushinteger(L, static_cast<lua_Integer>(r.rows.size()));
   lua_setfield(L, -2, "row_count");
   lua_pushinteger(L, r.total_poses);

@@ -442,6 +442,13 @@ DrumFinishResult plan_drum_finish(const DrumFinishRequest& rq, Progress& progres
     res.total_refusals += static_cast<int>(rows[r].refusals.size());
     res.max_deviation_mm = std::max(res.max_deviation_mm, rows[r].max_deviation_mm);
   }
+  // From the tip down (the request's top_down): the same rows in reverse;
+  // each keeps its direction, so the zigzag still alternates, and the links
+  // below are planned in the order they are cut.
+  if (rq.top_down) {
+    std::reverse(rows.begin(), rows.end());
+    for (size_t r = 0; r < rows.size(); ++r) rows[r].spacing_du = r + 1 < rows.size() ? rows[r].u - rows[r + 1].u : 0.0;
+  }
   res.rows = std::move(rows);
 
   // Links: leave along the flank normal, traverse, approach along the

@@ -34,6 +34,15 @@ struct DrumFinishRequest {
   StepOptions steps;
   TiltSettings tilt;
   bool zigzag = true;
+  // Rows cut from the tip down to the hub instead of up from it (the rows,
+  // their poses and spacing are the same; only their order and the links
+  // between them change). After a roughing that left stock on the flank the
+  // wheel's shank runs along the flank above its row, 0.15-0.34 mm off it
+  // on the built-in blisk's concave pressure flank: cut from the hub up, the
+  // flank there still carries the stock and the shank stands in it; from the
+  // tip down it is already finished (and the blade keeps the stiffness of
+  // its unfinished root while its tip is cut).
+  bool top_down = false;
   int width_samples = 40;      // contact points per row sampled for the width
   int trim_samples_v = 200;    // iso-v lines intersected with hub and casing
   // Links between rows (core/planning/links.h). A drum wheel cuts with its
@@ -71,7 +80,7 @@ struct DrumFinishRow {
   // Smallest reach of the cut within the residual height towards the hub /
   // the tip over the row's poses as tilted (width/2 each at lead 0).
   double reach_below_mm = 0, reach_above_mm = 0;
-  double spacing_du = 0;       // u' step to the next row (0 on the last)
+  double spacing_du = 0;       // u' step to the next row cut (0 on the last; > 0 either way)
   int contacts = 0;            // contact points planned along the row
   double max_deviation_mm = 0; // measured chord deviation
   bool reversed = false;       // zigzag: row run from v = 1 to v = 0

@@ -104,6 +104,7 @@ function M.settings(blisk, tool, opts)
     hub = blisk and blisk:hub(), casing = blisk and blisk:casing(), tool = tool,
     residual = opts.residual or 0.014, chord_tol = opts.chord_tol or 0.002,
     steps = opts.steps or "variable", guarantee = opts.guarantee ~= false, zigzag = opts.zigzag ~= false,
+    top_down = opts.top_down,
     clearance = opts.clearance or {cutter = 0, shank = opts.shank_clearance or 0.1, holder = 1},
     -- Links leave along the flank normal, proved against the finished flank
     -- with chord_tol as the allowed overcut (link = "axis" retracts along

@@ -23,6 +23,16 @@ local M = {}
 --   surface of revolution), for the shank and holder only, with that margin — an operation that runs before
 --   the hub is finished keeps its shank and holder off the stock there (the
 --   cutter cuts it; job.edge_finish after job.rough_channels).
+-- opts.flank_stock: the stock still on blades, {{blade =, side =, stock =
+--   mm, below =}, ...}: side "pressure" or "suction" (the flank trimmed
+--   between the hub and opts.top, a surface of revolution, the casing by
+--   default: the blank's top the roughing started from; with `below`, only
+--   its strip up to `below` mm over the hub) or "leading" / "trailing" (the
+--   edge round up to opts.top), with the stock as its margin, for the shank
+--   and holder only (the cutter cuts stock). Distance to the face below the
+--   stock is inside it: no mesh of the stock itself, the face's mesh (at
+--   opts.chord_tol, its tolerance added to the margin; opts.meshes: a cache
+--   shared with around_channel) measured with that margin.
 function M.around_blade(blisk, k, opts)
   opts = opts or {}
   local n = blisk:blade_count()
@@ -47,6 +57,34 @@ function M.around_blade(blisk, k, opts)
       surfaces[#surfaces + 1] = {name = "hub's stock", revolution = blisk:hub(), chord_tol = tol,
                                  margin = opts.hub_stock, parts = {"shank", "holder"}}
     end
+  end
+  local cache = opts.meshes or {}
+  for _, f in ipairs(opts.flank_stock or {}) do
+    assert(({pressure = true, suction = true, leading = true, trailing = true})[f.side],
+           "flank_stock: side must be 'pressure', 'suction', 'leading' or 'trailing'")
+    assert(type(f.stock) == "number" and f.stock > 0, "flank_stock: stock must be a number > 0 (mm)")
+    local mesh, name
+    if f.side == "leading" or f.side == "trailing" then
+      cache[f.blade] = cache[f.blade] or {}
+      cache[f.blade][f.side] = cache[f.blade][f.side] or M.edge_round(blisk, f.blade, f.side, opts.top).surface:tessellate(tol)
+      mesh, name = cache[f.blade][f.side], string.format("blade %d %s edge's stock", f.blade, f.side)
+    elseif f.below then
+      -- The strip a drum finish leaves over the hub: the flank up to the hub
+      -- raised by `below` (radially, at least that far along the flank).
+      local key = string.format("%s below %g", f.side, f.below)
+      cache[f.blade] = cache[f.blade] or {}
+      if not cache[f.blade][key] then
+        local raised = {}
+        for i, q in ipairs(blisk:hub_meridian()) do raised[i] = {q[1], q[2] + f.below} end
+        cache[f.blade][key] = bliskrun.trim_flank{flank = blisk:flank(f.blade, f.side), hub = blisk:hub(),
+          casing = bliskrun.surface_of_revolution{meridian = raised}}:tessellate(tol)
+      end
+      mesh, name = cache[f.blade][key], string.format("blade %d %s's stock below %g mm", f.blade, f.side, f.below)
+    else
+      mesh = M.trimmed_flank_mesh(blisk, f.blade, f.side, opts.top, tol, cache)
+      name = string.format("blade %d %s's stock", f.blade, f.side)
+    end
+    surfaces[#surfaces + 1] = {name = name, mesh = mesh, margin = f.stock + tol, parts = {"shank", "holder"}}
   end
   if opts.own ~= false then
     -- The blade being machined, for the shank and holder only (the cutter
@@ -86,12 +124,8 @@ function M.around_channel(blisk, k, opts)
   for _, b in ipairs{k, k % n + 1} do
     cache[b] = cache[b] or {}
     for _, side in ipairs{"suction", "pressure"} do
-      -- The blade as it is: its flank from the hub to the top (the flank's
-      -- grid reaches past the casing, up to 7 mm at the inlet, where no
-      -- material is; the shank passes there).
-      cache[b][side] = cache[b][side] or bliskrun.trim_flank{flank = blisk:flank(b, side), hub = blisk:hub(),
-                                                             casing = top}:tessellate(tol)
-      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = cache[b][side],
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side),
+                                 mesh = M.trimmed_flank_mesh(blisk, b, side, top, tol, cache),
                                  margin = opts.face_margin or 0}
     end
   end
@@ -105,6 +139,19 @@ function M.around_channel(blisk, k, opts)
   cache.hub = cache.hub or blisk:hub():tessellate(tol)
   surfaces[#surfaces + 1] = {name = "hub", mesh = cache.hub}
   return bliskrun.collision_world{surfaces = surfaces}
+end
+
+-- Blade b's flank `side` as the blade is: from the hub to `top` (a surface
+-- of revolution; the casing by default) — the flank's grid reaches past the
+-- casing, up to 7 mm at the inlet, where no material is (the shank passes
+-- there) — tessellated at tol mm. cache (optional): {[b] = {[side] = mesh}},
+-- filled as needed (around_channel's `meshes`; one top per cache).
+function M.trimmed_flank_mesh(blisk, b, side, top, tol, cache)
+  cache = cache or {}
+  cache[b] = cache[b] or {}
+  cache[b][side] = cache[b][side] or bliskrun.trim_flank{flank = blisk:flank(b, side), hub = blisk:hub(),
+                                                         casing = top or blisk:casing()}:tessellate(tol)
+  return cache[b][side]
 end
 
 -- Blade b's leading or trailing edge round (bliskrun.edge_region, no

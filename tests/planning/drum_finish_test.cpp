@@ -267,6 +267,56 @@ TEST(DrumFinish, AWallInThePathGivesRefusalsNotPoses) {
     }
 }
 
+// Issue 41: after a roughing the flank carries its stock until the rows
+// reach it, and the wheel's shank runs up along the flank above its row;
+// cut from the tip down (top_down) that flank is finished (the job's stock
+// check measures it on the built-in blisk: bench/RESULTS.md). The same rows
+// and poses in reverse, each row keeping its direction (the zigzag still
+// alternates in cutting order), linked in the order cut, every link proved.
+TEST(DrumFinish, TopDownCutsTheSameRowsFromTheTipLinkedInThatOrder) {
+  DrumFixture f;
+  f.world.add("neighbour", grid_mesh(Vec3(-50, kY0 - 100, 40), Vec3(100, 0, 0), Vec3(0, 200, 0), 4, 4));
+  DrumFinishRequest rq = f.request();
+  const DrumFinishResult up = plan_drum_finish(rq);
+  rq.top_down = true;
+  const DrumFinishResult down = plan_drum_finish(rq);
+  ASSERT_EQ(up.total_refusals + up.refused_links + down.total_refusals + down.refused_links, 0);
+  ASSERT_EQ(up.rows.size(), down.rows.size());
+  ASSERT_GT(up.rows.size(), 3u);
+  const size_t n = up.rows.size();
+  for (size_t r = 0; r < n; ++r) {
+    const DrumFinishRow &a = up.rows[r], &b = down.rows[n - 1 - r];
+    EXPECT_EQ(a.u, b.u);
+    EXPECT_EQ(a.reversed, b.reversed);
+    ASSERT_EQ(a.poses.size(), b.poses.size());
+    for (size_t k = 0; k < a.poses.size(); ++k) {
+      EXPECT_EQ(a.poses[k].pose.tip, b.poses[k].pose.tip);
+      EXPECT_EQ(a.poses[k].pose.axis, b.poses[k].pose.axis);
+    }
+    if (r + 1 < n) {
+      EXPECT_GT(a.spacing_du, 0);
+      EXPECT_NEAR(a.spacing_du, down.rows[n - 2 - r].spacing_du, 1e-12);
+      EXPECT_NE(down.rows[r].reversed, down.rows[r + 1].reversed);  // zigzag in cutting order
+    }
+  }
+  EXPECT_EQ(down.rows.front().u, 1.0);  // the tip row first
+  ASSERT_EQ(down.links.size(), n - 1);
+  for (const DrumFinishLink& l : down.links) {
+    EXPECT_TRUE(l.clear);
+    EXPECT_EQ(l.to_row, l.from_row + 1);
+    EXPECT_LT(down.rows[l.to_row].u, down.rows[l.from_row].u);
+  }
+  // The program: the tip row's poses first, then down row by row.
+  const Toolpath moves = drum_finish_moves(down);
+  int last_row = -1;
+  for (const Move& m : moves) {
+    ASSERT_NE(m.kind, Move::Kind::Stop);
+    EXPECT_GE(m.row, last_row);
+    last_row = m.row;
+  }
+  EXPECT_EQ(last_row, static_cast<int>(n - 1));
+}
+
 TEST(DrumFinish, MissingInputsAreNamed) {
   DrumFixture f;
   DrumFinishRequest rq = f.request();

@@ -253,6 +253,128 @@ function M.rough_stock(op, c)
   return out
 end
 
+-- The stock still on the hub when operation `index` of job j runs: the hub
+-- stock of the last channel roughing before it, unless a hub finish came
+-- between; 0 without a roughing (the part already roughed is the job's
+-- part, as far as any proof knows).
+local function hub_stock_before(j, index)
+  local left = 0
+  for i = 1, (index or #j.operations + 1) - 1 do
+    local op = j.operations[i]
+    if op.kind == "rough_channels" then left = op.hub_stock
+    elseif op.kind == "hub_finish" then left = 0 end
+  end
+  return left
+end
+
+-- The stock still on each blade face when operation `index` of job j
+-- starts: left[b][face] = {stock = mm, top =, mesh_tol =, below =} (face:
+-- "pressure", "suction", "leading", "trailing") — the stock the last
+-- channel roughing before it left there (its `stock`, as for the hub: the
+-- shank's clearance on top covers its scallops, 0.49-0.52 mm measured on
+-- the built-in flanks; with stock + tolerance the built-in trailing edge's
+-- plan changed so that one link turned the axis 0.002 deg past the C
+-- table's pole, which the Heidenhain post cannot follow), its top (the
+-- blank's, a meridian or nil for the casing) and its mesh tolerance; after
+-- a drum finish of the flank only its strip up to `below` mm over the hub
+-- (the plan's hub strip, under its first row) until a hub finish of the
+-- blade; nil where an edge finish since has finished that edge, or no
+-- roughing reached the face (the part already roughed is the job's part,
+-- as far as any proof knows).
+local function flank_stock_before(j, index)
+  local n, left = j.part:blade_count(), {}
+  local function set(b, face, e) left[b] = left[b] or {}; left[b][face] = e end
+  for i = 1, (index or #j.operations + 1) - 1 do
+    local op = j.operations[i]
+    if op.kind == "rough_channels" then
+      -- Channel c: blade c's suction flank and blade c+1's pressure flank,
+      -- and both blades' edge rounds (the ball keeps the stock off them).
+      local e = {stock = op.stock, top = op.top, mesh_tol = op.mesh_tol}
+      for _, c in ipairs(op.blades) do
+        set(c, "suction", e)
+        set(c % n + 1, "pressure", e)
+        for _, b in ipairs{c, c % n + 1} do
+          set(b, "leading", e)
+          set(b, "trailing", e)
+        end
+      end
+    elseif op.kind == "drum_finish" then
+      -- The strip under its first row keeps the stock until the hub finish.
+      for _, b in ipairs(op.blades) do
+        for _, side in ipairs(op.sides) do
+          local e = left[b] and left[b][side]
+          if e then
+            set(b, side, op.hub_strip and op.hub_strip > 0 and {stock = e.stock, top = e.top, mesh_tol = e.mesh_tol,
+                                                                 below = op.hub_strip} or nil)
+          end
+        end
+      end
+    elseif op.kind == "edge_finish" then
+      for _, b in ipairs(op.blades) do
+        for _, edge in ipairs(op.edges) do if left[b] then left[b][edge] = nil end end
+      end
+    elseif op.kind == "hub_finish" then
+      -- Its root strip all round the blade, up to `top` (at least 4 mm):
+      -- over the drum finish's strip.
+      for _, b in ipairs(op.blades) do
+        for _, side in ipairs{"pressure", "suction"} do
+          if left[b] and left[b][side] and left[b][side].below then left[b][side] = nil end
+        end
+      end
+    end
+  end
+  return left
+end
+
+-- The world blade k's units of operation `index` (self) are proved in, with
+-- the stock still there as obstacles for the shank and holder: the hub's
+-- (`hub_stock` mm, 0 for none) and the flanks' of blade k's neighbours and
+-- of blade k itself, each as when the operation starts (flank_stock_before;
+-- it only shrinks while the operation runs, so what is proved against it
+-- holds throughout). A periodic operation's plan is turned onto every blade
+-- of it, so each flank at a given place relative to blade k carries the
+-- most stock that place carries for any of them. skip(side): blade k's own
+-- flanks left out (the drum finish's own flank, cut from the tip down).
+-- Without any stock, the job's world around blade k (j:world_around).
+local function stock_world(self, j, index, k, hub_stock, skip)
+  local blisk = j.part
+  local n = blisk:blade_count()
+  local left = flank_stock_before(j, index)
+  local list, top, tol = {}, nil, nil
+  for _, d in ipairs{-1, 0, 1} do
+    for _, side in ipairs{"pressure", "suction", "leading", "trailing"} do
+      if not (d == 0 and skip and skip(side)) then
+        local most
+        for _, b in ipairs(self.periodic and self.blades or {k}) do
+          local e = left[(b + d - 1) % n + 1] and left[(b + d - 1) % n + 1][side]
+          -- The whole flank over its strip under the drum's first row.
+          if e and (not most or e.stock > most.stock or (most.below and not e.below)
+                    or (e.below and most.below and e.below > most.below)) then most = e end
+        end
+        if most then
+          list[#list + 1] = {blade = (k + d - 1) % n + 1, side = side, stock = most.stock, below = most.below}
+          top, tol = most.top, most.mesh_tol
+        end
+      end
+    end
+  end
+  if hub_stock <= 0 and #list == 0 then return j:world_around(k), nil end
+  local key = string.format("%d:%g", k, hub_stock)
+  for _, f in ipairs(list) do key = key .. string.format(":%d%s%g/%s", f.blade, f.side, f.stock, tostring(f.below)) end
+  j.stock_worlds = j.stock_worlds or {}
+  if not j.stock_worlds[key] then
+    -- The flanks' meshes as the roughing's worlds tessellated them (trimmed
+    -- to its top, at its mesh tolerance), shared with them.
+    tol = tol or 0.01
+    j.channel_meshes = j.channel_meshes or {}
+    j.channel_meshes[tol] = j.channel_meshes[tol] or {}
+    j.stock_worlds[key] = require("blisk_world").around_blade(blisk, k, {
+      hub_stock = hub_stock, flank_stock = list, chord_tol = tol, meshes = j.channel_meshes[tol],
+      top = top and bliskrun.surface_of_revolution{meridian = top} or nil})
+  end
+  return j.stock_worlds[key], list
+end
+
 -- Drum-wheel flank finishing (blisk paper §3) of the given blades' flanks,
 -- one plan per flank with the shared settings of scripts/lib/blisk_finish.lua.
 function M.drum_finish(o)
@@ -268,29 +390,59 @@ function M.drum_finish(o)
     shank_clearance = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     feed = {type = "number", check = positive},
     periodic = {type = "boolean"},
+    top_down = {type = "boolean"},
   }, 2)
   local op = {kind = "drum_finish", tool = o.tool, blades = o.blades, sides = o.sides or {"pressure", "suction"},
               residual = o.residual or 0.014, chord_tol = o.chord_tol or 0.002, c_range = o.c_range or 30,
-              shank_clearance = o.shank_clearance or 0.1, feed = o.feed or 600, periodic = o.periodic == true}
+              shank_clearance = o.shank_clearance or 0.1, feed = o.feed or 600, periodic = o.periodic == true,
+              top_down = o.top_down}
   -- The plans of this operation, flank by flank, in cutting order: all
   -- flanks planned at once on the run's --threads (bliskrun.drum_finish_all;
   -- the plans do not depend on the thread count).
-  function op.plan_flanks(self, j)
+  function op.plan_flanks(self, j, index)
     local finish = require("blisk_finish")
     local blisk = j.part
+    -- After a roughing the flank the wheel finishes still carries its stock
+    -- above the row it cuts, where the shank runs along it (0.15-0.34 mm off
+    -- the built-in pressure flank): its rows are then cut from the tip down
+    -- (top_down, unless given), so the flank above is finished when the
+    -- shank passes it; the stock still on the other flanks is an obstacle
+    -- for the shank and holder (stock_world).
+    local left = flank_stock_before(j, index)
+    local top_down = self.top_down
+    if top_down == nil then
+      top_down = false
+      for _, k in ipairs(self.blades) do
+        for _, side in ipairs(self.sides) do if left[k] and left[k][side] then top_down = true end end
+      end
+    end
+    self.top_down_used = top_down
     local common = finish.settings(blisk, j.tools[self.tool].tool,
                                    {residual = self.residual, chord_tol = self.chord_tol,
-                                    shank_clearance = self.shank_clearance})
+                                    shank_clearance = self.shank_clearance, top_down = top_down})
     common.jobs = {}
     local which = {}
     -- Periodic: the first blade planned, the others its plan turned.
     local planned_blades = self.periodic and {self.blades[1]} or self.blades
+    local hub_stock = hub_stock_before(j, index)
     for _, k in ipairs(planned_blades) do
       if k > blisk:blade_count() then
         error(string.format("job.drum_finish: blade %d does not exist; the part has %d", k, blisk:blade_count()), 0)
       end
-      for _, side in ipairs(self.sides) do
-        common.jobs[#common.jobs + 1] = {flank = finish.flank(blisk, k, side), world = j:world_around(k),
+      for i, side in ipairs(self.sides) do
+        -- Its own flank left out when cut from the tip down (the cutting
+        -- part takes the stock below the row; the shank stands above it),
+        -- and its other flank where this operation finished it before.
+        local function skip(s)
+          if s == side then return top_down end
+          -- Its edge rounds: the wheel runs to the flank's ends, beside them
+          -- (the leads and the row ends); left to the verdict's stock check.
+          if s == "leading" or s == "trailing" then return true end
+          for h = 1, i - 1 do if self.sides[h] == s then return true end end
+          return false
+        end
+        common.jobs[#common.jobs + 1] = {flank = finish.flank(blisk, k, side),
+                                         world = stock_world(self, j, index, k, hub_stock, skip),
                                          name = string.format("blade %d %s", k, side),
                                          axis_limit = finish.c_axis_limit(blisk, k, self.c_range)}
         which[#which + 1] = {blade = k, side = side}
@@ -306,25 +458,13 @@ function M.drum_finish(o)
       end
       flanks[#flanks + 1] = {blade = k, side = side, plan = plan, report = r, feed = self.feed,
                              moves_list = plan:moves()}
+      -- The strip under the first row keeps its stock (flank_stock_before).
+      self.hub_strip = math.max(self.hub_strip or 0, r.hub_strip or 0)
     end
     if not self.periodic then return flanks end
     return blades_of(self, j, function() return flanks end)
   end
   return op
-end
-
--- The stock still on the hub when operation `index` of job j runs: the hub
--- stock of the last channel roughing before it, unless a hub finish came
--- between; 0 without a roughing (the part already roughed is the job's
--- part, as far as any proof knows).
-local function hub_stock_before(j, index)
-  local left = 0
-  for i = 1, (index or #j.operations + 1) - 1 do
-    local op = j.operations[i]
-    if op.kind == "rough_channels" then left = op.hub_stock
-    elseif op.kind == "hub_finish" then left = 0 end
-  end
-  return left
 end
 
 -- Blade edges finished with the bottom of a flat-end mill (edge paper §3,
@@ -356,10 +496,12 @@ function M.edge_finish(o)
     feed = {type = "number", check = positive},
     reach = {type = "table"},
     hub_stock = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
+    flank_stock = {type = "boolean"},
   }, 2)
   local op = {kind = "edge_finish", tool = o.tool, blades = o.blades, edges = o.edges or {"leading", "trailing"},
               e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0, 1},
-              periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach, hub_stock = o.hub_stock}
+              periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach, hub_stock = o.hub_stock,
+              flank_stock = o.flank_stock}
   function op.plan_flanks(self, j, index)
     local blisk = j.part
     local tool = j.tools[self.tool].tool
@@ -369,14 +511,19 @@ function M.edge_finish(o)
       -- The shank and holder kept off the stock still on the hub (the first
       -- rows run along it with the axis nearly tangent to it: with the hub
       -- alone as the obstacle the shank stood 0.39 mm over the hub, inside
-      -- the roughing's 0.5 mm).
-      local world = j:world_around(k)
-      if hub_stock > 0 then
-        j.hub_stock_worlds = j.hub_stock_worlds or {}
-        local key = k .. ":" .. hub_stock
-        j.hub_stock_worlds[key] = j.hub_stock_worlds[key]
-          or require("blisk_world").around_blade(blisk, k, {hub_stock = hub_stock})
-        world = j.hub_stock_worlds[key]
+      -- the roughing's 0.5 mm) and on the flanks (flank_stock: by default
+      -- what the roughing left on flanks no drum finish has finished since —
+      -- the shank ran 0.18-0.56 mm off the neighbour's facing flank, in its
+      -- stock, where the drum finish had finished blade 1 alone).
+      local world
+      if self.flank_stock == false then
+        world = hub_stock > 0 and stock_world({periodic = false}, j, 1, k, hub_stock) or j:world_around(k)
+      else
+        -- Its own edges are the cutter's.
+        world = stock_world(self, j, index, k, hub_stock, function(s)
+          for _, e in ipairs(self.edges) do if e == s then return true end end
+          return false
+        end)
       end
       for _, edge in ipairs(self.edges) do
         -- The flank whose edge end is at v = 0 first (bliskrun.edge_region).
