@@ -394,10 +394,23 @@ ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, con
   // along it by less than the block's length).
   const bool by_place = joint && len > 0.05;
   const double v = joint ? (to.linear_mm - from.linear_mm).norm() : (tip_to - tip_from).norm();
+  // The block's ends as the controller reaches them, off the planned ends by
+  // what the program's rounded words put there (zero for the planner's own
+  // axes). The tip is placed after taking that offset off, shared linearly
+  // along the block: a block end rounded back along the segment by 1 um is
+  // still the planned end, not a pose 1 um / len of the planned turn earlier
+  // (0.078 mm blocks turning 0.36 deg put a 90 mm cutter's axis 9 um off at
+  // its own end, a posted point-milling row refused for the rounding).
+  Vec3 end_from = Vec3::Zero(), end_to = Vec3::Zero();
+  if (by_place) {
+    end_from = controller_pose(kin, motion, from, to, tip_from, tip_to, 0).tip - plan_from.tip;
+    end_to = controller_pose(kin, motion, from, to, tip_from, tip_to, 1).tip - plan_to.tip;
+  }
   auto sample = [&](double t, double& tip_d, double& axis_d) {
     const ToolPose c = controller_pose(kin, motion, from, to, tip_from, tip_to, t);
     double tp = t;
-    if (by_place) tp = std::clamp((c.tip - plan_from.tip).dot(seg) / (len * len), 0.0, 1.0);
+    if (by_place)
+      tp = std::clamp((c.tip - end_from - t * (end_to - end_from) - plan_from.tip).dot(seg) / (len * len), 0.0, 1.0);
     const ToolPose p = interpolate_pose(plan_from, plan_to, tp);
     tip_d = (c.tip - p.tip).norm();
     axis_d = (c.axis.normalized() - p.axis).norm();
@@ -412,7 +425,8 @@ ToolDeviation tool_deviation(const Kinematics& kin, ControllerMotion motion, con
     tip_a = joint ? 2 * w * w * rho_now + 2 * w * v : 0.0;
     double planned = theta * theta;
     if (by_place) {
-      const double speed = (v + w * rho_now) / len;
+      // The place moves with the tip, less the ends' offset (linear in t).
+      const double speed = (v + w * rho_now + (end_to - end_from).norm()) / len;
       planned = theta * theta * speed * speed + theta * tip_a / len;
     }
     axis_a = (motion == ControllerMotion::TcpVector ? theta * theta : w * w) + planned;

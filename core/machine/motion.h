@@ -174,8 +174,10 @@ struct MachineProgram {
 // tips (the controller's straight line); joint-linear moves use the axes
 // only. The planned motion runs from plan_from to plan_to (interpolate_pose).
 // At each sample the controller's tool is compared with the planned pose at
-// the same place along the segment (the projection of its tip; the same t
-// where the segment is shorter than 1 um): tip distance + reach * |axis
+// the same place along the segment (the projection of its tip, less the
+// offset of the blocks' ends from the planned ones shared linearly along the
+// block — a rounded end is still the planned end; the same t where the
+// segment is shorter than 0.05 mm): tip distance + reach * |axis
 // difference| bounds the distance of every tool point within that reach
 // (a body of revolution about its axis). `*_bound_mm` add what can happen
 // between samples (second derivatives of tip and axis: see the .cpp);
