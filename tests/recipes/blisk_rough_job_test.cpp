@@ -146,6 +146,25 @@ TEST(BliskRoughJobRecipe, ChannelsRoughedThenFlanksFinishedFromTheBlankPostedFor
   EXPECT_TRUE(most && least);
 }
 
+// The least distance of a tool's shank and holder (not its cutter) from a
+// world of its own over every pose operation `op` of job `j` plans (at least
+// `min_poses` of them): how the two edge-after-roughing tests measure.
+const char* kShankAndHolderOffLua = R"LUA(
+local function shank_and_holder_off(world, tool, j, op, min_poses)
+  local least, poses = math.huge, 0
+  for _, u in ipairs(j.operations[op]:plan_flanks(j, op)) do
+    for _, m in ipairs(u.moves_list) do
+      for _, p in ipairs(world:check(tool, {tip = m.tip, axis = m.axis}, {}).parts) do
+        if p.part ~= "cutter" then least = math.min(least, p.distance) end
+      end
+      poses = poses + 1
+    end
+  end
+  assert(poses > min_poses, "the window's rows: " .. poses .. " poses")
+  return least
+end
+)LUA";
+
 // The edge finish after the roughing (issue 41): the roughing leaves 0.5 mm
 // on the hub, and the trailing edge's first rows run along the hub with the
 // axis nearly tangent to it — proved against the hub alone, the shank stood
@@ -163,7 +182,7 @@ local mill = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_lengt
                                     shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 40}}
 local rougher = bliskrun.tapered_ball_end_mill{tip_radius = 3, half_angle = 1.5, flute_length = 36,
                                                shank = {diameter = 10, length = 40}, holder = {diameter = 32, length = 40}}
-local hub = bliskrun.collision_world{surfaces = {{name = "hub", surface = blisk:hub(), chord_tol = 0.002}}}
+local world_of_hub = bliskrun.collision_world{surfaces = {{name = "hub", surface = blisk:hub(), chord_tol = 0.002}}}
 -- The least distance of the shank and holder from the hub over the poses
 -- of the trailing edge's lower third, the edge planned as the job's second
 -- operation after a roughing that leaves 0.5 mm (never planned here).
@@ -174,17 +193,7 @@ local function shank_off_hub(hub_stock)
   local j = job.new{name = "edge after roughing", part = blisk, clearance_radius = 110, operations = ops,
                     tools = {rougher = {number = 3, length = 125, spindle_rpm = 9000, tool = rougher, ball_radius = 3},
                              mill = {number = 7, length = 100, spindle_rpm = 12000, tool = mill}}}
-  local least, poses = math.huge, 0
-  for _, u in ipairs(j.operations[2]:plan_flanks(j, 2)) do
-    for _, m in ipairs(u.moves_list) do
-      for _, p in ipairs(hub:check(mill, {tip = m.tip, axis = m.axis}, {}).parts) do
-        if p.part ~= "cutter" then least = math.min(least, p.distance) end
-      end
-      poses = poses + 1
-    end
-  end
-  assert(poses > 100, "the window's rows: " .. poses .. " poses")
-  return least
+  return shank_and_holder_off(world_of_hub, mill, j, 2, 100)
 end
 -- The roughing's 0.5 mm and the shank's 0.1 mm clearance (the plan's hub
 -- mesh within its 0.01 mm chord of the hub).
@@ -200,7 +209,7 @@ TEST(BliskRoughJobRecipe, EdgeFinishAfterRoughingKeepsTheShankOffTheHubsStock) {
   GTEST_SKIP() << "two edge-finish plans (~3 s each in Release) take minutes under the sanitizers";
 #endif
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, kEdgeAfterRoughingRecipe);
+  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + kEdgeAfterRoughingRecipe);
   EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts (the sandbox has no io)
 }
 
@@ -238,17 +247,7 @@ local function shank_off_facing(flank_stock)
                     tools = {rougher = {number = 3, length = 125, spindle_rpm = 9000, tool = rougher, ball_radius = 3},
                              wheel = {number = 5, length = 110, spindle_rpm = 8000, tool = wheel},
                              mill = {number = 7, length = 120, spindle_rpm = 12000, tool = mill}}}
-  local least, poses = math.huge, 0
-  for _, u in ipairs(j.operations[3]:plan_flanks(j, 3)) do
-    for _, m in ipairs(u.moves_list) do
-      for _, p in ipairs(facing:check(mill, {tip = m.tip, axis = m.axis}, {}).parts) do
-        if p.part ~= "cutter" then least = math.min(least, p.distance) end
-      end
-      poses = poses + 1
-    end
-  end
-  assert(poses > 200, "the window's rows: " .. poses .. " poses")
-  return least
+  return shank_and_holder_off(facing, mill, j, 3, 200)
 end
 -- The roughing's 0.5 mm and the shank's 0.1 mm clearance (the plan's
 -- trimmed flank meshes within their 0.01 mm chord, added as margin).
@@ -264,7 +263,7 @@ TEST(BliskRoughJobRecipe, EdgeFinishKeepsTheShankOffTheNeighboursFlankStock) {
   GTEST_SKIP() << "two edge-finish plans (~3 s each in Release) take minutes under the sanitizers";
 #endif
   TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, kEdgeBesideFlankStockRecipe);
+  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + kEdgeBesideFlankStockRecipe);
   EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts (the sandbox has no io)
 }
 
