@@ -266,25 +266,36 @@ void for_each_sample_near(const Profile& cutter, const Eigen::Isometry3d& to_too
   for (const Group& g : idx.levels[top]) visit(visit, top, g);
 }
 
+// The cutter's lowest plane in the part frame, for a quick exact answer
+// before a trace: the trace visits p + s n for s in [s_lo, s_hi]; where all
+// of that lies below the plane by more than tol, every step's bound exceeds
+// tol and the trace enters nowhere — its answer, +inf, without the trace (a
+// sample under a flat bottom lying on the surface: most of a flat end's
+// sweep, and most of what the gouge guard's tiles leave).
+struct CutterFloor {
+  Vec3 axis;     // the tool axis in the part frame: z (tool frame) = axis . p + z0
+  double z0;
+  double floor;  // the cutter's lowest z less tol
+  CutterFloor(const Profile& cutter, const Eigen::Isometry3d& to_tool, double tol_mm)
+      : axis(to_tool.linear().row(2).transpose()), z0(to_tool.translation().z()), floor(cutter.z_min() - tol_mm) {}
+  // An empty range (s_hi < s_lo) is the point at s_lo, as the trace has it.
+  bool below(const Vec3& p, const Vec3& n, double s_lo, double s_hi) const {
+    const double nz = axis.dot(n);
+    return axis.dot(p) + z0 + (nz >= 0 ? std::max(s_hi, s_lo) : s_lo) * nz < floor;
+  }
+};
+
 void cut_with(const Profile& cutter, const Eigen::Isometry3d& to_part, const SampleIndex& idx,
               const UndercutOptions& o, std::vector<std::atomic<double>>& residual, long& evaluations) {
   const Eigen::Isometry3d to_tool = to_part.inverse();
-  const Vec3 axis = to_tool.linear().row(2).transpose();  // z (tool frame) = axis . p + z0
-  const double z0 = to_tool.translation().z();
-  const double floor = cutter.z_min() - o.tol_mm;
+  const CutterFloor under(cutter, to_tool, o.tol_mm);
   for_each_sample_near(cutter, to_tool, idx, std::max(o.search_above_mm, o.search_below_mm), o.tol_mm, false, [&](int m) {
     const double left = residual[m].load(std::memory_order_relaxed);
     if (left <= o.settled_mm) return;
     const Sample& smp = idx.samples[m];
     ++evaluations;
     const double limit = std::min(o.search_above_mm, left);
-    // Where the whole line the trace visits (s from -below up to the
-    // limit) lies below the cutter's lowest plane by more than tol, it
-    // enters nowhere: +inf, the residual unchanged, without the trace (a
-    // sample the position before cut to just under the bottom it still
-    // lies under: most of a flat end's sweep).
-    const double zp = axis.dot(smp.p) + z0, nz = axis.dot(smp.n);
-    if (zp + (nz >= 0 ? std::max(limit, -o.search_below_mm) * nz : -o.search_below_mm * nz) < floor) return;
+    if (under.below(smp.p, smp.n, -o.search_below_mm, limit)) return;  // +inf: the residual unchanged
     const double s = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, o, limit);
     if (s < kInf) lower_to(residual[m], s);
   });
@@ -535,21 +546,12 @@ GougeGuard::Cut GougeGuard::deepest_cut(const Tool& tool, const ToolPose& from, 
     // The same frame again finds nothing deeper, and keeps the first.
     if (s > (include_from ? 0 : 1) && to_tool.matrix() == previous.matrix()) continue;
     previous = to_tool;
-    // The tool axis in the part frame: z (tool frame) = axis . p + z0.
-    const Vec3 axis = to_tool.linear().row(2).transpose();
-    const double z0 = to_tool.translation().z();
-    const double floor = cutter.z_min() - options_.tol_mm;
+    const CutterFloor under(cutter, to_tool, options_.tol_mm);
     for_each_sample_near(cutter, to_tool, idx, range, options_.tol_mm, true, [&](int m) {
       const Sample& smp = idx.samples[m];
       // Only entries below -allowed matter: the trace stops there.
       const double limit = std::min(-allowed_mm, cut.depth_mm);
-      // The trace visits p + s n for s from -range up to the limit; where
-      // all of that lies below the cutter's lowest plane by more than tol,
-      // every step's bound exceeds tol and the trace enters nowhere (its
-      // answer, +inf, without the trace: a sample under a flat bottom
-      // lying on the surface, most of what the tiles leave).
-      const double zp = axis.dot(smp.p) + z0, nz = axis.dot(smp.n);
-      if (zp + (nz >= 0 ? std::max(limit, -range) * nz : -range * nz) < floor) return;
+      if (under.below(smp.p, smp.n, -range, limit)) return;  // enters nowhere: +inf
       const double e = first_entry(cutter, to_tool * smp.p, to_tool.linear() * smp.n, options_, limit);
       if (e < cut.depth_mm && e < -allowed_mm) {
         cut.depth_mm = e;
