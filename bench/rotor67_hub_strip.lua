@@ -6,12 +6,15 @@
 -- environment), the job's tapered ball (r 1.5, 2.5 deg) with a shank long
 -- enough for Rotor 67's 100-150 mm blades (150 mm), then plan:simulate's
 -- strip (the blade from the fillet row's contact up to top). The faces are
--- read_rotor67's default loft: close_blade refuses the edge finish's
--- (edge_margin 0: the faces' edge points coincide). Figures go to
+-- the edge finish's (edge_margin 0, cosine spacing: they carry the data's
+-- own rounds and close_blade joins them at their edges; the default loft's
+-- faces stop 3 % of the chord short of the edges, where the half circle
+-- that closes them meets them 40 degrees off, so the ball was refused at
+-- the edges in every row). Figures go to
 -- bench/RESULTS.md.
 --
 --   bliskrun bench/rotor67_hub_strip.lua --data ../shared/data --out /tmp/x
-local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat")
+local part = bliskrun.read_rotor67("nasa_rotor67/rotor67geometry.dat", {edge_margin = 0, spacing = "cosine"})
 local pitch = 360 / part.blades
 local function faces(turn)
   return {pressure = part.pressure:rotated(turn):surface(), suction = part.suction:rotated(turn):surface()}
@@ -27,6 +30,7 @@ local p = r.root
 print(string.format("root strip to %.2f mm: %d rows, %d passes, %d poses (%d tilted), %d refused contacts, "
                     .. "%d refused links; %.1f s CPU", top, p.rows, p.passes, p.poses, p.tilted, p.refusals,
                     p.refused_links, os.clock() - t0))
+print(string.format("closed blades' edge kink %.2f deg", r.edge_kink))
 print(string.format("fillet radius %.2f mm, the fillet row touches the blade %.2f..%.2f mm up", r.fillet.radius,
                     r.fillet.contact_min, r.fillet.contact_max))
 for i, why in ipairs(p.refused) do if i <= 3 then print("  refused link: " .. why) end end

@@ -135,6 +135,7 @@ int w_hub_plan_report(lua_State* L) {
   lua_setfield(L, -2, "join");
   luax::set_number(L, "guard_spacing", r.guard_spacing_mm);
   luax::set_number(L, "setup_seconds", r.setup_seconds);
+  luax::set_number(L, "edge_kink", r.edge_kink_deg);
   lua_createtable(L, static_cast<int>(r.refusals.size()), 0);
   for (size_t i = 0; i < r.refusals.size(); ++i) {
     const HubFinishRefusal& f = r.refusals[i];

@@ -35,7 +35,7 @@ std::shared_ptr<const Surface> surface_option(lua_State* L, const luax::Options&
 }
 
 // bliskrun.close_blade{pressure=, suction=, u = {u0, u1}, sections=, face_samples=, edge_samples=, samples=}
-// -> Surface, {le_v, te_v, perimeter, section_u = {...}}
+// -> Surface, {le_v, te_v, perimeter, edge_kink, section_u = {...}}
 int w_close_blade(lua_State* L) {
   static const char* what = "bliskrun.close_blade";
   const luax::Options o(
@@ -62,10 +62,11 @@ int w_close_blade(lua_State* L) {
     ClosedBlade b = close_blade(*pressure, *suction, co);
     const std::vector<double> section_u = b.loft.section_u;
     push_surface(L, std::make_shared<const BSplineSurface>(std::move(b.loft.surface)));
-    lua_createtable(L, 0, 4);
+    lua_createtable(L, 0, 5);
     luax::set_number(L, "le_v", b.le_v);
     luax::set_number(L, "te_v", b.te_v);
     luax::set_number(L, "perimeter", b.perimeter_mm);
+    luax::set_number(L, "edge_kink", b.edge_kink_deg);
     lua_createtable(L, static_cast<int>(section_u.size()), 0);
     for (size_t i = 0; i < section_u.size(); ++i) {
       lua_pushnumber(L, section_u[i]);

@@ -129,6 +129,7 @@ HubFinishResult plan_hub_finish(const HubFinishRequest& rq, Progress& progress) 
   });
   const ClosedRoot& blade = closed[0];
   const ClosedRoot& next = closed[1];
+  res.edge_kink_deg = std::max(blade.edge_kink_deg, next.edge_kink_deg);
   place_hub_sector(rq, blade, next, res);
 
   Guards guards;

@@ -185,6 +185,12 @@ struct HubFinishResult {
   // Channel: the z range and the angular cell [theta_k(z), theta_k(z) + pitch].
   double z_inlet_mm = 0, z_outlet_mm = 0, pitch_rad = 0;
   double guard_spacing_mm = 0;
+  // The closed blades' largest turn of the tangent where an edge meets a
+  // face (close_blade, core/parts/closed_blade.h), degrees: ~0 when the
+  // faces carry the edges' rounds or end tangent to a round; tens of degrees
+  // for a measured blade's faces cut off short of its edges, whose closed
+  // surface is then not the blade near the edges (the ball is refused there).
+  double edge_kink_deg = 0;
   double setup_seconds = 0;
   // Geometry kept for the simulation and the writers.
   std::shared_ptr<const Surface> blade_closed, next_closed;

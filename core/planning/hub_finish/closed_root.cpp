@@ -100,6 +100,7 @@ ClosedRoot close_root(const BladeFaces& faces, const SurfaceOfRevolution& hub, i
   out.surface = std::make_shared<const BSplineSurface>(std::move(b.loft.surface));
   out.le_v = b.le_v;
   out.te_v = b.te_v;
+  out.edge_kink_deg = b.edge_kink_deg;
   section_at(*out.surface, hub, 0, ref_angle, out);
   ClosedRoot top = out;
   section_at(*out.surface, hub, top_level, ref_angle, top);

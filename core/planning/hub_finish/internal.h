@@ -129,6 +129,7 @@ Poly3 fit_poly3(const std::vector<double>& z, const std::vector<double>& y, cons
 struct ClosedRoot {
   std::shared_ptr<const BSplineSurface> surface;
   double le_v = 0, te_v = 0;
+  double edge_kink_deg = 0;  // close_blade's: the closed surface is the blade near its edges when ~0
   std::vector<double> v, u;  // the root (height 0) at v samples
   std::vector<Vec3> points;
   double theta_min = 0, theta_max = 0, theta_centroid = 0;
