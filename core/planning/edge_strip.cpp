@@ -237,8 +237,24 @@ namespace {
 double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, const std::vector<Vec3>& ps,
                       const std::vector<Vec3>& ns, const SampleTiles* tiles, double cap, double stop_below) {
   double deepest = std::numeric_limits<double>::infinity();
+  // The tool axis in the part frame: z (tool frame) = axis . p + z0. No
+  // point of the cutter lies below its bottom plane z = 0, and a point at
+  // z < 0 is at least -z outside it (FlatEnd::signed_distance).
+  const Vec3 axis = to_tool.linear().row(2).transpose();
+  const double z0 = to_tool.translation().z();
   auto range = [&](size_t a, size_t b) {
     for (size_t i = a; i < b; ++i) {
+      if (tiles) {
+        // A sample below the bottom plane stands for itself by that bound,
+        // as a tile below it does (below_bottom): one dot product where the
+        // whole transform and distance took two square roots (most samples
+        // of a tile the box test leaves lie under a flat bottom).
+        const double z = axis.dot(ps[i]) + z0;
+        if (z < -1e-9) {
+          deepest = std::min(deepest, -z);
+          continue;
+        }
+      }
       const double sd = cutter.signed_distance(Vec3(to_tool * ps[i]));
       deepest = std::min(deepest, sd >= 0 ? sd : directed_distance(cutter, to_tool, ps[i], ns[i], cap));
       if (deepest < stop_below) return true;
@@ -251,15 +267,10 @@ double screen_deepest(const FlatEnd& cutter, const Eigen::Isometry3d& to_tool, c
   }
   // A bound wholly outside the cutter stands for what it bounds.
   auto outside = [&](const SampleTile& t) { return cutter.signed_distance(Vec3(to_tool * t.centre)) - t.radius; };
-  // The tool axis in the part frame: z (tool frame) = axis . p + z0. No
-  // point of the cutter lies below its bottom plane z = 0, and a point at
-  // z < 0 is at least -z outside it (FlatEnd::signed_distance), so a tile
-  // whose box lies wholly below the plane stands for its samples by that
-  // bound — positive, as the sphere's: the result is the same wherever it
-  // is below 0 (every caller compares it with e1 <= 0), and the first
-  // sample below stop_below is the same one.
-  const Vec3 axis = to_tool.linear().row(2).transpose();
-  const double z0 = to_tool.translation().z();
+  // A tile whose box lies wholly below the bottom plane stands for its
+  // samples by that bound — positive, as the sphere's: the result is the
+  // same wherever it is below 0 (every caller compares it with e1 <= 0),
+  // and the first sample below stop_below is the same one.
   auto below_bottom = [&](const SampleTile& t) {
     double top = axis.dot(t.centre) + z0;
     for (int i = 0; i < 3; ++i) top += t.half[i] * std::abs(axis.dot(t.axes[i]));
