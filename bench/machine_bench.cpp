@@ -106,8 +106,7 @@ BENCHMARK(BM_PostAndVerify)->Args({10000, 0})->Args({10000, 1})->Args({100000, 0
 // passage, 20 rows by 150 blocks: joint-linear blocks as the Fanuc post
 // writes them. items_per_second: blocks per CPU second (the blisk job's
 // Fanuc programs are ~160 000 blocks with 2 blades, ~1.4 million with 22).
-// `offset_mm`: the tip's distance off the pressure flank.
-void machine_sim_blades_per_block(benchmark::State& state, double offset_mm) {
+void BM_MachineSimBladesPerBlock(benchmark::State& state) {
   lua_State* L = luaL_newstate();
   luaL_openlibs(L);
   const MachineDefinition machine = dmg_like_trunnion(L);
@@ -151,7 +150,7 @@ void machine_sim_blades_per_block(benchmark::State& state, double offset_mm) {
       const Vec3 n = d.pu.cross(d.pv).normalized(), up = d.pu.normalized();
       const double lean = deg_to_rad(10 + 20 * v);
       ToolPose pose;
-      pose.tip = d.p + offset_mm * n;
+      pose.tip = d.p + 3.3 * n;
       pose.axis = (std::cos(lean) * up + std::sin(lean) * n).normalized();
       q = kin.inverse(pose, q);
       ProgramMove m;
@@ -173,16 +172,7 @@ void machine_sim_blades_per_block(benchmark::State& state, double offset_mm) {
   state.counters["closest_mm"] = r.closest.empty() ? -1 : r.closest.front().distance_mm;
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(blocks.size()));  // blocks per second
 }
-void BM_MachineSimBladesPerBlock(benchmark::State& state) { machine_sim_blades_per_block(state, 3.3); }
 BENCHMARK(BM_MachineSimBladesPerBlock)->Unit(benchmark::kMillisecond);
-
-// The same blocks with the tip 8 mm off the flank, mid-passage: every
-// blade pair hovers a few mm beyond its closest approach for the whole
-// program (issue 40: the HECC job's shank 20-30 mm off its blade for a
-// million blocks), where a mesh asked down to the closest approach itself
-// opens nearly all of its near side at each sample.
-void BM_MachineSimMidPassagePerBlock(benchmark::State& state) { machine_sim_blades_per_block(state, 8); }
-BENCHMARK(BM_MachineSimMidPassagePerBlock)->Unit(benchmark::kMillisecond);
 
 // Six-axis arm (issue 15 item 8: IK <= 5 us per pose, all branches): every
 // solution of a pose on a KUKA KR 120-class arm, poses from random joints.
