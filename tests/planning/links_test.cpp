@@ -169,6 +169,28 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   EXPECT_TRUE(over.clear) << over.reason;
 }
 
+// Stock on a face (CheckSurfaceOptions::stock) is an obstacle for the shank
+// and holder only: the cutter cuts it, so it is not one of the pairs the
+// traverse world adds back for the cutter (the built-in TE after a
+// roughing: a link from its first row, the cutter in the hub's stock as
+// every pose there is, refused "cutter vs hub's stock" on every route).
+TEST(Links, StockIsNoObstacleForTheCutterEvenOnATraverse) {
+  CollisionWorld world;
+  CheckSurfaceOptions stock;
+  stock.parts.cutter = false;
+  stock.margin_mm = 0.5;
+  stock.stock = true;
+  world.add("hub's stock", test::grid_mesh(Vec3(-50, -50, 0), Vec3(100, 0, 0), Vec3(0, 100, 0), 4, 4), stock);
+  EXPECT_TRUE(world.unchecked_pairs() == nullptr);
+  CheckSurfaceOptions own;
+  own.parts.cutter = false;
+  world.add("own blade", test::box_mesh(Vec3(9, -20, -1), Vec3(11, 20, 5)), own);
+  const auto left = world.unchecked_pairs();
+  ASSERT_TRUE(left != nullptr);
+  ASSERT_EQ(left->size(), 1);
+  EXPECT_EQ(left->name(0), "own blade");
+}
+
 TEST(Links, RejectsBadOptions) {
   const Tool tool = link_wheel();
   const CollisionWorld nothing;
