@@ -191,6 +191,65 @@ TEST(Links, StockIsNoObstacleForTheCutterEvenOnATraverse) {
   EXPECT_EQ(left->name(0), "own blade");
 }
 
+// The least angle off the pole's line along every leg of a link, sampled
+// as the machine moves (PoseMotion), with the closed form's.
+double least_off_pole(const LinkEnd& a, const PlannedLink& link, const LinkEnd& b, const Vec3& pole) {
+  std::vector<ToolPose> chain{a.pose};
+  chain.insert(chain.end(), link.via.begin(), link.via.end());
+  chain.push_back(b.pose);
+  double least = kPi;
+  for (size_t s = 0; s + 1 < chain.size(); ++s) {
+    const PoseMotion m(chain[s], chain[s + 1]);
+    double leg = kPi;
+    for (int i = 0; i <= 2000; ++i)
+      leg = std::min(leg, std::acos(std::min(1.0, std::abs(m.pose_at(i / 2000.0).axis.normalized().dot(pole)))));
+    EXPECT_NEAR(angle_off_pole(chain[s].axis, chain[s + 1].axis, pole), leg, 2e-4) << "leg " << s;
+    least = std::min(least, leg);
+  }
+  return least;
+}
+
+// A link between two axes 10 deg either side of the C table's axis: turned
+// along the great circle, the axis passes through the pole, where C must
+// turn half a revolution at once (the built-in blisk job's trailing edge:
+// 0.002 deg off it, refused by the Heidenhain post). With the pole given,
+// every leg keeps 1 deg off it: the axis carried round at 2 deg, C turning
+// in steps of at most 22.5 deg; the ends are the passes' own.
+TEST(Links, ALinkKeepsItsAxisOffTheTablesPole) {
+  const Tool tool = test::flat_end_mill(3, 0.5, 9, 20);
+  const ToolBody body(tool, 1e-3);
+  const CollisionWorld nothing;
+  LinkChecks checks;
+  checks.world = &nothing;
+  checks.body = &body;
+  LinkOptions o;
+  o.direction = RetractDirection::ToolAxis;
+  o.retract_mm = 3;
+  const double tilt = 10 * kPi / 180;
+  const LinkEnd a{{Vec3(0, 0, 0), Vec3(std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
+  const LinkEnd b{{Vec3(20, 5, 0), Vec3(-std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
+  const Vec3 pole = Vec3::UnitZ();
+  const PlannedLink through = plan_link(a, b, checks, o);
+  ASSERT_TRUE(through.clear) << through.reason;
+  EXPECT_LT(least_off_pole(a, through, b, pole), 1e-6);
+  EXPECT_LT(angle_off_pole(a.pose.axis, b.pose.axis, pole), 1e-9);
+  o.pole = pole;
+  o.pole_clearance_rad = kPi / 180;
+  const PlannedLink round = plan_link(a, b, checks, o);
+  ASSERT_TRUE(round.clear) << round.reason;
+  EXPECT_GE(least_off_pole(a, round, b, pole), o.pole_clearance_rad);
+  EXPECT_GT(round.via.size(), through.via.size() + 6);  // half a turn in steps of <= 22.5 deg
+  // The table's axis either way along it is the same pole.
+  o.pole = -pole;
+  EXPECT_GE(least_off_pole(a, plan_link(a, b, checks, o), b, pole), o.pole_clearance_rad);
+  // A link that keeps off the pole is left as it was.
+  const LinkEnd c{{Vec3(20, 5, 0), Vec3(std::sin(2 * tilt), 0, std::cos(2 * tilt))}, Vec3::UnitZ()};
+  LinkOptions plain;
+  plain.direction = RetractDirection::ToolAxis;
+  plain.retract_mm = 3;
+  EXPECT_EQ(plan_link(a, c, checks, o).via.size(), plan_link(a, c, checks, plain).via.size());
+}
+
 TEST(Links, RejectsBadOptions) {
   const Tool tool = link_wheel();
   const CollisionWorld nothing;
