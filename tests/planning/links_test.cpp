@@ -141,6 +141,14 @@ TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithi
 // left-out pairs as the traverse's world, a traverse whose cutter runs
 // through a ridge of the own blade is refused; the shank, above the
 // ridge, passes either way.
+// A flat end's links: up its axis by retract_mm.
+LinkOptions up_the_axis(double retract_mm) {
+  LinkOptions o;
+  o.direction = RetractDirection::ToolAxis;
+  o.retract_mm = retract_mm;
+  return o;
+}
+
 TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   const Tool tool = test::flat_end_mill(3, 0.5, 9, 20);
   const ToolBody body(tool, 1e-3);
@@ -152,9 +160,7 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   LinkChecks checks;
   checks.world = &world;
   checks.body = &body;
-  LinkOptions o;
-  o.direction = RetractDirection::ToolAxis;
-  o.retract_mm = 3;
+  LinkOptions o = up_the_axis(3);
   o.min_retract_mm = 0.5;
   const LinkEnd a{{Vec3(0, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
   const LinkEnd b{{Vec3(20, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
@@ -222,9 +228,7 @@ TEST(Links, ALinkKeepsItsAxisOffTheTablesPole) {
   LinkChecks checks;
   checks.world = &nothing;
   checks.body = &body;
-  LinkOptions o;
-  o.direction = RetractDirection::ToolAxis;
-  o.retract_mm = 3;
+  LinkOptions o = up_the_axis(3);
   const double tilt = 10 * kPi / 180;
   const LinkEnd a{{Vec3(0, 0, 0), Vec3(std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
   const LinkEnd b{{Vec3(20, 5, 0), Vec3(-std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
@@ -244,10 +248,7 @@ TEST(Links, ALinkKeepsItsAxisOffTheTablesPole) {
   EXPECT_GE(least_off_pole(a, plan_link(a, b, checks, o), b, pole), o.pole_clearance_rad);
   // A link that keeps off the pole is left as it was.
   const LinkEnd c{{Vec3(20, 5, 0), Vec3(std::sin(2 * tilt), 0, std::cos(2 * tilt))}, Vec3::UnitZ()};
-  LinkOptions plain;
-  plain.direction = RetractDirection::ToolAxis;
-  plain.retract_mm = 3;
-  EXPECT_EQ(plan_link(a, c, checks, o).via.size(), plan_link(a, c, checks, plain).via.size());
+  EXPECT_EQ(plan_link(a, c, checks, o).via.size(), plan_link(a, c, checks, up_the_axis(3)).via.size());
 }
 
 TEST(Links, RejectsBadOptions) {
