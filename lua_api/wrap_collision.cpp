@@ -265,7 +265,10 @@ int w_collision_world(lua_State* L) {
                  "extra clearance against this surface, mm (default 0); give a coarse mesh its chord_tol", {}},
            Field{"parts", Kind::Table, false, std::nullopt, std::nullopt,
                  "tool parts checked against it, e.g. {\"shank\", \"holder\"} for the blade being machined "
-                 "(default all)", {}}});
+                 "(default all)", {}},
+           Field{"stock", Kind::Boolean, false, std::nullopt, std::nullopt,
+                 "stock still on a face, an obstacle for `parts` only (the cutter cuts it): the cutter is never "
+                 "checked against it, not even by the traverse checks of links (default false)", {}}});
       PartMask mask;
       if (s.has("parts")) {
         s.push_raw("parts");
@@ -287,6 +290,9 @@ int w_collision_world(lua_State* L) {
       CheckSurfaceOptions options;
       options.parts = mask;
       options.margin_mm = s.number("margin", 0.0);
+      options.stock = s.boolean("stock", false);
+      if (options.stock && mask.cutter)
+        luax::error(L, what + ": a stock surface is an obstacle for the shank and holder, not the cutter (parts)");
       if (s.has("revolution")) {
         if (s.has("mesh") || s.has("surface"))
           luax::error(L, what + ": give one of 'mesh', 'surface' and 'revolution'");

@@ -597,6 +597,17 @@ int w_plan_simulate(lua_State* L) {
       }
       lua_setfield(L, -2, "thickness");
     }
+    // Where the most material is left (a touched sample's residual equal
+    // to undercut_max): u around the edge, v along the span.
+    if (u.undercut_max_mm > 0) {
+      for (size_t i = 0; i < u.residual_mm.size(); ++i) {
+        if (u.residual_mm[i] != u.undercut_max_mm) continue;
+        set_number(L, "undercut_u", static_cast<double>(i / static_cast<size_t>(so.samples_v)) / (so.samples_u - 1));
+        set_number(L, "undercut_v", so.v0 + (so.v1 - so.v0) * static_cast<double>(i % static_cast<size_t>(so.samples_v)) /
+                                            (so.samples_v - 1));
+        break;
+      }
+    }
     set_integer(L, "untouched", u.untouched);
     // Material left is traced this far above the design: a larger residual
     // (or none, untouched) reads as at least this.

@@ -202,7 +202,7 @@ std::shared_ptr<const CollisionWorld> CollisionWorld::unchecked_pairs() const {
   auto out = std::make_shared<CollisionWorld>();
   for (const Object& o : objects_) {
     const PartMask& m = o.options.parts;
-    if (m.cutter && m.shank && m.holder) continue;
+    if ((m.cutter && m.shank && m.holder) || o.options.stock) continue;
     Object left = o;
     left.options.parts = PartMask{!m.cutter, !m.shank, !m.holder};
     out->objects_.push_back(std::move(left));

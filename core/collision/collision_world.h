@@ -113,6 +113,10 @@ struct PartMask {
 struct CheckSurfaceOptions {
   PartMask parts;
   double margin_mm = 0;
+  // Stock still on a face (a roughing's): an obstacle for the parts given
+  // (the shank and holder), never for the cutter, which cuts it — so not
+  // one of the pairs unchecked_pairs() adds back for the cutter.
+  bool stock = false;
 };
 
 class CollisionWorld {
@@ -153,7 +157,8 @@ class CollisionWorld {
   // checked against every part are dropped; null when none is left. Shared,
   // not copied. E.g. the blade being machined for the cutter, which touches
   // it by design, for the non-cutting moves that leave the region its
-  // gouge guards sample.
+  // gouge guards sample. Stock surfaces (CheckSurfaceOptions::stock) are
+  // left out: the cutter is meant to be in the stock.
   std::shared_ptr<const CollisionWorld> unchecked_pairs() const;
 
   int size() const { return static_cast<int>(objects_.size()); }

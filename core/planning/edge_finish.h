@@ -125,6 +125,10 @@ struct EdgeFinishRequest {
   // tilted like one that interferes, or refused.
   Vec3 reach_axis = Vec3::Zero();
   double reach_min_rad = 0, reach_max_rad = kPi;
+  // With a reach, its axis is the table's, the pole of the machine's rotary
+  // axes: every link keeps its turning axis this far off it (LinkOptions::
+  // pole_clearance_rad; a link 0.002 deg off it was refused by the post).
+  double pole_clearance_rad = 1.0 * kPi / 180.0;
   Clearances clearances;
   double motion_tol_mm = 1e-3;
   double retract_mm = 3.0;              // links: up the tool axis

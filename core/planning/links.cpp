@@ -143,7 +143,83 @@ void add_reason(std::string& reasons, const Candidate& c, const LinkOptions& o, 
   reasons += (reasons.empty() ? "" : "; ") + os.str();
 }
 
+// Inserts around_pole's poses into every leg of a -> via... -> b that
+// turns its axis past the pole, each of the leg's kind.
+void keep_off_pole(const ToolPose& a, std::vector<ToolPose>& via, std::vector<LinkLeg>& legs, const ToolPose& b,
+                   const LinkOptions& o) {
+  if (o.pole.isZero() || !(o.pole_clearance_rad > 0)) return;
+  std::vector<ToolPose> out_via;
+  std::vector<LinkLeg> out_legs;
+  for (size_t s = 0; s <= via.size(); ++s) {
+    const ToolPose& from = s == 0 ? a : via[s - 1];
+    const ToolPose& to = s < via.size() ? via[s] : b;
+    const LinkLeg leg = s < legs.size() ? legs[s] : LinkLeg::Approach;
+    for (ToolPose& p : around_pole(from, to, o.pole.normalized(), o.pole_clearance_rad)) {
+      out_via.push_back(std::move(p));
+      out_legs.push_back(leg);
+    }
+    out_legs.push_back(leg);
+    if (s < via.size()) out_via.push_back(to);
+  }
+  via = std::move(out_via);
+  legs = std::move(out_legs);
+}
+
 }  // namespace
+
+double angle_off_pole(const Vec3& a_in, const Vec3& b_in, const Vec3& pole) {
+  const Vec3 a = a_in.normalized(), b = b_in.normalized();
+  auto off = [&](const Vec3& v) { return std::acos(std::min(1.0, std::abs(v.dot(pole)))); };
+  double least = std::min(off(a), off(b));
+  const Vec3 n = a.cross(b);
+  if (n.norm() < 1e-12) return least;  // no turn (or half a turn: PoseMotion's own choice)
+  const Vec3 nn = n.normalized();
+  // The great circle's points nearest the pole's line: the pole projected
+  // onto its plane, either way; inside the arc from a to b?
+  const Vec3 q = pole - pole.dot(nn) * nn;
+  if (q.norm() < 1e-12) return least;  // the circle is the pole's equator
+  for (const Vec3& c : {Vec3(q.normalized()), Vec3(-q.normalized())})
+    if (a.cross(c).dot(nn) >= 0 && c.cross(b).dot(nn) >= 0) least = std::min(least, off(c));
+  return least;
+}
+
+std::vector<ToolPose> around_pole(const ToolPose& a, const ToolPose& b, const Vec3& pole, double clearance_rad) {
+  const Vec3 ua = unit_axis(a.axis), ub = unit_axis(b.axis);
+  const double end_off = std::min(std::acos(std::min(1.0, std::abs(ua.dot(pole)))),
+                                  std::acos(std::min(1.0, std::abs(ub.dot(pole)))));
+  if (end_off < clearance_rad || angle_off_pole(ua, ub, pole) >= clearance_rad) return {};
+  // Spherical coordinates about the pole the leg passes (the one nearer
+  // the axis half-way): polar angle theta off it, azimuth phi round it.
+  const PoseMotion motion(a, b);
+  const Vec3 p = motion.pose_at(0.5).axis.dot(pole) >= 0 ? pole : Vec3(-pole);
+  const Vec3 e1 = (std::abs(p.x()) < 0.9 ? Vec3(Vec3::UnitX()) : Vec3(Vec3::UnitY())).cross(p).normalized();
+  const Vec3 e2 = p.cross(e1);
+  auto polar = [&](const Vec3& v) { return std::acos(std::clamp(v.dot(p), -1.0, 1.0)); };
+  auto azimuth = [&](const Vec3& v) { return std::atan2(v.dot(e2), v.dot(e1)); };
+  // The azimuth the great circle turns through, the way it passes.
+  constexpr int kSamples = 256;
+  double turn = 0, last = azimuth(ua);
+  for (int i = 1; i <= kSamples; ++i) {
+    const double phi = azimuth(unit_axis(motion.pose_at(static_cast<double>(i) / kSamples).axis));
+    turn += std::remainder(phi - last, 2 * kPi);
+    last = phi;
+  }
+  // Steps of at most 22.5 deg round the pole: a great circle between two
+  // axes theta off it and that far apart keeps within 2 % of theta.
+  const int pieces = std::max(2, static_cast<int>(std::ceil(std::abs(turn) / (kPi / 8))));
+  const double theta_a = polar(ua), theta_b = polar(ub), phi_a = azimuth(ua);
+  std::vector<ToolPose> out;
+  for (int k = 1; k < pieces; ++k) {
+    const double t = static_cast<double>(k) / pieces;
+    const double theta = std::max((1 - t) * theta_a + t * theta_b, 2 * clearance_rad);
+    const double phi = phi_a + t * turn;
+    ToolPose q;
+    q.tip = (1 - t) * a.tip + t * b.tip;
+    q.axis = std::cos(theta) * p + std::sin(theta) * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    out.push_back(q);
+  }
+  return out;
+}
 
 PlannedDeparture plan_departure(const LinkEnd& at, const LinkChecks& checks, const LinkOptions& o) {
   check_options(checks, o);
@@ -193,6 +269,7 @@ PlannedLink plan_link(const LinkEnd& from, const LinkEnd& to, const LinkChecks& 
     legs.insert(legs.begin() + static_cast<long>(insert_at), traverse_via.size(), LinkLeg::Traverse);
     via.push_back(up_b);
     legs.push_back(LinkLeg::Approach);  // up_b -> b
+    keep_off_pole(from.pose, via, legs, to.pose, o);
     const Attempt at = prove(from.pose, via, legs, to.pose, checks, allowed);
     if (at.clear) {
       best.clear = true;

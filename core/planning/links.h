@@ -45,7 +45,29 @@ struct LinkOptions {
   double min_retract_mm = 0.1;    // smallest offset tried (halving from retract_mm)
   double axis_retract_mm = 0;     // a second leg up the tool axis after the first (0: none)
   double allowed_overcut_mm = 0.002;  // how far a non-cutting move may dip below the finished surface
+  // The pole of the machine's rotary configuration in the part frame (the
+  // primary rotary axis: the C table's on an A/C or B/C machine; zero: no
+  // pole), and how far every axis a link turns through keeps off it: a leg
+  // whose axis would pass nearer (both its ends farther) is routed round
+  // the pole at twice that (around_pole). Through the pole the primary
+  // axis must turn half a revolution at once, which a post cannot follow
+  // (the built-in blisk job's trailing edge: a link 0.002 deg off it).
+  Vec3 pole = Vec3::Zero();
+  double pole_clearance_rad = 0;
 };
+
+// The least angle between the tool axis and the line of `pole` (unit) as
+// the axis turns from a to b along the great circle (PoseMotion's), rad.
+double angle_off_pole(const Vec3& a, const Vec3& b, const Vec3& pole);
+
+// The poses of a link's leg a -> b whose axis would pass within
+// `clearance_rad` of the pole's line while a and b are farther: the axis
+// carried round the pole instead, its angle off it at least twice the
+// clearance and its azimuth turning the way the great circle passed, the
+// tip on the straight segment; poses between a and b, none when the leg
+// keeps off the pole (or an end is within the clearance: nothing keeps it
+// off then).
+std::vector<ToolPose> around_pole(const ToolPose& a, const ToolPose& b, const Vec3& pole, double clearance_rad);
 
 // One end of a link: the cutting pose and the surface normal out of the
 // material at its contact.

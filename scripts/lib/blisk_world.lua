@@ -55,7 +55,7 @@ function M.around_blade(blisk, k, opts)
       -- mm pessimistic, nothing against a margin this size): a second hub
       -- mesh was ~100 MB more in the blisk job.
       surfaces[#surfaces + 1] = {name = "hub's stock", revolution = blisk:hub(), chord_tol = tol,
-                                 margin = opts.hub_stock, parts = {"shank", "holder"}}
+                                 margin = opts.hub_stock, parts = {"shank", "holder"}, stock = true}
     end
   end
   local cache = opts.meshes or {}
@@ -84,7 +84,8 @@ function M.around_blade(blisk, k, opts)
       mesh = M.trimmed_flank_mesh(blisk, f.blade, f.side, opts.top, tol, cache)
       name = string.format("blade %d %s's stock", f.blade, f.side)
     end
-    surfaces[#surfaces + 1] = {name = name, mesh = mesh, margin = f.stock + tol, parts = {"shank", "holder"}}
+    surfaces[#surfaces + 1] = {name = name, mesh = mesh, margin = f.stock + tol, parts = {"shank", "holder"},
+                               stock = true}
   end
   if opts.own ~= false then
     -- The blade being machined, for the shank and holder only (the cutter

@@ -141,6 +141,14 @@ TEST(Links, NormalRetractLeavesTheConcaveFlankAndTheAxisRuleOnlyWhereItCutsWithi
 // left-out pairs as the traverse's world, a traverse whose cutter runs
 // through a ridge of the own blade is refused; the shank, above the
 // ridge, passes either way.
+// A flat end's links: up its axis by retract_mm.
+LinkOptions up_the_axis(double retract_mm) {
+  LinkOptions o;
+  o.direction = RetractDirection::ToolAxis;
+  o.retract_mm = retract_mm;
+  return o;
+}
+
 TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   const Tool tool = test::flat_end_mill(3, 0.5, 9, 20);
   const ToolBody body(tool, 1e-3);
@@ -152,9 +160,7 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   LinkChecks checks;
   checks.world = &world;
   checks.body = &body;
-  LinkOptions o;
-  o.direction = RetractDirection::ToolAxis;
-  o.retract_mm = 3;
+  LinkOptions o = up_the_axis(3);
   o.min_retract_mm = 0.5;
   const LinkEnd a{{Vec3(0, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
   const LinkEnd b{{Vec3(20, 0, 0), Vec3::UnitZ()}, Vec3::UnitZ()};
@@ -167,6 +173,82 @@ TEST(Links, ATraverseIsProvedAgainstTheOwnBladeForTheCutter) {
   // Over the ridge (a waypoint lifting the tool 8 mm): proved.
   const PlannedLink over = plan_link(a, b, checks, o, {{Vec3(0, 0, 8), Vec3::UnitZ()}, {Vec3(20, 0, 8), Vec3::UnitZ()}});
   EXPECT_TRUE(over.clear) << over.reason;
+}
+
+// Stock on a face (CheckSurfaceOptions::stock) is an obstacle for the shank
+// and holder only: the cutter cuts it, so it is not one of the pairs the
+// traverse world adds back for the cutter (the built-in TE after a
+// roughing: a link from its first row, the cutter in the hub's stock as
+// every pose there is, refused "cutter vs hub's stock" on every route).
+TEST(Links, StockIsNoObstacleForTheCutterEvenOnATraverse) {
+  CollisionWorld world;
+  CheckSurfaceOptions stock;
+  stock.parts.cutter = false;
+  stock.margin_mm = 0.5;
+  stock.stock = true;
+  world.add("hub's stock", test::grid_mesh(Vec3(-50, -50, 0), Vec3(100, 0, 0), Vec3(0, 100, 0), 4, 4), stock);
+  EXPECT_TRUE(world.unchecked_pairs() == nullptr);
+  CheckSurfaceOptions own;
+  own.parts.cutter = false;
+  world.add("own blade", test::box_mesh(Vec3(9, -20, -1), Vec3(11, 20, 5)), own);
+  const auto left = world.unchecked_pairs();
+  ASSERT_TRUE(left != nullptr);
+  ASSERT_EQ(left->size(), 1);
+  EXPECT_EQ(left->name(0), "own blade");
+}
+
+// The least angle off the pole's line along every leg of a link, sampled
+// as the machine moves (PoseMotion), with the closed form's.
+double least_off_pole(const LinkEnd& a, const PlannedLink& link, const LinkEnd& b, const Vec3& pole) {
+  std::vector<ToolPose> chain{a.pose};
+  chain.insert(chain.end(), link.via.begin(), link.via.end());
+  chain.push_back(b.pose);
+  double least = kPi;
+  for (size_t s = 0; s + 1 < chain.size(); ++s) {
+    const PoseMotion m(chain[s], chain[s + 1]);
+    double leg = kPi;
+    for (int i = 0; i <= 2000; ++i)
+      leg = std::min(leg, std::acos(std::min(1.0, std::abs(m.pose_at(i / 2000.0).axis.normalized().dot(pole)))));
+    EXPECT_NEAR(angle_off_pole(chain[s].axis, chain[s + 1].axis, pole), leg, 2e-4) << "leg " << s;
+    least = std::min(least, leg);
+  }
+  return least;
+}
+
+// A link between two axes 10 deg either side of the C table's axis: turned
+// along the great circle, the axis passes through the pole, where C must
+// turn half a revolution at once (the built-in blisk job's trailing edge:
+// 0.002 deg off it, refused by the Heidenhain post). With the pole given,
+// every leg keeps 1 deg off it: the axis carried round at 2 deg, C turning
+// in steps of at most 22.5 deg; the ends are the passes' own.
+TEST(Links, ALinkKeepsItsAxisOffTheTablesPole) {
+  const Tool tool = test::flat_end_mill(3, 0.5, 9, 20);
+  const ToolBody body(tool, 1e-3);
+  const CollisionWorld nothing;
+  LinkChecks checks;
+  checks.world = &nothing;
+  checks.body = &body;
+  LinkOptions o = up_the_axis(3);
+  const double tilt = 10 * kPi / 180;
+  const LinkEnd a{{Vec3(0, 0, 0), Vec3(std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
+  const LinkEnd b{{Vec3(20, 5, 0), Vec3(-std::sin(tilt), 0, std::cos(tilt))}, Vec3::UnitZ()};
+  const Vec3 pole = Vec3::UnitZ();
+  const PlannedLink through = plan_link(a, b, checks, o);
+  ASSERT_TRUE(through.clear) << through.reason;
+  EXPECT_LT(least_off_pole(a, through, b, pole), 1e-6);
+  EXPECT_LT(angle_off_pole(a.pose.axis, b.pose.axis, pole), 1e-9);
+  o.pole = pole;
+  o.pole_clearance_rad = kPi / 180;
+  const PlannedLink round = plan_link(a, b, checks, o);
+  ASSERT_TRUE(round.clear) << round.reason;
+  EXPECT_GE(least_off_pole(a, round, b, pole), o.pole_clearance_rad);
+  EXPECT_GT(round.via.size(), through.via.size() + 6);  // half a turn in steps of <= 22.5 deg
+  // The table's axis either way along it is the same pole.
+  o.pole = -pole;
+  EXPECT_GE(least_off_pole(a, plan_link(a, b, checks, o), b, pole), o.pole_clearance_rad);
+  // A link that keeps off the pole is left as it was.
+  const LinkEnd c{{Vec3(20, 5, 0), Vec3(std::sin(2 * tilt), 0, std::cos(2 * tilt))}, Vec3::UnitZ()};
+  EXPECT_EQ(plan_link(a, c, checks, o).via.size(), plan_link(a, c, checks, up_the_axis(3)).via.size());
 }
 
 TEST(Links, RejectsBadOptions) {

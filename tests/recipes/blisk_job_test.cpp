@@ -352,6 +352,34 @@ TEST(BliskJobRecipe, AMoveOutOfTravelNamesItsOperationAndBlade) {
   EXPECT_FALSE(fs::exists(dir.path() + "/out/x.nc"));
 }
 
+// A program of several tools posted with others (post.write_all): the
+// machine motion's message names the move within the tool's moves, after
+// the tool's prefix, and post.write_all puts "programs[k] (file): " before
+// it. Job move = the program's offset + the tool's start + the move - 1:
+// here 6 + 3 - 1 = 8. The first "):" in the message is the file's, and the
+// number after it the tool's start: read as the move, that named job move
+// 11, beyond the program, as "the way out from job move 10".
+TEST(BliskJobRecipe, APostErrorInALaterToolNamesItsJobMove) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      one_blade_job("110", "") +
+      "j.planned = {moves = {}}\n"
+      "for i = 1, 10 do\n"
+      "  j.planned.moves[i] = {operation = i <= 5 and 1 or 2, operation_kind = i <= 5 and \"drum_finish\" or \"edge_finish\",\n"
+      "                        blade = 1, side = i <= 5 and \"suction\" or \"trailing\", kind = \"feed\", motion = \"cut\"}\n"
+      "end\n"
+      "local message = \"bliskrun.post.write_all: programs[2] (x_heidenhain.h): tool 2, whose moves start at move 6 \"\n"
+      "  .. \"(move numbers below count from there): move 3 (row 1) tip (0, 0, 0) axis (0, 0, 1): outside travel\"\n"
+      "local ok, err = pcall(j.raise_post_error, j, message, 0, 1, {first = 1, last = 10, splits = {}})\n"
+      "assert(not ok)\n"
+      "assert(err:find(\"job:post: job move 8 (operation 2 edge_finish, blade 1 trailing flank, cut)\", 1, true), err)\n"
+      "-- one tool: the move after the file's name\n"
+      "ok, err = pcall(j.raise_post_error, j, \"bliskrun.post.write_all: programs[1] (x.nc): move 4 (row 2) tip\", 2, 1,\n"
+      "                {first = 1, last = 10, splits = {}})\n"
+      "assert(err:find(\"job:post: job move 6 (operation 2\", 1, true), err)\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // Tool life: whole blades per tool up to its cutting length, then the next
 // sister tool; one blade beyond the life, or sisters running out, is an error.
 TEST(BliskJobRecipe, BladesAreGroupedPerToolByCuttingLength) {

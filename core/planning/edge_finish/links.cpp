@@ -110,6 +110,8 @@ EdgeLinker edge_linker(const EdgeFinishRequest& rq, const ToolBody& body, const 
   link_options.retract_mm = rq.retract_mm;
   link_options.min_retract_mm = std::min(0.1, rq.retract_mm);
   link_options.allowed_overcut_mm = -rq.band.e1_mm;
+  link_options.pole = rq.reach_axis;  // zero without a reach: no pole
+  link_options.pole_clearance_rad = rq.pole_clearance_rad;
   return linker;
 }
 

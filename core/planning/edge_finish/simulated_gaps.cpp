@@ -5,7 +5,7 @@
 // 27.5 um where the reaches said the rows met). The rows' passes are
 // simulated over the window (core/sim, the independent simulation's method)
 // and a partial row goes half-way between the two rows around every part
-// left above e2; twice.
+// left above e2, or rising above it between two samples (a ridge); twice.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -22,12 +22,44 @@ constexpr int kSimulatedInfillRounds = 2;
 
 // Where the rows (sorted by v) as checked leave more than e2 on the edge
 // region over the window — their cutting passes simulated by the
-// independent simulation's method (core/sim simulate_undercut), 0.1 mm
+// independent simulation's method (core/sim simulate_undercut), 0.05 mm
 // along the span (the triangles the rows leave at their ends narrow to a
-// point: at 0.25 mm a 27 um one on the built-in TE went unseen) and
+// point: at 0.25 mm a 27 um one on the built-in TE went unseen; the ridges
+// between tilted rows (left_or_ridge) are told apart by their sides only at
+// 0.05: at 0.1 the TE after a roughing kept 21.7 um) and
 // kGapSamples around — as partial rows to add: each at
 // half-way between the two rows around the part left (at the window's end
 // above the last row), over the u intervals left, padded by two samples.
+// Which samples of a residual map (row-major, u outer) count as left: those
+// above left_above, and beside a ridge along the span whose top rises above
+// ridge_above between two samples. Between two rows the material left is a
+// cusp — two tool sweeps meeting in a ridge — not a smooth bump: it rises
+// towards the ridge from both sides, steepest at the ridge, and where a
+// tilted pose's torus meets a neighbour's at a steep angle the ridge is
+// narrower than the samples (on the built-in TE after a roughing, rows
+// tilted off the edge rounds' stock: 21.7 um at the region's end between
+// samples 0.1 mm apart that read 14-15.5, e2 20). The top is put where the
+// two sides' secants through their last two samples meet — a lower bound of
+// it where each side is convex, as a cusp's are — and the sample nearer it
+// counts as left.
+std::vector<char> left_or_ridge(const UndercutResult& r, double left_above, double ridge_above) {
+  const size_t nv = static_cast<size_t>(r.samples_v);
+  std::vector<char> left(r.residual_mm.size(), 0);
+  for (size_t i = 0; i < left.size(); ++i) left[i] = r.residual_mm[i] > left_above;
+  for (size_t row = 0; row < static_cast<size_t>(r.samples_u); ++row) {
+    const double* res = &r.residual_mm[row * nv];
+    for (size_t j = 1; j + 2 < nv; ++j) {
+      const double a = res[j - 1], b = res[j], c = res[j + 1], d = res[j + 2];
+      if (!(std::isfinite(a) && std::isfinite(b) && std::isfinite(c) && std::isfinite(d))) continue;
+      const double rise_up = b - a, rise_down = c - d;  // towards the ridge from below and from above
+      if (!(rise_up > 0 && rise_down > 0)) continue;
+      const double x = std::clamp((c + rise_down - b) / (rise_up + rise_down), 0.0, 1.0);
+      if (b + rise_up * x > ridge_above) left[row * nv + (x < 0.5 ? j : j + 1)] = 1;
+    }
+  }
+  return left;
+}
+
 struct SimulatedGap {
   double v = 0;        // where the partial row goes
   Intervals where;     // the parts of the round it covers
@@ -36,11 +68,9 @@ struct SimulatedGap {
 //
 // `residual` carries the material left between the calls (empty the first
 // time): only the rows not simulated yet (PlannedRow::simulated) are, and
-// the map is the lower of theirs and the one before. Only whether a sample
-// is left above left_above is read, and that does not depend on which
-// passes were traced first (UndercutOptions::settled_mm), so the second
-// round's partial rows are the same as from all the passes again — which
-// cost as much as the first round (about a fifth of the built-in TE's plan).
+// the map is the lower of theirs and the one before — the same as from all
+// the passes again, which cost as much as the first round (about a fifth of
+// the built-in TE's plan).
 std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, std::vector<PlannedRow>& rows,
                                          std::vector<double>& residual, Progress& progress) {
   std::vector<ToolPass> passes;
@@ -66,25 +96,25 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, std::vecto
   const double around_mm = length([&](double t) { return rq.edge->point(t, 0.5 * (rq.v0 + rq.v1)); }, 64);
   UndercutOptions o;
   o.samples_u = kGapSamples + 1;
-  o.samples_v = std::clamp(static_cast<int>(span_mm / 0.1), 16, 2000);
+  o.samples_v = std::clamp(static_cast<int>(span_mm / 0.05), 16, 4000);
   // Between samples h apart the material left can rise above what they see
   // by about h^2 / (8 r) under the corner radius r (2.5 um at 0.1 mm, r
   // 0.5: Rotor 67's TE read 19.8 um here where the recipe's own samples
-  // found 22.6): a part is left if it reaches e2 less that.
+  // found 22.6): a part is left if it reaches e2 less that; a ridge between
+  // samples if its top reaches e2 (left_or_ridge).
   const double h = std::max(span_mm / (o.samples_v - 1), around_mm / (o.samples_u - 1));
   const double left_above = rq.band.e2_mm - h * h / (8 * flat_end_of(*rq.tool).corner_mm);
-  // Only whether a sample is left above that matters here: material is
-  // tracked to e2 + 10 um (a sample left higher, or untouched, reads +inf
-  // and is left all the same) and gouges to 10 um (the guards and the
-  // independent simulation measure those). The shorter traces and the
-  // narrower reach around the tool (the tiles the cutter can touch within
-  // 0.03 mm, not 0.1): 1.24 -> 1.07 s wall on the built-in LE, same gaps.
+  // Material is tracked to e2 + 10 um (a sample left higher, or untouched,
+  // reads +inf and is left all the same) and gouges to 10 um (the guards
+  // and the independent simulation measure those). The shorter traces and
+  // the narrower reach around the tool (the tiles the cutter can touch
+  // within 0.03 mm, not 0.1): 1.24 -> 1.07 s wall on the built-in LE, same
+  // gaps. Every sample is traced to its lowest (no settled_mm): the ridges
+  // are read from the samples' values, and a sample left where the first
+  // pass that took it below e2 left it would read by the order the passes
+  // were traced in (the partial rows then changed with the threads).
   o.search_above_mm = std::max(rq.band.e2_mm, 0.0) + 0.01;
   o.search_below_mm = 0.01;
-  // A sample once left below that is done with: the passes that cut it
-  // again (the next row's overlap, the cutter hovering over it) are not
-  // traced there.
-  o.settled_mm = left_above;
   o.v0 = rq.v0;
   o.v1 = rq.v1;
   o.threads = rq.threads;
@@ -102,6 +132,7 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, std::vecto
   residual = r.residual_mm;
   // Per pair of rows (k: between rows k and k + 1; rows.size() - 1: above
   // the last), the u samples left.
+  const std::vector<char> left_at = left_or_ridge(r, left_above, rq.band.e2_mm);
   std::vector<std::vector<int>> left(rows.size());
   for (int j = 0; j < r.samples_v; ++j) {
     const double v = o.v0 + (o.v1 - o.v0) * j / (r.samples_v - 1);
@@ -109,7 +140,7 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, std::vecto
     size_t k = 0;
     while (k + 1 < rows.size() && rows[k + 1].row.v <= v) ++k;
     for (int i = 0; i < r.samples_u; ++i)
-      if (r.residual_mm[static_cast<size_t>(i) * r.samples_v + j] > left_above) left[k].push_back(i);
+      if (left_at[static_cast<size_t>(i) * r.samples_v + j]) left[k].push_back(i);
   }
   std::vector<SimulatedGap> out;
   const double du = 1.0 / (r.samples_u - 1);

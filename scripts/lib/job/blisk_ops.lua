@@ -536,8 +536,10 @@ function M.edge_finish(o)
                                           e1 = self.e1, e2 = self.e2, reach = self.reach}
         local r = plan:report()
         if r.refusals > 0 or r.refused_links > 0 then
+          local first = r.refusal_reasons and r.refusal_reasons[1]
           error(string.format("job.edge_finish: blade %d %s edge: %d contacts and %d links refused; nothing of it is "
-                              .. "emitted (see plan:report().refusal_reasons)", k, edge, r.refusals, r.refused_links), 0)
+                              .. "emitted (the first: %s)", k, edge, r.refusals, r.refused_links,
+                              first or "see plan:report().refusal_reasons"), 0)
         end
         -- Where the hub narrowed the window (its first row the lowest the
         -- hub allows), the first row's highest point above the hub: the hub

@@ -366,9 +366,17 @@ end
 -- the program's first; `span` = {first, last, splits}: the program's job
 -- moves and those split in two (j:program_path), so a move before or after them is named as the
 -- program's way in to its first or out from its last.
+-- The move is the first "move N" of the machine motion's own message:
+-- after the tool's prefix where a program has several tools ("tool 2, whose
+-- moves start at move S (move numbers below count from there): move N ..."),
+-- else after post.write_all's "programs[k] (file): " — the program's file
+-- name and the tool's prefix are no move of the message's (the first "):"
+-- was taken for the prefix's end, and post.write_all's "(file): " comes
+-- first: the tool's start S was read as N, naming job move 2 S - 1).
 function Job:raise_post_error(message, offset, level, span)
   local start = tonumber(message:match("moves start at move (%d+)")) or 1
-  local n = tonumber(message:match("%):.-move (%d+)") or message:match("move (%d+)"))
+  local own = message:match("count from there%)(.*)$") or message:gsub("^.-programs%[%d+%] %b(): ", "", 1)
+  local n = tonumber(own:match("move (%d+)"))
   local k, what = n and offset + start + n - 1, "job move %d"
   -- The program's moves count a split rapid's part in air apart
   -- (program_path): job move j stands at j + the splits up to j, its part
