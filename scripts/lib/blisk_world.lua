@@ -112,7 +112,7 @@ end
 -- The flanks are trimmed between the hub and the top (the casing, or
 -- opts.top, the blank's top as a surface of revolution).
 -- opts.chord_tol (0.01 mm), opts.face_margin (0), opts.meshes: a cache
--- {[blade] = {pressure =, suction =}, hub =} of tessellations at chord_tol,
+-- {[blade] = {pressure =, suction =, leading =, trailing =}} of tessellations at chord_tol,
 -- filled as needed and shared between channels.
 function M.around_channel(blisk, k, opts)
   opts = opts or {}
@@ -137,8 +137,13 @@ function M.around_channel(blisk, k, opts)
                                  margin = opts.face_margin or 0}
     end
   end
-  cache.hub = cache.hub or blisk:hub():tessellate(tol)
-  surfaces[#surfaces + 1] = {name = "hub", mesh = cache.hub}
+  -- The hub measured as a surface of revolution (each tool piece's sphere
+  -- cover against its meridian within 1 um, never above the true distance)
+  -- rather than a mesh of the whole wheel at tol: every step of a motion
+  -- proof asked that mesh's FCL hierarchy, 17 % of the channel's planning
+  -- CPU (bench/RESULTS.md), for the same proved moves; and no hub mesh is
+  -- built or kept.
+  surfaces[#surfaces + 1] = {name = "hub", revolution = blisk:hub(), chord_tol = 1e-3}
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
