@@ -143,6 +143,9 @@ void add_reason(std::string& reasons, const Candidate& c, const LinkOptions& o, 
   reasons += (reasons.empty() ? "" : "; ") + os.str();
 }
 
+// The angle between a unit axis and the pole's line (either way along it).
+double off_pole(const Vec3& unit, const Vec3& pole) { return std::acos(std::min(1.0, std::abs(unit.dot(pole)))); }
+
 // Inserts around_pole's poses into every leg of a -> via... -> b that
 // turns its axis past the pole, each of the leg's kind.
 void keep_off_pole(const ToolPose& a, std::vector<ToolPose>& via, std::vector<LinkLeg>& legs, const ToolPose& b,
@@ -169,8 +172,7 @@ void keep_off_pole(const ToolPose& a, std::vector<ToolPose>& via, std::vector<Li
 
 double angle_off_pole(const Vec3& a_in, const Vec3& b_in, const Vec3& pole) {
   const Vec3 a = a_in.normalized(), b = b_in.normalized();
-  auto off = [&](const Vec3& v) { return std::acos(std::min(1.0, std::abs(v.dot(pole)))); };
-  double least = std::min(off(a), off(b));
+  double least = std::min(off_pole(a, pole), off_pole(b, pole));
   const Vec3 n = a.cross(b);
   if (n.norm() < 1e-12) return least;  // no turn (or half a turn: PoseMotion's own choice)
   const Vec3 nn = n.normalized();
@@ -179,14 +181,13 @@ double angle_off_pole(const Vec3& a_in, const Vec3& b_in, const Vec3& pole) {
   const Vec3 q = pole - pole.dot(nn) * nn;
   if (q.norm() < 1e-12) return least;  // the circle is the pole's equator
   for (const Vec3& c : {Vec3(q.normalized()), Vec3(-q.normalized())})
-    if (a.cross(c).dot(nn) >= 0 && c.cross(b).dot(nn) >= 0) least = std::min(least, off(c));
+    if (a.cross(c).dot(nn) >= 0 && c.cross(b).dot(nn) >= 0) least = std::min(least, off_pole(c, pole));
   return least;
 }
 
 std::vector<ToolPose> around_pole(const ToolPose& a, const ToolPose& b, const Vec3& pole, double clearance_rad) {
   const Vec3 ua = unit_axis(a.axis), ub = unit_axis(b.axis);
-  const double end_off = std::min(std::acos(std::min(1.0, std::abs(ua.dot(pole)))),
-                                  std::acos(std::min(1.0, std::abs(ub.dot(pole)))));
+  const double end_off = std::min(off_pole(ua, pole), off_pole(ub, pole));
   if (end_off < clearance_rad || angle_off_pole(ua, ub, pole) >= clearance_rad) return {};
   // Spherical coordinates about the pole the leg passes (the one nearer
   // the axis half-way): polar angle theta off it, azimuth phi round it.
