@@ -410,8 +410,10 @@ std::vector<MachineBody> read_part_bodies(lua_State* L, int idx, const std::stri
         {"mesh", luax::Kind::Any, false, {}, {}, "a bliskrun.Mesh (surface:tessellate(tol))", {}},
         {"meshes", luax::Kind::Table, false, {}, {}, "several meshes making one body (a blade's flanks)", {}},
         {"margin", luax::Kind::Number, false, 0.0, 100.0, "how far the true surface may lie from the mesh, mm", {}},
+        {"mesh_names", luax::Kind::Table, false, {}, {}, "with meshes: one name per mesh, the one reports give where the body is nearest on it", {}},
     });
     if (o.has("mesh") == o.has("meshes")) luax::error(L, where + ": give exactly one of 'mesh' and 'meshes'");
+    if (o.has("mesh_names") && !o.has("meshes")) luax::error(L, where + ".mesh_names: only with 'meshes'");
     MachineBody b;
     b.name = o.string("name", "");
     b.frame = o.string("frame", "part");
@@ -437,6 +439,21 @@ std::vector<MachineBody> read_part_bodies(lua_State* L, int idx, const std::stri
         lua_pop(L, 1);
       }
       lua_pop(L, 1);
+      if (o.has("mesh_names")) {
+        o.push_raw("mesh_names");
+        const lua_Unsigned names = lua_rawlen(L, -1);
+        if (names != m)
+          luax::error(L, where + ".mesh_names: expected one name per mesh (" + std::to_string(m) + "), got " +
+                             std::to_string(names));
+        for (lua_Unsigned k = 1; k <= names; ++k) {
+          lua_rawgeti(L, -1, static_cast<lua_Integer>(k));
+          if (lua_type(L, -1) != LUA_TSTRING)
+            luax::error(L, where + ".mesh_names[" + std::to_string(k) + "]: expected a string");
+          b.mesh_names.emplace_back(lua_tostring(L, -1));
+          lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+      }
     }
     out.push_back(std::move(b));
     lua_pop(L, 1);

@@ -67,6 +67,12 @@ void validate_bodies(const std::vector<MachineBody>& bodies, const std::vector<s
         triangles += m.triangles.size();
       }
       if (triangles == 0) throw ParameterError(field + ".meshes", "expected at least one triangle");
+      if (!b.mesh_names.empty() && b.mesh_names.size() != b.meshes.size())
+        throw ParameterError(field + ".mesh_names", "expected one name per mesh (" + std::to_string(b.meshes.size()) +
+                                                        "), got " + std::to_string(b.mesh_names.size()));
+      for (size_t k = 0; k < b.mesh_names.size(); ++k)
+        if (b.mesh_names[k].empty())
+          throw ParameterError(field + ".mesh_names[" + std::to_string(k + 1) + "]", "expected a non-empty name");
       if (!b.placement.matrix().allFinite()) throw ParameterError(field + ".placement", "expected a finite placement");
       if (!std::isfinite(b.margin_mm) || b.margin_mm < 0)
         throw ParameterError(field + ".margin", "expected a margin >= 0 mm");

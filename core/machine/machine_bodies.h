@@ -51,6 +51,12 @@ struct MachineBody {
   std::vector<std::shared_ptr<const TriangleMesh>> meshes;
   Eigen::Isometry3d placement = Eigen::Isometry3d::Identity();
   double margin_mm = 0;
+  // Mesh, optional: one name per mesh, the one a report gives where the
+  // body's nearest point lies on that mesh. A part of many blades is one
+  // body (one pair per machine body or tool part, not one per blade: the
+  // HECC impeller's 30 blades made 579 pairs, each sampled on its own)
+  // whose approaches still name the blade.
+  std::vector<std::string> mesh_names;
 };
 
 // Centre and radius of a sphere holding the body (home coordinates; a

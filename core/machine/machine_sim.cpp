@@ -3,6 +3,9 @@
 #include <fcl/fcl.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -45,6 +48,9 @@ struct SimBody {
   std::shared_ptr<fcl::CollisionGeometryd> coarse;
   Eigen::Isometry3d coarse_local = Eigen::Isometry3d::Identity();
   double margin = 0;  // a mesh's: the true surface may lie this much nearer
+  // A mesh's own names (MachineBody::mesh_names) by the first triangle of
+  // each mesh in the hierarchy; empty: the body's name throughout.
+  std::vector<std::pair<int, std::string>> names_from_triangle;
   // A primitive's (box, cylinder, cone) polyhedron containing it, no more
   // than hull_gap outside it, in the geometry's coordinates. Against a mesh
   // it is asked first: a BVH against a BVH prunes by boxes fitted to both
@@ -58,6 +64,15 @@ struct SimBody {
   double radius = 0;
   PlacedBody shape;  // for pictures: the shape in the geometry's coordinates
 };
+
+// The name a report gives `body` where its nearest point is its triangle
+// `triangle` (FCL's primitive index; -1: not known).
+const std::string& sim_name_at(const SimBody& body, int triangle) {
+  if (body.names_from_triangle.empty() || triangle < 0) return body.name;
+  auto after = std::upper_bound(body.names_from_triangle.begin(), body.names_from_triangle.end(), triangle,
+                                [](int t, const std::pair<int, std::string>& m) { return t < m.first; });
+  return after == body.names_from_triangle.begin() ? body.name : std::prev(after)->second;
+}
 
 // A BVH over triangles (fcl's).
 std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> sim_bvh(const std::vector<std::pair<std::vector<Vec3>, std::vector<Eigen::Vector3i>>>& parts) {
@@ -144,7 +159,13 @@ SimBody sim_body(const MachineBody& b, int link, SimBody::Role role, const Vec3&
     // One hierarchy over all the body's meshes, in their own coordinates:
     // the placement and the part origin are the query's transform.
     std::vector<std::pair<std::vector<Vec3>, std::vector<Eigen::Vector3i>>> parts;
-    for (const auto& m : b.meshes) parts.emplace_back(m->vertices, m->triangles);
+    int first = 0;
+    for (size_t k = 0; k < b.meshes.size(); ++k) {
+      const auto& m = b.meshes[k];
+      parts.emplace_back(m->vertices, m->triangles);
+      if (!b.mesh_names.empty()) s.names_from_triangle.emplace_back(first, b.mesh_names[k]);
+      first += static_cast<int>(m->triangles.size());
+    }
     s.geometry = sim_bvh(parts);
     s.mesh = true;
     // The box along the vertices' principal axes (a blade's: its chord,
@@ -206,14 +227,21 @@ SimBody sim_body(const MachineBody& b, int link, SimBody::Role role, const Vec3&
 // when asked.
 double sim_pair_distance(const SimBody& a, const Eigen::Isometry3d& pa, const SimBody& b, const Eigen::Isometry3d& pb,
                          double seed = kSimInf, bool* bounded = nullptr, Vec3* near_a = nullptr,
-                         Vec3* near_b = nullptr) {
+                         Vec3* near_b = nullptr, std::array<int, 2>* triangles = nullptr) {
   if (bounded) *bounded = false;
+  if (triangles) *triangles = {-1, -1};
   // A mesh first: FCL's nearest points follow the argument order.
   const bool swap = b.mesh && !a.mesh;
   const SimBody& first = swap ? b : a;
   const SimBody& second = swap ? a : b;
   const fcl::Transform3d t1 = (swap ? pb : pa) * first.local, t2 = (swap ? pa : pb) * second.local;
   const double margin = a.margin + b.margin;
+  // The meshes' nearest triangles (FCL's b1 / b2 follow the argument order).
+  auto record = [&](intptr_t b1, intptr_t b2) {
+    if (!triangles) return;
+    (*triangles)[swap ? 1 : 0] = first.mesh ? static_cast<int>(b1) : -1;
+    (*triangles)[swap ? 0 : 1] = second.mesh ? static_cast<int>(b2) : -1;
+  };
   fcl::DistanceRequestd request;
   request.gjk_solver_type = fcl::GST_LIBCCD;
   request.enable_nearest_points = near_a != nullptr;
@@ -231,6 +259,7 @@ double sim_pair_distance(const SimBody& a, const Eigen::Isometry3d& pa, const Si
       return seed;
     }
     if (hull_result.min_distance > 0) {
+      record(hull_result.b1, -1);
       if (near_a) {
         *near_a = swap ? hull_result.nearest_points[1] : hull_result.nearest_points[0];
         *near_b = swap ? hull_result.nearest_points[0] : hull_result.nearest_points[1];
@@ -248,6 +277,7 @@ double sim_pair_distance(const SimBody& a, const Eigen::Isometry3d& pa, const Si
     *near_a = swap ? p2 : p1;
     *near_b = swap ? p1 : p2;
   };
+  record(result.b1, result.b2);
   if (result.min_distance > 0) {
     nearest(result.nearest_points[0], result.nearest_points[1]);
     return result.min_distance - margin;
@@ -262,7 +292,10 @@ double sim_pair_distance(const SimBody& a, const Eigen::Isometry3d& pa, const Si
   }
   double depth = 0;
   for (size_t i = 0; i < cres.numContacts(); ++i) depth = std::max(depth, cres.getContact(i).penetration_depth);
-  if (cres.numContacts() > 0) nearest(cres.getContact(0).pos, cres.getContact(0).pos);
+  if (cres.numContacts() > 0) {
+    nearest(cres.getContact(0).pos, cres.getContact(0).pos);
+    record(cres.getContact(0).b1, cres.getContact(0).b2);
+  }
   return -depth - margin;
 }
 
@@ -838,18 +871,23 @@ MachineSimReport simulate_machine(const std::vector<ProgramMove>& blocks, const 
         const double best = p.best.distance_mm;
         bool bounded = false;
         double d = 0;
+        std::array<int, 2> triangles{-1, -1};
         if ((a.mesh || b.mesh) && std::isfinite(best)) {
           // A box overlapping (0 apart) says nothing: the mesh is asked.
           const double floor = std::max(best - 0.25 * allowance(best), kSeedFloor);
           d = sim_coarse_distance(a, pa, b, pb);
           bounded = true;
-          if (d < floor) d = sim_pair_distance(a, pa, b, pb, std::max(mesh_seed(best), kSeedFloor), &bounded);
+          if (d < floor)
+            d = sim_pair_distance(a, pa, b, pb, std::max(mesh_seed(best), kSeedFloor), &bounded, nullptr, nullptr,
+                                  &triangles);
         } else {
-          d = sim_pair_distance(a, pa, b, pb);
+          d = sim_pair_distance(a, pa, b, pb, kSimInf, nullptr, nullptr, nullptr, &triangles);
         }
         ++report.queries;
         ++p.best.queries;
         if (!bounded && d < p.best.distance_mm) {
+          p.best.a = sim_name_at(a, triangles[0]);
+          p.best.b = sim_name_at(b, triangles[1]);
           p.best.distance_mm = d;
           p.best.block = static_cast<long>(i);
           p.best.line = got.line;

@@ -208,17 +208,22 @@ function M.flank_meshes(blisk, tol)
 end
 
 -- The blisk's blades as bodies of the machine simulation (post.write's
--- `part`): each blade its two flanks as one mesh body, in the part frame,
--- the tolerance as margin — the meshes the worlds check the shank and
--- holder against (the own blade's, 0.05 mm). The disc under them is the
--- recipe's stock.
+-- `part`): all blades as one mesh body "blades", each blade's two flanks
+-- named after it (mesh_names), in the part frame, the tolerance as margin
+-- — the meshes the worlds check the shank and holder against (the own
+-- blade's, 0.05 mm). One body, as for the impeller (impeller_world's
+-- part_bodies): one pair per machine body or tool part, the far blades
+-- pruned by one hierarchy. The disc under them is the recipe's stock.
 function M.part_bodies(blisk, tol)
   tol = tol or 0.05
-  local bodies = {}
+  local body = {name = "blades", meshes = {}, mesh_names = {}, margin = tol}
   for b, m in ipairs(M.flank_meshes(blisk, tol)) do
-    bodies[b] = {name = "blade " .. b, meshes = {m.pressure, m.suction}, margin = tol}
+    for _, side in ipairs{"pressure", "suction"} do
+      body.meshes[#body.meshes + 1] = m[side]
+      body.mesh_names[#body.mesh_names + 1] = "blade " .. b
+    end
   end
-  return bodies
+  return {body}
 end
 
 -- The worlds around every blade (k = 1..N), each flank and the hub

@@ -204,18 +204,25 @@ function M.whole(imp, meshes)
 end
 
 -- The impeller's blades as bodies of the machine simulation (post.write's
--- `part`): each main blade and each splitter its two faces as one mesh
--- body, in the part frame, from the same cache the worlds take (meshes =
--- iw.meshes(imp, tol)), the tolerance as margin.
+-- `part`): all main blades and splitters as one mesh body "blades", each
+-- blade's two faces named after it (mesh_names: "blade 3", "splitter 3"),
+-- in the part frame, from the same cache the worlds take (meshes =
+-- iw.meshes(imp, tol)), the tolerance as margin. One body, not one per
+-- blade: every impeller blade's box holds the tool (the blades wrap round
+-- the axis), so each of 30 blade bodies was sampled against every machine
+-- body and tool part on its own (579 pairs; the HECC job's post over the
+-- hour), where one hierarchy over all of them prunes the far blades at once.
 function M.part_bodies(imp, meshes)
-  local bodies = {}
+  local body = {name = "blades", meshes = {}, mesh_names = {}, margin = meshes.tol}
   for b = 1, imp:blade_count() do
     for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
-      bodies[#bodies + 1] = {name = (kind == "main" and "blade " or "splitter ") .. b,
-                             meshes = {meshes.face(kind, b, "plus"), meshes.face(kind, b, "minus")}, margin = meshes.tol}
+      for _, face in ipairs{"plus", "minus"} do
+        body.meshes[#body.meshes + 1] = meshes.face(kind, b, face)
+        body.mesh_names[#body.mesh_names + 1] = (kind == "main" and "blade " or "splitter ") .. b
+      end
     end
   end
-  return bodies
+  return {body}
 end
 
 -- A 2-D polyline {{x, y}, ...} with its arc length: line.arc[i] at point

@@ -562,6 +562,84 @@ TEST(MachineSim, PartMeshBoundHoldsAgainstDenseReplay) {
   EXPECT_LT(nose->distance_mm, 20) << "the program should pass the nose near the blade";
 }
 
+// The part's blades as one body of named meshes (MachineBody::mesh_names,
+// how the jobs give their blades: one pair per machine body, not one per
+// blade) against the same blades as a body each, the head passing over
+// blade 1 of the built-in blisk with blade 2 beside it: each machine body's
+// closest approach is named after the blade it lies on and stands within
+// the allowance (machine_sim.h, "The bound") of the nearer of the two
+// bodies' approaches; the pairs fall from 6 to 3. Names of the wrong
+// count are refused where they are given.
+TEST(MachineSim, PartOfNamedMeshesNamesTheNearestBlade) {
+#ifdef BLISKRUN_SANITIZED
+  GTEST_SKIP() << "FCL against two blades' meshes over 20 tilting blocks is slow under the sanitizers";
+#endif
+  MachineDefinition m = table_table_ac();
+  m.bodies = {box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}), box("ram", "Z", {-80, 70, 0}, {80, 200, 600}),
+              cylinder_body("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
+  const BuiltinBlisk blisk;
+  std::vector<MachineBody> separate;
+  MachineBody blades;
+  blades.name = "blades";
+  blades.frame = "part";
+  blades.shape = BodyShape::Mesh;
+  blades.margin_mm = 0.05;
+  for (int k : {1, 2}) {
+    MachineBody b;
+    b.name = "blade " + std::to_string(k);
+    b.frame = "part";
+    b.shape = BodyShape::Mesh;
+    b.margin_mm = 0.05;
+    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction}) {
+      b.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(k, side), 0.05)));
+      blades.meshes.push_back(b.meshes.back());
+      blades.mesh_names.push_back(b.name);
+    }
+    separate.push_back(b);
+  }
+  const double length = 40;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ProgramMove> blocks;
+  for (int k = 0; k < 20; ++k) {
+    const Vec3 tip(80 + 15 * u(rng), 12 * u(rng), 38 + 12 * u(rng) - length);
+    blocks.push_back(block(10 * (k + 1), tip, 5 * u(rng), 20 * u(rng), true));
+  }
+  MachineSimOptions o;
+  o.clearance_mm = 0.5;
+  const Kinematics kin(m, length);
+  o.start.rotary_rad = blocks.front().axes.rotary_rad;
+  o.start.linear_mm = kin.linear_for(blocks.front().axes.linear_mm, o.start.rotary_rad);
+  const std::vector<SimTool> tools = {SimTool{1, length, nullptr}};
+  const MachineSimReport each = simulate_machine(blocks, m, tools, {{}, {}, separate}, o);
+  const MachineSimReport one = simulate_machine(blocks, m, tools, {{}, {}, {blades}}, o);
+  EXPECT_EQ(each.pairs, 6);
+  EXPECT_EQ(one.pairs, 3);
+  for (const MachineBody& body : m.bodies) {
+    const BodyApproach *b1 = pair(each, "blade 1", body.name), *b2 = pair(each, "blade 2", body.name);
+    ASSERT_NE(b1, nullptr);
+    ASSERT_NE(b2, nullptr);
+    const BodyApproach* nearer = b1->distance_mm <= b2->distance_mm ? b1 : b2;
+    const std::string blade = nearer == b1 ? "blade 1" : "blade 2";
+    const BodyApproach* merged = pair(one, blade, body.name);
+    ASSERT_NE(merged, nullptr) << body.name << ": expected its approach named " << blade << "\n"
+                               << machine_sim_summary(one);
+    const double allowance = std::max(o.clearance_mm, 0.1 * nearer->distance_mm);
+    EXPECT_NEAR(merged->distance_mm, nearer->distance_mm, allowance) << body.name;
+  }
+  EXPECT_EQ(pair(one, "blades", "nose"), nullptr) << "the body's own name where a mesh's is known";
+
+  MachineBody wrong = blades;
+  wrong.mesh_names.pop_back();
+  try {
+    simulate_machine(blocks, m, tools, {{}, {}, {wrong}}, o);
+    FAIL() << "expected an error";
+  } catch (const ParameterError& e) {
+    EXPECT_NE(std::string(e.what()).find("part[1].mesh_names: expected one name per mesh (4), got 3"), std::string::npos)
+        << e.what();
+  }
+}
+
 // The broad phase: a head 200 mm over the table creeping 0.1 mm a block
 // is measured once, then cleared block after block by the summed motion
 // bounds (0.1 mm each) until they could have used up the 20 mm its
