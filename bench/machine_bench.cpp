@@ -113,16 +113,27 @@ void BM_MachineSimBladesPerBlock(benchmark::State& state) {
   lua_close(L);
   const BuiltinBlisk blisk;
   MachineSetupBodies setup;
+  // Arg 0: a body per blade; 1: all blades one body of named meshes, as
+  // the jobs give them (MachineBody::mesh_names).
+  const bool one_body = state.range(0) == 1;
+  MachineBody mesh_body;
+  mesh_body.frame = "part";
+  mesh_body.shape = BodyShape::Mesh;
+  mesh_body.margin_mm = 0.05;
+  MachineBody blades = mesh_body;
+  blades.name = "blades";
   for (int b = 0; b < blisk.blade_count(); ++b) {
-    MachineBody body;
+    MachineBody body = mesh_body;
     body.name = "blade " + std::to_string(b + 1);
-    body.frame = "part";
-    body.shape = BodyShape::Mesh;
-    body.margin_mm = 0.05;
-    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
-      body.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(b, side), 0.05)));
-    setup.part.push_back(body);
+    for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction}) {
+      const auto mesh = std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(b, side), 0.05));
+      body.meshes.push_back(mesh);
+      blades.meshes.push_back(mesh);
+      blades.mesh_names.push_back(body.name);
+    }
+    if (!one_body) setup.part.push_back(body);
   }
+  if (one_body) setup.part.push_back(blades);
   auto cylinder = [](const std::string& name, double z0, double z1, double r) {
     MachineBody b;
     b.name = name;
@@ -172,7 +183,7 @@ void BM_MachineSimBladesPerBlock(benchmark::State& state) {
   state.counters["closest_mm"] = r.closest.empty() ? -1 : r.closest.front().distance_mm;
   state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(blocks.size()));  // blocks per second
 }
-BENCHMARK(BM_MachineSimBladesPerBlock)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MachineSimBladesPerBlock)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // Six-axis arm (issue 15 item 8: IK <= 5 us per pose, all branches): every
 // solution of a pose on a KUKA KR 120-class arm, poses from random joints.

@@ -74,6 +74,14 @@ const std::string& sim_name_at(const SimBody& body, int triangle) {
   return after == body.names_from_triangle.begin() ? body.name : std::prev(after)->second;
 }
 
+// Whether a report's `name` is the body's: its own, or one of its meshes'.
+bool sim_answers_to(const SimBody& body, const std::string& name) {
+  if (body.name == name) return true;
+  for (const auto& m : body.names_from_triangle)
+    if (m.second == name) return true;
+  return false;
+}
+
 // A BVH over triangles (fcl's).
 std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> sim_bvh(const std::vector<std::pair<std::vector<Vec3>, std::vector<Eigen::Vector3i>>>& parts) {
   auto model = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
@@ -964,9 +972,10 @@ MachineScene machine_scene(const MachineDefinition& machine, const std::vector<S
     if (b.role == PlacedBody::Tool && b.tool != k) continue;
     PlacedBody placed = b.shape;
     placed.pose = link_pose[static_cast<size_t>(b.link)] * b.local;
-    placed.highlighted = b.name == at.a || b.name == at.b;
-    if (b.name == at.a) of_a.push_back(i);
-    if (b.name == at.b) of_b.push_back(i);
+    const bool is_a = sim_answers_to(b, at.a), is_b = sim_answers_to(b, at.b);
+    placed.highlighted = is_a || is_b;
+    if (is_a) of_a.push_back(i);
+    if (is_b) of_b.push_back(i);
     scene.bodies.push_back(placed);
   }
   if (of_a.empty() || of_b.empty())

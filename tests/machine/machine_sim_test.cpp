@@ -628,6 +628,13 @@ TEST(MachineSim, PartOfNamedMeshesNamesTheNearestBlade) {
     EXPECT_NEAR(merged->distance_mm, nearer->distance_mm, allowance) << body.name;
   }
   EXPECT_EQ(pair(one, "blades", "nose"), nullptr) << "the body's own name where a mesh's is known";
+  // The machine's picture at an approach named after a mesh finds its body.
+  const BodyApproach* nose = pair(one, "blade 1", "nose");
+  ASSERT_NE(nose, nullptr);
+  const MachineScene scene = machine_scene(m, tools, {{}, {}, {blades}}, *nose);
+  // The nearest points stand the distance plus the margin apart (and the
+  // nose's hull's gap, within 0.01 mm: machine_sim.cpp, kHullGap).
+  EXPECT_NEAR((scene.nearest_a - scene.nearest_b).norm(), nose->distance_mm + blades.margin_mm, 0.011);
 
   MachineBody wrong = blades;
   wrong.mesh_names.pop_back();
