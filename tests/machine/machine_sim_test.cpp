@@ -466,6 +466,24 @@ TEST(MachineSim, PartMeshAgainstTheShankAndHeadNotTheCutter) {
   EXPECT_LE(r.first_collision.t, 0.2375 + o.clearance_mm / 4 + 1e-9);
 }
 
+// 20 blocks over blade 1 of the built-in blisk (radius 58..96 along +X in
+// the part frame, z up to 22), the nose's face 2 to 26 mm above its top,
+// tilting, under TCP; `o` gets the 0.5 mm clearance and starts at the first.
+std::vector<ProgramMove> tilting_over_blade_1(const MachineDefinition& m, double length, MachineSimOptions& o) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<ProgramMove> blocks;
+  for (int k = 0; k < 20; ++k) {
+    const Vec3 tip(80 + 15 * u(rng), 12 * u(rng), 38 + 12 * u(rng) - length);
+    blocks.push_back(block(10 * (k + 1), tip, 5 * u(rng), 20 * u(rng), true));
+  }
+  o.clearance_mm = 0.5;
+  const Kinematics kin(m, length);
+  o.start.rotary_rad = blocks.front().axes.rotary_rad;
+  o.start.linear_mm = kin.linear_for(blocks.front().axes.linear_mm, o.start.rotary_rad);
+  return blocks;
+}
+
 // A blade of the built-in blisk as the part's mesh (both flanks, 0.05 mm,
 // that margin), the head and ram passing over it: every reported closest
 // approach of a machine body to the blade is within the clearance above a
@@ -488,20 +506,9 @@ TEST(MachineSim, PartMeshBoundHoldsAgainstDenseReplay) {
   for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
     blade.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(1, side), 0.05)));
   const double length = 40;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<ProgramMove> blocks;
-  for (int k = 0; k < 20; ++k) {
-    // Over the blade (radius 58..96 along +X in the part frame, z up to
-    // 22), the nose's face 2 to 26 mm above its top, tilting.
-    const Vec3 tip(80 + 15 * u(rng), 12 * u(rng), 38 + 12 * u(rng) - length);
-    blocks.push_back(block(10 * (k + 1), tip, 5 * u(rng), 20 * u(rng), true));
-  }
   MachineSimOptions o;
-  o.clearance_mm = 0.5;
+  const std::vector<ProgramMove> blocks = tilting_over_blade_1(m, length, o);
   const Kinematics kin(m, length);
-  o.start.rotary_rad = blocks.front().axes.rotary_rad;
-  o.start.linear_mm = kin.linear_for(blocks.front().axes.linear_mm, o.start.rotary_rad);
   const MachineSimReport r = simulate_machine(blocks, m, {SimTool{1, length, nullptr}}, {{}, {}, {blade}}, o);
 
   // Dense: FCL between the blade's BVH and each machine body.
@@ -598,18 +605,8 @@ TEST(MachineSim, PartOfNamedMeshesNamesTheNearestBlade) {
     separate.push_back(b);
   }
   const double length = 40;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<ProgramMove> blocks;
-  for (int k = 0; k < 20; ++k) {
-    const Vec3 tip(80 + 15 * u(rng), 12 * u(rng), 38 + 12 * u(rng) - length);
-    blocks.push_back(block(10 * (k + 1), tip, 5 * u(rng), 20 * u(rng), true));
-  }
   MachineSimOptions o;
-  o.clearance_mm = 0.5;
-  const Kinematics kin(m, length);
-  o.start.rotary_rad = blocks.front().axes.rotary_rad;
-  o.start.linear_mm = kin.linear_for(blocks.front().axes.linear_mm, o.start.rotary_rad);
+  const std::vector<ProgramMove> blocks = tilting_over_blade_1(m, length, o);
   const std::vector<SimTool> tools = {SimTool{1, length, nullptr}};
   const MachineSimReport each = simulate_machine(blocks, m, tools, {{}, {}, separate}, o);
   const MachineSimReport one = simulate_machine(blocks, m, tools, {{}, {}, {blades}}, o);

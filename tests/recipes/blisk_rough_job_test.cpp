@@ -165,6 +165,14 @@ local function shank_and_holder_off(world, tool, j, op, min_poses)
 end
 )LUA";
 
+// Runs `recipe` after kShankAndHolderOffLua; the recipe asserts (the
+// sandbox has no io), so a failed check is a non-zero exit with its message.
+void expect_shank_checks_pass(const char* recipe) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + recipe);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // The edge finish after the roughing (issue 41): the roughing leaves 0.5 mm
 // on the hub, and the trailing edge's first rows run along the hub with the
 // axis nearly tangent to it — proved against the hub alone, the shank stood
@@ -208,9 +216,7 @@ TEST(BliskRoughJobRecipe, EdgeFinishAfterRoughingKeepsTheShankOffTheHubsStock) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "two edge-finish plans (~3 s each in Release) take minutes under the sanitizers";
 #endif
-  TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + kEdgeAfterRoughingRecipe);
-  EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts (the sandbox has no io)
+  expect_shank_checks_pass(kEdgeAfterRoughingRecipe);
 }
 
 // The same for the flanks' stock (issue 41): the drum finish on blade 1
@@ -262,9 +268,7 @@ TEST(BliskRoughJobRecipe, EdgeFinishKeepsTheShankOffTheNeighboursFlankStock) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "two edge-finish plans (~3 s each in Release) take minutes under the sanitizers";
 #endif
-  TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + kEdgeBesideFlankStockRecipe);
-  EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts (the sandbox has no io)
+  expect_shank_checks_pass(kEdgeBesideFlankStockRecipe);
 }
 
 // The drum finish after the roughing (issue 41): its own blade's edge rounds
@@ -303,9 +307,7 @@ TEST(BliskRoughJobRecipe, DrumFinishKeepsTheShankOffItsOwnEdgeRoundsStock) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "a drum-finish plan (~2 s in Release) takes minutes under the sanitizers";
 #endif
-  TempDir dir;
-  const RecipeResult r = run_recipe_text(dir, std::string(kShankAndHolderOffLua) + kDrumBesideItsEdgeRoundsRecipe);
-  EXPECT_EQ(r.exit_code, 0) << r.output;  // the recipe asserts (the sandbox has no io)
+  expect_shank_checks_pass(kDrumBesideItsEdgeRoundsRecipe);
 }
 
 // The trailing edge after a roughing (issue 41): the shank and holder kept
