@@ -65,7 +65,7 @@ BladeFaces faces_option(lua_State* L, const luax::Options& o, const char* what, 
 LuaHubPlan& check_hub_plan(lua_State* L) { return luax::check<LuaHubPlan>(L, 1); }
 
 void push_part(lua_State* L, const HubFinishPart& p) {
-  lua_createtable(L, 0, 14);
+  lua_createtable(L, 0, 15);
   luax::set_number(L, "rows", p.rows);
   luax::set_number(L, "passes", static_cast<double>(p.passes.size()));
   luax::set_number(L, "poses", p.poses);
@@ -75,6 +75,7 @@ void push_part(lua_State* L, const HubFinishPart& p) {
   luax::set_number(L, "links", p.links);
   luax::set_number(L, "refused_links", p.refused_connections);
   luax::set_number(L, "gouge_splits", p.gouge_splits);
+  luax::set_number(L, "entered_rows", p.entered_rows);
   luax::set_number(L, "step_min", p.step_min_mm);
   luax::set_number(L, "step_max", p.step_max_mm);
   luax::set_number(L, "max_deviation", p.max_deviation_mm);

@@ -168,6 +168,7 @@ struct HubFinishPart {
   std::vector<HubFinishConnection> connections;
   int rows = 0, poses = 0, tilted = 0, refusals = 0, steps = 0, links = 0, refused_connections = 0;
   int gouge_splits = 0;          // cutting motions the guards found dipping below: the row split there
+  int entered_rows = 0;          // root rows planned again entered from the previous row's last pose
   double step_min_mm = 0, step_max_mm = 0;  // across rows, mm on the design
   double max_deviation_mm = 0;
   double seconds = 0;

@@ -203,6 +203,8 @@ struct Planner {
 
   // Each contact tilted until clear (its own settings), the motion from the
   // previous accepted pose too; refusals and dipping motions split the row.
+  // `start_previous`: the pose the row is entered from (the previous row's
+  // last), which the first contact's motion must clear as well; null: none.
   struct Contact {
     ContactFrame frame;
     Vec3 centre = Vec3::Zero();
@@ -213,7 +215,7 @@ struct Planner {
   };
   void plan_row(HubFinishOp op, int row, double level, bool reversed, const std::vector<Contact>& contacts,
                 double max_dev, std::vector<HubFinishPass>& out, std::vector<HubFinishRefusal>& refusals,
-                int& gouge_splits, Progress& progress) const;
+                int& gouge_splits, Progress& progress, const ToolPose* start_previous = nullptr) const;
 };
 
 // ---- root rows (root_rows.cpp) ----

@@ -47,7 +47,7 @@ bool Planner::motion_dips(const ToolPose& a, double margin_a, const ToolPose& b,
 
 void Planner::plan_row(HubFinishOp op, int row, double level, bool reversed, const std::vector<Contact>& contacts,
                        double max_dev, std::vector<HubFinishPass>& out, std::vector<HubFinishRefusal>& refusals,
-                       int& gouge_splits, Progress& progress) const {
+                       int& gouge_splits, Progress& progress, const ToolPose* start_previous) const {
   HubFinishPass cur;
   cur.op = op;
   cur.row = row;
@@ -62,7 +62,7 @@ void Planner::plan_row(HubFinishOp op, int row, double level, bool reversed, con
   for (size_t i = 0; i < contacts.size(); ++i) {
     progress.check();
     const Contact& c = contacts[i];
-    const ToolPose* prev = cur.poses.empty() ? nullptr : &cur.poses.back().pose;
+    const ToolPose* prev = !cur.poses.empty() ? &cur.poses.back().pose : i == 0 ? start_previous : nullptr;
     TiltOutcome o = tilt_until_clear(world, body, c.frame, static_cast<int>(i), c.tilt, prev);
     if (!o.accepted && c.has_second) {
       const TiltOutcome o2 = tilt_until_clear(world, body, c.frame, static_cast<int>(i), c.second, prev);
@@ -167,6 +167,32 @@ double plan_passes(const Planner& planner, const TiltSettings& base, const RootG
     }
     devs[k] = dev;
   });
+  // The root rows are closed loops, each planned on its own from its
+  // start: where one row's last pose and the next row's first differ so
+  // much that the move between them is not clear (Rotor 67's: the axis
+  // turns 29-39 deg there, and the shank swings into its clearance of blade
+  // k+1, so neither a step nor any link proved), the next row is planned
+  // again entered from that last pose — its first axis then one the tilt
+  // loop proved the move to — and taken where it refuses no more contacts.
+  // In row order: a row planned again ends elsewhere.
+  for (size_t k = 1; k < n_root; ++k) {
+    if (pieces[k - 1].empty() || pieces[k].empty()) continue;
+    const ToolPose& last = pieces[k - 1].back().poses.back().pose;
+    const ToolPose& first = pieces[k].front().poses.front().pose;
+    if (planner.world.check_motion(planner.body, last, first, base.clearances, base.motion_tol_mm).clear) continue;
+    double dev = 0;
+    const std::vector<Planner::Contact> contacts = root_contacts(root, root_rows[k], base, dev);
+    std::vector<HubFinishPass> again;
+    std::vector<HubFinishRefusal> again_refused;
+    int again_splits = 0;
+    planner.plan_row(HubFinishOp::Root, static_cast<int>(k), root_rows[k].level, false, contacts, dev, again,
+                     again_refused, again_splits, progress, &last);
+    if (again.empty() || again_refused.size() > refusals[k].size()) continue;
+    pieces[k] = std::move(again);
+    refusals[k] = std::move(again_refused);
+    splits[k] = again_splits;
+    ++res.root.entered_rows;
+  }
   fill_part(planned, res, res.root, HubFinishOp::Root, 0, n_root);
   fill_part(planned, res, res.channel, HubFinishOp::Channel, n_root, n_floor);
   return seconds_since(t_rows);
