@@ -63,7 +63,7 @@ local opt = require("recipe_options"){
   method = {type = "string", default = "bottom", choices = {"bottom", "side"},
             help = "contact positioning: the paper's flat bottom, or the side edge (the comparison, every other step the same)"},
   side_min_lead = {type = "number", unit = "deg", default = 3, range = {0, 45}, help = "smallest lead of the side-edge comparison"},
-  short_lift = {type = "number", unit = "mm", default = 0, range = {0, 10},
+  short_lift = {type = "number", unit = "mm", default = 0.2, range = {0, 10},
                 help = "near passes joined by a fed lift of this much up the axes (0: by retracts and plunges)"},
   samples_u = {type = "integer", default = 200, range = {2, 5000}, help = "simulation samples around the edge"},
   samples_v = {type = "integer", default = 400, range = {2, 20000}, help = "simulation samples along the span"},

@@ -45,6 +45,8 @@ local opt = require("recipe_options"){
                        help = "machine simulation: no contact deeper than this is missed"},
   machine_near_zone = {type = "number", unit = "mm", default = 10, range = {0.001, 1e6},
                        help = "machine simulation: closest approaches measured within this zone (at least the clearance)"},
+  edge_short_lift = {type = "number", unit = "mm", range = {0, 10}, default = 0.2,
+                     help = "edge finish: near passes joined by a fed lift this high (0: none; bliskrun.edge_finish short_lift)"},
   edge_samples_u = {type = "integer", range = {2, 5000}, default_text = "the job's", help = "edge simulation samples, span"},
   edge_samples_v = {type = "integer", range = {2, 20000}, default_text = "the job's", help = "edge simulation samples, chord"},
   seam_spacing = {type = "number", unit = "mm", range = {0.001, 10}, default_text = "the job's",
@@ -105,7 +107,8 @@ operations[#operations + 1] = job.drum_finish{tool = "wheel", blades = blades, s
                                               chord_tol = 0.002, feed = 600, periodic = periodic}
 if edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"trailing"}, span = span,
-                                                feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118}}
+                                                feed = 400, periodic = periodic, reach = {axis = {0, 0, 1}, max = 118},
+                                                short_lift = opt.edge_short_lift}
 end
 if hub then  -- the root strip's top 0.5 mm over the edges' first rows (or --set hub_top=MM)
   operations[#operations + 1] = job.hub_finish{tool = "ball", blades = blades, scallop = 0.005, feed = 800,
@@ -114,7 +117,8 @@ end
 if edges then
   operations[#operations + 1] = job.edge_finish{tool = "mill", blades = blades, edges = {"leading"}, span = span,
                                                 feed = 400, periodic = periodic,
-                                                reach = {axis = {0, 0, -1}, min = 35, max = 118}}
+                                                reach = {axis = {0, 0, -1}, min = 35, max = 118},
+                                                short_lift = opt.edge_short_lift}
 end
 -- The stock for the machine simulation (j:run's programs below): the disc
 -- under the blades, its conical hub (radius 60 at z = -22 to 66 at +22)

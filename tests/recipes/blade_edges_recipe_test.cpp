@@ -40,6 +40,55 @@ TEST(BladeEdgesRecipe, LeadingEdgeBandPassesWithoutGouge) {
   EXPECT_TRUE(e["within_band"].get<bool>()) << e["simulation"]["undercut_max_mm"].get<double>();
 }
 
+// --set method=side (issue 38): the side-edge method plans the same band
+// through every step. Its own report holds the tolerance band (overcut >= e1
+// on the edge and the flanks, material left <= e2), every contact is on the
+// corner (none on the bottom), and the rows are the ones the default run's
+// side-edge comparison predicts on the same settings: the same strips and the
+// same stopping rule, so the same row count (measured: 4 rows, 17 partial,
+// 25 passes (one short lift; 26 without) against the default's 4, 17 and 25;
+// left 15.4 um, overcut 0.80 / 0.32 um edge / flanks).
+TEST(BladeEdgesRecipe, SideMethodHoldsTheBandWithTheComparisonsRows) {
+  TempDir dir;
+  auto run = [&](const std::string& method) {
+    const std::string out = dir.path() + "/" + method;
+    const RecipeResult r =
+        run_bliskrun({std::string(BLISKRUN_SOURCE_DIR) + "/scripts/recipes/blade_edges.lua", "--out", out, "--quiet",
+                      "--set", "part=builtin", "--set", "edges=leading", "--set", "v0=0.45", "--set", "v1=0.55", "--set",
+                      "samples_u=80", "--set", "samples_v=60", "--set", "method=" + method});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(out + "/blade_edges.json");
+    return nlohmann::json::parse(in)["edges"]["leading"];
+  };
+  const nlohmann::json side = run("side");
+  const nlohmann::json bottom = run("bottom");
+  EXPECT_EQ(side["method"].get<std::string>(), "side");
+  EXPECT_TRUE(side["verified"].get<bool>());
+  EXPECT_EQ(side["refusals"].get<int>(), 0);
+  EXPECT_EQ(side["refused_links"].get<int>(), 0);
+  const double e1 = side["e1"].get<double>();
+  const double e2 = side["e2"].get<double>();
+  EXPECT_GE(side["simulation"]["overcut_mm"].get<double>(), e1);
+  EXPECT_GE(side["simulation"]["flank_overcut_mm"].get<double>(), e1);
+  EXPECT_EQ(side["simulation"]["untouched"].get<int>(), 0);
+  EXPECT_LE(side["simulation"]["undercut_max_mm"].get<double>(), e2);
+  EXPECT_TRUE(side["within_band"].get<bool>());
+  // Side-edge positioning only: no contact on the bottom, which the default
+  // method uses wherever it can.
+  EXPECT_EQ(side["bottom_contacts"].get<int>(), 0);
+  EXPECT_GT(side["corner_contacts"].get<int>(), 0);
+  EXPECT_GT(bottom["bottom_contacts"].get<int>(), 0);
+  // The same stopping rule: the default run's side-edge comparison rows.
+  EXPECT_EQ(side["row_count"].get<int>(), bottom["side_rows"].get<int>());
+  EXPECT_GE(side["row_count"].get<int>(), 2);
+  const int passes = side["passes"].get<int>();
+  const int bottom_passes = bottom["passes"].get<int>();
+  EXPECT_GE(passes, side["row_count"].get<int>());
+  EXPECT_LE(passes, 2 * bottom_passes);  // plausibly near the default's, not a pass per pose
+  EXPECT_GE(2 * passes, bottom_passes);
+  EXPECT_GT(side["poses"].get<int>(), 50);
+}
+
 // The paper's tool (R 5, r 1) does not fit beside the built-in blade's
 // neighbour: contacts are refused and samples never reached. The run
 // FAILS (non-zero exit after the report is written), the verdict names

@@ -498,11 +498,12 @@ function M.edge_finish(o)
     reach = {type = "table"},
     hub_stock = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
     flank_stock = {type = "boolean"},
+    short_lift = {type = "number", check = function(v) if not (v >= 0) then return "expected >= 0 mm" end end},
   }, 2)
   local op = {kind = "edge_finish", tool = o.tool, blades = o.blades, edges = o.edges or {"leading", "trailing"},
               e1 = o.e1 or -0.001, e2 = o.e2 or 0.02, overlap = o.overlap or 0.3, span = o.span or {0, 1},
               periodic = o.periodic ~= false, feed = o.feed or 400, reach = o.reach, hub_stock = o.hub_stock,
-              flank_stock = o.flank_stock}
+              flank_stock = o.flank_stock, short_lift = o.short_lift or 0}
   function op.plan_flanks(self, j, index)
     local blisk = j.part
     local tool = j.tools[self.tool].tool
@@ -534,7 +535,8 @@ function M.edge_finish(o)
         local plan = bliskrun.edge_finish{edge = region.surface, flanks = {first, second}, tool = tool,
                                           world = world, name = string.format("blade %d %s edge", k, edge),
                                           span = self.span, hub = blisk:hub(), casing = blisk:casing(),
-                                          e1 = self.e1, e2 = self.e2, reach = self.reach}
+                                          e1 = self.e1, e2 = self.e2, reach = self.reach,
+                                          short_lift = self.short_lift}
         local r = plan:report()
         if r.refusals > 0 or r.refused_links > 0 then
           local first = r.refusal_reasons and r.refusal_reasons[1]
