@@ -466,6 +466,26 @@ TEST(MachineSim, PartMeshAgainstTheShankAndHeadNotTheCutter) {
   EXPECT_LE(r.first_collision.t, 0.2375 + o.clearance_mm / 4 + 1e-9);
 }
 
+// The test A/C table-table with a spindle housing, a ram and a nose over
+// the table (the blade tests' head).
+MachineDefinition head_and_ram_over_the_table() {
+  MachineDefinition m = table_table_ac();
+  m.bodies = {box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}), box("ram", "Z", {-80, 70, 0}, {80, 200, 600}),
+              cylinder_body("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
+  return m;
+}
+
+// A mesh body on the part frame with the blades' 0.05 mm tessellation as
+// margin; its meshes left to the caller.
+MachineBody part_mesh_body(const std::string& name) {
+  MachineBody b;
+  b.name = name;
+  b.frame = "part";
+  b.shape = BodyShape::Mesh;
+  b.margin_mm = 0.05;
+  return b;
+}
+
 // 20 blocks over blade 1 of the built-in blisk (radius 58..96 along +X in
 // the part frame, z up to 22), the nose's face 2 to 26 mm above its top,
 // tilting, under TCP; `o` gets the 0.5 mm clearance and starts at the first.
@@ -494,15 +514,9 @@ TEST(MachineSim, PartMeshBoundHoldsAgainstDenseReplay) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "FCL against meshes over dense replays is slow under the sanitizers; the Release suite runs it";
 #endif
-  MachineDefinition m = table_table_ac();
-  m.bodies = {box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}), box("ram", "Z", {-80, 70, 0}, {80, 200, 600}),
-              cylinder_body("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
+  const MachineDefinition m = head_and_ram_over_the_table();
   const BuiltinBlisk blisk;
-  MachineBody blade;
-  blade.name = "blade 1";
-  blade.frame = "part";
-  blade.shape = BodyShape::Mesh;
-  blade.margin_mm = 0.05;
+  MachineBody blade = part_mesh_body("blade 1");
   for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction})
     blade.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(1, side), 0.05)));
   const double length = 40;
@@ -581,22 +595,12 @@ TEST(MachineSim, PartOfNamedMeshesNamesTheNearestBlade) {
 #ifdef BLISKRUN_SANITIZED
   GTEST_SKIP() << "FCL against two blades' meshes over 20 tilting blocks is slow under the sanitizers";
 #endif
-  MachineDefinition m = table_table_ac();
-  m.bodies = {box("housing", "spindle", {-60, -60, 0}, {60, 60, 300}), box("ram", "Z", {-80, 70, 0}, {80, 200, 600}),
-              cylinder_body("nose", "spindle", {0, 0, 0}, {0, 0, 40}, 25)};
+  const MachineDefinition m = head_and_ram_over_the_table();
   const BuiltinBlisk blisk;
   std::vector<MachineBody> separate;
-  MachineBody blades;
-  blades.name = "blades";
-  blades.frame = "part";
-  blades.shape = BodyShape::Mesh;
-  blades.margin_mm = 0.05;
+  MachineBody blades = part_mesh_body("blades");
   for (int k : {1, 2}) {
-    MachineBody b;
-    b.name = "blade " + std::to_string(k);
-    b.frame = "part";
-    b.shape = BodyShape::Mesh;
-    b.margin_mm = 0.05;
+    MachineBody b = part_mesh_body("blade " + std::to_string(k));
     for (FlankSide side : {FlankSide::kPressure, FlankSide::kSuction}) {
       b.meshes.push_back(std::make_shared<TriangleMesh>(tessellate(*blisk.flank_surface(k, side), 0.05)));
       blades.meshes.push_back(b.meshes.back());
