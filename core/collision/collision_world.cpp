@@ -9,6 +9,7 @@
 
 #include <fcl/fcl.h>
 
+#include "core/collision/mesh_distance.h"
 #include "core/common/error.h"
 
 namespace bliskrun {
@@ -298,23 +299,32 @@ PoseCheck CollisionWorld::check_bounded(const ToolBody& body, const Eigen::Isome
         const double seed = best + margin;
         result.min_distance = seed;
         const FclPiece& piece = part.pieces[k];
-        if (coarse_far && piece.coarse) {
-          // The coarse body encloses the part: nothing within the seed of it,
-          // nothing within the seed of the part. Its distance d_c is at most
-          // its overestimate below the part's, and the fine body's lies at
-          // most that far above d_c: found again from there where near.
-          fcl::distance(objects_[i].model.get(), identity, piece.coarse.get(), frame, request, result);
-          if (!(result.min_distance < seed)) continue;
-          const double far = result.min_distance - margin - clearances.of(part.id);
-          if (far < kCoarseFarFactor * piece.coarse_overestimate_mm) {
-            const fcl::DistanceResultd coarse = result;
-            const double fine_seed = std::min(seed, coarse.min_distance + piece.coarse_overestimate_mm + 1e-9);
+        if (coarse_far) {
+          // A motion proof: a lower bound is all a step needs. The coarse
+          // body (where the piece has one) by the approximate traversal
+          // answers first; the fine body, exactly, only where either's error
+          // could be a sizeable part of the margin to the clearance (then
+          // the step would be much shorter than the exact distance allows).
+          const fcl::BVHModel<fcl::OBBRSSd>& first_body = piece.coarse ? *piece.coarse : *piece.geometry;
+          const double over = piece.coarse ? piece.coarse_overestimate_mm : 0.0;
+          const MeshDistanceBound first =
+              mesh_distance_lower_bound(*objects_[i].model, first_body, frame, seed, kFarRelErr);
+          if (!(first.distance_mm < seed)) continue;
+          result.min_distance = first.distance_mm;
+          result.nearest_points[0] = first.on_a;
+          result.nearest_points[1] = first.on_b;
+          const double far = first.distance_mm - margin - clearances.of(part.id);
+          if (far < kCoarseFarFactor * over || far < kCoarseFarFactor * kFarRelErr * first.distance_mm) {
+            // The fine body exactly, from what the first answer found (at
+            // most its error and the coarse body's overestimate above it).
+            const fcl::DistanceResultd kept = result;
+            const double fine_seed = std::min(seed, first.distance_mm * (1 + kFarRelErr) + over + 1e-9);
             result = fcl::DistanceResultd();
             result.min_distance = fine_seed;
             fcl::distance(objects_[i].model.get(), identity, piece.geometry.get(), frame, request, result);
             if (!(result.min_distance < fine_seed)) {
               if (fine_seed >= seed) continue;  // the fine body is no nearer than the seed either
-              result = coarse;                  // only by rounding: d_c still bounds it
+              result = kept;                    // only by rounding: the first answer still bounds it
             }
           }
         } else {

@@ -3,10 +3,10 @@
 // (tool_fcl.h, collision_world.h hold meshes by shared_ptr). <fcl/fcl.h>
 // is FCL's whole library of templates — ~3 s of parsing per translation
 // unit, and 60-odd units reached it through planner headers — so only the
-// two .cpp files that call FCL (tool_fcl.cpp, collision_world.cpp) include
-// it. Must match fcl/math/bv/OBBRSS.h and fcl/geometry/bvh/BVH_model.h
-// (FCL 0.7); a mismatch is a compile error in those two files, not a
-// silent one.
+// .cpp files that call FCL (tool_fcl.cpp, collision_world.cpp,
+// mesh_distance.cpp, machine_sim.cpp) include it. Must match
+// fcl/math/bv/OBBRSS.h and fcl/geometry/bvh/BVH_model.h (FCL 0.7); a
+// mismatch is a compile error in those files, not a silent one.
 namespace fcl {
 template <typename S_>
 class OBBRSS;
