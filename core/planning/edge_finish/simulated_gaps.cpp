@@ -115,6 +115,14 @@ std::vector<SimulatedGap> simulated_gaps(const EdgeFinishRequest& rq, std::vecto
   // were traced in (the partial rows then changed with the threads).
   o.search_above_mm = std::max(rq.band.e2_mm, 0.0) + 0.01;
   o.search_below_mm = 0.01;
+  // Tool positions 0.1 mm of cutter-point motion apart, not the
+  // simulation's 0.05: positions are samples of a continuous sweep, so
+  // either spacing reads at least what the sweep leaves (never a gap
+  // missed), the coarser at most ~step^2 / (8 r) = 2.5 um more under the
+  // 0.5 mm corner, which could only add a partial row. On the built-in and
+  // Rotor 67's edges it adds none (the same poses and passes) and halves
+  // this simulation: Rotor 67's TE 8.1 -> 4.4 s CPU.
+  o.sweep_step_mm = 0.1;
   o.v0 = rq.v0;
   o.v1 = rq.v1;
   o.threads = rq.threads;
