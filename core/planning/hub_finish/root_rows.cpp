@@ -69,16 +69,7 @@ RootRow RootGeometry::make_row(bool fillet, double level) const {
   return row;
 }
 
-Vec3 RootGeometry::hub_normal_at(const Vec3& p) const {
-  const double e = 1e-4;
-  Vec3 g;
-  for (int k = 0; k < 3; ++k) {
-    Vec3 d = Vec3::Zero();
-    d[k] = e;
-    g[k] = (hub.radial_offset(p + d) - hub.radial_offset(p - d)) / (2 * e);
-  }
-  return Vec3(g.normalized());
-}
+Vec3 RootGeometry::hub_normal_at(const Vec3& p) const { return hub.offset_direction(p); }
 
 std::vector<RootRow> plan_root_rows(RootGeometry& geo, HubFinishResult& res) {
   const HubFinishRequest& rq = geo.rq;
