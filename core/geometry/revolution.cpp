@@ -80,7 +80,7 @@ SurfaceOfRevolution SurfaceOfRevolution::offset(double d, int samples) const {
   return SurfaceOfRevolution(m);
 }
 
-double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
+double SurfaceOfRevolution::offset_in_meridian(const Vec3& q, Vec3* direction_zr) const {
   // Work in q's meridian plane: (z, r) of q against the profile curve.
   const Vec3 qzr(q.z(), std::hypot(q.x(), q.y()), 0.0);
   const CurveProjection foot = project_to_curve(*meridian_, qzr, foot_options_, foot_seeds_);
@@ -95,7 +95,20 @@ double SurfaceOfRevolution::radial_offset(const Vec3& q) const {
   const Vec3 e = qzr - foot.point;
   // Beyond an end of the profile the foot is the end point; the offset is
   // still signed by the side of the profile's normal.
-  return e.dot(normal) >= 0 ? e.norm() : -e.norm();
+  const bool out = e.dot(normal) >= 0;
+  if (direction_zr) *direction_zr = e.norm() > 1e-9 ? Vec3((out ? 1.0 : -1.0) * e.normalized()) : normal;
+  return out ? e.norm() : -e.norm();
+}
+
+double SurfaceOfRevolution::radial_offset(const Vec3& q) const { return offset_in_meridian(q, nullptr); }
+
+Vec3 SurfaceOfRevolution::offset_direction(const Vec3& q) const {
+  Vec3 zr;
+  offset_in_meridian(q, &zr);
+  const double rxy = std::hypot(q.x(), q.y());
+  // On the axis every half-plane is q's: take the one through +X.
+  const Vec3 radial = rxy > 1e-12 ? Vec3(q.x() / rxy, q.y() / rxy, 0.0) : Vec3::UnitX();
+  return Vec3(zr.x() * Vec3::UnitZ() + zr.y() * radial);
 }
 
 double SurfaceOfRevolution::radius_at(double z) const {

@@ -24,7 +24,18 @@ class SurfaceOfRevolution : public Surface {
   SurfaceDerivs eval(double u, double v) const override;
   // Signed radial offset of q from the surface in its meridian plane:
   // > 0 when q is farther from the axis than the profile at q's position.
+  // It is q's distance from the surface (signed): the nearest point of a
+  // surface of revolution lies in q's own meridian half-plane.
   double radial_offset(const Vec3& q) const;
+  // The unit direction in which radial_offset grows at q (its gradient):
+  // from q's foot on the profile towards q, turned about the axis into q's
+  // meridian half-plane (the profile's normal there when q is on it).
+  // Taken from the foot, not by differences of radial_offset: where the
+  // profile interpolates dense, rounded data (Rotor 67's hub near its
+  // trailing edge) it wiggles at the um scale, the foot of a point a few mm
+  // off jumps between the wiggles, and a difference across such a jump is
+  // no direction at all (up to 3.5 long, pointing into the hub).
+  Vec3 offset_direction(const Vec3& q) const;
   // r of the profile at axial position z (profile must be single-valued in z
   // there); throws Error if z is outside the profile.
   double radius_at(double z) const;
@@ -39,6 +50,9 @@ class SurfaceOfRevolution : public Surface {
   const Curve& profile() const { return *meridian_; }
 
  private:
+  // radial_offset, and the direction it grows in (z, r, 0) when asked.
+  double offset_in_meridian(const Vec3& q, Vec3* direction_zr) const;
+
   std::shared_ptr<const Curve> meridian_;  // points (z, r, 0)
   // radial_offset's projection settings and the coarse sample of the
   // meridian it seeds from, computed once (it is called per cutter point).

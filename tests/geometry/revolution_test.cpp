@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/common/error.h"
 #include "core/geometry/differential.h"
@@ -42,6 +44,54 @@ TEST(SurfaceOfRevolution, RadialOffsetIsSignedMeridianDistance) {
   const Vec3 inside(98 * std::cos(theta), 98 * std::sin(theta), 20);
   EXPECT_NEAR(s.radial_offset(inside), (98 - 105) / std::sqrt(1 + 1.0 / 16), 1e-9);
   EXPECT_THROW(s.radius_at(50), Error);
+}
+
+TEST(SurfaceOfRevolution, OffsetDirectionIsTheConesNormalOnEitherSide) {
+  const SurfaceOfRevolution s = cone();
+  // The gradient of the signed offset: the cone's outward normal in q's
+  // meridian half-plane, (radial, z) ~ (1, -1/4), inside as outside.
+  for (const double rq : {112.0, 98.0}) {
+    const double theta = 2.1;
+    const Vec3 q(rq * std::cos(theta), rq * std::sin(theta), 20);
+    const Vec3 n = Vec3(std::cos(theta), std::sin(theta), -0.25).normalized();
+    EXPECT_NEAR((s.offset_direction(q) - n).norm(), 0, 1e-9) << rq;
+  }
+}
+
+// Issue 38: a hub profile through dense data rounded as Rotor 67's (1e-5 in
+// on points 10 um apart near its trailing edge, 5-13 mm apart elsewhere)
+// wiggles at the um scale; 2 mm off it the difference quotient of
+// radial_offset points anywhere (into the hub: the root rows' axes did),
+// the direction from the foot stays on the line's normal.
+TEST(SurfaceOfRevolution, OffsetDirectionHoldsOverAProfileThroughRoundedDenseData) {
+  const double q = 1e-5 * 25.4;
+  auto rounded = [&](double x) { return q * std::round(x / q); };
+  std::vector<double> zs;
+  for (double z = 40; z < 85; z += 5) zs.push_back(z);
+  double z = 85, step = 1.0;
+  for (; z < 89.5; z += step, step = std::max(0.01, 0.75 * step)) zs.push_back(z);
+  for (step = 0.01; z < 140; z += step, step *= 1.6) zs.push_back(z);
+  std::vector<Vec2> m;
+  for (const double zz : zs) m.emplace_back(rounded(zz), rounded(118 + 0.12 * (zz - 89)));
+  const SurfaceOfRevolution s(m);
+  const Vec3 n = Vec3(0, 1, -0.12).normalized();  // the line's normal at theta = 90 deg
+  double worst = 0, worst_difference = 0;
+  for (int i = 0; i <= 400; ++i) {
+    const double zc = 86 + 4.0 * i / 400;
+    const Vec3 p = Vec3(0, 118 + 0.12 * (zc - 89), zc) + 2.0 * n;
+    const Vec3 d = s.offset_direction(p);
+    EXPECT_NEAR(d.norm(), 1, 1e-12);
+    worst = std::max(worst, std::acos(std::clamp(d.dot(n), -1.0, 1.0)));
+    Vec3 g;
+    for (int k = 0; k < 3; ++k) {
+      Vec3 e = Vec3::Zero();
+      e[k] = 1e-4;
+      g[k] = (s.radial_offset(p + e) - s.radial_offset(p - e)) / 2e-4;
+    }
+    worst_difference = std::max(worst_difference, std::acos(std::clamp(g.normalized().dot(n), -1.0, 1.0)));
+  }
+  EXPECT_LT(worst, 3 * kPi / 180);
+  EXPECT_GT(worst_difference, kPi / 2);  // the case the difference quotient fails
 }
 
 // A radial plane sheet: points (r cos t0, r sin t0, z) for r in [90, 130],
