@@ -56,17 +56,13 @@ constexpr double kLeadRiseRad = 45 * 3.14159265358979323846 / 180;
 constexpr double kHubToleranceMm = 1e-4;
 
 // Unit normal of the hub's offset surfaces at q, pointing the way the
-// signed radial offset grows, scaled to the channel side (where q is).
+// signed radial offset grows, scaled to the channel side (where q is). From
+// q's foot on the profile (SurfaceOfRevolution::offset_direction), not by
+// differences of radial_offset: on a profile through dense, rounded data
+// (Rotor 67's hub) those point anywhere.
 Vec3 hub_normal(const SurfaceOfRevolution& hub, const Vec3& q) {
-  constexpr double h = 1e-4;
-  Vec3 g;
-  for (int i = 0; i < 3; ++i) {
-    Vec3 e = Vec3::Zero();
-    e[i] = h;
-    g[i] = (hub.radial_offset(q + e) - hub.radial_offset(q - e)) / (2 * h);
-  }
   const double channel = hub.radial_offset(q) >= 0 ? 1.0 : -1.0;
-  return channel * g.normalized();
+  return channel * hub.offset_direction(q);
 }
 
 }  // namespace
