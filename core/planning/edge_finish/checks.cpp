@@ -252,10 +252,16 @@ bool lift_both(const EdgeFinishRequest& rq, const PoseChecks& checks, std::vecto
 // Whether the cutting motion from poses[last] into p is within e1 of the
 // blade — by the strips' cheaper test, then the guards' sweep — or is made
 // so by lifting p (lift_motion) or, with both_ends, both poses (lift_both).
-// A lift moves every point of the tool by at most kMaxLiftMm, so a motion
-// the strips find deeper than e1 by more than that is not lifted clear by
-// either: not tried (the built-in LE's row checks spent 0.8 of 2.2 s CPU
+// A lift moves every point of the tool by at most kMaxLiftMm along the
+// contact's normal, so where the strips find the motion deeper than e1 by
+// more than that, along sample normals near the contact's, no lift proves
+// it: not tried (the built-in LE's row checks spent 0.8 of 2.2 s CPU
 // sweeping such motions, each deep through the round, with the guards).
+// Not a proof for a sample whose normal line grazes the tool — a lift
+// across it can change its depth by more than the lift — but never unsafe:
+// a motion not lifted is a break, reached by a proved link. On the built-in
+// and Rotor 67's four edges no lift that would have been proved was left
+// out (the same poses and passes, the built-in APT byte for byte).
 bool cutting_motion_proved(const EdgeFinishRequest& rq, const PoseChecks& checks, std::vector<EdgeFinishPose>& poses,
                            long last, EdgeFinishPose& p, bool both_ends) {
   const EdgeFinishPose& a = poses[static_cast<size_t>(last)];
