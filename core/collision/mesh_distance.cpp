@@ -19,8 +19,7 @@ MeshDistanceBound mesh_distance_lower_bound(const fcl::BVHModel<fcl::OBBRSSd>& a
   const double sought = seed * (1 + rel_err);
   result.min_distance = sought;
   fcl::detail::MeshDistanceTraversalNodeOBBRSS<double> node;
-  fcl::detail::initialize(node, a, fcl::Transform3d::Identity(), b, b_to_a, request,
-                          result);
+  fcl::detail::initialize(node, a, fcl::Transform3d::Identity(), b, b_to_a, request, result);
   node.rel_err = rel_err;
   node.abs_err = std::numeric_limits<double>::infinity();  // the relative test alone prunes
   fcl::detail::distance(&node, nullptr, 2);

@@ -258,8 +258,6 @@ struct RootGeometry {
   // fillet row's where that is higher).
   double solve_u(bool fillet, double level, double v, double guess) const;
   RootRow make_row(bool fillet, double level) const;
-  // The hub's normal at the foot of p, towards p (the distance's gradient).
-  Vec3 hub_normal_at(const Vec3& p) const;
 };
 
 // The fillet row and the rows above it up to rq.root_top_mm (sets the

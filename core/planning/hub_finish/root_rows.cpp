@@ -72,8 +72,6 @@ RootRow RootGeometry::make_row(bool fillet, double level) const {
   return row;
 }
 
-Vec3 RootGeometry::hub_normal_at(const Vec3& p) const { return hub.offset_direction(p); }
-
 std::vector<RootRow> plan_root_rows(RootGeometry& geo, HubFinishResult& res) {
   const HubFinishRequest& rq = geo.rq;
   const Surface& bs = geo.bs;
@@ -96,7 +94,7 @@ std::vector<RootRow> plan_root_rows(RootGeometry& geo, HubFinishResult& res) {
     const Vec3 n = unit_normal(d, false);
     const double k = -normal_curvature(d, d.pu);  // > 0 convex along the span
     const double step = 1 + r * k > 1e-6 ? ball_step_over(rq.scallop_mm, r, k) : ball_step_over(rq.scallop_mm, r, 0);
-    const double c = n.dot(geo.hub_normal_at(d.p));
+    const double c = n.dot(geo.hub.offset_direction(d.p));
     const double slope = std::sqrt(std::max(1e-6, 1 - c * c));
     dh = std::min(dh, step * slope);
     first = std::min(first, fillet.height[i] + step * slope);
@@ -138,27 +136,40 @@ std::vector<Planner::Contact> root_contacts(const RootGeometry& geo, const RootR
   const Surface& bs = geo.bs;
   const double r = geo.r;
   const int ns = geo.ns;
-  // The contact at arc length t of the row's centre path, its u solved
-  // afresh (the path only interpolates the row's samples).
-  auto contact_at = [&](double t) {
+  // The point at arc length t of the row's centre path, its u solved
+  // afresh (the path only interpolates the row's samples), and the ball's
+  // centre there.
+  struct At {
+    double t = 0, v = 0;
+    SurfaceDerivs d;
+    Vec3 centre = Vec3::Zero();
+  };
+  auto at = [&](double t) {
     const auto it = std::upper_bound(row.cum.begin(), row.cum.end(), t);
     const size_t s = std::min<size_t>(static_cast<size_t>(std::max<long>(0, it - row.cum.begin() - 1)), ns - 1);
     const double f = std::clamp((t - row.cum[s]) / std::max(1e-12, row.cum[s + 1] - row.cum[s]), 0.0, 1.0);
-    const double v = row.v[s] + f / ns;
+    At x;
+    x.t = t;
+    x.v = row.v[s] + f / ns;
     const double ug = s + 1 < static_cast<size_t>(ns) ? row.u[s] + f * (row.u[s + 1] - row.u[s]) : row.u[s];
-    const double u = geo.solve_u(row.level < 0, row.level, v, ug);
-    const SurfaceDerivs d = bs.eval(u, wrap01(v));
+    x.d = bs.eval(geo.solve_u(row.level < 0, row.level, x.v, ug), wrap01(x.v));
+    x.centre = x.d.p + r * unit_normal(x.d, false);
+    return x;
+  };
+  // The contact there: its frame (the hub's normal says which way is up the
+  // span) and tilt settings.
+  auto contact_of = [&](const At& x) {
     Planner::Contact c;
-    c.frame.point = d.p;
-    c.frame.normal = unit_normal(d, false);
-    c.centre = d.p + r * c.frame.normal;
-    c.t = wrap01(v);
-    Vec3 x = row.path.eval(t).dt;
-    x -= x.dot(c.frame.normal) * c.frame.normal;
-    x.normalize();
-    const Vec3 up = geo.hub_normal_at(d.p);
-    if (c.frame.normal.cross(x).dot(up) < 0) x = -x;  // Y = Z x X up the span
-    c.frame.tangent = x;
+    c.frame.point = x.d.p;
+    c.frame.normal = unit_normal(x.d, false);
+    c.centre = x.centre;
+    c.t = wrap01(x.v);
+    Vec3 tangent = row.path.eval(x.t).dt;
+    tangent -= tangent.dot(c.frame.normal) * c.frame.normal;
+    tangent.normalize();
+    const Vec3 up = geo.hub.offset_direction(x.d.p);
+    if (c.frame.normal.cross(tangent).dot(up) < 0) tangent = -tangent;  // Y = Z x X up the span
+    c.frame.tangent = tangent;
     c.tilt = base;
     c.tilt.lead0_rad = rq.lean_rad;
     c.tilt.lead_max_rad = rq.lean_max_rad;
@@ -175,31 +186,29 @@ std::vector<Planner::Contact> root_contacts(const RootGeometry& geo, const RootR
   // solved centre a quarter, half or three quarters of the way lies farther
   // than the tolerance from the chord (v is not arc length around an edge:
   // the farthest centre need not be the middle one); at most kHalvings
-  // times, the deviation reported the largest left.
+  // times, the deviation reported the largest left. The quarter points of
+  // a step are its halves' middles: solved once, passed down.
   constexpr int kHalvings = 4;
   std::vector<Planner::Contact> contacts;
-  std::function<void(double, const Planner::Contact&, double, const Planner::Contact&, int)> between =
-      [&](double ta, const Planner::Contact& a, double tb, const Planner::Contact& b, int depth) {
-        const double tm = 0.5 * (ta + tb);
-        Planner::Contact m = contact_at(tm);
-        double off = distance_to_segment(m.centre, a.centre, b.centre);
-        for (const double w : {0.25, 0.75})
-          off = std::max(off, distance_to_segment(contact_at(ta + w * (tb - ta)).centre, a.centre, b.centre));
-        if (off <= rq.steps.chord_tol_mm || depth == kHalvings) {
-          dev = std::max(dev, off);
-          return;
-        }
-        between(ta, a, tm, m, depth + 1);
-        contacts.push_back(m);
-        between(tm, m, tb, b, depth + 1);
-      };
-  for (size_t i = 0; i < st.t.size(); ++i) {
-    Planner::Contact c = contact_at(st.t[i]);
-    if (i > 0) {
-      const Planner::Contact a = contacts.back();
-      between(st.t[i - 1], a, st.t[i], c, 0);
+  std::function<void(const At&, const At&, const At&, int)> between = [&](const At& a, const At& m, const At& b,
+                                                                          int depth) {
+    const At q1 = at(0.5 * (a.t + m.t)), q3 = at(0.5 * (m.t + b.t));
+    double off = 0;
+    for (const At* x : {&m, &q1, &q3}) off = std::max(off, distance_to_segment(x->centre, a.centre, b.centre));
+    if (off <= rq.steps.chord_tol_mm || depth == kHalvings) {
+      dev = std::max(dev, off);
+      return;
     }
-    contacts.push_back(std::move(c));
+    between(a, q1, m, depth + 1);
+    contacts.push_back(contact_of(m));
+    between(m, q3, b, depth + 1);
+  };
+  At previous;
+  for (size_t i = 0; i < st.t.size(); ++i) {
+    const At here = at(st.t[i]);
+    if (i > 0) between(previous, at(0.5 * (previous.t + here.t)), here, 0);
+    contacts.push_back(contact_of(here));
+    previous = here;
   }
   return contacts;
 }
