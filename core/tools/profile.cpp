@@ -160,6 +160,26 @@ Profile::Profile(std::vector<ProfileElement> elements) : elements_(std::move(ele
       }
     }
   }
+  // The longest segment along the cylinder's side (exactly at max_radius:
+  // only there is the cylinder's nearest point the solid's). None: the side
+  // range empty, the corner boxes each the cylinder's whole height.
+  side_z_lo_ = z_max_;
+  side_z_hi_ = z_min_;
+  bool side_found = false;
+  for (const ProfileElement& e : elements_) {
+    if (e.kind == ProfileElement::Kind::Segment && e.start.x() == max_radius_ && e.end.x() == max_radius_ &&
+        (!side_found || e.end.y() - e.start.y() > side_z_hi_ - side_z_lo_)) {
+      side_found = true;
+      side_z_lo_ = e.start.y();
+      side_z_hi_ = e.end.y();
+    }
+  }
+  const ProfileElement& first = elements_.front();
+  if (first.kind == ProfileElement::Kind::Segment && first.start.y() == z_min_ && first.end.y() == z_min_)
+    flat_bottom_r_ = first.end.x();
+  const ProfileElement& last = elements_.back();
+  if (last.kind == ProfileElement::Kind::Segment && last.start.y() == z_max_ && last.end.y() == z_max_)
+    flat_top_r_ = last.start.x();
 }
 
 std::pair<Profile, Profile> Profile::split_at(double z) const {
@@ -246,7 +266,40 @@ ProfilePoint Profile::closest_point(const Vec2& rz) const {
 // radius and right of the end radius — two cross products where
 // closest_point takes four arc tangents and two fmods; squared distances,
 // one square root.
+bool Profile::on_own_boundary(double r, double z) const {
+  return (r == max_radius_ && z >= side_z_lo_ && z <= side_z_hi_) || (z == z_min_ && r <= flat_bottom_r_) ||
+         (z == z_max_ && r <= flat_top_r_);
+}
+
 double Profile::signed_distance(const Vec2& rz) const {
+  // First the bounding cylinder's signed distance, where it is provably the
+  // solid's: most points a sweep asks lie under a flat bottom or beside a
+  // straight side, and need no loop over the elements.
+  const double r = rz.x(), z = rz.y();
+  if (r < 0) {
+    // Off the half-plane of a solid of revolution (an arc's centre, asked
+    // by the tests): the chain's own distance below.
+  } else if (r > max_radius_ || z < z_min_ || z > z_max_) {
+    // Outside: the solid lies within the cylinder, so it is no nearer than
+    // the cylinder's nearest point c; where c is the solid's too, it is as
+    // near.
+    const double cr = std::min(r, max_radius_), cz = std::clamp(z, z_min_, z_max_);
+    if (on_own_boundary(cr, cz)) return std::sqrt((r - cr) * (r - cr) + (z - cz) * (z - cz));
+  } else {
+    // Inside: the cylinder's distance d bounds the solid's from above. What
+    // of the cylinder is not the solid lies in its two corner boxes (r past
+    // the flat end faces, z beyond the straight side: the solid is convex
+    // and holds those faces and the side); where both lie at least d away,
+    // the disc of radius d about rz is the solid's and d is exact.
+    const double d = std::min({max_radius_ - r, z - z_min_, z_max_ - z});
+    auto clear_of = [&](double box_r0, double dz) {
+      const double dr = std::max(box_r0 - r, 0.0);
+      dz = std::max(dz, 0.0);
+      const double gap2 = dr * dr + dz * dz;
+      return d > 0 ? gap2 >= d * d : gap2 > 0;  // on the cylinder: not in a box
+    };
+    if (clear_of(flat_bottom_r_, z - side_z_lo_) && clear_of(flat_top_r_, side_z_hi_ - z)) return -d;
+  }
   // The solid is convex: where the nearest point lies inside an element (not
   // on a vertex), the side of that element's line or circle says whether rz
   // is inside; only at a vertex is R(z) asked (a loop over the elements).

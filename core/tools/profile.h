@@ -129,8 +129,17 @@ class Profile {
  private:
   int element_at(double z) const;  // the non-horizontal element spanning z
 
+  // Where the bounding cylinder's distance is the solid's own: the elements
+  // shared with the cylinder's boundary (signed_distance's fast path).
+  bool on_own_boundary(double r, double z) const;
+
   std::vector<ProfileElement> elements_;
   double z_min_ = 0, z_max_ = 0, max_radius_ = 0, reach_ = 0;
+  // The parts of the bounding cylinder's boundary that are the solid's: the
+  // side at max_radius for z in [side_z_lo_, side_z_hi_] (none: lo = z_max,
+  // hi = z_min), the bottom face for r <= flat_bottom_r_ and the top face
+  // for r <= flat_top_r_ (0: only the axis point).
+  double side_z_lo_ = 0, side_z_hi_ = 0, flat_bottom_r_ = 0, flat_top_r_ = 0;
 };
 
 }  // namespace bliskrun

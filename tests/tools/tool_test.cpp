@@ -209,6 +209,13 @@ TEST(Profile, SignedDistanceIsTheDistanceToTheClosestPoint) {
     for (int k = 0; k < 4000; ++k) points.emplace_back(ur(rng), uz(rng));
     for (const ProfileElement& e : p.elements()) {
       if (e.kind == ProfileElement::Kind::Arc) points.push_back(e.centre);
+      // A grid round every vertex, inside and out: where the bounding
+      // cylinder's distance (the fast path) stops being the solid's.
+      for (int i = -20; i <= 20; ++i)
+        for (int j = -20; j <= 20; ++j) {
+          const Vec2 q = e.start + Vec2(0.05 * i, 0.05 * j);
+          if (q.x() >= 0) points.push_back(q);
+        }
       for (double dr : {-1e-3, 0.0, 1e-3})
         for (double dz : {-1e-3, 0.0, 1e-3})
           if (e.start.x() + dr >= 0) points.push_back(e.start + Vec2(dr, dz));
