@@ -391,10 +391,22 @@ StripWidth width_of(const FlatEnd& cutter, const ToolPose& pose, const StripSamp
     w.gouges = true;
     return w;
   }
+  // The least directed distance over a line across's samples along the
+  // feed, the middle one first. A sample outside the cutter is no nearer
+  // along its normal than its signed distance, less the trace's stop
+  // (1e-8 mm: Newton stops that near the surface, never past it): where
+  // that is at least the least found, its trace cannot lower it and is
+  // skipped (the line's neighbours along the feed, mostly). Inside, the
+  // trace runs the other way and can: never skipped.
   auto residual = [&](int j) {
     double r = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < smp.along; ++k) {
+    for (int m = 0; m < smp.along; ++m) {
+      const int k = (smp.along / 2 + m) % smp.along;
       const size_t i = static_cast<size_t>(j) * smp.along + k;
+      if (m > 0) {
+        const double sd = cutter.signed_distance(Vec3(to_tool * smp.p[i]));
+        if (sd >= 0 && sd >= r + 1e-8) continue;
+      }
       r = std::min(r, directed_distance(cutter, to_tool, smp.p[i], smp.n[i], cap));
     }
     return r;
