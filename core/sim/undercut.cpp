@@ -353,6 +353,7 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
   if (!(o.search_above_mm > 0) || !(o.search_below_mm > 0))
     throw ParameterError("search", "search_above_mm and search_below_mm must be > 0");
   if (!(o.sweep_step_mm > 0)) throw ParameterError("sweep_step", "must be > 0");
+  if (!(o.sweep_reach_mm >= 0)) throw ParameterError("sweep_reach", "must be >= 0 (0: the cutter's reach)");
   if (o.threads < 1) throw ParameterError("threads", "must be >= 1");
 
   const SampleIndex idx = build_index(design, o);
@@ -362,7 +363,8 @@ UndercutResult simulate_undercut(const Surface& design, const std::vector<ToolRu
   for (const ToolRun& run : runs) {
     if (!run.tool || !run.passes) throw ParameterError("runs", "a run without its tool or passes");
     cutters.push_back(&run.tool->cutter());
-    add_positions(swept, *run.passes, first_pass, static_cast<int>(cutters.size()) - 1, cutters.back()->reach(),
+    add_positions(swept, *run.passes, first_pass, static_cast<int>(cutters.size()) - 1,
+                  o.sweep_reach_mm > 0 ? std::min(o.sweep_reach_mm, cutters.back()->reach()) : cutters.back()->reach(),
                   o.sweep_step_mm);
     first_pass += static_cast<int>(run.passes->size());
   }

@@ -41,6 +41,13 @@ struct UndercutOptions {
   double search_above_mm = 0.1;  // how far above the surface material is tracked (finishing)
   double search_below_mm = 0.1;  // how deep a gouge is measured (deeper reads as this)
   double sweep_step_mm = 0.05;   // largest cutter-point motion between evaluated positions
+  // The points whose motion sweep_step_mm bounds: those within this
+  // distance of the tool's reference point (0: the whole cutter, its
+  // reach). Points farther move more between positions, so their sweep is
+  // read coarser: never less material left than the sweep leaves, only
+  // more — for a caller that looks for material left (simulate_undercut;
+  // not a gouge guard) and whose cutter touches the surface near its end.
+  double sweep_reach_mm = 0;
   int threads = 2;               // results do not depend on it
   double tol_mm = 1e-5;          // sphere-tracing stop
   // The normal out of the material is -(pu x pv) instead of pu x pv.

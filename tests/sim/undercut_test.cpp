@@ -282,9 +282,52 @@ TEST(Undercut, GuardPruningBelowTheBottomAgreesWithTracingEverySample) {
   EXPECT_EQ(cut, 12);  // every pose 2 or 20 um in is seen gouging  // the gouging poses are seen as gouging
 }
 
+// A flat end rocking its axis ±30 deg along the feed, its corner on the
+// plane: sweeping only the motion of the points near the tip (the corner's
+// reach, sweep_reach_mm) evaluates fewer positions — the flute's top, 9.5
+// mm up, moved three times as far — and reads no less material than the
+// sweep leaves (a sweep 0.005 mm a step stands for it: within 0.1 um),
+// at most the scallop a step of the corner leaves between positions more
+// (step^2 / (8 r), 2.5 um at 0.1 mm, r 0.5). The positions are not a
+// subset of the whole cutter's: against those it may read either way.
+TEST(Undercut, SweepingTheToolsEndReadsNoLessMaterialThanTheSweepLeaves) {
+  const double R = 3, r = 0.5;
+  const Tool mill = test::flat_end_mill(R, r, 9, 30);
+  ToolPass pass;
+  for (int k = 0; k <= 16; ++k) {
+    const double a = deg_to_rad(k % 2 ? 30.0 : -30.0);
+    const double lift = r + (R - r) * std::sin(std::abs(a)) - r * std::cos(a);  // the corner's lowest point on z = 0
+    pass.push_back({Vec3(-8 + k, 0, lift), Vec3(std::sin(a), 0, std::cos(a))});
+  }
+  UndercutOptions o = plane_options();
+  o.sweep_step_mm = 0.005;
+  const UndercutResult swept = simulate_undercut(UndercutPlane(), mill, {pass}, o);
+  o.sweep_step_mm = 0.1;
+  const UndercutResult whole = simulate_undercut(UndercutPlane(), mill, {pass}, o);
+  o.sweep_reach_mm = std::hypot(R, 2 * r);
+  const UndercutResult near = simulate_undercut(UndercutPlane(), mill, {pass}, o);
+  EXPECT_LT(2 * near.tool_positions, whole.tool_positions);
+  int cut = 0;
+  double most = 0;
+  for (size_t i = 0; i < swept.residual_mm.size(); ++i) {
+    if (!std::isfinite(swept.residual_mm[i])) {
+      EXPECT_FALSE(std::isfinite(near.residual_mm[i])) << i;
+      continue;
+    }
+    ++cut;
+    EXPECT_GE(near.residual_mm[i], swept.residual_mm[i] - 1e-4) << i;
+    most = std::max(most, near.residual_mm[i] - swept.residual_mm[i]);
+  }
+  EXPECT_GT(cut, 200);
+  EXPECT_LE(most, 0.1 * 0.1 / (8 * r) + 1e-4);
+}
+
 TEST(Undercut, RejectsBadOptions) {
   UndercutOptions o = plane_options();
   o.samples_u = 1;
+  EXPECT_THROW(simulate_undercut(UndercutPlane(), undercut_ball(2), {}, o), ParameterError);
+  o = plane_options();
+  o.sweep_reach_mm = -1;
   EXPECT_THROW(simulate_undercut(UndercutPlane(), undercut_ball(2), {}, o), ParameterError);
 }
 
