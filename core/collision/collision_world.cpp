@@ -10,6 +10,7 @@
 #include <fcl/fcl.h>
 
 #include "core/collision/mesh_distance.h"
+#include "core/common/exact_point.h"
 #include "core/common/error.h"
 
 namespace bliskrun {
@@ -207,6 +208,36 @@ std::shared_ptr<const CollisionWorld> CollisionWorld::unchecked_pairs() const {
     Object left = o;
     left.options.parts = PartMask{!m.cutter, !m.shank, !m.holder};
     out->objects_.push_back(std::move(left));
+  }
+  if (out->objects_.empty()) return nullptr;
+  return out;
+}
+
+std::shared_ptr<const CollisionWorld> CollisionWorld::without_triangles(const TriangleFilter& drop) const {
+  auto out = std::make_shared<CollisionWorld>();
+  for (const Object& o : objects_) {
+    if (!o.model) {
+      out->objects_.push_back(o);
+      continue;
+    }
+    // FCL keeps each triangle's corners apart (addTriangle); equal
+    // coordinates are made one vertex again, so the connected pieces (the
+    // containment test's) are what they were.
+    const fcl::BVHModel<fcl::OBBRSSd>& m = *o.model;
+    TriangleMesh kept;
+    std::unordered_map<Vec3, int, ExactPointHash, ExactPointEqual> index;
+    auto vertex = [&](const Vec3& p) {
+      const auto [it, added] = index.emplace(p, static_cast<int>(kept.vertices.size()));
+      if (added) kept.vertices.push_back(p);
+      return it->second;
+    };
+    for (int t = 0; t < m.num_tris; ++t) {
+      const fcl::Triangle& tri = m.tri_indices[t];
+      const Vec3 a = m.vertices[tri[0]], b = m.vertices[tri[1]], c = m.vertices[tri[2]];
+      if (!drop(a, b, c)) kept.triangles.emplace_back(vertex(a), vertex(b), vertex(c));
+    }
+    if (kept.triangles.size() == static_cast<size_t>(m.num_tris)) out->objects_.push_back(o);
+    else if (!kept.triangles.empty()) out->objects_.push_back(prepare(o.name, kept, o.options).built_->object);
   }
   if (out->objects_.empty()) return nullptr;
   return out;

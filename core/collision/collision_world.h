@@ -27,6 +27,7 @@
 // resolved (FCL's traversal is seeded with that bound and prunes every
 // bounding volume farther away), which is what makes a clear/not-clear
 // answer cost microseconds against a 100k-triangle blade.
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -160,6 +161,17 @@ class CollisionWorld {
   // gouge guards sample. Stock surfaces (CheckSurfaceOptions::stock) are
   // left out: the cutter is meant to be in the stock.
   std::shared_ptr<const CollisionWorld> unchecked_pairs() const;
+
+  // This world without the mesh triangles `drop` selects (given a
+  // triangle's three corners): each mesh rebuilt from the triangles kept
+  // (corners shared where their coordinates are equal), an object left
+  // with none dropped, surfaces of revolution kept whole; options as they
+  // were. Null when nothing is left. Shared, not copied, where no triangle
+  // goes. E.g. the blade being machined for the cutter less what a
+  // planner's gouge guards sample (edge_finish's traverse world). Cost: a
+  // BVH build of the triangles kept.
+  using TriangleFilter = std::function<bool(const Vec3&, const Vec3&, const Vec3&)>;
+  std::shared_ptr<const CollisionWorld> without_triangles(const TriangleFilter& drop) const;
 
   int size() const { return static_cast<int>(objects_.size()); }
   const std::string& name(int index) const { return objects_.at(index).name; }

@@ -135,6 +135,34 @@ TEST(CollisionWorld, UncheckedPairsAreTheMaskedOutPartsAlone) {
   EXPECT_EQ(full.unchecked_pairs(), nullptr);
 }
 
+// A world less the triangles a filter picks: the plate's x < 0 half gone,
+// the x > 0 half and the box as they were (with their margin, the box
+// shared); a filter taking everything leaves nothing.
+TEST(CollisionWorld, WithoutTrianglesKeepsTheRestAsItWas) {
+  const ToolBody body(Tool::ball_end_mill({3, 15, {6, 30}, {}}), 1e-3);
+  CollisionWorld world;
+  world.add("plate", grid_mesh(Vec3(-100, -100, 0), Vec3(200, 0, 0), Vec3(0, 200, 0), 10, 10), {PartMask{}, 0.5});
+  world.add("box", box_mesh(Vec3(200, 200, -50), Vec3(210, 210, 50)));
+  const std::shared_ptr<const CollisionWorld> half =
+      world.without_triangles([](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return a.x() <= 0 && b.x() <= 0 && c.x() <= 0;  // the plate's x < 0 half
+      });
+  ASSERT_NE(half, nullptr);
+  ASSERT_EQ(half->size(), 2);
+  EXPECT_EQ(half->name(0), "plate");
+  EXPECT_EQ(half->triangle_count(0), 100);
+  EXPECT_EQ(half->triangle_count(1), world.triangle_count(1));
+  // The ball's tip 2 mm over the plate at x = -50: 1.5 mm off it with its
+  // margin before, nothing near now; at x = +50 as before.
+  const ToolPose left{Vec3(-50, 0, 2), Vec3::UnitZ()}, right{Vec3(50, 0, 2), Vec3::UnitZ()};
+  EXPECT_NEAR(world.check(body, left, Clearances{}).parts[0].distance_mm, 1.5, body.overestimate_mm() + 1e-6);
+  EXPECT_GT(half->check(body, left, Clearances{}).parts[0].distance_mm, 40);
+  EXPECT_NEAR(half->check(body, right, Clearances{}).parts[0].distance_mm, 1.5, body.overestimate_mm() + 1e-6);
+  // Dipped 1 mm into the kept half: the containment test still sees it.
+  EXPECT_TRUE(half->check(body, {Vec3(50, 0, -1), Vec3::UnitZ()}, Clearances{}).parts[0].collides);
+  EXPECT_EQ(world.without_triangles([](const Vec3&, const Vec3&, const Vec3&) { return true; }), nullptr);
+}
+
 TEST(CollisionWorld, SeparateClearancesForCutterShankAndHolder) {
   // Flat-end mill R 5 (corner r 1, flutes 20), shank d 8 up to z 50, holder d 30 up to z 70.
   const ToolBody body(Tool::flat_end_mill({5, 1, 20, {8, 30}, {30, 20}}), 1e-3);

@@ -24,6 +24,15 @@ namespace {
 
 Tool mill(double R, double r) { return test::flat_end_mill(R, r, 3 * R, 30, 40); }
 
+// The built-in blisk's blade 1 leading edge between its flanks (pressure
+// first: its edge end is at v = 0).
+EdgeRegionRequest leading_edge_of_blade_1(const BuiltinBlisk& blisk) {
+  EdgeRegionRequest er;
+  er.first = blisk.flank_surface(0, FlankSide::kPressure);
+  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  return er;
+}
+
 // A request to finish the region `e` (built from `er`) with `tool` among
 // `world` over v0..v1, on two threads.
 EdgeFinishRequest request_for(const EdgeRegion& e, const EdgeRegionRequest& er, const Tool& tool,
@@ -56,9 +65,7 @@ UndercutResult simulated(const EdgeRegion& e, const Tool& tool, const EdgeFinish
 // and of the planner, each of which can fail.
 TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
   const BuiltinBlisk blisk;
-  EdgeRegionRequest er;
-  er.first = blisk.flank_surface(0, FlankSide::kPressure);
-  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
   er.overlap_mm = 0.3;
   const EdgeRegion e = build_edge_region(er);
   CollisionWorld world;
@@ -190,9 +197,7 @@ TEST(EdgeFinishTest, LeadingEdgeRowsCutWiderWithTheBottomAndNeverGouge) {
 // window ends where the whole row has passed the casing.
 TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCasing) {
   const BuiltinBlisk blisk;
-  EdgeRegionRequest er;
-  er.first = blisk.flank_surface(0, FlankSide::kPressure);
-  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
   const EdgeRegion e = build_edge_region(er);
   auto hub = std::make_shared<const SurfaceOfRevolution>(blisk.hub_meridian());
   auto casing = std::make_shared<const SurfaceOfRevolution>(blisk.casing_meridian());
@@ -251,9 +256,7 @@ TEST(EdgeFinishTest, TheFirstRowIsAsLowAsTheCutterClearsTheHubAndTheLastAtTheCas
 // casing and the top strip is 0 (previous test).
 TEST(EdgeFinishTest, StripsLeftAtTheWindowsEndsAreReportedWithTheirSize) {
   const BuiltinBlisk blisk;
-  EdgeRegionRequest er;
-  er.first = blisk.flank_surface(0, FlankSide::kPressure);
-  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
   const EdgeRegion e = build_edge_region(er);
   auto casing = std::make_shared<const SurfaceOfRevolution>(blisk.casing_meridian());
   const CollisionWorld world;
@@ -298,9 +301,7 @@ TEST(EdgeFinishTest, StripsLeftAtTheWindowsEndsAreReportedWithTheirSize) {
 // sees nothing of it.
 TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
   const BuiltinBlisk blisk;
-  EdgeRegionRequest er;
-  er.first = blisk.flank_surface(0, FlankSide::kPressure);
-  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
   const EdgeRegion e = build_edge_region(er);
   const CollisionWorld world;
   const Tool tool = mill(3, 0.5);
@@ -330,6 +331,85 @@ TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
   EXPECT_NEAR(guards.allowed(), 1e-3 - guards.miss_mm, 1e-12);
 }
 
+// The traverse legs' world (own_blade_beyond_guards): the cutter's own
+// blade less what the flank guards sample. Brute force along the borders of
+// the first flank's guard window: a small cutter resting 10 um into the
+// flank anywhere just outside the window (beyond its span ends and its
+// chord end by 1 um to 1 mm) is refused by the trimmed mesh — no hole where
+// the guard does not look (with the trimmed window 0.05 of u, 2 mm, longer
+// than the guard's, 57 of these 189 poses were found clear); inside the
+// window, where the mesh is gone, the guard catches the same pose.
+TEST(EdgeFinishTest, TheTraverseWorldKeepsTheOwnBladeBeyondTheGuardsWindows) {
+  const BuiltinBlisk blisk;
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
+  const EdgeRegion e = build_edge_region(er);
+  CollisionWorld world;
+  CheckSurfaceOptions own;
+  own.parts.cutter = false;
+  own.margin_mm = 0.05;
+  // Finer than a recipe's (0.05 mm, ~10 mm triangles on this blade): ~0.2 mm
+  // triangles, so that a hole a few tenths of a mm wide drops whole ones.
+  world.add("own p", tessellate(*er.first, 2e-4), own);
+  world.add("own s", tessellate(*er.second, 2e-4), own);
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.45, 0.55);
+  rq.band.e1_mm = -0.001;
+  const edge_detail::DesignGuards guards = edge_detail::design_guards(rq, flat_end_of(tool));
+  const std::shared_ptr<const CollisionWorld> trimmed = edge_detail::own_blade_beyond_guards(rq, guards);
+  ASSERT_TRUE(trimmed);
+  ASSERT_EQ(trimmed->size(), 2);
+  EXPECT_LT(trimmed->triangle_count(0), world.triangle_count(0));
+  EXPECT_LT(trimmed->triangle_count(1), world.triangle_count(1));
+  ASSERT_EQ(guards.flank_windows.size(), 2u);
+  const UndercutOptions& w = guards.flank_windows[0].sampling;
+  ASSERT_GT(w.u0, 0);
+  ASSERT_LT(w.u1, 1);
+  ASSERT_EQ(w.v0, 0);
+  const Tool small = mill(0.1, 0.02);
+  const ToolBody body(small);
+  auto resting_at = [&](double u, double v, double depth_mm) {
+    const SurfaceDerivs d = er.first->eval(u, v);
+    const Vec3 n = d.pu.cross(d.pv).normalized();
+    return ToolPose{d.p - depth_mm * n, n};
+  };
+  // Outside the window by 1 um, 0.3 mm and 1 mm (arc length): beyond both
+  // span ends and the chord end, 21 points along each.
+  int refused = 0, tried = 0;
+  for (double out_mm : {0.001, 0.3, 1.0})
+    for (int i = 0; i <= 20; ++i) {
+      const double along_v = w.v1 * i / 20, along_u = w.u0 + (w.u1 - w.u0) * i / 20;
+      const double du = out_mm / er.first->eval(w.u1, along_v).pu.norm();
+      const double dv = out_mm / er.first->eval(along_u, w.v1).pv.norm();
+      for (const ToolPose& pose : {resting_at(w.u0 - du, along_v, 0.01), resting_at(w.u1 + du, along_v, 0.01),
+                                   resting_at(along_u, w.v1 + dv, 0.01)}) {
+        ++tried;
+        refused += trimmed->check(body, pose, Clearances{}).clear ? 0 : 1;
+      }
+    }
+  EXPECT_EQ(refused, tried);
+  // Inside the window, a cutter's radius and more from its sides: the
+  // trimmed mesh is gone there, the whole one refuses, the guard catches
+  // the 10 um cut (its allowance is 0.75 um).
+  const ToolPose inside = resting_at(0.5 * (w.u0 + w.u1), 0.5 * w.v1, 0.01);
+  EXPECT_TRUE(trimmed->check(body, inside, Clearances{}).clear);
+  EXPECT_FALSE(world.unchecked_pairs()->check(body, inside, Clearances{}).clear);
+  EXPECT_LT(guards.deepest(small, inside, inside, true), -0.009);
+  // So on the second flank's window (its edge end at v = 1).
+  const UndercutOptions& w2 = guards.flank_windows[1].sampling;
+  const SurfaceDerivs d2 = er.second->eval(0.5 * (w2.u0 + w2.u1), 0.5 * (w2.v0 + 1));
+  const Vec3 n2 = d2.pu.cross(d2.pv).normalized();
+  const ToolPose inside_second{d2.p - 0.01 * n2, n2};
+  EXPECT_TRUE(trimmed->check(body, inside_second, Clearances{}).clear);
+  EXPECT_LT(guards.deepest(small, inside_second, inside_second, true), -0.009);
+  // The same resting 30 um off the flank: within the mesh's 0.05 mm margin,
+  // so the whole blade refuses it; the trimmed one does not, and neither
+  // does the guard — a pose any cutting motion may take.
+  const ToolPose above = resting_at(0.5 * (w.u0 + w.u1), 0.5 * w.v1, -0.03);
+  EXPECT_FALSE(world.unchecked_pairs()->check(body, above, Clearances{}).clear);
+  EXPECT_TRUE(trimmed->check(body, above, Clearances{}).clear);
+  EXPECT_EQ(guards.deepest(small, above, above, true), 0.0);
+}
+
 #if !defined(BLISKRUN_SANITIZED)
 // Beside the neighbouring blade (the built-in LE's pressure side, 10 mm
 // away) the optimum's tool does not fit and poses are tilted clear onto the
@@ -339,9 +419,7 @@ TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
 // so each link proves (a lean flipping between neighbours did not).
 TEST(EdgeFinishTest, TiltedPosesBesideTheNeighbourGetPartialRowsAndTheBandHolds) {
   const BuiltinBlisk blisk;
-  EdgeRegionRequest er;
-  er.first = blisk.flank_surface(0, FlankSide::kPressure);
-  er.second = blisk.flank_surface(0, FlankSide::kSuction);
+  EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
   const EdgeRegion e = build_edge_region(er);
   CollisionWorld world;
   const int n = blisk.blade_count();

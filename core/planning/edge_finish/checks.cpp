@@ -136,10 +136,11 @@ DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
     const double per_u = std::max(flank->eval(0.5 * (fu0 + fu1), k == 0 ? 0.0 : 1.0).pu.norm(), 1e-9);
     const double margin = (fe.radius_mm + 1.0) / per_u;
     double radius_u = 0;
-    guards.flanks.push_back(std::make_unique<GougeGuard>(
-        *flank, guard_grid(*flank, corner, e1_abs, std::max(0.0, std::min(fu0, fu1) - margin),
-                           std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0, miss,
-                           radius_u)));
+    const UndercutOptions sampling =
+        guard_grid(*flank, corner, e1_abs, std::max(0.0, std::min(fu0, fu1) - margin),
+                   std::min(1.0, std::max(fu0, fu1) + margin), k == 0 ? 0.0 : 0.88, k == 0 ? 0.12 : 1.0, miss, radius_u);
+    guards.flanks.push_back(std::make_unique<GougeGuard>(*flank, sampling));
+    guards.flank_windows.push_back({flank.get(), sampling});
     guards.miss_mm = std::max(guards.miss_mm, miss);
   }
   return guards;

@@ -181,6 +181,13 @@ struct DesignGuards {
   // the corner's and the round's together, 1 / (1/r + 1/ρ).
   double edge_radius_mm = 0;
   double v0 = 0, v1 = 1;  // the edge region's span the edge guard samples (the window and the tool's reach)
+  // The flank each flank guard samples and how (its window and counts):
+  // flank_windows[k] is flanks[k]'s.
+  struct FlankWindow {
+    const Surface* flank = nullptr;
+    UndercutOptions sampling;
+  };
+  std::vector<FlankWindow> flank_windows;
 
   // The band's overcut less what the samples can miss.
   double allowed() const;
@@ -204,6 +211,11 @@ struct PoseChecks {
 double min_pv(const Surface& edge, double v);
 // The design guards over rq's window and as far beyond it as a pose reaches.
 DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe);
+// The traverse legs' world: rq.world's unchecked pairs (the cutter against
+// its own blade) less the triangles of the flanks' meshes the flank guards
+// sample; null when nothing is left (links.cpp).
+std::shared_ptr<const CollisionWorld> own_blade_beyond_guards(const EdgeFinishRequest& rq,
+                                                              const DesignGuards& guards);
 // Whether a pose's axis is within the machine's reach.
 bool within_reach(const EdgeFinishRequest& rq, const ToolPose& pose);
 // The row checked in cutting order (reversed or not): passes, tilts,
