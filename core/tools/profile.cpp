@@ -259,6 +259,11 @@ ProfilePoint Profile::closest_point(const Vec2& rz) const {
   return best;
 }
 
+bool Profile::on_own_boundary(double r, double z) const {
+  return (r == max_radius_ && z >= side_z_lo_ && z <= side_z_hi_) || (z == z_min_ && r <= flat_bottom_r_) ||
+         (z == z_max_ && r <= flat_top_r_);
+}
+
 // The distance alone, as closest_point finds it, without its angles: the
 // simulation and the gouge guards trace every sample's normal line on it,
 // millions of times a plan. A point lies in an arc's span (less than a half
@@ -266,11 +271,6 @@ ProfilePoint Profile::closest_point(const Vec2& rz) const {
 // radius and right of the end radius — two cross products where
 // closest_point takes four arc tangents and two fmods; squared distances,
 // one square root.
-bool Profile::on_own_boundary(double r, double z) const {
-  return (r == max_radius_ && z >= side_z_lo_ && z <= side_z_hi_) || (z == z_min_ && r <= flat_bottom_r_) ||
-         (z == z_max_ && r <= flat_top_r_);
-}
-
 double Profile::signed_distance(const Vec2& rz) const {
   // First the bounding cylinder's signed distance, where it is provably the
   // solid's: most points a sweep asks lie under a flat bottom or beside a
