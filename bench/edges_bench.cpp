@@ -5,7 +5,7 @@
 // flank beyond it), the φ/l optimisation and checks of one row, and each
 // whole edge as blade_edges.lua plans it (the whole span fitted to the hub
 // and casing, shank and holder clearances 0.1 / 0.5 mm: rows, side-edge
-// rows, tilting, partial rows, world checks with the neighbours' flanks,
+// rows, tilting, partial rows, world checks with the neighbours' flanks and edge rounds,
 // the hub and the blade itself for the shank, links). The budget is per
 // emitted pose (issue 38 item 6: a budget per edge does not scale with the
 // part): ms_per_pose is the process CPU time of the plan (every thread)
@@ -57,15 +57,32 @@ struct EdgeSetup {
     const TriangleMesh hub_mesh = tessellate(*hub, 0.01);
     hub_only.add("hub", hub_mesh);
     world.add("hub", std::make_shared<RevolutionDistance>(*hub, 0.01));
-    for (int b : {1, 21})
+    for (int b : {1, 21}) {
       for (FlankSide s : {FlankSide::kPressure, FlankSide::kSuction})
         world.add("blade " + std::to_string(b) + (s == FlankSide::kPressure ? " p" : " s"),
                   tessellate(*blisk.flank_surface(b, s), 0.01));
+      for (bool leading : {true, false})
+        world.add("blade " + std::to_string(b) + (leading ? " LE" : " TE"), tessellate(*edge_round(b, leading), 0.01));
+    }
     CheckSurfaceOptions own;
     own.parts.cutter = false;
     own.margin_mm = 0.05;
     world.add("own p", tessellate(*blisk.flank_surface(0, FlankSide::kPressure), 0.05), own);
     world.add("own s", tessellate(*blisk.flank_surface(0, FlankSide::kSuction), 0.05), own);
+  }
+  // Blade b's edge round as blisk_world.edge_round builds it: no overlap,
+  // from the hub row up to where the edge end leaves the casing.
+  std::shared_ptr<const Surface> edge_round(int b, bool leading) const {
+    EdgeRegionRequest r;
+    r.first = blisk.flank_surface(b, leading ? FlankSide::kPressure : FlankSide::kSuction);
+    r.second = blisk.flank_surface(b, leading ? FlankSide::kSuction : FlankSide::kPressure);
+    r.overlap_mm = 0;
+    auto beyond = [&](double u) { return casing->radial_offset(r.first->point(u, 0)) > 0; };
+    double lo = 0, hi = 1;
+    if (beyond(1))
+      for (int k = 0; k < 40; ++k) (beyond(0.5 * (lo + hi)) ? hi : lo) = 0.5 * (lo + hi);
+    r.span_u1 = hi;
+    return build_edge_region(r).surface;
   }
   EdgeFinishRequest request(const CollisionWorld& w, double v0, double v1) const {
     EdgeFinishRequest rq;

@@ -1,6 +1,6 @@
 -- Collision worlds of the built-in blisk, for the interference loop
--- (blisk paper §3.4): the check surfaces around one blade are the flanks of
--- its two neighbours and the hub. The blade being machined is not a check
+-- (blisk paper §3.4): the check surfaces around one blade are the flanks and
+-- edge rounds of its two neighbours and the hub. The blade being machined is not a check
 -- surface: the tool is meant to touch it.
 --
 --   local blisk_world = require("blisk_world")
@@ -45,6 +45,10 @@ function M.around_blade(blisk, k, opts)
     for _, side in ipairs{"pressure", "suction"} do
       surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side),
                                  surface = blisk:flank(b, side), chord_tol = tol}
+    end
+    for _, edge in ipairs{"leading", "trailing"} do
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge),
+                                 mesh = M.edge_round_meshes(blisk, tol)[b][edge]}
     end
   end
   if opts.hub ~= false then
@@ -207,9 +211,31 @@ function M.flank_meshes(blisk, tol)
   return meshes
 end
 
+-- Every blade's edge rounds (edge_round, up to the casing) tessellated at
+-- `tol`, once per blisk and tolerance: meshes[b].leading, meshes[b].trailing.
+-- The built-in blisk's flanks end where its rounds begin, and a round
+-- stands up to its radius (0.3-0.4 mm) in front of the line between the
+-- flanks' ends: without them a shank passing a neighbour's edge was
+-- checked against nothing there (the blisk job's trailing-edge mill, 21 um
+-- into blade 2's round, found by the machine simulation once the rounds
+-- were bodies).
+local round_cache = setmetatable({}, {__mode = "k"})
+function M.edge_round_meshes(blisk, tol)
+  round_cache[blisk] = round_cache[blisk] or {}
+  local cached = round_cache[blisk][tol]
+  if cached then return cached end
+  local meshes = {}
+  for b = 1, blisk:blade_count() do
+    meshes[b] = {}
+    for _, edge in ipairs{"leading", "trailing"} do meshes[b][edge] = M.edge_round(blisk, b, edge).surface:tessellate(tol) end
+  end
+  round_cache[blisk][tol] = meshes
+  return meshes
+end
+
 -- The blisk's blades as bodies of the machine simulation (post.write's
 -- `part`): all blades as one mesh body "blades", each blade's two flanks
--- named after it (mesh_names), in the part frame, the tolerance as margin
+-- and two edge rounds named after it (mesh_names), in the part frame, the tolerance as margin
 -- — the meshes the worlds check the shank and holder against (the own
 -- blade's, 0.05 mm). One body, as for the impeller (impeller_world's
 -- part_bodies): one pair per machine body or tool part, the far blades
@@ -220,6 +246,10 @@ function M.part_bodies(blisk, tol)
   for b, m in ipairs(M.flank_meshes(blisk, tol)) do
     for _, side in ipairs{"pressure", "suction"} do
       body.meshes[#body.meshes + 1] = m[side]
+      body.mesh_names[#body.mesh_names + 1] = "blade " .. b
+    end
+    for _, edge in ipairs{"leading", "trailing"} do  -- and its edge rounds (edge_round_meshes)
+      body.meshes[#body.meshes + 1] = M.edge_round_meshes(blisk, tol)[b][edge]
       body.mesh_names[#body.mesh_names + 1] = "blade " .. b
     end
   end
@@ -233,7 +263,7 @@ function M.all_blades(blisk, opts)
   opts = opts or {}
   local n = blisk:blade_count()
   local tol = opts.chord_tol or 0.01
-  local meshes = M.flank_meshes(blisk, tol)
+  local meshes, rounds = M.flank_meshes(blisk, tol), M.edge_round_meshes(blisk, tol)
   local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
   local own_tol = opts.own_chord_tol or 0.05
   local own = opts.own ~= false and M.flank_meshes(blisk, own_tol) or {}
@@ -243,6 +273,9 @@ function M.all_blades(blisk, opts)
     for _, b in ipairs{(k - 2) % n + 1, k % n + 1} do
       for _, side in ipairs{"pressure", "suction"} do
         surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = meshes[b][side]}
+      end
+      for _, edge in ipairs{"leading", "trailing"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge), mesh = rounds[b][edge]}
       end
     end
     if hub then surfaces[#surfaces + 1] = {name = "hub", mesh = hub} end

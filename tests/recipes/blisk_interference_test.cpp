@@ -14,7 +14,7 @@ TEST(BliskInterference, TiltLoopClearsTheNeighbouringBladesOrRefuses) {
 local blisk_world = require("blisk_world")
 local blisk = bliskrun.blisk{grid_rows = 40, grid_cols = 120}
 local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.02})
-assert(#world:names() == 7)  -- 4 neighbouring flanks, hub, own blade for the shank
+assert(#world:names() == 11)  -- 4 neighbouring flanks and their 4 edge rounds, hub, own blade for the shank
 local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,
                                   shank = {diameter = 6, length = 96}}
 -- Contacts on blade 1's pressure flank: five at mid-span, four at u = 0.06,
