@@ -48,7 +48,7 @@ function M.around_blade(blisk, k, opts)
     end
     for _, edge in ipairs{"leading", "trailing"} do
       surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge),
-                                 mesh = M.edge_round_meshes(blisk, tol)[b][edge]}
+                                 mesh = M.edge_round_mesh(blisk, b, edge, tol)}
     end
   end
   if opts.hub ~= false then
@@ -194,43 +194,46 @@ function M.edge_round(blisk, b, edge, top)
   return bliskrun.edge_region{first = first, second = second, overlap = 0, span = {0, hi}}
 end
 
--- Every blade's flanks tessellated at `tol` (mm), once per blisk and
--- tolerance: meshes[b].pressure, meshes[b].suction. Shared by the worlds
--- below and the part's bodies in the machine simulation (part_bodies).
-local flank_cache = setmetatable({}, {__mode = "k"})
+-- One blade's face (a flank, "pressure" or "suction", or an edge round,
+-- "leading" or "trailing") tessellated at `tol` (mm), once per blisk,
+-- blade, face and tolerance, when first asked: a world around one blade
+-- asks only its neighbours'. Shared by the worlds below and the part's
+-- bodies in the machine simulation (part_bodies).
+local face_cache = setmetatable({}, {__mode = "k"})
+local function face_mesh(blisk, b, face, tol)
+  local by_tol = face_cache[blisk] or {}
+  face_cache[blisk] = by_tol
+  by_tol[tol] = by_tol[tol] or {}
+  local key = b .. " " .. face
+  local mesh = by_tol[tol][key]
+  if not mesh then
+    local surface = (face == "leading" or face == "trailing") and M.edge_round(blisk, b, face).surface
+                    or blisk:flank(b, face)
+    mesh = surface:tessellate(tol)
+    by_tol[tol][key] = mesh
+  end
+  return mesh
+end
+
+-- Every blade's flanks at `tol`: meshes[b].pressure, meshes[b].suction.
 function M.flank_meshes(blisk, tol)
-  flank_cache[blisk] = flank_cache[blisk] or {}
-  local cached = flank_cache[blisk][tol]
-  if cached then return cached end
   local meshes = {}
   for b = 1, blisk:blade_count() do
-    meshes[b] = {}
-    for _, side in ipairs{"pressure", "suction"} do meshes[b][side] = blisk:flank(b, side):tessellate(tol) end
+    meshes[b] = {pressure = face_mesh(blisk, b, "pressure", tol), suction = face_mesh(blisk, b, "suction", tol)}
   end
-  flank_cache[blisk][tol] = meshes
   return meshes
 end
 
--- Every blade's edge rounds (edge_round, up to the casing) tessellated at
--- `tol`, once per blisk and tolerance: meshes[b].leading, meshes[b].trailing.
--- The built-in blisk's flanks end where its rounds begin, and a round
--- stands up to its radius (0.3-0.4 mm) in front of the line between the
--- flanks' ends: without them a shank passing a neighbour's edge was
+-- Blade b's leading or trailing edge round (edge_round, up to the casing)
+-- at `tol`. The built-in blisk's flanks end where its rounds begin, and a
+-- round stands up to its radius (0.3-0.4 mm) in front of the line between
+-- the flanks' ends: without them a shank passing a neighbour's edge was
 -- checked against nothing there (the blisk job's trailing-edge mill, 21 um
 -- into blade 2's round, found by the machine simulation once the rounds
 -- were bodies).
-local round_cache = setmetatable({}, {__mode = "k"})
-function M.edge_round_meshes(blisk, tol)
-  round_cache[blisk] = round_cache[blisk] or {}
-  local cached = round_cache[blisk][tol]
-  if cached then return cached end
-  local meshes = {}
-  for b = 1, blisk:blade_count() do
-    meshes[b] = {}
-    for _, edge in ipairs{"leading", "trailing"} do meshes[b][edge] = M.edge_round(blisk, b, edge).surface:tessellate(tol) end
-  end
-  round_cache[blisk][tol] = meshes
-  return meshes
+function M.edge_round_mesh(blisk, b, edge, tol)
+  assert(edge == "leading" or edge == "trailing", "edge_round_mesh: edge must be 'leading' or 'trailing'")
+  return face_mesh(blisk, b, edge, tol)
 end
 
 -- The blisk's blades as bodies of the machine simulation (post.write's
@@ -248,8 +251,8 @@ function M.part_bodies(blisk, tol)
       body.meshes[#body.meshes + 1] = m[side]
       body.mesh_names[#body.mesh_names + 1] = "blade " .. b
     end
-    for _, edge in ipairs{"leading", "trailing"} do  -- and its edge rounds (edge_round_meshes)
-      body.meshes[#body.meshes + 1] = M.edge_round_meshes(blisk, tol)[b][edge]
+    for _, edge in ipairs{"leading", "trailing"} do  -- and its edge rounds (edge_round_mesh)
+      body.meshes[#body.meshes + 1] = M.edge_round_mesh(blisk, b, edge, tol)
       body.mesh_names[#body.mesh_names + 1] = "blade " .. b
     end
   end
@@ -263,7 +266,7 @@ function M.all_blades(blisk, opts)
   opts = opts or {}
   local n = blisk:blade_count()
   local tol = opts.chord_tol or 0.01
-  local meshes, rounds = M.flank_meshes(blisk, tol), M.edge_round_meshes(blisk, tol)
+  local meshes = M.flank_meshes(blisk, tol)
   local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
   local own_tol = opts.own_chord_tol or 0.05
   local own = opts.own ~= false and M.flank_meshes(blisk, own_tol) or {}
@@ -275,7 +278,8 @@ function M.all_blades(blisk, opts)
         surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), mesh = meshes[b][side]}
       end
       for _, edge in ipairs{"leading", "trailing"} do
-        surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge), mesh = rounds[b][edge]}
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge),
+                                   mesh = M.edge_round_mesh(blisk, b, edge, tol)}
       end
     end
     if hub then surfaces[#surfaces + 1] = {name = "hub", mesh = hub} end
