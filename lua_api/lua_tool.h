@@ -23,6 +23,30 @@ struct LuaTool {
   }
 };
 
+// A plan and what its request points to (the tool, the world if one was
+// given), kept alive together: the userdata of a planner that keeps nothing
+// else (bliskrun.hub_finish, bliskrun.point_mill).
+template <class Request, class Result>
+struct LuaToolPlan {
+  std::shared_ptr<const Tool> tool;
+  std::shared_ptr<const CollisionWorld> world;
+  Request request;
+  std::shared_ptr<const Result> result;
+};
+
+// The Tool of a planner's option 'tool' (validated options `o`), copied for
+// the plan to keep; otherwise a Lua error "<what>: option 'tool': expected a
+// bliskrun.Tool (<kind>)", kind the tool the planner takes ("a flat-end mill").
+inline std::shared_ptr<const Tool> tool_option(lua_State* L, const luax::Options& o, const std::string& what,
+                                               const std::string& kind) {
+  o.push_raw("tool");
+  const LuaTool* t = luax::test<LuaTool>(L, -1);
+  if (!t) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (" + kind + ")");
+  auto tool = std::make_shared<const Tool>(t->tool);
+  lua_pop(L, 1);
+  return tool;
+}
+
 // A pose as the Lua tables every planner returns and the posts read:
 // {tip = {x, y, z}, axis = {x, y, z}} (mm, unit axis tip -> spindle).
 inline void push_pose(lua_State* L, const ToolPose& p) {
