@@ -490,14 +490,33 @@ int l_machine(lua_State* L) {
   return luaL_error(L, "machine: %s", problem.c_str());
 }
 
+// The calls that run a shipped file by name (generic, machine_lib, extend):
+// runs <upvalue 1>/<sub>/<name>.lua, the name the call's argument 1, with
+// upvalue 2 as its environment; leaves its result and returns the path.
+// `what` names the call in errors.
+std::string run_named_file(lua_State* L, const char* what, const char* sub) {
+  const std::string name = luaL_checkstring(L, 1);
+  check_file_name(L, name, what);
+  std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + sub;
+  if (*sub) path += "/";
+  path += name + ".lua";
+  run_file(L, path, lua_upvalueindex(2));
+  return path;
+}
+
 // generic "name": upvalue 1 = machines folder, 2 = the environment.
 int l_generic(lua_State* L) {
-  const std::string name = luaL_checkstring(L, 1);
-  check_file_name(L, name, "generic");
-  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
-  run_file(L, path, lua_upvalueindex(2));
+  const std::string path = run_named_file(L, "generic", "");
   if (!is_parametric(L, -1))
     return luaL_error(L, "generic: %s does not return parametric { ... }", path.c_str());
+  return 1;
+}
+
+// machine_lib "name": what machine files share (scripts/machines/lib/name.lua,
+// e.g. five_axis: the generic files' common parameters and bodies), run in
+// the machine environment; the same upvalues as generic.
+int l_machine_lib(lua_State* L) {
+  run_named_file(L, "machine_lib", "lib");
   return 1;
 }
 
@@ -513,6 +532,10 @@ void push_machine_env(lua_State* L, const std::string& machines_dir) {
   lua_pushvalue(L, -2);
   lua_pushcclosure(L, l_generic, 2);
   lua_setfield(L, -2, "generic");
+  lua_pushstring(L, machines_dir.c_str());
+  lua_pushvalue(L, -2);
+  lua_pushcclosure(L, l_machine_lib, 2);
+  lua_setfield(L, -2, "machine_lib");
   if (luaL_loadbufferx(L, kParametricSource, std::char_traits<char>::length(kParametricSource),
                        "=parametric", "t") != LUA_OK)
     lua_error(L);
@@ -521,11 +544,9 @@ void push_machine_env(lua_State* L, const std::string& machines_dir) {
   lua_setfield(L, -2, "parametric");
 }
 
+// extend "name": upvalue 1 = posts folder, 2 = the environment.
 int l_extend(lua_State* L) {
-  const std::string name = luaL_checkstring(L, 1);
-  check_file_name(L, name, "extend");
-  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
-  run_file(L, path, lua_upvalueindex(2));
+  const std::string path = run_named_file(L, "extend", "");
   if (!lua_istable(L, -1)) return luaL_error(L, "extend: %s does not return a post table", path.c_str());
   // A copy, so the extending post never changes the one it extends.
   lua_newtable(L);
