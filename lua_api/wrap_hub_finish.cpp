@@ -324,16 +324,7 @@ int w_hub_finish(lua_State* L) {
       luax::error(L, std::string(what) + ": option 'z': expected numbers {z_inlet, z_outlet} with z_inlet < z_outlet");
     lua_pop(L, 3);
   }
-  rq.lean_rad = deg_to_rad(o.number("lean", 12));
-  rq.lean_step_rad = deg_to_rad(o.number("lean_step", 1));
-  rq.lean_max_rad = deg_to_rad(o.number("lean_max", 40));
-  rq.side_tilt_rad = deg_to_rad(o.number("side_tilt", 20));
-  rq.side_step_rad = deg_to_rad(o.number("side_step", 10));
-  rq.clearances.shank_mm = o.number("clearance", rq.clearances.shank_mm);
-  rq.clearances.holder_mm = o.number("holder_clearance", rq.clearances.holder_mm);
-  rq.links.retract_mm = o.number("retract", rq.links.retract_mm);
-  rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
-  rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
+  read_clearing_options(o, rq, 12, 40, 10);
   rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
     plan.result = std::make_shared<const HubFinishResult>(plan_hub_finish(rq, context(L).progress));

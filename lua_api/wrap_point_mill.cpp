@@ -306,18 +306,9 @@ int w_point_mill(lua_State* L) {
   rq.steps.chord_tol_mm = o.number("chord_tol", rq.steps.chord_tol_mm);
   rq.steps.max_step_mm = o.number("max_step", rq.steps.max_step_mm);
   rq.lead_rad = deg_to_rad(o.number("lead", 0));
-  rq.lean_rad = deg_to_rad(o.number("lean", 10));
-  rq.lean_step_rad = deg_to_rad(o.number("lean_step", 1));
-  rq.lean_max_rad = deg_to_rad(o.number("lean_max", 45));
-  rq.side_tilt_rad = deg_to_rad(o.number("side_tilt", 20));
-  rq.side_step_rad = deg_to_rad(o.number("side_step", 5));
+  read_clearing_options(o, rq, 10, 45, 5);
   rq.max_turn_rad_per_mm = deg_to_rad(o.number("max_turn", 2));
-  rq.clearances.shank_mm = o.number("clearance", rq.clearances.shank_mm);
-  rq.clearances.holder_mm = o.number("holder_clearance", rq.clearances.holder_mm);
-  rq.links.retract_mm = o.number("retract", rq.links.retract_mm);
-  rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
   rq.allowed_overcut_mm = o.number("allowed_overcut", rq.allowed_overcut_mm);
-  rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
   rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
     plan.result = std::make_shared<const PointMillResult>(plan_point_milling(rq, context(L).progress));
