@@ -22,8 +22,7 @@ inline void push_finish_moves(lua_State* L, const Toolpath& moves) {
     luax::set_string(L, "motion", m.motion);
     luax::set_vec3(L, "tip", m.pose.tip);
     luax::set_vec3(L, "axis", m.pose.axis);
-    lua_pushinteger(L, m.row + 1);
-    lua_setfield(L, -2, "row");
+    luax::set_integer(L, "row", m.row + 1);
     lua_rawseti(L, -2, ++n);
   }
 }

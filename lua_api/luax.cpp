@@ -135,8 +135,26 @@ void push(lua_State* L, const Vec3& v) {
   }
 }
 
+void push(lua_State* L, const std::vector<double>& values) {
+  lua_createtable(L, static_cast<int>(values.size()), 0);
+  for (size_t i = 0; i < values.size(); ++i) {
+    lua_pushnumber(L, values[i]);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+  }
+}
+
 void set_number(lua_State* L, const char* key, double value) {
   lua_pushnumber(L, value);
+  lua_setfield(L, -2, key);
+}
+
+void set_integer(lua_State* L, const char* key, long long value) {
+  lua_pushinteger(L, static_cast<lua_Integer>(value));
+  lua_setfield(L, -2, key);
+}
+
+void set_numbers(lua_State* L, const char* key, const std::vector<double>& values) {
+  push(L, values);
   lua_setfield(L, -2, key);
 }
 
@@ -328,6 +346,25 @@ Vec3 Options::vec3(const std::string& key, const Vec3& fallback) const {
 }
 
 void Options::push_raw(const std::string& key) const { lua_getfield(L_, idx_, key.c_str()); }
+
+void Options::integer_pair(const std::string& key, const char* form, long long min, long long max, int& a,
+                           int& b) const {
+  if (!has(key)) return;
+  push_raw(key);
+  const int t = lua_gettop(L_);
+  const std::string where = what_ + ": option '" + key + "'";
+  if (luaL_len(L_, t) != 2) error(L_, where + ": expected " + form);
+  for (int k = 1; k <= 2; ++k) {
+    lua_rawgeti(L_, t, k);
+    int isnum = 0;
+    const lua_Integer n = lua_tointegerx(L_, -1, &isnum);
+    if (!isnum || n < min || n > max)
+      error(L_, where + ": expected integers in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+    (k == 1 ? a : b) = static_cast<int>(n);
+    lua_pop(L_, 1);
+  }
+  lua_pop(L_, 1);
+}
 
 // ---- userdata ----------------------------------------------------------------
 

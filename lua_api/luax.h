@@ -59,12 +59,28 @@ Vec3 check_vec3(lua_State* L, int idx, const char* name);
 void push(lua_State* L, double value);
 void push(lua_State* L, const std::string& value);
 void push(lua_State* L, const Vec3& value);  // {x, y, z} with .x .y .z too
+void push(lua_State* L, const std::vector<double>& values);  // {v1, v2, ...}
 
 // t[key] = value for the table on top of the stack.
 void set_number(lua_State* L, const char* key, double value);
+void set_integer(lua_State* L, const char* key, long long value);  // a Lua integer
 void set_bool(lua_State* L, const char* key, bool value);
 void set_string(lua_State* L, const char* key, const std::string& value);
 void set_vec3(lua_State* L, const char* key, const Vec3& value);
+void set_numbers(lua_State* L, const char* key, const std::vector<double>& values);  // {v1, v2, ...}
+
+// t[key] = {s1, s2, ...}: the strings of any container of std::string
+// (a vector, a set: in its order).
+template <class Strings>
+void set_strings(lua_State* L, const char* key, const Strings& values) {
+  lua_createtable(L, static_cast<int>(values.size()), 0);
+  lua_Integer k = 0;
+  for (const std::string& s : values) {
+    lua_pushstring(L, s.c_str());
+    lua_rawseti(L, -2, ++k);
+  }
+  lua_setfield(L, -2, key);
+}
 
 // ---- option tables -------------------------------------------------------
 // Declared fields, validated in one place. Unknown keys are rejected with the
@@ -102,6 +118,10 @@ class Options {
   bool boolean(const std::string& key, bool fallback) const;
   std::string string(const std::string& key, const std::string& fallback) const;
   Vec3 vec3(const std::string& key, const Vec3& fallback) const;
+  // A Table field holding two integers in [min, max] (sample counts), into
+  // a and b; left as they are when absent. `form` names them in the error
+  // ("{span, chord}").
+  void integer_pair(const std::string& key, const char* form, long long min, long long max, int& a, int& b) const;
   // Pushes the raw value (or nil) onto the stack, for Table/Any fields.
   void push_raw(const std::string& key) const;
 

@@ -490,14 +490,33 @@ int l_machine(lua_State* L) {
   return luaL_error(L, "machine: %s", problem.c_str());
 }
 
+// The calls that run a shipped file by name (generic, machine_lib, extend):
+// runs <upvalue 1>/<sub>/<name>.lua, the name the call's argument 1, with
+// upvalue 2 as its environment; leaves its result and returns the path.
+// `what` names the call in errors.
+std::string run_named_file(lua_State* L, const char* what, const char* sub) {
+  const std::string name = luaL_checkstring(L, 1);
+  check_file_name(L, name, what);
+  std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + sub;
+  if (*sub) path += "/";
+  path += name + ".lua";
+  run_file(L, path, lua_upvalueindex(2));
+  return path;
+}
+
 // generic "name": upvalue 1 = machines folder, 2 = the environment.
 int l_generic(lua_State* L) {
-  const std::string name = luaL_checkstring(L, 1);
-  check_file_name(L, name, "generic");
-  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
-  run_file(L, path, lua_upvalueindex(2));
+  const std::string path = run_named_file(L, "generic", "");
   if (!is_parametric(L, -1))
     return luaL_error(L, "generic: %s does not return parametric { ... }", path.c_str());
+  return 1;
+}
+
+// machine_lib "name": what machine files share (scripts/machines/lib/name.lua,
+// e.g. five_axis: the generic files' common parameters and bodies), run in
+// the machine environment; the same upvalues as generic.
+int l_machine_lib(lua_State* L) {
+  run_named_file(L, "machine_lib", "lib");
   return 1;
 }
 
@@ -513,6 +532,10 @@ void push_machine_env(lua_State* L, const std::string& machines_dir) {
   lua_pushvalue(L, -2);
   lua_pushcclosure(L, l_generic, 2);
   lua_setfield(L, -2, "generic");
+  lua_pushstring(L, machines_dir.c_str());
+  lua_pushvalue(L, -2);
+  lua_pushcclosure(L, l_machine_lib, 2);
+  lua_setfield(L, -2, "machine_lib");
   if (luaL_loadbufferx(L, kParametricSource, std::char_traits<char>::length(kParametricSource),
                        "=parametric", "t") != LUA_OK)
     lua_error(L);
@@ -521,11 +544,9 @@ void push_machine_env(lua_State* L, const std::string& machines_dir) {
   lua_setfield(L, -2, "parametric");
 }
 
+// extend "name": upvalue 1 = posts folder, 2 = the environment.
 int l_extend(lua_State* L) {
-  const std::string name = luaL_checkstring(L, 1);
-  check_file_name(L, name, "extend");
-  const std::string path = std::string(lua_tostring(L, lua_upvalueindex(1))) + "/" + name + ".lua";
-  run_file(L, path, lua_upvalueindex(2));
+  const std::string path = run_named_file(L, "extend", "");
   if (!lua_istable(L, -1)) return luaL_error(L, "extend: %s does not return a post table", path.c_str());
   // A copy, so the extending post never changes the one it extends.
   lua_newtable(L);
@@ -610,23 +631,16 @@ int l_moves_next(lua_State* L) {
     lua_setfield(L, -2, def.rotary[a].name.c_str());
   }
   if (m.kind == MoveKind::Feed) {
-    lua_pushnumber(L, m.feed);
-    lua_setfield(L, -2, "F");
+    luax::set_number(L, "F", m.feed);
   }
-  lua_pushinteger(L, i + 1);
-  lua_setfield(L, -2, "index");
-  lua_pushinteger(L, m.source + 1);
-  lua_setfield(L, -2, "source");
+  luax::set_integer(L, "index", i + 1);
+  luax::set_integer(L, "source", m.source + 1);
   if (m.row >= 0) {
-    lua_pushinteger(L, m.row);
-    lua_setfield(L, -2, "row");
+    luax::set_integer(L, "row", m.row);
   }
-  lua_pushboolean(L, m.inserted);
-  lua_setfield(L, -2, "inserted");
-  lua_pushboolean(L, m.positioning);
-  lua_setfield(L, -2, "positioning");
-  lua_pushinteger(L, m.tool + 1);
-  lua_setfield(L, -2, "tool");  // index into job.tools
+  luax::set_bool(L, "inserted", m.inserted);
+  luax::set_bool(L, "positioning", m.positioning);
+  luax::set_integer(L, "tool", m.tool + 1);  // index into job.tools
   if (m.safe != SafeMove::None) {
     lua_pushstring(L, to_string(m.safe));
     lua_setfield(L, -2, "safe");
@@ -831,12 +845,10 @@ void push_rotary_senses(lua_State* L, const MachineDefinition& def) {
 // job.setup = {name=, flip=, clocking_deg=}, job.notes = {...}
 // into the job table on top of the stack.
 void push_setup(lua_State* L, const PostJob& job) {
-  lua_pushinteger(L, job.work_offset);
-  lua_setfield(L, -2, "work_offset");
+  luax::set_integer(L, "work_offset", job.work_offset);
   if (!job.coolant.empty()) luax::set_string(L, "coolant", job.coolant);
   if (job.program_number > 0) {
-    lua_pushinteger(L, job.program_number);
-    lua_setfield(L, -2, "program_number");
+    luax::set_integer(L, "program_number", job.program_number);
   }
   lua_createtable(L, 0, 3);
   if (!job.setup.name.empty()) luax::set_string(L, "name", job.setup.name);
@@ -896,10 +908,8 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
     lua_rawseti(L, -2, i + 1);
   }
   lua_setfield(L, -2, "part_origin");
-  lua_pushnumber(L, def.rapid.feed_mm_per_min);
-  lua_setfield(L, -2, "rapid_feed");
-  lua_pushboolean(L, def.rapid.linear);
-  lua_setfield(L, -2, "linear_rapids");
+  luax::set_number(L, "rapid_feed", def.rapid.feed_mm_per_min);
+  luax::set_bool(L, "linear_rapids", def.rapid.linear);
   push_rotary_senses(L, def);
   lua_setfield(L, -2, "rotary_axes");
   lua_setfield(L, -2, "machine");
@@ -910,21 +920,17 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   for (size_t t = 0; t < job.tools.size(); ++t) {
     const PostTool& tool = job.tools[t];
     lua_createtable(L, 0, 3);
-    lua_pushinteger(L, tool.number);
-    lua_setfield(L, -2, "number");
-    lua_pushnumber(L, tool.length_mm);
-    lua_setfield(L, -2, "length");
+    luax::set_integer(L, "number", tool.number);
+    luax::set_number(L, "length", tool.length_mm);
     if (tool.spindle_rpm > 0) {
-      lua_pushinteger(L, tool.spindle_rpm);
-      lua_setfield(L, -2, "spindle_rpm");
+      luax::set_integer(L, "spindle_rpm", tool.spindle_rpm);
     }
     lua_rawseti(L, -2, static_cast<lua_Integer>(t + 1));
   }
   lua_rawgeti(L, -1, 1);
   lua_setfield(L, -3, "tool");
   lua_setfield(L, -2, "tools");
-  lua_pushboolean(L, program.tcp);
-  lua_setfield(L, -2, "tcp");
+  luax::set_bool(L, "tcp", program.tcp);
   lua_pushstring(L, to_string(program.controller));
   lua_setfield(L, -2, "controller");
   // job.approach = {safe_z =}: the program comes in and leaves at the safe
@@ -932,19 +938,15 @@ std::string run_post(lua_State* L, int post_idx, const Kinematics& kin,
   // tool change left the machine.
   if (!program.moves.empty() && program.moves.front().safe == SafeMove::Retract) {
     lua_createtable(L, 0, 1);
-    lua_pushnumber(L, program.moves.front().axes.linear_mm.z());
-    lua_setfield(L, -2, "safe_z");
+    luax::set_number(L, "safe_z", program.moves.front().axes.linear_mm.z());
     lua_setfield(L, -2, "approach");
   }
   lua_pushstring(L, program.feed_mode == FeedMode::InverseTime ? "inverse_time" : "per_minute");
   lua_setfield(L, -2, "feed_mode");
   lua_createtable(L, 0, 3);
-  lua_pushinteger(L, decimals_for(def.linear_resolution_mm));
-  lua_setfield(L, -2, "linear");
-  lua_pushinteger(L, decimals_for(rad_to_deg(def.rotary_resolution_rad)));
-  lua_setfield(L, -2, "rotary");
-  lua_pushinteger(L, program.feed_mode == FeedMode::InverseTime ? 3 : 1);
-  lua_setfield(L, -2, "feed");
+  luax::set_integer(L, "linear", decimals_for(def.linear_resolution_mm));
+  luax::set_integer(L, "rotary", decimals_for(rad_to_deg(def.rotary_resolution_rad)));
+  luax::set_integer(L, "feed", program.feed_mode == FeedMode::InverseTime ? 3 : 1);
   lua_setfield(L, -2, "decimals");
   lua_pushvalue(L, ctx_idx);
   lua_pushcclosure(L, l_job_moves, 1);

@@ -3,13 +3,16 @@
 // core/machine, on the plain Lua API (wrap_machine.cpp binds it to the
 // `bliskrun.machine` / `bliskrun.post` tables).
 //
-// Machine files (scripts/machines/*.lua, or a recipe's own) run with three
+// Machine files (scripts/machines/*.lua, or a recipe's own) run with four
 // extra globals:
 //   machine { ... }        validates a definition (degrees, mm) and returns it;
 //   parametric { parameters = {name = {default=, doc=}, ...}, build = f }
 //                          a generic definition: call it with a table of
 //                          parameters (unknown names are errors) to build;
-//   generic "name"         the parametric definition in scripts/machines/name.lua.
+//   generic "name"         the parametric definition in scripts/machines/name.lua;
+//   machine_lib "name"     what machine files share, scripts/machines/lib/name.lua
+//                          (five_axis: the generic files' common parameters,
+//                          machine fields and bodies).
 // Every error names the machine file and line.
 //
 // Post files (scripts/posts/*.lua) run with `extend "name"`, which returns a

@@ -38,8 +38,7 @@ void push_extreme(lua_State* L, const CurvatureExtreme& e) {
   set_number(L, "u", e.u);
   set_number(L, "v", e.v);
   set_number(L, "angle", rad_to_deg(e.angle_rad));
-  lua_pushboolean(L, e.found);
-  lua_setfield(L, -2, "found");
+  luax::set_bool(L, "found", e.found);
 }
 
 // bliskrun.curvature_stats(surface [, {samples_u=, samples_v=, c_range=}])
@@ -60,12 +59,9 @@ int w_curvature_stats(lua_State* L) {
     auto st = std::make_shared<const CurvatureStats>(
         curvature_stats(*surface, opts, context(L).progress));
     lua_createtable(L, 0, 10);
-    lua_pushinteger(L, st->samples_u);
-    lua_setfield(L, -2, "samples_u");
-    lua_pushinteger(L, st->samples_v);
-    lua_setfield(L, -2, "samples_v");
-    lua_pushinteger(L, st->negative_K_count);
-    lua_setfield(L, -2, "negative_K_count");
+    luax::set_integer(L, "samples_u", st->samples_u);
+    luax::set_integer(L, "samples_v", st->samples_v);
+    luax::set_integer(L, "negative_K_count", st->negative_K_count);
     set_number(L, "negative_K_fraction", st->negative_K_fraction);
     set_number(L, "K_min", st->K_min);
     set_number(L, "K_max", st->K_max);

@@ -19,14 +19,6 @@ using luax::Kind;
 
 using luax::number_field;
 
-void push_numbers(lua_State* L, const std::vector<double>& values) {
-  lua_createtable(L, static_cast<int>(values.size()), 0);
-  for (size_t i = 0; i < values.size(); ++i) {
-    lua_pushnumber(L, values[i]);
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-}
-
 void push_points(lua_State* L, const std::vector<Vec3>& points) {
   lua_createtable(L, static_cast<int>(points.size()), 0);
   for (size_t i = 0; i < points.size(); ++i) {
@@ -95,18 +87,15 @@ int w_belt_paths(lua_State* L) {
       luax::set_number(L, "length", p.length_mm);
       luax::set_number(L, "chord_max", p.chord_max_mm);
       luax::set_number(L, "scallop_max", p.scallop_max_mm);
-      push_numbers(L, p.along);
-      lua_setfield(L, -2, "along");
+      luax::set_numbers(L, "along", p.along);
       push_points(L, p.points);
       lua_setfield(L, -2, "points");
       push_points(L, p.normals);
       lua_setfield(L, -2, "normals");
       push_points(L, p.tangents);
       lua_setfield(L, -2, "tangents");
-      push_numbers(L, p.step_over_mm);
-      lua_setfield(L, -2, "step_over");
-      push_numbers(L, p.chord_mm);
-      lua_setfield(L, -2, "chord");
+      luax::set_numbers(L, "step_over", p.step_over_mm);
+      luax::set_numbers(L, "chord", p.chord_mm);
       lua_rawseti(L, -2, static_cast<lua_Integer>(j + 1));
     }
     lua_setfield(L, -2, "paths");

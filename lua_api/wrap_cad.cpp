@@ -17,13 +17,7 @@ namespace bliskrun::lua_api {
 
 namespace {
 
-void push_pair(lua_State* L, double a, double b) {
-  lua_createtable(L, 2, 0);
-  lua_pushnumber(L, a);
-  lua_rawseti(L, -2, 1);
-  lua_pushnumber(L, b);
-  lua_rawseti(L, -2, 2);
-}
+void push_pair(lua_State* L, double a, double b) { luax::push(L, std::vector<double>{a, b}); }
 
 void push_face(lua_State* L, const CadFace& f) {
   lua_createtable(L, 0, 6);

@@ -304,14 +304,7 @@ std::vector<Field> levels_fields() {
                 "worker threads (default: the run's --threads); the plan does not depend on it", {}}};
 }
 
-void set_pair(lua_State* L, const char* key, const double (&v)[2]) {
-  lua_createtable(L, 2, 0);
-  lua_pushnumber(L, v[0]);
-  lua_rawseti(L, -2, 1);
-  lua_pushnumber(L, v[1]);
-  lua_rawseti(L, -2, 2);
-  lua_setfield(L, -2, key);
-}
+void set_pair(lua_State* L, const char* key, const double (&v)[2]) { luax::set_numbers(L, key, {v[0], v[1]}); }
 
 void set_list(lua_State* L, const char* key, const std::vector<int>& v) {
   lua_createtable(L, static_cast<int>(v.size()), 0);

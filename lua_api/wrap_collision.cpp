@@ -125,6 +125,16 @@ AxisLimit read_axis_limit(lua_State* L, int idx, const std::string& what) {
   return make_axis_limit(limit);
 }
 
+std::shared_ptr<const CollisionWorld> world_option(lua_State* L, const luax::Options& o, const std::string& what,
+                                                   const std::string& hint) {
+  o.push_raw("world");
+  const LuaWorld* w = luax::test<LuaWorld>(L, -1);
+  if (!w) luax::error(L, what + ": option 'world': expected a bliskrun.CollisionWorld" + hint);
+  std::shared_ptr<const CollisionWorld> world = w->world;
+  lua_pop(L, 1);
+  return world;
+}
+
 TiltSettings read_tilt_settings(lua_State* L, const luax::Options& o, const std::string& what_name) {
   const char* what = what_name.c_str();
   TiltSettings s;
@@ -370,8 +380,7 @@ int w_world_check_motion(lua_State* L) {
     lua_createtable(L, 0, 5);
     set_bool(L, "clear", m.clear);
     set_bool(L, "undecided", m.undecided);
-    lua_pushinteger(L, m.samples);
-    lua_setfield(L, -2, "samples");
+    luax::set_integer(L, "samples", m.samples);
     set_number(L, "min_margin", m.min_margin_mm);
     if (!m.clear) {
       set_number(L, "t", m.t);
@@ -428,8 +437,7 @@ int w_world_tilt(lua_State* L) {
     for (size_t i = 0; i < run.poses.size(); ++i) {
       const TiltAccepted& p = run.poses[i];
       lua_createtable(L, 0, 5);
-      lua_pushinteger(L, p.index + 1);
-      lua_setfield(L, -2, "index");
+      luax::set_integer(L, "index", p.index + 1);
       set_vec3(L, "tip", p.pose.tip);
       set_vec3(L, "axis", p.pose.axis);
       set_number(L, "lead", rad_to_deg(p.lead_rad));
@@ -441,8 +449,7 @@ int w_world_tilt(lua_State* L) {
     for (size_t i = 0; i < run.refusals.size(); ++i) {
       const TiltRefusal& r = run.refusals[i];
       lua_createtable(L, 0, 3);
-      lua_pushinteger(L, r.index + 1);
-      lua_setfield(L, -2, "index");
+      luax::set_integer(L, "index", r.index + 1);
       set_vec3(L, "contact", r.contact);
       set_string(L, "reason", r.reason);
       lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));

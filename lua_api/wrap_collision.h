@@ -22,6 +22,10 @@ std::vector<luax::Field> tilt_option_fields();
 AxisLimit read_axis_limit(lua_State* L, int idx, const std::string& what);
 // Reads those keys from validated options; `what` names the call in errors.
 TiltSettings read_tilt_settings(lua_State* L, const luax::Options& o, const std::string& what);
+// The world of a planner's option 'world' (validated options `o`); otherwise
+// a Lua error "<what>: option 'world': expected a bliskrun.CollisionWorld<hint>".
+std::shared_ptr<const CollisionWorld> world_option(lua_State* L, const luax::Options& o, const std::string& what,
+                                                   const std::string& hint = "");
 
 }  // namespace bliskrun::lua_api
 

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <set>
 #include <utility>
 
 #include "core/analysis/heat_map.h"
@@ -19,7 +18,9 @@
 #include "lua_api/finish_moves.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
+#include "lua_api/refusal_reasons.h"
 #include "lua_api/runner.h"
+#include "lua_api/undercut_map.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
 
@@ -50,7 +51,9 @@ namespace {
 using luax::Field;
 using luax::Kind;
 using luax::set_bool;
+using luax::set_integer;
 using luax::set_number;
+using luax::set_numbers;
 using luax::set_string;
 
 std::shared_ptr<const Surface> surface_option(lua_State* L, const luax::Options& o, const std::string& key,
@@ -77,20 +80,6 @@ std::pair<double, double> range_option(lua_State* L, const luax::Options& o, con
   if (!ok || !(a >= 0 && b <= 1 && a < b))
     luax::error(L, what + ": option '" + key + "': expected {from, to} with 0 <= from < to <= 1");
   return {a, b};
-}
-
-void push_list(lua_State* L, const std::vector<double>& xs, const char* key) {
-  lua_createtable(L, static_cast<int>(xs.size()), 0);
-  for (size_t k = 0; k < xs.size(); ++k) {
-    lua_pushnumber(L, xs[k]);
-    lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-  }
-  lua_setfield(L, -2, key);
-}
-
-void set_integer(lua_State* L, const char* key, long long v) {
-  lua_pushinteger(L, static_cast<lua_Integer>(v));
-  lua_setfield(L, -2, key);
 }
 
 // ---- bliskrun.edge_region ----------------------------------------------------
@@ -198,18 +187,10 @@ int w_edge_finish(lua_State* L) {
       }
       lua_pop(L, 1);
     }
-    o.push_raw("tool");
-    const LuaTool* tool = luax::test<LuaTool>(L, -1);
-    if (!tool) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (a flat-end mill)");
-    p.tool = std::make_shared<const Tool>(tool->tool);
-    lua_pop(L, 1);
+    p.tool = tool_option(L, o, what, "a flat-end mill");
     if (p.tool->kind() != ToolKind::FlatEndMill)
       luax::error(L, what + ": option 'tool': expected a flat-end mill, got a " + to_string(p.tool->kind()));
-    o.push_raw("world");
-    const LuaWorld* w = luax::test<LuaWorld>(L, -1);
-    if (!w) luax::error(L, what + ": option 'world': expected a bliskrun.CollisionWorld");
-    p.world = w->world;
-    lua_pop(L, 1);
+    p.world = world_option(L, o, what);
     EdgeFinishRequest& rq = p.request;
     rq.edge = p.edge;
     rq.first = p.first;
@@ -370,21 +351,7 @@ int w_plan_report(lua_State* L) {
   set_integer(L, "corner_contacts", corner);
   set_integer(L, "strip_evaluations", evals);
   set_integer(L, "tilted_contacts", tilted);
-  std::set<std::string> reasons;
-  for (const EdgeFinishRow& row : r.rows)
-    for (const EdgeContactRefusal& f : row.refusals)
-      if (reasons.size() < 20) reasons.insert(f.reason);
-  for (const EdgeFinishLink& l : r.links)
-    if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
-  for (const PlannedDeparture* d : {&r.lead_in, &r.lead_out})
-    if (!d->clear && !d->reason.empty()) reasons.insert(d->reason);
-  lua_createtable(L, static_cast<int>(reasons.size()), 0);
-  int k = 0;
-  for (const std::string& why : reasons) {
-    lua_pushstring(L, why.c_str());
-    lua_rawseti(L, -2, ++k);
-  }
-  lua_setfield(L, -2, "refusal_reasons");
+  set_refusal_reasons(L, r);
   lua_createtable(L, 0, 3);
   set_number(L, "rows", r.rows_seconds);
   set_number(L, "side", r.side_seconds);
@@ -403,17 +370,10 @@ int w_plan_comparison(lua_State* L) {
   lua_createtable(L, 0, 8);
   set_integer(L, "row", c.row + 1);
   set_number(L, "v", c.v);
-  push_list(L, c.u, "u");
-  push_list(L, c.paper_mm, "paper");
-  push_list(L, c.joint_mm, "joint");
-  push_list(L, c.side_mm, "side");
-  push_list(L, c.bottom_mm, "emitted");
-  lua_createtable(L, static_cast<int>(c.contact.size()), 0);
-  for (size_t i = 0; i < c.contact.size(); ++i) {
-    lua_pushstring(L, c.contact[i].c_str());
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-  lua_setfield(L, -2, "contact");
+  for (const auto& [key, values] : {std::pair{"u", &c.u}, std::pair{"paper", &c.paper_mm}, std::pair{"joint", &c.joint_mm},
+                                    std::pair{"side", &c.side_mm}, std::pair{"emitted", &c.bottom_mm}})
+    set_numbers(L, key, *values);
+  luax::set_strings(L, "contact", c.contact);
   return 1;
 }
 
@@ -532,11 +492,7 @@ int w_plan_simulate(lua_State* L) {
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     lua_createtable(L, 0, 12);
-    set_number(L, "undercut_max", u.undercut_max_mm);
-    set_number(L, "undercut_mean", u.undercut_mean_mm);
-    set_number(L, "undercut_median", u.undercut_median_mm);
-    set_number(L, "undercut_std", u.undercut_std_mm);
-    set_number(L, "overcut", u.overcut_mm);
+    set_undercut_stats(L, u);
     set_number(L, "flank_overcut", flank_overcut);
     // Where the deepest overcut is and which move cut it (edge_finish_moves
     // order, as plan:moves() lists them).

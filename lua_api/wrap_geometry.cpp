@@ -356,12 +356,7 @@ int w_intersect_revolution(lua_State* L) {
     lua_createtable(L, 0, 3);
     for (const char* key : {"u", "v"}) {
       const auto& values = std::string(key) == "u" ? c.u : c.v;
-      lua_createtable(L, static_cast<int>(values.size()), 0);
-      for (size_t i = 0; i < values.size(); ++i) {
-        lua_pushnumber(L, values[i]);
-        lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-      }
-      lua_setfield(L, -2, key);
+      luax::set_numbers(L, key, values);
     }
     lua_createtable(L, static_cast<int>(c.points.size()), 0);
     for (size_t i = 0; i < c.points.size(); ++i) {
@@ -488,12 +483,7 @@ int w_register_scan(lua_State* L) {
     luax::set_number(L, "start", r.start);
     const RegistrationCheck check = check_registration(r, limits);
     luax::set_bool(L, "trusted", check.trusted);
-    lua_createtable(L, static_cast<int>(check.problems.size()), 0);
-    for (size_t i = 0; i < check.problems.size(); ++i) {
-      lua_pushstring(L, check.problems[i].c_str());
-      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-    }
-    lua_setfield(L, -2, "problems");
+    luax::set_strings(L, "problems", check.problems);
     return 1;
   });
 }

@@ -4,7 +4,6 @@
 // (core/sim), APT/CL. Lengths in mm, angles in degrees. See docs/lua_api.md.
 #include <memory>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "core/common/atomic_file.h"
@@ -12,20 +11,13 @@
 #include "lua_api/finish_moves.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
+#include "lua_api/refusal_reasons.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
 
 namespace bliskrun::lua_api {
-
-// A plan and everything its request points to, kept alive together.
-struct LuaHubPlan {
-  std::shared_ptr<const Tool> tool;
-  std::shared_ptr<const CollisionWorld> world;
-  HubFinishRequest request;
-  std::shared_ptr<const HubFinishResult> result;
-};
-
+using LuaHubPlan = LuaToolPlan<HubFinishRequest, HubFinishResult>;
 }  // namespace bliskrun::lua_api
 
 namespace bliskrun::luax {
@@ -80,14 +72,7 @@ void push_part(lua_State* L, const HubFinishPart& p) {
   luax::set_number(L, "step_max", p.step_max_mm);
   luax::set_number(L, "max_deviation", p.max_deviation_mm);
   luax::set_number(L, "seconds", p.seconds);
-  lua_newtable(L);
-  int k = 0;
-  for (const HubFinishConnection& c : p.connections)
-    if (!c.clear) {
-      lua_pushstring(L, c.reason.c_str());
-      lua_rawseti(L, -2, ++k);
-    }
-  lua_setfield(L, -2, "refused");
+  set_refused_connections(L, "refused", p.connections);
 }
 
 // plan:report() -> {root = {...}, channel = {...}, refusals = {...}, fillet = {...}, ...}
@@ -109,18 +94,8 @@ int w_hub_plan_report(lua_State* L) {
   luax::set_number(L, "contact_min", r.fillet_min_mm);
   luax::set_number(L, "contact_max", r.fillet_max_mm);
   lua_setfield(L, -2, "fillet");
-  lua_createtable(L, 2, 0);
-  lua_pushnumber(L, r.first_height_mm);
-  lua_rawseti(L, -2, 1);
-  lua_pushnumber(L, r.top_height_mm);
-  lua_rawseti(L, -2, 2);
-  lua_setfield(L, -2, "heights");
-  lua_createtable(L, 2, 0);
-  lua_pushnumber(L, r.z_inlet_mm);
-  lua_rawseti(L, -2, 1);
-  lua_pushnumber(L, r.z_outlet_mm);
-  lua_rawseti(L, -2, 2);
-  lua_setfield(L, -2, "z");
+  luax::set_numbers(L, "heights", {r.first_height_mm, r.top_height_mm});
+  luax::set_numbers(L, "z", {r.z_inlet_mm, r.z_outlet_mm});
   luax::set_number(L, "pitch", r.pitch_rad * 180 / kPi);
   luax::set_number(L, "poses", r.root.poses + r.channel.poses);
   lua_createtable(L, 0, 8);
@@ -186,24 +161,8 @@ HubFinishSimOptions read_sim_options(lua_State* L, const char* what) {
        number_field("sweep_step", "largest cutter-point motion between evaluated positions, mm (default 0.1)", 1e-3, 10),
        Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
   HubFinishSimOptions so;
-  auto pair = [&](const char* key, int& a, int& b) {
-    if (!o.has(key)) return;
-    o.push_raw(key);
-    const int t = lua_gettop(L);
-    if (luaL_len(L, t) != 2) luax::error(L, std::string(what) + ": option '" + key + "': expected {n1, n2}");
-    for (int k = 1; k <= 2; ++k) {
-      lua_rawgeti(L, t, k);
-      int isnum = 0;
-      const lua_Integer n = lua_tointegerx(L, -1, &isnum);
-      if (!isnum || n < 2 || n > 20000)
-        luax::error(L, std::string(what) + ": option '" + key + "': expected integers in [2, 20000]");
-      (k == 1 ? a : b) = static_cast<int>(n);
-      lua_pop(L, 1);
-    }
-    lua_pop(L, 1);
-  };
-  pair("root_samples", so.root_samples_u, so.root_samples_v);
-  pair("floor_samples", so.floor_samples_u, so.floor_samples_v);
+  o.integer_pair("root_samples", "{n1, n2}", 2, 20000, so.root_samples_u, so.root_samples_v);
+  o.integer_pair("floor_samples", "{n1, n2}", 2, 20000, so.floor_samples_u, so.floor_samples_v);
   so.sweep_step_mm = o.number("sweep_step", so.sweep_step_mm);
   so.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return so;
@@ -231,20 +190,11 @@ int w_hub_plan_regions(lua_State* L) {
       lua_createtable(L, 0, 8);
       push_surface(L, surface);
       lua_setfield(L, -2, "surface");
-      for (const auto& [name, lo, hi] : {std::tuple<const char*, double, double>{"u", o.u0, o.u1}, {"v", o.v0, o.v1}}) {
-        lua_createtable(L, 2, 0);
-        lua_pushnumber(L, lo);
-        lua_rawseti(L, -2, 1);
-        lua_pushnumber(L, hi);
-        lua_rawseti(L, -2, 2);
-        lua_setfield(L, -2, name);
-      }
-      lua_pushinteger(L, o.samples_u);
-      lua_setfield(L, -2, "samples_u");
-      lua_pushinteger(L, o.samples_v);
-      lua_setfield(L, -2, "samples_v");
-      lua_pushboolean(L, o.flip_normal);
-      lua_setfield(L, -2, "flip_normal");
+      luax::set_numbers(L, "u", {o.u0, o.u1});
+      luax::set_numbers(L, "v", {o.v0, o.v1});
+      luax::set_integer(L, "samples_u", o.samples_u);
+      luax::set_integer(L, "samples_v", o.samples_v);
+      luax::set_bool(L, "flip_normal", o.flip_normal);
     };
     lua_createtable(L, 0, 2);
     if (r.blade) {
@@ -347,19 +297,11 @@ int w_hub_finish(lua_State* L) {
   rq.next = faces_option(L, o, what, "next");
   rq.previous = faces_option(L, o, what, "previous");
   rq.hub = revolution_option(L, o, "hub", what);
-  o.push_raw("tool");
-  LuaTool* lt = luax::test<LuaTool>(L, -1);
-  if (!lt) luax::error(L, std::string(what) + ": option 'tool': expected a bliskrun.Tool (a (tapered) ball-end mill)");
-  lua_pop(L, 1);
-  plan.tool = std::make_shared<const Tool>(lt->tool);
+  plan.tool = tool_option(L, o, what, "a (tapered) ball-end mill");
   rq.tool = plan.tool.get();
   if (o.has("world")) {
-    o.push_raw("world");
-    const LuaWorld* lw = luax::test<LuaWorld>(L, -1);
-    if (!lw) luax::error(L, std::string(what) + ": option 'world': expected a bliskrun.CollisionWorld");
-    plan.world = lw->world;
+    plan.world = world_option(L, o, what);
     rq.world = plan.world.get();
-    lua_pop(L, 1);
   }
   rq.root = o.boolean("root", true);
   rq.channel = o.boolean("channel", true);
@@ -382,16 +324,7 @@ int w_hub_finish(lua_State* L) {
       luax::error(L, std::string(what) + ": option 'z': expected numbers {z_inlet, z_outlet} with z_inlet < z_outlet");
     lua_pop(L, 3);
   }
-  rq.lean_rad = deg_to_rad(o.number("lean", 12));
-  rq.lean_step_rad = deg_to_rad(o.number("lean_step", 1));
-  rq.lean_max_rad = deg_to_rad(o.number("lean_max", 40));
-  rq.side_tilt_rad = deg_to_rad(o.number("side_tilt", 20));
-  rq.side_step_rad = deg_to_rad(o.number("side_step", 10));
-  rq.clearances.shank_mm = o.number("clearance", rq.clearances.shank_mm);
-  rq.clearances.holder_mm = o.number("holder_clearance", rq.clearances.holder_mm);
-  rq.links.retract_mm = o.number("retract", rq.links.retract_mm);
-  rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
-  rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
+  read_clearing_options(o, rq, 12, 40, 10);
   rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
     plan.result = std::make_shared<const HubFinishResult>(plan_hub_finish(rq, context(L).progress));

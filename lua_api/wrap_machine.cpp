@@ -139,13 +139,7 @@ int w_machine_axes(lua_State* L) {
 int w_machine_travel(lua_State* L) {
   const MachineDefinition& m = check_machine(L, 1).definition;
   lua_createtable(L, 0, 5);
-  auto range = [&](double lo, double hi) {
-    lua_createtable(L, 2, 0);
-    lua_pushnumber(L, lo);
-    lua_rawseti(L, -2, 1);
-    lua_pushnumber(L, hi);
-    lua_rawseti(L, -2, 2);
-  };
+  auto range = [&](double lo, double hi) { luax::push(L, std::vector<double>{lo, hi}); };
   for (const LinearAxis& a : m.linear) { range(a.min_mm, a.max_mm); lua_setfield(L, -2, a.name.c_str()); }
   for (const RotaryAxis& a : m.rotary) {
     if (a.continuous()) lua_pushboolean(L, 0); else range(rad_to_deg(a.min_rad), rad_to_deg(a.max_rad));

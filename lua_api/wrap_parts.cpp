@@ -97,8 +97,7 @@ void push_fit(lua_State* L, const FitStats& f) {
   lua_createtable(L, 0, 3);
   luax::set_number(L, "max_mm", f.max_mm);
   luax::set_number(L, "rms_mm", f.rms_mm);
-  lua_pushinteger(L, f.points);
-  lua_setfield(L, -2, "points");
+  luax::set_integer(L, "points", f.points);
 }
 
 void push_edge(lua_State* L, const EdgeCircle& e) {
@@ -106,10 +105,8 @@ void push_edge(lua_State* L, const EdgeCircle& e) {
   luax::set_vec3(L, "centre", e.centre);
   luax::set_number(L, "radius", e.radius_mm);
   luax::set_number(L, "rms_mm", e.rms_mm);
-  lua_pushinteger(L, e.point + 1);
-  lua_setfield(L, -2, "point");
-  lua_pushinteger(L, e.fitted_points);
-  lua_setfield(L, -2, "fitted_points");
+  luax::set_integer(L, "point", e.point + 1);
+  luax::set_integer(L, "fitted_points", e.fitted_points);
 }
 
 // A meridian line usable as a profile: consecutive repeats dropped.
@@ -125,20 +122,15 @@ std::vector<Vec2> distinct(const std::vector<Vec2>& m) {
 void push_blade_model(lua_State* L, const BladeSections& blade, const LoftOptions& options) {
   const BladeLoft loft = loft_blade(blade, options);
   lua_createtable(L, 0, 16);
-  lua_pushinteger(L, blade.blade_count);
-  lua_setfield(L, -2, "blades");
-  lua_pushinteger(L, static_cast<lua_Integer>(blade.sections.size()));
-  lua_setfield(L, -2, "sections");
+  luax::set_integer(L, "blades", blade.blade_count);
+  luax::set_integer(L, "sections", blade.sections.size());
   push_grid(L, std::make_shared<PointGrid>(loft.pressure));
   lua_setfield(L, -2, "pressure");
   push_grid(L, std::make_shared<PointGrid>(loft.suction));
   lua_setfield(L, -2, "suction");
-  lua_pushinteger(L, loft.hub_row + 1);
-  lua_setfield(L, -2, "hub_row");
-  lua_pushinteger(L, loft.tip_row + 1);
-  lua_setfield(L, -2, "tip_row");
-  lua_pushinteger(L, loft.rotation_sign);
-  lua_setfield(L, -2, "rotation");
+  luax::set_integer(L, "hub_row", loft.hub_row + 1);
+  luax::set_integer(L, "tip_row", loft.tip_row + 1);
+  luax::set_integer(L, "rotation", loft.rotation_sign);
   luax::set_string(L, "rotation_from", loft.rotation_given ? "data" : "camber");
   luax::set_bool(L, "camber_agrees", loft.camber_agrees);
   luax::set_string(L, "chord_fraction",

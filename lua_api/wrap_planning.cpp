@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <set>
 
 #include "core/analysis/heat_map.h"
 #include "core/common/fixed_text.h"
@@ -16,6 +15,7 @@
 #include "lua_api/undercut_map.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
+#include "lua_api/refusal_reasons.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
@@ -95,11 +95,7 @@ LuaDrumPlan read_common(lua_State* L, const luax::Options& o, const std::string&
   LuaDrumPlan p;
   p.hub = revolution_option(L, o, "hub", what);
   p.casing = revolution_option(L, o, "casing", what);
-  o.push_raw("tool");
-  const LuaTool* tool = luax::test<LuaTool>(L, -1);
-  if (!tool) luax::error(L, what + ": option 'tool': expected a bliskrun.Tool (a drum wheel)");
-  p.tool = std::make_shared<const Tool>(tool->tool);
-  lua_pop(L, 1);
+  p.tool = tool_option(L, o, what, "a drum wheel");
   if (p.tool->kind() != ToolKind::DrumWheel && p.tool->kind() != ToolKind::ConicalDrumWheel)
     luax::error(L, what + ": option 'tool': expected a drum wheel, got a " + to_string(p.tool->kind()));
 
@@ -135,11 +131,7 @@ void set_flank_and_world(lua_State* L, const luax::Options& o, const std::string
   if (!s) luax::error(L, what + ": option 'flank': expected a bliskrun.Surface");
   p.flank = s->surface;
   lua_pop(L, 1);
-  o.push_raw("world");
-  const LuaWorld* w = luax::test<LuaWorld>(L, -1);
-  if (!w) luax::error(L, what + ": option 'world': expected a bliskrun.CollisionWorld (neighbouring blades, hub)");
-  p.world = w->world;
-  lua_pop(L, 1);
+  p.world = world_option(L, o, what, " (neighbouring blades, hub)");
   p.request.flank = p.flank;
   p.request.world = p.world.get();
   p.name = o.string("name", "");
@@ -268,14 +260,10 @@ int w_drum_plan_report(lua_State* L) {
   set_bool(L, "guarantee", rq.steps.guarantee_tolerance);
   set_bool(L, "zigzag", rq.zigzag);
   set_bool(L, "top_down", rq.top_down);
-  lua_pushinteger(L, static_cast<lua_Integer>(r.rows.size()));
-  lua_setfield(L, -2, "row_count");
-  lua_pushinteger(L, r.total_poses);
-  lua_setfield(L, -2, "poses");
-  lua_pushinteger(L, r.total_refusals);
-  lua_setfield(L, -2, "refusals");
-  lua_pushinteger(L, r.refused_links);
-  lua_setfield(L, -2, "refused_links");
+  luax::set_integer(L, "row_count", r.rows.size());
+  luax::set_integer(L, "poses", r.total_poses);
+  luax::set_integer(L, "refusals", r.total_refusals);
+  luax::set_integer(L, "refused_links", r.refused_links);
   // How the links leave the flank and what proved them: the retract
   // direction, the smallest and largest offset used, the deepest sampled dip
   // below the finished flank over every link (<= 0) and the allowance.
@@ -305,8 +293,7 @@ int w_drum_plan_report(lua_State* L) {
     set_number(L, "guard_spacing", r.guard_spacing_mm);
     // Links and leads whose direction was turned from the normal up the axis
     // (a neighbouring surface in the way), and the largest turn, degrees.
-    lua_pushinteger(L, turned);
-    lua_setfield(L, -2, "turned");
+    luax::set_integer(L, "turned", turned);
     set_number(L, "turn_max", rad_to_deg(turn_max));
     set_number(L, "lead_in", r.lead_in.clear ? r.lead_in.offset_mm : 0);    // offset, 0 when refused
     set_number(L, "lead_out", r.lead_out.clear ? r.lead_out.offset_mm : 0);
@@ -329,12 +316,9 @@ int w_drum_plan_report(lua_State* L) {
     set_number(L, "reach_below", row.reach_below_mm);
     set_number(L, "reach_above", row.reach_above_mm);
     set_number(L, "spacing_du", row.spacing_du);
-    lua_pushinteger(L, row.contacts);
-    lua_setfield(L, -2, "contacts");
-    lua_pushinteger(L, static_cast<lua_Integer>(row.poses.size()));
-    lua_setfield(L, -2, "poses");
-    lua_pushinteger(L, static_cast<lua_Integer>(row.refusals.size()));
-    lua_setfield(L, -2, "refusals");
+    luax::set_integer(L, "contacts", row.contacts);
+    luax::set_integer(L, "poses", row.poses.size());
+    luax::set_integer(L, "refusals", row.refusals.size());
     set_number(L, "max_deviation", row.max_deviation_mm);
     set_bool(L, "reversed", row.reversed);
     // The largest lead the tilt loop needed on the row (0: the paper's
@@ -351,36 +335,15 @@ int w_drum_plan_report(lua_State* L) {
   }
   lua_setfield(L, -2, "rows");
   set_number(L, "lead_raised", rad_to_deg(lead_raised));
-  lua_pushinteger(L, r.inserted_rows);
-  lua_setfield(L, -2, "inserted_rows");
-  lua_pushinteger(L, r.uncovered_gaps);
-  lua_setfield(L, -2, "uncovered_gaps");
-  lua_pushinteger(L, r.turn_splits);
-  lua_setfield(L, -2, "turn_splits");
-  lua_pushinteger(L, r.gouge_splits);
-  lua_setfield(L, -2, "gouge_splits");
-  lua_pushinteger(L, tilted);
-  lua_setfield(L, -2, "tilted_poses");
-  lua_pushinteger(L, contacts);
-  lua_setfield(L, -2, "contacts");
+  luax::set_integer(L, "inserted_rows", r.inserted_rows);
+  luax::set_integer(L, "uncovered_gaps", r.uncovered_gaps);
+  luax::set_integer(L, "turn_splits", r.turn_splits);
+  luax::set_integer(L, "gouge_splits", r.gouge_splits);
+  luax::set_integer(L, "tilted_poses", tilted);
+  luax::set_integer(L, "contacts", contacts);
   set_number(L, "width_min", r.rows.empty() ? 0 : wmin);
   set_number(L, "width_max", wmax);
-  // Distinct refusal reasons (first 20), so a report says why, not only how many.
-  std::set<std::string> reasons;
-  for (const DrumFinishRow& row : r.rows)
-    for (const TiltRefusal& t : row.refusals)
-      if (reasons.size() < 20) reasons.insert(t.reason);
-  for (const DrumFinishLink& l : r.links)
-    if (!l.clear && reasons.size() < 20) reasons.insert(l.reason);
-  for (const DrumFinishEnd* e : {&r.lead_in, &r.lead_out})
-    if (!e->clear && !e->reason.empty()) reasons.insert(e->reason);
-  lua_createtable(L, static_cast<int>(reasons.size()), 0);
-  int k = 0;
-  for (const std::string& why : reasons) {
-    lua_pushstring(L, why.c_str());
-    lua_rawseti(L, -2, ++k);
-  }
-  lua_setfield(L, -2, "refusal_reasons");
+  set_refusal_reasons(L, r);
   lua_createtable(L, 0, 4);
   set_number(L, "trim", r.trim_seconds);
   set_number(L, "rows", r.rows_seconds);
@@ -402,16 +365,8 @@ int w_drum_plan_row(lua_State* L) {
   const DrumFinishRow& row = rows[static_cast<size_t>(i - 1)];
   lua_createtable(L, 0, 3);
   set_number(L, "u", row.u);
-  auto push_list = [&](const std::vector<double>& xs, const char* key) {
-    lua_createtable(L, static_cast<int>(xs.size()), 0);
-    for (size_t k = 0; k < xs.size(); ++k) {
-      lua_pushnumber(L, xs[k]);
-      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-    }
-    lua_setfield(L, -2, key);
-  };
-  push_list(row.v, "v");
-  push_list(row.deviation_mm, "deviation");
+  luax::set_numbers(L, "v", row.v);
+  luax::set_numbers(L, "deviation", row.deviation_mm);
   return 1;
 }
 
@@ -463,29 +418,17 @@ int w_drum_plan_simulate(lua_State* L) {
     UndercutResult& u = sim.undercut;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     lua_createtable(L, 0, 14);
-    set_number(L, "undercut_max", u.undercut_max_mm);
-    set_number(L, "undercut_mean", u.undercut_mean_mm);
-    set_number(L, "undercut_median", u.undercut_median_mm);
-    set_number(L, "undercut_std", u.undercut_std_mm);
-    set_number(L, "overcut", u.overcut_mm);
+    set_undercut_stats(L, u);
     // The move that cut the deepest overcut (1-based, as in plan:moves()).
     if (sim.overcut_move >= 0) {
-      lua_pushinteger(L, sim.overcut_move + 1);
-      lua_setfield(L, -2, "overcut_move");
+      luax::set_integer(L, "overcut_move", sim.overcut_move + 1);
       set_string(L, "overcut_motion", sim.overcut_motion);
-      lua_pushinteger(L, sim.overcut_row + 1);
-      lua_setfield(L, -2, "overcut_row");
+      luax::set_integer(L, "overcut_row", sim.overcut_row + 1);
     }
-    lua_pushinteger(L, u.untouched);
-    lua_setfield(L, -2, "untouched");
-    lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
-    lua_setfield(L, -2, "samples");
-    lua_pushinteger(L, u.tool_positions);
-    lua_setfield(L, -2, "tool_positions");
+    set_undercut_counts(L, u);
     set_number(L, "u0", r.first_row_u);
     // Sample rows below this one (0-based) lie in the hub strip: overcut only.
-    lua_pushinteger(L, sim.first_machined_row);
-    lua_setfield(L, -2, "first_machined_row");
+    luax::set_integer(L, "first_machined_row", sim.first_machined_row);
     set_number(L, "seconds", seconds);
     char head[120];
     std::snprintf(head, sizeof head, "%d x %d samples of u' in [0, 1], machined from %.3f; ", u.samples_u, u.samples_v,

@@ -11,20 +11,13 @@
 #include "lua_api/finish_moves.h"
 #include "lua_api/lua_tool.h"
 #include "lua_api/modules.h"
+#include "lua_api/refusal_reasons.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
 
 namespace bliskrun::lua_api {
-
-// A plan and everything its request points to, kept alive together.
-struct LuaPointMillPlan {
-  std::shared_ptr<const Tool> tool;
-  std::shared_ptr<const CollisionWorld> world;
-  PointMillRequest request;
-  std::shared_ptr<const PointMillResult> result;
-};
-
+using LuaPointMillPlan = LuaToolPlan<PointMillRequest, PointMillResult>;
 }  // namespace bliskrun::lua_api
 
 namespace bliskrun::luax {
@@ -116,14 +109,7 @@ int w_point_plan_report(lua_State* L) {
     lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
   }
   lua_setfield(L, -2, "refusals");
-  lua_newtable(L);
-  int k = 0;
-  for (const PointMillConnection& c : r.connections)
-    if (!c.clear) {
-      lua_pushstring(L, c.reason.c_str());
-      lua_rawseti(L, -2, ++k);
-    }
-  lua_setfield(L, -2, "refused");
+  set_refused_connections(L, "refused", r.connections);
   return 1;
 }
 
@@ -135,25 +121,6 @@ int w_point_plan_moves(lua_State* L) {
     push_finish_moves(L, point_mill_moves(*p.result));
     return 1;
   });
-}
-
-// The `samples = {span, chord}` option of plan:simulate and plan:root_strip:
-// two integers in [2, 20000] into u and v (left as they are without it).
-void read_sample_pair(lua_State* L, const luax::Options& o, const char* where, int& u, int& v) {
-  if (!o.has("samples")) return;
-  o.push_raw("samples");
-  const int t = lua_gettop(L);
-  if (luaL_len(L, t) != 2) luax::error(L, std::string(where) + ": option 'samples': expected {span, chord}");
-  for (int k = 1; k <= 2; ++k) {
-    lua_rawgeti(L, t, k);
-    int isnum = 0;
-    const lua_Integer n = lua_tointegerx(L, -1, &isnum);
-    if (!isnum || n < 2 || n > 20000)
-      luax::error(L, std::string(where) + ": option 'samples': expected integers in [2, 20000]");
-    (k == 1 ? u : v) = static_cast<int>(n);
-    lua_pop(L, 1);
-  }
-  lua_pop(L, 1);
 }
 
 // plan:simulate{samples = {u, v}, sweep_step =, threads =} -> {left_max =, left_mean =, overcut =, untouched =,
@@ -170,7 +137,7 @@ int w_point_plan_simulate(lua_State* L) {
                          Field{"threads", Kind::Integer, false, 1, 256, "worker threads (default: the run's --threads)", {}}});
   UndercutOptions uo;
   uo.samples_u = 120, uo.samples_v = 400;
-  read_sample_pair(L, o, "plan:simulate", uo.samples_u, uo.samples_v);
+  o.integer_pair("samples", "{span, chord}", 2, 20000, uo.samples_u, uo.samples_v);
   uo.sweep_step_mm = o.number("sweep_step", 0.05);
   uo.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
@@ -207,7 +174,7 @@ int w_point_plan_root_strip(lua_State* L) {
                         {Field{"samples", Kind::Table, false, std::nullopt, std::nullopt,
                                "{span, chord} samples of the strip (default {12, 200})", {}}});
   int su = 12, sv = 200;
-  read_sample_pair(L, o, "plan:root_strip", su, sv);
+  o.integer_pair("samples", "{span, chord}", 2, 20000, su, sv);
   return luax::guarded(L, [&] {
     const PointMillStrip st = measure_root_strip(p.request, *p.result, su, sv);
     lua_createtable(L, 0, 8);
@@ -298,19 +265,11 @@ int w_point_mill(lua_State* L) {
     }
     lua_pop(L, 1);
   }
-  o.push_raw("tool");
-  LuaTool* lt = luax::test<LuaTool>(L, -1);
-  if (!lt) luax::error(L, std::string(what) + ": option 'tool': expected a bliskrun.Tool (a (tapered) ball-end mill)");
-  lua_pop(L, 1);
-  plan.tool = std::make_shared<const Tool>(lt->tool);
+  plan.tool = tool_option(L, o, what, "a (tapered) ball-end mill");
   rq.tool = plan.tool.get();
   if (o.has("world")) {
-    o.push_raw("world");
-    const LuaWorld* lw = luax::test<LuaWorld>(L, -1);
-    if (!lw) luax::error(L, std::string(what) + ": option 'world': expected a bliskrun.CollisionWorld");
-    plan.world = lw->world;
+    plan.world = world_option(L, o, what);
     rq.world = plan.world.get();
-    lua_pop(L, 1);
   }
   const std::string rows = o.string("rows", "along");
   if (rows != "along" && rows != "across")
@@ -347,18 +306,9 @@ int w_point_mill(lua_State* L) {
   rq.steps.chord_tol_mm = o.number("chord_tol", rq.steps.chord_tol_mm);
   rq.steps.max_step_mm = o.number("max_step", rq.steps.max_step_mm);
   rq.lead_rad = deg_to_rad(o.number("lead", 0));
-  rq.lean_rad = deg_to_rad(o.number("lean", 10));
-  rq.lean_step_rad = deg_to_rad(o.number("lean_step", 1));
-  rq.lean_max_rad = deg_to_rad(o.number("lean_max", 45));
-  rq.side_tilt_rad = deg_to_rad(o.number("side_tilt", 20));
-  rq.side_step_rad = deg_to_rad(o.number("side_step", 5));
+  read_clearing_options(o, rq, 10, 45, 5);
   rq.max_turn_rad_per_mm = deg_to_rad(o.number("max_turn", 2));
-  rq.clearances.shank_mm = o.number("clearance", rq.clearances.shank_mm);
-  rq.clearances.holder_mm = o.number("holder_clearance", rq.clearances.holder_mm);
-  rq.links.retract_mm = o.number("retract", rq.links.retract_mm);
-  rq.links.min_retract_mm = o.number("min_retract", rq.links.min_retract_mm);
   rq.allowed_overcut_mm = o.number("allowed_overcut", rq.allowed_overcut_mm);
-  rq.guard_spacing_mm = o.number("guard_spacing", rq.guard_spacing_mm);
   rq.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
   return luax::guarded(L, [&] {
     plan.result = std::make_shared<const PointMillResult>(plan_point_milling(rq, context(L).progress));

@@ -85,6 +85,27 @@ Vec3 read_point(lua_State* L, const std::string& where, bool has_z, double z) {
   return p;
 }
 
+// The options bliskrun.rebuild_sections and bliskrun.rebuild_damaged share
+// (threads, smoothing, samples, align_samples, max_step, outlier) into ro.
+void read_rebuild_options(lua_State* L, const luax::Options& o, RebuildOptions& ro) {
+  ro.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
+  ro.smoothing_mm = o.number("smoothing", ro.smoothing_mm);
+  ro.loft.samples = static_cast<int>(o.integer("samples", ro.loft.samples));
+  ro.align_samples = static_cast<int>(o.integer("align_samples", ro.align_samples));
+  ro.order.max_step_mm = o.number("max_step", 0);
+  ro.order.outlier_mm = o.number("outlier", 0);
+}
+
+// A new table {mean =, rms =, max =, points =}: how far the rebuilt loft
+// lies from the measured points (mm), with room for `fields` in all.
+void push_deviation(lua_State* L, const LoftDeviation& d, int fields) {
+  lua_createtable(L, 0, fields);
+  luax::set_number(L, "mean", d.mean_mm);
+  luax::set_number(L, "rms", d.rms_mm);
+  luax::set_number(L, "max", d.max_mm);
+  luax::set_number(L, "points", d.points);
+}
+
 // bliskrun.rebuild_sections{sections = {{points = {{x,y,z}, ...}, z = h}, ...}, smoothing = L, ...}
 // -> Surface, {mean, rms, max, points, worst, section_u, sections = {...}}
 int w_rebuild_sections(lua_State* L) {
@@ -104,13 +125,8 @@ int w_rebuild_sections(lua_State* L) {
              "sections processed on this many threads (default: the run's --threads); the result does not depend on it", {}},
        number_field("outlier", "distance from the neighbours' local curve that makes a stray, mm (default: from the noise)", 0, 1e4)});
   RebuildOptions ro;
-  ro.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
-  ro.smoothing_mm = o.number("smoothing", ro.smoothing_mm);
-  ro.loft.samples = static_cast<int>(o.integer("samples", ro.loft.samples));
-  ro.align_samples = static_cast<int>(o.integer("align_samples", ro.align_samples));
+  read_rebuild_options(L, o, ro);
   ro.axis = o.vec3("axis", ro.axis);
-  ro.order.max_step_mm = o.number("max_step", 0);
-  ro.order.outlier_mm = o.number("outlier", 0);
 
   std::vector<std::vector<Vec3>> sections;
   o.push_raw("sections");
@@ -143,19 +159,9 @@ int w_rebuild_sections(lua_State* L) {
     auto blade = std::make_shared<RebuiltBlade>(rebuild_blade(sections, ro));
     // The surface shares the rebuilt blade's lifetime through an aliasing pointer.
     push_surface(L, std::shared_ptr<const Surface>(blade, &blade->loft.surface));
-    const LoftDeviation& d = blade->deviation;
-    lua_createtable(L, 0, 8);
-    luax::set_number(L, "mean", d.mean_mm);
-    luax::set_number(L, "rms", d.rms_mm);
-    luax::set_number(L, "max", d.max_mm);
-    luax::set_number(L, "points", d.points);
-    luax::set_number(L, "worst", d.worst + 1);
-    lua_createtable(L, static_cast<int>(blade->loft.section_u.size()), 0);
-    for (size_t k = 0; k < blade->loft.section_u.size(); ++k) {
-      lua_pushnumber(L, blade->loft.section_u[k]);
-      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-    }
-    lua_setfield(L, -2, "section_u");
+    push_deviation(L, blade->deviation, 8);
+    luax::set_number(L, "worst", blade->deviation.worst + 1);
+    luax::set_numbers(L, "section_u", blade->loft.section_u);
     lua_createtable(L, static_cast<int>(blade->sections.size()), 0);
     for (size_t k = 0; k < blade->sections.size(); ++k) {
       const RebuiltSection& s = blade->sections[k];
@@ -401,13 +407,8 @@ int w_rebuild_damaged(lua_State* L) {
   const auto b = luax::check<DamagedBladeHandle>(L, -1).blade;
   lua_pop(L, 1);
   DamagedRebuildOptions ro;
-  ro.rebuild.threads = static_cast<int>(o.integer("threads", context(L).options.threads));
-  ro.rebuild.smoothing_mm = o.number("smoothing", ro.rebuild.smoothing_mm);
-  ro.rebuild.loft.samples = static_cast<int>(o.integer("samples", ro.rebuild.loft.samples));
-  ro.rebuild.align_samples = static_cast<int>(o.integer("align_samples", ro.rebuild.align_samples));
+  read_rebuild_options(L, o, ro.rebuild);
   ro.design_samples = static_cast<int>(o.integer("design_samples", ro.design_samples));
-  ro.rebuild.order.max_step_mm = o.number("max_step", 0);
-  ro.rebuild.order.outlier_mm = o.number("outlier", 0);
   ro.between_tolerance_mm = o.number("between_tolerance", ro.between_tolerance_mm);
   ro.dent_depth_mm = o.number("dent_depth", ro.dent_depth_mm);
   ro.min_dent_mm = o.number("min_dent", ro.min_dent_mm);
@@ -417,12 +418,7 @@ int w_rebuild_damaged(lua_State* L) {
   return luax::guarded(L, [&] {
     auto r = std::make_shared<DamagedRebuild>(rebuild_damaged(*m, b->design(), ro));
     push_surface(L, std::shared_ptr<const Surface>(r, &r->loft.surface));
-    const LoftDeviation& d = r->deviation;
-    lua_createtable(L, 0, 10);
-    luax::set_number(L, "mean", d.mean_mm);
-    luax::set_number(L, "rms", d.rms_mm);
-    luax::set_number(L, "max", d.max_mm);
-    luax::set_number(L, "points", d.points);
+    push_deviation(L, r->deviation, 10);
     luax::set_bool(L, "tip_extended", r->tip_extended);
     luax::set_number(L, "top_measured", r->top_measured_mm);
     luax::set_string(L, "tip_basis", r->tip_basis);
@@ -457,12 +453,7 @@ int w_rebuild_damaged(lua_State* L) {
     luax::set_number(L, "between_max", q.between_max_mm);
     luax::set_number(L, "between_at", q.between_at_mm);
     luax::set_number(L, "least_correlation", q.least_correlation);
-    lua_createtable(L, static_cast<int>(q.attempt_max_mm.size()), 0);
-    for (size_t k = 0; k < q.attempt_max_mm.size(); ++k) {
-      lua_pushnumber(L, q.attempt_max_mm[k]);
-      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
-    }
-    lua_setfield(L, -2, "attempt_max");
+    luax::set_numbers(L, "attempt_max", q.attempt_max_mm);
     lua_createtable(L, static_cast<int>(q.between.size()), 0);
     for (size_t k = 0; k < q.between.size(); ++k) {
       lua_createtable(L, 0, 3);

@@ -12,6 +12,7 @@
 #include "lua_api/lua_tool.h"
 #include "lua_api/luax.h"
 #include "lua_api/modules.h"
+#include "lua_api/refusal_reasons.h"
 #include "lua_api/runner.h"
 #include "lua_api/wrap_collision.h"
 #include "lua_api/wrap_geometry.h"
@@ -67,12 +68,7 @@ int w_close_blade(lua_State* L) {
     luax::set_number(L, "te_v", b.te_v);
     luax::set_number(L, "perimeter", b.perimeter_mm);
     luax::set_number(L, "edge_kink", b.edge_kink_deg);
-    lua_createtable(L, static_cast<int>(section_u.size()), 0);
-    for (size_t i = 0; i < section_u.size(); ++i) {
-      lua_pushnumber(L, section_u[i]);
-      lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-    }
-    lua_setfield(L, -2, "section_u");
+    luax::set_numbers(L, "section_u", section_u);
     return 2;
   });
 }
@@ -131,14 +127,7 @@ void push_result(lua_State* L, const RepairPathResult& r) {
   }
   lua_setfield(L, -2, "refusals");
   // The connections that were refused, with why.
-  lua_newtable(L);
-  int k = 0;
-  for (const RepairConnection& c : r.connections)
-    if (!c.clear) {
-      lua_pushstring(L, c.reason.c_str());
-      lua_rawseti(L, -2, ++k);
-    }
-  lua_setfield(L, -2, "refused");
+  set_refused_connections(L, "refused", r.connections);
   // Per pass: its layer, u, direction, poses and the step-over to the next.
   lua_createtable(L, static_cast<int>(r.passes.size()), 0);
   for (size_t i = 0; i < r.passes.size(); ++i) {
@@ -232,11 +221,7 @@ int w_repair_paths(lua_State* L) {
   LuaTool* lt = luax::test<LuaTool>(L, -1);
   if (!lt) luax::error(L, std::string(what) + ": option 'tool': expected a bliskrun.Tool (a ball-end mill)");
   lua_pop(L, 1);
-  o.push_raw("world");
-  const LuaWorld* lw = luax::test<LuaWorld>(L, -1);
-  if (!lw) luax::error(L, std::string(what) + ": option 'world': expected a bliskrun.CollisionWorld");
-  const std::shared_ptr<const CollisionWorld> world = lw->world;
-  lua_pop(L, 1);
+  const std::shared_ptr<const CollisionWorld> world = world_option(L, o, what);
   rq.tool = &lt->tool;
   rq.world = world.get();
   rq.pattern = o.string("pattern", "zigzag") == "spiral" ? RepairPattern::Spiral : RepairPattern::Zigzag;

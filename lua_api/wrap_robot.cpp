@@ -384,12 +384,7 @@ int w_robot_plan_report(lua_State* L) {
   luax::set_number(L, "turn_changes", p.turn_changes);
   luax::set_number(L, "max_joint_speed_ratio", p.max_joint_speed_ratio);
   luax::set_number(L, "max_link_joint_speed_ratio", p.max_link_joint_speed_ratio);
-  lua_createtable(L, static_cast<int>(p.refusals.size()), 0);
-  for (size_t i = 0; i < p.refusals.size(); ++i) {
-    lua_pushstring(L, p.refusals[i].c_str());
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-  lua_setfield(L, -2, "refusals");
+  luax::set_strings(L, "refusals", p.refusals);
   lua_createtable(L, 0, 5);
   luax::set_number(L, "poses", static_cast<double>(p.wheel.poses));
   luax::set_number(L, "max_conformity", p.wheel.max_conformity_mm);
@@ -562,12 +557,7 @@ void push_robot_job(lua_State* L, const LuaRobotPlan& lp, const std::string& tit
   push_mass(L, ps.blade);
   lua_setfield(L, -2, "blade");
   lua_setfield(L, -2, "payload");
-  lua_createtable(L, static_cast<int>(calls.size()), 0);
-  for (size_t i = 0; i < calls.size(); ++i) {
-    lua_pushstring(L, calls[i].c_str());
-    lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
-  }
-  lua_setfield(L, -2, "calls");
+  luax::set_strings(L, "calls", calls);
   lua_createtable(L, 0, 2);
   luax::set_string(L, "name", cell.name);
   push_joints(L, cell.home);

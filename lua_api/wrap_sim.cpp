@@ -56,11 +56,7 @@ void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, cons
                           so.v0 + (so.v1 - so.v0) * static_cast<double>(col) / (so.samples_v - 1));
   };
   lua_createtable(L, 0, 20);
-  luax::set_number(L, "undercut_max", u.undercut_max_mm);
-  luax::set_number(L, "undercut_mean", u.undercut_mean_mm);
-  luax::set_number(L, "undercut_median", u.undercut_median_mm);
-  luax::set_number(L, "undercut_std", u.undercut_std_mm);
-  luax::set_number(L, "overcut", u.overcut_mm);
+  set_undercut_stats(L, u);
   // The material left over the samples the tools reached (nil if none).
   if (std::isfinite(lowest)) {
     luax::set_number(L, "residual_min", lowest);
@@ -75,24 +71,16 @@ void push_result(lua_State* L, UndercutResult u, const UndercutOptions& so, cons
     // pose its motion ends at (1-based; the motion from pose k - 1 to k) —
     // unknown (-1) when `keep` dropped the sample the sweep found deepest.
     if (u.overcut_pass >= 0) {
-      lua_pushinteger(L, u.overcut_pass + 1);
-      lua_setfield(L, -2, "overcut_pass");
-      lua_pushinteger(L, u.overcut_pose + 1);
-      lua_setfield(L, -2, "overcut_pose");
+      luax::set_integer(L, "overcut_pass", u.overcut_pass + 1);
+      luax::set_integer(L, "overcut_pose", u.overcut_pose + 1);
     }
     const auto [su, sv] = sample_uv(u.overcut_sample);
     luax::set_number(L, "overcut_u", su);
     luax::set_number(L, "overcut_v", sv);
     luax::set_vec3(L, "overcut_point", design.point(su, sv));
   }
-  lua_pushinteger(L, u.untouched);
-  lua_setfield(L, -2, "untouched");
-  lua_pushinteger(L, static_cast<lua_Integer>(u.samples_u) * u.samples_v);
-  lua_setfield(L, -2, "samples");
-  lua_pushinteger(L, u.tool_positions);
-  lua_setfield(L, -2, "tool_positions");
-  lua_pushinteger(L, poses);
-  lua_setfield(L, -2, "poses");
+  set_undercut_counts(L, u);
+  luax::set_integer(L, "poses", poses);
   luax::set_number(L, "seconds", seconds);
   char head[120];
   std::snprintf(head, sizeof head, "%d x %d samples (u %.3f-%.3f up, v %.3f-%.3f across); ", u.samples_u, u.samples_v,

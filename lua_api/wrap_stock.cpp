@@ -125,13 +125,10 @@ void push_stock_result(lua_State* L, const CutResult& r, const Stock& s, bool pe
   luax::set_number(L, "air_share", r.cut_mm > 0 ? r.air_cut_mm / r.cut_mm : 0);
   luax::set_number(L, "rapid_mm", r.rapid_mm);
   luax::set_number(L, "rapid_removed_mm3", r.rapid_removed_mm3);
-  lua_pushinteger(L, r.rapid_cut_moves);
-  lua_setfield(L, -2, "rapid_cut_moves");
-  lua_pushinteger(L, r.body_contact_moves);
-  lua_setfield(L, -2, "body_contact_moves");
+  luax::set_integer(L, "rapid_cut_moves", r.rapid_cut_moves);
+  luax::set_integer(L, "body_contact_moves", r.body_contact_moves);
   luax::set_number(L, "body_contact_max_mm3", r.body_contact_max_mm3);
-  lua_pushinteger(L, r.samples);
-  lua_setfield(L, -2, "samples");
+  luax::set_integer(L, "samples", r.samples);
   luax::set_number(L, "volume_left_mm3", s.volume());
   luax::set_number(L, "seconds", seconds);
   lua_createtable(L, 0, 5);
@@ -215,10 +212,8 @@ int w_stock_info(lua_State* L) {
   luax::set_number(L, "blank_exact_mm3", s.blank_exact_volume());
   luax::set_number(L, "removed_mm3", s.blank_volume() - s.volume());
   luax::set_number(L, "resolution", s.resolution());
-  lua_pushinteger(L, s.ray_count());
-  lua_setfield(L, -2, "rays");
-  lua_pushinteger(L, s.span_count());
-  lua_setfield(L, -2, "spans");
+  luax::set_integer(L, "rays", s.ray_count());
+  luax::set_integer(L, "spans", s.span_count());
   luax::set_number(L, "memory_mb", static_cast<double>(s.memory_bytes()) / (1 << 20));
   return 1;
 }

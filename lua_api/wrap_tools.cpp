@@ -123,13 +123,7 @@ ToolPartId check_part(lua_State* L, int idx) {
   luax::error(L, "part: expected \"cutter\", \"shank\" or \"holder\", got \"" + name + "\"");
 }
 
-void push_rz(lua_State* L, const Vec2& p) {
-  lua_createtable(L, 2, 0);
-  lua_pushnumber(L, p.x());
-  lua_rawseti(L, -2, 1);
-  lua_pushnumber(L, p.y());
-  lua_rawseti(L, -2, 2);
-}
+void push_rz(lua_State* L, const Vec2& p) { luax::push(L, std::vector<double>{p.x(), p.y()}); }
 
 int w_tool_description(lua_State* L) {
   luax::push(L, luax::check<LuaTool>(L, 1).tool.description());

@@ -453,6 +453,64 @@ TEST(MachinePosts, MachineFileErrorsNameFileAndLine) {
             path + ":1: machine: dynamics.X.max_jerk: expected > 0 mm/s^3");
 }
 
+// machine_lib "five_axis" (scripts/machines/lib/) serves a machine file of
+// one's own outside the scripts folder as it serves the generic files: its
+// parameters, rotary axes and the trunnion bodies, in the order given.
+TEST(MachinePosts, MachineLibServesMachineFilesOfYourOwn) {
+  const std::string path = ::testing::TempDir() + "/bliskrun_machine_lib.lua";
+  auto load = [&](const std::string& body, MachineDefinition* def) {
+    std::ofstream(path) << body;
+    LuaState lua;
+    return protect(lua.L, [&](lua_State* S) {
+      lua_api::load_machine_file(S, path, 0, scripts() + "/machines");
+      if (def) *def = lua_api::test_machine(S, -1)->definition;
+    });
+  };
+  // The docs' example (docs/lua_api/machines_and_posts.md), its column on the bed.
+  const std::string own =
+      "local five_axis = machine_lib 'five_axis'\n"
+      "local function plausible_bodies(p)\n"
+      "  local za = p.a_pivot[3]\n"
+      "  return five_axis.concat(five_axis.trunnion_bodies(p, 'a'),\n"
+      "                          { { name = 'column', frame = 'base', box = { { -400, 600, za - 200 }, { 400, 1000, 1500 } } } },\n"
+      "                          five_axis.trunnion_tool_side())\n"
+      "end\n"
+      "return parametric {\n"
+      "  parameters = five_axis.parameters(\n"
+      "    { name = 'mine', x = { -300, 300 }, y = { -250, 250 }, z = { -300, 300 },\n"
+      "      feed = 'inverse_time', rotaries = { 'a', 'c' } },\n"
+      "    five_axis.trunnion_parameters('a', { -120, 30 })),\n"
+      "  build = function(p)\n"
+      "    p.speed, p.table_radius = { a = 5000 }, 150\n"
+      "    return machine(five_axis.definition(p, five_axis.trunnion_rotary(p, 'a'), plausible_bodies))\n"
+      "  end,\n"
+      "}\n";
+  MachineDefinition m;
+  ASSERT_EQ(load(own, &m), "");
+  EXPECT_EQ(m.name, "mine");
+  EXPECT_EQ(configuration_name(m), "table-table");
+  EXPECT_EQ(m.feed, FeedMode::InverseTime);
+  EXPECT_NEAR(m.rotary[0].min_rad, -120 * kDeg, 1e-15);
+  EXPECT_NEAR(m.rotary[0].max_speed_rad_per_min, 5000 * kDeg, 1e-12);
+  EXPECT_TRUE(m.rotary[1].continuous());
+  ASSERT_EQ(m.bodies.size(), 11u);
+  const char* names[] = {"C table", "cradle", "cradle cheek +X", "cradle cheek -X", "trunnion support +X",
+                         "trunnion support -X", "bed", "column", "spindle nose", "spindle housing", "Z ram"};
+  for (size_t i = 0; i < 11; ++i) EXPECT_EQ(m.bodies[i].name, names[i]);
+  EXPECT_EQ(m.bodies[1].frame, "A");
+  EXPECT_NEAR(m.bodies[0].radius_mm, 150, 1e-12);
+  EXPECT_NEAR(m.bodies[7].min_mm.z(), -250, 1e-12);  // the A axis 50 mm below the table face
+  // A cheek about X stands at +X, R + 21 .. R + 80 from the A axis.
+  EXPECT_NEAR(m.bodies[2].min_mm.x(), 171, 1e-12);
+  EXPECT_NEAR(m.bodies[2].max_mm.x(), 230, 1e-12);
+  // Only names of shipped modules; a parameter of its own must not shadow a common one.
+  EXPECT_NE(load("local x = machine_lib '../five_axis'\n", nullptr).find("machine_lib: '../five_axis' is not a name"),
+            std::string::npos);
+  EXPECT_NE(load("return machine_lib 'five_axis'.parameters({ rotaries = {} }, { feed = { default = 1 } })\n", nullptr)
+                .find("'feed' is a common parameter"),
+            std::string::npos);
+}
+
 // Every shipped concrete machine loads and is the configuration it says.
 TEST(MachinePosts, ShippedMachinesLoad) {
   LuaState lua;

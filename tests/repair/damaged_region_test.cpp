@@ -395,11 +395,7 @@ TEST(DamagedRegion, ATrailingEdgeCornerBrokenOffAtTheTipIsItsVolume) {
   dmg.tip_span = 1.0;
   dmg.tip_tilt_rad = deg_to_rad(44);
   const DamagedBlade blade(test::builtin_blade_design(), dmg);
-  MeasurementOptions mo;
-  mo.sections = 30;
-  mo.points = 2000;
-  const SectionMeasurement m = measure_sections(blade, mo);
-  const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
+  const auto [m, r] = test::measure_and_rebuild(blade, 30, 2000);
   ASSERT_TRUE(r.quality.trusted) << r.quality.message;
   EXPECT_FALSE(r.tip_extended);
   const DamagedRegion region = damaged_region(r, m);
@@ -441,11 +437,7 @@ TEST(DamagedRegion, ATiltedBreakAndANickWhereTheyMeetAreCountedOnce) {
     dmg.tip_span = 0.8;
     dmg.tip_tilt_rad = deg_to_rad(30);
     const DamagedBlade blade(test::builtin_blade_design(), dmg);
-    MeasurementOptions mo;
-    mo.sections = 30;
-    mo.points = 2000;
-    const SectionMeasurement m = measure_sections(blade, mo);
-    const DamagedRebuild r = rebuild_damaged(m, test::builtin_blade_design());
+    const auto [m, r] = test::measure_and_rebuild(blade, 30, 2000);
     ASSERT_TRUE(r.quality.trusted) << r.quality.message;
     const DamagedRegion region = damaged_region(r, m);
     const double truth = removed_volume(blade, test::builtin_blade_design().span_height(0.5), test::builtin_blade_design().h_hi, 100);
