@@ -6,7 +6,7 @@
 // whole edge as blade_edges.lua plans it (the whole span fitted to the hub
 // and casing, shank and holder clearances 0.1 / 0.5 mm: rows, side-edge
 // rows, tilting, partial rows, world checks with the neighbours' flanks and edge rounds,
-// the hub and the blade itself for the shank, links). The budget is per
+// the hub and the blade itself (flanks and edge rounds) for the shank, links). The budget is per
 // emitted pose (issue 38 item 6: a budget per edge does not scale with the
 // part): ms_per_pose is the process CPU time of the plan (every thread)
 // over the poses emitted; the recipe's final simulation is not in it.
@@ -69,6 +69,8 @@ struct EdgeSetup {
     own.margin_mm = 0.05;
     world.add("own p", tessellate(*blisk.flank_surface(0, FlankSide::kPressure), 0.05), own);
     world.add("own s", tessellate(*blisk.flank_surface(0, FlankSide::kSuction), 0.05), own);
+    world.add("own LE", tessellate(*edge_round(0, true), 0.05), own);
+    world.add("own TE", tessellate(*edge_round(0, false), 0.05), own);
   }
   // Blade b's edge round as blisk_world.edge_round builds it: no overlap,
   // from the hub row up to where the edge end leaves the casing.

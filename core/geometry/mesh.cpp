@@ -75,6 +75,12 @@ TriangleMesh tessellate(const Surface& s, double chord_tol_mm, double u0, double
                                  " mm not reached with a " + std::to_string(nu) + " x " +
                                  std::to_string(nv) + " grid");
   }
+  return grid_mesh(s, nu, nv, u0, u1, v0, v1, progress);
+}
+
+TriangleMesh grid_mesh(const Surface& s, int nu, int nv, double u0, double u1, double v0, double v1,
+                       Progress& progress) {
+  if (nu < 1 || nv < 1) throw ParameterError("grid", "needs at least one cell each way");
   TriangleMesh mesh;
   mesh.vertices.reserve(static_cast<size_t>(nu + 1) * (nv + 1));
   for (int i = 0; i <= nu; ++i) {

@@ -23,6 +23,13 @@ TriangleMesh tessellate(const Surface& s, double chord_tol_mm,
                         double u0 = 0, double u1 = 1, double v0 = 0, double v1 = 1,
                         Progress& progress = Progress::none());
 
+// The nu x nv grid of s's parameters over [u0,u1]x[v0,v1] as a mesh:
+// (nu + 1)(nv + 1) corners s.point(u, v), two triangles a cell (tessellate's
+// mesh, at a density given rather than found). Checks `progress` once per
+// grid row.
+TriangleMesh grid_mesh(const Surface& s, int nu, int nv, double u0 = 0, double u1 = 1, double v0 = 0, double v1 = 1,
+                       Progress& progress = Progress::none());
+
 // Binary STL, written atomically.
 void write_stl(const TriangleMesh& mesh, const std::string& path);
 

@@ -1,7 +1,8 @@
 -- Collision worlds of the built-in blisk, for the interference loop
 -- (blisk paper §3.4): the check surfaces around one blade are the flanks and
--- edge rounds of its two neighbours and the hub. The blade being machined is not a check
--- surface: the tool is meant to touch it.
+-- edge rounds of its two neighbours and the hub. The blade being machined (its flanks and
+-- edge rounds) is a check surface for the shank and holder only: the cutter is meant to
+-- touch it.
 --
 --   local blisk_world = require("blisk_world")
 --   local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.01})
@@ -97,10 +98,7 @@ function M.around_blade(blisk, k, opts)
     -- away, FCL's slowest case, so its mesh is coarser (0.05 mm) and that
     -- tolerance is added to the clearance against it.
     local own_tol = opts.own_chord_tol or 0.05
-    for _, side in ipairs{"pressure", "suction"} do
-      surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = blisk:flank(k, side),
-                                 chord_tol = own_tol, margin = own_tol, parts = {"shank", "holder"}}
-    end
+    for _, s in ipairs(M.own_surfaces(blisk, k, own_tol)) do surfaces[#surfaces + 1] = s end
   end
   return bliskrun.collision_world{surfaces = surfaces}
 end
@@ -215,6 +213,27 @@ local function face_mesh(blisk, b, face, tol)
   return mesh
 end
 
+-- Blade k's own faces as check surfaces for the shank and holder only (the
+-- cutter touches the blade by design; a planner's traverse world gives them
+-- back to it, CollisionWorld::unchecked_pairs): both flanks and both edge
+-- rounds, tessellated at `tol` with `tol` as their margin (a chord of the
+-- convex blade lies up to tol inside it). The rounds too: the flanks end
+-- where the rounds begin, and a round stands up to its radius (0.3-0.4 mm)
+-- in front of the line between the flanks' ends, where a shank passing the
+-- blade's own edge was checked against nothing.
+function M.own_surfaces(blisk, k, tol)
+  local out = {}
+  for _, side in ipairs{"pressure", "suction"} do
+    out[#out + 1] = {name = string.format("blade %d %s (own)", k, side), mesh = face_mesh(blisk, k, side, tol),
+                     margin = tol, parts = {"shank", "holder"}}
+  end
+  for _, edge in ipairs{"leading", "trailing"} do
+    out[#out + 1] = {name = string.format("blade %d %s edge (own)", k, edge), mesh = face_mesh(blisk, k, edge, tol),
+                     margin = tol, parts = {"shank", "holder"}}
+  end
+  return out
+end
+
 -- Every blade's flanks at `tol`: meshes[b].pressure, meshes[b].suction.
 function M.flank_meshes(blisk, tol)
   local meshes = {}
@@ -261,7 +280,8 @@ end
 
 -- The worlds around every blade (k = 1..N), each flank and the hub
 -- tessellated once and shared; the same check surfaces as around_blade
--- (neighbours, hub, the blade itself for the shank). opts as for around_blade.
+-- (neighbours, hub, the blade itself, flanks and rounds, for the shank and
+-- holder). opts as for around_blade.
 function M.all_blades(blisk, opts)
   opts = opts or {}
   local n = blisk:blade_count()
@@ -269,7 +289,6 @@ function M.all_blades(blisk, opts)
   local meshes = M.flank_meshes(blisk, tol)
   local hub = opts.hub ~= false and blisk:hub():tessellate(tol) or nil
   local own_tol = opts.own_chord_tol or 0.05
-  local own = opts.own ~= false and M.flank_meshes(blisk, own_tol) or {}
   local worlds = {}
   for k = 1, n do
     local surfaces = {}
@@ -283,11 +302,8 @@ function M.all_blades(blisk, opts)
       end
     end
     if hub then surfaces[#surfaces + 1] = {name = "hub", mesh = hub} end
-    if own[k] then
-      for _, side in ipairs{"pressure", "suction"} do
-        surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), mesh = own[k][side],
-                                   margin = own_tol, parts = {"shank", "holder"}}
-      end
+    if opts.own ~= false then
+      for _, s in ipairs(M.own_surfaces(blisk, k, own_tol)) do surfaces[#surfaces + 1] = s end
     end
     worlds[k] = bliskrun.collision_world{surfaces = surfaces}
   end

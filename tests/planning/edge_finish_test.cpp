@@ -331,6 +331,14 @@ TEST(EdgeFinishTest, TheGuardsCatchARowsCutAboveTheWindow) {
   EXPECT_NEAR(guards.allowed(), 1e-3 - guards.miss_mm, 1e-12);
 }
 
+// A pose resting on s at (u, v) depth_mm into it (negative: off it), the
+// axis along its normal pu x pv.
+ToolPose resting_on(const Surface& s, double u, double v, double depth_mm) {
+  const SurfaceDerivs d = s.eval(u, v);
+  const Vec3 n = d.pu.cross(d.pv).normalized();
+  return ToolPose{d.p - depth_mm * n, n};
+}
+
 // The traverse legs' world (own_blade_beyond_guards): the cutter's own
 // blade less what the flank guards sample. Brute force along the borders of
 // the first flank's guard window: a small cutter resting 10 um into the
@@ -367,11 +375,7 @@ TEST(EdgeFinishTest, TheTraverseWorldKeepsTheOwnBladeBeyondTheGuardsWindows) {
   ASSERT_EQ(w.v0, 0);
   const Tool small = mill(0.1, 0.02);
   const ToolBody body(small);
-  auto resting_at = [&](double u, double v, double depth_mm) {
-    const SurfaceDerivs d = er.first->eval(u, v);
-    const Vec3 n = d.pu.cross(d.pv).normalized();
-    return ToolPose{d.p - depth_mm * n, n};
-  };
+  auto resting_at = [&](double u, double v, double depth_mm) { return resting_on(*er.first, u, v, depth_mm); };
   // Outside the window by 1 um, 0.3 mm and 1 mm (arc length): beyond both
   // span ends and the chord end, 21 points along each.
   int refused = 0, tried = 0;
@@ -408,6 +412,86 @@ TEST(EdgeFinishTest, TheTraverseWorldKeepsTheOwnBladeBeyondTheGuardsWindows) {
   EXPECT_FALSE(world.unchecked_pairs()->check(body, above, Clearances{}).clear);
   EXPECT_TRUE(trimmed->check(body, above, Clearances{}).clear);
   EXPECT_EQ(guards.deepest(small, above, above, true), 0.0);
+}
+
+// The traverse world with the blade's own edge rounds in it, as
+// blisk_world gives them for the shank and holder (no overlap, the span up
+// to a top: another spline through the same circles than the region the
+// planner is given, nm from it). The machined edge's round is dropped where
+// the edge guard samples it and kept beyond the guard's span; the other
+// edge's round is kept whole. Brute force around the guard's span ends: a
+// small cutter resting 10 um into the round (1 um to 1 mm beyond them, five
+// points around the round) is refused, and so is a traverse plunging into
+// it; inside the span the trimmed world lets both pass (the whole round
+// refuses them: without the edge guard's window every triangle stays) and
+// the edge guard catches them.
+TEST(EdgeFinishTest, TheTraverseWorldDropsTheMachinedRoundWhereTheEdgeGuardSamplesIt) {
+  const BuiltinBlisk blisk;
+  const EdgeRegionRequest er = leading_edge_of_blade_1(blisk);
+  const EdgeRegion e = build_edge_region(er);
+  EdgeRegionRequest le = er, te;
+  le.overlap_mm = 0;
+  le.span_u1 = 0.95;
+  te.first = er.second;
+  te.second = er.first;
+  te.overlap_mm = 0;
+  te.span_u1 = 0.95;
+  constexpr int kAround = 24, kAlong = 400;  // ~0.1 mm rows along the span
+  CollisionWorld world;
+  CheckSurfaceOptions own;
+  own.parts.cutter = false;
+  own.margin_mm = 0.05;
+  world.add("own leading edge", grid_mesh(*build_edge_region(le).surface, kAround, kAlong), own);
+  world.add("own trailing edge", grid_mesh(*build_edge_region(te).surface, kAround, kAlong), own);
+  const Tool tool = mill(3, 0.5);
+  EdgeFinishRequest rq = request_for(e, er, tool, world, 0.45, 0.55);
+  rq.band.e1_mm = -0.001;
+  const edge_detail::DesignGuards guards = edge_detail::design_guards(rq, flat_end_of(tool));
+  const UndercutOptions& w = guards.edge_window.sampling;
+  ASSERT_EQ(guards.edge_window.surface, e.surface.get());
+  ASSERT_GT(w.v0, 0);
+  ASSERT_LT(w.v1, 0.95);
+  const std::shared_ptr<const CollisionWorld> trimmed = edge_detail::own_blade_beyond_guards(rq, guards);
+  ASSERT_TRUE(trimmed);
+  ASSERT_EQ(trimmed->size(), 2);
+  // Every row of the round inside the window shrunk by two samples along
+  // the span goes (the round's v is the flanks' u / 0.95, the region's the
+  // flanks' u), give or take the row the shrunk window's ends cut.
+  const double dv = 2 * (w.v1 - w.v0) / (w.samples_v - 1);
+  const double rows_inside = ((w.v1 - dv) - (w.v0 + dv)) / 0.95 * kAlong;
+  const double dropped = world.triangle_count(0) - trimmed->triangle_count(0);
+  EXPECT_NEAR(dropped / (2.0 * kAround), rows_inside, 2.0);
+  EXPECT_EQ(trimmed->triangle_count(1), world.triangle_count(1));
+  const Tool small = mill(0.1, 0.02);
+  const ToolBody body(small);
+  auto resting_at = [&](double u, double v, double depth_mm) { return resting_on(*e.surface, u, v, depth_mm); };
+  const double around0 = e.round_u0 + 0.05, around1 = e.round_u1 - 0.05;
+  int refused = 0, tried = 0, motions_refused = 0;
+  for (double out_mm : {0.001, 0.3, 1.0})
+    for (int i = 0; i <= 4; ++i) {
+      const double u = around0 + (around1 - around0) * i / 4;
+      for (double v : {w.v0 - out_mm / e.surface->eval(u, w.v0).pv.norm(), w.v1 + out_mm / e.surface->eval(u, w.v1).pv.norm()}) {
+        ++tried;
+        refused += trimmed->check(body, resting_at(u, v, 0.01), Clearances{}).clear ? 0 : 1;
+        motions_refused +=
+            trimmed->check_motion(body, resting_at(u, v, -0.2), resting_at(u, v, 0.05), Clearances{}).clear ? 0 : 1;
+      }
+    }
+  EXPECT_EQ(refused, tried);
+  EXPECT_EQ(motions_refused, tried);
+  // Inside the span, a cutter's radius and more from its ends: the trimmed
+  // round is gone there, the whole one refuses, the edge guard catches the
+  // 10 um cut (its allowance is 0.75 um) and the plunge.
+  const double mid = 0.5 * (w.v0 + w.v1);
+  for (int i = 0; i <= 4; ++i) {
+    const double u = around0 + (around1 - around0) * i / 4;
+    const ToolPose inside = resting_at(u, mid, 0.01), off = resting_at(u, mid, -0.2);
+    EXPECT_TRUE(trimmed->check(body, inside, Clearances{}).clear);
+    EXPECT_TRUE(trimmed->check_motion(body, off, resting_at(u, mid, 0.05), Clearances{}).clear);
+    EXPECT_FALSE(world.unchecked_pairs()->check(body, inside, Clearances{}).clear);
+    EXPECT_LT(guards.deepest(small, inside, inside, true), -0.009);
+    EXPECT_LT(guards.deepest(small, off, resting_at(u, mid, 0.05), true), -0.04);
+  }
 }
 
 #if !defined(BLISKRUN_SANITIZED)

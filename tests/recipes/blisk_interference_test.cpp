@@ -14,7 +14,7 @@ TEST(BliskInterference, TiltLoopClearsTheNeighbouringBladesOrRefuses) {
 local blisk_world = require("blisk_world")
 local blisk = bliskrun.blisk{grid_rows = 40, grid_cols = 120}
 local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.02})
-assert(#world:names() == 11)  -- 4 neighbouring flanks and their 4 edge rounds, hub, own blade for the shank
+assert(#world:names() == 13)  -- 4 neighbouring flanks and their 4 edge rounds, hub, own flanks and rounds for the shank
 local wheel = bliskrun.drum_wheel{max_diameter = 8, barrel_radius = 50, head_length = 4,
                                   shank = {diameter = 6, length = 96}}
 -- Contacts on blade 1's pressure flank: five at mid-span, four at u = 0.06,
@@ -49,6 +49,49 @@ for _, f in ipairs(run.refusals) do assert(#f.reason > 0) end
 -- says what was tried and what stopped it.
 assert(run.refusals[1].reason:find("no axis clears"), run.refusals[1].reason)
 )");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// The blade's own edge rounds are check surfaces for the shank and holder
+// (blisk_world.around_blade's own block): a shank lying along the span in
+// front of blade 1's leading edge, 20 um into its round near the tip, is
+// refused against the round (without the own rounds its nearest surface
+// was its own pressure flank, 0.33 mm off, and the test failed);
+// 0.2 mm off the round it is clear; and the cutter resting in the round is
+// not refused (it touches its own blade by design).
+TEST(BliskInterference, TheShankIsCheckedAgainstTheBladesOwnEdgeRounds) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"lua(
+local blisk_world = require("blisk_world")
+local blisk = bliskrun.blisk{grid_rows = 40, grid_cols = 120}
+local world = blisk_world.around_blade(blisk, 1, {chord_tol = 0.02})
+local tool = bliskrun.flat_end_mill{radius = 3, corner_radius = 0.5, flute_length = 9,
+                                    shank = {diameter = 6, length = 50}, holder = {diameter = 12, length = 40}}
+-- The front of the round (u 0.5) at 0.85 of its span, its normal out of the
+-- blade; the tool's axis up the span, the shank's axis 3 mm - depth in
+-- front of the round, its lower end 1 mm below the point.
+local e = blisk_world.edge_round(blisk, 1, "leading").surface:eval(0.5, 0.85)
+local n, a = e.normal, e.pv
+local la = math.sqrt(a[1]^2 + a[2]^2 + a[3]^2)
+a = {a[1] / la, a[2] / la, a[3] / la}
+local function shank_at(depth)
+  local off, back = 3 - depth, 10
+  return {tip = {e.point[1] + off * n[1] - back * a[1], e.point[2] + off * n[2] - back * a[2],
+                 e.point[3] + off * n[3] - back * a[3]}, axis = a}
+end
+local function part(check, name)
+  for _, p in ipairs(check.parts) do if p.part == name then return p end end
+end
+local into = world:check(tool, shank_at(0.02))
+local shank = part(into, "shank")
+assert(not into.clear and shank.object == "blade 1 leading edge (own)" and shank.distance < 0.05,
+       string.format("shank: %s at %.4f mm", tostring(shank.object), shank.distance))
+local off = world:check(tool, shank_at(-0.2))
+assert(off.clear, "0.2 mm off the round: " .. tostring(off.worst))
+local cutter = world:check(tool, {tip = {e.point[1] - 0.01 * n[1], e.point[2] - 0.01 * n[2], e.point[3] - 0.01 * n[3]},
+                                  axis = n})
+assert(cutter.clear, "the cutter in its own round: " .. tostring(cutter.worst))
+)lua");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 

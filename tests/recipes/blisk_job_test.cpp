@@ -297,6 +297,39 @@ std::string one_blade_job(const std::string& clearance_radius, const std::string
          "  operations = {job.drum_finish{tool = \"wheel\", blades = {1}" + operation_options + "}}}\n";
 }
 
+// The worlds a link's legs are proved in carry the blades' edge rounds (the
+// built-in blisk's flanks end where its rounds begin, and a round stands up
+// to its radius in front of the line between their ends): a small cutter
+// resting 10 um into the front of a round is refused in the back-out world
+// of its own blade (every tool part, the cutter too), of its neighbour, and
+// in the whole part's; without the rounds the nearest surface was a flank
+// 0.3 mm and more behind the round's front, and it was clear in all three.
+TEST(BliskJobRecipe, TheLinksWorldsHoldTheBladesEdgeRounds) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir, R"lua(
+local job = require("job")
+local blisk_world = require("blisk_world")
+local blisk = bliskrun.blisk{}
+local mill = bliskrun.flat_end_mill{radius = 0.1, corner_radius = 0.02, flute_length = 1,
+                                    shank = {diameter = 0.2, length = 5}}
+local j = job.new{name = "links", part = blisk, clearance_radius = 110,
+                  tools = {mill = {number = 7, length = 120, spindle_rpm = 12000, tool = mill}},
+                  operations = {job.edge_finish{tool = "mill", blades = {1}}}}
+for _, c in ipairs{{blade = 1, edge = "leading", world = j:link_world(1), name = "blade 1 leading edge (own)"},
+                   {blade = 1, edge = "trailing", world = j:link_world(1), name = "blade 1 trailing edge (own)"},
+                   {blade = 2, edge = "leading", world = j:link_world(1), name = "blade 2 leading edge"},
+                   {blade = 1, edge = "trailing", world = j:part_world(), name = "blade 1 trailing edge"}} do
+  local e = blisk_world.edge_round(blisk, c.blade, c.edge).surface:eval(0.5, 0.5)
+  local n = e.normal
+  local pose = {tip = {e.point[1] - 0.01 * n[1], e.point[2] - 0.01 * n[2], e.point[3] - 0.01 * n[3]}, axis = n}
+  local chk = c.world:check(mill, pose)
+  assert(not chk.clear and chk.parts[1].object == c.name,
+         string.format("%s: %s at %.4f mm", c.name, tostring(chk.parts[1].object), chk.parts[1].distance))
+end
+)lua");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST(BliskJobRecipe, ABadOperationOptionFailsAtItsLineAndWritesNothing) {
   TempDir dir;
   const RecipeResult r =

@@ -122,8 +122,10 @@ DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe) {
   guards.v0 = std::max(0.0, rq.v0 - reach_mm / min_pv(*rq.edge, rq.v0));
   guards.v1 = std::min(1.0, rq.v1 + reach_mm / min_pv(*rq.edge, rq.v1));
   double miss = 0;
-  guards.edge = std::make_unique<GougeGuard>(
-      *rq.edge, guard_grid(*rq.edge, corner, e1_abs, 0, 1, guards.v0, guards.v1, miss, guards.edge_radius_mm));
+  const UndercutOptions edge_sampling =
+      guard_grid(*rq.edge, corner, e1_abs, 0, 1, guards.v0, guards.v1, miss, guards.edge_radius_mm);
+  guards.edge = std::make_unique<GougeGuard>(*rq.edge, edge_sampling);
+  guards.edge_window = {rq.edge.get(), edge_sampling};
   guards.miss_mm = miss;
   // The flanks near their edge ends (first: v = 0, second: v = 1), where the
   // flat bottom of a pose reaches over them: 12 % of the chord, over the

@@ -181,13 +181,15 @@ struct DesignGuards {
   // the corner's and the round's together, 1 / (1/r + 1/ρ).
   double edge_radius_mm = 0;
   double v0 = 0, v1 = 1;  // the edge region's span the edge guard samples (the window and the tool's reach)
-  // The flank each flank guard samples and how (its window and counts):
-  // flank_windows[k] is flanks[k]'s.
-  struct FlankWindow {
-    const Surface* flank = nullptr;
+  // The surface a guard samples and how (its window and counts):
+  // edge_window is the edge guard's (the edge region, u 0..1 over v0..v1),
+  // flank_windows[k] flanks[k]'s.
+  struct Window {
+    const Surface* surface = nullptr;
     UndercutOptions sampling;
   };
-  std::vector<FlankWindow> flank_windows;
+  Window edge_window;
+  std::vector<Window> flank_windows;
 
   // The band's overcut less what the samples can miss.
   double allowed() const;
@@ -212,8 +214,9 @@ double min_pv(const Surface& edge, double v);
 // The design guards over rq's window and as far beyond it as a pose reaches.
 DesignGuards design_guards(const EdgeFinishRequest& rq, const FlatEnd& fe);
 // The traverse legs' world: rq.world's unchecked pairs (the cutter against
-// its own blade) less the triangles of the flanks' meshes the flank guards
-// sample; null when nothing is left (links.cpp).
+// its own blade) less the triangles of its meshes the design guards sample
+// (the flanks' near their edge ends, the edge round's over the edge guard's
+// span); null when nothing is left (links.cpp).
 std::shared_ptr<const CollisionWorld> own_blade_beyond_guards(const EdgeFinishRequest& rq,
                                                               const DesignGuards& guards);
 // Whether a pose's axis is within the machine's reach.

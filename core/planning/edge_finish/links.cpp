@@ -92,32 +92,35 @@ struct EdgeLinker {
   PlannedLink radially_out(const EdgeFinishPose& from, const EdgeFinishPose& to, PlannedLink pl) const;
 };
 
-// A flank guard's window for own_blade_beyond_guards: its parameter
-// rectangle less two sample spacings on each side inside the flank's
-// domain (a side on the domain's border — the flank's edge end — stays),
-// and boxes round it that a point must lie in to be tried: the rectangle
-// cut in kStrips strips along u, each in kTiles tiles along v, each tile's
-// box that of 5 x 5 of its points 0.1 mm wider each way (between them the
-// patch bulges by microns, round Rotor 67's edge by ~30 um). Only a
-// filter: a point in no box is taken as not on the patch, which keeps its
-// triangles.
+// A guard's window for own_blade_beyond_guards: its parameter rectangle
+// less two sample spacings on each side inside the surface's domain (a side
+// on the domain's border — a flank's edge end, the edge region's ends round
+// the edge — stays), and boxes round it that a point must lie in to be
+// tried: the rectangle cut in kStrips strips along u, each in kTiles tiles
+// along v, each tile's box that of 5 x 5 of its points 0.1 mm wider each
+// way (between them the patch bulges by microns, round Rotor 67's edge by
+// ~30 um). Only a filter: a point in no box is taken as not on the patch,
+// which keeps its triangles. on_mm: how near the surface a corner must lie
+// to be a point of it.
 struct GuardedPatch {
   static constexpr int kStrips = 64, kTiles = 16;
-  const Surface* flank = nullptr;
+  const Surface* surface = nullptr;
   double u0 = 0, u1 = 1, v0 = 0, v1 = 1;
+  double on_mm = 0;
   Eigen::AlignedBox3d box;                        // the strips'
   std::vector<Eigen::AlignedBox3d> strips, tiles;  // tiles[i * kTiles + j]: strip i's j-th
 };
 
-GuardedPatch guarded_patch(const DesignGuards::FlankWindow& w) {
+GuardedPatch guarded_patch(const DesignGuards::Window& w, double on_mm) {
   const UndercutOptions& o = w.sampling;
   const double du = 2 * (o.u1 - o.u0) / (o.samples_u - 1), dv = 2 * (o.v1 - o.v0) / (o.samples_v - 1);
   GuardedPatch g;
-  g.flank = w.flank;
+  g.surface = w.surface;
   g.u0 = o.u0 > 0 ? o.u0 + du : 0.0;
   g.u1 = o.u1 < 1 ? o.u1 - du : 1.0;
   g.v0 = o.v0 > 0 ? o.v0 + dv : 0.0;
   g.v1 = o.v1 < 1 ? o.v1 - dv : 1.0;
+  g.on_mm = on_mm;
   const Vec3 wider = Vec3::Constant(0.1);
   for (int i = 0; i < GuardedPatch::kStrips; ++i) {
     Eigen::AlignedBox3d strip;
@@ -125,8 +128,8 @@ GuardedPatch guarded_patch(const DesignGuards::FlankWindow& w) {
       Eigen::AlignedBox3d tile;
       for (int a = 0; a <= 4; ++a)
         for (int b = 0; b <= 4; ++b)
-          tile.extend(w.flank->point(g.u0 + (g.u1 - g.u0) * (i + a / 4.0) / GuardedPatch::kStrips,
-                                     g.v0 + (g.v1 - g.v0) * (j + b / 4.0) / GuardedPatch::kTiles));
+          tile.extend(w.surface->point(g.u0 + (g.u1 - g.u0) * (i + a / 4.0) / GuardedPatch::kStrips,
+                                       g.v0 + (g.v1 - g.v0) * (j + b / 4.0) / GuardedPatch::kTiles));
       tile.min() -= wider;
       tile.max() += wider;
       g.tiles.push_back(tile);
@@ -138,12 +141,11 @@ GuardedPatch guarded_patch(const DesignGuards::FlankWindow& w) {
   return g;
 }
 
-// Whether p is a point of the patch: its foot on the flank, by Newton from
-// the middle of the first tile whose box holds it (where Newton fails
-// there, from the next), within 1 nm of it and inside the patch's
-// rectangle. A tessellation's corners are points of the surface
-// (tessellate: s.point(u, v)); anything else is not the patch, and a foot
-// Newton misses only keeps triangles.
+// Whether p is a point of the patch: its foot on the surface, by Newton
+// from the middle of the first tile whose box holds it (where Newton fails
+// there, from the next), within on_mm of it and inside the patch's
+// rectangle. Anything else is not the patch, and a foot Newton misses only
+// keeps triangles.
 bool on_patch(const GuardedPatch& g, const Vec3& p) {
   if (!g.box.contains(p)) return false;
   for (int i = 0; i < GuardedPatch::kStrips; ++i) {
@@ -153,44 +155,65 @@ bool on_patch(const GuardedPatch& g, const Vec3& p) {
       ProjectionOptions o;
       o.seed = Eigen::Vector2d(g.u0 + (g.u1 - g.u0) * (i + 0.5) / GuardedPatch::kStrips,
                                g.v0 + (g.v1 - g.v0) * (j + 0.5) / GuardedPatch::kTiles);
-      o.seed_samples_u = o.seed_samples_v = 2;  // where Newton fails from the tile, no search of the whole flank
-      const SurfaceProjection f = project_to_surface(*g.flank, p, o);
-      if (f.ok) return f.distance <= 1e-6 && f.u >= g.u0 && f.u <= g.u1 && f.v >= g.v0 && f.v <= g.v1;
+      o.seed_samples_u = o.seed_samples_v = 2;  // where Newton fails from the tile, no search of the whole surface
+      const SurfaceProjection f = project_to_surface(*g.surface, p, o);
+      if (f.ok) return f.distance <= g.on_mm && f.u >= g.u0 && f.u <= g.u1 && f.v >= g.v0 && f.v <= g.v1;
     }
   }
   return false;
 }
 
+// A flank mesh's corner is a point of its flank (tessellate: s.point(u,
+// v)): within 1 nm.
+constexpr double kOnFlankMm = 1e-6;
+// An edge round's mesh is not a mesh of the edge region the guard samples:
+// the world's round (blisk_world.edge_round: no overlap, its span up to the
+// casing) and the region (the request's: the overlap onto the flanks, its
+// own span) are two B-splines through one construction — at each span the
+// same circle tangent to both flank ends (core/parts/edge_region.h) —
+// sampled at other points. On the built-in blade the round's points lie
+// within 6.9 nm of the LE's region and 7.6 nm of the TE's (41 000 points
+// each), each spline within its fit deviation of the circles (the region
+// 10 nm, ringing where the round meets the overlap; the round 0.7 nm). A
+// corner within 0.1 um is a point of the round the guard samples; a farther
+// one keeps its triangles.
+constexpr double kOnRegionMm = 1e-4;
+
 }  // namespace
 
 // The traverse legs are proved against the cutter's own blade (the world's
-// unchecked pairs) less the triangles of its flanks' meshes the flank
-// guards sample: beside the edge a short lift's traverse runs ~0.15 mm off
-// that mesh the whole way, and its proof took steps of microns (Rotor 67's
-// TE: 812 proofs, ~8 s of a 37 s plan). Built once per plan.
+// unchecked pairs) less the triangles of its meshes the design guards
+// sample: beside the edge a short lift's traverse runs ~0.15 mm off the
+// flank mesh the whole way, and its proof took steps of microns (Rotor 67's
+// TE: 812 proofs, ~8 s of a 37 s plan); the machined edge's own round (a
+// world with the rounds, blisk_world's) is what the cutter cuts, inside
+// the margin of its mesh everywhere. Built once per plan.
 //
 // Why every point of the own blade the cutter can reach is still covered.
 // Every leg of a link is swept by the design guards too (LinkChecks::guard,
-// more_guards): a flank guard samples its flank over its parameter window
-// W on a grid that reaches W's sides, and refuses a motion that cuts below
-// the flank anywhere in W by more than e1 (its samples' miss taken off the
-// allowance) — the proof every cutting motion gets, and what the cutter is
-// held to there. A triangle is dropped only if its three corners are points
-// of a guarded flank (within 1 nm) whose parameters lie in W less two
-// sample spacings on each side inside the flank's domain: it is a chord of
-// the flank patch spanned by its corners, and that patch lies inside the
-// rectangle (convex), so inside W. Every point of the flank outside the
-// shrunk rectangle lies in a triangle of the tessellation with a corner
-// outside it, which is kept — with its mesh's margin, as before. So the
-// kept mesh and the windows overlap by two sample spacings, and there is no
-// gap at W's borders. A traverse starts off the blade (its start is proved
-// by the leg before it), so the cutter can only reach the blade's solid by
-// crossing its surface: outside the shrunk windows the kept mesh refuses
-// the motion before it comes within its margin; inside them the flank
-// guard's samples, which lie on the surface, see the crossing where it
-// begins — a guard traces its normal lines only search_below_mm deep, but
-// a crossing starts at the surface, not below it. Every other triangle
-// (the rest of the flanks, any other surface of the unchecked pairs) is
+// more_guards): a guard samples its surface — a flank, or the edge region
+// — over its parameter window W on a grid that reaches W's sides, and
+// refuses a motion that cuts below the surface anywhere in W by more than
+// e1 (its samples' miss taken off the allowance) — the proof every cutting
+// motion gets, and what the cutter is held to there. A triangle is dropped
+// only if its three corners are points of a guarded surface (a flank
+// within 1 nm; the edge region within kOnRegionMm, above) whose parameters
+// lie in W less two sample spacings on each side inside the surface's
+// domain: it is a chord of the patch spanned by its corners, and that patch
+// lies inside the rectangle (convex), so inside W. Every point of a mesh
+// outside the shrunk rectangle lies in a triangle with a corner outside it,
+// which is kept — with its mesh's margin, as before. So the kept mesh and
+// the windows overlap by two sample spacings, and there is no gap at W's
+// borders. A traverse starts off the blade (its start is proved by the leg
+// before it), so the cutter can only reach the blade's solid by crossing
+// its surface: outside the shrunk windows the kept mesh refuses the motion
+// before it comes within its margin; inside them the guard's samples, which
+// lie on the surface, see the crossing where it begins — a guard traces its
+// normal lines only search_below_mm deep, but a crossing starts at the
+// surface, not below it. On the edge round the cutter is so held within e1
+// of the region, within e1 + kOnRegionMm of the world's round. Every other
+// triangle (the rest of the flanks, the round beyond the edge guard's span,
+// the other edge's round, any other surface of the unchecked pairs) is
 // kept, so a link leaving the windows (up the span, radially out near the
 // hub) meets the kept mesh as it met the whole one.
 std::shared_ptr<const CollisionWorld> own_blade_beyond_guards(const EdgeFinishRequest& rq,
@@ -198,7 +221,8 @@ std::shared_ptr<const CollisionWorld> own_blade_beyond_guards(const EdgeFinishRe
   const std::shared_ptr<const CollisionWorld> own = rq.world->unchecked_pairs();
   if (!own) return nullptr;
   std::vector<GuardedPatch> patches;
-  for (const DesignGuards::FlankWindow& w : guards.flank_windows) patches.push_back(guarded_patch(w));
+  if (guards.edge_window.surface) patches.push_back(guarded_patch(guards.edge_window, kOnRegionMm));
+  for (const DesignGuards::Window& w : guards.flank_windows) patches.push_back(guarded_patch(w, kOnFlankMm));
   // Each corner is shared by ~6 triangles: tried once per patch.
   std::vector<std::unordered_map<Vec3, bool, ExactPointHash, ExactPointEqual>> known(patches.size());
   auto on = [&](size_t k, const Vec3& p) {

@@ -50,16 +50,24 @@ end
 -- against: the neighbours and the hub as the plans see them (0.01 mm), and
 -- blade k itself for every tool part, the cutter included (0.01 mm, added as
 -- margin): the back-out and approach slide the wheel along its own blade,
--- where the plan's lead-in/out left it, and must not touch it.
+-- where the plan's lead-in/out left it, and must not touch it. Each blade
+-- with its edge rounds (blisk_world.edge_round_mesh, up to the casing as the
+-- flanks are): the flanks end where the rounds begin, and a round stands up
+-- to its radius in front of the line between their ends.
 function Job:link_world(k)
   self.link_worlds = self.link_worlds or {}
   if not self.link_worlds[k] then
     local n, tol = self.part:blade_count(), 0.01
+    local blisk_world = require("blisk_world")
     local surfaces = {}
     for _, b in ipairs{(k - 2) % n + 1, k % n + 1} do
       for _, side in ipairs{"pressure", "suction"} do
         surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self:link_flank(b, side),
                                    chord_tol = tol}
+      end
+      for _, edge in ipairs{"leading", "trailing"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge),
+                                   mesh = blisk_world.edge_round_mesh(self.part, b, edge, tol)}
       end
     end
     surfaces[#surfaces + 1] = {name = "hub", surface = self.part:hub(), chord_tol = tol}
@@ -67,22 +75,31 @@ function Job:link_world(k)
       surfaces[#surfaces + 1] = {name = string.format("blade %d %s (own)", k, side), surface = self:link_flank(k, side),
                                  chord_tol = tol, margin = tol}
     end
+    for _, edge in ipairs{"leading", "trailing"} do
+      surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge (own)", k, edge),
+                                 mesh = blisk_world.edge_round_mesh(self.part, k, edge, tol), margin = tol}
+    end
     self.link_worlds[k] = bliskrun.collision_world{surfaces = surfaces}
   end
   return self.link_worlds[k]
 end
 
--- Every blade and the hub, coarser (0.05 mm, added as margin): what a link
--- between two flanks, which may pass any blade, is proved against. With the
--- margin, clearance 0 for the cutter still keeps it 0.05 mm off every
--- surface: a link never cuts.
+-- Every blade (flanks and edge rounds) and the hub, coarser (0.05 mm, added
+-- as margin): what a link between two flanks, which may pass any blade, is
+-- proved against. With the margin, clearance 0 for the cutter still keeps it
+-- 0.05 mm off every surface: a link never cuts.
 function Job:part_world()
   if not self.whole then
+    local blisk_world = require("blisk_world")
     local surfaces = {}
     for b = 1, self.part:blade_count() do
       for _, side in ipairs{"pressure", "suction"} do
         surfaces[#surfaces + 1] = {name = string.format("blade %d %s", b, side), surface = self:link_flank(b, side),
                                    chord_tol = 0.05, margin = 0.05}
+      end
+      for _, edge in ipairs{"leading", "trailing"} do
+        surfaces[#surfaces + 1] = {name = string.format("blade %d %s edge", b, edge),
+                                   mesh = blisk_world.edge_round_mesh(self.part, b, edge, 0.05), margin = 0.05}
       end
     end
     surfaces[#surfaces + 1] = {name = "hub", surface = self.part:hub(), chord_tol = 0.05, margin = 0.05}
