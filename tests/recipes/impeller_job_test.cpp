@@ -160,6 +160,102 @@ TEST(ImpellerJobRecipe, TheClearanceSurfaceKeepsItsMarginOverTheOutline) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+// What closes a blade between its faces (impeller_world.edge_face,
+// tip_face): the built-in impeller's faces end at the blade's end rulings,
+// 2h apart, and the blade ends blunt there; at the tip they end 2h apart
+// too. A ball can reach into either opening without coming near a face
+// (the splitter's leading edge is 2.9-4.5 mm wide, the tip up to 3.2);
+// every collision world and the machine simulation's part bodies hold the
+// edges and tips, so the poses are caught. The part bodies hold the hub too.
+TEST(ImpellerJobRecipe, EveryWorldAndThePartBodiesHoldTheBladesEdgesAndTips) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local iw = require(\"impeller_world\")\n"
+      "local imp = bliskrun.impeller{}\n"
+      "local meshes = iw.meshes(imp, 0.05)\n"
+      "local function sub(a, b) return {a[1] - b[1], a[2] - b[2], a[3] - b[3]} end\n"
+      "local function dot(a, b) return a[1] * b[1] + a[2] * b[2] + a[3] * b[3] end\n"
+      "local function cross(a, b) return {a[2] * b[3] - a[3] * b[2], a[3] * b[1] - a[1] * b[3], a[1] * b[2] - a[2] * b[1]} end\n"
+      "local function unit(a) local n = math.sqrt(dot(a, a)) return {a[1] / n, a[2] / n, a[3] / n} end\n"
+      "-- The edge is the ruled strip between the faces' end rulings (its boundary on them, flat between).\n"
+      "local plus, minus = imp:face(1, 'plus', 'splitter'), imp:face(1, 'minus', 'splitter')\n"
+      "local edge = iw.edge_face(imp, 1, 'leading', 'splitter')\n"
+      "local best, best_u = 0, nil\n"
+      "for i = 2, 18 do\n"
+      "  local u = i / 20\n"
+      "  local a, b = plus:point(u, 1), minus:point(u, 0)\n"
+      "  for _, p in ipairs{a, b} do assert(edge:project(p).distance < 1e-4, 'the edge leaves a face end') end\n"
+      "  local gap = math.sqrt(dot(sub(a, b), sub(a, b)))\n"
+      "  if gap > best then best, best_u = gap, u end\n"
+      "end\n"
+      "assert(best > 4 and best < 5, best)\n"
+      "-- A ball of radius 3 on the strip's middle, pointing out of it, its\n"
+      "-- centre 3.1 mm from both face ends: 0.05 mm of mesh margin leaves it\n"
+      "-- clear of the faces, yet it reaches 3 - s mm into the blade's end.\n"
+      "local a, b = plus:point(best_u, 1), minus:point(best_u, 0)\n"
+      "local ruling = sub(plus:point(best_u + 0.05, 1), plus:point(best_u - 0.05, 1))\n"
+      "local n = unit(cross(sub(b, a), ruling))\n"
+      "local inside = plus:point(best_u, 0.8)\n"
+      "local mid = {0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2]), 0.5 * (a[3] + b[3])}\n"
+      "if dot(n, sub(mid, inside)) < 0 then n = {-n[1], -n[2], -n[3]} end\n"
+      "local s = math.sqrt(3.1 ^ 2 - (best / 2) ^ 2)\n"
+      "assert(3 - s > 0.5, 3 - s)\n"
+      "local pose = {tip = {mid[1] + (s - 3) * n[1], mid[2] + (s - 3) * n[2], mid[3] + (s - 3) * n[3]}, axis = n}\n"
+      "local ball = bliskrun.ball_end_mill{radius = 3, flute_length = 15}\n"
+      "local faces = bliskrun.collision_world{surfaces = {\n"
+      "  {name = 'plus', mesh = meshes.face('splitter', 1, 'plus'), margin = 0.05},\n"
+      "  {name = 'minus', mesh = meshes.face('splitter', 1, 'minus'), margin = 0.05},\n"
+      "  {name = 'hub', mesh = meshes.hub(), margin = 0.05}}}\n"
+      "assert(faces:check(ball, pose).clear, 'the ball touches the faces')\n"
+      "local worlds = {channel = iw.channel_world(imp, meshes), main_minus = iw.face_world(imp, meshes, 'main', 'minus'),\n"
+      "                neighbourhood = iw.neighbourhood(imp, meshes), whole = iw.whole(imp, meshes)}\n"
+      "for name, w in pairs(worlds) do\n"
+      "  local c = w:check(ball, pose)\n"
+      "  assert(not c.clear, name .. ': the ball in the splitter\\'s leading edge is clear')\n"
+      "  local hit\n"
+      "  for _, part in ipairs(c.parts) do if part.collides then hit = part.object end end\n"
+      "  assert(hit == 'splitter 1 leading edge', name .. ': ' .. tostring(hit))\n"
+      "end\n"
+      "-- The tip: the strip between the faces' tip curves, up to 3.2 mm wide; a ball\n"
+      "-- coming down on main blade 2's, 3.1 mm from both its tip curves, is clear of its faces.\n"
+      "local mp, mm = imp:face(2, 'plus', 'main'), imp:face(2, 'minus', 'main')\n"
+      "local wide, wide_t = 0, nil\n"
+      "for i = 1, 39 do\n"
+      "  local t = i / 40\n"
+      "  local g = sub(mp:point(1, 1 - t), mm:point(1, t))\n"
+      "  if math.sqrt(dot(g, g)) > wide then wide, wide_t = math.sqrt(dot(g, g)), t end\n"
+      "end\n"
+      "assert(wide > 3 and wide < 3.3, wide)\n"
+      "local ta, tb = mp:point(1, 1 - wide_t), mm:point(1, wide_t)\n"
+      "local tn = unit(cross(sub(tb, ta), sub(mm:point(1, wide_t + 0.01), mm:point(1, wide_t - 0.01))))\n"
+      "local tmid = {0.5 * (ta[1] + tb[1]), 0.5 * (ta[2] + tb[2]), 0.5 * (ta[3] + tb[3])}\n"
+      "if dot(tn, sub(tmid, mp:point(0.8, 1 - wide_t))) < 0 then tn = {-tn[1], -tn[2], -tn[3]} end\n"
+      "local ts = math.sqrt(3.1 ^ 2 - (wide / 2) ^ 2)\n"
+      "assert(3 - ts > 0.3, 3 - ts)\n"
+      "local on_tip = {tip = {tmid[1] + (ts - 3) * tn[1], tmid[2] + (ts - 3) * tn[2], tmid[3] + (ts - 3) * tn[3]}, axis = tn}\n"
+      "local tip_faces = bliskrun.collision_world{surfaces = {\n"
+      "  {name = 'plus', mesh = meshes.face('main', 2, 'plus'), margin = 0.05},\n"
+      "  {name = 'minus', mesh = meshes.face('main', 2, 'minus'), margin = 0.05}}}\n"
+      "assert(tip_faces:check(ball, on_tip).clear, 'the ball touches the faces')\n"
+      "for name, w in pairs(worlds) do\n"
+      "  local c = w:check(ball, on_tip)\n"
+      "  local hit\n"
+      "  for _, part in ipairs(c.parts) do if part.collides then hit = part.object end end\n"
+      "  assert(not c.clear and hit == 'main 2 tip', name .. ': ' .. tostring(hit))\n"
+      "end\n"
+      "-- The machine simulation's part: every blade's faces, edges and tip, and the hub.\n"
+      "local bodies = iw.part_bodies(imp, meshes)\n"
+      "assert(#bodies == 2 and bodies[2].name == 'hub' and bodies[2].mesh == meshes.hub())\n"
+      "local body = bodies[1]\n"
+      "assert(#body.meshes == 17 * 2 * 5 and #body.mesh_names == #body.meshes, #body.meshes)\n"
+      "local edges = 0\n"
+      "for i, m in ipairs(body.meshes) do\n"
+      "  if m == meshes.edge('splitter', 5, 'trailing') then edges = edges + 1 assert(body.mesh_names[i] == 'splitter 5') end\n"
+      "end\n"
+      "assert(edges == 1)\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 // The impeller job's operations on lines 5-7 (the operation under test on 6).
 std::string impeller_job(const std::string& line6, const std::string& line7) {
   return "local job = require(\"job\")\n"
