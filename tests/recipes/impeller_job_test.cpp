@@ -243,16 +243,20 @@ TEST(ImpellerJobRecipe, EveryWorldAndThePartBodiesHoldTheBladesEdgesAndTips) {
       "  for _, part in ipairs(c.parts) do if part.collides then hit = part.object end end\n"
       "  assert(not c.clear and hit == 'main 2 tip', name .. ': ' .. tostring(hit))\n"
       "end\n"
-      "-- The machine simulation's part: every blade's faces, edges and tip, and the hub.\n"
-      "local bodies = iw.part_bodies(imp, meshes)\n"
-      "assert(#bodies == 2 and bodies[2].name == 'hub' and bodies[2].mesh == meshes.hub())\n"
-      "local body = bodies[1]\n"
-      "assert(#body.meshes == 17 * 2 * 5 and #body.mesh_names == #body.meshes, #body.meshes)\n"
-      "local edges = 0\n"
-      "for i, m in ipairs(body.meshes) do\n"
-      "  if m == meshes.edge('splitter', 5, 'trailing') then edges = edges + 1 assert(body.mesh_names[i] == 'splitter 5') end\n"
+      "-- The machine simulation's part: every blade's faces; its edges and tip (coarser); the hub.\n"
+      "local coarse = iw.meshes(imp, 0.2)\n"
+      "local bodies = iw.part_bodies(imp, meshes, coarse)\n"
+      "assert(#bodies == 3 and bodies[3].name == 'hub' and bodies[3].mesh == meshes.hub())\n"
+      "assert(#bodies[1].meshes == 17 * 2 * 2 and bodies[1].margin == 0.05, #bodies[1].meshes)\n"
+      "local ends = bodies[2]\n"
+      "assert(#ends.meshes == 17 * 2 * 3 and #ends.mesh_names == #ends.meshes and ends.margin == 0.2, #ends.meshes)\n"
+      "local found = {}\n"
+      "for i, m in ipairs(ends.meshes) do\n"
+      "  for _, c in ipairs{{coarse.edge('splitter', 5, 'trailing'), 'edge'}, {coarse.tip('main', 9), 'tip'}} do\n"
+      "    if m == c[1] then found[c[2]] = ends.mesh_names[i] end\n"
+      "  end\n"
       "end\n"
-      "assert(edges == 1)\n");
+      "assert(found.edge == 'splitter 5' and found.tip == 'blade 9', tostring(found.edge) .. ' ' .. tostring(found.tip))\n");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
