@@ -7,6 +7,7 @@
 --   local part = hecc.load{}              -- {path = "nasa_hecc_impeller", set = "design"|"cold"}
 --   part:face(blade, "plus"|"minus", "main"|"splitter")   -> the ruled fit the job plans on
 --   part:design_face(blade, side, kind)                    -> the lofted face (the blade as designed)
+--   part:edge_face(blade, "leading"|"trailing", kind)      -> the blade between its faces' ends
 --   part:hub(), part:hub_meridian(), part:blade_count(), part:has_splitter(), part:outer_radius()
 --   part:ruled_fit(kind, side)             -> {max, rms, worst_row, worst_col} (mm) of blade 1's fit
 --
@@ -33,6 +34,11 @@
 
 local M = {}
 
+-- The chord fraction the faces leave out at each edge (the loft's default),
+-- and the columns of the loft to the edge point the edges are taken from.
+M.edge_margin = 0.03
+M.edge_cols = 200
+
 local function turned_grid(g, z0)
   local rows, cols = g:size()
   local pts = {}
@@ -53,6 +59,65 @@ local function wrap(a)
   return a
 end
 
+-- A blade's two edges as grids, from the faces' ends round the edge point:
+-- plus_full / minus_full the blade's "plus" and "minus" sides lofted to the
+-- edge point (edge_margin 0, M.edge_cols cosine columns: the sides meet
+-- there), plus / minus the faces' grids (edge_margin M.edge_margin, the
+-- same sections as rows, the same frame). Each edge runs from the face whose
+-- columns run into it, over that side's columns inside the margin, round
+-- the edge point and out along the other side's to the other face's end:
+-- the faces' own end columns close it, so the edge meets each face on its
+-- end curve (no overlap: a cutter finishing a face up to its end is not
+-- proved into the edge), and u hub -> tip, v as the faces' run, so
+-- pu x pv points out of the material as theirs does. The edge point is
+-- where the first side's end column meets the other's (within 0.01 mm;
+-- else an error). Returns {leading = grid, trailing = grid}.
+function M.edge_grids(plus_full, minus_full, plus, minus)
+  local rows, cols = plus_full:size()
+  local frows, fcols = plus:size()
+  if rows ~= frows or select(1, minus_full:size()) ~= rows or select(1, minus:size()) ~= rows then
+    error("hecc_impeller_part.edge_grids: the faces and the edge lofts have different sections", 2)
+  end
+  local function dist(a, b) return math.sqrt((a[1] - b[1]) ^ 2 + (a[2] - b[2]) ^ 2 + (a[3] - b[3]) ^ 2) end
+  -- Columns of the full loft strictly inside the margin: f_j = (1 - cos(pi
+  -- (j - 1) / (cols - 1))) / 2 < edge_margin, less one so that the last
+  -- stays clear of the face's end (the spline through both).
+  local inside = math.ceil(math.acos(1 - 2 * M.edge_margin) / math.pi * (cols - 1)) - 2
+  -- Which ends meet: minus's first column with plus's last (v runs into
+  -- the edge on plus), or minus's last with plus's first.
+  local out = {}
+  for _, pair in ipairs{{plus_full, plus, minus_full, minus}, {minus_full, minus, plus_full, plus}} do
+    local into_full, into, from_full, from = table.unpack(pair)
+    -- `into`'s last column meets `from`'s first at the edge point.
+    local gap = 0
+    for i = 1, rows do gap = math.max(gap, dist(into_full:point(i, cols), from_full:point(i, 1))) end
+    if gap > 0.01 then error(string.format("hecc_impeller_part.edge_grids: the sides' ends are %.3f mm apart at the "
+                                           .. "edge, not one edge point", gap), 2) end
+    local pts = {}
+    local n_cols = 2 * inside + 3
+    for i = 1, rows do
+      pts[#pts + 1] = into:point(i, fcols)
+      for j = cols - inside, cols do pts[#pts + 1] = into_full:point(i, j) end
+      for j = 2, inside + 1 do pts[#pts + 1] = from_full:point(i, j) end
+      pts[#pts + 1] = from:point(i, 1)
+    end
+    local grid = bliskrun.point_grid{rows = rows, cols = n_cols, points = pts}
+    -- The faces run the same way as the lofts to the edge point.
+    local edge_point = into_full:point(1, cols)
+    if dist(into:point(1, fcols), edge_point) > dist(into:point(1, 1), edge_point)
+       or dist(from:point(1, 1), edge_point) > dist(from:point(1, fcols), edge_point) then
+      error("hecc_impeller_part.edge_grids: the faces do not run as the edge lofts", 2)
+    end
+    -- Which edge: the leading edge lies nearer the axis at the hub (the
+    -- inlet of a centrifugal impeller).
+    local function radius(p) return math.sqrt(p[1] ^ 2 + p[2] ^ 2) end
+    local key = radius(edge_point) < radius(into_full:point(1, 1)) and "leading" or "trailing"
+    if out[key] then error("hecc_impeller_part.edge_grids: both edges lie at the same end", 2) end
+    out[key] = grid
+  end
+  return out
+end
+
 -- o = {path = "nasa_hecc_impeller" (under --data), set = "design"}.
 function M.load(o)
   o = o or {}
@@ -64,9 +129,18 @@ function M.load(o)
   local path, set = o.path or "nasa_hecc_impeller", o.set or "design"
   -- span_extension = 0: the faces end at the hub and tip sections, as the
   -- blade is (the extension past them is for a CAD face that a hub trims).
-  local data = {}
+  -- The faces leave out edge_margin of the chord at each edge (the edge
+  -- circles: a flank planner's faces end short of the edge). The blade
+  -- between the faces' ends — that strip of chord on both sides and the
+  -- edge round (or the design set's blunt trailing edge) — is lofted again
+  -- to the edge point (`edges`, cosine columns: the flanks meet there and
+  -- carry the data's own round): it stands 4-8 mm beyond the line between
+  -- the faces' ends, and the worlds and the machine simulation must see it.
+  local data, edges = {}, {}
   for _, kind in ipairs{"main", "splitter"} do
-    data[kind] = bliskrun.read_hecc(path, {blade = kind, set = set, span_extension = 0})
+    data[kind] = bliskrun.read_hecc(path, {blade = kind, set = set, span_extension = 0, edge_margin = M.edge_margin})
+    edges[kind] = bliskrun.read_hecc(path, {blade = kind, set = set, span_extension = 0, edge_margin = 0,
+                                            spacing = "cosine", cols = M.edge_cols})
   end
   local n = data.main.blades
   if data.splitter.blades ~= n then error("hecc_impeller_part: main and splitter blade counts differ", 2) end
@@ -121,6 +195,12 @@ function M.load(o)
     for _, side in ipairs{"plus", "minus"} do grids[kind][side] = grids[kind][side]:rotated(phi) end
   end
   local pitch_deg = 360 / n
+  local edge_grids = {}  -- blade 1's: edge_grids[kind].leading / .trailing
+  for _, kind in ipairs{"main", "splitter"} do
+    edge_grids[kind] = M.edge_grids(turned_grid(edges[kind].pressure, z0):rotated(phi),
+                                    turned_grid(edges[kind].suction, z0):rotated(phi), grids[kind].plus,
+                                    grids[kind].minus)
+  end
   -- Where splitter 1 sits: between main 1 and main 2 (+θ) unless the data
   -- put it on the other side of main 1, then the next one over is.
   local mid_main, mid_split = grids.main.plus:surface():point(0.5, 0.5), grids.splitter.plus:surface():point(0.5, 0.5)
@@ -145,11 +225,12 @@ function M.load(o)
     if kind ~= "main" and kind ~= "splitter" then error("HECC impeller: kind expected 'main' or 'splitter'", 3) end
     return kind
   end
-  local function grid_of(blade, side, kind)
+  -- Blade 1's grid g of a `kind` blade turned onto blade `blade`.
+  local function into_place(g, blade, kind)
     local turn = (blade - 1) * pitch_deg + (kind == "splitter" and splitter_turn or 0)
-    local g = grids[kind][side]
     return turn ~= 0 and g:rotated(turn) or g
   end
+  local function grid_of(blade, side, kind) return into_place(grids[kind][side], blade, kind) end
   function part:face(blade, side, kind)
     kind = check(blade, side, kind)
     local key = kind .. blade .. side
@@ -160,6 +241,15 @@ function M.load(o)
     kind = check(blade, side, kind)
     local key = kind .. blade .. side
     if not designs[key] then designs[key] = grid_of(blade, side, kind):surface() end
+    return designs[key]
+  end
+  -- The blade between its faces' ends at the "leading" or "trailing" edge
+  -- (M.edge_grids), turned into place as the faces are.
+  function part:edge_face(blade, edge, kind)
+    kind = check(blade, "plus", kind)
+    if edge ~= "leading" and edge ~= "trailing" then error("HECC impeller: edge expected 'leading' or 'trailing'", 2) end
+    local key = kind .. blade .. edge
+    if not designs[key] then designs[key] = into_place(edge_grids[kind][edge], blade, kind):surface() end
     return designs[key]
   end
   function part:ruled_fit(kind, side) return fits[kind][side] end

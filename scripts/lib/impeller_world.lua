@@ -22,8 +22,65 @@ function M.design_face(imp, blade, side, kind)
   return imp:face(blade, side, kind)
 end
 
--- A cache of the faces' (as designed) and the hub's meshes at one tolerance:
--- meshes.face(kind, blade, side), meshes.hub(); meshes.tol.
+-- What closes a blade between its two faces at the "leading" or
+-- "trailing" edge, u hub -> tip, pu x pv out of the material. A part that
+-- models its edges gives them (edge_face: the HECC impeller's faces end 3 %
+-- of the chord short of each edge, and the strip and the round between
+-- stand 4-8 mm beyond the line between the faces' ends). The built-in
+-- impeller's faces end at the blade's ends, the two end rulings 2h apart
+-- (1.8 mm at the leading edge, 2.4 mm at the trailing edge): no round is
+-- designed, so the blade ends blunt, the ruled strip between them (so a
+-- CAD impeller's, scripts/lib/cad_part.lua, where its faces end apart; nil
+-- where they meet: the faces close the blade themselves).
+function M.edge_face(imp, blade, edge, kind)
+  if type(imp) == "table" and imp.edge_face then return imp:edge_face(blade, edge, kind) end
+  if edge ~= "leading" and edge ~= "trailing" then error("impeller_world.edge_face: edge expected 'leading' or 'trailing'", 2) end
+  -- The "plus" face's v runs TE -> LE, the "minus" face's LE -> TE: from the
+  -- face that runs into the edge to the one that runs out of it. The end
+  -- rulings are straight (the faces are ruled) and sampled evenly: the
+  -- bicubic through the strip's points is the bilinear strip itself.
+  local into, from = M.design_face(imp, blade, "plus", kind), M.design_face(imp, blade, "minus", kind)
+  if edge == "trailing" then into, from = from, into end
+  return M.strip(function(s) return into:point(s, 1) end, function(s) return from:point(s, 0) end, 4)
+end
+
+-- What closes a blade at its tip, between its two faces' tip curves (the
+-- faces end at the tip section; an open impeller's blade ends flat there):
+-- the ruled strip between the "plus" face's and the "minus" face's tip
+-- curves at equal chord parameters (plus v = 1 - t, minus v = t), up to
+-- 3.2 mm wide on the built-in impeller, 2.5 on the HECC's, where a ball
+-- reaches 0.4 mm in without coming near either face. Not oriented. nil
+-- where the two curves meet (a CAD blade's faces carrying its edges).
+-- The HECC faces end 3 % of the chord short of the edges: the edges' own
+-- tip ends (at most 1.4 mm wide there) stay open.
+function M.tip_face(imp, blade, kind)
+  local plus, minus = M.design_face(imp, blade, "plus", kind), M.design_face(imp, blade, "minus", kind)
+  return M.strip(function(s) return plus:point(1, 1 - s) end, function(s) return minus:point(1, s) end, 41)
+end
+
+-- The ruled strip between two curves a(s), b(s), s in [0, 1], sampled at
+-- `rows` values of s and 4 points across (s along u, across along v); nil
+-- where they come within 0.01 mm of each other (nothing lies between).
+function M.strip(a_of, b_of, rows)
+  for i = 0, 20 do
+    local a, b = a_of(i / 20), b_of(i / 20)
+    if math.sqrt((a[1] - b[1]) ^ 2 + (a[2] - b[2]) ^ 2 + (a[3] - b[3]) ^ 2) < 0.01 then return nil end
+  end
+  local pts = {}
+  for i = 0, rows - 1 do
+    local a, b = a_of(i / (rows - 1)), b_of(i / (rows - 1))
+    for j = 0, 3 do
+      local t = j / 3
+      pts[#pts + 1] = {a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2]), a[3] + t * (b[3] - a[3])}
+    end
+  end
+  return bliskrun.point_grid{rows = rows, cols = 4, points = pts}:surface()
+end
+
+-- A cache of the faces' (as designed), the edges', the tips' and the hub's
+-- meshes at one tolerance: meshes.face(kind, blade, side),
+-- meshes.edge(kind, blade, edge), meshes.tip(kind, blade) (false where
+-- edge_face / tip_face is nil), meshes.hub(); meshes.tol.
 function M.meshes(imp, tol)
   local cache, n = {}, imp:blade_count()
   local self = {tol = tol}
@@ -32,6 +89,33 @@ function M.meshes(imp, tol)
     local key = kind .. blade .. side
     if not cache[key] then cache[key] = M.design_face(imp, blade, side, kind):tessellate(tol) end
     return cache[key]
+  end
+  local function closing(key, make)
+    if cache[key] == nil then
+      local e = make()
+      cache[key] = e and e:tessellate(tol) or false
+    end
+    return cache[key]
+  end
+  function self.edge(kind, blade, edge)
+    blade = (blade - 1) % n + 1
+    return closing(kind .. blade .. edge, function() return M.edge_face(imp, blade, edge, kind) end)
+  end
+  function self.tip(kind, blade)
+    blade = (blade - 1) % n + 1
+    return closing(kind .. blade .. "tip", function() return M.tip_face(imp, blade, kind) end)
+  end
+  -- What closes blade `blade` between its faces: {{name, mesh}, ...}, its
+  -- edges and tip where it has them.
+  function self.closing(kind, blade)
+    local out = {}
+    for _, edge in ipairs{"leading", "trailing"} do
+      local m = self.edge(kind, blade, edge)
+      if m then out[#out + 1] = {name = edge .. " edge", mesh = m} end
+    end
+    local m = self.tip(kind, blade)
+    if m then out[#out + 1] = {name = "tip", mesh = m} end
+    return out
   end
   function self.hub()
     if not cache.hub then cache.hub = imp:hub():tessellate(tol) end
@@ -107,6 +191,8 @@ function M.channels(imp, o)
   }
 end
 
+-- The listed blades ({kind, blade}) whole: both faces, both edges and the
+-- tip (edge_face, tip_face: what closes the blade between its faces).
 local function add_faces(surfaces, imp, meshes, list, parts)
   for _, f in ipairs(list) do
     local kind, blade = f[1], f[2]
@@ -115,13 +201,17 @@ local function add_faces(surfaces, imp, meshes, list, parts)
         surfaces[#surfaces + 1] = {name = string.format("%s %d %s", kind, blade, side),
                                    mesh = meshes.face(kind, blade, side), parts = parts, margin = meshes.tol}
       end
+      for _, c in ipairs(meshes.closing(kind, blade)) do
+        surfaces[#surfaces + 1] = {name = string.format("%s %d %s", kind, blade, c.name), mesh = c.mesh,
+                                   parts = parts, margin = meshes.tol}
+      end
     end
   end
 end
 
--- What the channel between main blades 1 and 2 is proved against: both faces
--- of both main blades and of the splitter between them, and the hub, for
--- every tool part (the tessellation tolerance added as margin).
+-- What the channel between main blades 1 and 2 is proved against: both faces,
+-- edges and tip of both main blades and of the splitter between them, and
+-- the hub, for every tool part (the tessellation tolerance added as margin).
 --
 -- o.hub_finish = {cutter_clearance = c}: the channel's passes on the hub
 -- finish it (bliskrun.channel_rough's hub_stock = 0), so the ball touches
@@ -153,9 +243,10 @@ function M.channel_world(imp, meshes, o)
 end
 
 -- What flank finishing of one face of blade 1 is proved against: the main
--- blades and splitters either side (every tool part), this face, the
--- blade's other face and the hub (shank and holder only: the cutter is meant
--- to touch them).
+-- blades and splitters either side, faces, edges and tips (every tool part), this
+-- face, the blade's other face, its edges and tip and the hub (shank and holder
+-- only: the cutter is meant to touch them — the face up to its end, where
+-- the edge begins; the job's simulation measures what it cuts of the edges).
 -- o.hub_cutter = true (point milling, whose ball is not meant to touch the
 -- hub): the hub also for the cutter, as the surface of revolution itself
 -- (analytic, no mesh); a number d (point milling carried down to the
@@ -168,6 +259,9 @@ function M.face_world(imp, meshes, kind, side, o)
     {name = "this face", mesh = meshes.face(kind, 1, side), parts = {"shank", "holder"}, margin = meshes.tol},
     {name = "own other face", mesh = meshes.face(kind, 1, other), parts = {"shank", "holder"}, margin = meshes.tol},
     {name = "hub", mesh = meshes.hub(), parts = {"shank", "holder"}, margin = meshes.tol}}
+  for _, c in ipairs(meshes.closing(kind, 1)) do
+    surfaces[#surfaces + 1] = {name = "own " .. c.name, mesh = c.mesh, parts = {"shank", "holder"}, margin = meshes.tol}
+  end
   if o and o.hub_cutter then
     local depth = type(o.hub_cutter) == "number" and o.hub_cutter or 0
     surfaces[#surfaces + 1] = {name = depth > 0 and "hub (cutter, less the allowance)" or "hub (cutter)",
@@ -179,8 +273,8 @@ function M.face_world(imp, meshes, kind, side, o)
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
--- Everything near blade 1 — main blades and splitters N, 1 and 2 and the
--- hub, every tool part: what a link's first and last leg (out of, or into,
+-- Everything near blade 1 — main blades and splitters N, 1 and 2 (faces,
+-- edges, tips) and the hub, every tool part: what a link's first and last leg (out of, or into,
 -- blade 1's channel or faces) is proved against.
 function M.neighbourhood(imp, meshes)
   local n = imp:blade_count()
@@ -190,7 +284,7 @@ function M.neighbourhood(imp, meshes)
   return bliskrun.collision_world{surfaces = surfaces}
 end
 
--- Every blade and the hub: what a link's travel over the part is proved
+-- Every blade (faces, edges, tips) and the hub: what a link's travel over the part is proved
 -- against (coarse meshes; their tolerance is added as margin).
 function M.whole(imp, meshes)
   local surfaces = {{name = "hub", mesh = meshes.hub(), margin = meshes.tol}}
@@ -204,25 +298,41 @@ function M.whole(imp, meshes)
 end
 
 -- The impeller's blades as bodies of the machine simulation (post.write's
--- `part`): all main blades and splitters as one mesh body "blades", each
--- blade's two faces named after it (mesh_names: "blade 3", "splitter 3"),
--- in the part frame, from the same cache the worlds take (meshes =
--- iw.meshes(imp, tol)), the tolerance as margin. One body, not one per
--- blade: every impeller blade's box holds the tool (the blades wrap round
--- the axis), so each of 30 blade bodies was sampled against every machine
--- body and tool part on its own (579 pairs; the HECC job's post over the
--- hour), where one hierarchy over all of them prunes the far blades at once.
-function M.part_bodies(imp, meshes)
+-- `part`): all main blades' and splitters' faces as one mesh body "blades",
+-- each blade's named after it (mesh_names: "blade 3", "splitter 3"), in the
+-- part frame, from the same cache the worlds take (meshes = iw.meshes(imp,
+-- tol)), the tolerance as margin. One body, not one per blade: every
+-- impeller blade's box holds the tool (the blades wrap round the axis), so
+-- each of 30 blade bodies was sampled against every machine body and tool
+-- part on its own (579 pairs; the HECC job's post over the hour), where one
+-- hierarchy over all of them prunes the far blades at once.
+-- What closes each blade between its faces (edges and tip: meshes.closing)
+-- is a body "blade edges" of its own, from `closing` (a cache of coarser
+-- meshes, default iw.meshes(imp, 0.2), its tolerance the margin): at the
+-- faces' 0.05 mm the HECC edges' rounds are 14 052 triangles a main blade
+-- and splitter, and the one body's machine simulation cost 5x the CPU of
+-- the faces alone (HECC blades=1, 7.7 -> 39.0 s), as a body of its own at
+-- 0.2 mm 1.8x (13.9 s); a distance to it counts 0.2 mm nearer.
+-- And the hub, a body "hub" of its own (every world checks the shank and
+-- holder against it; no stock body stands for it, as the blisk's disc does).
+function M.part_bodies(imp, meshes, closing)
+  closing = closing or M.meshes(imp, 0.2)
   local body = {name = "blades", meshes = {}, mesh_names = {}, margin = meshes.tol}
+  local ends = {name = "blade edges", meshes = {}, mesh_names = {}, margin = closing.tol}
   for b = 1, imp:blade_count() do
     for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
+      local name = (kind == "main" and "blade " or "splitter ") .. b
       for _, face in ipairs{"plus", "minus"} do
         body.meshes[#body.meshes + 1] = meshes.face(kind, b, face)
-        body.mesh_names[#body.mesh_names + 1] = (kind == "main" and "blade " or "splitter ") .. b
+        body.mesh_names[#body.mesh_names + 1] = name
+      end
+      for _, c in ipairs(closing.closing(kind, b)) do
+        ends.meshes[#ends.meshes + 1] = c.mesh
+        ends.mesh_names[#ends.mesh_names + 1] = name
       end
     end
   end
-  return {body}
+  return {body, ends, {name = "hub", mesh = meshes.hub(), margin = meshes.tol}}
 end
 
 -- A 2-D polyline {{x, y}, ...} with its arc length: line.arc[i] at point

@@ -143,5 +143,71 @@ TEST(HeccImpellerJobRecipe, RoughingAndFlankFinishOfTwoBladesPlanSimulateAndPost
   }
 }
 
+// What closes the HECC blades between their faces (hecc_impeller_part's
+// edge_face): the faces leave out 3 % of the chord at each edge, and the
+// strip and the edge between stand 4-8 mm beyond the line between the
+// faces' ends. The edges follow the faces' end curves, stand that far out,
+// and a ball 0.5 mm into main blade 2's leading edge — over 4 mm from its
+// faces — is caught by the channel's world; the machine simulation's part
+// holds every blade's edges.
+TEST(HeccImpellerJobRecipe, TheBladesEdgesStandBeyondTheFacesAndEveryWorldHoldsThem) {
+  if (shared_data_dir().empty()) GTEST_SKIP() << "../shared/data not present: HECC impeller edges skipped";
+  TempDir dir;
+  const std::string recipe = dir.path() + "/edges.lua";
+  std::ofstream(recipe) <<
+      "local iw = require('impeller_world')\n"
+      "local part = require('hecc_impeller_part').load{}\n"
+      "local meshes = iw.meshes(part, 0.05)\n"
+      "local function sub(a, b) return {a[1] - b[1], a[2] - b[2], a[3] - b[3]} end\n"
+      "local function dot(a, b) return a[1] * b[1] + a[2] * b[2] + a[3] * b[3] end\n"
+      "local function seg(q, a, b)\n"
+      "  local ab, aq = sub(b, a), sub(q, a)\n"
+      "  local t = math.max(0, math.min(1, dot(aq, ab) / dot(ab, ab)))\n"
+      "  local d = sub(q, {a[1] + t * ab[1], a[2] + t * ab[2], a[3] + t * ab[3]})\n"
+      "  return math.sqrt(dot(d, d))\n"
+      "end\n"
+      "-- Measured 7.43 / 8.46 (main), 5.69 / 5.44 mm (splitter) beyond the faces' ends.\n"
+      "local least = {main = 7, splitter = 5}\n"
+      "for _, kind in ipairs{'main', 'splitter'} do\n"
+      "  for _, edge in ipairs{'leading', 'trailing'} do\n"
+      "    local e = iw.edge_face(part, 1, edge, kind)\n"
+      "    local into, from = part:design_face(1, 'plus', kind), part:design_face(1, 'minus', kind)\n"
+      "    if edge == 'trailing' then into, from = from, into end\n"
+      "    local stand = 0\n"
+      "    for i = 0, 20 do\n"
+      "      local a, b = into:point(i / 20, 1), from:point(i / 20, 0)\n"
+      "      local fa, fb = e:project(a), e:project(b)\n"
+      "      assert(fa.distance < 0.002 and fb.distance < 0.002, kind .. ' ' .. edge .. ': not on the faces\\' ends')\n"
+      "      for j = 0, 100 do stand = math.max(stand, seg(e:point(fa.u, j / 100), a, b)) end\n"
+      "    end\n"
+      "    assert(stand > least[kind] and stand < 10, kind .. ' ' .. edge .. ' ' .. stand)\n"
+      "  end\n"
+      "  -- The edges are lofted to the data's edge points and follow the sections.\n"
+      "  local full = bliskrun.read_hecc('nasa_hecc_impeller', {blade = kind, span_extension = 0, edge_margin = 0,\n"
+      "                                                         spacing = 'cosine'})\n"
+      "  assert(full.fit.max_mm < 0.005, full.fit.max_mm)\n"
+      "end\n"
+      "-- A ball 0.5 mm into main blade 2's leading edge, pointing out of it.\n"
+      "local e = iw.edge_face(part, 2, 'leading', 'main'):eval(0.5, 0.5)\n"
+      "local n = e.normal\n"
+      "local pose = {tip = {e.point[1] - 0.5 * n[1], e.point[2] - 0.5 * n[2], e.point[3] - 0.5 * n[3]}, axis = n}\n"
+      "local ball = bliskrun.ball_end_mill{radius = 2, flute_length = 10}\n"
+      "local faces = bliskrun.collision_world{surfaces = {\n"
+      "  {name = 'plus', mesh = meshes.face('main', 2, 'plus'), margin = 0.05},\n"
+      "  {name = 'minus', mesh = meshes.face('main', 2, 'minus'), margin = 0.05},\n"
+      "  {name = 'hub', mesh = meshes.hub(), margin = 0.05}}}\n"
+      "local c = faces:check(ball, pose)\n"
+      "assert(c.clear and c.min_margin > 3, 'the faces alone: ' .. tostring(c.min_margin))\n"
+      "local w = iw.channel_world(part, meshes)\n"
+      "c = w:check(ball, pose)\n"
+      "local hit\n"
+      "for _, p in ipairs(c.parts) do if p.collides then hit = p.object end end\n"
+      "assert(not c.clear and hit == 'main 2 leading edge', tostring(hit))\n"
+      "local bodies = iw.part_bodies(part, meshes)\n"
+      "assert(#bodies[1].meshes == 15 * 2 * 2 and #bodies[2].meshes == 15 * 2 * 3 and bodies[3].name == 'hub')\n";
+  const RecipeResult r = run_bliskrun({recipe, "--data", shared_data_dir(), "--out", dir.path() + "/out", "--quiet"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test

@@ -86,7 +86,8 @@ function Job:part_bodies()
     elseif self.part_kind == "blisk" then
       self.part_bodies_list = require("blisk_world").part_bodies(self.part)
     else
-      self.part_bodies_list = require("impeller_world").part_bodies(self.part, self:impeller_meshes(0.05))
+      self.part_bodies_list = require("impeller_world").part_bodies(self.part, self:impeller_meshes(0.05),
+                                                                    self:impeller_meshes(0.2))
     end
   end
   return self.part_bodies_list

@@ -110,11 +110,36 @@ end
 -- overcut, overcut_at = {surface, move, operation}, seconds}.
 function Job:simulate_impeller(o)
   local imp, moves = self.part, self.planned.moves
+  local iw = require("impeller_world")
   local surfaces = {}
   for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
     for _, side in ipairs({"plus", "minus"}) do
-      surfaces[#surfaces + 1] = {name = kind .. " " .. side,
-                                 surface = require("impeller_world").design_face(imp, 1, side, kind)}
+      surfaces[#surfaces + 1] = {name = kind .. " " .. side, surface = iw.design_face(imp, 1, side, kind)}
+    end
+  end
+  -- And what closes the blades between their faces (impeller_world.edge_face):
+  -- no operation finishes it, and no cutter may cut into it deeper than a
+  -- face's finisher cuts that face (impeller_overcut_allowed). Where an
+  -- edge meets a face at a corner (the built-in impeller's blunt ends), a
+  -- face's overcut read along the edge's normal runs along the face, as
+  -- deep as the search goes: the band of the edge within that face's cut
+  -- (the deeper of its plan's residual and its simulated overcut, + 5 um)
+  -- of it is the face's, left out of the edge's figures (`beside`: the
+  -- faces at its v = 0 and v = 1 ends, simulated before it).
+  local finishing = {}
+  for _, f in ipairs(self.planned.flanks) do
+    if f.blade == 1 then finishing[#finishing + 1] = {operation = f.kind, name = f.side, report = f.report} end
+  end
+  local planned_cut = M.impeller_overcut_allowed(finishing, 0)
+  for _, kind in ipairs(imp:has_splitter() and {"main", "splitter"} or {"main"}) do
+    for _, edge in ipairs({"leading", "trailing"}) do
+      local e = iw.edge_face(imp, 1, edge, kind)
+      if e then
+        -- v = 0 on the face that runs into the edge (plus at the leading edge), 1 on the other.
+        local into, from = edge == "leading" and "plus" or "minus", edge == "leading" and "minus" or "plus"
+        surfaces[#surfaces + 1] = {name = kind .. " " .. edge .. " edge", surface = e,
+                                   beside = {kind .. " " .. into, kind .. " " .. from}}
+      end
     end
   end
   -- One pitch of the hub: every channel's floor once (blade feet untouched).
@@ -150,7 +175,13 @@ function Job:simulate_impeller(o)
   end
   local result = {surfaces = {}, overcut = 0}
   local t0 = os.clock()
+  local face_cut = {}  -- a face's deepest cut so far: its plan's, or simulated
+  for name, mm in pairs(planned_cut) do face_cut[name] = mm end
   for _, sfc in ipairs(surfaces) do
+    if sfc.beside then
+      sfc.keep = M.away_from_ends(sfc.surface, 0.005 - (face_cut[sfc.beside[1]] or 0),
+                                  0.005 - (face_cut[sfc.beside[2]] or 0), o.samples_u or 60, o.samples_v or 300)
+    end
     -- Bounding sphere of the sampled window.
     local pts, c = {}, {0, 0, 0}
     local v0, v1 = sfc.v and sfc.v[1] or 0, sfc.v and sfc.v[2] or 1
@@ -193,7 +224,7 @@ function Job:simulate_impeller(o)
     local rs = {name = sfc.name, groups = {}}
     if #passes > 0 then
       local sim = bliskrun.simulate{surface = sfc.surface, passes = passes, samples_u = o.samples_u or 60,
-                                    samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip,
+                                    samples_v = o.samples_v or 300, v = sfc.v, flip_normal = sfc.flip, keep = sfc.keep,
                                     search_above = search_above, search_below = o.search_below or 0.5, sweep_step = o.sweep_step or 0.1}
       local function entry(r, key)
         local e = {name = key == "job" and "job" or key == "links" and "links" or self.operations[tonumber(key)].kind,
@@ -222,9 +253,27 @@ function Job:simulate_impeller(o)
       end
     end
     result.surfaces[#result.surfaces + 1] = rs
+    if rs.total then face_cut[sfc.name] = math.min(face_cut[sfc.name] or 0, rs.total.overcut) end
   end
   result.seconds = os.clock() - t0
   return result
+end
+
+-- bliskrun.simulate's `keep` over nu x nv samples of surface e: the samples
+-- at least band0 mm (arc length along v) from its v = 0 end and band1 mm
+-- from its v = 1 end.
+function M.away_from_ends(e, band0, band1, nu, nv)
+  local keep = {}
+  for i = 0, nu - 1 do
+    local arc, prev = {0}, e:point(i / (nu - 1), 0)
+    for j = 1, nv - 1 do
+      local p = e:point(i / (nu - 1), j / (nv - 1))
+      arc[j + 1] = arc[j] + math.sqrt((p.x - prev.x) ^ 2 + (p.y - prev.y) ^ 2 + (p.z - prev.z) ^ 2)
+      prev = p
+    end
+    for j = 1, nv do keep[#keep + 1] = arc[j] >= band0 and arc[nv] - arc[j] >= band1 end
+  end
+  return keep
 end
 
 -- The deepest cut (mm, negative) each of an impeller's surfaces allows:
@@ -234,6 +283,13 @@ function M.impeller_overcut_allowed(units, slack)
   for _, u in ipairs(units) do
     if u.operation == "flank_finish" or u.operation == "point_mill" then
       allowed[u.name] = math.min(0, u.report.residual_min) - slack
+      -- The edges close the faces: a cutter that finishes a face to its end
+      -- cuts what it overcuts the face by round the corner too.
+      local kind = u.name:match("^(%a+) ")
+      for _, edge in ipairs({"leading", "trailing"}) do
+        local name = kind .. " " .. edge .. " edge"
+        allowed[name] = math.min(allowed[name] or -0.002, allowed[u.name])
+      end
     end
     -- Point milling carried down to the fillet touches the hub: its
     -- planner proves no deeper than its allowed overcut there.
