@@ -41,12 +41,7 @@ local blisk = bliskrun.blisk{}
 local n = blisk:blade_count()
 -- Each blade's flanks and edge rounds (check surfaces: the flanks end where
 -- the rounds begin, and a round stands up to its radius in front of them).
-local blisk_world = require("blisk_world")
-local function faces(k)
-  return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction"),
-          leading = blisk_world.edge_round(blisk, k, "leading").surface,
-          trailing = blisk_world.edge_round(blisk, k, "trailing").surface}
-end
+local function faces(k) return require("blisk_world").blade_faces(blisk, k) end
 -- 40 mm of flute: from the ball on the hub (r 60..66) past the casing
 -- (r 90..96) with the 8 mm shank and the holder outside it.
 local tool = bliskrun.tapered_ball_end_mill{tip_radius = ball, half_angle = taper, flute_length = 40,
