@@ -35,7 +35,9 @@ using luax::Field;
 using luax::Kind;
 using luax::number_field;
 
-// {pressure = Surface, suction = Surface}: a blade's two faces.
+// {pressure = Surface, suction = Surface[, leading = Surface, trailing =
+// Surface]}: a blade's two faces and, optionally, its edge rounds (check
+// surfaces only).
 BladeFaces faces_option(lua_State* L, const luax::Options& o, const char* what, const char* key) {
   BladeFaces f;
   if (!o.has(key)) return f;
@@ -48,6 +50,17 @@ BladeFaces faces_option(lua_State* L, const luax::Options& o, const char* what, 
     const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
     if (!h) luax::error(L, where + ": field '" + side + "': expected a bliskrun.Surface (blisk:flank(k, \"" + side + "\"))");
     (std::string(side) == "pressure" ? f.pressure : f.suction) = h->surface;
+    lua_pop(L, 1);
+  }
+  for (const char* edge : {"leading", "trailing"}) {
+    lua_getfield(L, t, edge);
+    if (!lua_isnil(L, -1)) {
+      const SurfaceHandle* h = luax::test<SurfaceHandle>(L, -1);
+      if (!h)
+        luax::error(L, where + ": field '" + edge + "': expected a bliskrun.Surface, the blade's " + edge +
+                           " edge round (blisk_world.edge_round(blisk, k, \"" + edge + "\").surface)");
+      (std::string(edge) == "leading" ? f.leading : f.trailing) = h->surface;
+    }
     lua_pop(L, 1);
   }
   lua_pop(L, 1);
@@ -258,11 +271,13 @@ int w_hub_finish(lua_State* L) {
   const luax::Options o(
       L, 1, what,
       {Field{"blade", Kind::Table, true, std::nullopt, std::nullopt,
-             "blade k's faces {pressure =, suction =} (blisk:flank): its root is finished, the channel starts at its "
+             "blade k's faces {pressure =, suction =} (blisk:flank), optionally its edge rounds {leading =, "
+             "trailing =} (check surfaces for the shank and holder): its root is finished, the channel starts at its "
              "suction side", {}},
-       Field{"next", Kind::Table, true, std::nullopt, std::nullopt, "blade k+1's faces: the channel's other side", {}},
+       Field{"next", Kind::Table, true, std::nullopt, std::nullopt,
+             "blade k+1's faces (and edge rounds): the channel's other side", {}},
        Field{"previous", Kind::Table, false, std::nullopt, std::nullopt,
-             "blade k-1's faces (checked against, every tool part)", {}},
+             "blade k-1's faces and edge rounds (checked against, every tool part)", {}},
        Field{"hub", Kind::Any, true, std::nullopt, std::nullopt, "the hub (blisk:hub())", {}},
        Field{"tool", Kind::Any, true, std::nullopt, std::nullopt,
              "a ball or tapered ball-end mill long enough to reach the hub from outside the casing", {}},

@@ -71,9 +71,14 @@ namespace bliskrun {
 
 // A blade's two flank faces as a CAD user extracts them (u span hub -> tip,
 // pressure v LE -> TE, suction v TE -> LE, pu x pv out of the material;
-// core/parts/builtin_blisk.h).
+// core/parts/builtin_blisk.h), and optionally its leading and trailing edge
+// rounds (check surfaces of the world only, hub_finish_world). The built-in
+// blisk's flanks end where its rounds begin, and a round stands up to its
+// radius (0.3-0.4 mm) in front of the line between the flanks' ends: a
+// world of flanks alone checks nothing there.
 struct BladeFaces {
   std::shared_ptr<const Surface> pressure, suction;
+  std::shared_ptr<const Surface> leading, trailing;  // optional
 };
 
 struct HubFinishRequest {
@@ -118,9 +123,12 @@ struct HubFinishRequest {
 };
 
 // The check surfaces of a hub finish (what a request with world = null
-// uses): blade k - 1's faces for every tool part (mesh_tol_mm), blade k's
-// and k + 1's for the shank and holder only (0.05 mm mesh, that as margin:
-// the cutter touches them by design and is proved by the gouge guards),
+// uses): blade k - 1's faces (and edge rounds, where given) for every tool
+// part (mesh_tol_mm), blade k's and k + 1's for the shank and holder only
+// (0.05 mm mesh, that as margin: the cutter touches them by design — the
+// root rows run round blade k's rounds, the floor's rows end on both
+// blades' fillets — and is proved by the gouge guards on the closed blades,
+// whose half circles are the rounds; core/parts/closed_blade.h),
 // the hub for the shank and holder as it is and for the cutter
 // allowed_overcut_mm inside it (analytic, core/geometry/revolution_distance.h:
 // a ball is one sphere, measured exactly), plus `extra` meshes for every

@@ -192,6 +192,15 @@ function M.edge_round(blisk, b, edge, top)
   return bliskrun.edge_region{first = first, second = second, overlap = 0, span = {0, hi}}
 end
 
+-- Blade b's faces as bliskrun.hub_finish takes them (its blade, next and
+-- previous): both flanks and both edge rounds (edge_round, up to the
+-- casing; check surfaces of its world: the flanks end where the rounds
+-- begin, and a round stands up to its radius in front of them).
+function M.blade_faces(blisk, b)
+  return {pressure = blisk:flank(b, "pressure"), suction = blisk:flank(b, "suction"),
+          leading = M.edge_round(blisk, b, "leading").surface, trailing = M.edge_round(blisk, b, "trailing").surface}
+end
+
 -- One blade's face (a flank, "pressure" or "suction", or an edge round,
 -- "leading" or "trailing") tessellated at `tol` (mm), once per blisk,
 -- blade, face and tolerance, when first asked: a world around one blade

@@ -39,7 +39,9 @@ local simulate = opt.simulate
 
 local blisk = bliskrun.blisk{}
 local n = blisk:blade_count()
-local function faces(k) return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction")} end
+-- Each blade's flanks and edge rounds (check surfaces: the flanks end where
+-- the rounds begin, and a round stands up to its radius in front of them).
+local function faces(k) return require("blisk_world").blade_faces(blisk, k) end
 -- 40 mm of flute: from the ball on the hub (r 60..66) past the casing
 -- (r 90..96) with the 8 mm shank and the holder outside it.
 local tool = bliskrun.tapered_ball_end_mill{tip_radius = ball, half_angle = taper, flute_length = 40,

@@ -20,6 +20,7 @@
 #include "core/parts/builtin_blisk.h"
 #include "core/planning/hub_finish.h"
 #include "core/planning/repair_paths.h"
+#include "tests/planning/builtin_channel.h"
 
 namespace bliskrun {
 namespace {
@@ -278,6 +279,87 @@ TEST(HubFinish, EveryEmittedPoseIsClearOfTheWorldByBruteForce) {
     if (HasFailure()) break;
   }
   EXPECT_GT(checked, at_least);
+}
+
+// The built-in blisk's flanks end where its edge rounds begin, and a round
+// stands up to its radius (0.3-0.4 mm) in front of the line between the
+// flanks' ends. Given with the faces, the rounds are check surfaces: blade
+// k-1's for every tool part, k's and k+1's for the shank and holder. A pose
+// and a motion 0.05 mm into a round at mid-span, clear of every other check
+// surface, are refused with them; without them both pass (the world checked
+// nothing there).
+TEST(HubFinishWorld, TheBladesEdgeRoundsAreCheckSurfacesWhenGiven) {
+  HubSetup s;
+  const int n = s.blisk.blade_count();
+  HubFinishRequest rq = s.rq;
+  const SurfaceOfRevolution casing(s.blisk.casing_meridian());
+  for (auto [faces, b] : {std::pair{&rq.previous, n - 1}, {&rq.blade, 0}, {&rq.next, 1}}) {
+    faces->leading = test_channel::edge_round(faces->pressure, faces->suction, casing);
+    faces->trailing = test_channel::edge_round(faces->suction, faces->pressure, casing);
+  }
+  const CollisionWorld flanks_only = hub_finish_world(s.rq), world = hub_finish_world(rq);
+  // The round's apex at mid-span, its outward normal (from the middle of
+  // the flanks' ends), the span's direction and the direction around it.
+  struct Apex {
+    Vec3 p, n, span, around;
+  };
+  auto apex_of = [](const Surface& round) {
+    const Vec3 p = round.point(0.5, 0.5), mid = 0.5 * (round.point(0, 0.5) + round.point(1, 0.5));
+    Apex a{p, (p - mid).normalized(), {}, {}};
+    const Vec3 ds = round.point(0.5, 0.51) - round.point(0.5, 0.49);
+    a.span = (ds - ds.dot(a.n) * a.n).normalized();
+    a.around = a.n.cross(a.span);
+    return a;
+  };
+  constexpr double kInto = 0.05;
+  // Blade k-1: the hub finish's tool, its tip kInto into the round, the
+  // axis along the round's normal (away from the blade and the hub).
+  const ToolBody ball(s.tool, rq.tool_tol_mm);
+  for (bool leading : {true, false}) {
+    const Apex a = apex_of(leading ? *rq.previous.leading : *rq.previous.trailing);
+    const ToolPose pose{a.p - kInto * a.n, a.n};
+    const PoseCheck without = flanks_only.check(ball, pose, rq.clearances);
+    EXPECT_TRUE(without.clear) << describe(without, flanks_only);
+    const PoseCheck with = world.check(ball, pose, rq.clearances);
+    if (with.clear) {
+      ADD_FAILURE() << "blade k-1's " << (leading ? "leading" : "trailing") << " round is not checked";
+      continue;
+    }
+    EXPECT_EQ(with.parts[with.worst].part, ToolPartId::Cutter);
+    EXPECT_EQ(world.name(with.parts[with.worst].object),
+              std::string("blade k-1 ") + (leading ? "leading" : "trailing") + " edge");
+  }
+  // Blades k and k+1: a small ball end (r 0.5, a 1 mm shank 3 mm long) up
+  // the span with its shank kInto into the round (its ball too: the cutter
+  // is not checked against them, it runs round them by design), and a
+  // motion across the apex from 2 mm to either side, no clearance asked
+  // (the meshes' 0.05 mm tolerance is their margin).
+  const ToolBody small(Tool::ball_end_mill({0.5, 1, {1, 3}, {}}), rq.tool_tol_mm);
+  const Clearances none{0, 0, 0};
+  for (auto [faces, name] : {std::pair{&rq.blade, "blade k (shank)"}, {&rq.next, "blade k+1 (shank)"}}) {
+    for (bool leading : {true, false}) {
+      const Apex a = apex_of(leading ? *faces->leading : *faces->trailing);
+      auto pose = [&](double side) {
+        return ToolPose{a.p + (0.5 - kInto) * a.n - 2.5 * a.span + side * a.around, a.span};
+      };
+      const std::string what = std::string(name) + (leading ? " leading" : " trailing") + " edge";
+      const PoseCheck without = flanks_only.check(small, pose(0), none);
+      EXPECT_TRUE(without.clear) << what << ": " << describe(without, flanks_only);
+      ASSERT_TRUE(world.check(small, pose(-2), none).clear) << what;
+      ASSERT_TRUE(world.check(small, pose(2), none).clear) << what;
+      EXPECT_TRUE(flanks_only.check_motion(small, pose(-2), pose(2), none).clear) << what;
+      EXPECT_FALSE(world.check_motion(small, pose(-2), pose(2), none).clear) << what << ": the motion is not refused";
+      const PoseCheck with = world.check(small, pose(0), none);
+      if (with.clear) {
+        ADD_FAILURE() << what << " is not checked";
+        continue;
+      }
+      EXPECT_EQ(with.parts[with.worst].part, ToolPartId::Shank) << what;
+      EXPECT_EQ(world.name(with.parts[with.worst].object), what);
+      EXPECT_EQ(with.parts[0].part, ToolPartId::Cutter);
+      EXPECT_GT(with.parts[0].distance_mm, 0.1) << what << ": the cutter is not checked against it";
+    }
+  }
 }
 
 // A plate standing in the channel (hub to beyond the casing, 2 mm thick in

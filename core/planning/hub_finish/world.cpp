@@ -26,6 +26,8 @@ CollisionWorld hub_finish_world(const HubFinishRequest& rq, const std::vector<Na
     const CheckSurfaceOptions opt{parts, cutter ? 0.0 : tol};
     w.add(name + " pressure", tessellate(*f.pressure, tol), opt);
     w.add(name + " suction", tessellate(*f.suction, tol), opt);
+    if (f.leading) w.add(name + " leading edge", tessellate(*f.leading, tol), opt);
+    if (f.trailing) w.add(name + " trailing edge", tessellate(*f.trailing, tol), opt);
   };
   add_faces(rq.previous, "blade k-1", true);
   add_faces(rq.blade, "blade k (shank)", false);

@@ -606,7 +606,13 @@ function M.hub_finish(o)
       end
     end
     self.top_used, self.top_from = top, top_from
-    local function faces(k) return {pressure = blisk:flank(k, "pressure"), suction = blisk:flank(k, "suction")} end
+    -- Each blade's flanks and edge rounds (blisk_world.blade_faces, up to
+    -- the casing): the flanks end where the rounds begin and a round stands up
+    -- to its radius in front of them, so a world of flanks alone checked
+    -- nothing there. Blade k-1's for every tool part, k's and k+1's for the
+    -- shank and holder (the cutter runs round them by design, proved by the
+    -- gouge guards on the closed blades, whose half circles are the rounds).
+    local function faces(k) return require("blisk_world").blade_faces(blisk, k) end
     return blades_of(self, j, function(k)
       local plan = bliskrun.hub_finish{blade = faces(k), next = faces(k % n + 1), previous = faces((k - 2) % n + 1),
                                        hub = blisk:hub(), tool = j.tools[self.tool].tool, top = top,
