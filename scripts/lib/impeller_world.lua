@@ -60,15 +60,26 @@ end
 
 -- The ruled strip between two curves a(s), b(s), s in [0, 1], sampled at
 -- `rows` values of s and 4 points across (s along u, across along v); nil
--- where they come within 0.01 mm of each other (nothing lies between).
+-- where they lie within 0.01 mm of each other all along (nothing lies
+-- between). Curves that meet at their ends only — a CAD blade's tip curves
+-- at its edges, its faces carrying the edges — still have the blade
+-- between them elsewhere: the strip over the part of s where they are
+-- 0.01 mm apart or more (of 201 samples; what it leaves open is narrower
+-- than that, inside every mesh's margin).
 function M.strip(a_of, b_of, rows)
-  for i = 0, 20 do
-    local a, b = a_of(i / 20), b_of(i / 20)
-    if math.sqrt((a[1] - b[1]) ^ 2 + (a[2] - b[2]) ^ 2 + (a[3] - b[3]) ^ 2) < 0.01 then return nil end
+  local lo, hi
+  for i = 0, 200 do
+    local a, b = a_of(i / 200), b_of(i / 200)
+    if math.sqrt((a[1] - b[1]) ^ 2 + (a[2] - b[2]) ^ 2 + (a[3] - b[3]) ^ 2) >= 0.01 then
+      lo, hi = lo or i / 200, i / 200
+    end
   end
+  if not lo or hi - lo < 1e-9 then return nil end
+  local a_at = function(s) return a_of(lo + (hi - lo) * s) end
+  local b_at = function(s) return b_of(lo + (hi - lo) * s) end
   local pts = {}
   for i = 0, rows - 1 do
-    local a, b = a_of(i / (rows - 1)), b_of(i / (rows - 1))
+    local a, b = a_at(i / (rows - 1)), b_at(i / (rows - 1))
     for j = 0, 3 do
       local t = j / 3
       pts[#pts + 1] = {a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2]), a[3] + t * (b[3] - a[3])}

@@ -309,5 +309,27 @@ TEST(ImpellerJobRecipe, ABadOperationFailsAtItsLineAndWritesNothing) {
   }
 }
 
+
+// impeller_world.strip closes a blade between two curves. Where they meet
+// only at their ends (a CAD blade's tip curves at its edges, its faces
+// carrying the edges) the blade still lies between them elsewhere: the
+// strip covers that part (it was nil — the whole tip left open — when the
+// curves met anywhere), and curves together all along give nil.
+TEST(ImpellerWorld, AStripBetweenCurvesThatMeetAtTheirEndsClosesTheBladeBetween) {
+  TempDir dir;
+  const RecipeResult r = run_recipe_text(dir,
+      "local iw = require('impeller_world')\n"
+      "local s = iw.strip(function(t) return {10 * t, 0, 0} end,\n"
+      "                   function(t) return {10 * t, 0, 2 * math.sin(math.pi * t)} end, 41)\n"
+      "assert(s, 'no strip between curves 2 mm apart in the middle')\n"
+      "local w = bliskrun.collision_world{surfaces = {{name = 'tip', mesh = s:tessellate(0.01)}}}\n"
+      "local ball = bliskrun.ball_end_mill{radius = 1, flute_length = 5}\n"
+      "assert(not w:check(ball, {tip = {5, 0, 0.5}, axis = {0, 1, 0}}).clear, 'a ball across the strip is clear')\n"
+      "assert(w:check(ball, {tip = {5, 0, 3.5}, axis = {0, 0, 1}}).clear, 'a ball 1.5 mm over the strip is not clear')\n"
+      "assert(iw.strip(function(t) return {t, 0, 0} end, function(t) return {t, 0, 0.001} end, 4) == nil,\n"
+      "       'a strip between curves 1 um apart')\n");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 }  // namespace
 }  // namespace bliskrun::test
